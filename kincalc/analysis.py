@@ -1,0 +1,156 @@
+"""Single-configuration reports: forward kinematics and Jacobian analysis.
+
+These build the result objects the CLI renders (and scripts may use
+directly). Inputs are SI (rad, m); ``units`` only chooses how the result
+will be shown.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import InputError
+from .results import FKResult, JacobianResult, Singularity, Units
+from .tolerances import SINGULAR_TOL
+
+
+def _check_q(robot, q) -> np.ndarray:
+    q = np.asarray(q, dtype=float)
+    if q.shape != (robot.dof,):
+        raise InputError(f"{robot.name} has {robot.dof} joints, got {q.size} joint values")
+    if not np.all(np.isfinite(q)):
+        raise InputError("joint values must be finite numbers")
+    return q
+
+
+def fk_report(robot, q, units: Units = Units(), frames: bool = False) -> FKResult:
+    """Forward kinematics of ``robot`` at ``q (n,)`` (rad / m) as an :class:`FKResult`.
+
+    With ``frames`` the result also holds every link transform ``T_{i-1}^i``
+    and every ``T_0^i`` of the robot's own convention.
+    """
+    q = _check_q(robot, q)
+    T = robot.fk(q)
+    links = cumulative = None
+    if frames:
+        links = robot.link_transforms(q)
+        cumulative = np.empty_like(links)
+        acc = np.eye(4)
+        for i in range(robot.dof):
+            acc = acc @ links[i]
+            cumulative[i] = acc
+    return FKResult(robot=robot, q=q, T=T, units=units, links=links, cumulative=cumulative)
+
+
+def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
+                    analytic: str | None = None) -> JacobianResult:
+    """Jacobian of ``robot`` at ``q`` with its singular values, rank and singularity.
+
+    Parameters
+    ----------
+    frame : {'base', 'tool'}
+        Frame the geometric Jacobian is expressed in.
+    analytic : {'rpy', 'zyz', 'xyz'} or None
+        Also compute the analytic Jacobian for this angle set.
+    """
+    from .jacobian import analytic_jacobian, jacobian_base, rotate_jacobian
+    from .spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
+
+    q = _check_q(robot, q)
+    Jb = jacobian_base(robot.chain, q)
+    T = robot.fk(q)
+    J = Jb if frame == "base" else rotate_jacobian(Jb, T[:3, :3].T)
+
+    L = robot.characteristic_length
+    Jn = Jb.copy()
+    Jn[:3, :] /= L
+    Jn[:, ~robot.is_revolute] *= L  # prismatic columns: m/m -> per unit of L
+    U, s, Vt = np.linalg.svd(Jn)
+    full = min(6, robot.dof)
+    rank = int(np.sum(s > SINGULAR_TOL * max(s[0], 1.0)))
+    singularity = None
+    if rank < full:
+        singularity = _classify(robot, q, U, s, Vt, rank)
+
+    result_analytic = err = None
+    if analytic is not None:
+        extract = {"rpy": rpy_from_matrix, "zyz": euler_zyz_from_matrix,
+                   "xyz": euler_xyz_from_matrix}[analytic]
+        angles = extract(T[:3, :3])
+        try:
+            from .jacobian import rate_matrix_condition
+            if rate_matrix_condition(angles, analytic) < 1e-9:
+                raise np.linalg.LinAlgError
+            result_analytic = (analytic, analytic_jacobian(Jb, angles, analytic))
+        except np.linalg.LinAlgError:
+            err = (f"the {analytic} angles are at their representation singularity "
+                   "(gimbal lock) here; the analytic Jacobian does not exist")
+    return JacobianResult(robot=robot, q=q, frame=frame, J=J, units=units,
+                          sigma_normalised=s, rank=rank, length_scale=L,
+                          singularity=singularity, analytic=result_analytic,
+                          analytic_error=err)
+
+
+def _classify(robot, q, U, s, Vt, rank) -> Singularity:
+    """Name the singularity from the axes' geometry where the structure allows."""
+    from .structure import (joint_axes, parallel, point_line_distance,
+                            spherical_wrist, wrist_centre)
+
+    n = robot.dof
+    dirs, pts = joint_axes(robot, q)
+    L = robot.characteristic_length
+    tol_len = 1e-6 * L
+    tol_dir = 1e-6
+    kinds, texts = [], []
+    rev = robot.is_revolute
+
+    # wrist: the last three joints revolute and the first and third of them aligned
+    if n >= 6 and rev[n - 3:].all() and parallel(dirs[n - 3], dirs[n - 1], tol_dir):
+        kinds.append("wrist")
+        texts.append(f"wrist singularity: the axes of joints {n - 2} and {n} are aligned, "
+                     f"so only q{n - 2} + q{n} (or q{n - 2} - q{n}) matters")
+
+    wrist = spherical_wrist(robot)
+    point = None
+    if wrist is not None:
+        point = wrist_centre(robot, wrist, dirs, pts)
+        if rev[0] and point_line_distance(point, pts[0], dirs[0]) < tol_len:
+            kinds.append("shoulder")
+            texts.append("shoulder singularity: the wrist centre lies on the axis of joint 1")
+    elif n >= 4 and rev[1:4].all() and parallel(dirs[1], dirs[3], tol_dir) \
+            and parallel(dirs[2], dirs[3], tol_dir):
+        point = pts[3]  # three parallel axes: the elbow moves a point of axis 4
+
+    if point is not None and n >= 3 and rev[1] and rev[2] and parallel(dirs[1], dirs[2], tol_dir):
+        z = dirs[1]
+        u = pts[2] - pts[1]
+        u = u - z * (u @ z)
+        v = point - pts[2]
+        v = v - z * (v @ z)
+        nu, nv = np.linalg.norm(u), np.linalg.norm(v)
+        if nu > tol_len and nv > tol_len and np.linalg.norm(np.cross(u, v)) < 1e-6 * nu * nv:
+            stretched = float(u @ v) > 0
+            kinds.append("elbow-stretched" if stretched else "elbow-folded")
+            texts.append("elbow singularity: the arm is fully "
+                         + ("stretched" if stretched else "folded")
+                         + " (axes 2 and 3 and the "
+                         + ("wrist centre" if wrist is not None else "axis of joint 4")
+                         + " lie in one plane)")
+
+    null_space = Vt[-1] if n <= 6 and s.size == n and s[-1] < SINGULAR_TOL * max(s[0], 1.0) else None
+    if n > 6:
+        null_space = None
+    lost = U[:, rank] if rank < 6 and n >= 6 else None
+    if not kinds:
+        kinds.append("unclassified")
+        msg = f"singular configuration: the Jacobian has rank {rank} instead of {min(6, n)}"
+        if null_space is not None:
+            msg += "; moving the joints along the null-space direction does not move the tool"
+        texts.append(msg)
+    if null_space is not None:
+        # back from the normalised columns (prismatic ones scaled by L) to q-dot
+        null_space = null_space * np.where(rev, 1.0, L)
+        null_space = null_space / np.linalg.norm(null_space)
+        k = int(np.argmax(np.abs(null_space)))
+        null_space = null_space * np.sign(null_space[k])
+    return Singularity(tuple(kinds), tuple(texts), null_space, lost)

@@ -1,0 +1,78 @@
+"""Options and argument helpers shared by the commands.
+
+Kept import-light: typer only. numpy, rich and yaml are imported inside the
+functions that need them so that ``kincalc --help`` starts fast.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, List, Optional
+
+import typer
+
+from ..errors import InputError, UsageError
+
+#: Let negative numbers through as plain arguments (``kincalc fk puma560 0 -45``):
+#: click would otherwise read "-45" as the short options -4 -5.
+NUMERIC_ARGS = {"ignore_unknown_options": True, "help_option_names": ["-h", "--help"]}
+
+RobotArg = Annotated[str, typer.Argument(
+    metavar="ROBOT", show_default=False,
+    help="A bundled robot's name (see 'kincalc robots list') or a path to a robot YAML file.")]
+JointsArg = Annotated[Optional[List[str]], typer.Argument(
+    metavar="Q...", show_default=False,
+    help="Joint values in order: revolute in the angle unit, prismatic in the length unit. "
+         "Negative values need no '--'. Default: the robot's home configuration.")]
+DegOpt = Annotated[bool, typer.Option(
+    "--deg/--rad", help="Angles in and out in degrees (default) or radians.")]
+UnitOpt = Annotated[Optional[str], typer.Option(
+    "--unit", metavar="UNIT", show_default=False,
+    help="Length unit for input and output: m, cm, mm or in. Default: the robot file's unit.")]
+PrecisionOpt = Annotated[int, typer.Option(
+    "--precision", metavar="N", min=0, max=17, help="Decimals shown in tables.")]
+JsonOpt = Annotated[bool, typer.Option(
+    "--json", help="Print one JSON document (schema in PRODUCT.md/README) instead of tables.")]
+DebugOpt = Annotated[bool, typer.Option(
+    "--debug", help="Show a Python traceback on errors.")]
+
+
+def display_units(robot, deg: bool, unit: str | None):
+    """The :class:`~kincalc.results.Units` chosen by ``--deg/--rad`` and ``--unit``."""
+    from ..results import Units
+    from ..units import LENGTH_UNITS
+    if unit is not None:
+        if unit not in LENGTH_UNITS or unit == "unitless":
+            allowed = ", ".join(u for u in LENGTH_UNITS if u != "unitless")
+            raise InputError(f"--unit must be one of {allowed}, not {unit!r}")
+        if robot.length_unit == "unitless":
+            raise InputError(f"robot {robot.name!r} is unitless (a textbook robot); "
+                             "--unit does not apply")
+    return Units(angle="deg" if deg else "rad", length=unit or robot.length_unit)
+
+
+def parse_joints(tokens: list[str] | None, robot, units):
+    """Joint values from the command line, converted to SI; home when none are given."""
+    import numpy as np
+    if not tokens:
+        return np.array(robot.home, dtype=float)
+    values = []
+    for tok in tokens:
+        try:
+            values.append(float(tok))
+        except ValueError:
+            if tok.startswith("-"):
+                raise UsageError(f"no such option: {tok}") from None
+            raise InputError(f"joint value {tok!r} is not a number") from None
+    if len(values) != robot.dof:
+        raise InputError(f"{robot.name} has {robot.dof} joints "
+                         f"({', '.join(j.name for j in robot.joints)}), "
+                         f"got {len(values)} joint value{'s' if len(values) != 1 else ''}")
+    q = np.array(values)
+    if not np.all(np.isfinite(q)):
+        raise InputError("joint values must be finite numbers")
+    return q / np.where(robot.is_revolute, units.a, units.l)
+
+
+def load_robot(name: str):
+    from ..library import load
+    return load(name)

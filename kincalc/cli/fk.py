@@ -1,0 +1,82 @@
+"""``kincalc fk``: forward kinematics at one configuration."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
+                     UnitOpt, display_units, load_robot, parse_joints)
+
+
+def fk(
+    robot: RobotArg,
+    q: JointsArg = None,
+    frames: Annotated[bool, typer.Option(
+        "--frames", help="Also print every link transform T_{i-1}^i and every T_0^i.")] = False,
+    deg: DegOpt = True,
+    unit: UnitOpt = None,
+    precision: PrecisionOpt = 4,
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """Forward kinematics: the tool pose for joint values Q.
+
+    Prints the 4x4 pose T (world <- tool), the position and the orientation
+    as rotation matrix, RPY (fixed X-Y-Z), ZYZ Euler, moving X-Y-Z Euler,
+    quaternion (w, x, y, z), axis-angle, rotation vector and tool
+    configuration vector.
+
+    ROBOT is a bundled robot's name (kincalc robots list) or a path to a robot
+    YAML file. Q... are the joint values in order, revolute in the angle unit,
+    prismatic in the length unit; negative values need no '--'. Without Q the
+    robot's home configuration is used.
+    """
+    from ..analysis import fk_report
+    rob = load_robot(robot)
+    units = display_units(rob, deg, unit)
+    qv = parse_joints(q, rob, units)
+    result = fk_report(rob, qv, units, frames=frames)
+    doc = result.to_dict()
+    if json:
+        from .render import emit_json
+        emit_json(doc)
+        return
+    _tables(doc, rob, precision)
+
+
+def _tables(doc, robot, precision):
+    from .render import console, heading, joint_pairs, kv_table, matrix_table, num, vec
+    c = console()
+    a = doc["units"]["angle"]
+    c.print(heading(doc))
+    c.print(f"q: {joint_pairs(doc, robot, precision)}")
+    if "frames" in doc:
+        for f in doc["frames"]:
+            i = f["index"]
+            c.print(matrix_table(f["link"], precision,
+                                 title=f"T_{i - 1}^{i}  (link {i}, joint {f['joint']})"))
+            c.print(matrix_table(f["T"], precision, title=f"T_0^{i}"))
+        import numpy as np
+        if not np.allclose(doc["base"], np.eye(4)):
+            c.print(matrix_table(doc["base"], precision, title="base: T_world^0"))
+        if not np.allclose(doc["tool"], np.eye(4)):
+            c.print(matrix_table(doc["tool"], precision,
+                                 title="tool: T_n^tool" if robot.convention != "poe"
+                                 else "tool: M (tool pose at q = 0)"))
+    c.print(matrix_table(doc["T"], precision, title="T (world <- tool)"))
+    o = doc["orientation"]
+    rows = [
+        ("position", vec(doc["position"], precision)),
+        (f"rpy (fixed X-Y-Z, {a})", vec(o["rpy"], precision)),
+        (f"euler zyz ({a})", vec(o["euler_zyz"], precision)),
+        (f"euler xyz (moving, {a})", vec(o["euler_xyz"], precision)),
+        ("quaternion (w x y z)", vec(o["quaternion"], precision)),
+        (f"axis-angle ({a})", vec(o["axis_angle"]["axis"], precision) + "  |  "
+         + num(o["axis_angle"]["angle"], precision)),
+        (f"rotation vector ({a})", vec(o["rotation_vector"], precision)),
+        ("tcv [p; e^(qn/pi) r3]", "n/a (last joint is prismatic)" if doc["tcv"] is None
+         else vec(doc["tcv"], precision)),
+    ]
+    c.print(kv_table(rows))

@@ -1,0 +1,98 @@
+"""``kincalc jacobian``: Jacobian, singular values, manipulability, singularity."""
+
+from __future__ import annotations
+
+from enum import Enum
+from typing import Annotated, Optional
+
+import typer
+
+from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
+                     UnitOpt, display_units, load_robot, parse_joints)
+
+
+class Frame(str, Enum):
+    base = "base"
+    tool = "tool"
+
+
+class AngleSet(str, Enum):
+    rpy = "rpy"
+    zyz = "zyz"
+    xyz = "xyz"
+
+
+def jacobian(
+    robot: RobotArg,
+    q: JointsArg = None,
+    frame: Annotated[Frame, typer.Option(
+        "--frame", help="Express the geometric Jacobian in the base (world) or tool frame.")]
+        = Frame.base,
+    analytic: Annotated[Optional[AngleSet], typer.Option(
+        "--analytic", show_default=False,
+        help="Also give the analytic Jacobian for this angle set: rpy (fixed X-Y-Z), "
+             "zyz or xyz (moving X-Y-Z Euler).")] = None,
+    deg: DegOpt = True,
+    unit: UnitOpt = None,
+    precision: PrecisionOpt = 4,
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """Geometric Jacobian (6 x n, rows vx vy vz wx wy wz) at joint values Q.
+
+    Also prints the singular values, rank, Yoshikawa manipulability,
+    condition number and, at a singular configuration, which singularity
+    it is (wrist, elbow, shoulder) or the null-space direction.
+
+    ROBOT is a bundled robot's name or a path to a robot YAML file; Q... are
+    the joint values (default: home). Linear rows are in the length unit per
+    radian (per length unit for prismatic columns), angular rows in rad/rad.
+    """
+    from ..analysis import jacobian_report
+    rob = load_robot(robot)
+    units = display_units(rob, deg, unit)
+    qv = parse_joints(q, rob, units)
+    result = jacobian_report(rob, qv, units, frame=frame.value,
+                             analytic=analytic.value if analytic else None)
+    doc = result.to_dict()
+    if json:
+        from .render import emit_json
+        emit_json(doc)
+        return
+    _tables(doc, rob, precision)
+
+
+def _tables(doc, robot, precision):
+    from .render import console, heading, joint_pairs, kv_table, matrix_table, num, vec
+    c = console()
+    c.print(heading(doc))
+    c.print(f"q: {joint_pairs(doc, robot, precision)}")
+    headers = [j.name for j in robot.joints]
+    L = doc["units"]["length"]
+    c.print(matrix_table(
+        doc["J"], precision, headers=headers,
+        title=f"J ({doc['frame']} frame; rows vx vy vz [{L}/rad] wx wy wz [rad/rad])"))
+    if "analytic" in doc:
+        an = doc["analytic"]
+        if an["J"] is not None:
+            c.print(matrix_table(an["J"], precision, headers=headers,
+                                 title=f"analytic Jacobian ({an['angles']} angle rates)"))
+        else:
+            c.print(f"analytic Jacobian: {an['error']}")
+    rows = [
+        ("singular values", vec(doc["singular_values"], precision)),
+        ("rank", str(doc["rank"])),
+        ("manipulability", num(doc["manipulability"], precision + 2)),
+        ("condition", "inf" if doc["condition"] is None else num(doc["condition"], 2)),
+        ("singular", "yes" if doc["singular"] else "no"),
+    ]
+    sg = doc.get("singularity")
+    if sg:
+        for text in sg["descriptions"]:
+            rows.append(("", text))
+        if sg["null_space"] is not None:
+            rows.append(("null space (q-dot)", vec(sg["null_space"], precision)))
+        if sg["lost_motion"] is not None:
+            rows.append(("lost tool motion", vec(sg["lost_motion"], precision)
+                         + "  (vx vy vz wx wy wz)"))
+    c.print(kv_table(rows))

@@ -1,0 +1,205 @@
+"""``kincalc robots list | show | validate``."""
+
+from __future__ import annotations
+
+from typing import Annotated, List
+
+import typer
+
+from .common import DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt
+
+app = typer.Typer(help="The robot library: list, show and validate robot files.",
+                  rich_markup_mode=None,
+                  no_args_is_help=True, add_completion=False,
+                  context_settings={"help_option_names": ["-h", "--help"]})
+
+
+def structure_code(robot) -> str:
+    return "".join("R" if j.revolute else "P" for j in robot.joints)
+
+
+@app.command("list")
+def list_(json: JsonOpt = False, debug: DebugOpt = False):
+    """List every bundled robot: name, joints, convention and title."""
+    from ..errors import KincalcError
+    from ..library import bundled_names, library_dir
+    from ..robot_file import load_robot_file
+    entries = []
+    for name in bundled_names():
+        try:
+            r = load_robot_file(library_dir() / f"{name}.yaml")
+        except KincalcError as exc:  # a broken bundled file is a bug; say so, keep listing
+            entries.append({"name": name, "error": str(exc)})
+            continue
+        entries.append({"name": r.name, "dof": r.dof, "structure": structure_code(r),
+                        "convention": r.convention, "units": r.length_unit,
+                        "title": r.title})
+    if json:
+        from ..results import SCHEMA_VERSION
+        from .render import emit_json
+        emit_json({"kincalc": SCHEMA_VERSION, "command": "robots list", "robots": entries})
+        return
+    from rich import box
+    from rich.table import Table
+
+    from .render import console
+    t = Table(box=box.SIMPLE, title=f"{len(entries)} robots in {library_dir()}",
+              title_justify="left")
+    for col in ("name", "dof", "joints", "convention", "units", "title"):
+        t.add_column(col)
+    for e in entries:
+        if "error" in e:
+            t.add_row(e["name"], "", "", "", "", f"[red]broken: {e['error']}[/red]")
+        else:
+            t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["units"],
+                      e["title"])
+    console().print(t)
+
+
+@app.command()
+def show(
+    robot: RobotArg,
+    deg: DegOpt = True,
+    unit: UnitOpt = None,
+    precision: PrecisionOpt = 4,
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """Show a robot: its DH (or POE) table as a textbook prints it, limits, base, tool, source."""
+    from ..results import SCHEMA_VERSION, robot_summary
+    from .common import display_units, load_robot
+    rob = load_robot(robot)
+    u = display_units(rob, deg, unit)
+    doc = {"kincalc": SCHEMA_VERSION, "command": "robots show",
+           "robot": robot_summary(rob), "units": u.to_dict()}
+    doc["robot"].update(_details(rob, u))
+    if json:
+        from .render import emit_json
+        emit_json(doc)
+        return
+    _show_tables(doc, rob, u, precision)
+
+
+def _details(rob, u) -> dict:
+    import numpy as np
+    joints = []
+    for j in rob.joints:
+        s = u.a if j.revolute else u.l
+        entry = {"name": j.name, "type": j.type,
+                 "limits": None if j.limits is None else [j.limits[0] * s, j.limits[1] * s]}
+        if rob.convention == "poe":
+            entry["axis"] = list(j.axis)
+            entry["point"] = [v * u.l for v in j.point]
+        else:
+            entry.update({"alpha": j.alpha * u.a, "a": j.a * u.l, "d": j.d * u.l,
+                          "theta": j.theta * u.a})
+        joints.append(entry)
+    return {"source": rob.source, "notes": rob.notes, "file_units":
+            {"length": rob.length_unit, "angle": rob.angle_unit},
+            "joints": joints, "base": u.pose(rob.base), "tool": u.pose(rob.tool),
+            "home": u.joints(rob, rob.home),
+            "path": rob.path, "characteristic_length": float(rob.characteristic_length * u.l)
+            + 0.0 * float(np.sum(rob.home))}
+
+
+def _var(name, offset, precision, unit):
+    from .render import num
+    if abs(offset) < 10.0 ** -(precision + 1):
+        return name
+    sign = "+" if offset > 0 else "-"
+    return f"{name} {sign} {num(abs(offset), precision)}{unit}"
+
+
+def _show_tables(doc, rob, u, precision):
+    import numpy as np
+    from rich import box
+    from rich.table import Table
+
+    from .render import console, kv_table, matrix_table, num
+    c = console()
+    r = doc["robot"]
+    deg = "°" if u.angle == "deg" else ""
+    c.print(f"[bold]{rob.name}[/bold] - {rob.title}")
+    meta = [("convention", {"dh": "dh (standard, distal: A_i = Rz(θ) Tz(d) Tx(a) Rx(α))",
+                            "mdh": "mdh (modified, Craig: A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ) Tz(d))",
+                            "poe": "poe (product of exponentials, axes at q = 0)"}[rob.convention]),
+            ("joints", f"{rob.dof} ({structure_code(rob)})"),
+            ("file units", f"{rob.length_unit}, {rob.angle_unit}"),
+            ("shown in", f"{u.length}, {u.angle}"),
+            ("source", rob.source or "-")]
+    if rob.path:
+        meta.append(("file", rob.path))
+    c.print(kv_table(meta))
+    t = Table(box=box.SIMPLE_HEAD, title_justify="left",
+              title={"dh": "Standard DH table", "mdh": "Modified DH table (Craig)",
+                     "poe": "Joint screws (base frame, q = 0)"}[rob.convention])
+    L = "" if u.length == "unitless" else f" {u.length}"
+    if rob.convention == "dh":
+        cols = ["i", "θ_i", "d_i", "a_i", "α_i"]
+    elif rob.convention == "mdh":
+        cols = ["i", "α_{i-1}", "a_{i-1}", "d_i", "θ_i"]
+    else:
+        cols = ["i", "type", "axis", "point"]
+    for col in cols + ["limits"]:
+        t.add_column(col, justify="right")
+    for k, (j, e) in enumerate(zip(rob.joints, r["joints"]), start=1):
+        s = deg if j.revolute else L
+        lim = "-" if e["limits"] is None else \
+            f"[{num(e['limits'][0], precision)}, {num(e['limits'][1], precision)}]{s}"
+        if rob.convention == "poe":
+            t.add_row(str(k), j.type, " ".join(num(v, precision) for v in e["axis"]),
+                      " ".join(num(v, precision) for v in e["point"]), lim)
+            continue
+        theta = _var(j.name, e["theta"], precision, deg) if j.revolute \
+            else f"{num(e['theta'], precision)}{deg}"
+        d = f"{num(e['d'], precision)}" if j.revolute else _var(j.name, e["d"], precision, "")
+        alpha = f"{num(e['alpha'], precision)}{deg}"
+        a = num(e["a"], precision)
+        row = [theta, d, a, alpha] if rob.convention == "dh" else [alpha, a, d, theta]
+        t.add_row(str(k), *row, lim)
+    c.print(t)
+    if not np.allclose(r["base"], np.eye(4)):
+        c.print(matrix_table(r["base"], precision, title="base: T_world^0"))
+    if not np.allclose(r["tool"], np.eye(4)):
+        c.print(matrix_table(r["tool"], precision,
+                             title="tool: M (tool pose at q = 0)" if rob.convention == "poe"
+                             else "tool: T_n^tool"))
+    c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
+    if rob.notes:
+        c.print(f"notes: {rob.notes}")
+
+
+@app.command()
+def validate(
+    files: Annotated[List[str], typer.Argument(metavar="FILE...", show_default=False,
+                                                help="Robot YAML files to check.")],
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """Check robot files; print one line per file. Exit 2 if any is invalid."""
+    import sys
+
+    from ..errors import KincalcError
+    from ..robot_file import load_robot_file
+    report, bad = [], 0
+    for f in files:
+        try:
+            r = load_robot_file(f)
+            report.append({"file": f, "valid": True, "name": r.name, "dof": r.dof,
+                           "convention": r.convention, "error": None})
+        except KincalcError as exc:
+            bad += 1
+            report.append({"file": f, "valid": False, "error": str(exc)})
+    if json:
+        from ..results import SCHEMA_VERSION
+        from .render import emit_json
+        emit_json({"kincalc": SCHEMA_VERSION, "command": "robots validate", "files": report})
+    else:
+        for e in report:
+            if e["valid"]:
+                sys.stdout.write(f"ok: {e['file']}: {e['name']}, {e['dof']} joints, "
+                                 f"{e['convention']}\n")
+            else:
+                sys.stderr.write(f"kincalc: error: {e['error']}\n")
+    if bad:
+        raise typer.Exit(2)

@@ -1,0 +1,84 @@
+"""Exceptions raised by kincalc.
+
+The core never prints and never exits: it raises a :class:`KincalcError`
+subclass whose ``str()`` is the one-line message a user sees. The CLI maps
+``exit_status`` to the process exit code (2 for bad input, see PRODUCT.md).
+"""
+
+from __future__ import annotations
+
+
+class KincalcError(Exception):
+    """Base class of every error kincalc reports to a user.
+
+    ``exit_status`` is the documented process exit status for this error.
+    """
+
+    exit_status = 2
+
+    def __init__(self, message: str):
+        super().__init__(message)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
+
+
+class UsageError(KincalcError):
+    """A command line or API call that does not make sense (exit 2)."""
+
+
+class RobotNotFoundError(KincalcError):
+    """Neither a bundled robot name nor a readable file."""
+
+    def __init__(self, name: str, suggestions: list[str] | None = None):
+        self.name = name
+        self.suggestions = suggestions or []
+        hint = ""
+        if self.suggestions:
+            hint = f"; did you mean {', '.join(repr(s) for s in self.suggestions)}?"
+        super().__init__(
+            f"no robot named {name!r} and no such file{hint} "
+            "(see 'kincalc robots list')"
+        )
+
+
+class RobotFileError(KincalcError):
+    """A robot file that cannot be read or is not valid.
+
+    Parameters
+    ----------
+    file : str
+        The path as the user gave it.
+    line : int or None
+        1-based line number of the offending node, when known.
+    message : str
+        What is wrong, naming the field.
+    joint : int or None
+        1-based joint number the field belongs to, if any.
+    joint_name : str or None
+        That joint's ``name``, if known.
+    """
+
+    def __init__(
+        self,
+        file: str,
+        line: int | None,
+        message: str,
+        joint: int | None = None,
+        joint_name: str | None = None,
+    ):
+        self.file = file
+        self.line = line
+        self.detail = message
+        self.joint = joint
+        self.joint_name = joint_name
+        where = file if line is None else f"{file}:{line}"
+        who = ""
+        if joint is not None:
+            who = f"joint {joint}" + (f" ({joint_name})" if joint_name else "") + ": "
+        super().__init__(f"{where}: {who}{message}")
+
+
+class InputError(KincalcError):
+    """A value given on the command line or to the API is invalid (exit 2)."""

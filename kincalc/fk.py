@@ -1,0 +1,132 @@
+"""Forward kinematics on a :class:`~kincalc.model.Chain`, vectorised over poses.
+
+The chain ``F_0 J_1(q_1) F_1 ... J_n(q_n) F_n`` is evaluated column-wise on
+structure-of-arrays data: the running pose is kept as three column vectors
+and a position, each of shape ``(3, N)``. A joint rotation mixes two
+columns, a joint translation shifts the position along the z column, and a
+constant ``F_i`` is applied as a sparse linear combination that skips its
+zero entries and does not multiply by +-1 (DH links are mostly permutations
+and sign flips). Poses are processed in cache-sized chunks. Units: rad and
+m (or the robot's own unit for unitless robots).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: poses per chunk: large enough to amortise Python overhead, small enough
+#: for the working set (~30 arrays of CHUNK doubles) to stay in cache.
+CHUNK = 8192
+
+
+def _combine(cols, coeffs):
+    """``sum_k coeffs[k] * cols[k]`` skipping zero coefficients; ``None`` if all zero."""
+    acc = None
+    for c, v in zip(coeffs, cols):
+        if c == 0.0:
+            continue
+        term = v if c == 1.0 else (-v if c == -1.0 else c * v)
+        acc = term if acc is None else acc + term
+    return acc
+
+
+def _apply_fixed(cols, p, F):
+    """Post-multiply the running pose ``[cols | p]`` by the constant transform ``F``."""
+    new_cols = []
+    for j in range(3):
+        c = _combine(cols, F[:3, j])
+        new_cols.append(c if c is not None else 0.0 * cols[0])
+    shift = _combine(cols, F[:3, 3])
+    return new_cols, (p if shift is None else p + shift)
+
+
+def _start(F0, size):
+    cols = [np.repeat(F0[:3, j, None], size, axis=1) for j in range(3)]
+    p = np.repeat(F0[:3, 3, None], size, axis=1)
+    return cols, p
+
+
+def _walk(chain, q, on_joint=None):
+    """Run the chain over ``q (N, n)``; return the final ``(cols, p)``.
+
+    ``on_joint(i, cols, p)`` is called with the frame just before joint i's
+    motion (whose z column is joint i's axis in the world frame).
+    """
+    F = chain.fixed
+    cols, p = _start(F[0], q.shape[0])
+    qq = q + chain.offset
+    for i in range(chain.dof):
+        if on_joint is not None:
+            on_joint(i, cols, p)
+        x = qq[:, i]
+        if chain.revolute[i]:
+            c, s = np.cos(x), np.sin(x)
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]]
+        else:
+            p = p + cols[2] * x
+        cols, p = _apply_fixed(cols, p, F[i + 1])
+    return cols, p
+
+
+def _as_batch(chain, q):
+    q = np.asarray(q, dtype=float)
+    if q.ndim == 0 or q.shape[-1] != chain.dof:
+        raise ValueError(f"expected joint values of shape (..., {chain.dof}), got {q.shape}")
+    return q, q.reshape(-1, chain.dof)
+
+
+def forward_kinematics(chain, q) -> np.ndarray:
+    """Tool pose ``T_world_tool`` of shape ``(..., 4, 4)`` for ``q (..., n)``.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``; includes the robot's base and tool transforms.
+    q : array_like (..., n)
+        Joint values: rad for revolute, m for prismatic joints.
+
+    Returns
+    -------
+    ndarray (..., 4, 4)
+        Pose of the tool frame in the world frame.
+    """
+    q, flat = _as_batch(chain, q)
+    N = flat.shape[0]
+    out = np.zeros((N, 4, 4))
+    out[:, 3, 3] = 1.0
+    for start in range(0, N, CHUNK):
+        sl = slice(start, min(start + CHUNK, N))
+        cols, p = _walk(chain, flat[sl])
+        for j in range(3):
+            out[sl, :3, j] = cols[j].T
+        out[sl, :3, 3] = p.T
+    return out.reshape(q.shape[:-1] + (4, 4))
+
+
+def chain_frames(chain, q) -> np.ndarray:
+    """World poses ``(..., n, 4, 4)`` of the frames just after each joint's motion.
+
+    Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)``; its z axis is joint i's
+    axis and it moves with link i.
+    """
+    q, flat = _as_batch(chain, q)
+    N, n = flat.shape
+    out = np.zeros((N, n, 4, 4))
+    out[..., 3, 3] = 1.0
+    F = chain.fixed
+    qq = flat + chain.offset
+    cols, p = _start(F[0], N)
+    for i in range(n):
+        x = qq[:, i]
+        if chain.revolute[i]:
+            c, s = np.cos(x), np.sin(x)
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]]
+        else:
+            p = p + cols[2] * x
+        for j in range(3):
+            out[:, i, :3, j] = cols[j].T
+        out[:, i, :3, 3] = p.T
+        cols, p = _apply_fixed(cols, p, F[i + 1])
+    return out.reshape(q.shape[:-1] + (n, 4, 4))

@@ -1,0 +1,134 @@
+"""Geometric and analytic Jacobians, vectorised over poses.
+
+Rows are ordered linear then angular: ``(vx, vy, vz, wx, wy, wz)``.
+Column i of the geometric Jacobian (Siciliano et al., *Robotics: Modelling,
+Planning and Control*, 2009, eq. 3.30) is
+
+* revolute:  ``[z_i x (p_e - o_i); z_i]``
+* prismatic: ``[z_i; 0]``
+
+with ``z_i``, ``o_i`` joint i's axis and a point on it, and ``p_e`` the tool
+point, all in the world frame. :func:`jacobian_base` gives the velocity of
+the tool point in the world frame; :func:`jacobian_tool` the same velocities
+in the tool frame: ``J_tool = diag(R^T, R^T) J_base`` with ``R`` the tool
+orientation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .fk import CHUNK, _as_batch, _walk
+from .spatial import (matrix_from_euler_xyz, matrix_from_euler_zyz,
+                      matrix_from_rpy)
+
+
+def _jacobian_and_pose(chain, q):
+    """``(J_base (..., 6, n), T (..., 4, 4))`` for ``q (..., n)``."""
+    q, flat = _as_batch(chain, q)
+    N, n = flat.shape
+    J = np.zeros((N, 6, n))
+    T = np.zeros((N, 4, 4))
+    T[:, 3, 3] = 1.0
+    for start in range(0, N, CHUNK):
+        sl = slice(start, min(start + CHUNK, N))
+        axes, points = [], []
+
+        def record(i, cols, p):
+            axes.append(cols[2])
+            points.append(p)
+
+        cols, pe = _walk(chain, flat[sl], on_joint=record)
+        for i in range(n):
+            z = axes[i]
+            if chain.revolute[i]:
+                J[sl, :3, i] = np.cross(z, pe - points[i], axis=0).T
+                J[sl, 3:, i] = z.T
+            else:
+                J[sl, :3, i] = z.T
+        for j in range(3):
+            T[sl, :3, j] = cols[j].T
+        T[sl, :3, 3] = pe.T
+    return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
+
+
+def jacobian_base(chain, q) -> np.ndarray:
+    """Geometric Jacobian ``(..., 6, n)`` in the world (base) frame.
+
+    Maps joint velocities (rad/s, m/s) to the linear velocity of the tool
+    point and the angular velocity of the tool, both in the world frame.
+    """
+    return _jacobian_and_pose(chain, q)[0]
+
+
+def jacobian_tool(chain, q) -> np.ndarray:
+    """Geometric Jacobian ``(..., 6, n)`` expressed in the tool frame.
+
+    Same velocities as :func:`jacobian_base`, with both parts rotated into the
+    tool frame: ``J_tool = diag(R^T, R^T) J_base``.
+    """
+    J, T = _jacobian_and_pose(chain, q)
+    return rotate_jacobian(J, np.swapaxes(T[..., :3, :3], -1, -2))
+
+
+def rotate_jacobian(J, R) -> np.ndarray:
+    """``diag(R, R) @ J`` for ``J (..., 6, n)`` and ``R (..., 3, 3)``."""
+    out = np.empty_like(J)
+    out[..., :3, :] = R @ J[..., :3, :]
+    out[..., 3:, :] = R @ J[..., 3:, :]
+    return out
+
+
+# --- analytic Jacobian -------------------------------------------------------
+
+#: angle sets for the analytic Jacobian: each maps angles (a, b, c) to the
+#: sequence of elementary axes of R = R_1(a) R_2(b) R_3(c). For RPY the
+#: angles are (roll, pitch, yaw) and R = Rz(yaw) Ry(pitch) Rx(roll).
+ANGLE_SETS = {
+    "rpy": ("zyx", (2, 1, 0)),  # composition order, and which angle each factor uses
+    "zyz": ("zyz", (0, 1, 2)),
+    "xyz": ("xyz", (0, 1, 2)),
+}
+
+_FROM_ANGLES = {"rpy": matrix_from_rpy, "zyz": matrix_from_euler_zyz,
+                "xyz": matrix_from_euler_xyz}
+_UNIT = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([0, 0, 1.0])}
+
+
+def angular_rate_matrix(angles, kind: str) -> np.ndarray:
+    """``E (..., 3, 3)`` with ``w = E(phi) phi_dot`` for the angle set ``kind``.
+
+    For ``R = R_a(t1) R_b(t2) R_c(t3)`` the world-frame angular velocity is
+    ``w = e_a t1' + R_a(t1) e_b t2' + R_a(t1) R_b(t2) e_c t3'``
+    (Siciliano et al. 2009, sec. 3.6); columns are reordered to the set's
+    own angle order. Singular at the set's gimbal lock.
+    """
+    from .spatial import rot_x, rot_y, rot_z
+    rot = {"x": rot_x, "y": rot_y, "z": rot_z}
+    axes, which = ANGLE_SETS[kind]
+    angles = np.asarray(angles, dtype=float)
+    E = np.zeros(angles.shape[:-1] + (3, 3))
+    R = np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3))
+    for axis, k in zip(axes, which):
+        E[..., :, k] = R @ _UNIT[axis]
+        R = R @ rot[axis](angles[..., k])
+    return E
+
+
+def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
+    """Analytic Jacobian ``(..., 6, n)``: rows (vx, vy, vz, d/dt of the 3 angles).
+
+    ``J_A = diag(I, E(phi)^-1) J`` with ``J`` the base-frame geometric
+    Jacobian and ``phi`` the tool orientation's angles of set ``kind``
+    ('rpy', 'zyz' or 'xyz'). Raises ``numpy.linalg.LinAlgError`` at the
+    set's representation singularity (gimbal lock).
+    """
+    E = angular_rate_matrix(angles, kind)
+    out = np.array(J, dtype=float, copy=True)
+    out[..., 3:, :] = np.linalg.solve(E, J[..., 3:, :])
+    return out
+
+
+def rate_matrix_condition(angles, kind: str) -> np.ndarray:
+    """Smallest singular value of ``E(phi)``: 0 at the set's gimbal lock."""
+    return np.linalg.svd(angular_rate_matrix(angles, kind), compute_uv=False)[..., -1]

@@ -1,0 +1,65 @@
+"""The bundled robot library and name/path resolution.
+
+A ``ROBOT`` argument is either a bundled robot's name (a file
+``<name>.yaml`` in the library folder) or a path to a YAML file. Resolving a
+name opens exactly one file: there is no scan of the library unless the
+user asks for the list.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+from pathlib import Path
+
+from .errors import RobotNotFoundError
+
+
+def library_dir() -> Path:
+    """The folder of bundled robot files.
+
+    In an installed wheel it is ``kincalc/robots``; in a source checkout
+    (editable install or running from the tree) the top-level ``robots/``.
+    ``KINCALC_ROBOTS`` overrides both.
+    """
+    env = os.environ.get("KINCALC_ROBOTS")
+    if env:
+        return Path(env)
+    here = Path(__file__).resolve().parent
+    packaged = here / "robots"
+    if packaged.is_dir():
+        return packaged
+    return here.parent / "robots"
+
+
+def bundled_names() -> list[str]:
+    """Sorted names of every bundled robot."""
+    d = library_dir()
+    return sorted(p.stem for p in d.glob("*.yaml")) if d.is_dir() else []
+
+
+def resolve(robot: str) -> tuple[Path, str]:
+    """Return ``(path, display_name)`` for a robot name or path.
+
+    A value containing a path separator or ending in .yaml/.yml is a path;
+    otherwise a bundled name is tried first, then a file of that name.
+    """
+    looks_like_path = os.sep in robot or "/" in robot or robot.endswith((".yaml", ".yml"))
+    if not looks_like_path:
+        candidate = library_dir() / f"{robot}.yaml"
+        if candidate.is_file():
+            return candidate, robot
+    p = Path(robot)
+    if p.exists():
+        return p, robot
+    if looks_like_path:
+        return p, robot  # let the loader report "no such file" with the path
+    close = difflib.get_close_matches(robot, bundled_names(), n=3, cutoff=0.6)
+    raise RobotNotFoundError(robot, close)
+
+
+def load(robot: str):
+    """Load a bundled robot by name, or a robot file by path (see :func:`resolve`)."""
+    from .robot_file import load_robot_file
+    path, shown = resolve(robot)
+    return load_robot_file(path, display_name=str(path) if path.parent == library_dir() else shown)

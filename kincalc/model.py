@@ -1,0 +1,307 @@
+"""The frozen robot description.
+
+A :class:`Robot` keeps the joints in the convention they were written in
+(standard DH, modified DH or product of exponentials), in SI units, and
+derives from them one uniform *chain*:
+
+    T_world_tool(q) = F_0 · J_1(q_1) · F_1 · J_2(q_2) · ... · J_n(q_n) · F_n
+
+where each ``F_i`` is a constant transform (the robot's ``base`` is folded
+into ``F_0`` and its ``tool`` into ``F_n``) and ``J_i`` is a rotation about,
+or a translation along, the local z axis by ``q_i + offset_i``. Forward
+kinematics and Jacobians run on that chain whatever the convention; the
+convention's own link frames (for printing ``T_{i-1}^i``) come from
+:meth:`Robot.link_transforms`.
+
+Link transforms by convention (lengths in m, angles in rad):
+
+* ``dh`` (standard, distal; Spong/Corke): ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
+* ``mdh`` (modified, proximal; Craig): ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
+* ``poe`` (Brockett; Lynch & Park ch. 4): ``T = base · exp([S_1] q_1) ··· exp([S_n] q_n) · M``
+  with ``S_i`` the screw of a unit axis through a point, both in the base frame
+  at q = 0, and ``M = tool`` the end-effector pose at q = 0.
+
+For dh/mdh a revolute joint's variable adds to ``theta`` and a prismatic
+joint's to ``d``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from .spatial import invert_transform, rot_x, rot_z, transform
+
+CONVENTIONS = ("dh", "mdh", "poe")
+JOINT_TYPES = ("revolute", "prismatic")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint, in SI units (m, rad).
+
+    For ``dh``/``mdh`` robots ``alpha``, ``a``, ``d``, ``theta`` are the row of
+    the DH table (for ``mdh``, ``alpha`` and ``a`` are alpha_{i-1}, a_{i-1}).
+    For ``poe`` robots ``axis`` (unit, shape (3,)) and ``point`` (shape (3,))
+    locate the joint axis in the base frame at q = 0.
+    ``limits`` is ``(lower, upper)`` or ``None`` for an unlimited joint.
+    """
+
+    name: str
+    type: str
+    alpha: float = 0.0
+    a: float = 0.0
+    d: float = 0.0
+    theta: float = 0.0
+    axis: tuple[float, float, float] | None = None
+    point: tuple[float, float, float] | None = None
+    limits: tuple[float, float] | None = None
+
+    @property
+    def revolute(self) -> bool:
+        return self.type == "revolute"
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A serial robot. Immutable and picklable.
+
+    Attributes
+    ----------
+    name, title, source : str
+        Identifier, human title and citation.
+    convention : {'dh', 'mdh', 'poe'}
+    joints : tuple of Joint
+    base : ndarray (4, 4)
+        ``T_world_0``: pose of the robot's frame 0 in the world (user) frame.
+    tool : ndarray (4, 4)
+        dh/mdh: ``T_n_tool``, pose of the tool in the last link frame.
+        poe: ``M``, pose of the tool in frame 0 at q = 0.
+    home : ndarray (n,)
+        A home configuration (rad / m).
+    length_unit, angle_unit : str
+        The units the robot file was written in; the CLI shows lengths in
+        ``length_unit`` unless told otherwise.
+    """
+
+    name: str
+    convention: str
+    joints: tuple[Joint, ...]
+    base: np.ndarray = field(default_factory=lambda: np.eye(4))
+    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    home: np.ndarray | None = None
+    title: str = ""
+    source: str = ""
+    notes: str = ""
+    length_unit: str = "m"
+    angle_unit: str = "deg"
+    path: str | None = None
+
+    def __post_init__(self):
+        if self.convention not in CONVENTIONS:
+            raise ValueError(f"unknown convention {self.convention!r}")
+        object.__setattr__(self, "joints", tuple(self.joints))
+        base = np.array(self.base, dtype=float)
+        tool = np.array(self.tool, dtype=float)
+        base.setflags(write=False)
+        tool.setflags(write=False)
+        object.__setattr__(self, "base", base)
+        object.__setattr__(self, "tool", tool)
+        home = np.zeros(self.dof) if self.home is None else np.array(self.home, dtype=float)
+        home.setflags(write=False)
+        object.__setattr__(self, "home", home)
+
+    # --- basic facts -------------------------------------------------------
+
+    @property
+    def dof(self) -> int:
+        return len(self.joints)
+
+    @property
+    def joint_types(self) -> list[str]:
+        return [j.type for j in self.joints]
+
+    @property
+    def is_revolute(self) -> np.ndarray:
+        """Boolean mask ``(n,)``: True for revolute joints."""
+        return np.array([j.revolute for j in self.joints], dtype=bool)
+
+    @property
+    def limits(self) -> np.ndarray:
+        """Joint limits ``(n, 2)`` in rad / m; ``-inf, inf`` for unlimited joints."""
+        out = np.empty((self.dof, 2))
+        for i, j in enumerate(self.joints):
+            out[i] = j.limits if j.limits is not None else (-np.inf, np.inf)
+        return out
+
+    def __hash__(self):
+        return hash((self.name, self.convention, self.joints))
+
+    def __eq__(self, other):
+        if not isinstance(other, Robot):
+            return NotImplemented
+        return (self.name == other.name and self.convention == other.convention
+                and self.joints == other.joints
+                and np.array_equal(self.base, other.base)
+                and np.array_equal(self.tool, other.tool))
+
+    # --- the uniform chain -------------------------------------------------
+
+    @cached_property
+    def chain(self) -> "Chain":
+        """The uniform chain ``F_0 J_1 F_1 ... J_n F_n`` (see module docstring)."""
+        return Chain.from_robot(self)
+
+    @cached_property
+    def characteristic_length(self) -> float:
+        """A length scale of the robot (m): the sum of the chain's fixed offsets.
+
+        Used to make position tolerances and singularity tests scale-free.
+        Prismatic strokes count with their upper limit when finite.
+        """
+        F = self.chain.fixed
+        total = float(np.sum(np.linalg.norm(F[1:, :3, 3], axis=-1)))
+        for j in self.joints:
+            if not j.revolute and j.limits is not None:
+                total += max(abs(j.limits[0]), abs(j.limits[1]))
+        return total if total > 0 else 1.0
+
+    # --- kinematics (delegating to the numeric core) ----------------------
+
+    def fk(self, q) -> np.ndarray:
+        """Tool pose ``T_world_tool (..., 4, 4)`` for joints ``q (..., n)`` (rad / m)."""
+        from .fk import forward_kinematics
+        return forward_kinematics(self.chain, q)
+
+    def jacobian(self, q, frame: str = "base") -> np.ndarray:
+        """Geometric Jacobian ``(..., 6, n)``, rows (vx vy vz wx wy wz).
+
+        ``frame='base'``: velocities of the tool point in the world frame;
+        ``frame='tool'``: the same velocities expressed in the tool frame.
+        """
+        from .jacobian import jacobian_base, jacobian_tool
+        if frame == "base":
+            return jacobian_base(self.chain, q)
+        if frame == "tool":
+            return jacobian_tool(self.chain, q)
+        raise ValueError(f"frame must be 'base' or 'tool', not {frame!r}")
+
+    def link_transforms(self, q) -> np.ndarray:
+        """The convention's link transforms ``T_{i-1}^i``, shape ``(..., n, 4, 4)``.
+
+        Frames are the DH (or modified DH) link frames of the robot file, with
+        frame 0 the robot's base frame (before ``base`` is applied). For poe
+        robots, frame i sits on joint i's axis (z along the axis) and moves
+        with link i.
+        """
+        q = np.asarray(q, dtype=float)
+        if q.shape[-1:] != (self.dof,):
+            raise ValueError(f"expected q of shape (..., {self.dof}), got {q.shape}")
+        if self.convention == "poe":
+            return _poe_link_transforms(self, q)
+        mats = []
+        for i, j in enumerate(self.joints):
+            qi = q[..., i]
+            theta = j.theta + (qi if j.revolute else 0.0 * qi)
+            d = j.d + (0.0 * qi if j.revolute else qi)
+            if self.convention == "dh":
+                A = _rz_tz(theta, d) @ transform(rot_x(j.alpha), [j.a, 0.0, 0.0])
+            else:
+                A = transform(rot_x(j.alpha), [j.a, 0.0, 0.0]) @ _rz_tz(theta, d)
+            mats.append(A)
+        return np.stack(mats, axis=-3)
+
+
+def _rz_tz(theta, d) -> np.ndarray:
+    """``Rz(theta) Tz(d)`` for arrays ``theta, d (...,)``."""
+    theta = np.asarray(theta, dtype=float)
+    d = np.broadcast_to(np.asarray(d, dtype=float), theta.shape)
+    T = transform(rot_z(theta))
+    T[..., 2, 3] = d
+    return T
+
+
+def axis_frame(axis, point) -> np.ndarray:
+    """A frame ``(4, 4)`` with origin ``point`` and z along the unit ``axis``.
+
+    The x axis is chosen deterministically perpendicular to z.
+    """
+    z = np.asarray(axis, dtype=float)
+    z = z / np.linalg.norm(z)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = helper - z * (helper @ z)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    return transform(np.stack([x, y, z], axis=-1), point)
+
+
+def _poe_link_transforms(robot: Robot, q: np.ndarray) -> np.ndarray:
+    from .fk import chain_frames
+    frames = chain_frames(robot.chain, q)  # world-frame joint frames after motion
+    Tw0 = invert_transform(robot.base)
+    T0 = Tw0 @ frames                      # (..., n, 4, 4) in frame 0
+    prev = np.concatenate([np.broadcast_to(np.eye(4), T0.shape[:-3] + (1, 4, 4)),
+                           T0[..., :-1, :, :]], axis=-3)
+    return invert_transform(prev) @ T0
+
+
+@dataclass(frozen=True)
+class Chain:
+    """``T(q) = F_0 J_1(q_1 + c_1) F_1 ... J_n(q_n + c_n) F_n``.
+
+    Attributes
+    ----------
+    fixed : ndarray (n + 1, 4, 4)
+        The constant transforms ``F_i``, base folded into ``F_0``, tool into ``F_n``.
+    revolute : ndarray (n,) of bool
+        ``J_i`` is ``Rz`` (True) or ``Tz`` (False).
+    offset : ndarray (n,)
+        ``c_i``, added to the joint variable (rad or m).
+    """
+
+    fixed: np.ndarray
+    revolute: np.ndarray
+    offset: np.ndarray
+
+    @property
+    def dof(self) -> int:
+        return len(self.revolute)
+
+    @staticmethod
+    def from_robot(robot: Robot) -> "Chain":
+        n = robot.dof
+        pre, post, offset = [], [], np.zeros(n)
+        for i, j in enumerate(robot.joints):
+            if robot.convention == "poe":
+                C = axis_frame(j.axis, j.point)
+                pre.append(C)
+                post.append(invert_transform(C))
+                continue
+            Xa = transform(rot_x(j.alpha), [j.a, 0.0, 0.0])   # Rx(alpha) Tx(a) == Tx(a) Rx(alpha)
+            Rt = transform(rot_z(j.theta))
+            Td = transform(None, [0.0, 0.0, j.d])
+            if robot.convention == "dh":
+                if j.revolute:            # Rz(q + theta) · Tz(d) Tx(a) Rx(alpha)
+                    pre.append(np.eye(4)); post.append(Td @ Xa); offset[i] = j.theta
+                else:                     # Tz(q + d) · Rz(theta) Tx(a) Rx(alpha)
+                    pre.append(np.eye(4)); post.append(Rt @ Xa); offset[i] = j.d
+            else:
+                if j.revolute:            # Rx(alpha) Tx(a) · Rz(q + theta) · Tz(d)
+                    pre.append(Xa); post.append(Td); offset[i] = j.theta
+                else:                     # Rx(alpha) Tx(a) Rz(theta) · Tz(q + d)
+                    pre.append(Xa @ Rt); post.append(np.eye(4)); offset[i] = j.d
+        fixed = np.empty((n + 1, 4, 4))
+        fixed[0] = robot.base @ pre[0] if n else robot.base
+        for i in range(1, n):
+            fixed[i] = post[i - 1] @ pre[i]
+        fixed[n] = (post[n - 1] if n else np.eye(4)) @ robot.tool
+        # Snap exact-looking zeros and ones so the evaluator can skip them
+        # (cos(pi/2) = 6e-17 would otherwise cost a multiply per sample).
+        snapped = np.where(np.abs(fixed) < 1e-15, 0.0, fixed)
+        snapped = np.where(np.abs(np.abs(snapped) - 1.0) < 1e-15, np.sign(snapped), snapped)
+        revolute = robot.is_revolute
+        for arr in (snapped, revolute, offset):
+            arr.setflags(write=False)
+        return Chain(snapped, revolute, offset)

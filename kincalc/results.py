@@ -1,0 +1,222 @@
+"""Result objects: the one source of both the JSON and the tables.
+
+Results hold SI values (m, rad) and the display units chosen by the caller;
+``to_dict()`` converts at the edge and returns plain JSON types. The JSON
+document layout is the contract of PRODUCT.md; ``SCHEMA_VERSION`` goes up
+when it changes on purpose.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .units import angle_factor, length_factor
+
+SCHEMA_VERSION = "1.0"
+
+ORIENTATION_FORMATS = ("matrix", "rpy", "euler_zyz", "euler_xyz", "quaternion",
+                       "axis_angle", "rotation_vector")
+
+
+@dataclass(frozen=True)
+class Units:
+    """Display units: ``angle`` in {'deg', 'rad'}, ``length`` a key of LENGTH_UNITS."""
+
+    angle: str = "deg"
+    length: str = "m"
+
+    @property
+    def a(self) -> float:
+        """Display angle units per radian."""
+        return 1.0 / angle_factor(self.angle)
+
+    @property
+    def l(self) -> float:  # noqa: E743 - short on purpose, used in formulas
+        """Display length units per metre."""
+        return 1.0 / length_factor(self.length)
+
+    def joints(self, robot, q) -> list[float]:
+        """Joint values in display units (angle for revolute, length for prismatic)."""
+        q = np.asarray(q, dtype=float)
+        scale = np.where(robot.is_revolute, self.a, self.l)
+        return _clean(q * scale)
+
+    def pose(self, T) -> list:
+        T = np.array(T, dtype=float)
+        T[..., :3, 3] *= self.l
+        return _clean(T)
+
+    def to_dict(self) -> dict:
+        return {"angle": self.angle, "length": self.length}
+
+
+def _clean(x):
+    """Nested lists of floats, rounded to 12 decimals (so 29.999999999999996 deg
+    entered as 30 reads back as 30.0) and with -0.0 turned into 0.0."""
+    arr = np.round(np.asarray(x, dtype=float), 12) + 0.0
+    return arr.tolist()
+
+
+def robot_summary(robot) -> dict:
+    return {
+        "name": robot.name,
+        "title": robot.title,
+        "dof": robot.dof,
+        "joint_types": robot.joint_types,
+        "convention": robot.convention,
+    }
+
+
+def _header(command: str, robot, units: Units) -> dict:
+    return {
+        "kincalc": SCHEMA_VERSION,
+        "command": command,
+        "robot": robot_summary(robot),
+        "units": units.to_dict(),
+    }
+
+
+def orientation_dict(R, units: Units) -> dict:
+    """Every orientation format of PRODUCT.md for ``R (3, 3)``, angles in display units."""
+    from . import spatial as sp
+    axis, angle = sp.axis_angle_from_matrix(R)
+    return {
+        "matrix": _clean(R),
+        "rpy": _clean(sp.rpy_from_matrix(R) * units.a),
+        "euler_zyz": _clean(sp.euler_zyz_from_matrix(R) * units.a),
+        "euler_xyz": _clean(sp.euler_xyz_from_matrix(R) * units.a),
+        "quaternion": _clean(sp.quaternion_from_matrix(R)),
+        "axis_angle": {"axis": _clean(axis), "angle": float(angle) * units.a},
+        "rotation_vector": _clean(axis * angle * units.a),
+    }
+
+
+@dataclass(frozen=True)
+class FKResult:
+    """Forward kinematics at one configuration.
+
+    ``T`` is ``T_world_tool`` (4, 4); ``links`` the convention's link
+    transforms ``T_{i-1}^i`` (n, 4, 4) and ``cumulative`` the ``T_0^i``
+    (n, 4, 4), or ``None`` when frames were not asked for.
+    """
+
+    robot: object
+    q: np.ndarray
+    T: np.ndarray
+    units: Units
+    links: np.ndarray | None = None
+    cumulative: np.ndarray | None = None
+
+    def tcv(self):
+        """Tool configuration vector, or ``None`` when the last joint is prismatic."""
+        from .spatial import tcv_from_transform
+        if not self.robot.joints[-1].revolute:
+            return None
+        w = tcv_from_transform(self.T, self.q[-1])
+        w[:3] *= self.units.l
+        return _clean(w)
+
+    def to_dict(self) -> dict:
+        u = self.units
+        out = _header("fk", self.robot, u)
+        out.update({
+            "q": u.joints(self.robot, self.q),
+            "T": u.pose(self.T),
+            "position": _clean(self.T[:3, 3] * u.l),
+            "orientation": orientation_dict(self.T[:3, :3], u),
+            "tcv": self.tcv(),
+        })
+        if self.links is not None:
+            out["frames"] = [
+                {"index": i + 1, "joint": j.name,
+                 "link": u.pose(self.links[i]), "T": u.pose(self.cumulative[i])}
+                for i, j in enumerate(self.robot.joints)
+            ]
+            out["base"] = u.pose(self.robot.base)
+            out["tool"] = u.pose(self.robot.tool)
+        return out
+
+
+@dataclass(frozen=True)
+class Singularity:
+    """What is known about a (near-)singular configuration."""
+
+    kinds: tuple[str, ...]          # e.g. ("wrist",), ("elbow-stretched",), ("unclassified",)
+    descriptions: tuple[str, ...]   # one sentence each
+    null_space: np.ndarray | None   # joint-velocity direction (n,) giving no tool motion
+    lost_motion: np.ndarray | None  # tool twist direction (6,) the arm cannot produce
+
+
+@dataclass(frozen=True)
+class JacobianResult:
+    """Jacobian and its measures at one configuration.
+
+    ``J`` is in SI (m/rad for revolute columns' linear rows). ``analytic``
+    is ``(kind, J_A)`` or ``None``. ``sigma_normalised`` are the singular
+    values of ``J`` with its linear rows divided by ``length_scale`` (m): the
+    scale-free numbers from which rank, condition and singularity come. The
+    singular values and manipulability in ``to_dict()`` are those of ``J`` in
+    the display length unit.
+    """
+
+    robot: object
+    q: np.ndarray
+    frame: str
+    J: np.ndarray
+    units: Units
+    sigma_normalised: np.ndarray
+    rank: int
+    length_scale: float
+    singularity: Singularity | None
+    analytic: tuple[str, np.ndarray] | None = None
+    analytic_error: str | None = None
+
+    @property
+    def singular(self) -> bool:
+        return self.singularity is not None
+
+    def _display_J(self, J) -> list:
+        J = np.array(J, dtype=float)
+        # linear rows: length per rad (revolute) or length per length (prismatic)
+        scale = np.where(self.robot.is_revolute, self.units.l, 1.0)
+        J[:3, :] *= scale
+        # angular rows of prismatic columns are zero; revolute ones are rad/rad
+        return _clean(J)
+
+    def to_dict(self) -> dict:
+        u = self.units
+        Jd = self._display_J(self.J)
+        s = np.linalg.svd(np.array(Jd), compute_uv=False)
+        sn = self.sigma_normalised
+        cond = float("inf") if self.singular or sn[-1] <= 0 else float(sn[0] / sn[-1])
+        out = _header("jacobian", self.robot, u)
+        out.update({
+            "q": u.joints(self.robot, self.q),
+            "frame": self.frame,
+            "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
+            "J": Jd,
+            "singular_values": _clean(s),
+            "rank": self.rank,
+            "manipulability": float(np.prod(s)),
+            "condition": cond if np.isfinite(cond) else None,
+            "length_scale": self.length_scale * u.l,
+            "singular": self.singular,
+        })
+        if self.singularity is not None:
+            sg = self.singularity
+            out["singularity"] = {
+                "kinds": list(sg.kinds),
+                "descriptions": list(sg.descriptions),
+                "null_space": None if sg.null_space is None else _clean(sg.null_space),
+                "lost_motion": None if sg.lost_motion is None else _clean(sg.lost_motion),
+            }
+        if self.analytic is not None or self.analytic_error is not None:
+            kind = self.analytic[0] if self.analytic else None
+            out["analytic"] = {
+                "angles": kind,
+                "J": None if self.analytic is None else self._display_J(self.analytic[1]),
+                "error": self.analytic_error,
+            }
+        return out

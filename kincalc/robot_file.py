@@ -1,0 +1,362 @@
+"""Robot files (YAML) -> :class:`~kincalc.model.Robot`, with file:line errors.
+
+This is the only module that imports yaml. The format is described in the
+README ("Robot files") and in kincalc(5)-style detail in ``man/kincalc.1``.
+Every problem is reported as a :class:`~kincalc.errors.RobotFileError` naming
+the file, the line and the field, for example::
+
+    arm.yaml:12: joint 3 (q3): 'alpha' is missing
+
+Values are converted to SI (m, rad) here and nowhere else.
+"""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import math
+import re
+
+import numpy as np
+
+from .errors import RobotFileError
+from .model import CONVENTIONS, JOINT_TYPES, Joint, Robot
+from .spatial import matrix_from_rpy, transform
+from .units import ANGLE_UNITS, LENGTH_UNITS
+
+TOP_KEYS = {
+    "name": True, "convention": True, "units": True, "joints": True,
+    "title": False, "source": False, "notes": False, "parameters": False,
+    "base": False, "tool": False, "home": False,
+}
+DH_JOINT_KEYS = {"name": True, "type": True, "alpha": True, "a": True, "d": True,
+                 "theta": True, "limits": False}
+POE_JOINT_KEYS = {"name": True, "type": True, "axis": True, "point": True, "limits": False}
+POSE_KEYS = {"xyz", "rpy", "matrix"}
+NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
+
+
+def load_robot_file(path, display_name: str | None = None) -> Robot:
+    """Read and validate a robot file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The YAML file.
+    display_name : str, optional
+        How to name the file in messages (defaults to ``str(path)``).
+
+    Raises
+    ------
+    RobotFileError
+        Unreadable file, YAML syntax error, or any invalid field.
+    """
+    shown = display_name or str(path)
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+    except FileNotFoundError:
+        raise RobotFileError(shown, None, "no such file") from None
+    except IsADirectoryError:
+        raise RobotFileError(shown, None, "is a directory, not a robot file") from None
+    except UnicodeDecodeError as exc:
+        raise RobotFileError(shown, None, f"not UTF-8 text ({exc.reason})") from None
+    except OSError as exc:
+        raise RobotFileError(shown, None, f"cannot read: {exc.strerror}") from None
+    robot = parse_robot_text(text, shown)
+    object.__setattr__(robot, "path", str(path))
+    return robot
+
+
+def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
+    """Parse the YAML ``text`` of a robot file; ``file`` names it in errors."""
+    root = _compose(text, file)
+    return _Reader(file).robot(root)
+
+
+# --- YAML with line numbers ----------------------------------------------
+
+def _compose(text: str, file: str):
+    import yaml
+    loader_cls = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+    try:
+        node = yaml.compose(text, Loader=loader_cls)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line = mark.line + 1 if mark is not None else None
+        raise RobotFileError(file, line, f"not valid YAML: {exc.problem or exc.context}") from None
+    except yaml.YAMLError as exc:
+        raise RobotFileError(file, None, f"not valid YAML: {exc}") from None
+    if node is None:
+        raise RobotFileError(file, 1, "the file is empty")
+    return node
+
+
+def _line(node) -> int:
+    return node.start_mark.line + 1
+
+
+class _Reader:
+    """Walks the node tree, converting and validating as it goes."""
+
+    def __init__(self, file: str):
+        self.file = file
+        self.params: dict[str, float] = {}
+        self.joint: int | None = None
+        self.joint_name: str | None = None
+
+    # errors --------------------------------------------------------------
+    def fail(self, node, message: str):
+        line = _line(node) if node is not None else None
+        raise RobotFileError(self.file, line, message, self.joint, self.joint_name)
+
+    # node kinds ----------------------------------------------------------
+    def mapping(self, node, what: str, keys: dict[str, bool]) -> dict:
+        import yaml
+        if not isinstance(node, yaml.MappingNode):
+            self.fail(node, f"{what} must be a mapping (key: value), not {self.kind(node)}")
+        out: dict = {}
+        for knode, vnode in node.value:
+            key = knode.value if isinstance(knode, yaml.ScalarNode) else None
+            if key is None:
+                self.fail(knode, f"{what}: keys must be plain names")
+            if key in out:
+                self.fail(knode, f"{what}: {key!r} is given twice")
+            if key not in keys:
+                close = difflib.get_close_matches(key, list(keys), n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else \
+                    f" (allowed: {', '.join(keys)})"
+                self.fail(knode, f"unknown key {key!r} in {what}{hint}")
+            out[key] = vnode
+        for key, required in keys.items():
+            if required and key not in out:
+                self.fail(node, f"{key!r} is missing" + ("" if what == "the robot file" else f" in {what}"))
+        return out
+
+    @staticmethod
+    def kind(node) -> str:
+        import yaml
+        if isinstance(node, yaml.MappingNode):
+            return "a mapping"
+        if isinstance(node, yaml.SequenceNode):
+            return "a list"
+        return f"{node.value!r}" if node.value != "" else "empty"
+
+    def sequence(self, node, what: str, length: int | None = None) -> list:
+        import yaml
+        if not isinstance(node, yaml.SequenceNode):
+            self.fail(node, f"{what} must be a list, not {self.kind(node)}")
+        if length is not None and len(node.value) != length:
+            self.fail(node, f"{what} must have {length} entries, not {len(node.value)}")
+        return node.value
+
+    def text(self, node, what: str) -> str:
+        import yaml
+        if not isinstance(node, yaml.ScalarNode) or node.tag.endswith(":null"):
+            self.fail(node, f"{what} must be text, not {self.kind(node) if not isinstance(node, yaml.ScalarNode) else 'empty'}")
+        return str(node.value)
+
+    def number(self, node, what: str) -> float:
+        """A number or an arithmetic expression over ``parameters`` and ``pi``."""
+        import yaml
+        if not isinstance(node, yaml.ScalarNode):
+            self.fail(node, f"{what} must be a number, not {self.kind(node)}")
+        tag = node.tag.rsplit(":", 1)[-1]
+        if tag in ("int", "float"):
+            try:
+                value = float(node.value.replace("_", ""))
+            except ValueError:
+                value = self.expression(node, what)
+        elif tag == "bool":
+            self.fail(node, f"{what} must be a number, not {node.value!r}")
+        elif tag == "null" or node.value.strip() == "":
+            self.fail(node, f"{what} is empty; give a number")
+        else:
+            value = self.expression(node, what)
+        if not math.isfinite(value):
+            self.fail(node, f"{what} must be a finite number, not {node.value!r}")
+        return value
+
+    def expression(self, node, what: str) -> float:
+        src = node.value
+        try:
+            tree = ast.parse(src.strip(), mode="eval")
+        except SyntaxError:
+            self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', not {src!r}")
+        try:
+            return float(self._eval(tree.body))
+        except _ExprError as exc:
+            self.fail(node, f"{what}: {exc} in {src!r}")
+        except ZeroDivisionError:
+            self.fail(node, f"{what}: division by zero in {src!r}")
+
+    def _eval(self, e):
+        if isinstance(e, ast.Constant) and isinstance(e.value, (int, float)) \
+                and not isinstance(e.value, bool):
+            return e.value
+        if isinstance(e, ast.Name):
+            if e.id == "pi":
+                return math.pi
+            if e.id in self.params:
+                return self.params[e.id]
+            known = ", ".join(sorted(self.params)) or "none defined"
+            raise _ExprError(f"unknown name {e.id!r} (parameters: {known})")
+        if isinstance(e, ast.UnaryOp) and isinstance(e.op, (ast.USub, ast.UAdd)):
+            v = self._eval(e.operand)
+            return -v if isinstance(e.op, ast.USub) else v
+        if isinstance(e, ast.BinOp) and isinstance(e.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+            a, b = self._eval(e.left), self._eval(e.right)
+            if isinstance(e.op, ast.Add):
+                return a + b
+            if isinstance(e.op, ast.Sub):
+                return a - b
+            if isinstance(e.op, ast.Mult):
+                return a * b
+            return a / b
+        raise _ExprError("only numbers, parameter names, pi, + - * / and parentheses are allowed")
+
+    def vector(self, node, what: str, length: int) -> np.ndarray:
+        items = self.sequence(node, what, length)
+        return np.array([self.number(v, f"{what}[{k}]") for k, v in enumerate(items)])
+
+    # the robot -----------------------------------------------------------
+    def robot(self, root) -> Robot:
+        import yaml
+        top = self.mapping(root, "the robot file", TOP_KEYS)
+        name = self.text(top["name"], "'name'")
+        if not NAME_RE.match(name):
+            self.fail(top["name"], f"'name' {name!r} must start with a letter and contain only "
+                                   "letters, digits, '_', '-' and '.'")
+        convention = self.text(top["convention"], "'convention'")
+        if convention not in CONVENTIONS:
+            self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "
+                                         f"(dh = standard, mdh = modified/Craig), not {convention!r}")
+        units = self.mapping(top["units"], "'units'", {"length": True, "angle": True})
+        length_unit = self.text(units["length"], "'units.length'")
+        if length_unit not in LENGTH_UNITS:
+            self.fail(units["length"], f"'units.length' must be one of {', '.join(LENGTH_UNITS)}, "
+                                       f"not {length_unit!r}")
+        angle_unit = self.text(units["angle"], "'units.angle'")
+        if angle_unit not in ANGLE_UNITS:
+            self.fail(units["angle"], f"'units.angle' must be one of {', '.join(ANGLE_UNITS)}, "
+                                      f"not {angle_unit!r}")
+        self.L = LENGTH_UNITS[length_unit]
+        self.A = ANGLE_UNITS[angle_unit]
+
+        if "parameters" in top:
+            pnode = top["parameters"]
+            if not isinstance(pnode, yaml.MappingNode):
+                self.fail(pnode, "'parameters' must be a mapping of names to numbers")
+            for knode, vnode in pnode.value:
+                pname = knode.value
+                if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", str(pname)) or pname == "pi":
+                    self.fail(knode, f"parameter name {pname!r} must be an identifier other than 'pi'")
+                if pname in self.params:
+                    self.fail(knode, f"parameter {pname!r} is given twice")
+                self.params[pname] = self.number(vnode, f"parameter {pname!r}")
+
+        jnodes = self.sequence(top["joints"], "'joints'")
+        if not jnodes:
+            self.fail(top["joints"], "'joints' is empty; a robot needs at least one joint")
+        joints = []
+        seen: dict[str, int] = {}
+        for k, jnode in enumerate(jnodes, start=1):
+            self.joint, self.joint_name = k, None
+            joint = self.joint_entry(jnode, convention)
+            if joint.name in seen:
+                self.fail(jnode, f"name {joint.name!r} is already used by joint {seen[joint.name]}")
+            seen[joint.name] = k
+            joints.append(joint)
+        self.joint, self.joint_name = None, None
+
+        base = self.pose(top["base"], "'base'") if "base" in top else np.eye(4)
+        if convention == "poe" and "tool" not in top:
+            self.fail(root, "'tool' is missing: a poe robot needs the tool pose at q = 0 (M)")
+        tool = self.pose(top["tool"], "'tool'") if "tool" in top else np.eye(4)
+
+        home = None
+        if "home" in top:
+            hnode = top["home"]
+            items = self.sequence(hnode, "'home'")
+            if len(items) != len(joints):
+                self.fail(hnode, f"'home' has {len(items)} values but the robot has {len(joints)} joints")
+            home = np.empty(len(joints))
+            for k, (v, j) in enumerate(zip(items, joints)):
+                home[k] = self.number(v, f"'home'[{k}]") * (self.A if j.revolute else self.L)
+                if j.limits is not None and not (j.limits[0] - 1e-12 <= home[k] <= j.limits[1] + 1e-12):
+                    self.fail(v, f"'home' value for joint {k + 1} ({j.name}) is outside its limits")
+
+        def opt_text(key):
+            return self.text(top[key], f"'{key}'").strip() if key in top else ""
+
+        return Robot(
+            name=name, convention=convention, joints=tuple(joints), base=base, tool=tool,
+            home=home, title=opt_text("title"), source=opt_text("source"),
+            notes=opt_text("notes"), length_unit=length_unit, angle_unit=angle_unit,
+        )
+
+    def joint_entry(self, node, convention: str) -> Joint:
+        import yaml
+        keys = POE_JOINT_KEYS if convention == "poe" else DH_JOINT_KEYS
+        if isinstance(node, yaml.MappingNode):
+            for knode, vnode in node.value:
+                if knode.value == "name" and isinstance(vnode, yaml.ScalarNode):
+                    self.joint_name = str(vnode.value)
+        fields = self.mapping(node, "the joint", keys)
+        name = self.text(fields["name"], "'name'")
+        jtype = self.text(fields["type"], "'type'")
+        if jtype not in JOINT_TYPES:
+            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {jtype!r}")
+        revolute = jtype == "revolute"
+        limits = None
+        if "limits" in fields:
+            lo, hi = self.vector(fields["limits"], "'limits'", 2) * (self.A if revolute else self.L)
+            if lo > hi:
+                self.fail(fields["limits"], "'limits' must be [lower, upper] with lower <= upper")
+            limits = (float(lo), float(hi))
+        if convention == "poe":
+            axis = self.vector(fields["axis"], "'axis'", 3)
+            norm = float(np.linalg.norm(axis))
+            if norm < 1e-9:
+                self.fail(fields["axis"], "'axis' must not be the zero vector")
+            if abs(norm - 1.0) > 1e-6:
+                self.fail(fields["axis"], f"'axis' must be a unit vector (its norm is {norm:.6g})")
+            point = self.vector(fields["point"], "'point'", 3) * self.L
+            return Joint(name=name, type=jtype, axis=tuple(axis / norm), point=tuple(point),
+                         limits=limits)
+        return Joint(
+            name=name, type=jtype,
+            alpha=self.number(fields["alpha"], "'alpha'") * self.A,
+            a=self.number(fields["a"], "'a'") * self.L,
+            d=self.number(fields["d"], "'d'") * self.L,
+            theta=self.number(fields["theta"], "'theta'") * self.A,
+            limits=limits,
+        )
+
+    def pose(self, node, what: str) -> np.ndarray:
+        fields = self.mapping(node, what, {k: False for k in POSE_KEYS})
+        if "matrix" in fields:
+            if "xyz" in fields or "rpy" in fields:
+                self.fail(node, f"{what}: give either 'matrix' or 'xyz'/'rpy', not both")
+            rows = self.sequence(fields["matrix"], f"{what}.matrix", 4)
+            M = np.array([self.vector(r, f"{what}.matrix row {k + 1}", 4)
+                          for k, r in enumerate(rows)])
+            if not np.allclose(M[3], [0, 0, 0, 1], atol=1e-9):
+                self.fail(fields["matrix"], f"{what}.matrix: the last row must be [0, 0, 0, 1]")
+            R = M[:3, :3]
+            if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+                self.fail(fields["matrix"], f"{what}.matrix: the upper-left 3x3 block is not a "
+                                            "rotation (orthonormal, determinant +1)")
+            M = M.copy()
+            M[:3, 3] *= self.L
+            # re-orthonormalise the rotation given to 6 digits
+            u, _, vt = np.linalg.svd(R)
+            M[:3, :3] = u @ vt
+            return M
+        xyz = self.vector(fields["xyz"], f"{what}.xyz", 3) * self.L if "xyz" in fields else np.zeros(3)
+        rpy = self.vector(fields["rpy"], f"{what}.rpy", 3) * self.A if "rpy" in fields else np.zeros(3)
+        return transform(matrix_from_rpy(rpy), xyz)
+
+
+class _ExprError(Exception):
+    pass

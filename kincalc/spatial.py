@@ -1,0 +1,359 @@
+"""Rotations and rigid transforms, batched over leading axes.
+
+Conventions (see also the package docstring):
+
+* A rotation matrix ``R_a_b`` has shape ``(..., 3, 3)`` and maps vectors in
+  frame b to frame a; a transform ``T_a_b`` has shape ``(..., 4, 4)`` and is
+  the pose of frame b in frame a.
+* Angles are in radians, lengths in metres (or in the robot's own unit for
+  unitless robots); nothing here converts units.
+* RPY means fixed-axis X-Y-Z angles ``(roll, pitch, yaw)`` with
+  ``R = Rz(yaw) @ Ry(pitch) @ Rx(roll)`` (Craig, *Introduction to Robotics*,
+  3rd ed., sec. 2.8, "X-Y-Z fixed angles").
+* ZYZ Euler angles ``(a, b, c)`` mean ``R = Rz(a) @ Ry(b) @ Rz(c)``; moving
+  X-Y-Z Euler angles ("1-2-3") mean ``R = Rx(a) @ Ry(b) @ Rz(c)``.
+* Quaternions are ``(w, x, y, z)``, scalar first, returned with ``w >= 0``.
+* Twists and Jacobian rows are ordered linear then angular ``(v, w)``.
+
+Every function accepts any number of leading batch dimensions, returns new
+arrays and never writes into its arguments.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .tolerances import GIMBAL_TOL, SMALL_ANGLE
+
+__all__ = [
+    "rot_x", "rot_y", "rot_z", "transform", "invert_transform", "skew",
+    "matrix_from_rpy", "rpy_from_matrix",
+    "matrix_from_euler_zyz", "euler_zyz_from_matrix",
+    "matrix_from_euler_xyz", "euler_xyz_from_matrix",
+    "quaternion_from_matrix", "matrix_from_quaternion",
+    "axis_angle_from_matrix", "matrix_from_axis_angle",
+    "rotvec_from_matrix", "matrix_from_rotvec",
+    "tcv_from_transform", "transform_from_tcv",
+    "log_transform", "adjoint", "rotation_error",
+]
+
+
+def _elementary(angle, i: int, j: int) -> np.ndarray:
+    """Rotation by ``angle`` mixing axes i and j (the plane of rotation)."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros(angle.shape + (3, 3))
+    k = 3 - i - j
+    out[..., k, k] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., i, j] = -s
+    out[..., j, i] = s
+    return out
+
+
+def rot_x(angle) -> np.ndarray:
+    """Rotation about x by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    return _elementary(angle, 1, 2)
+
+
+def rot_y(angle) -> np.ndarray:
+    """Rotation about y by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    return _elementary(angle, 2, 0)
+
+
+def rot_z(angle) -> np.ndarray:
+    """Rotation about z by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    return _elementary(angle, 0, 1)
+
+
+def transform(rotation=None, translation=None) -> np.ndarray:
+    """Homogeneous transform from ``rotation (..., 3, 3)`` and ``translation (..., 3)``.
+
+    Either may be omitted (identity rotation, zero translation). Leading
+    dimensions broadcast.
+    """
+    R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=float)
+    p = np.zeros(3) if translation is None else np.asarray(translation, dtype=float)
+    batch = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
+    out = np.zeros(batch + (4, 4))
+    out[..., :3, :3] = R
+    out[..., :3, 3] = p
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def invert_transform(T) -> np.ndarray:
+    """Inverse of rigid transforms ``T (..., 4, 4)``: ``T_b_a`` from ``T_a_b``."""
+    T = np.asarray(T, dtype=float)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    return transform(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
+
+
+def skew(v) -> np.ndarray:
+    """Skew-symmetric matrix ``[v]x`` of ``v (..., 3)``, so ``[v]x @ u = v x u``."""
+    v = np.asarray(v, dtype=float)
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1] = -v[..., 2]
+    out[..., 0, 2] = v[..., 1]
+    out[..., 1, 0] = v[..., 2]
+    out[..., 1, 2] = -v[..., 0]
+    out[..., 2, 0] = -v[..., 1]
+    out[..., 2, 1] = v[..., 0]
+    return out
+
+
+# --- Euler-type angle sets -------------------------------------------------
+
+def matrix_from_rpy(rpy) -> np.ndarray:
+    """``R = Rz(yaw) Ry(pitch) Rx(roll)`` from ``rpy (..., 3) = (roll, pitch, yaw)`` in rad."""
+    rpy = np.asarray(rpy, dtype=float)
+    return rot_z(rpy[..., 2]) @ rot_y(rpy[..., 1]) @ rot_x(rpy[..., 0])
+
+
+def rpy_from_matrix(R) -> np.ndarray:
+    """Fixed X-Y-Z angles ``(roll, pitch, yaw) (..., 3)`` in rad of ``R (..., 3, 3)``.
+
+    Pitch lies in [-pi/2, pi/2]. At gimbal lock (|pitch| = pi/2, where only
+    ``yaw - roll`` or ``yaw + roll`` is defined) roll is set to 0 and the whole
+    rotation about the vertical goes into yaw.
+    """
+    R = np.asarray(R, dtype=float)
+    cp = np.hypot(R[..., 0, 0], R[..., 1, 0])
+    pitch = np.arctan2(-R[..., 2, 0], cp)
+    locked = cp < GIMBAL_TOL
+    roll = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    yaw = np.where(locked, np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
+                   np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    return np.stack([roll, pitch, yaw], axis=-1)
+
+
+def matrix_from_euler_zyz(zyz) -> np.ndarray:
+    """``R = Rz(a) Ry(b) Rz(c)`` from ``zyz (..., 3) = (a, b, c)`` in rad."""
+    zyz = np.asarray(zyz, dtype=float)
+    return rot_z(zyz[..., 0]) @ rot_y(zyz[..., 1]) @ rot_z(zyz[..., 2])
+
+
+def euler_zyz_from_matrix(R) -> np.ndarray:
+    """ZYZ Euler angles ``(a, b, c) (..., 3)`` in rad with ``b`` in [0, pi].
+
+    When ``b`` is 0 or pi only ``a + c`` (or ``a - c``) is defined; then
+    ``a = 0``.
+    """
+    R = np.asarray(R, dtype=float)
+    sb = np.hypot(R[..., 0, 2], R[..., 1, 2])
+    b = np.arctan2(sb, R[..., 2, 2])
+    locked = sb < GIMBAL_TOL
+    a = np.where(locked, 0.0, np.arctan2(R[..., 1, 2], R[..., 0, 2]))
+    c_free = np.arctan2(R[..., 2, 1], -R[..., 2, 0])
+    # b = 0: R = Rz(c); b = pi: R = Ry(pi) Rz(c) = [[-cc, sc, 0], [sc, cc, 0], ...]
+    c_locked = np.where(R[..., 2, 2] > 0, np.arctan2(R[..., 1, 0], R[..., 0, 0]),
+                        np.arctan2(R[..., 1, 0], R[..., 1, 1]))
+    c = np.where(locked, c_locked, c_free)
+    return np.stack([a, b, c], axis=-1)
+
+
+def matrix_from_euler_xyz(xyz) -> np.ndarray:
+    """Moving-axis X-Y-Z ("1-2-3") Euler angles: ``R = Rx(a) Ry(b) Rz(c)``, rad."""
+    xyz = np.asarray(xyz, dtype=float)
+    return rot_x(xyz[..., 0]) @ rot_y(xyz[..., 1]) @ rot_z(xyz[..., 2])
+
+
+def euler_xyz_from_matrix(R) -> np.ndarray:
+    """Moving X-Y-Z Euler angles ``(a, b, c) (..., 3)`` in rad, ``b`` in [-pi/2, pi/2].
+
+    At gimbal lock (|b| = pi/2) ``a = 0``.
+    """
+    R = np.asarray(R, dtype=float)
+    cb = np.hypot(R[..., 0, 0], R[..., 0, 1])
+    b = np.arctan2(R[..., 0, 2], cb)
+    locked = cb < GIMBAL_TOL
+    a = np.where(locked, 0.0, np.arctan2(-R[..., 1, 2], R[..., 2, 2]))
+    c = np.where(locked, np.arctan2(R[..., 1, 0], R[..., 1, 1]),
+                 np.arctan2(-R[..., 0, 1], R[..., 0, 0]))
+    return np.stack([a, b, c], axis=-1)
+
+
+# --- quaternions, axis-angle, rotation vectors ----------------------------
+
+def quaternion_from_matrix(R) -> np.ndarray:
+    """Unit quaternion ``(w, x, y, z) (..., 4)`` of ``R (..., 3, 3)``, with ``w >= 0``.
+
+    Shepperd's method: the largest of the four squared components is taken
+    from the diagonal, the others from off-diagonal sums, so no component is
+    computed from a difference of nearly equal numbers.
+    """
+    R = np.asarray(R, dtype=float)
+    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    trace = m00 + m11 + m22
+    candidates = np.stack([trace, m00, m11, m22], axis=-1)
+    pick = np.argmax(candidates, axis=-1)
+    q = np.empty(R.shape[:-2] + (4,))
+
+    d21 = R[..., 2, 1] - R[..., 1, 2]
+    d02 = R[..., 0, 2] - R[..., 2, 0]
+    d10 = R[..., 1, 0] - R[..., 0, 1]
+    s01 = R[..., 0, 1] + R[..., 1, 0]
+    s02 = R[..., 0, 2] + R[..., 2, 0]
+    s12 = R[..., 1, 2] + R[..., 2, 1]
+
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.sqrt(np.maximum(1.0 + trace, 0.0)) * 2.0  # 4w
+        qw = np.stack([t / 4, d21 / t, d02 / t, d10 / t], axis=-1)
+        t = np.sqrt(np.maximum(1.0 + m00 - m11 - m22, 0.0)) * 2.0  # 4x
+        qx = np.stack([d21 / t, t / 4, s01 / t, s02 / t], axis=-1)
+        t = np.sqrt(np.maximum(1.0 - m00 + m11 - m22, 0.0)) * 2.0  # 4y
+        qy = np.stack([d02 / t, s01 / t, t / 4, s12 / t], axis=-1)
+        t = np.sqrt(np.maximum(1.0 - m00 - m11 + m22, 0.0)) * 2.0  # 4z
+        qz = np.stack([d10 / t, s02 / t, s12 / t, t / 4], axis=-1)
+    for k, cand in enumerate((qw, qx, qy, qz)):
+        sel = pick == k
+        q[sel] = cand[sel]
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
+
+
+def matrix_from_quaternion(q) -> np.ndarray:
+    """Rotation matrix ``(..., 3, 3)`` of quaternion ``q (..., 4) = (w, x, y, z)``.
+
+    ``q`` is normalised first; ``q`` and ``-q`` give the same matrix.
+    """
+    q = np.asarray(q, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(q.shape[:-1] + (3, 3))
+    out[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    out[..., 0, 1] = 2 * (x * y - z * w)
+    out[..., 0, 2] = 2 * (x * z + y * w)
+    out[..., 1, 0] = 2 * (x * y + z * w)
+    out[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    out[..., 1, 2] = 2 * (y * z - x * w)
+    out[..., 2, 0] = 2 * (x * z - y * w)
+    out[..., 2, 1] = 2 * (y * z + x * w)
+    out[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return out
+
+
+def axis_angle_from_matrix(R) -> tuple[np.ndarray, np.ndarray]:
+    """Unit axis ``(..., 3)`` and angle ``(...,)`` in [0, pi] rad of ``R``.
+
+    Computed through the quaternion (``angle = 2 atan2(|v|, w)``), which stays
+    accurate near 0 and near pi where ``arccos((tr R - 1) / 2)`` does not. For
+    the identity the axis is reported as ``(0, 0, 1)``.
+    """
+    q = quaternion_from_matrix(R)
+    v = q[..., 1:]
+    n = np.linalg.norm(v, axis=-1)
+    angle = 2.0 * np.arctan2(n, q[..., 0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        axis = np.where((n > SMALL_ANGLE)[..., None], v / n[..., None], [0.0, 0.0, 1.0])
+    return axis, angle
+
+
+def matrix_from_axis_angle(axis, angle) -> np.ndarray:
+    """Rodrigues' formula: rotation by ``angle (...,)`` rad about ``axis (..., 3)``.
+
+    The axis is normalised; a zero axis is an error.
+    """
+    axis = np.asarray(axis, dtype=float)
+    angle = np.asarray(angle, dtype=float)
+    n = np.linalg.norm(axis, axis=-1, keepdims=True)
+    if np.any(n == 0):
+        raise ValueError("rotation axis must not be the zero vector")
+    k = axis / n
+    K = skew(k)
+    s = np.sin(angle)[..., None, None]
+    c = np.cos(angle)[..., None, None]
+    return np.eye(3) + s * K + (1 - c) * (K @ K)
+
+
+def rotvec_from_matrix(R) -> np.ndarray:
+    """Rotation vector ``axis * angle (..., 3)`` in rad, norm in [0, pi]."""
+    axis, angle = axis_angle_from_matrix(R)
+    return axis * angle[..., None]
+
+
+def matrix_from_rotvec(r) -> np.ndarray:
+    """Rotation matrix of rotation vector ``r (..., 3)`` (rad)."""
+    r = np.asarray(r, dtype=float)
+    angle = np.linalg.norm(r, axis=-1)
+    safe = np.where(angle[..., None] > 0, r, [0.0, 0.0, 1.0])
+    return matrix_from_axis_angle(safe, angle)
+
+
+# --- tool configuration vector ---------------------------------------------
+
+def tcv_from_transform(T, q_last) -> np.ndarray:
+    """Tool configuration vector ``w = [p; exp(q_n / pi) r3]`` of shape ``(..., 6)``.
+
+    Schilling, *Fundamentals of Robotics* (1990), sec. 3.4, as used in the
+    FER Zagreb homework: ``p`` is the tool position, ``r3`` the approach
+    vector (third column of R) and ``q_n`` the last joint's angle in rad, so
+    the norm of ``w[3:]`` encodes the tool roll.
+    """
+    T = np.asarray(T, dtype=float)
+    scale = np.exp(np.asarray(q_last, dtype=float) / np.pi)
+    return np.concatenate([T[..., :3, 3], scale[..., None] * T[..., :3, 2]], axis=-1)
+
+
+def transform_from_tcv(w) -> tuple[np.ndarray, np.ndarray]:
+    """Position ``(..., 3)``, approach ``(..., 3)`` and roll ``q_n (...,)`` from a TCV.
+
+    The inverse of :func:`tcv_from_transform` as far as it goes: a TCV fixes
+    the position, the approach vector and the last joint's angle
+    ``q_n = pi ln |w[3:]|``, not the whole rotation.
+    """
+    w = np.asarray(w, dtype=float)
+    n = np.linalg.norm(w[..., 3:], axis=-1)
+    if np.any(n == 0):
+        raise ValueError("tool configuration vector has a zero approach part")
+    return w[..., :3], w[..., 3:] / n[..., None], np.pi * np.log(n)
+
+
+# --- twists and errors -------------------------------------------------------
+
+def log_transform(T) -> np.ndarray:
+    """Twist coordinates ``(v, w) (..., 6)`` with ``exp([v; w]^) = T``.
+
+    The matrix logarithm of SE(3) (Lynch & Park, *Modern Robotics*, 2017,
+    sec. 3.3.3.2). ``w`` is the rotation vector; ``v = G^-1(theta) p``.
+    Used to compare poses and to differentiate FK numerically.
+    """
+    T = np.asarray(T, dtype=float)
+    R = T[..., :3, :3]
+    p = T[..., :3, 3]
+    w = rotvec_from_matrix(R)
+    theta = np.linalg.norm(w, axis=-1)
+    W = skew(w)
+    # G^-1 = I - W/2 + (1/theta^2 - (1 + cos)/(2 theta sin)) W^2 ; series near 0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        coef = np.where(
+            theta > 1e-6,
+            1.0 / theta**2 - (1.0 + np.cos(theta)) / (2.0 * theta * np.sin(theta)),
+            1.0 / 12.0 + theta**2 / 720.0,
+        )
+    Ginv = np.eye(3) - 0.5 * W + coef[..., None, None] * (W @ W)
+    v = np.einsum("...ij,...j->...i", Ginv, p)
+    return np.concatenate([v, w], axis=-1)
+
+
+def adjoint(T) -> np.ndarray:
+    """Adjoint ``(..., 6, 6)`` of ``T (..., 4, 4)`` for twists ordered ``(v, w)``.
+
+    ``Ad_T = [[R, [p]x R], [0, R]]``: maps a twist expressed in frame b to the
+    same twist expressed in frame a, for ``T = T_a_b``.
+    """
+    T = np.asarray(T, dtype=float)
+    R = T[..., :3, :3]
+    p = T[..., :3, 3]
+    out = np.zeros(T.shape[:-2] + (6, 6))
+    out[..., :3, :3] = R
+    out[..., 3:, 3:] = R
+    out[..., :3, 3:] = skew(p) @ R
+    return out
+
+
+def rotation_error(R_a, R_b) -> np.ndarray:
+    """Angle (rad, ``(...,)``) of the rotation taking ``R_b`` to ``R_a``."""
+    R = np.swapaxes(np.asarray(R_b, dtype=float), -1, -2) @ np.asarray(R_a, dtype=float)
+    return axis_angle_from_matrix(R)[1]
