@@ -1,0 +1,179 @@
+"""Jacobians: finite differences through the SE(3) log, twists, adjoint relations,
+analytic Jacobians, and named singularities."""
+
+import numpy as np
+import pytest
+from randrobots import random_robot
+
+from kincalc import jacobian_report, load_robot
+from kincalc.jacobian import analytic_jacobian
+from kincalc.library import bundled_names
+from kincalc.spatial import (adjoint, euler_xyz_from_matrix, euler_zyz_from_matrix,
+                             invert_transform, log_transform, rpy_from_matrix, skew)
+
+H = 1e-6
+
+
+def fd_jacobian(robot, q, h=H):
+    """Central differences of FK mapped through the SE(3) log.
+
+    For each joint, the small displacement T(q) -> T(q + h e_i) is taken as
+    the world-frame twist of the tool, log(T(q+h) T(q)^-1), converted to the
+    velocity of the tool point (v + w x p ... via the point-velocity formula).
+    """
+    T0 = robot.fk(q)
+    p = T0[:3, 3]
+    J = np.zeros((6, robot.dof))
+    for i in range(robot.dof):
+        dq = np.zeros(robot.dof)
+        dq[i] = h
+        tw_plus = log_transform(robot.fk(q + dq) @ invert_transform(T0))
+        tw_minus = log_transform(robot.fk(q - dq) @ invert_transform(T0))
+        tw = (tw_plus - tw_minus) / (2 * h)    # spatial twist (v_origin, w)
+        v, w = tw[:3], tw[3:]
+        J[:3, i] = v + np.cross(w, p)          # velocity of the tool point
+        J[3:, i] = w
+    return J
+
+
+def robots_to_check():
+    return bundled_names()
+
+
+@pytest.mark.parametrize("name", robots_to_check())
+def test_jacobian_matches_finite_differences_for_every_bundled_robot(name):
+    r = load_robot(name)
+    rng = np.random.default_rng(abs(hash(name)) % 2**32)
+    lo, hi = r.limits.T
+    lo = np.where(np.isfinite(lo), lo, -np.pi)
+    hi = np.where(np.isfinite(hi), hi, np.pi)
+    scale = np.where(r.is_revolute, 1.0, r.characteristic_length)
+    for _ in range(10):
+        q = rng.uniform(lo, hi)
+        J = r.jacobian(q)
+        Jfd = fd_jacobian(r, q, h=H)
+        tol = 1e-5 * max(1.0, r.characteristic_length)
+        assert np.allclose(J, Jfd, atol=tol), (name, np.abs(J - Jfd).max())
+        # J q-dot equals the twist of moving along q-dot
+        qd = rng.normal(size=r.dof) * scale
+        Tp = r.fk(q + H * qd)
+        Tm = r.fk(q - H * qd)
+        T0 = r.fk(q)
+        tw = (log_transform(Tp @ invert_transform(T0)) - log_transform(Tm @ invert_transform(T0))) / (2 * H)
+        v_point = tw[:3] + np.cross(tw[3:], T0[:3, 3])
+        assert np.allclose(J @ qd, np.r_[v_point, tw[3:]], atol=tol * np.abs(qd).sum())
+
+
+@pytest.mark.parametrize("name", robots_to_check())
+def test_base_and_tool_jacobians_related_by_adjoint(name):
+    r = load_robot(name)
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-1, 1, (20, r.dof))
+    Jb = r.jacobian(q, "base")
+    Jt = r.jacobian(q, "tool")
+    T = r.fk(q)
+    R = T[:, :3, :3]
+    # 1) same velocities, rotated: J_tool = diag(R^T, R^T) J_base
+    Rt = np.swapaxes(R, 1, 2)
+    assert np.allclose(Jt[:, :3], Rt @ Jb[:, :3], atol=1e-12)
+    assert np.allclose(Jt[:, 3:], Rt @ Jb[:, 3:], atol=1e-12)
+    # 2) body Jacobian = Ad(T^-1) space Jacobian, with J_space = [[I, [p]x], [0, I]] J_base
+    S = np.tile(np.eye(6), (20, 1, 1))
+    S[:, :3, 3:] = skew(T[:, :3, 3])
+    J_space = S @ Jb
+    assert np.allclose(adjoint(invert_transform(T)) @ J_space, Jt, atol=1e-12)
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_random_robot_jacobians(convention):
+    rng = np.random.default_rng(21)
+    for _ in range(10):
+        r = random_robot(rng, convention, n=int(rng.integers(2, 8)))
+        q = rng.uniform(-2, 2, r.dof)
+        assert np.allclose(r.jacobian(q), fd_jacobian(r, q), atol=1e-6)
+
+
+@pytest.mark.parametrize("shape", [(), (1,), (2, 3)])
+def test_batched_jacobian_equals_single(shape):
+    r = load_robot("puma560")
+    q = np.random.default_rng(2).uniform(-3, 3, shape + (6,))
+    J = r.jacobian(q)
+    assert J.shape == shape + (6, 6)
+    ref = np.array([r.jacobian(x) for x in q.reshape(-1, 6)])
+    assert np.allclose(J.reshape(-1, 6, 6), ref, atol=0)
+
+
+@pytest.mark.parametrize("kind,extract", [("rpy", rpy_from_matrix), ("zyz", euler_zyz_from_matrix),
+                                          ("xyz", euler_xyz_from_matrix)])
+def test_analytic_jacobian_matches_angle_finite_differences(kind, extract):
+    r = load_robot("puma560")
+    q = np.array([0.3, -0.5, 0.9, 0.4, 0.7, -0.2])
+    T = r.fk(q)
+    JA = analytic_jacobian(r.jacobian(q), extract(T[:3, :3]), kind)
+    for i in range(6):
+        dq = np.zeros(6)
+        dq[i] = H
+        d_ang = (extract(r.fk(q + dq)[:3, :3]) - extract(r.fk(q - dq)[:3, :3])) / (2 * H)
+        d_pos = (r.fk(q + dq)[:3, 3] - r.fk(q - dq)[:3, 3]) / (2 * H)
+        assert np.allclose(JA[:3, i], d_pos, atol=1e-7)
+        assert np.allclose(JA[3:, i], d_ang, atol=1e-6)
+
+
+def test_analytic_jacobian_reports_gimbal_lock():
+    r = load_robot("puma560")
+    # q = 0 puts the PUMA's tool frame aligned with the base: zyz has b = 0
+    res = jacobian_report(r, np.zeros(6), analytic="zyz")
+    assert res.analytic is None and "gimbal" in res.analytic_error
+
+
+# --- singularities named from the geometry ----------------------------------
+
+def test_puma_wrist_singularity():
+    res = jacobian_report(load_robot("puma560"), np.array([0.2, 0.5, 2.5, 0.3, 0.0, 0.1]))
+    assert res.singular and "wrist" in res.singularity.kinds
+    ns = res.singularity.null_space
+    assert abs(abs(ns[3]) - abs(ns[5])) < 1e-9 and abs(ns[3]) > 0.5
+
+
+def test_non_singular_configuration():
+    res = jacobian_report(load_robot("puma560"), np.array([0.2, 0.5, 2.5, 0.3, 0.8, 0.1]))
+    assert not res.singular and res.rank == 6 and res.to_dict()["condition"] is not None
+    d = res.to_dict()
+    assert d["manipulability"] > 0
+    assert np.isclose(d["manipulability"], np.sqrt(np.linalg.det(np.array(d["J"]) @ np.array(d["J"]).T)))
+
+
+ELBOW_ARM = """
+name: test_elbow
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 90, a: 0, d: 0.4, theta: 0}
+  - {name: q2, type: revolute, alpha: 0, a: 0.5, d: 0, theta: 0}
+  - {name: q3, type: revolute, alpha: 90, a: 0, d: 0, theta: 90}
+  - {name: q4, type: revolute, alpha: -90, a: 0, d: 0.4, theta: 0}
+  - {name: q5, type: revolute, alpha: 90, a: 0, d: 0, theta: 0}
+  - {name: q6, type: revolute, alpha: 0, a: 0, d: 0.1, theta: 0}
+"""
+
+
+def test_elbow_and_shoulder_singularities_named():
+    from kincalc import parse_robot_text
+    r = parse_robot_text(ELBOW_ARM)
+    D = np.deg2rad
+    # q3 = 0 with theta offset 90: forearm along the upper arm -> stretched
+    res = jacobian_report(r, D(np.array([10, 20, 0, 30, 40, 0])))
+    assert "elbow-stretched" in res.singularity.kinds
+    res = jacobian_report(r, D(np.array([10, 20, 180, 30, 40, 0])))
+    assert "elbow-folded" in res.singularity.kinds
+    # wrist centre on axis 1: its distance from the axis is 0.5 cos q2 + 0.4 cos(q2 + q3)
+    # (the forearm makes the angle q3 with the upper arm); with q2 = 60: cos(60 + q3) = -0.625
+    q3 = np.rad2deg(np.arccos(-0.625)) - 60
+    q = D(np.array([10, 60, q3, 30, 40, 0]))
+    A = r.link_transforms(q)
+    wc = (A[0] @ A[1] @ A[2] @ A[3])[:3, 3]
+    assert np.hypot(wc[0], wc[1]) < 1e-12          # the hand computation is right
+    res = jacobian_report(r, q)
+    assert "shoulder" in res.singularity.kinds
+    res = jacobian_report(r, D(np.array([10, 35, -50, 30, 40, 0])))
+    assert not res.singular

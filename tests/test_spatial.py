@@ -1,0 +1,166 @@
+"""Orientation formats: round trips (hypothesis), gimbal lock, quaternion sign, batching."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from kincalc import spatial as sp
+
+angle = st.floats(-math.pi, math.pi, allow_nan=False)
+special = st.sampled_from([0.0, math.pi / 2, -math.pi / 2, math.pi, -math.pi,
+                           math.pi / 2 - 1e-10, 1e-12, -1e-12])
+any_angle = st.one_of(angle, special)
+triple = st.tuples(any_angle, any_angle, any_angle)
+quat = st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 4).filter(
+    lambda q: 0.1 < np.linalg.norm(q))
+
+
+def is_rotation(R):
+    return np.allclose(R @ R.T, np.eye(3), atol=1e-12) and np.isclose(np.linalg.det(R), 1.0)
+
+
+def test_elementary_rotations_by_hand():
+    c, s = math.cos(0.3), math.sin(0.3)
+    assert np.allclose(sp.rot_z(0.3), [[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    assert np.allclose(sp.rot_y(0.3), [[c, 0, s], [0, 1, 0], [-s, 0, c]])
+    assert np.allclose(sp.rot_x(0.3), [[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def test_rpy_matches_textbook_example_4_6():
+    # Bingül & Küçük Example 4.6 prints R_XYZ(42, -17, 25) to 4 decimals
+    R = sp.matrix_from_rpy(np.deg2rad([42, -17, 25]))
+    book = [[0.8667, -0.4914, 0.0858], [0.4041, 0.5909, -0.6982], [0.29237, 0.6399, 0.7107]]
+    assert np.allclose(R, book, atol=2e-4)
+
+
+@settings(max_examples=300, deadline=None)
+@given(triple)
+def test_rpy_round_trip(a):
+    R = sp.matrix_from_rpy(a)
+    back = sp.rpy_from_matrix(R)
+    assert np.allclose(sp.matrix_from_rpy(back), R, atol=1e-9)
+    assert -math.pi / 2 - 1e-12 <= back[1] <= math.pi / 2 + 1e-12
+
+
+@settings(max_examples=300, deadline=None)
+@given(triple)
+def test_zyz_round_trip(a):
+    R = sp.matrix_from_euler_zyz(a)
+    back = sp.euler_zyz_from_matrix(R)
+    assert np.allclose(sp.matrix_from_euler_zyz(back), R, atol=1e-9)
+    assert -1e-12 <= back[1] <= math.pi + 1e-12
+
+
+@settings(max_examples=300, deadline=None)
+@given(triple)
+def test_xyz_round_trip(a):
+    R = sp.matrix_from_euler_xyz(a)
+    back = sp.euler_xyz_from_matrix(R)
+    assert np.allclose(sp.matrix_from_euler_xyz(back), R, atol=1e-9)
+
+
+@pytest.mark.parametrize("pitch", [math.pi / 2, -math.pi / 2])
+def test_rpy_gimbal_lock_puts_rotation_in_yaw(pitch):
+    R = sp.matrix_from_rpy([0.4, pitch, 1.1])
+    r, p, y = sp.rpy_from_matrix(R)
+    assert r == 0.0 and math.isclose(p, pitch)
+    assert np.allclose(sp.matrix_from_rpy([r, p, y]), R, atol=1e-12)
+
+
+@pytest.mark.parametrize("b", [0.0, math.pi])
+def test_zyz_gimbal_lock(b):
+    R = sp.matrix_from_euler_zyz([0.7, b, -0.2])
+    a, bb, c = sp.euler_zyz_from_matrix(R)
+    assert a == 0.0 and math.isclose(bb, b, abs_tol=1e-12)
+    assert np.allclose(sp.matrix_from_euler_zyz([a, bb, c]), R, atol=1e-12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(quat)
+def test_quaternion_round_trip_and_sign(q):
+    q = np.array(q) / np.linalg.norm(q)
+    R = sp.matrix_from_quaternion(q)
+    assert is_rotation(R)
+    assert np.allclose(sp.matrix_from_quaternion(-q), R)
+    back = sp.quaternion_from_matrix(R)
+    assert back[0] >= 0
+    assert np.allclose(back, q if q[0] >= 0 else -q, atol=1e-9) or \
+        (abs(q[0]) < 1e-9 and np.allclose(np.abs(back), np.abs(q), atol=1e-9))
+
+
+def test_quaternion_of_180_degree_turns():
+    for axis in np.eye(3):
+        R = sp.matrix_from_axis_angle(axis, math.pi)
+        q = sp.quaternion_from_matrix(R)
+        assert abs(q[0]) < 1e-15
+        assert np.allclose(np.abs(q[1:]), axis)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 3).filter(
+    lambda v: np.linalg.norm(v) > 1e-3), st.floats(0, math.pi))
+def test_axis_angle_round_trip(axis, ang):
+    R = sp.matrix_from_axis_angle(axis, ang)
+    ax, an = sp.axis_angle_from_matrix(R)
+    assert np.allclose(sp.matrix_from_axis_angle(ax, an), R, atol=1e-9)
+    assert 0 <= an <= math.pi + 1e-12
+    rv = sp.rotvec_from_matrix(R)
+    assert np.allclose(sp.matrix_from_rotvec(rv), R, atol=1e-9)
+
+
+def test_rotation_vector_against_rodrigues_by_hand():
+    # 90 deg about z: rotation vector (0, 0, pi/2)
+    assert np.allclose(sp.rotvec_from_matrix(sp.rot_z(math.pi / 2)), [0, 0, math.pi / 2])
+    assert np.allclose(sp.rotvec_from_matrix(np.eye(3)), 0)
+
+
+def test_tcv_round_trip():
+    T = sp.transform(sp.matrix_from_rpy([0.1, 0.2, 0.3]), [1, 2, 3])
+    w = sp.tcv_from_transform(T, 0.7)
+    p, approach, qn = sp.transform_from_tcv(w)
+    assert np.allclose(p, [1, 2, 3]) and np.allclose(approach, T[:3, 2])
+    assert math.isclose(qn, 0.7)
+    assert math.isclose(np.linalg.norm(w[3:]), math.exp(0.7 / math.pi))
+
+
+@pytest.mark.parametrize("shape", [(), (1,), (2, 3, 4)])
+def test_batched_equals_single(shape):
+    rng = np.random.default_rng(3)
+    a = rng.uniform(-3, 3, shape + (3,))
+    Rb = sp.matrix_from_rpy(a)
+    assert Rb.shape == shape + (3, 3)
+    flat = a.reshape(-1, 3)
+    single = np.array([sp.matrix_from_rpy(x) for x in flat]).reshape(shape + (3, 3))
+    assert np.array_equal(Rb, single)
+    for f in (sp.rpy_from_matrix, sp.euler_zyz_from_matrix, sp.euler_xyz_from_matrix,
+              sp.quaternion_from_matrix, sp.rotvec_from_matrix):
+        out = f(Rb)
+        ref = np.array([f(R) for R in Rb.reshape(-1, 3, 3)])
+        assert np.allclose(out.reshape(ref.shape), ref)
+
+
+def test_inputs_not_modified():
+    R = sp.matrix_from_rpy([0.1, 0.2, 0.3])
+    keep = R.copy()
+    sp.quaternion_from_matrix(R)
+    sp.rpy_from_matrix(R)
+    sp.invert_transform(sp.transform(R, [1, 2, 3]))
+    assert np.array_equal(R, keep)
+
+
+def test_log_transform_inverts_exponential():
+    # exp of a twist by the closed form (Lynch & Park eq. 3.88), then log
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        w = rng.normal(size=3)
+        w *= rng.uniform(0, 3) / np.linalg.norm(w)
+        v = rng.normal(size=3)
+        th = np.linalg.norm(w)
+        W = sp.skew(w / th)
+        R = np.eye(3) + math.sin(th) * W + (1 - math.cos(th)) * W @ W
+        G = np.eye(3) * th + (1 - math.cos(th)) * W + (th - math.sin(th)) * W @ W
+        T = sp.transform(R, G @ (v / th))
+        assert np.allclose(sp.log_transform(T), np.r_[v, w], atol=1e-9)
