@@ -88,7 +88,7 @@ def orientation_dict(R, units: Units) -> dict:
         "euler_zyz": _clean(sp.euler_zyz_from_matrix(R) * units.a),
         "euler_xyz": _clean(sp.euler_xyz_from_matrix(R) * units.a),
         "quaternion": _clean(sp.quaternion_from_matrix(R)),
-        "axis_angle": {"axis": _clean(axis), "angle": float(angle) * units.a},
+        "axis_angle": {"axis": _clean(axis), "angle": _clean(float(angle) * units.a)},
         "rotation_vector": _clean(axis * angle * units.a),
     }
 

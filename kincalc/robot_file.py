@@ -130,7 +130,8 @@ class _Reader:
             out[key] = vnode
         for key, required in keys.items():
             if required and key not in out:
-                self.fail(node, f"{key!r} is missing" + ("" if what == "the robot file" else f" in {what}"))
+                self.fail(node, f"{key!r} is missing"
+                          + ("" if what in ("the robot file", "the joint") else f" in {what}"))
         return out
 
     @staticmethod

@@ -56,8 +56,9 @@ def main(argv: list[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     try:
-        app(args=args, prog_name="kincalc", standalone_mode=False)
-        return 0
+        # in non-standalone mode click returns the code of a typer.Exit instead of raising
+        status = app(args=args, prog_name="kincalc", standalone_mode=False)
+        return status if isinstance(status, int) else 0
     except click.exceptions.Exit as exc:
         return exc.exit_code
     except click.exceptions.Abort:

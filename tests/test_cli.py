@@ -1,0 +1,201 @@
+"""The CLI as users and scripts see it: JSON contract, tables, units, exit codes."""
+
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from kincalc.cli.main import main
+
+ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, "robots")
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def run_json(capsys, *argv):
+    code, out, err = run(capsys, *argv, "--json")
+    assert code == 0, err
+    assert out.count("\n") == 1, "exactly one JSON document"
+    return json.loads(out)
+
+
+def test_fk_json_contract(capsys):
+    doc = run_json(capsys, "fk", "puma560", "0", "-45", "180", "0", "45", "0")
+    for key in ("kincalc", "command", "robot", "units", "q", "T", "position", "orientation", "tcv"):
+        assert key in doc
+    assert doc["command"] == "fk"
+    assert doc["robot"]["dof"] == 6 and doc["robot"]["joint_types"] == ["revolute"] * 6
+    assert doc["units"] == {"angle": "deg", "length": "m"}
+    assert doc["q"] == [0, -45, 180, 0, 45, 0]
+    for key in ("matrix", "rpy", "euler_zyz", "euler_xyz", "quaternion", "axis_angle",
+                "rotation_vector"):
+        assert key in doc["orientation"]
+    T = np.array(doc["T"])
+    assert np.allclose(T[:3, 3], doc["position"])
+    q = np.array(doc["orientation"]["quaternion"])
+    assert math.isclose(np.linalg.norm(q), 1.0) and q[0] >= 0
+
+
+def test_negative_values_need_no_double_dash(capsys):
+    doc = run_json(capsys, "fk", "bk_rr", "-8.2", "60")
+    assert doc["q"] == [-8.2, 60]
+    assert np.allclose(doc["position"][:2], [12.99, 2.5], atol=0.02)
+
+
+def test_rad_and_unit_options(capsys):
+    deg = run_json(capsys, "fk", "puma560", "10", "20", "30", "40", "50", "60")
+    rad = run_json(capsys, "fk", "puma560", *[str(math.radians(v)) for v in (10, 20, 30, 40, 50, 60)],
+                   "--rad", "--unit", "mm")
+    assert rad["units"] == {"angle": "rad", "length": "mm"}
+    assert np.allclose(np.array(rad["position"]) / 1000, deg["position"], atol=1e-12)
+    assert np.allclose(np.radians(deg["orientation"]["rpy"]), rad["orientation"]["rpy"])
+
+
+def test_prismatic_joint_in_display_length_unit(capsys):
+    m = run_json(capsys, "fk", "fer_rrpr", "90", "90", "0.2", "0")
+    mm = run_json(capsys, "fk", "fer_rrpr", "90", "90", "200", "0", "--unit", "mm")
+    assert np.allclose(m["position"], [0, 0.3, 0.5], atol=1e-12)
+    assert np.allclose(mm["position"], [0, 300, 500], atol=1e-9)
+    assert mm["q"] == [90, 90, 200, 0]
+
+
+def test_home_configuration_when_no_joints_given(capsys):
+    doc = run_json(capsys, "fk", "bk_rr")
+    assert doc["q"] == [30, -60]
+
+
+def test_tcv_matches_the_homework_formula(capsys):
+    doc = run_json(capsys, "fk", "fer_rrpr", "30", "40", "0.25", "57")
+    w = np.array(doc["tcv"])
+    T = np.array(doc["T"])
+    assert np.allclose(w[:3], T[:3, 3])
+    assert np.allclose(w[3:], math.exp(math.radians(57) / math.pi) * T[:3, 2])
+    # homework eq. (2-4): q4 = pi/2 ln(w4^2 + w5^2 + w6^2)
+    assert math.isclose(math.pi / 2 * math.log(np.sum(w[3:] ** 2)), math.radians(57))
+
+
+def test_frames_json(capsys):
+    doc = run_json(capsys, "fk", "bk_6r", "10", "20", "30", "40", "50", "60", "--frames")
+    frames = doc["frames"]
+    assert len(frames) == 6
+    acc = np.eye(4)
+    for f in frames:
+        acc = acc @ np.array(f["link"])
+        assert np.allclose(acc, f["T"])
+    assert np.allclose(np.array(doc["base"]) @ acc @ np.array(doc["tool"]), doc["T"])
+
+
+def test_jacobian_json_contract(capsys):
+    doc = run_json(capsys, "jacobian", "puma560", "0", "45", "180", "0", "0", "0")
+    for key in ("q", "frame", "J", "singular_values", "rank", "manipulability", "condition",
+                "singular", "rows"):
+        assert key in doc
+    assert doc["rows"] == ["vx", "vy", "vz", "wx", "wy", "wz"]
+    assert doc["singular"] is True and doc["rank"] == 5
+    assert "wrist" in doc["singularity"]["kinds"]
+    assert doc["condition"] is None
+    doc = run_json(capsys, "jacobian", "puma560", "0", "45", "180", "0", "30", "0",
+                   "--frame", "tool", "--analytic", "rpy")
+    assert doc["frame"] == "tool" and doc["singular"] is False
+    assert doc["analytic"]["angles"] == "rpy" and len(doc["analytic"]["J"]) == 6
+
+
+def test_jacobian_units_scale_linear_rows(capsys):
+    m = run_json(capsys, "jacobian", "puma560", "10", "20", "30", "40", "50", "60")
+    mm = run_json(capsys, "jacobian", "puma560", "10", "20", "30", "40", "50", "60", "--unit", "mm")
+    Jm, Jmm = np.array(m["J"]), np.array(mm["J"])
+    assert np.allclose(Jmm[:3], 1000 * Jm[:3]) and np.allclose(Jmm[3:], Jm[3:])
+
+
+def leaves(doc):
+    if isinstance(doc, dict):
+        for v in doc.values():
+            yield from leaves(v)
+    elif isinstance(doc, list):
+        for v in doc:
+            yield from leaves(v)
+    else:
+        yield doc
+
+
+@pytest.mark.parametrize("argv", [
+    ["fk", "puma560", "10", "-20", "30", "40", "50", "60"],
+    ["fk", "ur5", "10", "-20", "30", "40", "50", "60", "--frames"],
+    ["jacobian", "puma560", "10", "-20", "30", "40", "50", "60"],
+])
+def test_every_json_number_appears_in_the_table(capsys, argv):
+    doc = run_json(capsys, *argv, "--precision", "4")
+    code, table, err = run(capsys, *argv, "--precision", "4")
+    assert code == 0 and err == ""
+    assert "\x1b[" not in table, "no colour when stdout is not a terminal"
+    shown = {float(x) for x in re.findall(r"-?\d+\.\d+", table)}
+    for leaf in leaves({k: v for k, v in doc.items() if k not in ("kincalc", "robot", "units",
+                                                               "length_scale")}):
+        if isinstance(leaf, float) and not isinstance(leaf, bool):
+            assert any(abs(round(leaf, 4) - x) < 1.5e-4 for x in shown), leaf
+
+
+def test_robots_list_and_show(capsys):
+    doc = run_json(capsys, "robots", "list")
+    names = [r["name"] for r in doc["robots"]]
+    assert "puma560" in names and "bk_rr" in names
+    assert not [r for r in doc["robots"] if "error" in r]
+    show = run_json(capsys, "robots", "show", "puma560_mdh" if "puma560_mdh" in names else "bk_6r")
+    assert show["robot"]["convention"] == "mdh"
+    assert {"alpha", "a", "d", "theta"} <= set(show["robot"]["joints"][0])
+    code, table, _ = run(capsys, "robots", "show", "bk_6r")
+    assert code == 0 and "α_{i-1}" in table and "a_{i-1}" in table
+    code, table, _ = run(capsys, "robots", "show", "fer_rrpr")
+    assert "θ_i" in table and "q3" in table
+
+
+def test_path_works_where_a_name_does(capsys, tmp_path):
+    src = open(os.path.join(ROBOTS, "bk_rr.yaml"), encoding="utf-8").read()
+    f = tmp_path / "my_arm.yaml"
+    f.write_text(src)
+    doc = run_json(capsys, "fk", str(f), "30", "-60")
+    assert np.allclose(doc["position"][:2], [12.99, 2.5], atol=0.02)
+    code, out, err = run(capsys, "robots", "validate", str(f))
+    assert code == 0 and "ok" in out
+
+
+def test_version_and_help_are_quick_to_reach(capsys):
+    code, out, _ = run(capsys, "--version")
+    assert code == 0 and out.startswith("kincalc ")
+    code, out, _ = run(capsys, "--help")
+    assert code == 0 and "fk" in out and "jacobian" in out and "robots" in out
+
+
+def test_cli_import_is_light():
+    """`kincalc --help` must not import numpy, yaml or rich (start-up time)."""
+    code = ("import sys; from kincalc.cli.main import main; "
+            "import contextlib, io\n"
+            "with contextlib.redirect_stdout(io.StringIO()): main(['--help'])\n"
+            "print(sorted(m for m in ('numpy', 'yaml', 'rich', 'pydantic') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_no_color_env(capsys, monkeypatch):
+    monkeypatch.setenv("NO_COLOR", "1")
+    code, out, _ = run(capsys, "fk", "bk_rr", "30", "-60")
+    assert code == 0 and "\x1b[" not in out
+
+
+def test_internal_errors_exit_3(capsys, monkeypatch):
+    import kincalc.analysis as an
+
+    def boom(*a, **k):
+        raise RuntimeError("synthetic failure")
+    monkeypatch.setattr(an, "fk_report", boom)
+    code, out, err = run(capsys, "fk", "bk_rr", "1", "2")
+    assert code == 3 and "bug" in err and "--debug" in err and err.count("\n") == 1

@@ -1,0 +1,83 @@
+"""Every bundled robot is a test input: it loads, cites a source, converts between
+conventions, and matches golden FK facts taken from independent sources."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from kincalc import load_robot
+from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
+from kincalc.library import bundled_names, library_dir
+
+REPO_ROBOTS = Path(__file__).parents[1] / "robots"
+FACTS = Path(__file__).parent / "golden" / "robot_facts.yaml"
+NAMES = sorted(p.stem for p in REPO_ROBOTS.glob("*.yaml"))
+
+
+def test_library_has_at_least_25_robots():
+    assert len(NAMES) >= 25, NAMES
+
+
+def test_installed_library_is_complete():
+    # Whether kincalc runs from the tree or from a wheel, it sees every robot.
+    assert bundled_names() == NAMES, library_dir()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_robot_loads_and_cites_a_source(name):
+    r = load_robot(name)
+    assert r.name == name
+    assert r.title and len(r.source) > 20, "every robot file cites its source"
+    assert r.home.shape == (r.dof,)
+    lo, hi = r.limits.T
+    assert np.all((r.home >= lo - 1e-9) & (r.home <= hi + 1e-9))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_robot_converts_between_conventions(name):
+    r = load_robot(name)
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, (1000, r.dof))
+    ref = r.fk(q)
+    others = [to_poe(r)]
+    if r.convention == "dh":
+        others.append(dh_to_mdh(r))
+    elif r.convention == "mdh":
+        others.append(mdh_to_dh(r))
+    scale = max(1.0, r.characteristic_length)
+    for o in others:
+        assert np.abs(o.fk(q) - ref).max() < 1e-12 * scale
+
+
+PAIRS = [("puma560", "puma560_mdh")]
+
+
+@pytest.mark.parametrize("a,b", [p for p in PAIRS if all(n in NAMES for n in p)])
+def test_robots_shipped_in_two_conventions_agree(a, b):
+    ra, rb = load_robot(a), load_robot(b)
+    assert ra.convention != rb.convention
+    q = np.random.default_rng(1).uniform(-np.pi, np.pi, (1000, ra.dof))
+    assert np.abs(ra.fk(q) - rb.fk(q)).max() < 1e-12
+
+
+def facts():
+    return yaml.safe_load(FACTS.read_text(encoding="utf-8"))
+
+
+def test_golden_facts_cover_the_library():
+    covered = {f["robot"] for f in facts()}
+    assert len(covered) >= 20, sorted(set(NAMES) - covered)
+
+
+@pytest.mark.parametrize("fact", facts(), ids=lambda f: f"{f['robot']}:{f.get('source', '')[:30]}")
+def test_golden_fk_facts(fact):
+    r = load_robot(fact["robot"])
+    from kincalc.units import ANGLE_UNITS, LENGTH_UNITS
+    A, L = ANGLE_UNITS[r.angle_unit], LENGTH_UNITS[r.length_unit]
+    q = np.array(fact["q"], float) * np.where(r.is_revolute, A, L)
+    T = r.fk(q)
+    tol = fact.get("tolerance", 1e-4)
+    assert np.allclose(T[:3, 3] / L, fact["position"], atol=tol), (T[:3, 3] / L, fact["source"])
+    if "rotation" in fact:
+        assert np.allclose(T[:3, :3], fact["rotation"], atol=fact.get("rotation_tolerance", 1e-4))
