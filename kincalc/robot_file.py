@@ -60,7 +60,10 @@ def load_robot_file(path, display_name: str | None = None) -> Robot:
     except IsADirectoryError:
         raise RobotFileError(shown, None, "is a directory, not a robot file") from None
     except UnicodeDecodeError as exc:
-        raise RobotFileError(shown, None, f"not UTF-8 text ({exc.reason})") from None
+        with open(path, "rb") as fh:
+            line = fh.read()[:exc.start].count(b"\n") + 1
+        raise RobotFileError(shown, line, f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} "
+                                          "cannot be decoded; save the file as UTF-8)") from None
     except OSError as exc:
         raise RobotFileError(shown, None, f"cannot read: {exc.strerror}") from None
     robot = parse_robot_text(text, shown)
@@ -82,14 +85,41 @@ def _compose(text: str, file: str):
     try:
         node = yaml.compose(text, Loader=loader_cls)
     except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
-        raise RobotFileError(file, line, f"not valid YAML: {exc.problem or exc.context}") from None
+        raise RobotFileError(file, *_yaml_error(exc)) from None
+    except yaml.reader.ReaderError as exc:
+        line = text[:exc.position].count("\n") + 1 if isinstance(exc.position, int) else None
+        what = f"#x{exc.character:04x}" if isinstance(exc.character, int) else repr(exc.character)
+        raise RobotFileError(file, line, f"not valid YAML: character {what} is not allowed "
+                                         "(control characters cannot appear in YAML)") from None
     except yaml.YAMLError as exc:
-        raise RobotFileError(file, None, f"not valid YAML: {exc}") from None
+        raise RobotFileError(file, None, f"not valid YAML: {_one_line(str(exc))}") from None
     if node is None:
         raise RobotFileError(file, 1, "the file is empty")
     return node
+
+
+def _yaml_error(exc) -> tuple[int | None, str]:
+    """(line, message) for a PyYAML error, pointing where the user's mistake starts.
+
+    For an unclosed bracket or quote PyYAML reports the place it gave up; the
+    construct it was parsing ("while parsing a flow sequence") starts earlier,
+    and that line is the one to fix.
+    """
+    problem = exc.problem or "syntax error"
+    pm, cm = exc.problem_mark, exc.context_mark
+    context = exc.context or ""
+    if context.startswith("while") and ("flow" in context or "quoted" in context) \
+            and cm is not None:
+        where = f"; found at line {pm.line + 1}" if pm is not None and pm.line != cm.line else ""
+        what = context[len("while "):]
+        return cm.line + 1, f"not valid YAML: {problem} ({what} that starts here{where})"
+    line = (pm or cm).line + 1 if (pm or cm) is not None else None
+    text = f"{context}, {problem}" if context else problem
+    return line, f"not valid YAML: {text}"
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
 
 
 def _line(node) -> int:
@@ -168,6 +198,8 @@ class _Reader:
                 value = float(node.value.replace("_", ""))
             except ValueError:
                 value = self.expression(node, what)
+            except OverflowError:
+                self.fail(node, f"{what} is too large a number: {node.value!r}")
         elif tag == "bool":
             self.fail(node, f"{what} must be a number, not {node.value!r}")
         elif tag == "null" or node.value.strip() == "":
@@ -180,16 +212,24 @@ class _Reader:
 
     def expression(self, node, what: str) -> float:
         src = node.value
+        if len(src) > 500:
+            self.fail(node, f"{what}: expression longer than 500 characters")
         try:
             tree = ast.parse(src.strip(), mode="eval")
         except SyntaxError:
             self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', not {src!r}")
+        except (RecursionError, MemoryError, ValueError):
+            self.fail(node, f"{what}: expression too deeply nested")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
             self.fail(node, f"{what}: {exc} in {src!r}")
         except ZeroDivisionError:
             self.fail(node, f"{what}: division by zero in {src!r}")
+        except OverflowError:
+            self.fail(node, f"{what}: number too large in {src!r}")
+        except RecursionError:
+            self.fail(node, f"{what}: expression too deeply nested")
 
     def _eval(self, e):
         if isinstance(e, ast.Constant) and isinstance(e.value, (int, float)) \
@@ -225,6 +265,8 @@ class _Reader:
         import yaml
         top = self.mapping(root, "the robot file", TOP_KEYS)
         name = self.text(top["name"], "'name'")
+        if not name.strip():
+            self.fail(top["name"], "'name' must not be empty")
         if not NAME_RE.match(name):
             self.fail(top["name"], f"'name' {name!r} must start with a letter and contain only "
                                    "letters, digits, '_', '-' and '.'")
@@ -305,6 +347,8 @@ class _Reader:
                     self.joint_name = str(vnode.value)
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
+        if not name.strip():
+            self.fail(fields["name"], "'name' must not be empty")
         jtype = self.text(fields["type"], "'type'")
         if jtype not in JOINT_TYPES:
             self.fail(fields["type"], f"'type' must be revolute or prismatic, not {jtype!r}")

@@ -61,7 +61,7 @@ def parse_joints(tokens: list[str] | None, robot, units):
             values.append(float(tok))
         except ValueError:
             if tok.startswith("-"):
-                raise UsageError(f"no such option: {tok}") from None
+                raise UsageError(f"no such option: {tok}{_suggest_option(tok)}") from None
             raise InputError(f"joint value {tok!r} is not a number") from None
     if len(values) != robot.dof:
         raise InputError(f"{robot.name} has {robot.dof} joints "
@@ -71,6 +71,20 @@ def parse_joints(tokens: list[str] | None, robot, units):
     if not np.all(np.isfinite(q)):
         raise InputError("joint values must be finite numbers")
     return q / np.where(robot.is_revolute, units.a, units.l)
+
+
+def _suggest_option(token: str) -> str:
+    """" (did you mean --frames?)" for a mistyped option of the running command."""
+    import difflib
+
+    import click
+    ctx = click.get_current_context(silent=True)
+    if ctx is None:
+        return ""
+    names = [o for p in ctx.command.params for o in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])
+             if o.startswith("--")]
+    close = difflib.get_close_matches(token, names, n=1)
+    return f" (did you mean {close[0]}?)" if close else ""
 
 
 def load_robot(name: str):

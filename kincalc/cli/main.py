@@ -68,6 +68,9 @@ def main(argv: list[str] | None = None) -> int:
         if debug:
             raise
         cmd = exc.ctx.command_path if exc.ctx is not None else "kincalc"
+        if type(exc).__name__ == "NoArgsIsHelpError":  # bare `kincalc` or `kincalc robots`
+            sys.stderr.write(f"{cmd}: error: missing command (see '{cmd} --help')\n")
+            return 2
         sys.stderr.write(f"{cmd}: error: {_one_line(exc.format_message())} "
                          f"(see '{cmd} --help')\n")
         return 2

@@ -188,6 +188,8 @@ def validate(
             report.append({"file": f, "valid": True, "name": r.name, "dof": r.dof,
                            "convention": r.convention, "error": None})
         except KincalcError as exc:
+            if debug:
+                raise
             bad += 1
             report.append({"file": f, "valid": False, "error": str(exc)})
     if json:
@@ -200,6 +202,6 @@ def validate(
                 sys.stdout.write(f"ok: {e['file']}: {e['name']}, {e['dof']} joints, "
                                  f"{e['convention']}\n")
             else:
-                sys.stderr.write(f"kincalc: error: {e['error']}\n")
+                sys.stderr.write(f"kincalc: error: {' '.join(e['error'].split())}\n")
     if bad:
         raise typer.Exit(2)

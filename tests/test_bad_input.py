@@ -1,0 +1,458 @@
+"""Bad input -> one clear line on stderr and exit status 2 (PRODUCT.md).
+
+A catalogue of malformed robot files and bad command lines, each checked
+through the real entry point ``kincalc.cli.main.main(argv)``. For every case:
+
+* the exit status is 2;
+* stderr is exactly one non-empty line, with no traceback and no
+  "internal error";
+* that line names the file (and the line, where the problem has one) and the
+  field, and says what is wrong (the ``expect`` fragments);
+* stdout is empty.
+
+Robot files are written into ``tmp_path`` and checked twice: with
+``kincalc robots validate FILE`` (the file named relative to the working
+directory) and with ``kincalc fk FILE`` (the file named by absolute path).
+
+The expectations are what a user deserves, not a transcript of today's
+messages: a case that fails here is a bug to fix in the CLI, not in the test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from kincalc.cli.main import main
+from kincalc.errors import RobotFileError
+
+# ---------------------------------------------------------------------------
+# Valid robot files the bad ones are derived from (each bad file changes one
+# thing). ``test_templates_are_valid`` keeps them honest.
+
+JOINTS_DH = """\
+joints:
+  - {name: q1, type: revolute, alpha: 90, a: 0, d: 0.1, theta: 0, limits: [-170, 170]}
+  - {name: q2, type: revolute, alpha: 0, a: l1, d: 0, theta: 0, limits: [-90, 90]}
+  - {name: q3, type: revolute, alpha: 0, a: l2, d: 0, theta: 0}
+"""
+
+DH = f"""\
+name: arm3
+title: Three-link test arm
+convention: dh
+units: {{length: m, angle: deg}}
+parameters: {{l1: 0.3, l2: 0.25}}
+{JOINTS_DH}\
+base: {{xyz: [0, 0, 0.5], rpy: [0, 0, 90]}}
+tool: {{xyz: [0, 0, 0.05]}}
+home: [0, 30, -30]
+"""
+
+POE = """\
+name: arm_poe
+title: RP test arm (product of exponentials)
+convention: poe
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, axis: [0, 0, 1], point: [0, 0, 0]}
+  - {name: q2, type: prismatic, axis: [1, 0, 0], point: [0, 0, 0.2], limits: [0, 0.5]}
+tool: {xyz: [0.3, 0, 0.2]}
+home: [0, 0.1]
+"""
+
+IDENTITY_ROWS = "[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]"
+BASE_LINE = "base: {xyz: [0, 0, 0.5], rpy: [0, 0, 90]}"
+
+
+def sub(text: str, old: str, new: str) -> str:
+    """``text`` with the one occurrence of ``old`` replaced by ``new``."""
+    assert text.count(old) == 1, f"{old!r} must occur exactly once in the template"
+    return text.replace(old, new)
+
+
+def drop_line(text: str, start: str) -> str:
+    """``text`` without the one line that starts with ``start``."""
+    lines = text.splitlines(keepends=True)
+    hits = [k for k, ln in enumerate(lines) if ln.startswith(start)]
+    assert len(hits) == 1, f"exactly one line must start with {start!r}"
+    del lines[hits[0]]
+    return "".join(lines)
+
+
+DIRECTORY = object()  # the "file" is a directory
+MISSING = object()    # the file does not exist
+
+
+@dataclass(frozen=True)
+class BadFile:
+    id: str
+    content: object            # str, bytes, DIRECTORY or MISSING
+    expect: tuple[str, ...]    # fragments the stderr line must contain
+    at: str | None = None      # the error's line is the one containing this text
+    forbid: tuple[str, ...] = ()  # fragments that must NOT appear (unclear wording)
+    exact: str | None = None   # the message after "FILE:LINE: ", exactly
+
+    def line(self, text: str) -> int | None:
+        if self.at is None:
+            return None
+        hits = [k for k, ln in enumerate(text.splitlines(), start=1) if self.at in ln]
+        assert len(hits) == 1, f"{self.id}: {self.at!r} must be on exactly one line"
+        return hits[0]
+
+
+BAD_FILES = [
+    # --- the file itself ----------------------------------------------------
+    BadFile("empty-file", "", ("empty",)),
+    BadFile("only-comments", "# a robot, some day\n\n# nothing here yet\n", ("empty",)),
+    BadFile("non-utf8-latin1-title",
+            sub(DH, "Three-link test arm", "K\u00fc\u00e7\u00fck test arm").encode("latin-1"),
+            ("UTF-8",), at="title:"),
+    BadFile("directory-not-file", DIRECTORY, ("directory",)),
+    BadFile("missing-file", MISSING, ("no such file",)),
+
+    # --- YAML syntax --------------------------------------------------------
+    BadFile("yaml-syntax-error", sub(DH, "convention: dh", "convention: dh: mdh"),
+            ("not valid YAML",), at="convention:"),
+    BadFile("yaml-unclosed-bracket", sub(DH, "home: [0, 30, -30]", "home: [0, 30, -30"),
+            ("not valid YAML",), at="home:"),
+    BadFile("yaml-tab-indentation", sub(DH, "title:", "\ttitle:"),
+            ("not valid YAML", "tab"), at="title:"),
+    BadFile("yaml-control-character", sub(DH, "Three-link test arm", "Three-link\x07 arm"),
+            ("not valid YAML", "control character"), at="title:",
+            forbid=("<unicode string>", "position")),
+    BadFile("yaml-two-documents", DH + "---\nname: arm4\n",
+            ("not valid YAML", "document"), at="---", forbid=("YAML: but",)),
+
+    # --- top level ----------------------------------------------------------
+    BadFile("top-level-list", "- name: arm3\n- convention: dh\n", ("must be a mapping", "list")),
+    BadFile("top-level-scalar", "arm3\n", ("must be a mapping", "'arm3'")),
+    BadFile("missing-name", drop_line(DH, "name:"), ("'name' is missing",)),
+    BadFile("missing-convention", drop_line(DH, "convention:"), ("'convention' is missing",)),
+    BadFile("missing-units", drop_line(DH, "units:"), ("'units' is missing",)),
+    BadFile("missing-joints", sub(DH, JOINTS_DH, ""), ("'joints' is missing",)),
+    BadFile("unknown-top-level-key", sub(DH, "convention: dh", "convnetion: dh"),
+            ("unknown key 'convnetion'", "did you mean 'convention'?"), at="convnetion"),
+    BadFile("duplicate-top-level-key", sub(DH, "title:", "name: arm4\ntitle:"),
+            ("'name'", "twice"), at="name: arm4"),
+    BadFile("bad-name", sub(DH, "name: arm3", "name: 6-axis arm"),
+            ("'name'", "'6-axis arm'", "must start with a letter"), at="name: 6-axis"),
+    BadFile("unknown-convention", sub(DH, "convention: dh", "convention: craig"),
+            ("'convention'", "'craig'", "dh, mdh, poe"), at="convention:"),
+    BadFile("units-not-a-mapping", sub(DH, "units: {length: m, angle: deg}", "units: m"),
+            ("'units'", "mapping"), at="units:"),
+    BadFile("unknown-length-unit", sub(DH, "length: m,", "length: furlong,"),
+            ("'units.length'", "'furlong'", "m, cm, mm, in"), at="units:"),
+    BadFile("unknown-angle-unit", sub(DH, "angle: deg}", "angle: grad}"),
+            ("'units.angle'", "'grad'", "deg, rad"), at="units:"),
+
+    # --- parameters ---------------------------------------------------------
+    BadFile("parameters-not-a-mapping",
+            sub(DH, "parameters: {l1: 0.3, l2: 0.25}", "parameters: [0.3, 0.25]"),
+            ("'parameters'", "mapping"), at="parameters:"),
+    BadFile("parameter-named-pi", sub(DH, "l2: 0.25}", "l2: 0.25, pi: 3.14}"),
+            ("'pi'",), at="parameters:"),
+    BadFile("parameter-division-by-zero", sub(DH, "l2: 0.25}", "l2: l1 / 0}"),
+            ("parameter 'l2'", "division by zero"), at="parameters:"),
+
+    # --- joints -------------------------------------------------------------
+    BadFile("joints-not-a-list",
+            sub(DH, JOINTS_DH, "joints: {name: q1, type: revolute, alpha: 0, a: 0, d: 0, theta: 0}\n"),
+            ("'joints' must be a list", "mapping"), at="joints:"),
+    BadFile("joints-empty", sub(DH, JOINTS_DH, "joints: []\n"), ("'joints' is empty",),
+            at="joints:"),
+    BadFile("joint-not-a-mapping",
+            sub(DH, "  - {name: q2, type: revolute, alpha: 0, a: l1, d: 0, theta: 0, "
+                    "limits: [-90, 90]}", "  - q2"),
+            ("joint 2", "must be a mapping", "'q2'"), at="- q2"),
+    BadFile("joint-missing-alpha", sub(DH, "alpha: 0, a: l2", "a: l2"),
+            ("joint 3 (q3)", "'alpha' is missing"), at="name: q3",
+            exact="joint 3 (q3): 'alpha' is missing"),
+    BadFile("joint-missing-name", sub(DH, "name: q2, ", ""),
+            ("joint 2", "'name' is missing"), at="a: l1"),
+    BadFile("joint-empty-name", sub(DH, "name: q2,", 'name: "",'),
+            ("joint 2", "'name'"), at="a: l1"),
+    BadFile("joint-unknown-key", sub(DH, "alpha: 0, a: l1", "alpah: 0, a: l1"),
+            ("joint 2 (q2)", "unknown key 'alpah'", "did you mean 'alpha'?"), at="name: q2"),
+    BadFile("joint-duplicate-key", sub(DH, "d: 0.1,", "d: 0.1, d: 0.2,"),
+            ("joint 1 (q1)", "'d'", "twice"), at="name: q1"),
+    BadFile("joint-bad-type", sub(DH, "name: q2, type: revolute", "name: q2, type: rotary"),
+            ("joint 2 (q2)", "'type'", "'rotary'", "revolute or prismatic"), at="name: q2"),
+    BadFile("duplicate-joint-names", sub(DH, "name: q3", "name: q2"),
+            ("joint 3 (q2)", "'q2'", "already used by joint 2"), at="a: l2"),
+    BadFile("value-not-numeric", sub(DH, "d: 0.1,", "d: 0.1m,"),
+            ("joint 1 (q1)", "'d'", "'0.1m'", "number"), at="name: q1"),
+    BadFile("value-is-a-list", sub(DH, "a: l1,", "a: [l1],"),
+            ("joint 2 (q2)", "'a'", "number", "list"), at="name: q2"),
+    BadFile("value-empty", sub(DH, "a: l2, d: 0, theta: 0}", "a: l2, d: 0, theta: null}"),
+            ("joint 3 (q3)", "'theta'", "empty"), at="name: q3"),
+    BadFile("value-boolean-yes", sub(DH, "d: 0.1,", "d: yes,"),
+            ("joint 1 (q1)", "'d'", "'yes'", "number"), at="name: q1"),
+    BadFile("value-boolean-true", sub(DH, "alpha: 90,", "alpha: true,"),
+            ("joint 1 (q1)", "'alpha'", "'true'", "number"), at="name: q1"),
+    BadFile("value-nan", sub(DH, "d: 0.1,", "d: .nan,"),
+            ("joint 1 (q1)", "'d'", ".nan", "number"), at="name: q1"),
+    BadFile("value-minus-inf", sub(DH, "alpha: 90,", "alpha: -.inf,"),
+            ("joint 1 (q1)", "'alpha'", "-.inf", "number"), at="name: q1"),
+    BadFile("value-overflows-to-inf", sub(DH, "d: 0.1,", "d: 1e999,"),
+            ("joint 1 (q1)", "'d'", "finite"), at="name: q1"),
+    BadFile("expression-unknown-name", sub(DH, "a: l2,", "a: l3 + 0.1,"),
+            ("joint 3 (q3)", "'a'", "unknown name 'l3'", "l1, l2"), at="name: q3"),
+    BadFile("expression-division-by-zero", sub(DH, "a: l1,", "a: l1 / (l2 - 0.25),"),
+            ("joint 2 (q2)", "'a'", "division by zero"), at="name: q2"),
+    BadFile("expression-power-not-allowed", sub(DH, "a: l1,", "a: l1 ** 2,"),
+            ("joint 2 (q2)", "'a'", "only numbers"), at="name: q2"),
+    BadFile("expression-int-too-large", sub(DH, "a: l1,", "a: l1 * 1" + "0" * 400 + ","),
+            ("joint 2 (q2)", "'a'"), at="name: q2"),
+    BadFile("expression-too-deeply-nested", sub(DH, "d: 0.1,", "d: " + "-" * 100_000 + "1,"),
+            ("joint 1 (q1)", "'d'"), at="name: q1"),
+    BadFile("limits-wrong-length", sub(DH, "limits: [-90, 90]", "limits: [-90]"),
+            ("joint 2 (q2)", "'limits'", "2 entries", "not 1"), at="name: q2"),
+    BadFile("limits-lower-above-upper", sub(DH, "limits: [-90, 90]", "limits: [90, -90]"),
+            ("joint 2 (q2)", "'limits'", "lower <= upper"), at="name: q2"),
+    BadFile("limits-not-a-list", sub(DH, "limits: [-90, 90]", "limits: 90"),
+            ("joint 2 (q2)", "'limits'", "list"), at="name: q2"),
+
+    # --- poe ----------------------------------------------------------------
+    BadFile("poe-axis-zero", sub(POE, "axis: [0, 0, 1]", "axis: [0, 0, 0]"),
+            ("joint 1 (q1)", "'axis'", "zero vector"), at="name: q1"),
+    BadFile("poe-axis-not-unit", sub(POE, "axis: [1, 0, 0]", "axis: [2, 0, 0]"),
+            ("joint 2 (q2)", "'axis'", "unit vector", "norm is 2"), at="name: q2"),
+    BadFile("poe-point-wrong-length", sub(POE, "point: [0, 0, 0.2]", "point: [0, 0.2]"),
+            ("joint 2 (q2)", "'point'", "3 entries", "not 2"), at="name: q2"),
+    BadFile("poe-without-tool", drop_line(POE, "tool:"),
+            ("'tool' is missing", "poe")),
+    BadFile("poe-joint-with-dh-keys",
+            sub(POE, "axis: [0, 0, 1], point: [0, 0, 0]", "alpha: 0, a: 0, d: 0, theta: 0"),
+            ("joint 1 (q1)", "unknown key 'alpha'"), at="name: q1"),
+
+    # --- base, tool, home ---------------------------------------------------
+    BadFile("base-matrix-not-4x4",
+            sub(DH, BASE_LINE, "base: {matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}"),
+            ("'base'", "matrix", "4 entries", "not 3"), at="base:"),
+    BadFile("base-matrix-short-row",
+            sub(DH, BASE_LINE, "base: {matrix: [[1, 0, 0, 0], [0, 1, 0], [0, 0, 1, 0], "
+                               "[0, 0, 0, 1]]}"),
+            ("'base'", "matrix row 2", "4 entries", "not 3"), at="base:"),
+    BadFile("base-matrix-not-rotation",
+            sub(DH, BASE_LINE, "base: {matrix: [[1, 0, 0, 0], [0, 2, 0, 0], [0, 0, 1, 0], "
+                               "[0, 0, 0, 1]]}"),
+            ("'base'", "matrix", "not a rotation"), at="base:"),
+    BadFile("base-matrix-reflection",
+            sub(DH, BASE_LINE, "base: {matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, -1, 0], "
+                               "[0, 0, 0, 1]]}"),
+            ("'base'", "matrix", "not a rotation"), at="base:"),
+    BadFile("base-matrix-bad-last-row",
+            sub(DH, BASE_LINE, "base: {matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], "
+                               "[0, 0, 0, 2]]}"),
+            ("'base'", "matrix", "last row", "[0, 0, 0, 1]"), at="base:"),
+    BadFile("base-matrix-and-xyz",
+            sub(DH, BASE_LINE, f"base: {{matrix: {IDENTITY_ROWS}, xyz: [0, 0, 0.5]}}"),
+            ("'base'", "either 'matrix' or 'xyz'/'rpy'"), at="base:"),
+    BadFile("base-unknown-key", sub(DH, "rpy: [0, 0, 90]", "rpz: [0, 0, 90]"),
+            ("'base'", "unknown key 'rpz'", "did you mean 'rpy'?"), at="base:"),
+    BadFile("tool-xyz-wrong-length", sub(DH, "tool: {xyz: [0, 0, 0.05]}", "tool: {xyz: [0, 0.05]}"),
+            ("'tool'", "xyz", "3 entries", "not 2"), at="tool:"),
+    BadFile("home-wrong-length", sub(DH, "home: [0, 30, -30]", "home: [0, 30]"),
+            ("'home'", "2 values", "3 joints"), at="home:"),
+    BadFile("home-outside-limits", sub(DH, "home: [0, 30, -30]", "home: [0, 120, -30]"),
+            ("'home'", "joint 2 (q2)", "outside its limits"), at="home:"),
+    BadFile("home-not-numeric", sub(DH, "home: [0, 30, -30]", "home: [0, 30, abc]"),
+            ("'home'", "'abc'"), at="home:"),
+]
+
+
+def _write(tmp_path: Path, case: BadFile) -> tuple[Path, str]:
+    """Create the case's file as tmp_path/arm.yaml; return it and its text."""
+    path = tmp_path / "arm.yaml"
+    if case.content is DIRECTORY:
+        path.mkdir()
+        return path, ""
+    if case.content is MISSING:
+        return path, ""
+    data = case.content
+    if isinstance(data, str):
+        path.write_text(data, encoding="utf-8")
+        return path, data
+    path.write_bytes(data)
+    return path, data.decode("latin-1")
+
+
+def _one_line(err: str) -> str:
+    assert err.endswith("\n") and err.count("\n") == 1, \
+        f"stderr must be exactly one line, got {err!r}"
+    line = err.rstrip("\n")
+    assert line.strip(), "stderr line is empty"
+    assert "Traceback" not in line
+    assert "internal error" not in line, f"bad input reported as a bug: {line}"
+    return line
+
+
+def _check(case_id, status, out, err, expect, forbid=()):
+    """Every problem with one run, reported together (actual status, stdout, stderr)."""
+    problems = []
+    if status != 2:
+        problems.append(f"exit status {status}, not 2")
+    if out != "":
+        problems.append("stdout is not empty")
+    if not (err.endswith("\n") and err.count("\n") == 1 and err.strip()):
+        problems.append(f"stderr is {err.count(chr(10))} lines, not exactly one non-empty line")
+    line = err.rstrip("\n")
+    if "Traceback" in err:
+        problems.append("stderr has a traceback")
+    if "internal error" in err:
+        problems.append("bad input reported as an internal error")
+    if err and not line.startswith("kincalc"):
+        problems.append("stderr does not start with 'kincalc'")
+    missing = [f for f in expect if f not in line]
+    if missing:
+        problems.append(f"missing {missing}")
+    present = [f for f in forbid if f in line]
+    if present:
+        problems.append(f"unclear wording {present}")
+    assert not problems, (f"{case_id}: {'; '.join(problems)}\n"
+                          f"  stderr: {err!r}\n  stdout: {out[:300]!r}")
+    return line
+
+
+def _robot_file_case(case: BadFile, command: str, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    path, text = _write(tmp_path, case)
+    shown = "arm.yaml" if command == "validate" else str(path)
+    argv = ["robots", "validate", shown] if command == "validate" else ["fk", shown]
+    status = main(argv)
+    out, err = capsys.readouterr()
+    lineno = case.line(text)
+    where = f"{shown}:{lineno}:" if lineno is not None else f"{shown}"
+    msg = _check(f"{command} {case.id}", status, out, err, (where,) + case.expect, case.forbid)
+    if case.exact is not None:
+        assert msg.endswith(f"{shown}:{lineno}: {case.exact}"), msg
+
+
+@pytest.mark.parametrize("case", BAD_FILES, ids=[c.id for c in BAD_FILES])
+def test_robots_validate_rejects(case, tmp_path, monkeypatch, capsys):
+    _robot_file_case(case, "validate", tmp_path, monkeypatch, capsys)
+
+
+@pytest.mark.parametrize("case", BAD_FILES, ids=[c.id for c in BAD_FILES])
+def test_fk_rejects_robot_file(case, tmp_path, monkeypatch, capsys):
+    _robot_file_case(case, "fk", tmp_path, monkeypatch, capsys)
+
+
+def test_catalogue_ids_are_unique():
+    ids = [c.id for c in BAD_FILES] + [c.id for c in BAD_COMMANDS]
+    assert len(ids) == len(set(ids))
+    assert len(BAD_FILES) >= 30 and len(BAD_COMMANDS) >= 10
+
+
+# ---------------------------------------------------------------------------
+# Bad command lines (bundled robots: bk_rr is a unitless 2R arm, puma560 6R).
+
+@dataclass(frozen=True)
+class BadCommand:
+    id: str
+    argv: tuple[str, ...]
+    expect: tuple[str, ...]
+    forbid: tuple[str, ...] = field(default=())
+
+
+BAD_COMMANDS = [
+    BadCommand("no-command-args", (), ("command", "kincalc --help"),
+               forbid=("Usage:", "Options:")),  # one line, not the whole help
+    BadCommand("unknown-command", ("frobnicate",), ("'frobnicate'",)),
+    BadCommand("fk-missing-robot", ("fk",), ("Missing argument 'ROBOT'",)),
+    BadCommand("validate-no-files", ("robots", "validate"), ("Missing argument 'FILE...'",)),
+    BadCommand("unknown-robot-name", ("fk", "pum560", "0", "0", "0", "0", "0", "0"),
+               ("'pum560'", "did you mean 'puma560'")),
+    BadCommand("unknown-robot-name-jacobian", ("jacobian", "ur5ee"),
+               ("'ur5ee'", "did you mean 'ur5e'")),
+    BadCommand("robots-show-missing-file", ("robots", "show", "nope.yaml"),
+               ("nope.yaml", "no such file")),
+    BadCommand("robots-show-unknown-name", ("robots", "show", "stanfrod_arm"),
+               ("'stanfrod_arm'", "did you mean 'stanford_arm'")),
+    BadCommand("too-few-joint-values", ("fk", "bk_rr", "30"),
+               ("bk_rr has 2 joints", "theta1, theta2", "got 1 joint value")),
+    BadCommand("too-many-joint-values", ("fk", "bk_rr", "30", "-60", "10"),
+               ("bk_rr has 2 joints", "got 3 joint values")),
+    BadCommand("too-few-joint-values-jacobian", ("jacobian", "puma560", "0", "-45"),
+               ("puma560 has 6 joints", "got 2 joint values")),
+    BadCommand("non-numeric-joint-value", ("fk", "bk_rr", "30", "abc"),
+               ("joint value 'abc'", "not a number")),
+    BadCommand("joint-value-nan", ("fk", "bk_rr", "30", "nan"), ("finite",)),
+    BadCommand("unknown-option-fk", ("fk", "bk_rr", "30", "-60", "--frmaes"),
+               ("--frmaes", "--frames")),  # a did-you-mean, as click gives elsewhere
+    BadCommand("unknown-option-robots-show", ("robots", "show", "bk_rr", "--jsno"),
+               ("--jsno", "--json")),
+    BadCommand("bad-unit", ("fk", "puma560", "--unit", "furlong"),
+               ("--unit", "'furlong'", "m, cm, mm, in")),
+    BadCommand("unit-missing-value", ("fk", "bk_rr", "--unit"),
+               ("--unit", "requires an argument")),
+    BadCommand("unit-on-unitless-robot", ("fk", "bk_rr", "--unit", "mm"),
+               ("'bk_rr'", "unitless", "--unit")),
+    BadCommand("bad-frame", ("jacobian", "puma560", "--frame", "world"),
+               ("--frame", "'world'", "'base'", "'tool'")),
+    BadCommand("bad-analytic", ("jacobian", "puma560", "--analytic", "quat"),
+               ("--analytic", "'quat'", "'rpy'", "'zyz'", "'xyz'")),
+    BadCommand("negative-precision", ("fk", "bk_rr", "--precision", "-1"),
+               ("--precision", "-1")),
+    BadCommand("precision-too-large", ("fk", "bk_rr", "--precision", "99"),
+               ("--precision", "99")),
+]
+
+
+@pytest.mark.parametrize("case", BAD_COMMANDS, ids=[c.id for c in BAD_COMMANDS])
+def test_bad_command_line(case, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)  # so "nope.yaml" really is missing
+    status = main(list(case.argv))
+    out, err = capsys.readouterr()
+    _check(case.id, status, out, err, case.expect, case.forbid)
+
+
+# ---------------------------------------------------------------------------
+# --debug, valid files, several files at once.
+
+def _bad_alpha_file(tmp_path: Path) -> Path:
+    path = tmp_path / "arm.yaml"
+    path.write_text(sub(DH, "alpha: 0, a: l2", "a: l2"), encoding="utf-8")
+    return path
+
+
+def test_debug_raises_robot_file_error_fk(tmp_path):
+    path = _bad_alpha_file(tmp_path)
+    with pytest.raises(RobotFileError, match=r"joint 3 \(q3\): 'alpha' is missing"):
+        main(["fk", str(path), "--debug"])
+
+
+def test_debug_raises_robot_file_error_validate(tmp_path):
+    path = _bad_alpha_file(tmp_path)
+    with pytest.raises(RobotFileError, match=r"joint 3 \(q3\): 'alpha' is missing"):
+        main(["robots", "validate", str(path), "--debug"])
+
+
+@pytest.mark.parametrize("text, summary", [(DH, "arm3, 3 joints, dh"),
+                                           (POE, "arm_poe, 2 joints, poe")],
+                         ids=["dh", "poe"])
+def test_templates_are_valid(text, summary, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "arm.yaml").write_text(text, encoding="utf-8")
+    assert main(["robots", "validate", "arm.yaml"]) == 0
+    out, err = capsys.readouterr()
+    assert out == f"ok: arm.yaml: {summary}\n"
+    assert err == ""
+    assert main(["fk", "arm.yaml", "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith("{") and err == ""
+
+
+def test_validate_good_and_bad_files(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "good.yaml").write_text(DH, encoding="utf-8")
+    (tmp_path / "bad.yaml").write_text(sub(DH, "angle: deg}", "angle: grad}"), encoding="utf-8")
+    status = main(["robots", "validate", "good.yaml", "bad.yaml"])
+    out, err = capsys.readouterr()
+    assert out == "ok: good.yaml: arm3, 3 joints, dh\n"
+    line = _one_line(err)
+    assert "bad.yaml:4:" in line and "'units.angle'" in line and "'grad'" in line
+    assert status == 2
