@@ -66,11 +66,13 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     Jn[:3, :] /= L
     Jn[:, ~robot.is_revolute] *= L  # prismatic columns: m/m -> per unit of L
     U, s, Vt = np.linalg.svd(Jn)
-    full = min(6, robot.dof)
     rank = int(np.sum(s > SINGULAR_TOL * max(s[0], 1.0)))
+    sv = np.linalg.svd(Jn[:3], compute_uv=False)
+    pos_rank = int(np.sum(sv > SINGULAR_TOL * max(sv[0], 1.0)))
+    full, full_pos = robot.generic_ranks
     singularity = None
-    if rank < full:
-        singularity = _classify(robot, q, U, s, Vt, rank)
+    if rank < full or pos_rank < full_pos:
+        singularity = _classify(robot, q, U, s, Vt, rank, pos_rank < full_pos)
 
     result_analytic = err = None
     if analytic is not None:
@@ -83,15 +85,17 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                 raise np.linalg.LinAlgError
             result_analytic = (analytic, analytic_jacobian(Jb, angles, analytic))
         except np.linalg.LinAlgError:
+            result_analytic = (analytic, None)
             err = (f"the {analytic} angles are at their representation singularity "
                    "(gimbal lock) here; the analytic Jacobian does not exist")
     return JacobianResult(robot=robot, q=q, frame=frame, J=J, units=units,
                           sigma_normalised=s, rank=rank, length_scale=L,
+                          generic_rank=full, position_rank=pos_rank, generic_position_rank=full_pos,
                           singularity=singularity, analytic=result_analytic,
                           analytic_error=err)
 
 
-def _classify(robot, q, U, s, Vt, rank) -> Singularity:
+def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
     """Name the singularity from the axes' geometry where the structure allows."""
     from .structure import (joint_axes, parallel, point_line_distance,
                             spherical_wrist, wrist_centre)
@@ -141,9 +145,13 @@ def _classify(robot, q, U, s, Vt, rank) -> Singularity:
     if n > 6:
         null_space = None
     lost = U[:, rank] if rank < 6 and n >= 6 else None
+    if not kinds and position_lost:
+        kinds.append("position")
+        texts.append("position singularity: the tool point cannot move in some direction "
+                     "(for a planar arm: stretched or folded)")
     if not kinds:
         kinds.append("unclassified")
-        msg = f"singular configuration: the Jacobian has rank {rank} instead of {min(6, n)}"
+        msg = f"singular configuration: the Jacobian has rank {rank} instead of {robot.generic_ranks[0]}"
         if null_space is not None:
             msg += "; moving the joints along the null-space direction does not move the tool"
         texts.append(msg)

@@ -24,6 +24,9 @@ def library_dir() -> Path:
     """
     env = os.environ.get("KINCALC_ROBOTS")
     if env:
+        if not Path(env).is_dir():
+            from .errors import InputError
+            raise InputError(f"KINCALC_ROBOTS={env!r} is not a folder")
         return Path(env)
     here = Path(__file__).resolve().parent
     packaged = here / "robots"

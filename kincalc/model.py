@@ -168,6 +168,29 @@ class Robot:
                 total += max(abs(j.limits[0]), abs(j.limits[1]))
         return total if total > 0 else 1.0
 
+    @cached_property
+    def generic_ranks(self) -> tuple[int, int]:
+        """``(rank of J, rank of its linear rows)`` at a generic configuration.
+
+        A planar arm has rank 2 or 3, a SCARA 4: a configuration is singular
+        when either rank drops below these. Taken as the largest rank over a
+        few seeded random configurations within the limits.
+        """
+        from .fk import chain_frames  # noqa: F401  (keeps import order lazy)
+        from .tolerances import SINGULAR_TOL
+        rng = np.random.default_rng(12345)
+        lo, hi = self.limits.T
+        lo = np.where(np.isfinite(lo), lo, -np.pi)
+        hi = np.where(np.isfinite(hi), hi, np.pi)
+        J = self.jacobian(rng.uniform(lo, hi, (5, self.dof)))
+        L = self.characteristic_length
+        J[:, :3, :] /= L
+        J[:, :, ~self.is_revolute] *= L
+        def rank(M):
+            s = np.linalg.svd(M, compute_uv=False)
+            return int(np.max(np.sum(s > SINGULAR_TOL * np.maximum(s[:, :1], 1.0), axis=-1)))
+        return rank(J), rank(J[:, :3, :])
+
     # --- kinematics (delegating to the numeric core) ----------------------
 
     def fk(self, q) -> np.ndarray:

@@ -169,13 +169,22 @@ class JacobianResult:
     sigma_normalised: np.ndarray
     rank: int
     length_scale: float
+    generic_rank: int
+    position_rank: int
+    generic_position_rank: int
     singularity: Singularity | None
-    analytic: tuple[str, np.ndarray] | None = None
+    analytic: tuple[str, np.ndarray | None] | None = None
     analytic_error: str | None = None
 
     @property
     def singular(self) -> bool:
         return self.singularity is not None
+
+    def _base_J(self) -> np.ndarray:
+        if self.frame == "base":
+            return self.J
+        from .jacobian import rotate_jacobian
+        return rotate_jacobian(self.J, self.robot.fk(self.q)[:3, :3])
 
     def _display_J(self, J) -> list:
         J = np.array(J, dtype=float)
@@ -189,6 +198,9 @@ class JacobianResult:
         u = self.units
         Jd = self._display_J(self.J)
         s = np.linalg.svd(np.array(Jd), compute_uv=False)
+        # the base-frame linear rows (the tool point's velocity) for the position measures
+        Jv = np.array(self._display_J(self._base_J()))[:3]
+        sv = np.linalg.svd(Jv, compute_uv=False)[: self.generic_position_rank]
         sn = self.sigma_normalised
         cond = float("inf") if self.singular or sn[-1] <= 0 else float(sn[0] / sn[-1])
         out = _header("jacobian", self.robot, u)
@@ -199,9 +211,11 @@ class JacobianResult:
             "J": Jd,
             "singular_values": _clean(s),
             "rank": self.rank,
-            "manipulability": float(np.prod(s)),
+            "manipulability": float(np.prod(s[: self.generic_rank])),
+            "position_manipulability": float(np.prod(sv)),
             "condition": cond if np.isfinite(cond) else None,
             "length_scale": self.length_scale * u.l,
+            "generic_rank": self.generic_rank,
             "singular": self.singular,
         })
         if self.singularity is not None:
@@ -212,11 +226,11 @@ class JacobianResult:
                 "null_space": None if sg.null_space is None else _clean(sg.null_space),
                 "lost_motion": None if sg.lost_motion is None else _clean(sg.lost_motion),
             }
-        if self.analytic is not None or self.analytic_error is not None:
-            kind = self.analytic[0] if self.analytic else None
+        if self.analytic is not None:
+            kind, JA = self.analytic
             out["analytic"] = {
                 "angles": kind,
-                "J": None if self.analytic is None else self._display_J(self.analytic[1]),
+                "J": None if JA is None else self._display_J(JA),
                 "error": self.analytic_error,
             }
         return out

@@ -132,6 +132,7 @@ class _Reader:
     def __init__(self, file: str):
         self.file = file
         self.params: dict[str, float] = {}
+        self.A = 1.0
         self.joint: int | None = None
         self.joint_name: str | None = None
 
@@ -237,6 +238,9 @@ class _Reader:
             return e.value
         if isinstance(e, ast.Name):
             if e.id == "pi":
+                if self.A != 1.0:
+                    raise _ExprError("'pi' is only allowed in files with angle: rad "
+                                     "(this file's angles are in degrees: write 180 for pi)")
                 return math.pi
             if e.id in self.params:
                 return self.params[e.id]

@@ -202,6 +202,8 @@ BAD_FILES = [
             ("joint 3 (q3)", "'a'", "unknown name 'l3'", "l1, l2"), at="name: q3"),
     BadFile("expression-division-by-zero", sub(DH, "a: l1,", "a: l1 / (l2 - 0.25),"),
             ("joint 2 (q2)", "'a'", "division by zero"), at="name: q2"),
+    BadFile("expression-pi-in-degree-file", sub(DH, "alpha: 90,", "alpha: pi/2,"),
+            ("joint 1 (q1)", "'alpha'", "'pi' is only allowed", "angle: rad"), at="name: q1"),
     BadFile("expression-power-not-allowed", sub(DH, "a: l1,", "a: l1 ** 2,"),
             ("joint 2 (q2)", "'a'", "only numbers"), at="name: q2"),
     BadFile("expression-int-too-large", sub(DH, "a: l1,", "a: l1 * 1" + "0" * 400 + ","),

@@ -123,7 +123,20 @@ def test_analytic_jacobian_reports_gimbal_lock():
     r = load_robot("puma560")
     # q = 0 puts the PUMA's tool frame aligned with the base: zyz has b = 0
     res = jacobian_report(r, np.zeros(6), analytic="zyz")
-    assert res.analytic is None and "gimbal" in res.analytic_error
+    assert res.analytic == ("zyz", None) and "gimbal" in res.analytic_error
+    assert res.to_dict()["analytic"]["angles"] == "zyz"
+
+
+def test_planar_rr_manipulability_is_yoshikawas_l1_l2_sin_theta2():
+    # Yoshikawa (1985): w = l1 l2 |sin theta2| for the planar 2R arm; 0 when stretched/folded
+    r = load_robot("bk_rr")
+    for t2 in (0.0, 0.3, 1.2, np.pi / 2, 2.5, np.pi):
+        res = jacobian_report(r, np.array([0.4, t2]))
+        d = res.to_dict()
+        assert np.isclose(d["position_manipulability"], 10 * 5 * abs(np.sin(t2)), atol=1e-9)
+        assert res.singular == (abs(np.sin(t2)) < 1e-9)
+        if res.singular:
+            assert "position" in res.singularity.kinds
 
 
 # --- singularities named from the geometry ----------------------------------

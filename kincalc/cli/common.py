@@ -61,7 +61,8 @@ def parse_joints(tokens: list[str] | None, robot, units):
             values.append(float(tok))
         except ValueError:
             if tok.startswith("-"):
-                raise UsageError(f"no such option: {tok}{_suggest_option(tok)}") from None
+                raise UsageError(f"no such option: {tok}{_suggest_option(tok)}"
+                                 f" (see '{_command_path()} --help')") from None
             raise InputError(f"joint value {tok!r} is not a number") from None
     if len(values) != robot.dof:
         raise InputError(f"{robot.name} has {robot.dof} joints "
@@ -85,6 +86,12 @@ def _suggest_option(token: str) -> str:
              if o.startswith("--")]
     close = difflib.get_close_matches(token, names, n=1)
     return f" (did you mean {close[0]}?)" if close else ""
+
+
+def _command_path() -> str:
+    import click
+    ctx = click.get_current_context(silent=True)
+    return ctx.command_path if ctx is not None else "kincalc"
 
 
 def load_robot(name: str):

@@ -83,6 +83,7 @@ def _tables(doc, robot, precision):
         ("singular values", vec(doc["singular_values"], precision)),
         ("rank", str(doc["rank"])),
         ("manipulability", num(doc["manipulability"], precision + 2)),
+        ("position manipulability", num(doc["position_manipulability"], precision + 2)),
         ("condition", "inf" if doc["condition"] is None else num(doc["condition"], precision)),
         ("singular", "yes" if doc["singular"] else "no"),
     ]

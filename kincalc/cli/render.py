@@ -30,7 +30,12 @@ def _json_default(obj):
 def console():
     """A rich console on stdout; plain text when not a terminal or NO_COLOR is set."""
     from rich.console import Console
-    width = None if sys.stdout.isatty() else int(os.environ.get("COLUMNS", "120"))
+    width = None
+    if not sys.stdout.isatty():
+        try:
+            width = max(int(os.environ.get("COLUMNS", "")), 40)
+        except ValueError:
+            width = 120
     return Console(highlight=False, no_color=bool(os.environ.get("NO_COLOR")) or None,
                    width=width, soft_wrap=False)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated, List
 
 import typer
@@ -37,16 +38,16 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
     if json:
         from ..results import SCHEMA_VERSION
         from .render import emit_json
-        emit_json({"kincalc": SCHEMA_VERSION, "command": "robots list", "robots": entries})
+        emit_json({"kincalc": SCHEMA_VERSION, "command": "robots list",
+                   "library": str(library_dir()), "robots": entries})
         return
     from rich import box
     from rich.table import Table
 
     from .render import console
-    t = Table(box=box.SIMPLE, title=f"{len(entries)} robots in {library_dir()}",
-              title_justify="left")
-    for col in ("name", "dof", "joints", "convention", "units", "title"):
-        t.add_column(col)
+    t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots", title_justify="left")
+    for col in ("name", "dof", "structure", "convention", "units", "title"):
+        t.add_column(col, no_wrap=col != "title")
     for e in entries:
         if "error" in e:
             t.add_row(e["name"], "", "", "", "", f"[red]broken: {e['error']}[/red]")
@@ -81,7 +82,6 @@ def show(
 
 
 def _details(rob, u) -> dict:
-    import numpy as np
     joints = []
     for j in rob.joints:
         s = u.a if j.revolute else u.l
@@ -98,8 +98,7 @@ def _details(rob, u) -> dict:
             {"length": rob.length_unit, "angle": rob.angle_unit},
             "joints": joints, "base": u.pose(rob.base), "tool": u.pose(rob.tool),
             "home": u.joints(rob, rob.home),
-            "path": rob.path, "characteristic_length": float(rob.characteristic_length * u.l)
-            + 0.0 * float(np.sum(rob.home))}
+            "path": rob.path, "characteristic_length": float(rob.characteristic_length * u.l)}
 
 
 def _var(name, offset, precision, unit):
@@ -127,7 +126,8 @@ def _show_tables(doc, rob, u, precision):
             ("file units", f"{rob.length_unit}, {rob.angle_unit}"),
             ("shown in", f"{u.length}, {u.angle}"),
             ("source", rob.source or "-")]
-    if rob.path:
+    from ..library import library_dir
+    if rob.path and Path(rob.path).resolve().parent != library_dir().resolve():
         meta.append(("file", rob.path))
     c.print(kv_table(meta))
     t = Table(box=box.SIMPLE_HEAD, title_justify="left",
