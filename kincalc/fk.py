@@ -46,6 +46,15 @@ def _start(F0, size):
     return cols, p
 
 
+def _move(chain, i, cols, p, x):
+    """Post-multiply the running pose by joint i's motion ``J_i(x)`` (x already offset)."""
+    if chain.revolute[i]:
+        c, s = np.cos(x), np.sin(x)
+        c0, c1 = cols[0], cols[1]
+        return [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]], p
+    return cols, p + cols[2] * x
+
+
 def _walk(chain, q, on_joint=None):
     """Run the chain over ``q (N, n)``; return the final ``(cols, p)``.
 
@@ -58,13 +67,7 @@ def _walk(chain, q, on_joint=None):
     for i in range(chain.dof):
         if on_joint is not None:
             on_joint(i, cols, p)
-        x = qq[:, i]
-        if chain.revolute[i]:
-            c, s = np.cos(x), np.sin(x)
-            c0, c1 = cols[0], cols[1]
-            cols = [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]]
-        else:
-            p = p + cols[2] * x
+        cols, p = _move(chain, i, cols, p, qq[:, i])
         cols, p = _apply_fixed(cols, p, F[i + 1])
     return cols, p
 
@@ -118,13 +121,7 @@ def chain_frames(chain, q) -> np.ndarray:
     qq = flat + chain.offset
     cols, p = _start(F[0], N)
     for i in range(n):
-        x = qq[:, i]
-        if chain.revolute[i]:
-            c, s = np.cos(x), np.sin(x)
-            c0, c1 = cols[0], cols[1]
-            cols = [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]]
-        else:
-            p = p + cols[2] * x
+        cols, p = _move(chain, i, cols, p, qq[:, i])
         for j in range(3):
             out[:, i, :3, j] = cols[j].T
         out[:, i, :3, 3] = p.T

@@ -97,3 +97,12 @@ def _command_path() -> str:
 def load_robot(name: str):
     from ..library import load
     return load(name)
+
+
+def output(doc: dict, json: bool, tables, *args) -> None:
+    """Print ``doc`` as one JSON document, or call ``tables(doc, *args)`` for people."""
+    if json:
+        from .render import emit_json
+        emit_json(doc)
+    else:
+        tables(doc, *args)

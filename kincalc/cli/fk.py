@@ -7,7 +7,7 @@ from typing import Annotated
 import typer
 
 from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
-                     UnitOpt, display_units, load_robot, parse_joints)
+                     UnitOpt, display_units, load_robot, output, parse_joints)
 
 
 def fk(
@@ -38,12 +38,7 @@ def fk(
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     result = fk_report(rob, qv, units, frames=frames)
-    doc = result.to_dict()
-    if json:
-        from .render import emit_json
-        emit_json(doc)
-        return
-    _tables(doc, rob, precision)
+    output(result.to_dict(), json, _tables, rob, precision)
 
 
 def _tables(doc, robot, precision):

@@ -8,7 +8,7 @@ from typing import Annotated, Optional
 import typer
 
 from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
-                     UnitOpt, display_units, load_robot, parse_joints)
+                     UnitOpt, display_units, load_robot, output, parse_joints)
 
 
 class Frame(str, Enum):
@@ -54,12 +54,7 @@ def jacobian(
     qv = parse_joints(q, rob, units)
     result = jacobian_report(rob, qv, units, frame=frame.value,
                              analytic=analytic.value if analytic else None)
-    doc = result.to_dict()
-    if json:
-        from .render import emit_json
-        emit_json(doc)
-        return
-    _tables(doc, rob, precision)
+    output(result.to_dict(), json, _tables, rob, precision)
 
 
 def _tables(doc, robot, precision):
