@@ -1,0 +1,256 @@
+"""Kinematic families recognised from the joint axes, and their solvers.
+
+Each solver takes the robot's :class:`~kincalc.ik.screws.Screws` and a target
+pose ``T`` (world frame, SI) and returns raw candidates: joint vectors with
+the sign chosen at each step, the joints left free at a singular target, and
+a trace of intermediate quantities. The dispatcher (:mod:`kincalc.ik.solve`)
+polishes, normalises, labels and checks them.
+
+Families (recognised from geometry, never from names):
+
+* ``spherical-wrist``: 6 joints, the last three revolute with concurrent axes
+  (Pieper 1968). Joints 1-3 (any R/P mix) place the wrist centre
+  (:func:`~kincalc.ik.position.place_point`), the wrist gives the orientation
+  by subproblems 2 and 1.
+* ``three-parallel``: 6 revolute joints, axes 2, 3, 4 parallel and axes 5, 6
+  intersecting (the UR family). Subproblem 4 for joints 1 and 5 on the
+  components along the common direction, subproblem 1 for 6 and for the sum
+  2 + 3 + 4, a planar two-link problem for 2 and 3.
+* ``position-3``: 3 joints whose tool point moves in 3-D: the point alone.
+* ``planar-3``: 3 revolute joints with parallel axes: a point on axis 3 by
+  joints 1-2, then joint 3 from the orientation.
+* ``position-2``: 2 joints: the tool point (on a plane, a cylinder, ...).
+* ``point-plus-roll``: 4 joints, the last revolute: a point on axis 4 by
+  joints 1-3 (SCARA, the R-R-P-R spherical arm), joint 4 from the orientation.
+* ``general-6r``: 6 revolute joints with no such structure: algebraic
+  elimination (:mod:`kincalc.ik.general6r`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..structure import common_point
+from ..subproblems import sp1, sp2, sp4
+from .position import place_point
+from .screws import Screws
+
+
+@dataclass
+class Candidate:
+    q: np.ndarray
+    signs: dict = field(default_factory=dict)     # joint index -> '+' / '-' / 'root k'
+    free: list = field(default_factory=list)      # joint indices undetermined (singular)
+    continuum: str | None = None                  # e.g. "q4 + q6 = 37.2 deg"
+    trace: list = field(default_factory=list)     # (label, value) pairs, SI
+
+
+@dataclass(frozen=True)
+class Family:
+    name: str
+    description: str
+    controls: str          # which pose components the robot sets
+    needs_orientation: bool
+
+
+def _parallel(a, b, tol=1e-9) -> bool:
+    return float(np.linalg.norm(np.cross(a, b))) < tol
+
+
+def classify(robot, S: Screws) -> tuple[Family | None, str]:
+    """The family of ``robot`` (or None) and a sentence saying why."""
+    n, rev = S.n, S.revolute
+    tol = 1e-9 * max(S.scale, 1.0)
+    if n == 6 and rev[3:].all():
+        c = common_point(S.point[3:], S.axis[3:], 1e-7 * max(S.scale, 1.0))
+        if c is not None:
+            return (Family("spherical-wrist",
+                           "spherical wrist: axes 4, 5, 6 meet at one point; joints 1-3 place "
+                           "the wrist centre, joints 4-6 set the orientation",
+                           "position and orientation", True), "")
+    if n == 6 and rev.all() and _parallel(S.axis[1], S.axis[2]) and _parallel(S.axis[2], S.axis[3]) \
+            and not _parallel(S.axis[0], S.axis[1]) and not _parallel(S.axis[4], S.axis[1]):
+        c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
+        if c56 is not None:
+            return (Family("three-parallel",
+                           "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
+                           "position and orientation", True), "")
+    if n == 6 and rev.all():
+        return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
+                                     "elimination (Raghavan-Roth, Manocha-Canny)",
+                       "position and orientation", True), "")
+    pos_rank = robot.generic_ranks[1]
+    if n == 3 and pos_rank == 3:
+        return (Family("position-3", "three joints placing the tool point in space",
+                       "position", False), "")
+    if n == 3 and rev.all() and _parallel(S.axis[0], S.axis[1]) and _parallel(S.axis[1], S.axis[2]):
+        return (Family("planar-3", "planar 3R: three parallel axes; a point on axis 3 by "
+                                   "joints 1-2, joint 3 from the orientation",
+                       "position in the plane and rotation about the axes", True), "")
+    if n == 2:
+        return (Family("position-2", "two joints placing the tool point",
+                       "position (on the surface the arm sweeps)", False), "")
+    if n == 4 and rev[3] and pos_rank == 3:
+        return (Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 "
+                                          "from the orientation about its axis",
+                       "position and rotation about axis 4", True), "")
+    why = (f"no analytic solver for this structure yet ({n} joints, "
+           f"{''.join('R' if r else 'P' for r in rev)})")
+    return None, why
+
+
+# --- solvers -------------------------------------------------------------------
+
+def _point_in_tool(S: Screws, p):
+    """Coordinates of world point ``p`` (at q = 0) in the tool frame M."""
+    Minv = S.inverse_M()
+    return Minv[:3, :3] @ p + Minv[:3, 3]
+
+
+def _from_tool(T, p_tool):
+    return T[:3, :3] @ p_tool + T[:3, 3]
+
+
+def solve_spherical_wrist(S: Screws, T, explain=False) -> list[Candidate]:
+    c0 = common_point(S.point[3:], S.axis[3:], np.inf)
+    ct = _from_tool(T, _point_in_tool(S, c0))
+    out = []
+    for ps in place_point(S, [0, 1, 2], c0, ct, explain):
+        q123 = ps.x
+        W = np.linalg.inv(S.product([0, 1, 2], q123)) @ T @ S.inverse_M()
+        out.extend(_wrist(S, W[:3, :3], q123, ps, [3, 4, 5], ct, explain))
+    return out
+
+
+def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
+    """Angles of three concurrent revolute axes idx with R(a1) R(a2) R(a3) = RW."""
+    k1, k2, k3 = (S.axis[i] for i in idx)
+    sols, exact, free = sp2(k3, RW @ k3, k1, k2)
+    out = []
+    for n_sol, (t1, t2) in enumerate(sols):
+        R12 = _rot(k1, t1) @ _rot(k2, t2)
+        v = np.cross(k3, [1.0, 0, 0] if abs(k3[0]) < 0.9 else [0, 1.0, 0])
+        t3, _, _ = sp1(v, R12.T @ RW @ v, k3)
+        q = np.concatenate([prefix_q, [t1, t2, t3]])
+        cand = Candidate(q=q, signs=dict(ps.signs), free=list(ps.free))
+        if len(sols) == 2:
+            cand.signs[idx[1]] = "+" if n_sol == 0 else "-"
+        if free:
+            cand.free.append(idx[0])
+            same = float(k1 @ (R12 @ k3)) > 0
+            total = t1 + t3 if same else t3 - t1
+            cand.continuum = (f"q{idx[0] + 1} {'+' if same else '-'} q{idx[2] + 1}"
+                              f" = {{{total!r}}}")
+        if explain:
+            cand.trace = list(ps.trace) + [("wrist centre (target)", centre.tolist()),
+                                           ("wrist rotation R_W", RW.tolist())]
+        out.append(cand)
+    return out
+
+
+def _rot(k, t):
+    from ..spatial import matrix_from_axis_angle
+    return matrix_from_axis_angle(k, t)
+
+
+def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
+    h = S.axis[1]
+    c56 = common_point(S.point[4:], S.axis[4:], np.inf)
+    ct = _from_tool(T, _point_in_tool(S, c56))
+    R_t = T[:3, :3] @ S.inverse_M()[:3, :3]        # R(q) for the product of exponentials
+    o1 = S.point[0]
+    out = []
+    # joint 1: the component along h of (c56 - o1) is unchanged by joints 2-4 (and 5, 6 fix c56)
+    d = float(h @ (c56 - o1))
+    t1s, ex1, free1 = sp4(h, ct - o1, S.axis[0], d)
+    t1s = [-t for t in t1s]   # sp4 solved h . R(k1, t)(ct - o1) = d; we need R(k1, -q1)
+    if not ex1:
+        return []
+    for i1, q1 in enumerate(t1s):
+        R1 = _rot(S.axis[0], q1)
+        # joint 5: h . R(k5, q5) k6 = h . R1^T R_t k6 (rotations about h drop out)
+        t5s, ex5, free5 = sp4(h, S.axis[5], S.axis[4], float(h @ (R1.T @ R_t @ S.axis[5])))
+        if not ex5:
+            continue
+        for i5, q5 in enumerate(t5s):
+            R5 = _rot(S.axis[4], q5)
+            # joint 6: R6^T R5^T h = R_t^T R1 h, i.e. R(k6, q6) (R_t^T R1 h) = R5^T h
+            q6, _, free6 = sp1(R_t.T @ R1 @ h, R5.T @ h, S.axis[5])
+            R6 = _rot(S.axis[5], q6)
+            # sum of joints 2-4 about h
+            R234 = R1.T @ R_t @ R6.T @ R5.T
+            v = np.cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
+            q234, _, _ = sp1(v, R234 @ v, h)
+            # the point on axis 5 nearest axis 4 -> where axis 4 must be, then a planar 2R
+            T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ S.inverse_M() @ np.linalg.inv(
+                S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
+            # T_rest = E2 E3 E4; the point of axis 4 at q = 0 maps to E2 E3 (p4) (E4 fixes it)
+            p4 = S.point[3]
+            p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
+            for ps in place_point(S, [1, 2], p4, p4t, explain):
+                q2, q3 = ps.x
+                q4 = q234 - q2 - q3
+                q = np.array([q1, q2, q3, q4, q5, q6])
+                cand = Candidate(q=q, signs={0: "+" if i1 == 0 else "-",
+                                             4: "+" if i5 == 0 else "-", **ps.signs})
+                if free6:
+                    cand.free.append(5)
+                    cand.continuum = "wrist singular: axes 4 and 6 aligned"
+                if explain:
+                    cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist()),
+                                  ("q2 + q3 + q4", float(q234))] + ps.trace
+                out.append(cand)
+    return out
+
+
+def solve_position_3(S: Screws, T, explain=False) -> list[Candidate]:
+    return [Candidate(q=ps.x, signs=ps.signs, free=ps.free, trace=ps.trace)
+            for ps in place_point(S, [0, 1, 2], S.M[:3, 3], T[:3, 3], explain)]
+
+
+def solve_position_2(S: Screws, T, explain=False) -> list[Candidate]:
+    return [Candidate(q=ps.x, signs=ps.signs, free=ps.free, trace=ps.trace)
+            for ps in place_point(S, [0, 1], S.M[:3, 3], T[:3, 3], explain)]
+
+
+def _last_axis_roll(S: Screws, T, first: list[int], explain):
+    """A point of the last axis placed by ``first`` joints, then the last joint's roll."""
+    n = S.n
+    c0 = S.point[n - 1]
+    ct = _from_tool(T, _point_in_tool(S, c0))
+    out = []
+    for ps in place_point(S, first, c0, ct, explain):
+        W = np.linalg.inv(S.product(first, ps.x)) @ T @ S.inverse_M()
+        k = S.axis[n - 1]
+        v = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+        qn, _, _ = sp1(v, W[:3, :3] @ v, k)
+        cand = Candidate(q=np.concatenate([ps.x, [qn]]), signs=ps.signs, free=ps.free,
+                         trace=ps.trace)
+        out.append(cand)
+    return out
+
+
+def solve_planar_3(S, T, explain=False):
+    return _last_axis_roll(S, T, [0, 1], explain)
+
+
+def solve_point_plus_roll(S, T, explain=False):
+    return _last_axis_roll(S, T, [0, 1, 2], explain)
+
+
+def solve_general_6r(S, T, explain=False, robot=None):
+    from .general6r import solve_general_6r as solver
+    return [Candidate(q=q) for q in solver(robot, T)]
+
+
+SOLVERS = {
+    "spherical-wrist": solve_spherical_wrist,
+    "three-parallel": solve_three_parallel,
+    "position-3": solve_position_3,
+    "position-2": solve_position_2,
+    "planar-3": solve_planar_3,
+    "point-plus-roll": solve_point_plus_roll,
+    "general-6r": solve_general_6r,
+}

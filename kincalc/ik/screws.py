@@ -1,0 +1,71 @@
+"""The robot as screws in the world frame, for the geometric IK solvers.
+
+At q = 0 each joint i is a line through ``point[i]`` along the unit
+``axis[i]`` (world frame, m), and the tool pose is ``M = fk(0)``. Then
+``T(q) = E_1(q_1) ... E_n(q_n) M`` with ``E_i`` a rotation about, or a
+translation along, joint i's line (Brockett's product of exponentials; the
+robot's base transform is already inside the axes and M).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..spatial import invert_transform, matrix_from_axis_angle
+
+
+@dataclass(frozen=True)
+class Screws:
+    axis: np.ndarray        # (n, 3) unit
+    point: np.ndarray       # (n, 3)
+    revolute: np.ndarray    # (n,) bool
+    M: np.ndarray           # (4, 4) tool pose at q = 0
+    scale: float            # characteristic length (m)
+
+    @staticmethod
+    def of(robot) -> "Screws":
+        from ..fk import chain_frames
+        F = chain_frames(robot.chain, np.zeros(robot.dof))
+        return Screws(F[:, :3, 2].copy(), F[:, :3, 3].copy(), robot.is_revolute.copy(),
+                      robot.fk(np.zeros(robot.dof)), robot.characteristic_length)
+
+    @property
+    def n(self) -> int:
+        return len(self.revolute)
+
+    def exp(self, i: int, x: float) -> np.ndarray:
+        """``E_i(x)`` as a 4x4 transform."""
+        T = np.eye(4)
+        if self.revolute[i]:
+            R = matrix_from_axis_angle(self.axis[i], x)
+            T[:3, :3] = R
+            T[:3, 3] = self.point[i] - R @ self.point[i]
+        else:
+            T[:3, 3] = self.axis[i] * x
+        return T
+
+    def product(self, idx, xs) -> np.ndarray:
+        """``E_idx[0](xs[0]) E_idx[1](xs[1]) ...``."""
+        T = np.eye(4)
+        for i, x in zip(idx, xs):
+            T = T @ self.exp(i, x)
+        return T
+
+    def move_point(self, i: int, x, p) -> np.ndarray:
+        """``E_i(x)`` applied to point(s) ``p (..., 3)``; ``x`` broadcasts."""
+        p = np.asarray(p, float)
+        if not self.revolute[i]:
+            return p + np.asarray(x, float)[..., None] * self.axis[i]
+        R = matrix_from_axis_angle(self.axis[i], x)
+        return np.einsum("...ij,...j->...i", R, p - self.point[i]) + self.point[i]
+
+    def inverse_M(self) -> np.ndarray:
+        return invert_transform(self.M)
+
+
+def wrap(x):
+    """Angles wrapped into (-pi, pi]."""
+    y = np.mod(np.asarray(x, float) + np.pi, 2 * np.pi) - np.pi
+    return np.where(y <= -np.pi, y + 2 * np.pi, y)

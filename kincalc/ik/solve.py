@@ -1,0 +1,366 @@
+"""Inverse kinematics: every solution, labelled, checked and explained.
+
+:func:`solve` recognises the robot's family from its joint axes
+(:func:`kincalc.ik.families.classify`), runs that family's solver, and turns
+the raw candidates into :class:`IKSolution` objects: joint values normalised
+into the limits (or (-pi, pi]), FK residuals, limit violations, singularity,
+and a branch label computed from the geometry of the solution.
+
+Branch labels (stable: computed from the solution, not from solver order):
+
+* ``shoulder left/right``: side of the wrist centre (or of the point where
+  axes 5 and 6 meet) relative to the plane spanned by axis 1 and the
+  common normal... precisely the sign of ``(P - o1) . (z1 x z2)``: right if
+  positive; for arms whose axes 1 and 2 are not parallel.
+* ``elbow up/down``: for parallel axes 2 and 3, whether the elbow (axis 3)
+  lies on the side of the shoulder-to-wrist line that axis 1 points to.
+* ``wrist flip/no-flip``: the sign of ``(z4 x z6) . z5`` at the solution.
+* otherwise ``<joint>:+`` / ``<joint>:-`` for each step with two roots, and
+  ``<joint>:root k`` for steps with more.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import KincalcError, UsageError
+from ..spatial import rotation_error
+from .families import SOLVERS, classify
+from .screws import Screws, wrap
+
+#: a solution is accepted when its FK misses the target by at most this much
+#: (relative to the robot's size) and this many radians.
+ACCEPT_POSITION = 1e-9
+ACCEPT_ORIENTATION = 1e-9
+
+
+class UnsupportedRobot(KincalcError):
+    exit_status = 2
+
+
+@dataclass(frozen=True)
+class Target:
+    """What IK must reach: a pose ``T`` (4x4, world, SI).
+
+    ``orientation`` says whether the user gave an orientation; without one
+    only the position counts (for robots that do not control orientation).
+    """
+
+    T: np.ndarray
+    orientation: bool = True
+
+
+@dataclass
+class IKSolution:
+    q: np.ndarray
+    branch: str
+    position_error: float
+    orientation_error: float | None
+    within_limits: bool
+    violations: list          # (joint index, amount beyond the limit, 'lower'|'upper'), SI
+    singular: bool
+    singularity: str | None
+    continuum: str | None = None
+    trace: list = field(default_factory=list)
+
+
+@dataclass
+class IKResult:
+    robot: object
+    target: Target
+    family: str
+    method: str
+    controls: str
+    solutions: list
+    reachable: bool
+    reason: str
+    rejected: list | None = None
+    units: object = None
+
+    def to_dict(self) -> dict:
+        from ..results import _clean, _header
+        u = self.units
+        out = _header("ik", self.robot, u)
+        out["target"] = {"T": u.pose(self.target.T), "orientation_given": self.target.orientation}
+        out.update({
+            "reachable": self.reachable,
+            "reason": self.reason,
+            "method": {"family": self.family, "description": self.method,
+                       "controls": self.controls},
+            "count": len(self.solutions),
+            "solutions": [self._sol(s) for s in self.solutions],
+        })
+        if self.rejected is not None:
+            out["rejected"] = [
+                {"q": u.joints(self.robot, r["q"]), "branch": r["branch"], "reason": r["reason"],
+                 "residual": {"position": _clean(r["position_error"] * u.l),
+                              "orientation": _clean(r["orientation_error"] * u.a)}}
+                for r in self.rejected]
+        return out
+
+    def _sol(self, s: IKSolution) -> dict:
+        from ..results import _clean
+        u = self.units
+        names = [j.name for j in self.robot.joints]
+        d = {
+            "q": u.joints(self.robot, s.q),
+            "branch": s.branch,
+            "residual": {"position": _clean(s.position_error * u.l),
+                         "orientation": None if s.orientation_error is None
+                         else _clean(s.orientation_error * u.a)},
+            "within_limits": s.within_limits,
+            "violations": [{"joint": names[i], "side": side,
+                            "by": _clean(amount * (u.a if self.robot.joints[i].revolute else u.l))}
+                           for i, amount, side in s.violations],
+            "singular": s.singular,
+            "singularity": s.singularity,
+            "continuum": _continuum_text(s.continuum, u),
+        }
+        if s.trace:
+            d["trace"] = [{"step": k, "value": v} for k, v in s.trace]
+        return d
+
+
+def _continuum_text(text, units):
+    if text is None:
+        return None
+    # "{value!r}" placeholders hold radians: show them in the display unit
+    import re
+    return re.sub(r"\{([-0-9.e+]+)\}",
+                  lambda m: f"{float(wrap(float(m.group(1)))) * units.a:.4f} {units.angle}", text)
+
+
+def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
+          units=None) -> IKResult:
+    """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`."""
+    from ..results import Units
+    units = units or Units(length=robot.length_unit)
+    S = Screws.of(robot)
+    family, why = classify(robot, S)
+    if family is None:
+        raise UnsupportedRobot(f"{robot.name}: {why}; kincalc cannot solve its inverse "
+                               "kinematics analytically")
+    if family.needs_orientation and not target.orientation:
+        raise UsageError(f"{robot.name} controls {family.controls}: give an orientation too "
+                         "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, --matrix, "
+                         "--pose or --from-q)")
+    T = np.asarray(target.T, float)
+    if family.name == "general-6r":
+        cands = SOLVERS[family.name](S, T, explain, robot=robot)
+    else:
+        cands = SOLVERS[family.name](S, T, explain)
+
+    scale = max(robot.characteristic_length, 1e-12)
+    accepted, rejected = [], []
+    for c in cands:
+        q = _normalise(robot, c.q)
+        Tq = robot.fk(q)
+        pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
+        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
+        ok = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= ACCEPT_ORIENTATION)
+        branch = branch_label(robot, S, family.name, q, c)
+        if not ok:
+            rejected.append({"q": q, "branch": branch, "position_error": pe,
+                             "orientation_error": oe or 0.0,
+                             "reason": _miss_reason(pe, oe, units)})
+            continue
+        accepted.append((q, c, branch, pe, oe))
+    accepted = _dedupe(robot, accepted)
+
+    sols = []
+    for q, c, branch, pe, oe in accepted:
+        lo, hi = robot.limits.T
+        viol = [(i, float(lo[i] - q[i]), "lower") for i in range(robot.dof) if q[i] < lo[i] - 1e-12] + \
+               [(i, float(q[i] - hi[i]), "upper") for i in range(robot.dof) if q[i] > hi[i] + 1e-12]
+        viol.sort()
+        sing, desc = _singularity(robot, q)
+        if c.free:
+            sing = True
+            desc = (desc + "; " if desc else "") + "undetermined at this target: " + ", ".join(
+                robot.joints[i].name for i in c.free) + " (a representative value is shown)"
+        sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=oe,
+                               within_limits=not viol, violations=viol, singular=sing,
+                               singularity=desc, continuum=c.continuum, trace=c.trace))
+    sols.sort(key=lambda s: (not s.within_limits, s.branch))
+
+    reachable = any(s.within_limits for s in sols)
+    reason = _reason(robot, S, family, T, target, sols, rejected, units)
+    result_rejected = None
+    if all_branches:
+        result_rejected = rejected + _cross_combinations(robot, T, target, sols, units)
+    return IKResult(robot=robot, target=target, family=family.name, method=family.description,
+                    controls=family.controls, solutions=sols, reachable=reachable,
+                    reason=reason, rejected=result_rejected, units=units)
+
+
+def _normalise(robot, q):
+    """Revolute joints into (-pi, pi], or shifted by 2 pi into their limits."""
+    q = np.array(q, float)
+    lo, hi = robot.limits.T
+    for i, j in enumerate(robot.joints):
+        if not j.revolute:
+            continue
+        x = float(wrap(q[i]))
+        if not (lo[i] - 1e-12 <= x <= hi[i] + 1e-12):
+            for shift in (2 * np.pi, -2 * np.pi, 4 * np.pi, -4 * np.pi):
+                if lo[i] - 1e-12 <= x + shift <= hi[i] + 1e-12:
+                    x += shift
+                    break
+        q[i] = x
+    return q
+
+
+def _dedupe(robot, items):
+    out = []
+    for it in items:
+        if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(it[0] - o[0]), it[0] - o[0]))
+                          < 1e-6) for o in out):
+            out.append(it)
+    return out
+
+
+def _singularity(robot, q):
+    from ..analysis import jacobian_report
+    rep = jacobian_report(robot, q)
+    if rep.singularity is None:
+        return False, None
+    return True, "; ".join(rep.singularity.descriptions)
+
+
+def _len(units) -> str:
+    return "" if units.length == "unitless" else f" {units.length}"
+
+
+def _miss_reason(pe, oe, units):
+    parts = []
+    if pe > 0:
+        parts.append(f"position off by {pe * units.l:.4g}{_len(units)}")
+    if oe:
+        parts.append(f"orientation off by {oe * units.a:.4g} {units.angle}")
+    return "does not reach the target: " + ", ".join(parts)
+
+
+def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
+    if any(s.within_limits for s in sols):
+        n_in = sum(s.within_limits for s in sols)
+        return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
+    if sols:
+        worst = {}
+        for s in sols:
+            for i, amount, side in s.violations:
+                worst[i] = min(worst.get(i, np.inf), amount)
+        what = ", ".join(
+            f"{robot.joints[i].name} by {amount * (units.a if robot.joints[i].revolute else units.l):.4g}"
+            f"{' ' + units.angle if robot.joints[i].revolute else _len(units)}"
+            for i, amount in sorted(worst.items()))
+        return f"blocked by joint limits: all {len(sols)} solutions violate a limit ({what})"
+    if rejected:
+        best = min(rejected, key=lambda r: (r["position_error"], r["orientation_error"]))
+        if best["position_error"] <= ACCEPT_POSITION * robot.characteristic_length * 1e3:
+            return (f"the position is reachable but this orientation is not for a robot that "
+                    f"controls {family.controls}: the best solution is off by "
+                    f"{best['orientation_error'] * units.a:.4g} {units.angle}")
+        return "no solution: " + best["reason"]
+    return _out_of_reach(robot, T, units)
+
+
+def _out_of_reach(robot, T, units) -> str:
+    """Why nothing was found, measured against a sampled reach envelope."""
+    rng = np.random.default_rng(0)
+    lo, hi = robot.limits.T
+    lo = np.where(np.isfinite(lo), lo, -np.pi)
+    hi = np.where(np.isfinite(hi), hi, np.pi)
+    P = robot.fk(rng.uniform(lo, hi, (20000, robot.dof)))[:, :3, 3]
+    origin = robot.base[:3, 3]
+    dist = np.linalg.norm(P - origin, axis=1)
+    d = float(np.linalg.norm(T[:3, 3] - origin))
+    if d > dist.max():
+        L = _len(units)
+        return (f"out of reach: the target is {d * units.l:.4g}{L} from the base, "
+                f"beyond the outer reach (about {dist.max() * units.l:.4g}{L}) by "
+                f"about {(d - dist.max()) * units.l:.4g}{L}")
+    if d < dist.min():
+        L = _len(units)
+        return (f"out of reach: the target is inside the inner void "
+                f"({d * units.l:.4g}{L} from the base, the arm reaches no closer "
+                f"than about {dist.min() * units.l:.4g}{L})")
+    return "no solution: the arm cannot place its tool at this pose"
+
+
+def _cross_combinations(robot, T, target, sols, units):
+    """Combinations of joint values taken independently, as a textbook's +/- choices
+    are, that do not reach the target (Bingul & Kucuk, Example 4.2: zeta1, zeta4)."""
+    if len(sols) < 2:
+        return []
+    values = []
+    for i in range(robot.dof):
+        vals = []
+        for s in sols:
+            if not any(abs(wrap(s.q[i] - v)) < 1e-6 for v in vals):
+                vals.append(s.q[i])
+        values.append(vals)
+    if np.prod([len(v) for v in values]) > 512:
+        return []
+    out = []
+    for combo in itertools.product(*values):
+        q = np.array(combo)
+        if any(np.all(np.abs(wrap(q - s.q)) < 1e-6) for s in sols):
+            continue
+        Tq = robot.fk(q)
+        pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
+        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else 0.0
+        label = " ".join(f"{j.name}={combo[i] * (units.a if j.revolute else units.l):.4g}"
+                         for i, j in enumerate(robot.joints))
+        out.append({"q": q, "branch": f"combination {label}", "position_error": pe,
+                    "orientation_error": oe, "reason": _miss_reason(pe, oe if target.orientation else None, units)})
+    return out
+
+
+def branch_label(robot, S: Screws, family: str, q, cand) -> str:
+    """Geometric branch label of solution ``q`` (see module docstring)."""
+    from ..structure import common_point
+    from ..fk import chain_frames
+    F = chain_frames(robot.chain, q)
+    z = F[:, :3, 2]
+    o = F[:, :3, 3]
+    rev = robot.is_revolute
+    parts, named = [], set()
+    P = None
+    if family == "spherical-wrist":
+        P = common_point(o[3:], z[3:], np.inf)
+    elif family == "three-parallel":
+        P = common_point(o[4:], z[4:], np.inf)
+    if P is not None and rev[0] and np.linalg.norm(np.cross(z[0], z[1])) > 1e-6:
+        side = float((P - o[0]) @ np.cross(z[0], z[1]))
+        parts.append("shoulder right" if side >= 0 else "shoulder left")
+        named.add(0)
+    if P is not None and robot.dof >= 3 and rev[1] and rev[2] and \
+            np.linalg.norm(np.cross(z[1], z[2])) < 1e-6:
+        s = o[1]
+        e = o[2]
+        target = P if family == "spherical-wrist" else o[3]
+        h = z[1]
+        line = target - s
+        line -= h * (h @ line)
+        v = e - s
+        v -= h * (h @ v)
+        perp = v - line * (v @ line) / max(line @ line, 1e-300)
+        up = float(perp @ z[0])
+        if abs(up) < 1e-9 * robot.characteristic_length:
+            up = float(np.cross(e - s, target - e) @ h)
+        parts.append("elbow up" if up >= 0 else "elbow down")
+        named.add(2 if family == "spherical-wrist" else 1)
+        named.add(1 if family == "spherical-wrist" else 2)
+    if family in ("spherical-wrist", "three-parallel"):
+        w = float(np.cross(z[3], z[5]) @ z[4])
+        parts.append("wrist no-flip" if w >= 0 else "wrist flip")
+        named.add(4)
+    for i in sorted(cand.signs):
+        if i not in named:
+            parts.append(f"{robot.joints[i].name}:{cand.signs[i]}")
+    if cand.free:
+        parts.append("(" + ", ".join(robot.joints[i].name for i in cand.free) + " free)")
+    return " ".join(parts) if parts else "unique"

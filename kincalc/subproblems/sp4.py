@@ -1,0 +1,36 @@
+"""Subproblem 4: a rotated vector's component along a direction.
+
+Find ``theta`` with ``h . R(k, theta) p = d``. Writing
+``h . R p = A cos(theta) + B sin(theta) + C`` the solutions are
+``theta = atan2(B, A) +- acos((d - C) / sqrt(A^2 + B^2))``: two, one (at the
+boundary) or none, in which case the least-squares angle
+(``atan2(B, A)`` or its opposite) is returned with ``exact=False``. Ill-posed
+when ``A = B = 0`` (``h`` parallel to ``k`` or ``p`` on the axis): every angle
+or none solves it; then ``free=True``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def sp4(h, p, k, d, tol: float = 1e-12):
+    """Return ``(thetas, exact, free)``; ``thetas`` a list of 0, 1 or 2 angles (rad)."""
+    h, p, k = (np.asarray(v, dtype=float) for v in (h, p, k))
+    kxp = np.cross(k, p)
+    A = -(h @ np.cross(k, kxp))   # h . (p - (k.p)k)
+    B = h @ kxp
+    C = (h @ k) * (k @ p)
+    r = np.hypot(A, B)
+    scale = max(np.linalg.norm(h) * np.linalg.norm(p), abs(d), 1e-300)
+    if r < tol * scale:
+        return [0.0], abs(C - d) < 1e-9 * scale, True
+    base = np.arctan2(B, A)
+    c = (d - C) / r
+    if c > 1.0 + 1e-12 or c < -1.0 - 1e-12:
+        return [float(base if c > 0 else base + np.pi)], False, False
+    c = min(1.0, max(-1.0, c))
+    delta = np.arccos(c)
+    if delta < 1e-9:
+        return [float(base)], True, False
+    return [float(base + delta), float(base - delta)], True, False
