@@ -211,6 +211,17 @@ class Robot:
             return jacobian_tool(self.chain, q)
         raise ValueError(f"frame must be 'base' or 'tool', not {frame!r}")
 
+    def ik(self, T, orientation: bool = True, **options):
+        """Every inverse-kinematics solution for the tool pose ``T`` (4, 4), SI, world frame.
+
+        Returns the :class:`~kincalc.ik.IKResult` the CLI renders; its
+        ``solutions`` each carry ``q`` (rad / m), ``branch``, FK residuals, limit
+        violations and singularity. ``orientation=False`` asks for the position
+        only (for robots that do not control orientation).
+        """
+        from .ik import Target, solve
+        return solve(self, Target(np.asarray(T, float), orientation), **options)
+
     def link_transforms(self, q) -> np.ndarray:
         """The convention's link transforms ``T_{i-1}^i``, shape ``(..., n, 4, 4)``.
 

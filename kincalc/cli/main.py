@@ -12,13 +12,15 @@ import typer
 
 from .. import __version__
 from . import fk as _fk
+from . import ik as _ik
 from . import jacobian as _jacobian
 from . import robots as _robots
+from . import selftest as _selftest
 from .common import NUMERIC_ARGS
 
 app = typer.Typer(
     name="kincalc",
-    help="Robot kinematics calculator: forward kinematics, Jacobians and robot files. "
+    help="Robot kinematics calculator: forward and inverse kinematics, Jacobians and robot files. "
          "ROBOT is a bundled robot's name or a path to a YAML robot file.",
     no_args_is_help=True,
     add_completion=False,
@@ -44,6 +46,8 @@ def _root(
 
 app.command("fk", context_settings=NUMERIC_ARGS)(_fk.fk)
 app.command("jacobian", context_settings=NUMERIC_ARGS)(_jacobian.jacobian)
+app.command("ik", context_settings={"help_option_names": ["-h", "--help"]})(_ik.ik)
+app.command("selftest")(_selftest.selftest)
 app.add_typer(_robots.app, name="robots")
 
 

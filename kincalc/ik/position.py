@@ -242,7 +242,7 @@ def place_point(S: Screws, joints, p0, pt, explain: bool = False) -> list[PointS
         R, mode = _resultant(alpha, beta, gamma, S.revolute[b], dep)
         roots = _trig_roots(R) if S.revolute[c] else _poly_roots(th, R, span)
         roots = np.sort(roots)
-        xs_c = [(x, f"root {i + 1}") for i, x in enumerate(roots)]
+        xs_c = [(x, f"root {i + 1}" if len(roots) > 1 else None) for i, x in enumerate(roots)]
         if mode in ("eq1", "eq2", "combined", "linear") and len(roots) == 2 and S.revolute[c]:
             # a cos-type equation: label the pair by the sign of the angle from its middle
             mid = np.angle(np.exp(1j * roots).sum())

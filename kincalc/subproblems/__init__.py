@@ -14,5 +14,7 @@ from .sp1 import sp1
 from .sp2 import sp2
 from .sp3 import sp3
 from .sp4 import sp4
+from .sp5 import sp5
+from .sp6 import sp6
 
-__all__ = ["sp1", "sp2", "sp3", "sp4"]
+__all__ = ["sp1", "sp2", "sp3", "sp4", "sp5", "sp6"]

@@ -46,7 +46,7 @@ _ROOT_BAND = 0.1
 _TINY_RHO = 1e-7
 
 #: two solutions closer than this (rad, both angles) are one solution.
-_SAME_ANGLE = 1e-7
+_SAME_ANGLE = 1e-6
 
 
 def _wrap(t: float) -> float:

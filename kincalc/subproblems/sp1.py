@@ -33,7 +33,7 @@ def sp1(p1, p2, k, tol: float = 1e-9):
     scale = max(np.linalg.norm(p1), np.linalg.norm(p2), 1e-300)
     r1, r2 = np.linalg.norm(a), np.linalg.norm(p2 - k * (k @ p2))
     if r1 < tol * scale or r2 < tol * scale:
-        return 0.0, abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale, True
+        return 0.0, bool(abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale), True
     theta = float(np.arctan2(y, x))
     exact = abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale
-    return theta, exact, False
+    return theta, bool(exact), False

@@ -24,13 +24,15 @@ def sp4(h, p, k, d, tol: float = 1e-12):
     r = np.hypot(A, B)
     scale = max(np.linalg.norm(h) * np.linalg.norm(p), abs(d), 1e-300)
     if r < tol * scale:
-        return [0.0], abs(C - d) < 1e-9 * scale, True
+        return [0.0], bool(abs(C - d) < 1e-9 * scale), True
     base = np.arctan2(B, A)
     c = (d - C) / r
     if c > 1.0 + 1e-12 or c < -1.0 - 1e-12:
         return [float(base if c > 0 else base + np.pi)], False, False
     c = min(1.0, max(-1.0, c))
     delta = np.arccos(c)
-    if delta < 1e-9:
-        return [float(base)], True, False
+    # tangent (c = +-1): one solution; at c = -1, base + pi and base - pi are
+    # the same angle
+    if delta < 1e-9 or delta > np.pi - 1e-9:
+        return [float(base + delta)], True, False
     return [float(base + delta), float(base - delta)], True, False

@@ -1,0 +1,268 @@
+"""``kincalc ik``: every inverse-kinematics solution, labelled and checked."""
+
+from __future__ import annotations
+
+from typing import Annotated, Optional, Tuple
+
+import typer
+
+from ..errors import InputError, UsageError
+from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
+                     display_units, load_robot, output)
+
+F3 = Tuple[float, float, float]
+F4 = Tuple[float, float, float, float]
+
+XyzOpt = Annotated[Optional[F3], typer.Option("--xyz", metavar="X Y Z", show_default=False,
+                                              help="Target position, in the length unit.")]
+RpyOpt = Annotated[Optional[F3], typer.Option(
+    "--rpy", metavar="R P Y", show_default=False,
+    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).")]
+ZyzOpt = Annotated[Optional[F3], typer.Option(
+    "--euler-zyz", metavar="A B C", show_default=False,
+    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).")]
+XyzEOpt = Annotated[Optional[F3], typer.Option(
+    "--euler-xyz", metavar="A B C", show_default=False,
+    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).")]
+QuatOpt = Annotated[Optional[F4], typer.Option(
+    "--quat", metavar="W X Y Z", show_default=False,
+    help="Orientation as a quaternion (w, x, y, z); normalised.")]
+AxisAngleOpt = Annotated[Optional[F4], typer.Option(
+    "--axis-angle", metavar="X Y Z ANGLE", show_default=False,
+    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).")]
+MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, float, float,
+                                     float]], typer.Option(
+    "--matrix", metavar="R11 ... R33", show_default=False,
+    help="Orientation as a rotation matrix, 9 numbers row by row.")]
+TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
+    "--tcv", metavar="W1 ... W6", show_default=False,
+    help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
+         "the last joint's angle in one (robots whose last joint rolls the tool).")]
+PoseOpt = Annotated[Optional[str], typer.Option(
+    "--pose", metavar="FILE", show_default=False,
+    help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "
+         "or JSON (a list of rows, or an object with a 'T' field).")]
+FromQOpt = Annotated[Optional[str], typer.Option(
+    "--from-q", metavar="'Q1 Q2 ...'", show_default=False,
+    help="Target the pose FK gives for these joint values (one quoted argument, "
+         "space- or comma-separated).")]
+AllBranchesOpt = Annotated[bool, typer.Option(
+    "--all-branches", help="Also list the branch combinations that do not reach the target, "
+                           "and why.")]
+ExplainOpt = Annotated[bool, typer.Option(
+    "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
+
+
+def ik(
+    robot: RobotArg,
+    xyz: XyzOpt = None,
+    rpy: RpyOpt = None,
+    euler_zyz: ZyzOpt = None,
+    euler_xyz: XyzEOpt = None,
+    quat: QuatOpt = None,
+    axis_angle: AxisAngleOpt = None,
+    matrix: MatrixOpt = None,
+    tcv: TcvOpt = None,
+    pose: PoseOpt = None,
+    from_q: FromQOpt = None,
+    all_branches: AllBranchesOpt = False,
+    explain: ExplainOpt = False,
+    deg: DegOpt = True,
+    unit: UnitOpt = None,
+    precision: PrecisionOpt = 4,
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """Inverse kinematics: every joint solution that reaches a pose.
+
+    Give the position with --xyz and at most one orientation, or the whole
+    pose with --pose or --from-q. Each solution is labelled by its branch
+    (shoulder left/right, elbow up/down, wrist flip/no-flip where the
+    structure has them; otherwise the +/- choice of each step), checked by FK,
+    and flagged for joint limits and singularity. Exit status 1 when no
+    solution within the joint limits reaches the target.
+
+    ROBOT is a bundled robot's name or a path to a robot YAML file.
+    """
+    from ..ik import solve
+    rob = load_robot(robot)
+    units = display_units(rob, deg, unit)
+    target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
+                          euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
+                          matrix=matrix, tcv=tcv, pose=pose, from_q=from_q)
+    result = solve(rob, target, all_branches=all_branches, explain=explain, units=units)
+    output(result.to_dict(), json, _tables, rob, precision, explain)
+    if not result.reachable:
+        raise typer.Exit(1)
+
+
+def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
+                 quat=None, axis_angle=None, matrix=None, tcv=None, pose=None, from_q=None):
+    """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI)."""
+    import numpy as np
+
+    from .. import spatial as sp
+    from ..ik import Target
+    orient = {"--rpy": rpy, "--euler-zyz": euler_zyz, "--euler-xyz": euler_xyz,
+              "--quat": quat, "--axis-angle": axis_angle, "--matrix": matrix, "--tcv": tcv}
+    given = [k for k, v in orient.items() if v is not None]
+    whole = [k for k, v in (("--pose", pose), ("--from-q", from_q)) if v is not None]
+    if len(given) > 1:
+        raise UsageError(f"give at most one orientation, not {' and '.join(given)}")
+    if whole and (given or xyz is not None):
+        raise UsageError(f"{whole[0]} gives the whole pose; do not combine it with "
+                         f"{(given + (['--xyz'] if xyz is not None else []))[0]}")
+    if len(whole) > 1:
+        raise UsageError("give either --pose or --from-q, not both")
+    A = 1.0 / units.a   # rad per display angle unit
+    Lf = 1.0 / units.l  # m per display length unit
+    if from_q is not None:
+        from .common import parse_joints
+        q = parse_joints(from_q.replace(",", " ").split(), robot, units)
+        return Target(robot.fk(q), orientation=True)
+    if pose is not None:
+        T = _read_pose(pose)
+        T = T.copy()
+        T[:3, 3] *= Lf
+        return Target(T, orientation=True)
+    if tcv is not None:
+        if xyz is not None:
+            raise UsageError("--tcv holds the position; do not give --xyz as well")
+        raise UsageError("--tcv targets are not supported yet for ik (they are shown by fk)")
+    if xyz is None:
+        raise UsageError("give the target position with --xyz X Y Z (or the whole pose with "
+                         "--pose or --from-q)")
+    T = np.eye(4)
+    T[:3, 3] = np.array(xyz, float) * Lf
+    if not given:
+        return Target(T, orientation=False)
+    if rpy is not None:
+        R = sp.matrix_from_rpy(np.array(rpy) * A)
+    elif euler_zyz is not None:
+        R = sp.matrix_from_euler_zyz(np.array(euler_zyz) * A)
+    elif euler_xyz is not None:
+        R = sp.matrix_from_euler_xyz(np.array(euler_xyz) * A)
+    elif quat is not None:
+        if np.linalg.norm(quat) < 1e-12:
+            raise InputError("--quat must not be the zero quaternion")
+        R = sp.matrix_from_quaternion(np.array(quat))
+    elif axis_angle is not None:
+        if np.linalg.norm(axis_angle[:3]) < 1e-12:
+            raise InputError("--axis-angle needs a non-zero axis")
+        R = sp.matrix_from_axis_angle(np.array(axis_angle[:3]), axis_angle[3] * A)
+    else:
+        R = np.array(matrix, float).reshape(3, 3)
+        _check_rotation(R, "--matrix")
+    T[:3, :3] = R
+    return Target(T, orientation=True)
+
+
+def _check_rotation(R, what):
+    import numpy as np
+    if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+        raise InputError(f"{what} is not a rotation matrix (rows must be orthonormal with "
+                         "determinant +1, to 6 digits)")
+
+
+def _read_pose(src: str):
+    import json as _json
+    import sys
+
+    import numpy as np
+    try:
+        text = sys.stdin.read() if src == "-" else open(src, encoding="utf-8").read()
+    except OSError as exc:
+        raise InputError(f"--pose {src}: cannot read ({exc.strerror})") from None
+    try:
+        data = _json.loads(text)
+        if isinstance(data, dict):
+            data = data.get("T", data.get("target", {}).get("T") if isinstance(
+                data.get("target"), dict) else None)
+        M = np.array(data, dtype=float)
+    except (ValueError, TypeError):
+        try:
+            M = np.array(text.replace(",", " ").replace("[", " ").replace("]", " ").split(),
+                         dtype=float)
+        except ValueError:
+            raise InputError(f"--pose {src}: expected 16 numbers or JSON rows of a 4x4 matrix")\
+                from None
+    if M.size == 12:
+        M = np.vstack([M.reshape(3, 4), [0, 0, 0, 1]])
+    if M.size != 16:
+        raise InputError(f"--pose {src}: expected a 4x4 matrix (16 numbers), got {M.size}")
+    M = M.reshape(4, 4)
+    if not np.allclose(M[3], [0, 0, 0, 1]):
+        raise InputError(f"--pose {src}: the last row must be 0 0 0 1")
+    _check_rotation(M[:3, :3], f"--pose {src}")
+    u, _, vt = np.linalg.svd(M[:3, :3])
+    M[:3, :3] = u @ vt
+    return M
+
+
+def _tables(doc, robot, precision, explain):
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+
+    from .render import console, heading, kv_table, matrix_table, num
+    c = console()
+    c.print(heading(doc))
+    c.print(matrix_table(doc["target"]["T"], precision,
+                         title="target T (world <- tool)" + (
+                             "" if doc["target"]["orientation_given"] else
+                             "  (position only: no orientation given)")))
+    m = doc["method"]
+    c.print(kv_table([("method", f"{m['family']}: {m['description']}"),
+                      ("controls", m["controls"]),
+                      ("reachable", "yes" if doc["reachable"] else "no"),
+                      ("", doc["reason"])]))
+    u = doc["units"]
+    t = Table(box=box.SIMPLE_HEAD, title=f"{doc['count']} solutions ({u['angle']}"
+              + ("" if u["length"] == "unitless" else f", {u['length']}") + ")",
+              title_justify="left")
+    t.add_column("#", justify="right")
+    for j in robot.joints:
+        t.add_column(j.name, justify="right", min_width=precision + 5, overflow="fold")
+    t.add_column("residual", justify="right")
+    t.add_column("limits")
+    t.add_column("singular")
+    t.add_column("branch", no_wrap=True)
+    for k, s in enumerate(doc["solutions"], start=1):
+        res = s["residual"]
+        lim = "ok" if s["within_limits"] else "out: " + ", ".join(
+            f"{v['joint']} {num(v['by'], 2)}" for v in s["violations"])
+        t.add_row(str(k), *(num(v, precision) for v in s["q"]),
+                  f"{res['position']:.0e}" + ("" if res["orientation"] is None
+                                              else f"/{res['orientation']:.0e}"),
+                  escape(lim), "yes" if s["singular"] else "no", escape(s["branch"]))
+    c.print(t)
+    for k, s in enumerate(doc["solutions"], start=1):
+        if s["singular"] and s["singularity"]:
+            c.print(escape(f"solution {k}: {s['singularity']}"
+                           + (f"; {s['continuum']}" if s.get("continuum") else "")))
+    if "rejected" in doc:
+        rt = Table(box=box.SIMPLE_HEAD, title=f"{len(doc['rejected'])} rejected branch "
+                   "combinations", title_justify="left")
+        rt.add_column("#", justify="right")
+        for j in robot.joints:
+            rt.add_column(j.name, justify="right")
+        rt.add_column("why")
+        for k, r in enumerate(doc["rejected"], start=1):
+            rt.add_row(str(k), *(num(v, precision) for v in r["q"]), escape(r["reason"]))
+        c.print(rt)
+    if explain:
+        for k, s in enumerate(doc["solutions"], start=1):
+            if s.get("trace"):
+                c.print(kv_table([(escape(str(e["step"])), escape(_fmt(e["value"], precision)))
+                                  for e in s["trace"]], title=f"solution {k}: {s['branch']}"))
+
+
+def _fmt(v, precision):
+    from .render import num
+    if isinstance(v, list):
+        if v and isinstance(v[0], list):
+            return "; ".join(" ".join(num(x, precision) for x in row) for row in v)
+        return " ".join(num(x, precision) for x in v)
+    if isinstance(v, float):
+        return num(v, precision)
+    return str(v)

@@ -1,0 +1,465 @@
+"""All real inverse-kinematics solutions of a general 6R robot.
+
+Method
+------
+Raghavan & Roth's elimination (M. Raghavan, B. Roth, "Inverse kinematics of
+the general 6R manipulator and related linkages", ASME J. Mech. Des. 115,
+1993; conference version 1990) in the numerically robust matrix form of
+D. Manocha, J. F. Canny, "Efficient inverse kinematics for general 6R
+manipulators", IEEE Trans. Robotics and Automation 10(5):648-657, 1994.
+
+1. **Standard DH of the six axes.** Whatever the robot's convention, the
+   joint axes at q = 0 (:func:`kincalc.structure.joint_axes`) are turned into
+   standard DH parameters ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
+   with ``theta_i = q_i + offset_i``, plus fixed transforms, so that
+   ``T = B A_1 ... A_6 E``. Frame i-1 has z along joint i's axis (same sense,
+   so no sign flips); x_i runs along the common normal of axes i and i+1
+   (direction ``z_{i-1} x z_i``); its origin is the normal's foot on axis i+1.
+   Consistent choices for the special cases: *intersecting* axes give
+   ``a_i = 0`` with x_i still ``z_{i-1} x z_i``; *parallel* axes (sine of the
+   angle below 1e-7) take the normal through the previous origin (``d_i = 0``),
+   and *coincident* axes keep ``x_i = x_{i-1}``. Frame 0 sits at the foot of
+   the 1-2 normal on axis 1 (``d_1 = 0``) with ``x_0 = x_1``; frame 6 equals
+   frame 5 turned by theta_6 (``a_6 = d_6 = alpha_6 = 0``); ``B`` (base) and
+   ``E`` (tool) absorb the rest. Lengths are divided by the robot's
+   characteristic length so every number is O(1).
+2. **The 14 Pieper / Lee-Liang equations.** From
+   ``A_3 A_4 A_5 = A_2^-1 A_1^-1 T' A_6^-1`` take the third column ``l`` and
+   the origin ``p`` (both free of theta_6) and form
+   ``l, p, p.p, p.l, p x l, (p.p) l - 2 (p.l) p``. The left side is
+   trilinear in (1, cos, sin) of theta_3, theta_4, theta_5, the right side
+   bilinear in those of theta_1, theta_2 (Raghavan & Roth's observation). The
+   coefficients are not typed in symbolically: they are read off exactly by
+   a 3-point discrete Fourier fit per angle (grid 0, 2pi/3, 4pi/3), once per
+   robot for the left side and once per pose (nine 4x4 products) for the
+   right. This gives ``P(theta_3) X1 = Q X2`` with ``X1`` the nine products
+   of (1, c4, s4) and (1, c5, s5), ``X2`` the eight non-constant products of
+   (1, c1, s1) and (1, c2, s2), ``P`` 14x9 linear in (1, c3, s3), ``Q`` 14x8.
+3. **Elimination.** ``X2`` is removed with an orthonormal basis ``N`` (6x14)
+   of the left null space of ``Q`` (Householder QR, not Cramer's rule):
+   ``N P(theta_3) X1 = 0``, a 6x9 system. Half-angle substitution
+   ``x_i = tan(theta_i / 2)`` for i = 4, 5 and multiplication by ``x_4`` give
+   the 12x12 matrix polynomial ``Sigma(x3) = A x3^2 + B x3 + C`` acting on
+   the monomials ``x4^j x5^k`` (j <= 3, k <= 2).
+4. **Eigenproblem.** ``det Sigma = 0`` (degree 24, with the spurious factor
+   ``(1 + x3^2)^4``) is solved as the 24x24 companion eigenproblem
+   ``[[0, I], [-A^-1 C, -A^-1 B]]`` with ``numpy.linalg.eig``.
+   *Degenerate leading matrix / x3 = infinity (theta_3 = pi):* numpy has no
+   QZ, so instead of a generalised eigensolver the unknown is shifted,
+   ``theta_3 = phi + delta``: ``A`` is then ``Sigma`` at ``theta_3 = pi +
+   delta``. Four shifts are tried (0 and three irrational-looking ones) and
+   the one with the best-conditioned ``A`` is used, so a root at or near
+   theta_3 = pi (common: the published 16-solution example has theta_3 =
+   179.96 deg) never sits at infinity. Eigenvalues whose angle
+   ``2 atan(y)`` has an imaginary part below 0.05 rad count as real
+   candidates (near-double real roots come out as complex pairs).
+5. **Back-substitution.** ``x4``, ``x5`` come from the eigenvector (least-
+   squares ratios of its largest entries, inverted ratios when |x| > 1, so
+   theta = pi is fine); ``(c1, s1, c2, s2)`` from ``Q X2 = P X1`` (least
+   squares through the same QR); theta_6 from ``A_6 = (A_1..A_5)^-1 T'``.
+6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the
+   *given* robot (``robot.chain``, so the DH model above only has to be
+   close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame
+   geometric Jacobian, steps limited to 0.5 rad. Candidates whose final
+   residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are dropped, the rest are
+   wrapped to (-pi, pi] and merged when within 1e-6 rad.
+
+Special geometry
+----------------
+For robots with special structure (three parallel axes as in the UR arms, a
+spherical wrist as in the PUMA, ...) the elimination degenerates: ``Q``
+loses rank or the matrix pencil becomes singular (every leading matrix
+singular). This is detected (relative singular value below 1e-9, resp. no
+shift with ``cond(A) < 1e10``) and the elimination is then run on a nearby
+*generic* robot (every scaled DH parameter moved by a fixed pseudo-random
+amount of size 1e-3), whose solutions are Newton-polished on the real
+robot. Isolated solutions are continuous in the parameters, so each real
+solution of the special robot is the limit of one of the perturbed robot's,
+and the 8 solutions of a UR5 or PUMA are found this way (merged duplicates
+and the perturbed robot's extra roots are discarded by the residual test).
+Robots with infinitely many solutions at a pose (coincident axes, or
+a pose on a self-motion) get whatever isolated points Newton lands on.
+
+Limitations: solutions at a singular configuration converge slowly and may
+be dropped by the 1e-10 residual test; two distinct solutions closer than
+1e-6 rad are reported once; the count of a generic 6R is always even, so an
+odd count flags a lost near-double root.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ..jacobian import _jacobian_and_pose
+from ..spatial import invert_transform, rotvec_from_matrix
+
+__all__ = ["solve_general_6r"]
+
+#: sine of the angle below which two consecutive axes are treated as parallel.
+PARALLEL_TOL = 1e-7
+#: residual (relative position, rad) a polished solution must reach.
+ACCEPT_TOL = 1e-10
+#: wrapped joint distance (rad) below which two solutions are the same.
+MERGE_TOL = 1e-6
+#: residual below which an unpolished candidate is returned (polish=False).
+RAW_TOL = 1e-6
+#: |Im(theta_3)| (rad) below which an eigenvalue is a real candidate.
+IMAG_TOL = 0.05
+#: size of the generic perturbation used for special robots (scaled units).
+PERTURB = 1e-3
+
+# 3-point DFT grid: exact for (1, cos, sin) expansions.
+_GRID = np.array([0.0, 2.0 * np.pi / 3.0, 4.0 * np.pi / 3.0])
+_VINV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=1))
+# (1, c, s) * (1 + x^2) in powers (1, x, x^2) of x = tan(theta / 2)
+_H = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
+_H2 = np.kron(_H, _H)     # trig (i4, i5) -> powers (j4, j5), both flattened i*3 + j
+_SHIFTS = (0.0, 1.1071487177940904, -0.6435011087932844, 2.4980915447965089)
+_STEP_MAX = 0.5
+_NEWTON_ITERS = 10
+
+
+# --- small vectorised helpers ---------------------------------------------
+
+def _dh(theta, d, a, alpha):
+    """Standard DH link transforms ``(..., 4, 4)``; all arguments broadcast."""
+    theta, d, a, alpha = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                               for x in (theta, d, a, alpha)))
+    c, s = np.cos(theta), np.sin(theta)
+    ca, sa = np.cos(alpha), np.sin(alpha)
+    T = np.zeros(theta.shape + (4, 4))
+    T[..., 0, 0] = c
+    T[..., 0, 1] = -s * ca
+    T[..., 0, 2] = s * sa
+    T[..., 0, 3] = a * c
+    T[..., 1, 0] = s
+    T[..., 1, 1] = c * ca
+    T[..., 1, 2] = -c * sa
+    T[..., 1, 3] = a * s
+    T[..., 2, 1] = sa
+    T[..., 2, 2] = ca
+    T[..., 2, 3] = d
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def _f14(l, p):
+    """The 14 Raghavan-Roth quantities ``(..., 14)`` of ``l, p (..., 3)``."""
+    pp = np.einsum("...i,...i->...", p, p)[..., None]
+    pl = np.einsum("...i,...i->...", p, l)[..., None]
+    return np.concatenate([l, p, pp, pl, np.cross(p, l), pp * l - 2.0 * pl * p], axis=-1)
+
+
+def _wrap(q):
+    """Angles wrapped to (-pi, pi]."""
+    return np.pi - np.mod(np.pi - q, 2.0 * np.pi)
+
+
+# --- the robot as standard DH ----------------------------------------------
+
+def _dh_frames(dirs, pts, L):
+    """World poses ``(7, 4, 4)`` of DH frames 0..6 at q = 0 (see module docstring)."""
+    z = [dirs[i] for i in range(6)] + [dirs[5]]      # z_i = axis i+1; z_6 = axis 6
+    x = [None] * 7
+    o = [None] * 7
+    for i in range(1, 6):                            # frame i: axes i (0-based i-1) and i+1
+        u, v = dirs[i - 1], dirs[i]
+        p, r = pts[i - 1], pts[i]
+        n = np.cross(u, v)
+        sn = np.linalg.norm(n)
+        if sn > PARALLEL_TOL:
+            # closest points p + t u (axis i) and r + s v (axis i+1)
+            w = r - p
+            uv = u @ v
+            den = 1.0 - uv * uv
+            t = (w @ u - (w @ v) * uv) / den
+            s = ((w @ u) * uv - w @ v) / den
+            foot_i, foot_j = p + t * u, r + s * v
+            xi = n / sn
+            if i == 1:
+                o[0] = foot_i
+        else:
+            if i == 1:
+                o[0] = p
+            ref = o[i - 1]
+            w = r - ref
+            w = w - u * (w @ u)
+            nw = np.linalg.norm(w)
+            if nw > 1e-9 * L:
+                xi = w / nw
+            elif x[i - 1] is not None:
+                xi = x[i - 1]
+            else:                                    # axes 1 and 2 coincide
+                xi = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+            foot_j = ref + w
+        xi = xi - v * (xi @ v)
+        x[i] = xi / np.linalg.norm(xi)
+        o[i] = foot_j
+        if i == 1:
+            x0 = x[1] - z[0] * (x[1] @ z[0])
+            x[0] = x0 / np.linalg.norm(x0)
+    x[6], o[6] = x[5] - z[6] * (x[5] @ z[6]), o[5]
+    x[6] /= np.linalg.norm(x[6])
+    F = np.zeros((7, 4, 4))
+    for i in range(7):
+        F[i, :3, 0] = x[i]
+        F[i, :3, 1] = np.cross(z[i], x[i])
+        F[i, :3, 2] = z[i]
+        F[i, :3, 3] = o[i]
+        F[i, 3, 3] = 1.0
+    return F
+
+
+class _Model:
+    """A 6R robot as scaled standard DH plus the per-robot half of the elimination."""
+
+    def __init__(self, B, E, L, theta0, d, a, alpha):
+        self.B, self.E, self.L = B, E, L
+        self.Binv, self.Einv = invert_transform(B), invert_transform(E)
+        self.offset = np.asarray(theta0, float)
+        self.d, self.a, self.alpha = (np.asarray(v, float) for v in (d, a, alpha))
+        d, a, al = self.d, self.a, self.alpha
+        # right side: inverses of A1(g1) A2(g2) on the 3x3 grid, and T' -> W
+        g1, g2 = np.meshgrid(_GRID, _GRID, indexing="ij")
+        A12 = _dh(g1.ravel(), d[0], a[0], al[0]) @ _dh(g2.ravel(), d[1], a[1], al[1])
+        self.N12 = invert_transform(A12)                  # (9, 4, 4)
+        self.post = invert_transform(_dh(0.0, d[5], a[5], al[5]))
+        # left side: l, p of A3 A4 A5 on the 3x3x3 grid -> coefficients
+        g3, g4, g5 = (m.ravel() for m in np.meshgrid(_GRID, _GRID, _GRID, indexing="ij"))
+        M = _dh(g3, d[2], a[2], al[2]) @ _dh(g4, d[3], a[3], al[3]) @ _dh(g5, d[4], a[4], al[4])
+        F = _f14(M[:, :3, 2], M[:, :3, 3]).reshape(3, 3, 3, 14)
+        C = np.einsum("ia,jb,kc,abce->iejk", _VINV, _VINV, _VINV, F)
+        self.P = C.reshape(3, 14, 9)                      # P(theta3) = P0 + c3 P1 + s3 P2
+
+    @classmethod
+    def from_robot(cls, robot):
+        from ..structure import joint_axes
+        dirs, pts = joint_axes(robot)
+        L = float(robot.characteristic_length)
+        F = _dh_frames(dirs, pts, L)
+        G = invert_transform(F[:-1]) @ F[1:]             # (6, 4, 4) = A_i(offset_i)
+        theta0 = np.arctan2(G[:, 1, 0], G[:, 0, 0])
+        d = G[:, 2, 3]
+        a = G[:, 0, 3] * np.cos(theta0) + G[:, 1, 3] * np.sin(theta0)
+        alpha = np.arctan2(G[:, 2, 1], G[:, 2, 2])
+        E = invert_transform(F[6]) @ robot.fk(np.zeros(6))
+        return cls(F[0], E, L, theta0, d / L, a / L, alpha)
+
+    def perturbed(self):
+        """The same robot with every scaled DH parameter moved by ~PERTURB (seeded)."""
+        rng = np.random.default_rng(20240611)
+        dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * PERTURB
+        m = _Model(self.B, self.E, self.L, self.offset, self.d + dd, self.a + da,
+                   self.alpha + dal)
+        return m
+
+    def fk_dh(self, q):
+        """FK of the DH model (SI), for checks."""
+        th = np.asarray(q, float) + self.offset
+        T = np.broadcast_to(np.eye(4), th.shape[:-1] + (4, 4)).copy()
+        for i in range(6):
+            T = T @ _dh(th[..., i], self.d[i], self.a[i], self.alpha[i])
+        T[..., :3, 3] *= self.L
+        return self.B @ T @ self.E
+
+    # --- per pose -------------------------------------------------------
+
+    def candidates(self, T):
+        """Joint-value candidates ``(m, 6)`` from the eigenproblem, or None if degenerate."""
+        Tp = self.Binv @ T @ self.Einv
+        Tp = Tp.copy()
+        Tp[:3, 3] /= self.L
+        W = Tp @ self.post
+        lT, pT = W[:3, 2], W[:3, 3]
+        R, t = self.N12[:, :3, :3], self.N12[:, :3, 3]
+        F = _f14(R @ lT, R @ pT + t).reshape(3, 3, 14)
+        Rc = np.einsum("ia,jb,abe->eij", _VINV, _VINV, F).reshape(14, 9)
+        P = self.P.copy()
+        P[0, :, 0] -= Rc[:, 0]
+        Q = Rc[:, 1:]
+        Qf, Rq = np.linalg.qr(Q, mode="complete")
+        rd = np.abs(np.diag(Rq[:8]))
+        if rd.min() <= 1e-9 * max(rd.max(), 1e-300):
+            return None
+        N = Qf[:, 8:].T                                   # (6, 14), N Q = 0
+        S = N @ P                                          # (3, 6, 9)
+        scale = np.linalg.norm(S.transpose(1, 0, 2).reshape(6, -1), axis=1)
+        if scale.min() <= 1e-12 * scale.max():
+            return None
+        S = S / scale[None, :, None]
+
+        best = None
+        for delta in _SHIFTS:
+            cd, sd = np.cos(delta), np.sin(delta)
+            Sc = S[1] * cd + S[2] * sd
+            Ss = S[2] * cd - S[1] * sd
+            coeffs = [(S[0] + Sc) @ _H2, 2.0 * Ss @ _H2, (S[0] - Sc) @ _H2]   # 1, y, y^2
+            mats = []
+            for K in coeffs:
+                M12 = np.zeros((12, 12))
+                M12[:6, :9] = K
+                M12[6:, 3:] = K
+                mats.append(M12)
+            cond = np.linalg.cond(mats[2])
+            if best is None or cond < best[0]:
+                best = (cond, delta, mats)
+            if cond < 1e4:
+                break
+        cond, delta, (Cm, Bm, Am) = best
+        if not np.isfinite(cond) or cond > 1e10:
+            return None
+        AiB = np.linalg.solve(Am, np.concatenate([Cm, Bm], axis=1))
+        Comp = np.zeros((24, 24))
+        Comp[:12, 12:] = np.eye(12)
+        Comp[12:, :12] = -AiB[:, :12]
+        Comp[12:, 12:] = -AiB[:, 12:]
+        y, vecs = np.linalg.eig(Comp)
+        with np.errstate(all="ignore"):
+            phi = 2.0 * np.arctan(y)
+        keep = np.isfinite(phi) & (np.abs(phi.imag) < IMAG_TOL)
+        if not np.any(keep):
+            return np.zeros((0, 6))
+        y, vecs, th3 = y[keep], vecs[:, keep], phi[keep].real + delta
+        big = np.abs(y) > 1.0
+        v = np.where(big[None, :], vecs[12:], vecs[:12])  # (12, m)
+        idx = np.argmax(np.abs(v), axis=0)
+        v = (v / v[idx, np.arange(v.shape[1])]).real.T.reshape(-1, 4, 3)   # (m, j4, j5)
+        th4 = _ratio_angle(v, axis=1)
+        th5 = _ratio_angle(v, axis=2)
+
+        c3, s3, c4, s4, c5, s5 = (f(t) for t in (th3, th4, th5) for f in (np.cos, np.sin))
+        b4 = np.stack([np.ones_like(c4), c4, s4], -1)
+        b5 = np.stack([np.ones_like(c5), c5, s5], -1)
+        X1 = (b4[:, :, None] * b5[:, None, :]).reshape(-1, 9)
+        Pt = P[0] + c3[:, None, None] * P[1] + s3[:, None, None] * P[2]     # (m, 14, 9)
+        rhs = np.einsum("mij,mj->mi", Pt, X1)
+        X2 = np.linalg.solve(Rq[:8], (rhs @ Qf[:, :8]).T).T                 # (m, 8)
+        # X2 = products (i1, i2) != (0, 0), flattened i1 * 3 + i2 minus one
+        th1 = np.arctan2(X2[:, 5], X2[:, 2])
+        th2 = np.arctan2(X2[:, 1], X2[:, 0])
+        d, a, al = self.d, self.a, self.alpha
+        A15 = (_dh(th1, d[0], a[0], al[0]) @ _dh(th2, d[1], a[1], al[1])
+               @ _dh(th3, d[2], a[2], al[2]) @ _dh(th4, d[3], a[3], al[3])
+               @ _dh(th5, d[4], a[4], al[4]))
+        R6 = invert_transform(A15) @ W                                       # = Rz(theta6)
+        th6 = np.arctan2(R6[:, 1, 0], R6[:, 0, 0])
+        th = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
+        return _wrap(th - self.offset)
+
+
+def _ratio_angle(v, axis):
+    """Angle theta with x = tan(theta/2) from monomial vectors ``v (m, 4, 3)`` along ``axis``."""
+    n = v.shape[axis]
+    lo = np.take(v, np.arange(n - 1), axis=axis)
+    hi = np.take(v, np.arange(1, n), axis=axis)
+    sum_axes = (1, 2)
+    cross = np.sum(lo * hi, axis=sum_axes)
+    dlo = np.sum(lo * lo, axis=sum_axes)
+    dhi = np.sum(hi * hi, axis=sum_axes)
+    with np.errstate(all="ignore"):
+        fwd = 2.0 * np.arctan2(cross, dlo)      # x = cross / dlo
+        bwd = 2.0 * np.arctan2(dhi, cross)      # 1/x = cross / dhi
+    return np.where(dlo >= dhi, fwd, bwd)
+
+
+@functools.lru_cache(maxsize=64)
+def _model_cached(robot):
+    return _model_build(robot)
+
+
+def _model_build(robot):
+    model = _Model.from_robot(robot)
+    return model, model.perturbed()
+
+
+def _model(robot):
+    try:
+        return _model_cached(robot)
+    except TypeError:                      # unhashable robot-like object
+        return _model_build(robot)
+
+
+# --- Newton polishing on the real robot -----------------------------------
+
+def _pose_error(T, Tc, L):
+    ep = (T[:3, 3] - Tc[:, :3, 3]) / L
+    ew = rotvec_from_matrix(T[:3, :3] @ np.swapaxes(Tc[:, :3, :3], -1, -2))
+    return np.concatenate([ep, ew], axis=-1)
+
+
+def _polish(robot, T, Q, L, iters=_NEWTON_ITERS):
+    """Damped Newton on ``fk(q) = T``; returns ``(q, residual)``.
+
+    A candidate stops when its residual is at rounding level (below 1e-13, or
+    below ACCEPT_TOL / 100 and no longer halving) or after ``iters`` steps.
+    """
+    chain = robot.chain
+    Q = np.array(Q, dtype=float)
+    res = np.full(len(Q), np.inf)
+    idx = np.arange(len(Q))
+    for it in range(iters + 1):
+        J, Tc = _jacobian_and_pose(chain, Q[idx])
+        e = _pose_error(T, Tc, L)
+        r = np.max(np.abs(e), axis=-1)
+        prev = res[idx]
+        res[idx] = r
+        go = (r >= 1e-13) & ~((r < 1e-2 * ACCEPT_TOL) & (r > 0.5 * prev))
+        if it == iters or not np.any(go):
+            break
+        idx, J, e = idx[go], J[go], e[go]
+        J[:, :3, :] /= L
+        JT = np.swapaxes(J, -1, -2)
+        H = JT @ J
+        lam = 1e-14 * np.trace(H, axis1=-2, axis2=-1)[:, None, None] + 1e-300
+        dq = np.linalg.solve(H + lam * np.eye(6), (JT @ e[..., None]))[..., 0]
+        n = np.max(np.abs(dq), axis=-1, keepdims=True)
+        dq = np.where(n > _STEP_MAX, dq * (_STEP_MAX / np.maximum(n, 1e-300)), dq)
+        Q[idx] += dq
+    return Q, res
+
+
+def _merge(Q):
+    """Drop rows within MERGE_TOL (wrapped, max-abs) of an earlier row."""
+    if len(Q) < 2:
+        return Q.reshape(-1, 6)
+    D = np.max(np.abs(_wrap(Q[:, None, :] - Q[None, :, :])), axis=-1)
+    dup = np.any(np.tril(D < MERGE_TOL, k=-1), axis=1)
+    return Q[~dup]
+
+
+# --- public API -------------------------------------------------------------
+
+def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
+    """All real joint solutions (k, 6) in rad, k <= 16, of robot.fk(q) == T (4x4, SI, world frame).
+
+    Raises ValueError if robot is not 6 revolute joints. Each returned row reproduces T by FK to ~1e-10
+    relative to the robot size after Newton polishing; duplicates merged; angles wrapped to (-pi, pi].
+
+    With ``polish=False`` no Newton step is taken: the eigenproblem's candidates are returned if
+    their residual is below 1e-6 (merged, wrapped), which shows the accuracy of the elimination
+    itself.
+    """
+    if robot.dof != 6 or not all(j.revolute for j in robot.joints):
+        raise ValueError("solve_general_6r needs a robot with exactly 6 revolute joints, got "
+                         + "".join("R" if j.revolute else "P" for j in robot.joints))
+    T = np.asarray(T, dtype=float)
+    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+        raise ValueError(f"T must be a finite 4x4 transform, got shape {T.shape}")
+    model, fallback = _model(robot)
+    cand = model.candidates(T)
+    if cand is None:
+        cand = fallback.candidates(T)
+        if cand is None:
+            raise ValueError("the elimination degenerates for this robot and pose, "
+                             "even after a generic perturbation")
+    cand = cand[np.all(np.isfinite(cand), axis=1)]
+    if len(cand) == 0:
+        return np.zeros((0, 6))
+    if not polish:
+        res = np.max(np.abs(_pose_error(T, robot.fk(cand), model.L)), axis=-1)
+        return _merge(_wrap(cand[res < RAW_TOL]))
+    Q, res = _polish(robot, T, cand, model.L)
+    Q = _wrap(Q[res < ACCEPT_TOL])
+    return _merge(Q)

@@ -1,0 +1,229 @@
+"""Inverse kinematics: the seed documents' worked examples, every bundled robot, and
+random robots of every supported family in all three conventions (round trips)."""
+
+import numpy as np
+import pytest
+from randrobots import random_pose
+
+from kincalc import load_robot
+from kincalc.conventions import dh_to_mdh, to_poe
+from kincalc.ik import Target, solve
+from kincalc.ik.families import classify
+from kincalc.ik.screws import Screws, wrap
+from kincalc.ik.selftest import sample_configurations
+from kincalc.library import bundled_names
+from kincalc.model import Joint, Robot
+
+D = np.deg2rad
+
+
+def close(q, ref, robot, tol=1e-6):
+    d = np.where(robot.is_revolute, wrap(np.asarray(q) - ref), np.asarray(q) - ref)
+    return np.all(np.abs(d) < tol)
+
+
+# --- seed document 000 -------------------------------------------------------
+
+def test_example_4_2_two_valid_sets_and_two_rejected():
+    r = load_robot("bk_rr")
+    T = np.eye(4)
+    T[:3, 3] = [12.99, 2.5, 0]
+    res = solve(r, Target(T, orientation=False), all_branches=True)
+    got = sorted(np.rad2deg(s.q).round(1).tolist() for s in res.solutions)
+    assert got == [[-8.2, 60.0], [30.0, -60.0]]
+    rejected = sorted(np.rad2deg(x["q"]).round(1).tolist() for x in res.rejected)
+    assert rejected == [[-8.2, -60.0], [30.0, 60.0]]     # the book's zeta4 and zeta1
+    assert all(x["position_error"] > 1 for x in res.rejected)
+
+
+def test_example_4_6_scara_with_euler_wrist():
+    r = load_robot("bk_scara_euler")
+    from kincalc.spatial import matrix_from_rpy, transform
+    T = transform(matrix_from_rpy(D([42, -17, 25])), [28, 31, 6])
+    res = solve(r, Target(T))
+    assert len(res.solutions) == 4
+    q = np.array([s.q for s in res.solutions])
+    q = np.where(r.is_revolute, np.rad2deg(q), q)
+    assert sorted(set(q[:, 0].round(2))) == [32.79, 63.03]
+    for row in q:
+        assert abs(abs(row[1]) - 37.26) < 0.01 and np.sign(row[1]) == (1 if row[0] < 40 else -1)
+        assert abs(row[2] - 12) < 1e-9                      # d3 = h1 - pz - d4
+        assert abs(abs(row[4]) - 135.29) < 0.01
+        if row[4] > 0:
+            assert abs(row[5] - (-65.44)) < 0.01
+    for s in res.solutions:                                  # every set reproduces the pose
+        assert np.allclose(r.fk(s.q), T, atol=1e-9)
+    # the book's theta4 = -72.2 deg is wrong: with its own theta1, theta2, d3, theta5, theta6
+    # the position is right but the orientation misses by about 180 deg about the tool z
+    book = D([63.03, -37.25, 0, -72.2, 135.29, -65.44])
+    book[2] = 12
+    Tb = r.fk(book)
+    assert np.linalg.norm(Tb[:3, 3] - T[:3, 3]) < 0.01
+    from kincalc.spatial import rotation_error
+    assert np.rad2deg(rotation_error(Tb[:3, :3], T[:3, :3])) > 170
+    right = [s for s in res.solutions if abs(np.rad2deg(s.q[0]) - 63.03) < 0.01 and s.q[4] > 0][0]
+    assert abs(np.rad2deg(right.q[3]) - 108.77) < 0.01
+
+
+def test_example_4_5_6r_has_eight_not_sixteen_solutions():
+    r = load_robot("bk_6r")
+    counts = []
+    rng = np.random.default_rng(45)
+    for q in sample_configurations(r, 200, rng):
+        counts.append(len(r.ik(r.fk(q)).solutions))
+    assert max(counts) == 8 and counts.count(8) > 100
+
+
+def test_rrp_and_rpr_have_four_position_solutions():
+    for name in ("bk_rrp", "bk_rpr"):
+        r = load_robot(name)
+        q = np.array([0.4, -0.6, 1.5]) if name == "bk_rrp" else np.array([0.4, 1.5, -0.6])
+        res = solve(r, Target(r.fk(q), orientation=False))
+        assert len(res.solutions) == 4
+        assert any(close(s.q, q, r) for s in res.solutions)
+
+
+def test_zagreb_rrpr():
+    r = load_robot("fer_rrpr")
+    q = np.array([D(30), D(50), 0.25, D(40)])
+    res = r.ik(r.fk(q))
+    assert any(close(s.q, q, r) for s in res.solutions)
+    # the homework's closed form: q1 = atan2(w2, w1), q2 = +-atan2(sqrt(w1^2+w2^2), d1 - w3)
+    p = r.fk(q)[:3, 3]
+    q1 = np.arctan2(p[1], p[0])
+    q2 = np.arctan2(np.hypot(p[0], p[1]), 0.5 - p[2])
+    assert any(abs(wrap(s.q[0] - q1)) < 1e-9 and abs(wrap(s.q[1] - q2)) < 1e-9 for s in res.solutions)
+
+
+# --- every bundled robot -------------------------------------------------------
+
+SUPPORTED = [n for n in bundled_names()
+             if classify(load_robot(n), Screws.of(load_robot(n)))[0] is not None
+             and classify(load_robot(n), Screws.of(load_robot(n)))[0].name != "general-6r"]
+
+
+def test_most_of_the_library_is_supported():
+    assert len(SUPPORTED) >= 25, SUPPORTED
+
+
+@pytest.mark.parametrize("name", SUPPORTED)
+def test_bundled_robot_round_trip(name):
+    r = load_robot(name)
+    fam, _ = classify(r, Screws.of(r))
+    rng = np.random.default_rng(7)
+    Q = sample_configurations(r, 300, rng)
+    hits = 0
+    scale = r.characteristic_length
+    for q in Q:
+        T = r.fk(q)
+        res = solve(r, Target(T, orientation=fam.needs_orientation))
+        for s in res.solutions:
+            assert np.all(np.isfinite(s.q))
+            assert np.linalg.norm(r.fk(s.q)[:3, 3] - T[:3, 3]) <= 1e-9 * scale
+        hits += any(close(s.q, q, r, 1e-6 * max(1.0, scale)) for s in res.solutions)
+    assert hits / len(Q) >= 0.999, hits
+
+
+def test_family_counts_at_generic_poses():
+    for name, n in (("puma560", 8), ("ur5", 8), ("kuka_kr16", 8), ("abb_irb120", 8)):
+        r = load_robot(name)
+        counts = [len(r.ik(r.fk(q)).solutions) for q in
+                  sample_configurations(r, 60, np.random.default_rng(3))]
+        assert max(counts) == n, (name, counts)
+
+
+# --- random robots of every family, in all three conventions -----------------------
+
+def dh(rng, types_alpha_a_d):
+    joints = []
+    for i, (t, alpha, a, d) in enumerate(types_alpha_a_d):
+        joints.append(Joint(f"q{i + 1}", t, alpha=alpha, a=a, d=d,
+                            theta=rng.uniform(-np.pi, np.pi)))
+    return Robot("rand", "dh", tuple(joints), base=random_pose(rng), tool=random_pose(rng))
+
+
+def u(rng, lo=-0.5, hi=0.5):
+    return rng.uniform(lo, hi)
+
+
+def random_family_robot(rng, family):
+    ang = lambda: rng.uniform(0.3, 2.8) * rng.choice([-1, 1])  # noqa: E731 (non-zero twist)
+    if family == "spherical-wrist":
+        first = [(rng.choice(["revolute", "prismatic"], p=[0.8, 0.2]), ang(), u(rng), u(rng))
+                 for _ in range(3)]
+        return dh(rng, first + [("revolute", ang(), 0.0, u(rng)), ("revolute", ang(), 0.0, 0.0),
+                                ("revolute", u(rng, -3, 3), u(rng), u(rng))])
+    if family == "three-parallel":
+        return dh(rng, [("revolute", ang(), u(rng), u(rng)), ("revolute", 0.0, u(rng), u(rng)),
+                        ("revolute", 0.0, u(rng), u(rng)), ("revolute", ang(), 0.0, u(rng)),
+                        ("revolute", ang(), 0.0, u(rng)), ("revolute", u(rng, -3, 3), u(rng), u(rng))])
+    if family == "position-3":
+        return dh(rng, [(rng.choice(["revolute", "prismatic"]), ang(), u(rng), u(rng))
+                        for _ in range(3)])
+    if family == "planar-3":
+        return dh(rng, [("revolute", 0.0, u(rng), u(rng)) for _ in range(3)])
+    if family == "position-2":
+        return dh(rng, [(rng.choice(["revolute", "prismatic"]), ang(), u(rng), u(rng))
+                        for _ in range(2)])
+    if family == "point-plus-roll":
+        return dh(rng, [(rng.choice(["revolute", "prismatic"]), ang(), u(rng), u(rng))
+                        for _ in range(3)] + [("revolute", u(rng, -3, 3), u(rng), u(rng))])
+    raise ValueError(family)
+
+
+@pytest.mark.parametrize("family", ["spherical-wrist", "three-parallel", "position-3",
+                                    "planar-3", "position-2", "point-plus-roll"])
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_random_robots_of_each_family(family, convention):
+    rng = np.random.default_rng(abs(hash((family, convention))) % 2**32)
+    trials = hits = 0
+    for _ in range(8):
+        r = random_family_robot(rng, family)
+        r = {"dh": r, "mdh": dh_to_mdh(r), "poe": to_poe(r)}[convention]
+        fam, _ = classify(r, Screws.of(r))
+        assert fam is not None and fam.name == family, (fam, family)
+        for q in sample_configurations(r, 40, rng):
+            T = r.fk(q)
+            res = solve(r, Target(T, orientation=fam.needs_orientation))
+            for s in res.solutions:
+                assert np.all(np.isfinite(s.q))
+                Tq = r.fk(s.q)
+                assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) <= 1e-9 * r.characteristic_length
+                if fam.needs_orientation:
+                    assert np.abs(Tq[:3, :3] - T[:3, :3]).max() < 1e-9
+            trials += 1
+            hits += any(close(s.q, q, r, 1e-6 * max(1.0, r.characteristic_length))
+                        for s in res.solutions)
+    assert hits / trials >= 0.995, (hits, trials)
+
+
+def test_unreachable_target_says_why():
+    r = load_robot("puma560")
+    T = np.eye(4)
+    T[:3, 3] = [2.0, 0, 0]
+    res = r.ik(T)
+    assert not res.reachable and res.solutions == []
+    assert "beyond the outer reach" in res.reason
+
+
+def test_wrist_singular_target_gives_a_representative_and_the_continuum():
+    r = load_robot("puma560")
+    q = D([10, -30, 150, 25, 0, 35])      # q5 = 0: axes 4 and 6 aligned
+    res = r.ik(r.fk(q))
+    assert res.solutions and all(np.all(np.isfinite(s.q)) for s in res.solutions)
+    sing = [s for s in res.solutions if s.singular]
+    assert sing and any(s.continuum for s in sing)
+    for s in res.solutions:
+        assert np.allclose(r.fk(s.q), r.fk(q), atol=1e-9)
+
+
+def test_joint_limits_flagged_and_blocked_reason():
+    r = load_robot("puma560")
+    q = D([10, -30, 150, 25, 40, 35])
+    res = r.ik(r.fk(q))
+    outs = [s for s in res.solutions if not s.within_limits]
+    for s in outs:
+        assert s.violations
+        lo, hi = r.limits.T
+        for i, amount, side in s.violations:
+            assert amount > 0 and (s.q[i] < lo[i] if side == "lower" else s.q[i] > hi[i])
