@@ -199,3 +199,52 @@ def test_internal_errors_exit_3(capsys, monkeypatch):
     monkeypatch.setattr(an, "fk_report", boom)
     code, out, err = run(capsys, "fk", "bk_rr", "1", "2")
     assert code == 3 and "bug" in err and "--debug" in err and err.count("\n") == 1
+
+
+def test_ik_json_contract_and_exit_status(capsys):
+    doc = run_json(capsys, "ik", "puma560", "--from-q", "10 -30 150 25 40 35")
+    for key in ("target", "reachable", "method", "solutions", "reason", "count"):
+        assert key in doc
+    assert doc["reachable"] is True and doc["count"] == len(doc["solutions"]) >= 1
+    s = doc["solutions"][0]
+    for key in ("q", "branch", "residual", "within_limits", "violations", "singular"):
+        assert key in s
+    # q3 = 150 deg is outside the PUMA's limits [-225, 45]; the same joint value is -210
+    assert any(np.allclose((np.array(x["q"]) - [10, -30, 150, 25, 40, 35] + 180) % 360 - 180, 0,
+                           atol=1e-6) for x in doc["solutions"])
+    assert any(np.allclose(x["q"], [10, -30, -210, 25, 40, 35], atol=1e-6) for x in doc["solutions"])
+    code, out, err = run(capsys, "ik", "puma560", "--xyz", "3", "0", "0", "--rpy", "0", "0", "0",
+                         "--json")
+    assert code == 1 and json.loads(out)["reachable"] is False
+
+
+def test_ik_pose_options_agree(capsys, tmp_path):
+    from kincalc import spatial as sp
+    T = np.array(run_json(capsys, "fk", "puma560", "10", "-30", "150", "25", "40", "35")["T"])
+    R = T[:3, :3]
+    xyz = [str(v) for v in T[:3, 3]]
+    ways = {
+        "rpy": ["--rpy", *map(str, np.degrees(sp.rpy_from_matrix(R)))],
+        "zyz": ["--euler-zyz", *map(str, np.degrees(sp.euler_zyz_from_matrix(R)))],
+        "xyz": ["--euler-xyz", *map(str, np.degrees(sp.euler_xyz_from_matrix(R)))],
+        "quat": ["--quat", *map(str, sp.quaternion_from_matrix(R))],
+        "matrix": ["--matrix", *map(str, R.ravel())],
+    }
+    axis, ang = sp.axis_angle_from_matrix(R)
+    ways["axis"] = ["--axis-angle", *map(str, axis), str(np.degrees(ang))]
+    counts = set()
+    for name, opt in ways.items():
+        doc = run_json(capsys, "ik", "puma560", "--xyz", *xyz, *opt)
+        counts.add(doc["count"])
+        assert np.allclose(doc["target"]["T"], T, atol=1e-9), name
+    pose = tmp_path / "pose.txt"
+    pose.write_text("\n".join(" ".join(map(str, row)) for row in T))
+    doc = run_json(capsys, "ik", "puma560", "--pose", str(pose))
+    counts.add(doc["count"])
+    assert len(counts) == 1
+
+
+def test_ik_tcv_option(capsys):
+    w = run_json(capsys, "fk", "fer_rrpr", "30", "50", "0.25", "40")["tcv"]
+    doc = run_json(capsys, "ik", "fer_rrpr", "--tcv", *map(str, w))
+    assert any(np.allclose(s["q"], [30, 50, 0.25, 40], atol=1e-6) for s in doc["solutions"])

@@ -227,3 +227,21 @@ def test_joint_limits_flagged_and_blocked_reason():
         lo, hi = r.limits.T
         for i, amount, side in s.violations:
             assert amount > 0 and (s.q[i] < lo[i] if side == "lower" else s.q[i] > hi[i])
+
+
+def test_zagreb_tool_configuration_vector_target():
+    from kincalc.spatial import tcv_from_transform
+    r = load_robot("fer_rrpr")
+    q = np.array([D(30), D(50), 0.25, D(40)])
+    w = tcv_from_transform(r.fk(q), q[3])
+    T = np.eye(4)
+    T[:3, 3] = w[:3]
+    n = np.linalg.norm(w[3:])
+    res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+    assert any(close(s.q, q, r) for s in res.solutions)
+    # homework eq. (2-4): q4 = pi/2 ln(w4^2 + w5^2 + w6^2) for every solution
+    for s in res.solutions:
+        assert abs(s.q[3] - np.pi / 2 * np.log(np.sum(w[3:] ** 2))) < 1e-12
+    # and the +-q2 branch the homework writes (with q1 + 180 deg) is there too
+    assert any(abs(wrap(s.q[0] - q[0] - np.pi)) < 1e-9 and abs(s.q[1] + q[1]) < 1e-9
+               for s in res.solutions)

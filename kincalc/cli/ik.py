@@ -128,7 +128,14 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     if tcv is not None:
         if xyz is not None:
             raise UsageError("--tcv holds the position; do not give --xyz as well")
-        raise UsageError("--tcv targets are not supported yet for ik (they are shown by fk)")
+        from ..spatial import transform_from_tcv
+        w = np.array(tcv, float)
+        if np.linalg.norm(w[3:]) < 1e-300:
+            raise InputError("--tcv: the approach part w4..w6 must not be zero")
+        p, approach, qn = transform_from_tcv(w)
+        T = np.eye(4)
+        T[:3, 3] = p * Lf
+        return Target(T, orientation=False, tcv=(approach, float(qn)))
     if xyz is None:
         raise UsageError("give the target position with --xyz X Y Z (or the whole pose with "
                          "--pose or --from-q)")

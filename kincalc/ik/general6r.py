@@ -234,17 +234,15 @@ class _Model:
         self.P = C.reshape(3, 14, 9)                      # P(theta3) = P0 + c3 P1 + s3 P2
 
     @classmethod
-    def from_robot(cls, robot):
-        from ..structure import joint_axes
-        dirs, pts = joint_axes(robot)
-        L = float(robot.characteristic_length)
+    def from_lines(cls, dirs, pts, T0, L):
+        """Model of the 6R whose axes at q = 0 are ``pts[i] + t dirs[i]`` and tool pose ``T0``."""
         F = _dh_frames(dirs, pts, L)
         G = invert_transform(F[:-1]) @ F[1:]             # (6, 4, 4) = A_i(offset_i)
         theta0 = np.arctan2(G[:, 1, 0], G[:, 0, 0])
         d = G[:, 2, 3]
         a = G[:, 0, 3] * np.cos(theta0) + G[:, 1, 3] * np.sin(theta0)
         alpha = np.arctan2(G[:, 2, 1], G[:, 2, 2])
-        E = invert_transform(F[6]) @ robot.fk(np.zeros(6))
+        E = invert_transform(F[6]) @ T0
         return cls(F[0], E, L, theta0, d / L, a / L, alpha)
 
     def perturbed(self):
@@ -364,21 +362,62 @@ def _ratio_angle(v, axis):
     return np.where(dlo >= dhi, fwd, bwd)
 
 
+class _Robot6R:
+    """Per-robot data: axes at q = 0, the shift-0 model, and the formulation order."""
+
+    def __init__(self, robot):
+        from ..structure import joint_axes
+        self.dirs, self.pts = joint_axes(robot)
+        self.T0 = robot.fk(np.zeros(6))
+        self.L = float(robot.characteristic_length)
+        self.model = _Model.from_lines(self.dirs, self.pts, self.T0, self.L)
+        self._perturbed = None
+        # Probe each pivot (cyclic shift) on a seeded reachable pose; non-degenerate ones first.
+        q = np.random.default_rng(6).uniform(-np.pi, np.pi, 6)
+        T = robot.fk(q)
+        ok = [k for k in range(6) if self.candidates(T, k) is not None]
+        self.shifts = ok + [k for k in range(6) if k not in ok]
+
+    @property
+    def perturbed(self):
+        if self._perturbed is None:
+            self._perturbed = self.model.perturbed()
+        return self._perturbed
+
+    def candidates(self, T, shift):
+        """Candidates ``(m, 6)`` (original joint order) with joint ``shift + 3`` as pivot, or None.
+
+        ``A_1 ... A_6 = T'`` is rotated into ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I``:
+        a 6R chain whose joints are k+1..6, 1..k, with the pose folded into the
+        link between joints 6 and 1, and the target the identity.
+        """
+        if shift == 0:
+            return self.model.candidates(T)
+        G = self.T0 @ invert_transform(T)
+        order = np.r_[shift:6, 0:shift]
+        dirs, pts = self.dirs[order].copy(), self.pts[order].copy()
+        moved = order < shift
+        dirs[moved] = dirs[moved] @ G[:3, :3].T
+        pts[moved] = pts[moved] @ G[:3, :3].T + G[:3, 3]
+        model = _Model.from_lines(dirs, pts, G, self.L)
+        c = model.candidates(np.eye(4))
+        if c is None:
+            return None
+        out = np.empty_like(c)
+        out[:, order] = c
+        return out
+
+
 @functools.lru_cache(maxsize=64)
-def _model_cached(robot):
-    return _model_build(robot)
+def _robot_data_cached(robot):
+    return _Robot6R(robot)
 
 
-def _model_build(robot):
-    model = _Model.from_robot(robot)
-    return model, model.perturbed()
-
-
-def _model(robot):
+def _robot_data(robot):
     try:
-        return _model_cached(robot)
+        return _robot_data_cached(robot)
     except TypeError:                      # unhashable robot-like object
-        return _model_build(robot)
+        return _Robot6R(robot)
 
 
 # --- Newton polishing on the real robot -----------------------------------
@@ -447,10 +486,14 @@ def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
     T = np.asarray(T, dtype=float)
     if T.shape != (4, 4) or not np.all(np.isfinite(T)):
         raise ValueError(f"T must be a finite 4x4 transform, got shape {T.shape}")
-    model, fallback = _model(robot)
-    cand = model.candidates(T)
+    data = _robot_data(robot)
+    cand = None
+    for shift in data.shifts:
+        cand = data.candidates(T, shift)
+        if cand is not None:
+            break
     if cand is None:
-        cand = fallback.candidates(T)
+        cand = data.perturbed.candidates(T)
         if cand is None:
             raise ValueError("the elimination degenerates for this robot and pose, "
                              "even after a generic perturbation")
@@ -458,8 +501,8 @@ def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
     if len(cand) == 0:
         return np.zeros((0, 6))
     if not polish:
-        res = np.max(np.abs(_pose_error(T, robot.fk(cand), model.L)), axis=-1)
+        res = np.max(np.abs(_pose_error(T, robot.fk(cand), data.L)), axis=-1)
         return _merge(_wrap(cand[res < RAW_TOL]))
-    Q, res = _polish(robot, T, cand, model.L)
+    Q, res = _polish(robot, T, cand, data.L)
     Q = _wrap(Q[res < ACCEPT_TOL])
     return _merge(Q)

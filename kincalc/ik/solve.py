@@ -51,6 +51,9 @@ class Target:
 
     T: np.ndarray
     orientation: bool = True
+    #: a tool-configuration-vector target: (approach (3,), last joint value q_n in rad);
+    #: T then holds the position only
+    tcv: tuple | None = None
 
 
 @dataclass
@@ -139,6 +142,8 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     from ..results import Units
     units = units or Units(length=robot.length_unit)
     S = Screws.of(robot)
+    if target.tcv is not None:
+        return _solve_tcv(robot, S, target, units)
     family, why = classify(robot, S)
     if family is None:
         raise UnsupportedRobot(f"{robot.name}: {why}; kincalc cannot solve its inverse "
@@ -194,6 +199,56 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     return IKResult(robot=robot, target=target, family=family.name, method=family.description,
                     controls=family.controls, solutions=sols, reachable=reachable,
                     reason=reason, rejected=result_rejected, units=units)
+
+
+def _solve_tcv(robot, S, target, units) -> IKResult:
+    """A TCV target w = [p; e^(qn/pi) r3] (Schilling 1990; the FER Zagreb homework):
+    the last joint's value comes from |w[3:]|, the other joints place the tool point,
+    and the approach vector r3 is checked."""
+    from .position import place_point
+    n = robot.dof
+    if not robot.joints[-1].revolute or n - 1 not in (2, 3):
+        raise UnsupportedRobot(
+            f"{robot.name}: --tcv targets need a robot of 3 or 4 joints whose last joint is "
+            "revolute (the tool roll); give the pose another way")
+    approach, qn = target.tcv
+    p = target.T[:3, 3]
+    tool0 = S.exp(n - 1, qn) @ S.M
+    scale = max(robot.characteristic_length, 1e-12)
+    sols, rejected = [], []
+    for ps in place_point(S, list(range(n - 1)), tool0[:3, 3], p):
+        q = _normalise(robot, np.concatenate([ps.x, [qn]]))
+        Tq = robot.fk(q)
+        pe = float(np.linalg.norm(Tq[:3, 3] - p))
+        ae = float(np.arccos(np.clip(Tq[:3, 2] @ approach, -1, 1)))
+        cand = type("C", (), {"signs": ps.signs, "free": ps.free})()
+        branch = branch_label(robot, S, "tcv", q, cand)
+        if pe > ACCEPT_POSITION * scale or ae > 1e-7:
+            rejected.append((q, branch, pe, ae))
+            continue
+        lo, hi = robot.limits.T
+        viol = [(i, float(lo[i] - q[i]), "lower") for i in range(n) if q[i] < lo[i] - 1e-12] + \
+               [(i, float(q[i] - hi[i]), "upper") for i in range(n) if q[i] > hi[i] + 1e-12]
+        sing, desc = _singularity(robot, q)
+        sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=ae,
+                               within_limits=not viol, violations=viol, singular=sing,
+                               singularity=desc))
+    reachable = any(s.within_limits for s in sols)
+    if sols:
+        reason = f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, " \
+                 f"{sum(s.within_limits for s in sols)} within the joint limits"
+    elif rejected:
+        best = min(rejected, key=lambda r: r[3])
+        reason = (f"the position is reachable but the approach vector is not: the best "
+                  f"solution's approach is off by {best[3] * units.a:.4g} {units.angle}")
+    else:
+        reason = _out_of_reach(robot, target.T, units)
+    T = np.array(target.T)
+    return IKResult(robot=robot, target=target, family="tcv",
+                    method=f"tool configuration vector: joint {n} from |w4..w6|, joints 1-{n - 1} "
+                           "place the tool point, the approach vector r3 is checked",
+                    controls="position, approach and roll", solutions=sols,
+                    reachable=reachable, reason=reason, units=units)
 
 
 def _normalise(robot, q):
