@@ -44,7 +44,7 @@ class Candidate:
     signs: dict = field(default_factory=dict)     # joint index -> '+' / '-' / 'root k'
     free: list = field(default_factory=list)      # joint indices undetermined (singular)
     continuum: str | None = None                  # e.g. "q4 + q6 = 37.2 deg"
-    trace: list = field(default_factory=list)     # (label, value) pairs, SI
+    trace: list = field(default_factory=list)     # (label, value, kind), SI
 
 
 @dataclass(frozen=True)
@@ -144,8 +144,11 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
             cand.continuum = (f"q{idx[0] + 1} {'+' if same else '-'} q{idx[2] + 1}"
                               f" = {{{total!r}}}")
         if explain:
-            cand.trace = list(ps.trace) + [("wrist centre (target)", centre.tolist()),
-                                           ("wrist rotation R_W", RW.tolist())]
+            cand.trace = [("wrist centre (target)", centre.tolist(), "length")] + list(ps.trace) + [
+                ("wrist: rotation left for joints 4-6, R_W", RW.tolist(), "none"),
+                (f"joints {idx[0] + 1}, {idx[1] + 1} by subproblem 2: carry axis "
+                 f"{idx[2] + 1} onto R_W times it", [float(t1), float(t2)], "angle"),
+                (f"joint {idx[2] + 1} by subproblem 1", float(t3), "angle")]
         out.append(cand)
     return out
 
@@ -199,8 +202,12 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
                     cand.free.append(5)
                     cand.continuum = "wrist singular: axes 4 and 6 aligned"
                 if explain:
-                    cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist()),
-                                  ("q2 + q3 + q4", float(q234))] + ps.trace
+                    cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist(), "length"),
+                                  ("joint 1 by subproblem 4 (component along the parallel "
+                                   "axes)", float(q1), "angle"),
+                                  ("joint 5 by subproblem 4", float(q5), "angle"),
+                                  ("joint 6 by subproblem 1", float(q6), "angle"),
+                                  ("q2 + q3 + q4 by subproblem 1", float(q234), "angle")] + ps.trace
                 out.append(cand)
     return out
 

@@ -227,6 +227,7 @@ def place_point(S: Screws, joints, p0, pt, explain: bool = False) -> list[PointS
     a, b = joints[0], joints[1]
     c = joints[2] if len(joints) == 3 else None
 
+    mode, roots = None, []
     if c is None:
         xs_c = [(None, None)]
     else:
@@ -283,7 +284,7 @@ def place_point(S: Screws, joints, p0, pt, explain: bool = False) -> list[PointS
             if free_b:
                 sol.free.append(b)
             if explain:
-                sol.trace = _trace(S, joints, p0, pt, x)
+                sol.trace = _trace(S, joints, p0, pt, x, mode, roots, (al, be, ga), f)
             out.append(sol)
     return _unique(S, joints, out, scale)
 
@@ -352,6 +353,41 @@ def _unique(S, joints, sols, scale):
     return out
 
 
-def _trace(S, joints, p0, pt, x):
-    return [("point to place (world, q = 0)", p0.tolist()), ("target point", pt.tolist())] + [
-        (f"joint {j + 1}", float(v)) for j, v in zip(joints, x)]
+def _trace(S, joints, p0, pt, x, mode, roots, coeffs, f):
+    """The quantities a student computes, as (label, value, kind) with kind one of
+    'length', 'length2', 'angle', 'joint:<index>' (angle or length by joint type), 'text'."""
+    a, b = joints[0], joints[1]
+    c = joints[2] if len(joints) == 3 else None
+    name = lambda j: f"joint {j + 1}"  # noqa: E731
+    t = [("point to place, at q = 0", p0.tolist(), "length"),
+         ("target point", pt.tolist(), "length")]
+    if S.revolute[a]:
+        o = _reference_point(S, a, b)
+        t += [(f"{name(a)} leaves unchanged: height of the point along its axis",
+               float(S.axis[a] @ (pt - o)), "length"),
+              (f"{name(a)} leaves unchanged: squared distance from the axis point",
+               float((pt - o) @ (pt - o)), "length2")]
+    else:
+        t += [(f"{name(a)} (prismatic) leaves unchanged: the offsets across its axis", "", "text")]
+    if c is not None:
+        t += [(f"eliminate {name(b)}: resultant in {name(c)} ({mode})", "", "text"),
+              (f"real roots for {name(c)}", [float(r) for r in roots], f"joint:{c}"),
+              (f"{name(c)}", float(x[2]), f"joint:{c}")]
+    al, be, ga = coeffs
+    k = int(np.argmax(np.maximum(np.abs(be), np.abs(ga))))
+    kind = "length2" if (S.revolute[a] and k == 1) else "length"
+    if S.revolute[b]:
+        t += [(f"{name(b)}: alpha + beta cos + gamma sin = 0 with (alpha, beta, gamma)",
+               [float(al[k]), float(be[k]), float(ga[k])], kind),
+              (f"{name(b)} = atan2(gamma, beta) +- acos(-alpha / sqrt(beta^2 + gamma^2))",
+               float(x[1]), f"joint:{b}")]
+    else:
+        t += [(f"{name(b)}: alpha + beta d + gamma d^2 = 0 with (alpha, beta, gamma)",
+               [float(al[k]), float(be[k]), float(ga[k])], kind),
+              (f"{name(b)}", float(x[1]), f"joint:{b}")]
+    if S.revolute[a]:
+        t += [(f"{name(a)} by subproblem 1: rotate the point before it", f.tolist(), "length"),
+              (f"{name(a)}", float(x[0]), f"joint:{a}")]
+    else:
+        t += [(f"{name(a)} = offset along its axis", float(x[0]), f"joint:{a}")]
+    return t

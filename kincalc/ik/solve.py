@@ -123,8 +123,19 @@ class IKResult:
             "continuum": _continuum_text(s.continuum, u),
         }
         if s.trace:
-            d["trace"] = [{"step": k, "value": v} for k, v in s.trace]
+            d["trace"] = [{"step": k, "value": self._unit(v, kind)} for k, v, kind in s.trace]
         return d
+
+
+    def _unit(self, v, kind):
+        from ..results import _clean
+        u = self.units
+        if kind.startswith("joint:"):
+            kind = "angle" if self.robot.joints[int(kind[6:])].revolute else "length"
+        f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
+        if f is None or isinstance(v, str):
+            return v
+        return _clean(np.asarray(v, float) * f)
 
 
 def _continuum_text(text, units):
