@@ -132,7 +132,8 @@ def solve_unit_pair(M, b, scale: float, tol: float = GEOMETRY_TOL):
     for i in range(2):
         n = float(np.linalg.norm(M[i]))
         if n <= tol * scale:
-            if abs(b[i]) > tol * scale:
+            # |M_i x| <= sqrt(2) n on the torus: beyond that it cannot hold
+            if abs(b[i]) > math.sqrt(2.0) * n + tol * scale:
                 return [], False, True
             continue
         rows.append(M[i] / n)
@@ -190,8 +191,6 @@ def solve_unit_pair(M, b, scale: float, tol: float = GEOMETRY_TOL):
             a2, b2 = 0.5 * rho2 * (P[0, 0] - P[1, 1]), rho2 * P[0, 1]
             coeffs = np.array([(a2 - 1j * b2) / 2, (a1 - 1j * b1) / 2, a0,
                                (a1 + 1j * b1) / 2, (a2 + 1j * b2) / 2])
-            if not np.any(coeffs):
-                return [], False, False
             z = np.roots(coeffs)
             z = z[np.abs(np.abs(z) - 1.0) < _ROOT_BAND]
 

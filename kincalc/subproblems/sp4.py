@@ -26,10 +26,11 @@ def sp4(h, p, k, d, tol: float = 1e-12):
     if r < tol * scale:
         return [0.0], bool(abs(C - d) < 1e-9 * scale), True
     base = np.arctan2(B, A)
-    c = (d - C) / r
-    if c > 1.0 + 1e-12 or c < -1.0 - 1e-12:
-        return [float(base if c > 0 else base + np.pi)], False, False
-    c = min(1.0, max(-1.0, c))
+    # the slack absorbs rounding in d - C, which does not shrink with r (an
+    # absolute band on c would reject solvable inputs when r is small)
+    if abs(d - C) > r + tol * scale:
+        return [float(base if d > C else base + np.pi)], False, False
+    c = min(1.0, max(-1.0, (d - C) / r))
     delta = np.arccos(c)
     # tangent (c = +-1): one solution; at c = -1, base + pi and base - pi are
     # the same angle

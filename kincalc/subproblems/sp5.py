@@ -22,18 +22,20 @@ needs no assumption on the axes (``k1`` or ``k3`` may be parallel to ``k2``).
 No least-squares answer is defined: when there is no exact solution the
 list is empty and ``exact=False``.
 
-Ill-posed (``free=True``), with at most one representative solution:
+Ill-posed (``free=True``):
 
 * ``p1`` on the axis ``k1`` (C1 is a point: ``theta1`` is free), likewise
   ``p3`` on ``k3``;
 * a circle coaxial with ``k2`` (``theta2`` and that circle's angle are
   redundant);
 * both circles at constant height along ``k2`` (``k1 || k2`` and
-  ``k3 || k2``), or both on spheres about the origin: one condition is
-  void, a curve of solutions or none;
-* the meeting point on the axis ``k2`` (``theta2`` is free; this is a double
-  root, found to about 1e-8 relative, and reported free within
-  ``AXIS_TOL`` of the axis).
+  ``k3 || k2``), or both at constant distance from the origin (``p0 || k1``
+  and ``p2 || k3``): one condition is void, a curve of solutions or none;
+* the meeting point on the axis ``k2`` (``theta2`` is free). This one is a
+  double root of the quartic: its angles come out to only about 1e-6 rad, and
+  a point within ``AXIS_TOL`` of the axis is reported free.
+
+Where the solutions form a curve, one point of it is returned.
 """
 
 from __future__ import annotations
@@ -51,7 +53,10 @@ AXIS_TOL = 1e-6
 
 
 def _circle(offset, k, p):
-    """Centre ``c`` (3,) and basis ``A`` (3, 2) of ``offset + R(k, t) p = c + A (cos t, sin t)``."""
+    """Centre ``c`` (3,) and basis ``A`` (3, 2) with ``offset + R(k, t) p = c + A (cos t, sin t)``.
+
+    The columns of ``A`` are orthogonal, both of length ``|k x p|``.
+    """
     kp = k @ p
     return offset + kp * k, np.column_stack([p - kp * k, np.cross(k, p)])
 
@@ -104,6 +109,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3, tol: float = GEOMETRY_TOL):
     b = np.array([k2 @ (c3 - c1),
                   (c3 @ c3 + r3sq - c1 @ c1 - r1sq) / (2 * L)])
     pairs, _, free = solve_unit_pair(M, b, L, tol)
+    # a circle shrunk to a point: its angle does nothing
+    free = free or min(r1sq, r3sq) <= (tol * L) ** 2
 
     solutions = []
     for t1, t3 in pairs:
