@@ -54,7 +54,7 @@ def test_example_4_6_scara_with_euler_wrist():
     for s in res.solutions:                                  # every set reproduces the pose
         assert np.allclose(r.fk(s.q), T, atol=1e-9)
     # the book's theta4 = -72.2 deg is wrong: with its own theta1, theta2, d3, theta5, theta6
-    # the position is right but the orientation misses by about 180 deg about the tool z
+    # the position is right but the orientation misses by about 179 deg (yaw -154 instead of 25)
     book = D([63.03, -37.25, 0, -72.2, 135.29, -65.44])
     book[2] = 12
     Tb = r.fk(book)

@@ -39,7 +39,7 @@ CASES = list(examples())
 def test_readme_has_an_example_for_every_command():
     commands = {shlex.split(c)[1] for c, _ in CASES}
     subs = {" ".join(shlex.split(c)[1:3]) for c, _ in CASES if shlex.split(c)[1] == "robots"}
-    assert {"fk", "jacobian", "robots"} <= commands
+    assert {"fk", "jacobian", "ik", "selftest", "robots"} <= commands
     assert {"robots list", "robots show", "robots validate"} <= subs
 
 

@@ -224,30 +224,35 @@ def _tables(doc, robot, precision, explain):
                       ("reachable", "yes" if doc["reachable"] else "no"),
                       ("", doc["reason"])]))
     u = doc["units"]
-    t = Table(box=box.SIMPLE_HEAD, title=f"{doc['count']} solutions ({u['angle']}"
-              + ("" if u["length"] == "unitless" else f", {u['length']}") + ")",
-              title_justify="left")
-    t.add_column("#", justify="right")
-    for j in robot.joints:
-        t.add_column(j.name, justify="right", min_width=precision + 5, overflow="fold")
-    t.add_column("residual", justify="right")
-    t.add_column("limits")
-    t.add_column("singular")
-    t.add_column("branch", no_wrap=True)
-    for k, s in enumerate(doc["solutions"], start=1):
-        res = s["residual"]
-        lim = "ok" if s["within_limits"] else "out: " + ", ".join(
-            f"{v['joint']} {num(v['by'], 2)}" for v in s["violations"])
-        t.add_row(str(k), *(num(v, precision) for v in s["q"]),
-                  f"{res['position']:.0e}" + ("" if res["orientation"] is None
-                                              else f"/{res['orientation']:.0e}"),
-                  escape(lim), "yes" if s["singular"] else "no", escape(s["branch"]))
-    c.print(t)
-    for k, s in enumerate(doc["solutions"], start=1):
-        if s["singular"] and s["singularity"]:
-            c.print(escape(f"solution {k}: {s['singularity']}"
-                           + (f"; {s['continuum']}" if s.get("continuum") else "")))
-    if "rejected" in doc:
+    n = doc["count"]
+    if n:
+        t = Table(box=box.SIMPLE_HEAD, title=f"{n} solution{'s' if n != 1 else ''} ({u['angle']}"
+                  + ("" if u["length"] == "unitless" else f", {u['length']}") + ")",
+                  title_justify="left")
+        t.add_column("#", justify="right")
+        for j in robot.joints:
+            t.add_column(j.name, justify="right", min_width=precision + 5, overflow="fold")
+        t.add_column("limits")
+        t.add_column("singular")
+        for k, s in enumerate(doc["solutions"], start=1):
+            t.add_row(str(k), *(num(v, precision) for v in s["q"]),
+                      "ok" if s["within_limits"] else "out", "yes" if s["singular"] else "no")
+        c.print(t)
+        rows = []
+        for k, s in enumerate(doc["solutions"], start=1):
+            res = s["residual"]
+            text = s["branch"] + f"; residual {res['position']:.1e}" + (
+                "" if res["orientation"] is None else f" / {res['orientation']:.1e}")
+            if s["violations"]:
+                text += "; out of limits: " + ", ".join(
+                    f"{v['joint']} by {num(v['by'], 2)} ({v['side']})" for v in s["violations"])
+            if s["singular"] and s["singularity"]:
+                text += f"; {s['singularity']}" + (f"; {s['continuum']}" if s.get("continuum") else "")
+            rows.append((str(k), text))
+        c.print(kv_table(rows, title="branches"))
+    if doc.get("rejected_note"):
+        c.print(escape(f"rejected combinations: {doc['rejected_note']}"))
+    if "rejected" in doc and doc["rejected"]:
         rt = Table(box=box.SIMPLE_HEAD, title=f"{len(doc['rejected'])} rejected branch "
                    "combinations", title_justify="left")
         rt.add_column("#", justify="right")

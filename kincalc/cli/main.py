@@ -72,6 +72,8 @@ def main(argv: list[str] | None = None) -> int:
         if debug:
             raise
         cmd = exc.ctx.command_path if exc.ctx is not None else "kincalc"
+        if cmd == "kincalc" and args and not args[0].startswith("-"):
+            cmd = f"kincalc {args[0]}"   # an option error inside a command names the command
         if type(exc).__name__ == "NoArgsIsHelpError":  # bare `kincalc` or `kincalc robots`
             sys.stderr.write(f"{cmd}: error: missing command (see '{cmd} --help')\n")
             return 2

@@ -13,7 +13,7 @@ def selftest(
     robot: RobotArg,
     trials: Annotated[int, typer.Option("--trials", metavar="N", min=1,
                                         help="Number of random configurations.")] = 1000,
-    seed: Annotated[int, typer.Option("--seed", help="Random seed.")] = 0,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed (>= 0).")] = 0,
     json: JsonOpt = False,
     debug: DebugOpt = False,
 ):
@@ -35,7 +35,8 @@ def selftest(
         raise InputError(f"{rob.name}: {why}")
     m = run(rob, trials, seed)
     doc = {"kincalc": SCHEMA_VERSION, "command": "selftest", "robot": robot_summary(rob),
-           "units": Units(length=rob.length_unit).to_dict(), "method": fam.name, **m}
+           "units": Units(length=rob.length_unit).to_dict(),
+           "method": {"family": fam.name, "description": fam.description}, **m}
     if json:
         from .render import emit_json
         emit_json(doc)

@@ -69,6 +69,6 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
         "success_rate": found / n, "missing_rate": missing / n, "no_solution_rate": none / n,
         "wrong_solution_rate": wrong / max(total, 1),
         "solutions_per_pose": {str(k): v for k, v in sorted(counts.items())},
-        "time_per_pose_ms": {"median": float(np.median(times) * 1e3),
-                             "mean": float(np.mean(times) * 1e3)},
+        "time_per_pose_ms": {"median": round(float(np.median(times) * 1e3), 4),
+                             "mean": round(float(np.mean(times) * 1e3), 4)},
     }

@@ -35,6 +35,12 @@ from .screws import Screws, wrap
 #: (relative to the robot's size) and this many radians.
 ACCEPT_POSITION = 1e-9
 ACCEPT_ORIENTATION = 1e-9
+#: components a robot does not control (the orientation of a position-only arm) are
+#: checked, not solved for: at a double root the joint values are only good to
+#: ~sqrt(eps), so the check allows this much (rad)
+CHECK_ORIENTATION = 1e-6
+#: --all-branches lists cross combinations only up to this many
+MAX_COMBINATIONS = 512
 
 
 class UnsupportedRobot(KincalcError):
@@ -82,6 +88,7 @@ class IKResult:
     reason: str
     rejected: list | None = None
     units: object = None
+    note: str | None = None
 
     def to_dict(self) -> dict:
         from ..results import _clean, _header
@@ -100,8 +107,11 @@ class IKResult:
             out["rejected"] = [
                 {"q": u.joints(self.robot, r["q"]), "branch": r["branch"], "reason": r["reason"],
                  "residual": {"position": _clean(r["position_error"] * u.l),
-                              "orientation": _clean(r["orientation_error"] * u.a)}}
+                              "orientation": None if r["orientation_error"] is None
+                              else _clean(r["orientation_error"] * u.a)}}
                 for r in self.rejected]
+            if self.note:
+                out["rejected_note"] = self.note
         return out
 
     def _sol(self, s: IKSolution) -> dict:
@@ -133,9 +143,9 @@ class IKResult:
         if kind.startswith("joint:"):
             kind = "angle" if self.robot.joints[int(kind[6:])].revolute else "length"
         f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
-        if f is None or isinstance(v, str):
+        if isinstance(v, str):
             return v
-        return _clean(np.asarray(v, float) * f)
+        return _clean(np.asarray(v, float) * (1.0 if f is None else f))
 
 
 def _continuum_text(text, units):
@@ -162,7 +172,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     if family.needs_orientation and not target.orientation:
         raise UsageError(f"{robot.name} controls {family.controls}: give an orientation too "
                          "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, --matrix, "
-                         "--pose or --from-q)")
+                         "--tcv, --pose or --from-q)")
     T = np.asarray(target.T, float)
     if family.name == "general-6r":
         cands = SOLVERS[family.name](S, T, explain, robot=robot)
@@ -176,11 +186,12 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         Tq = robot.fk(q)
         pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
         oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
-        ok = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= ACCEPT_ORIENTATION)
+        o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
+        ok = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= o_tol)
         branch = branch_label(robot, S, family.name, q, c)
         if not ok:
             rejected.append({"q": q, "branch": branch, "position_error": pe,
-                             "orientation_error": oe or 0.0,
+                             "orientation_error": oe,
                              "reason": _miss_reason(pe, oe, units)})
             continue
         accepted.append((q, c, branch, pe, oe))
@@ -204,12 +215,17 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
 
     reachable = any(s.within_limits for s in sols)
     reason = _reason(robot, S, family, T, target, sols, rejected, units)
-    result_rejected = None
+    result_rejected = note = None
     if all_branches:
-        result_rejected = rejected + _cross_combinations(robot, T, target, sols, units)
+        combos, note = _cross_combinations(robot, T, target, sols, units)
+        result_rejected = []
+        for r in rejected + combos:
+            if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
+                                              r["q"] - o["q"])) < 1e-6) for o in result_rejected):
+                result_rejected.append(r)
     return IKResult(robot=robot, target=target, family=family.name, method=family.description,
                     controls=family.controls, solutions=sols, reachable=reachable,
-                    reason=reason, rejected=result_rejected, units=units)
+                    reason=reason, rejected=result_rejected, units=units, note=note)
 
 
 def _solve_tcv(robot, S, target, units) -> IKResult:
@@ -324,11 +340,11 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
             for i, amount in sorted(worst.items()))
         return f"blocked by joint limits: all {len(sols)} solutions violate a limit ({what})"
     if rejected:
-        best = min(rejected, key=lambda r: (r["position_error"], r["orientation_error"]))
+        best = min(rejected, key=lambda r: (r["position_error"], r["orientation_error"] or 0.0))
         if best["position_error"] <= ACCEPT_POSITION * robot.characteristic_length * 1e3:
             return (f"the position is reachable but this orientation is not for a robot that "
                     f"controls {family.controls}: the best solution is off by "
-                    f"{best['orientation_error'] * units.a:.4g} {units.angle}")
+                    f"{(best['orientation_error'] or 0.0) * units.a:.4g} {units.angle}")
         return "no solution: " + best["reason"]
     return _out_of_reach(robot, T, units)
 
@@ -358,9 +374,13 @@ def _out_of_reach(robot, T, units) -> str:
 
 def _cross_combinations(robot, T, target, sols, units):
     """Combinations of joint values taken independently, as a textbook's +/- choices
-    are, that do not reach the target (Bingul & Kucuk, Example 4.2: zeta1, zeta4)."""
+    are, that do not reach the target (Bingul & Kucuk, Example 4.2: zeta1, zeta4).
+
+    Returns ``(rejected, note)``; ``note`` says why nothing was listed when there
+    are more than :data:`MAX_COMBINATIONS` combinations.
+    """
     if len(sols) < 2:
-        return []
+        return [], None
     values = []
     for i in range(robot.dof):
         vals = []
@@ -368,8 +388,10 @@ def _cross_combinations(robot, T, target, sols, units):
             if not any(abs(wrap(s.q[i] - v)) < 1e-6 for v in vals):
                 vals.append(s.q[i])
         values.append(vals)
-    if np.prod([len(v) for v in values]) > 512:
-        return []
+    total = int(np.prod([len(v) for v in values]))
+    if total > MAX_COMBINATIONS:
+        return [], (f"{total} combinations of the solutions' joint values: too many to list "
+                    f"(at most {MAX_COMBINATIONS})")
     out = []
     for combo in itertools.product(*values):
         q = np.array(combo)
@@ -377,12 +399,11 @@ def _cross_combinations(robot, T, target, sols, units):
             continue
         Tq = robot.fk(q)
         pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
-        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else 0.0
-        label = " ".join(f"{j.name}={combo[i] * (units.a if j.revolute else units.l):.4g}"
-                         for i, j in enumerate(robot.joints))
-        out.append({"q": q, "branch": f"combination {label}", "position_error": pe,
-                    "orientation_error": oe, "reason": _miss_reason(pe, oe if target.orientation else None, units)})
-    return out
+        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
+        out.append({"q": q, "branch": "combination of the solutions' values",
+                    "position_error": pe, "orientation_error": oe,
+                    "reason": _miss_reason(pe, oe, units)})
+    return out, None
 
 
 def branch_label(robot, S: Screws, family: str, q, cand) -> str:
