@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .spatial import cross  # noqa: E402
+
 from .errors import InputError
 from .results import FKResult, JacobianResult, Singularity, Units
 from .tolerances import SINGULAR_TOL
@@ -132,7 +134,7 @@ def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
         v = point - pts[2]
         v = v - z * (v @ z)
         nu, nv = np.linalg.norm(u), np.linalg.norm(v)
-        if nu > tol_len and nv > tol_len and np.linalg.norm(np.cross(u, v)) < 1e-6 * nu * nv:
+        if nu > tol_len and nv > tol_len and np.linalg.norm(cross(u, v)) < 1e-6 * nu * nv:
             stretched = float(u @ v) > 0
             kinds.append("elbow-stretched" if stretched else "elbow-folded")
             texts.append("elbow singularity: the arm is fully "

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .spatial import cross  # noqa: E402
+
 from .tolerances import GEOMETRY_TOL
 
 
@@ -32,12 +34,12 @@ def joint_axes(robot, q=None) -> tuple[np.ndarray, np.ndarray]:
 
 def parallel(d1, d2, tol: float = GEOMETRY_TOL) -> bool:
     """True if unit directions ``d1``, ``d2`` are parallel or anti-parallel."""
-    return float(np.linalg.norm(np.cross(d1, d2))) < tol
+    return float(np.linalg.norm(cross(d1, d2))) < tol
 
 
 def line_distance(p1, d1, p2, d2) -> float:
     """Shortest distance between the lines ``p1 + t d1`` and ``p2 + s d2``."""
-    n = np.cross(d1, d2)
+    n = cross(d1, d2)
     nn = np.linalg.norm(n)
     w = np.asarray(p2, float) - np.asarray(p1, float)
     if nn < GEOMETRY_TOL:

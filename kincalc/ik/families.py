@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
 from .position import place_point
@@ -56,7 +58,7 @@ class Family:
 
 
 def _parallel(a, b, tol=1e-9) -> bool:
-    return float(np.linalg.norm(np.cross(a, b))) < tol
+    return float(np.linalg.norm(cross(a, b))) < tol
 
 
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
@@ -131,7 +133,7 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
     out = []
     for n_sol, (t1, t2) in enumerate(sols):
         R12 = _rot(k1, t1) @ _rot(k2, t2)
-        v = np.cross(k3, [1.0, 0, 0] if abs(k3[0]) < 0.9 else [0, 1.0, 0])
+        v = cross(k3, [1.0, 0, 0] if abs(k3[0]) < 0.9 else [0, 1.0, 0])
         t3, _, _ = sp1(v, R12.T @ RW @ v, k3)
         q = np.concatenate([prefix_q, [t1, t2, t3]])
         cand = Candidate(q=q, signs=dict(ps.signs), free=list(ps.free))
@@ -184,7 +186,7 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
             R6 = _rot(S.axis[5], q6)
             # sum of joints 2-4 about h
             R234 = R1.T @ R_t @ R6.T @ R5.T
-            v = np.cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
+            v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
             q234, _, _ = sp1(v, R234 @ v, h)
             # the point on axis 5 nearest axis 4 -> where axis 4 must be, then a planar 2R
             T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ S.inverse_M() @ np.linalg.inv(
@@ -231,7 +233,7 @@ def _last_axis_roll(S: Screws, T, first: list[int], explain):
     for ps in place_point(S, first, c0, ct, explain):
         W = np.linalg.inv(S.product(first, ps.x)) @ T @ S.inverse_M()
         k = S.axis[n - 1]
-        v = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+        v = cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
         qn, _, _ = sp1(v, W[:3, :3] @ v, k)
         cand = Candidate(q=np.concatenate([ps.x, [qn]]), signs=ps.signs, free=ps.free,
                          trace=ps.trace)

@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 from ..subproblems import sp1
 from .screws import Screws, wrap
 
@@ -57,12 +59,12 @@ def _reference_point(S: Screws, a: int, b: int) -> np.ndarray:
     x_b whenever the axes intersect, which is what keeps elbow arms exact.
     """
     wa, pa, wb, pb = S.axis[a], S.point[a], S.axis[b], S.point[b]
-    n = np.cross(wa, wb)
+    n = cross(wa, wb)
     nn = n @ n
     if nn < 1e-18:
         return pa
     # pa + t wa closest to the line pb + s wb
-    t = np.cross(pb - pa, wb) @ n / nn
+    t = cross(pb - pa, wb) @ n / nn
     return pa + t * wa
 
 
@@ -78,9 +80,9 @@ def _invariants(S: Screws, a: int, pt, b: int | None = None):
             d = f - o
             return np.stack([d @ w - u, np.einsum("...i,...i->...", d, d) - rho2])
         return phi, ("height along axis", "squared distance from axis")
-    e1 = np.cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
+    e1 = cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
     e1 /= np.linalg.norm(e1)
-    e2 = np.cross(w, e1)
+    e2 = cross(w, e1)
 
     def phi(f):
         d = f - pt
@@ -332,7 +334,7 @@ def _point_jacobian(S: Screws, joints, x, p0):
     p = T[:3, :3] @ p0 + T[:3, 3]
     J = np.empty((3, len(joints)))
     for k, j in enumerate(joints):
-        J[:, k] = np.cross(axes[k], p - pts[k]) if S.revolute[j] else axes[k]
+        J[:, k] = cross(axes[k], p - pts[k]) if S.revolute[j] else axes[k]
     return p, J
 
 

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 from ..errors import KincalcError, UsageError
 from ..spatial import rotation_error
 from .families import SOLVERS, classify
@@ -181,14 +183,20 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
 
     scale = max(robot.characteristic_length, 1e-12)
     accepted, rejected = [], []
-    for c in cands:
-        q = _normalise(robot, c.q)
-        Tq = robot.fk(q)
-        pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
-        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
-        o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
+    # FK, frames and residuals of every candidate at once (the per-candidate work is
+    # what a pose costs; the vectorised core does it in one pass)
+    from ..fk import chain_frames
+    Q = np.array([_normalise(robot, c.q) for c in cands]).reshape(len(cands), robot.dof)
+    Tq = robot.fk(Q)
+    frames = chain_frames(robot.chain, Q)
+    PE = np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)
+    OE = rotation_error(Tq[:, :3, :3], T[:3, :3]) if target.orientation else None
+    o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
+    for k, c in enumerate(cands):
+        q, pe = Q[k], float(PE[k])
+        oe = None if OE is None else float(OE[k])
         ok = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= o_tol)
-        branch = branch_label(robot, S, family.name, q, c)
+        branch = branch_label(robot, S, family.name, q, c, frames[k])
         if not ok:
             rejected.append({"q": q, "branch": branch, "position_error": pe,
                              "orientation_error": oe,
@@ -196,20 +204,21 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
             continue
         accepted.append((q, c, branch, pe, oe))
     accepted = _dedupe(robot, accepted)
+    singular = _singular_mask(robot, np.array([a[0] for a in accepted]).reshape(-1, robot.dof))
 
     sols = []
-    for q, c, branch, pe, oe in accepted:
-        lo, hi = robot.limits.T
+    lo, hi = robot.limits.T
+    for (q, c, branch, pe, oe), sing in zip(accepted, singular):
         viol = [(i, float(lo[i] - q[i]), "lower") for i in range(robot.dof) if q[i] < lo[i] - 1e-12] + \
                [(i, float(q[i] - hi[i]), "upper") for i in range(robot.dof) if q[i] > hi[i] + 1e-12]
         viol.sort()
-        sing, desc = _singularity(robot, q)
+        desc = _singularity(robot, q)[1] if sing else None
         if c.free:
             sing = True
             desc = (desc + "; " if desc else "") + "undetermined at this target: " + ", ".join(
                 robot.joints[i].name for i in c.free) + " (a representative value is shown)"
         sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=oe,
-                               within_limits=not viol, violations=viol, singular=sing,
+                               within_limits=not viol, violations=viol, singular=bool(sing),
                                singularity=desc, continuum=c.continuum, trace=c.trace))
     sols.sort(key=lambda s: (not s.within_limits, s.branch))
 
@@ -302,6 +311,24 @@ def _dedupe(robot, items):
                           < 1e-6) for o in out):
             out.append(it)
     return out
+
+
+def _singular_mask(robot, Q) -> np.ndarray:
+    """``(k,)`` bool: is each configuration singular (rank below the generic rank of J
+    or of its linear rows, on the length-normalised Jacobian, as jacobian_report)?"""
+    from ..tolerances import SINGULAR_TOL
+    if len(Q) == 0:
+        return np.zeros(0, bool)
+    J = robot.jacobian(Q)
+    L = robot.characteristic_length
+    J[:, :3, :] /= L
+    J[:, :, ~robot.is_revolute] *= L
+    full, full_pos = robot.generic_ranks
+
+    def rank(M):
+        sv = np.linalg.svd(M, compute_uv=False)
+        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
+    return (rank(J) < full) | (rank(J[:, :3, :]) < full_pos)
 
 
 def _singularity(robot, q):
@@ -406,11 +433,13 @@ def _cross_combinations(robot, T, target, sols, units):
     return out, None
 
 
-def branch_label(robot, S: Screws, family: str, q, cand) -> str:
-    """Geometric branch label of solution ``q`` (see module docstring)."""
-    from ..structure import common_point
+def branch_label(robot, S: Screws, family: str, q, cand, F=None) -> str:
+    """Geometric branch label of solution ``q`` (see module docstring); ``F`` are its
+    joint frames (``chain_frames``) when already computed."""
     from ..fk import chain_frames
-    F = chain_frames(robot.chain, q)
+    from ..structure import common_point
+    if F is None:
+        F = chain_frames(robot.chain, q)
     z = F[:, :3, 2]
     o = F[:, :3, 3]
     rev = robot.is_revolute
@@ -420,12 +449,12 @@ def branch_label(robot, S: Screws, family: str, q, cand) -> str:
         P = common_point(o[3:], z[3:], np.inf)
     elif family == "three-parallel":
         P = common_point(o[4:], z[4:], np.inf)
-    if P is not None and rev[0] and np.linalg.norm(np.cross(z[0], z[1])) > 1e-6:
-        side = float((P - o[0]) @ np.cross(z[0], z[1]))
+    if P is not None and rev[0] and np.linalg.norm(cross(z[0], z[1])) > 1e-6:
+        side = float((P - o[0]) @ cross(z[0], z[1]))
         parts.append("shoulder right" if side >= 0 else "shoulder left")
         named.add(0)
     if P is not None and robot.dof >= 3 and rev[1] and rev[2] and \
-            np.linalg.norm(np.cross(z[1], z[2])) < 1e-6:
+            np.linalg.norm(cross(z[1], z[2])) < 1e-6:
         s = o[1]
         e = o[2]
         target = P if family == "spherical-wrist" else o[3]
@@ -437,12 +466,12 @@ def branch_label(robot, S: Screws, family: str, q, cand) -> str:
         perp = v - line * (v @ line) / max(line @ line, 1e-300)
         up = float(perp @ z[0])
         if abs(up) < 1e-9 * robot.characteristic_length:
-            up = float(np.cross(e - s, target - e) @ h)
+            up = float(cross(e - s, target - e) @ h)
         parts.append("elbow up" if up >= 0 else "elbow down")
         named.add(2 if family == "spherical-wrist" else 1)
         named.add(1 if family == "spherical-wrist" else 2)
     if family in ("spherical-wrist", "three-parallel"):
-        w = float(np.cross(z[3], z[5]) @ z[4])
+        w = float(cross(z[3], z[5]) @ z[4])
         parts.append("wrist no-flip" if w >= 0 else "wrist flip")
         named.add(4)
     for i in sorted(cand.signs):

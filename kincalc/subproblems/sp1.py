@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 
 def sp1(p1, p2, k, tol: float = 1e-9):
     """Return ``(theta, exact, free)``.
@@ -25,9 +27,9 @@ def sp1(p1, p2, k, tol: float = 1e-9):
         Relative tolerance for "same height and radius" and "on the axis".
     """
     p1, p2, k = (np.asarray(v, dtype=float) for v in (p1, p2, k))
-    kxp = np.cross(k, p1)
+    kxp = cross(k, p1)
     # p1 projected on the plane of rotation, in the basis (-k x (k x p1), k x p1)
-    a = np.cross(kxp, k)          # = p1 - (k.p1) k
+    a = cross(kxp, k)          # = p1 - (k.p1) k
     x = a @ p2
     y = kxp @ p2
     scale = max(np.linalg.norm(p1), np.linalg.norm(p2), 1e-300)

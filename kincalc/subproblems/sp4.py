@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 
 def sp4(h, p, k, d, tol: float = 1e-12):
     """Return ``(thetas, exact, free)``; ``thetas`` a list of 0, 1 or 2 angles (rad)."""
     h, p, k = (np.asarray(v, dtype=float) for v in (h, p, k))
-    kxp = np.cross(k, p)
-    A = -(h @ np.cross(k, kxp))   # h . (p - (k.p)k)
+    kxp = cross(k, p)
+    A = -(h @ cross(k, kxp))   # h . (p - (k.p)k)
     B = h @ kxp
     C = (h @ k) * (k @ p)
     r = np.hypot(A, B)

@@ -42,6 +42,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 from ..tolerances import GEOMETRY_TOL
 from ._unit_pair import _wrap, solve_unit_pair
 from .sp1 import sp1
@@ -58,7 +60,7 @@ def _circle(offset, k, p):
     The columns of ``A`` are orthogonal, both of length ``|k x p|``.
     """
     kp = k @ p
-    return offset + kp * k, np.column_stack([p - kp * k, np.cross(k, p)])
+    return offset + kp * k, np.column_stack([p - kp * k, cross(k, p)])
 
 
 def _rot(k, t):

@@ -31,6 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import cross  # noqa: E402
+
 from ..tolerances import GEOMETRY_TOL
 from ._unit_pair import solve_unit_pair
 
@@ -73,7 +75,7 @@ def sp6(h, k, p, d1: float, d2: float, tol: float = GEOMETRY_TOL):
     p = np.asarray(p, dtype=float).reshape(4, 3)
     kp = np.einsum("ij,ij->i", k, p)
     p_perp = p - kp[:, None] * k
-    kxp = np.cross(k, p)
+    kxp = cross(k, p)
     a_cos = np.einsum("ij,ij->i", h, p_perp)
     a_sin = np.einsum("ij,ij->i", h, kxp)
     const = np.einsum("ij,ij->i", h, k) * kp
