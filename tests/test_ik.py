@@ -74,6 +74,21 @@ def test_example_4_5_6r_has_eight_not_sixteen_solutions():
     assert max(counts) == 8 and counts.count(8) > 100
 
 
+def test_offset_wrist_arm_of_the_second_example_4_6():
+    r = load_robot("bk_offset_wrist")
+    q = np.array([D(20), 4.0, D(-35), D(70), D(50), D(-15)])
+    res = r.ik(r.fk(q))
+    assert res.family == "parallel-four-wrist"
+    assert any(close(s.q, q, r) for s in res.solutions)
+    assert len(res.solutions) in (2, 4)   # 2 for theta5 x 2 for the planar elbow, where reachable
+    counts = [len(r.ik(r.fk(x)).solutions)
+              for x in sample_configurations(r, 40, np.random.default_rng(46))]
+    assert max(counts) == 4
+    # the book: d2 = pz - r33 d6 (with its frames), theta6 from atan2(-r32, r31) up to pi
+    for s in res.solutions:
+        assert np.allclose(r.fk(s.q), r.fk(q), atol=1e-9)
+
+
 def test_rrp_and_rpr_have_four_position_solutions():
     for name in ("bk_rrp", "bk_rpr"):
         r = load_robot(name)
@@ -157,6 +172,12 @@ def random_family_robot(rng, family):
         return dh(rng, [("revolute", ang(), u(rng), u(rng)), ("revolute", 0.0, u(rng), u(rng)),
                         ("revolute", 0.0, u(rng), u(rng)), ("revolute", ang(), 0.0, u(rng)),
                         ("revolute", ang(), 0.0, u(rng)), ("revolute", u(rng, -3, 3), u(rng), u(rng))])
+    if family == "parallel-four-wrist":
+        types = ["revolute", "revolute", "revolute"]
+        types[int(rng.integers(0, 3))] = "prismatic"
+        return dh(rng, [(t, 0.0, u(rng), u(rng)) for t in types] +
+                  [("revolute", ang(), u(rng), u(rng)), ("revolute", ang(), 0.0, u(rng)),
+                   ("revolute", u(rng, -3, 3), u(rng), u(rng))])
     if family == "position-3":
         return dh(rng, [(rng.choice(["revolute", "prismatic"]), ang(), u(rng), u(rng))
                         for _ in range(3)])
@@ -171,7 +192,8 @@ def random_family_robot(rng, family):
     raise ValueError(family)
 
 
-@pytest.mark.parametrize("family", ["spherical-wrist", "three-parallel", "position-3",
+@pytest.mark.parametrize("family", ["spherical-wrist", "three-parallel", "parallel-four-wrist",
+                                    "position-3",
                                     "planar-3", "position-2", "point-plus-roll"])
 @pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
 def test_random_robots_of_each_family(family, convention):

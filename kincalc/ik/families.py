@@ -16,6 +16,11 @@ Families (recognised from geometry, never from names):
   intersecting (the UR family). Subproblem 4 for joints 1 and 5 on the
   components along the common direction, subproblem 1 for 6 and for the sum
   2 + 3 + 4, a planar two-link problem for 2 and 3.
+* ``parallel-four-wrist``: 6 joints, joints 1-4 rotating about or sliding along one
+  direction (3 R + 1 P, a SCARA-type arm) and axes 5, 6 intersecting: the
+  textbook's offset-wrist R-P-R-R-R-R. Rotations about parallel axes add up, so
+  joints 5, 6 and the angle sum come from subproblems 4 and 1, then a point of
+  axis 4 is placed by joints 1-3.
 * ``position-3``: 3 joints whose tool point moves in 3-D: the point alone.
 * ``planar-3``: 3 revolute joints with parallel axes: a point on axis 3 by
   joints 1-2, then joint 3 from the orientation.
@@ -61,6 +66,11 @@ def _parallel(a, b, tol=1e-9) -> bool:
     return float(np.linalg.norm(cross(a, b))) < tol
 
 
+def _moves_along(S: Screws, idx, h) -> bool:
+    """Do joints ``idx`` all rotate about, or slide along, direction ``h``?"""
+    return all(_parallel(S.axis[i], h) for i in idx)
+
+
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
     """The family of ``robot`` (or None) and a sentence saying why."""
     n, rev = S.n, S.revolute
@@ -78,6 +88,14 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
         if c56 is not None:
             return (Family("three-parallel",
                            "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
+                           "position and orientation", True), "")
+    if n == 6 and rev[3:].all() and _moves_along(S, range(4), S.axis[3]) \
+            and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
+        c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
+        if c56 is not None:
+            return (Family("parallel-four-wrist",
+                           "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
+                           "arm) and axes 5, 6 intersect (an offset wrist)",
                            "position and orientation", True), "")
     if n == 6 and rev.all():
         return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
@@ -214,6 +232,49 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
     return out
 
 
+def solve_parallel_four_wrist(S: Screws, T, explain=False) -> list[Candidate]:
+    """Joints 1-4 about/along h (3 revolute, 1 prismatic), axes 5 and 6 intersecting.
+
+    Rotations about parallel axes add up, so R(q) = R_h(psi) R5(q5) R6(q6) with psi
+    the sum of the revolute angles among joints 1-4: subproblem 4 gives q5 from the
+    component along h, subproblem 1 gives q6 and psi; a point of axis 4 is then placed
+    by joints 1-3 and q4 closes the sum. (Bingul & Kucuk's offset-wrist R-P-R-R-R-R.)
+    """
+    h = S.axis[3]
+    R_t = T[:3, :3] @ S.inverse_M()[:3, :3]
+    out = []
+    t5s, ex5, free5 = sp4(h, S.axis[5], S.axis[4], float(h @ (R_t @ S.axis[5])))
+    if not ex5:
+        return []
+    revs = [i for i in range(4) if S.revolute[i]]
+    sign = {i: float(np.sign(S.axis[i] @ h)) for i in revs}
+    for i5, q5 in enumerate(t5s):
+        R5 = _rot(S.axis[4], q5)
+        q6, _, free6 = sp1(R_t.T @ h, R5.T @ h, S.axis[5])
+        R6 = _rot(S.axis[5], q6)
+        v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
+        psi, _, _ = sp1(v, R_t @ R6.T @ R5.T @ v, h)
+        T_rest = T @ S.inverse_M() @ np.linalg.inv(S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
+        p4 = S.point[3]
+        p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
+        for ps in place_point(S, [0, 1, 2], p4, p4t, explain):
+            x = list(ps.x)
+            # psi = sum over revolute joints 1-4 of sign_i q_i  -> q4
+            partial = sum(sign[i] * x[i] for i in revs if i < 3)
+            q4 = (psi - partial) * sign[3]
+            q = np.array(x + [q4, q5, q6])
+            cand = Candidate(q=q, signs={4: "+" if i5 == 0 else "-", **ps.signs})
+            if free6:
+                cand.free.append(5)
+            if explain:
+                cand.trace = [("joint 5 by subproblem 4 (component along the parallel axes)",
+                               float(q5), "angle"), ("joint 6 by subproblem 1", float(q6), "angle"),
+                              ("sum of the parallel joints' angles", float(psi), "angle"),
+                              ("point of axis 4 to place (target)", p4t.tolist(), "length")] + ps.trace
+            out.append(cand)
+    return out
+
+
 def solve_position_3(S: Screws, T, explain=False) -> list[Candidate]:
     return [Candidate(q=ps.x, signs=ps.signs, free=ps.free, trace=ps.trace)
             for ps in place_point(S, [0, 1, 2], S.M[:3, 3], T[:3, 3], explain)]
@@ -257,6 +318,7 @@ def solve_general_6r(S, T, explain=False, robot=None):
 SOLVERS = {
     "spherical-wrist": solve_spherical_wrist,
     "three-parallel": solve_three_parallel,
+    "parallel-four-wrist": solve_parallel_four_wrist,
     "position-3": solve_position_3,
     "position-2": solve_position_2,
     "planar-3": solve_planar_3,
