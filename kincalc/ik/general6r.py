@@ -57,6 +57,13 @@ manipulators", IEEE Trans. Robotics and Automation 10(5):648-657, 1994.
    squares ratios of its largest entries, inverted ratios when |x| > 1, so
    theta = pi is fine); ``(c1, s1, c2, s2)`` from ``Q X2 = P X1`` (least
    squares through the same QR); theta_6 from ``A_6 = (A_1..A_5)^-1 T'``.
+   *Clusters:* eigenvalues whose angles' real parts are closer than 1e-3 rad
+   (solutions sharing the pivot angle, e.g. the two wrist flips of a
+   spherical wrist; near-double roots split into a conjugate pair) get a
+   second set of vectors: at their mean, the monomial vectors are recovered
+   from the null space of ``Sigma`` as common eigenvectors of the "multiply
+   by x4" and "multiply by x5" shift operators; the vectors closest to
+   monomial structure are kept (see :func:`_split_clusters`).
 6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the
    *given* robot (``robot.chain``, so the DH model above only has to be
    close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame
@@ -64,26 +71,57 @@ manipulators", IEEE Trans. Robotics and Automation 10(5):648-657, 1994.
    residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are dropped, the rest are
    wrapped to (-pi, pi] and merged when within 1e-6 rad.
 
-Special geometry
-----------------
-For robots with special structure (three parallel axes as in the UR arms, a
-spherical wrist as in the PUMA, ...) the elimination degenerates: ``Q``
-loses rank or the matrix pencil becomes singular (every leading matrix
-singular). This is detected (relative singular value below 1e-9, resp. no
-shift with ``cond(A) < 1e10``) and the elimination is then run on a nearby
-*generic* robot (every scaled DH parameter moved by a fixed pseudo-random
-amount of size 1e-3), whose solutions are Newton-polished on the real
-robot. Isolated solutions are continuous in the parameters, so each real
-solution of the special robot is the limit of one of the perturbed robot's,
-and the 8 solutions of a UR5 or PUMA are found this way (merged duplicates
-and the perturbed robot's extra roots are discarded by the residual test).
-Robots with infinitely many solutions at a pose (coincident axes, or
-a pose on a self-motion) get whatever isolated points Newton lands on.
+Choice of pivot joint and special geometry
+------------------------------------------
+The closure ``A_1 ... A_6 = T'`` can be rotated cyclically into
+``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I``: again a 6R inverse-kinematics
+problem (joints k+1..6, 1..k; the pose becomes the fixed link between joints
+6 and 1, the target is the identity), whose pivot is joint k + 3 (mod 6). Shift 0
+(pivot joint 3) is the standard form and has its left-side coefficients
+precomputed per robot; for the other shifts the DH model is rebuilt per pose
+from the same axis lines (~0.5 ms more).
 
-Limitations: solutions at a singular configuration converge slowly and may
-be dropped by the 1e-10 residual test; two distinct solutions closer than
-1e-6 rad are reported once; the count of a generic 6R is always even, so an
-odd count flags a lost near-double root.
+For robots with special structure the standard form degenerates: with three
+parallel axes (UR arms) or a spherical wrist (PUMA, KUKA, ABB, FANUC) the
+12x12 pencil is singular, every leading matrix ``A`` is singular
+(``cond(A) > 1e10`` for all four shifts ``delta``), or ``Q`` loses rank
+(relative singular value < 1e-9). Nearly special robots (a calibrated UR5
+whose twists are off by 1e-8 .. 1e-4) are worse: the pencil is regular but
+ill-conditioned and the eigenvalues are inaccurate. So once per robot
+(cached) the six shifts are ranked on three seeded probe poses by how
+accurately their raw candidates recover the generating configuration; shift
+0 is kept without further probing when it is accurate to 1e-8 rad (every
+generic robot). In the library, UR arms end up pivoting on joint 2 (shift
+5, the parallel joints 2-3-4 on the left side) and wrist-partitioned arms
+on joint 5 (shift 2) or joint 2. Per pose the ranked shifts are tried in
+order until one is not degenerate. If all six degenerate (rare: e.g. a
+random arm with axes 1-2-3 parallel and 3-4-5 intersecting pairwise), the
+standard form is solved for two nearby *generic* robots (each scaled DH
+parameter moved by a fixed pseudo-random 0.5 .. 1 times 1e-3, resp. 1e-4;
+the larger size suits robots whose solutions are well separated, the
+smaller one robots close to a singular configuration) and the union of
+their candidates is polished on the real robot; this last resort can lose
+solutions near singular configurations and is not reached by any robot of
+the library. UR5 and PUMA thus give their (up to) 8 solutions, the same
+as the analytic family solvers of :mod:`kincalc.ik.families`. Robots with
+infinitely many solutions at a pose (coincident axes; a pose on a
+self-motion) get whatever isolated points Newton lands on, or none.
+
+Limitations
+-----------
+* Solutions at or very near a singular configuration converge slowly or to
+  a neighbour and may be dropped by the 1e-10 residual test or merged: two
+  distinct solutions closer than 1e-6 rad are reported once. For a generic
+  6R the real count is even, so an odd count flags such a case. Special
+  and nearly special robots (which need another pivot) lose a solution of
+  a near-singular pair somewhat more often than generic ones.
+* The 1e-10 acceptance is relative to ``robot.characteristic_length``; a
+  pose outside the workspace gives an empty ``(0, 6)`` array.
+* Robots with a prismatic joint are not handled (ValueError).
+* Measured (one core, numpy/OpenBLAS): median ~1 ms per pose for a generic
+  robot (mean 1.3, 99th percentile 3.2 ms), 1.5-3 ms for UR/PUMA/KUKA/ABB
+  arms (per-pose model of the other pivot), plus a one-off 4-20 ms per
+  robot for the model and the pivot ranking (cached for 64 robots).
 """
 
 from __future__ import annotations
@@ -107,8 +145,10 @@ MERGE_TOL = 1e-6
 RAW_TOL = 1e-6
 #: |Im(theta_3)| (rad) below which an eigenvalue is a real candidate.
 IMAG_TOL = 0.05
-#: size of the generic perturbation used for special robots (scaled units).
-PERTURB = 1e-3
+#: eigenvalues (as angles, rad) closer than this are treated as one cluster.
+CLUSTER_TOL = 1e-3
+#: sizes of the generic perturbations of the last resort (scaled units, rad).
+PERTURB = (1e-3, 1e-4)
 
 # 3-point DFT grid: exact for (1, cos, sin) expansions.
 _GRID = np.array([0.0, 2.0 * np.pi / 3.0, 4.0 * np.pi / 3.0])
@@ -116,9 +156,10 @@ _VINV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=
 # (1, c, s) * (1 + x^2) in powers (1, x, x^2) of x = tan(theta / 2)
 _H = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
 _H2 = np.kron(_H, _H)     # trig (i4, i5) -> powers (j4, j5), both flattened i*3 + j
-_SHIFTS = (0.0, 1.1071487177940904, -0.6435011087932844, 2.4980915447965089)
+_DELTAS = (0.0, 1.1071487177940904, -0.6435011087932844, 2.4980915447965089)
 _STEP_MAX = 0.5
 _NEWTON_ITERS = 10
+_GIVE_UP = {3: 1e-2, 6: 1e-6}      # after this many steps, drop candidates still above
 
 
 # --- small vectorised helpers ---------------------------------------------
@@ -245,10 +286,10 @@ class _Model:
         E = invert_transform(F[6]) @ T0
         return cls(F[0], E, L, theta0, d / L, a / L, alpha)
 
-    def perturbed(self):
-        """The same robot with every scaled DH parameter moved by ~PERTURB (seeded)."""
+    def perturbed(self, size):
+        """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded)."""
         rng = np.random.default_rng(20240611)
-        dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * PERTURB
+        dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * size
         m = _Model(self.B, self.E, self.L, self.offset, self.d + dd, self.a + da,
                    self.alpha + dal)
         return m
@@ -289,7 +330,7 @@ class _Model:
         S = S / scale[None, :, None]
 
         best = None
-        for delta in _SHIFTS:
+        for delta in _DELTAS:
             cd, sd = np.cos(delta), np.sin(delta)
             Sc = S[1] * cd + S[2] * sd
             Ss = S[2] * cd - S[1] * sd
@@ -319,9 +360,12 @@ class _Model:
         keep = np.isfinite(phi) & (np.abs(phi.imag) < IMAG_TOL)
         if not np.any(keep):
             return np.zeros((0, 6))
-        y, vecs, th3 = y[keep], vecs[:, keep], phi[keep].real + delta
+        y, vecs, phi = y[keep], vecs[:, keep], phi[keep]
         big = np.abs(y) > 1.0
         v = np.where(big[None, :], vecs[12:], vecs[:12])  # (12, m)
+        v = v / np.linalg.norm(v, axis=0)
+        v, phi = _split_clusters(v, phi, (Cm, Bm, Am))
+        th3 = phi.real + delta
         idx = np.argmax(np.abs(v), axis=0)
         v = (v / v[idx, np.arange(v.shape[1])]).real.T.reshape(-1, 4, 3)   # (m, j4, j5)
         th4 = _ratio_angle(v, axis=1)
@@ -345,6 +389,96 @@ class _Model:
         th6 = np.arctan2(R6[:, 1, 0], R6[:, 0, 0])
         th = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
         return _wrap(th - self.offset)
+
+
+# index sets of the monomials x4^j x5^k (flattened j * 3 + k) for the shift operators
+_J4, _J5 = np.divmod(np.arange(12), 3)
+_LO4, _HI4 = np.flatnonzero(_J4 < 3), np.flatnonzero(_J4 > 0)
+_LO5, _HI5 = np.flatnonzero(_J5 < 2), np.flatnonzero(_J5 > 0)
+_TAU = np.tan(0.3)
+
+
+def _split_clusters(v, phi, mats):
+    """Better vectors for clustered eigenvalues: returns new ``(v, phi)``.
+
+    Solutions that share the pivot angle (e.g. the two wrist flips of a
+    spherical wrist when the pivot is an arm joint) give a multiple
+    eigenvalue, often defective in the companion form: it splits by up to
+    ~sqrt(eps) and eig's vectors are arbitrary mixtures, or nearly parallel.
+    The mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so
+    each cluster of m eigenvalues (real parts of the angles within
+    CLUSTER_TOL; this includes a conjugate pair with a small imaginary part,
+    which is how a near-double real root often comes out) gets the mean
+    angle and, as its space, the m smallest right singular vectors ``N`` of
+    ``Sigma`` there. In that space the true vectors ``v = N c`` are those of
+    monomials, so ``c`` is a common eigenvector of the shift operators
+    "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply by x5"; these
+    m x m operators come from least squares on the Moebius-shifted form
+    ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a
+    fixed combination of the two is diagonalised. The cluster's own
+    eigenvectors compete (they are right when its eigenvalues are distinct
+    roots that merely lie close): of the 2m vectors, those within 1e-3 of a
+    monomial vector are kept, and at least the m closest.
+    """
+    m = len(phi)
+    if m < 2:
+        return v, phi
+    order = np.argsort(phi.real)
+    groups, cur = [], [order[0]]
+    for a, b in zip(order[:-1], order[1:]):
+        if abs(phi[b].real - phi[a].real) < CLUSTER_TOL:
+            cur.append(b)
+        else:
+            groups.append(cur)
+            cur = [b]
+    groups.append(cur)
+    Cm, Bm, Am = mats
+    new_v, new_phi, drop = [], [], []
+    for grp in groups:
+        k = len(grp)
+        if k < 2:
+            continue
+        mean = float(np.mean(phi[grp].real))
+        y = np.tan(mean / 2.0)
+        if abs(y) <= 1.0:
+            S = (Am * y + Bm) * y + Cm
+        else:
+            w = 1.0 / y
+            S = Am + (Bm + Cm * w) * w
+        N = np.linalg.svd(S)[2][-k:].T                    # (12, k)
+        M = np.zeros((k, k))
+        for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
+            lhs = N[lo] + _TAU * N[hi]
+            rhs = N[hi] - _TAU * N[lo]
+            M += wgt * np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+        _, C = np.linalg.eig(M)
+        # of the 2k vectors (own, subspace) keep those close to monomial vectors (at least k)
+        both = np.concatenate([v[:, grp], N @ C], axis=1)
+        both_phi = np.concatenate([phi[grp], np.full(k, mean)])
+        res = _structure_residual(both)
+        keep = (res < 1e-3) | (np.argsort(np.argsort(res, kind="stable")) < k)
+        new_v.append(both[:, keep])
+        new_phi.append(both_phi[keep])
+        drop.extend(grp)
+    rest = np.setdiff1d(np.arange(m), drop)
+    return (np.concatenate([v[:, rest]] + new_v, axis=1),
+            np.concatenate([phi[rest]] + new_phi))
+
+
+def _structure_residual(V):
+    """Sine of the angle between each column of ``V (12, n)`` and the nearest monomial vector."""
+    idx = np.argmax(np.abs(V), axis=0)
+    R = (V / V[idx, np.arange(V.shape[1])]).real
+    Rm = R.T.reshape(-1, 4, 3)
+    h4 = _ratio_angle(Rm, axis=1) / 2.0
+    h5 = _ratio_angle(Rm, axis=2) / 2.0
+    # x4^j x5^k times cos^3(h4) cos^2(h5): bounded also at x = infinity
+    m4 = np.stack([np.cos(h4) ** (3 - j) * np.sin(h4) ** j for j in range(4)], axis=-1)
+    m5 = np.stack([np.cos(h5) ** (2 - j) * np.sin(h5) ** j for j in range(3)], axis=-1)
+    W = (m4[:, :, None] * m5[:, None, :]).reshape(-1, 12)
+    R = R.T
+    cos = np.abs(np.sum(R * W, axis=1)) / (np.linalg.norm(R, axis=1) * np.linalg.norm(W, axis=1))
+    return np.sqrt(np.maximum(0.0, 1.0 - cos * cos))
 
 
 def _ratio_angle(v, axis):
@@ -372,20 +506,47 @@ class _Robot6R:
         self.L = float(robot.characteristic_length)
         self.model = _Model.from_lines(self.dirs, self.pts, self.T0, self.L)
         self._perturbed = None
-        # Probe each pivot (cyclic shift) on a seeded reachable pose; non-degenerate ones first.
-        q = np.random.default_rng(6).uniform(-np.pi, np.pi, 6)
-        T = robot.fk(q)
-        ok = [k for k in range(6) if self.candidates(T, k) is not None]
-        self.shifts = ok + [k for k in range(6) if k not in ok]
+        self.shifts = self._rank_shifts(robot)
+
+    def _rank_shifts(self, robot):
+        """Pivot choices (cyclic shifts) ordered by the raw accuracy they reach on probe poses.
+
+        The probe poses are FK of seeded random configurations; a shift's score is
+        its worst distance from the generating configuration to the nearest raw
+        (unpolished) candidate. Shift 0 (pivot joint 3, the per-robot precomputed
+        form) is kept first when it recovers every probe to 1e-8 rad. Otherwise
+        shifts accurate to 1e-8 come first, fewest candidates first, then the
+        rest by accuracy.
+        """
+        qs = np.random.default_rng(6).uniform(-np.pi, np.pi, (3, 6))
+        Ts = robot.fk(qs)
+        keys = []
+        for k in range(6):
+            worst, count = 0.0, 0
+            for q, T in zip(qs, Ts):
+                c = self.candidates(T, k)
+                if c is None or len(c) == 0:
+                    worst = np.inf
+                    break
+                worst = max(worst, float(np.min(np.max(np.abs(_wrap(c - q)), axis=1))))
+                count += len(c)
+            if k == 0 and worst < 1e-8:
+                return list(range(6))
+            # accurate shifts first, among them the one with fewer candidates (less Newton work)
+            keys.append((worst >= 1e-8, worst if worst >= 1e-8 else count, k))
+        return [k for *_, k in sorted(keys)]
 
     @property
     def perturbed(self):
+        """Nearby generic models (one per PERTURB size), built on first use."""
         if self._perturbed is None:
-            self._perturbed = self.model.perturbed()
+            self._perturbed = [self.model.perturbed(size) for size in PERTURB]
         return self._perturbed
 
     def candidates(self, T, shift):
-        """Candidates ``(m, 6)`` (original joint order) with joint ``shift + 3`` as pivot, or None.
+        """Candidates ``(m, 6)`` (original joint order), or None if degenerate.
+
+        The pivot is joint ``(shift + 2) % 6 + 1`` (1-based): 3 for shift 0, 2 for shift 5.
 
         ``A_1 ... A_6 = T'`` is rotated into ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I``:
         a 6R chain whose joints are k+1..6, 1..k, with the pose folded into the
@@ -432,7 +593,10 @@ def _polish(robot, T, Q, L, iters=_NEWTON_ITERS):
     """Damped Newton on ``fk(q) = T``; returns ``(q, residual)``.
 
     A candidate stops when its residual is at rounding level (below 1e-13, or
-    below ACCEPT_TOL / 100 and no longer halving) or after ``iters`` steps.
+    below ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or
+    when it is still far after a few (``_GIVE_UP``: spurious candidates from
+    complex eigenvalues; the few that would wander into a solution after many
+    steps only find one that a good candidate already gave).
     """
     chain = robot.chain
     Q = np.array(Q, dtype=float)
@@ -445,6 +609,7 @@ def _polish(robot, T, Q, L, iters=_NEWTON_ITERS):
         prev = res[idx]
         res[idx] = r
         go = (r >= 1e-13) & ~((r < 1e-2 * ACCEPT_TOL) & (r > 0.5 * prev))
+        go &= r < _GIVE_UP.get(it, np.inf)
         if it == iters or not np.any(go):
             break
         idx, J, e = idx[go], J[go], e[go]
@@ -493,7 +658,8 @@ def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
         if cand is not None:
             break
     if cand is None:
-        cand = data.perturbed.candidates(T)
+        found = [c for c in (m.candidates(T) for m in data.perturbed) if c is not None]
+        cand = np.concatenate(found) if found else None
         if cand is None:
             raise ValueError("the elimination degenerates for this robot and pose, "
                              "even after a generic perturbation")
