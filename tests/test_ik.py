@@ -267,3 +267,11 @@ def test_zagreb_tool_configuration_vector_target():
     # and the +-q2 branch the homework writes (with q1 + 180 deg) is there too
     assert any(abs(wrap(s.q[0] - q[0] - np.pi)) < 1e-9 and abs(s.q[1] + q[1]) < 1e-9
                for s in res.solutions)
+
+
+def test_general_6r_through_the_dispatcher():
+    r = load_robot("manocha_canny_6r")
+    res = r.ik(r.fk(r.home))
+    assert res.family == "general-6r" and len(res.solutions) == 16
+    assert len({s.branch for s in res.solutions}) == 16
+    assert any(close(s.q, r.home, r) for s in res.solutions)

@@ -312,7 +312,10 @@ def solve_point_plus_roll(S, T, explain=False):
 
 def solve_general_6r(S, T, explain=False, robot=None):
     from .general6r import solve_general_6r as solver
-    return [Candidate(q=q) for q in solver(robot, T)]
+    qs = sorted(solver(robot, T), key=lambda q: (q[2], q[0]))
+    # no +/- structure to name: label the roots of the eliminated joint (3) in order
+    return [Candidate(q=q, signs={2: f"root {k + 1}"} if len(qs) > 1 else {})
+            for k, q in enumerate(qs)]
 
 
 SOLVERS = {
