@@ -19,8 +19,6 @@ from __future__ import annotations
 import numpy as np
 
 from .fk import CHUNK, _as_batch, _walk
-from .spatial import (matrix_from_euler_xyz, matrix_from_euler_zyz,
-                      matrix_from_rpy)
 
 
 def _jacobian_and_pose(chain, q):
@@ -90,8 +88,6 @@ ANGLE_SETS = {
     "xyz": ("xyz", (0, 1, 2)),
 }
 
-_FROM_ANGLES = {"rpy": matrix_from_rpy, "zyz": matrix_from_euler_zyz,
-                "xyz": matrix_from_euler_xyz}
 _UNIT = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([0, 0, 1.0])}
 
 

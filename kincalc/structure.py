@@ -77,10 +77,8 @@ def common_point(points, dirs, tol: float) -> np.ndarray | None:
 class Wrist:
     """A spherical wrist: the last three joints, revolute, with axes meeting at a point.
 
-    ``first`` is the 0-based index of the wrist's first joint; ``centre_in_link``
-    is the wrist centre in the frame of link ``first - 1`` is not needed here,
-    so only the joint index is kept; the centre at a configuration comes from
-    :func:`wrist_centre`.
+    ``first`` is the 0-based index of the wrist's first joint; the centre at a
+    configuration comes from :func:`wrist_centre`.
     """
 
     first: int

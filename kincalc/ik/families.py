@@ -74,7 +74,6 @@ def _moves_along(S: Screws, idx, h) -> bool:
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
     """The family of ``robot`` (or None) and a sentence saying why."""
     n, rev = S.n, S.revolute
-    tol = 1e-9 * max(S.scale, 1.0)
     if n == 6 and rev[3:].all():
         c = common_point(S.point[3:], S.axis[3:], 1e-7 * max(S.scale, 1.0))
         if c is not None:
