@@ -62,6 +62,11 @@ def eaik_solver(robot):
         return None
     er = DhRobot(np.array([j.alpha for j in robot.joints]), np.array([j.a for j in robot.joints]),
                  np.array([j.d for j in robot.joints]))
+    try:
+        er.IK(np.eye(4))
+    except RuntimeError as exc:   # EAIK has no solver for this structure (e.g. general 6R)
+        print(f"  eaik refuses {robot.name}: {exc}")
+        return None
 
     def solve(T):
         s = er.IK(T)
