@@ -222,6 +222,16 @@ class Robot:
         from .ik import Target, solve
         return solve(self, Target(np.asarray(T, float), orientation), **options)
 
+    def ik_batch(self, T):
+        """Every IK solution for each pose of ``T (N, 4, 4)``, vectorised over poses.
+
+        Returns :class:`~kincalc.ik.batch.BatchIK` with ``q (N, K, n)`` and the
+        mask ``valid (N, K)``; for the closed-form families (see
+        :mod:`kincalc.ik.batch`), otherwise raises ``UnsupportedRobot``.
+        """
+        from .ik.batch import solve_batch
+        return solve_batch(self, T)
+
     def link_transforms(self, q) -> np.ndarray:
         """The convention's link transforms ``T_{i-1}^i``, shape ``(..., n, 4, 4)``.
 
