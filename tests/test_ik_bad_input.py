@@ -1,0 +1,35 @@
+"""Bad IK and selftest command lines: one line on stderr, exit 2, nothing on stdout."""
+
+import pytest
+
+from kincalc.cli.main import main
+
+CASES = [
+    (["ik", "puma560", "--xyz", "0.5", "0", "0.3", "--quat", "0", "0", "0", "0"], "zero quaternion"),
+    (["ik", "puma560", "--xyz", "0.5", "0", "0.3", "--matrix", *"1 0 0 0 1 0 0 0 2".split()],
+     "not a rotation matrix"),
+    (["ik", "puma560", "--pose", "/nonexistent/pose.txt"], "cannot read"),
+    (["ik", "puma560", "--xyz", "0.5", "0", "0.3"], "give an orientation too"),
+    (["ik", "puma560", "--xyz", "0.5", "0", "0.3", "--rpy", "0", "0", "0", "--quat", "1", "0", "0", "0"],
+     "at most one orientation"),
+    (["ik", "iiwa7", "--xyz", "0.5", "0", "0.3", "--rpy", "0", "0", "0"], "no analytic solver"),
+    (["ik", "puma560", "--from-q", "1 2"], "has 6 joints"),
+    (["ik", "puma560", "--tcv", "1", "2", "3", "0", "0", "1"], "--tcv targets need"),
+    (["ik", "puma560", "--from-q", "0 0 0 0 0 0", "--xyz", "1", "0", "0"], "whole pose"),
+    (["ik", "puma560", "--rpy", "0", "0", "0"], "--xyz"),
+    (["ik", "bk_rr", "--xyz", "1", "2"], "requires 3 arguments"),
+    (["selftest", "iiwa7"], "no analytic solver"),
+    (["selftest", "bk_rr", "--seed", "-1"], "--seed"),
+    (["selftest", "bk_rr", "--trials", "0"], "--trials"),
+]
+
+
+@pytest.mark.parametrize("argv,fragment", CASES, ids=[" ".join(c[0][:4]) + f" #{i}" for i, c in enumerate(CASES)])
+def test_bad_ik_input(argv, fragment, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code == 2
+    assert out == ""
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in err
+    assert fragment in lines[0]
