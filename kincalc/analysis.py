@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .spatial import cross  # noqa: E402
+from .spatial import cross
 
 from .errors import InputError
 from .results import FKResult, JacobianResult, Singularity, Units

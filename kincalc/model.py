@@ -176,7 +176,6 @@ class Robot:
         when either rank drops below these. Taken as the largest rank over a
         few seeded random configurations within the limits.
         """
-        from .fk import chain_frames  # noqa: F401  (keeps import order lazy)
         from .tolerances import SINGULAR_TOL
         rng = np.random.default_rng(12345)
         lo, hi = self.limits.T

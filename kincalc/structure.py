@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .spatial import cross  # noqa: E402
+from .spatial import cross
 
 from .tolerances import GEOMETRY_TOL
 

@@ -290,7 +290,6 @@ def _polish(S, joints, p0, PT, X, ok, iters: int = 3):
 
 def _spherical_wrist(S: Screws, T):
     from ..structure import common_point
-    N = T.shape[0]
     c0 = common_point(S.point[3:], S.axis[3:], np.inf)
     Minv = S.inverse_M()
     c_tool = Minv[:3, :3] @ c0 + Minv[:3, 3]

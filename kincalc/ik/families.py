@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 from ..subproblems import sp1
 from .screws import Screws, wrap
@@ -188,7 +188,6 @@ def _poly_roots(xs, values, span) -> np.ndarray:
 
 def _solve_b(alpha, beta, gamma, revolute_b, dep, scale):
     """Candidate x_b values (with a sign label) from the coefficients at one x_c."""
-    out = []
     if revolute_b:
         if dep[0] and dep[1]:
             D = beta[0] * gamma[1] - beta[1] * gamma[0]

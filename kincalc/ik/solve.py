@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 from ..errors import KincalcError, UsageError
 from ..spatial import rotation_error
@@ -279,7 +279,6 @@ def _solve_tcv(robot, S, target, units) -> IKResult:
                   f"solution's approach is off by {best[3] * units.a:.4g} {units.angle}")
     else:
         reason = _out_of_reach(robot, target.T, units)
-    T = np.array(target.T)
     return IKResult(robot=robot, target=target, family="tcv",
                     method=f"tool configuration vector: joint {n} from |w4..w6|, joints 1-{n - 1} "
                            "place the tool point, the approach vector r3 is checked",

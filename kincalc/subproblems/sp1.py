@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 
 def sp1(p1, p2, k, tol: float = 1e-9):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 
 def sp4(h, p, k, d, tol: float = 1e-12):

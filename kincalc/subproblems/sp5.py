@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 from ..tolerances import GEOMETRY_TOL
 from ._unit_pair import _wrap, solve_unit_pair

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross  # noqa: E402
+from ..spatial import cross
 
 from ..tolerances import GEOMETRY_TOL
 from ._unit_pair import solve_unit_pair
