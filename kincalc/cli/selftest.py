@@ -24,12 +24,11 @@ def selftest(
     wrong-solution rates, the solution counts and the time per pose.
     Exit status 1 if any solution was wrong or any generating configuration missed.
     """
-    from ..ik.families import classify
-    from ..ik.screws import Screws
+    from ..ik.families import plan
     from ..ik.selftest import run
     from ..results import SCHEMA_VERSION, Units, robot_summary
     rob = load_robot(robot)
-    fam, why = classify(rob, Screws.of(rob))
+    _, fam, why = plan(rob)
     if fam is None:
         from ..errors import InputError
         raise InputError(f"{rob.name}: {why}")

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..spatial import cross, matrix_from_axis_angle, rotation_error
-from .families import classify
+from ..spatial import cross, invert_transform, matrix_from_axis_angle, rotation_error
+from .families import plan
 from .position import _coefficients, _depends, _reference_point
 from .screws import Screws, wrap
 from .solve import ACCEPT_ORIENTATION, ACCEPT_POSITION, UnsupportedRobot
@@ -337,25 +337,8 @@ def _three_parallel(S: Screws, T):
     v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
     q234 = _sp1(np.broadcast_to(v, q6.shape + (3,)), _mv(R234, v), h)
     # E2 E3 E4 = E1^-1 T M^-1 E6^-1 E5^-1; the point of axis 4 lands at E2 E3 (p4)
-    E = np.zeros(q6.shape + (4, 4))
-    E[..., 3, 3] = 1
-
-    def expm(i, x):
-        R = _rot(S.axis[i], x)
-        M = np.zeros(np.shape(x) + (4, 4))
-        M[..., :3, :3] = R
-        M[..., :3, 3] = S.point[i] - _mv(R, S.point[i])
-        M[..., 3, 3] = 1
-        return M
-
-    def inv(M):
-        out = np.zeros_like(M)
-        Rt = np.swapaxes(M[..., :3, :3], -1, -2)
-        out[..., :3, :3] = Rt
-        out[..., :3, 3] = -_mv(Rt, M[..., :3, 3])
-        out[..., 3, 3] = 1
-        return out
-    Trest = inv(expm(0, q1))[:, :, None] @ (T[:, None, None] @ Minv) @ inv(expm(5, q6)) @ inv(expm(4, t5))
+    Trest = invert_transform(S.exp(0, q1))[:, :, None] @ (T[:, None, None] @ Minv) @ \
+        invert_transform(S.exp(5, q6)) @ invert_transform(S.exp(4, t5))
     p4t = _mv(Trest[..., :3, :3], S.point[3]) + Trest[..., :3, 3]          # (N, 2, 2, 3)
     N = len(T)
     X, okx = _place_point(S, [1, 2], S.point[3], p4t.reshape(-1, 3))      # (N*4, K, 2)
@@ -385,8 +368,7 @@ def solve_batch(robot, T) -> BatchIK:
     T = np.asarray(T, float)
     if T.ndim == 2:
         T = T[None]
-    S = Screws.of(robot)
-    family, why = classify(robot, S)
+    S, family, why = plan(robot)
     if family is None or family.name not in SOLVERS:
         raise UnsupportedRobot(f"{robot.name}: batched IK supports the "
                                f"{' and '.join(SOLVERS)} families, not "

@@ -34,10 +34,12 @@ Families (recognised from geometry, never from names):
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
 from ..spatial import cross
+from ..spatial import matrix_from_axis_angle as _rot
 
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
@@ -64,6 +66,14 @@ class Family:
 
 def _parallel(a, b, tol=1e-9) -> bool:
     return float(np.linalg.norm(cross(a, b))) < tol
+
+
+@lru_cache(maxsize=64)
+def plan(robot) -> tuple[Screws, Family | None, str]:
+    """``(screws, family, why)`` of ``robot``: geometry facts, computed once per robot."""
+    S = Screws.of(robot)
+    family, why = classify(robot, S)
+    return S, family, why
 
 
 def _moves_along(S: Screws, idx, h) -> bool:
@@ -170,11 +180,6 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
                 (f"joint {idx[2] + 1} by subproblem 1", float(t3), "angle")]
         out.append(cand)
     return out
-
-
-def _rot(k, t):
-    from ..spatial import matrix_from_axis_angle
-    return matrix_from_axis_angle(k, t)
 
 
 def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:

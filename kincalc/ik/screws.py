@@ -35,15 +35,18 @@ class Screws:
     def n(self) -> int:
         return len(self.revolute)
 
-    def exp(self, i: int, x: float) -> np.ndarray:
-        """``E_i(x)`` as a 4x4 transform."""
-        T = np.eye(4)
+    def exp(self, i: int, x) -> np.ndarray:
+        """``E_i(x)`` as transforms ``(..., 4, 4)`` for ``x (...)``."""
+        x = np.asarray(x, float)
+        T = np.zeros(x.shape + (4, 4))
+        T[..., 3, 3] = 1.0
         if self.revolute[i]:
             R = matrix_from_axis_angle(self.axis[i], x)
-            T[:3, :3] = R
-            T[:3, 3] = self.point[i] - R @ self.point[i]
+            T[..., :3, :3] = R
+            T[..., :3, 3] = self.point[i] - R @ self.point[i]
         else:
-            T[:3, 3] = self.axis[i] * x
+            T[..., :3, :3] = np.eye(3)
+            T[..., :3, 3] = x[..., None] * self.axis[i]
         return T
 
     def product(self, idx, xs) -> np.ndarray:

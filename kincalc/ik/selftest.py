@@ -28,10 +28,9 @@ def sample_configurations(robot, n: int, rng) -> np.ndarray:
 
 def run(robot, trials: int = 1000, seed: int = 0) -> dict:
     """Run ``trials`` round trips; return the metrics as a plain dict."""
-    from .families import classify
-    from .screws import Screws
+    from .families import plan
     from .solve import Target, solve
-    family, _ = classify(robot, Screws.of(robot))
+    _, family, _ = plan(robot)
     # give the orientation only where the robot controls it (otherwise a position
     # target has the family's full solution set, as in the textbooks)
     orientation = family is None or family.needs_orientation

@@ -30,7 +30,7 @@ from ..spatial import cross
 
 from ..errors import KincalcError, UsageError
 from ..spatial import rotation_error
-from .families import SOLVERS, classify
+from .families import SOLVERS, plan
 from .screws import Screws, wrap
 
 #: a solution is accepted when its FK misses the target by at most this much
@@ -164,10 +164,9 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`."""
     from ..results import Units
     units = units or Units(length=robot.length_unit)
-    S = Screws.of(robot)
+    S, family, why = plan(robot)
     if target.tcv is not None:
         return _solve_tcv(robot, S, target, units)
-    family, why = classify(robot, S)
     if family is None:
         raise UnsupportedRobot(f"{robot.name}: {why}; kincalc cannot solve its inverse "
                                "kinematics analytically")
@@ -207,11 +206,8 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     singular = _singular_mask(robot, np.array([a[0] for a in accepted]).reshape(-1, robot.dof))
 
     sols = []
-    lo, hi = robot.limits.T
     for (q, c, branch, pe, oe), sing in zip(accepted, singular):
-        viol = [(i, float(lo[i] - q[i]), "lower") for i in range(robot.dof) if q[i] < lo[i] - 1e-12] + \
-               [(i, float(q[i] - hi[i]), "upper") for i in range(robot.dof) if q[i] > hi[i] + 1e-12]
-        viol.sort()
+        viol = _violations(robot, q)
         desc = _singularity(robot, q)[1] if sing else None
         if c.free:
             sing = True
@@ -262,17 +258,14 @@ def _solve_tcv(robot, S, target, units) -> IKResult:
         if pe > ACCEPT_POSITION * scale or ae > 1e-7:
             rejected.append((q, branch, pe, ae))
             continue
-        lo, hi = robot.limits.T
-        viol = [(i, float(lo[i] - q[i]), "lower") for i in range(n) if q[i] < lo[i] - 1e-12] + \
-               [(i, float(q[i] - hi[i]), "upper") for i in range(n) if q[i] > hi[i] + 1e-12]
+        viol = _violations(robot, q)
         sing, desc = _singularity(robot, q)
         sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=ae,
                                within_limits=not viol, violations=viol, singular=sing,
                                singularity=desc))
     reachable = any(s.within_limits for s in sols)
     if sols:
-        reason = f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, " \
-                 f"{sum(s.within_limits for s in sols)} within the joint limits"
+        reason = _count_text(sols)
     elif rejected:
         best = min(rejected, key=lambda r: r[3])
         reason = (f"the position is reachable but the approach vector is not: the best "
@@ -284,6 +277,18 @@ def _solve_tcv(robot, S, target, units) -> IKResult:
                            "place the tool point, the approach vector r3 is checked",
                     controls="position, approach and roll", solutions=sols,
                     reachable=reachable, reason=reason, units=units)
+
+
+def _violations(robot, q) -> list:
+    """``(joint index, amount beyond the limit, 'lower'|'upper')`` for each violated limit."""
+    lo, hi = robot.limits.T
+    return sorted([(i, float(lo[i] - q[i]), "lower") for i in range(robot.dof) if q[i] < lo[i] - 1e-12] +
+                  [(i, float(q[i] - hi[i]), "upper") for i in range(robot.dof) if q[i] > hi[i] + 1e-12])
+
+
+def _count_text(sols) -> str:
+    n_in = sum(s.within_limits for s in sols)
+    return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
 
 
 def _normalise(robot, q):
@@ -353,8 +358,7 @@ def _miss_reason(pe, oe, units):
 
 def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
     if any(s.within_limits for s in sols):
-        n_in = sum(s.within_limits for s in sols)
-        return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
+        return _count_text(sols)
     if sols:
         worst = {}
         for s in sols:

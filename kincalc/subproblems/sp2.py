@@ -11,14 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import matrix_from_axis_angle as _rot
 from .sp1 import sp1
 from .sp4 import sp4
-
-
-def _rot(k, t):
-    k = np.asarray(k, float)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * K @ K
 
 
 def sp2(p1, p2, k1, k2, tol: float = 1e-9):
