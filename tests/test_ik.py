@@ -275,3 +275,83 @@ def test_general_6r_through_the_dispatcher():
     assert res.family == "general-6r" and len(res.solutions) == 16
     assert len({s.branch for s in res.solutions}) == 16
     assert any(close(s.q, r.home, r) for s in res.solutions)
+
+
+# --- the same families with the chain reversed (a spherical wrist at the base, ...) -----
+
+def test_reversed_screws_give_the_inverse_pose():
+    """Screws.reversed: T'(-q[::-1]) must be T(q)^-1 (a second formulation of FK)."""
+    rng = np.random.default_rng(11)
+    for _ in range(5):
+        r = random_family_robot(rng, "spherical-wrist")
+        S, R = Screws.of(r), Screws.of(r).reversed()
+        for q in sample_configurations(r, 20, rng):
+            qr = -q[::-1]
+            Tr = R.product(range(6), qr) @ R.M
+            assert np.allclose(Tr @ r.fk(q), np.eye(4), atol=1e-12)
+
+
+def wrist_first_robot(rng):
+    """Axes 1, 2, 3 concurrent (a1 = a2 = d2 = 0), joints 4-6 any type and geometry."""
+    ang = lambda: rng.uniform(0.3, 2.8) * rng.choice([-1, 1])  # noqa: E731
+    rest = [(rng.choice(["revolute", "prismatic"], p=[0.7, 0.3]), ang(), u(rng), u(rng))
+            for _ in range(3)]
+    return dh(rng, [("revolute", ang(), 0.0, u(rng)), ("revolute", ang(), 0.0, 0.0),
+                    ("revolute", ang(), u(rng), u(rng))] + rest)
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_spherical_wrist_at_the_base(convention):
+    rng = np.random.default_rng({"dh": 1, "mdh": 2, "poe": 3}[convention])
+    trials = hits = 0
+    for _ in range(8):
+        r = wrist_first_robot(rng)
+        r = {"dh": r, "mdh": dh_to_mdh(r), "poe": to_poe(r)}[convention]
+        fam, _ = classify(r, Screws.of(r))
+        assert fam is not None and fam.name == "reversed-spherical-wrist", fam
+        for q in sample_configurations(r, 40, rng):
+            T = r.fk(q)
+            res = solve(r, Target(T))
+            for s in res.solutions:
+                assert np.allclose(r.fk(s.q), T, atol=1e-9 * max(1.0, r.characteristic_length))
+            trials += 1
+            hits += any(close(s.q, q, r, 1e-6 * max(1.0, r.characteristic_length))
+                        for s in res.solutions)
+    assert hits / trials >= 0.995, (hits, trials)
+
+
+def test_reversed_ur_arm_and_batch():
+    """A UR arm mounted tool-first (axes 1, 2 meet, 3, 4, 5 parallel) gets its 8 solutions,
+    by robot.ik and by robot.ik_batch alike."""
+    from kincalc.model import Joint, Robot
+    ur = load_robot("ur5")
+    R = Screws.of(ur).reversed()
+    joints = tuple(Joint(f"j{i + 1}", "revolute", axis=tuple(R.axis[i]), point=tuple(R.point[i]),
+                         limits=(-2 * np.pi, 2 * np.pi)) for i in range(6))
+    r = Robot("ur5_reversed", "poe", joints, tool=R.M)
+    fam, _ = classify(r, Screws.of(r))
+    assert fam.name == "reversed-three-parallel"
+    Q = sample_configurations(r, 50, np.random.default_rng(4))
+    counts = []
+    for q in Q:
+        res = r.ik(r.fk(q))
+        counts.append(len(res.solutions))
+        assert any(close(s.q, q, r) for s in res.solutions)
+    assert max(counts) == 8
+    batch = r.ik_batch(r.fk(Q))
+    assert list(batch.valid.sum(1)) == counts
+
+
+def test_wrist_continuum_value_is_the_solutions_own():
+    """At q5 = 0 the PUMA's axes 4 and 6 line up: the reported relation must hold for the
+    returned solutions (q4 + q6 or q4 - q6, whichever the axes' directions give)."""
+    r = load_robot("puma560")
+    for q5 in (0.0, np.pi):
+        q = D([10, -30, 150, 25, 0, 35])
+        q[4] = q5
+        res = r.ik(r.fk(q))
+        for s in res.solutions:
+            if s.continuum is None:
+                continue
+            c = s.continuum
+            assert abs(wrap(s.q[c.i] + c.sign * s.q[c.j] - c.total)) < 1e-9

@@ -50,9 +50,12 @@ def display_units(robot, deg: bool, unit: str | None):
     return Units(angle="deg" if deg else "rad", length=unit or robot.length_unit)
 
 
-def parse_joints(tokens: list[str] | None, robot, units):
-    """Joint values from the command line, converted to SI; home when none are given."""
+def parse_joints(tokens: list[str] | None, robot, units, option: str | None = None):
+    """Joint values from the command line, converted to SI; home when none are given.
+
+    ``option`` names the option the values came with, for error messages."""
     import numpy as np
+    where = f"{option}: " if option else ""
     if not tokens:
         return np.array(robot.home, dtype=float)
     values = []
@@ -63,14 +66,14 @@ def parse_joints(tokens: list[str] | None, robot, units):
             if tok.startswith("-"):
                 raise UsageError(f"no such option: {tok}{_suggest_option(tok)}"
                                  f" (see '{_command_path()} --help')") from None
-            raise InputError(f"joint value {tok!r} is not a number") from None
+            raise InputError(f"{where}joint value {tok!r} is not a number") from None
     if len(values) != robot.dof:
-        raise InputError(f"{robot.name} has {robot.dof} joints "
+        raise InputError(f"{where}{robot.name} has {robot.dof} joints "
                          f"({', '.join(j.name for j in robot.joints)}), "
                          f"got {len(values)} joint value{'s' if len(values) != 1 else ''}")
     q = np.array(values)
     if not np.all(np.isfinite(q)):
-        raise InputError("joint values must be finite numbers")
+        raise InputError(f"{where}joint values must be finite numbers")
     return q / np.where(robot.is_revolute, units.a, units.l)
 
 

@@ -49,6 +49,14 @@ FromQOpt = Annotated[Optional[str], typer.Option(
 AllBranchesOpt = Annotated[bool, typer.Option(
     "--all-branches", help="Also list the branch combinations that do not reach the target, "
                            "and why.")]
+NearOpt = Annotated[Optional[str], typer.Option(
+    "--near", metavar="'Q1 Q2 ...'", show_default=False,
+    help="The current joints (one quoted argument): solutions are ordered by their change "
+         "from them, and the numerical solver starts there.")]
+NumericOpt = Annotated[bool, typer.Option(
+    "--numeric", help="Find the one solution nearest --near numerically (Levenberg-Marquardt, "
+                      "then least change), even when a closed form exists. Robots no closed "
+                      "form covers (7 or more joints, ...) are solved this way anyway.")]
 ExplainOpt = Annotated[bool, typer.Option(
     "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
 
@@ -67,6 +75,8 @@ def ik(
     from_q: FromQOpt = None,
     all_branches: AllBranchesOpt = False,
     explain: ExplainOpt = False,
+    near: NearOpt = None,
+    numeric: NumericOpt = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -90,7 +100,12 @@ def ik(
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, tcv=tcv, pose=pose, from_q=from_q)
-    result = solve(rob, target, all_branches=all_branches, explain=explain, units=units)
+    q_near = None
+    if near is not None:
+        from .common import parse_joints
+        q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
+    result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
+                   near=q_near, numeric=numeric)
     output(result.to_dict(), json, _tables, rob, precision, explain)
     if not result.reachable:
         raise typer.Exit(1)
@@ -118,7 +133,7 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     Lf = 1.0 / units.l  # m per display length unit
     if from_q is not None:
         from .common import parse_joints
-        q = parse_joints(from_q.replace(",", " ").split(), robot, units)
+        q = parse_joints(from_q.replace(",", " ").split(), robot, units, option="--from-q")
         return Target(robot.fk(q), orientation=True)
     if pose is not None:
         T = _read_pose(pose)
@@ -246,6 +261,9 @@ def _tables(doc, robot, precision, explain):
             if s["violations"]:
                 text += "; out of limits: " + ", ".join(
                     f"{v['joint']} by {num(v['by'], 2)} ({v['side']})" for v in s["violations"])
+            if s.get("change_from_near") is not None:
+                text += "; change from --near: " + " ".join(
+                    num(v, 2) for v in s["change_from_near"])
             if s["singular"] and s["singularity"]:
                 text += f"; {s['singularity']}" + (f"; {s['continuum']}" if s.get("continuum") else "")
             rows.append((str(k), text))

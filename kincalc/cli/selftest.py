@@ -29,20 +29,20 @@ def selftest(
     from ..results import SCHEMA_VERSION, Units, robot_summary
     rob = load_robot(robot)
     _, fam, why = plan(rob)
-    if fam is None:
-        from ..errors import InputError
-        raise InputError(f"{rob.name}: {why}")
+    name, description = (fam.name, fam.description) if fam else (
+        "numerical", f"one solution nearest home ({why})")
     m = run(rob, trials, seed)
+    m.pop("method")
     doc = {"kincalc": SCHEMA_VERSION, "command": "selftest", "robot": robot_summary(rob),
            "units": Units(length=rob.length_unit).to_dict(),
-           "method": {"family": fam.name, "description": fam.description}, **m}
+           "method": {"family": name, "description": description}, **m}
     if json:
         from .render import emit_json
         emit_json(doc)
     else:
         from .render import console, kv_table
         console().print(kv_table([
-            ("robot", f"{rob.name} ({fam.name})"), ("trials", f"{m['trials']} (seed {seed})"),
+            ("robot", f"{rob.name} ({name})"), ("trials", f"{m['trials']} (seed {seed})"),
             ("success", f"{m['success_rate']:.2%}"), ("missing", f"{m['missing_rate']:.2%}"),
             ("no solution", f"{m['no_solution_rate']:.2%}"),
             ("wrong solutions", f"{m['wrong_solution_rate']:.2%}"),

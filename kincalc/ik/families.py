@@ -47,12 +47,38 @@ from .position import place_point
 from .screws import Screws
 
 
+@dataclass(frozen=True)
+class Continuum:
+    """At a singular target joints ``i`` and ``j`` (0-based) turn the tool about one
+    line: only ``q_i + sign q_j`` is fixed, to ``total`` (rad); ``total`` None when the
+    solver does not name the combination."""
+
+    i: int
+    j: int
+    sign: int
+    total: float | None = None
+
+    def reversed(self, n: int) -> "Continuum":
+        """The same relation for the original chain of a reversed one (joint k of the
+        reversed chain is joint n - 1 - k, turned the other way)."""
+        return Continuum(n - 1 - self.i, n - 1 - self.j, self.sign,
+                         None if self.total is None else -self.total)
+
+    def text(self, names, angle_unit: str, per_rad: float) -> str:
+        a, b = names[self.i], names[self.j]
+        if self.total is None:
+            return f"axes of {a} and {b} aligned: they turn the tool about one line"
+        from .screws import wrap
+        return (f"{a} {'+' if self.sign > 0 else '-'} {b} = "
+                f"{float(wrap(self.total)) * per_rad:.4f} {angle_unit}")
+
+
 @dataclass
 class Candidate:
     q: np.ndarray
     signs: dict = field(default_factory=dict)     # joint index -> '+' / '-' / 'root k'
     free: list = field(default_factory=list)      # joint indices undetermined (singular)
-    continuum: str | None = None                  # e.g. "q4 + q6 = 37.2 deg"
+    continuum: Continuum | None = None            # e.g. q4 + q6 = 37.2 deg
     trace: list = field(default_factory=list)     # (label, value, kind), SI
 
 
@@ -62,6 +88,9 @@ class Family:
     description: str
     controls: str          # which pose components the robot sets
     needs_orientation: bool
+    #: the solver (a key of SOLVERS); it runs on the reversed chain when ``reverse``
+    solver: str = ""
+    reverse: bool = False
 
 
 def _parallel(a, b, tol=1e-9) -> bool:
@@ -84,20 +113,43 @@ def _moves_along(S: Screws, idx, h) -> bool:
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
     """The family of ``robot`` (or None) and a sentence saying why."""
     n, rev = S.n, S.revolute
+    if n == 6:
+        fam = _classify_6(S)
+        if fam is None:
+            # the same structures seen from the tool: a spherical wrist at the base, ...
+            fam = _classify_6(S.reversed())
+            if fam is not None:
+                fam = Family(f"reversed-{fam.name}",
+                             fam.description + ", found on the chain reversed (the base "
+                             "seen from the tool: joint k of it is joint 7 - k)",
+                             fam.controls, fam.needs_orientation, fam.solver, True)
+        if fam is not None:
+            return fam, ""
+    if n == 6 and rev.all():
+        return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
+                                     "elimination (Raghavan-Roth, Manocha-Canny)",
+                       "position and orientation", True, "general-6r"), "")
+    return _classify_small(robot, S)
+
+
+def _classify_6(S: Screws) -> Family | None:
+    """The six-joint families with a closed form, or None."""
+    rev = S.revolute
+    n = S.n
     if n == 6 and rev[3:].all():
         c = common_point(S.point[3:], S.axis[3:], 1e-7 * max(S.scale, 1.0))
         if c is not None:
             return (Family("spherical-wrist",
                            "spherical wrist: axes 4, 5, 6 meet at one point; joints 1-3 place "
                            "the wrist centre, joints 4-6 set the orientation",
-                           "position and orientation", True), "")
+                           "position and orientation", True, "spherical-wrist"))
     if n == 6 and rev.all() and _parallel(S.axis[1], S.axis[2]) and _parallel(S.axis[2], S.axis[3]) \
             and not _parallel(S.axis[0], S.axis[1]) and not _parallel(S.axis[4], S.axis[1]):
         c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
         if c56 is not None:
             return (Family("three-parallel",
                            "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
-                           "position and orientation", True), "")
+                           "position and orientation", True, "three-parallel"))
     if n == 6 and rev[3:].all() and _moves_along(S, range(4), S.axis[3]) \
             and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
         c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
@@ -105,11 +157,13 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
             return (Family("parallel-four-wrist",
                            "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
                            "arm) and axes 5, 6 intersect (an offset wrist)",
-                           "position and orientation", True), "")
-    if n == 6 and rev.all():
-        return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
-                                     "elimination (Raghavan-Roth, Manocha-Canny)",
-                       "position and orientation", True), "")
+                           "position and orientation", True, "parallel-four-wrist"))
+    return None
+
+
+def _classify_small(robot, S: Screws) -> tuple[Family | None, str]:
+    """Families of fewer (or more) than six joints."""
+    n, rev = S.n, S.revolute
     pos_rank = robot.generic_ranks[1]
     if n == 3 and pos_rank == 3:
         return (Family("position-3", "three joints placing the tool point in space",
@@ -125,6 +179,9 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
         return (Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 "
                                           "from the orientation about its axis",
                        "position and rotation about axis 4", True), "")
+    if n > 6 or (n > 1 and pos_rank == 3 and robot.generic_ranks[0] < n):
+        return None, (f"redundant: {n} joints for {robot.generic_ranks[0]} independent pose "
+                      "components, so infinitely many solutions")
     why = (f"no analytic solver for this structure yet ({n} joints, "
            f"{''.join('R' if r else 'P' for r in rev)})")
     return None, why
@@ -167,11 +224,12 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
         if len(sols) == 2:
             cand.signs[idx[1]] = "+" if n_sol == 0 else "-"
         if free:
+            # axes idx[0] and idx[2] on one line: rotations add (or subtract, when the
+            # axes point opposite ways) and only that combination is fixed
             cand.free.append(idx[0])
             same = float(k1 @ (R12 @ k3)) > 0
-            total = t1 + t3 if same else t3 - t1
-            cand.continuum = (f"q{idx[0] + 1} {'+' if same else '-'} q{idx[2] + 1}"
-                              f" = {{{total!r}}}")
+            cand.continuum = Continuum(idx[0], idx[2], 1 if same else -1,
+                                       t1 + t3 if same else t1 - t3)
         if explain:
             cand.trace = [("wrist centre (target)", centre.tolist(), "length")] + list(ps.trace) + [
                 ("wrist: rotation left for joints 4-6, R_W", RW.tolist(), "none"),
@@ -224,7 +282,7 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
                                              4: "+" if i5 == 0 else "-", **ps.signs})
                 if free6:
                     cand.free.append(5)
-                    cand.continuum = "wrist singular: axes 4 and 6 aligned"
+                    cand.continuum = Continuum(3, 5, 1)
                 if explain:
                     cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist(), "length"),
                                   ("joint 1 by subproblem 4 (component along the parallel "

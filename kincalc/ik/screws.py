@@ -67,6 +67,20 @@ class Screws:
     def inverse_M(self) -> np.ndarray:
         return invert_transform(self.M)
 
+    def reversed(self) -> "Screws":
+        """The chain seen from the tool: ``T(q)^-1 = E'_1(-q_n) ... E'_n(-q_1) M^-1``.
+
+        With ``T = E_1(q_1) ... E_n(q_n) M``, inverting and moving ``M^-1`` to the
+        right gives ``E'_k(x) = M^-1 E_{n+1-k}(x) M``: joint k of the reversed chain
+        is joint n + 1 - k, its line carried by ``M^-1``, turned by minus the angle
+        (or slid by minus the length). Solve the reversed chain for ``T^-1`` and
+        map back with ``q = -q'[::-1]``.
+        """
+        Mi = self.inverse_M()
+        return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
+                      (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
+                      self.revolute[::-1].copy(), Mi, self.scale)
+
 
 def wrap(x):
     """Angles wrapped into (-pi, pi]."""

@@ -29,7 +29,7 @@ import numpy as np
 from ..spatial import cross
 
 from ..errors import KincalcError, UsageError
-from ..spatial import rotation_error
+from ..spatial import invert_transform, rotation_error
 from .families import SOLVERS, plan
 from .screws import Screws, wrap
 
@@ -74,8 +74,10 @@ class IKSolution:
     violations: list          # (joint index, amount beyond the limit, 'lower'|'upper'), SI
     singular: bool
     singularity: str | None
-    continuum: str | None = None
+    continuum: object = None      # families.Continuum: the relation left free at a singularity
     trace: list = field(default_factory=list)
+    #: change from the --near configuration (n,), rad / m, when one was given
+    change: np.ndarray | None = None
 
 
 @dataclass
@@ -91,6 +93,7 @@ class IKResult:
     rejected: list | None = None
     units: object = None
     note: str | None = None
+    near: np.ndarray | None = None
 
     def to_dict(self) -> dict:
         from ..results import _clean, _header
@@ -103,6 +106,7 @@ class IKResult:
             "method": {"family": self.family, "description": self.method,
                        "controls": self.controls},
             "count": len(self.solutions),
+            "near": None if self.near is None else u.joints(self.robot, self.near),
             "solutions": [self._sol(s) for s in self.solutions],
         })
         if self.rejected is not None:
@@ -132,8 +136,11 @@ class IKResult:
                            for i, amount, side in s.violations],
             "singular": s.singular,
             "singularity": s.singularity,
-            "continuum": _continuum_text(s.continuum, u),
+            "continuum": None if s.continuum is None else s.continuum.text(
+                names, u.angle, u.a),
         }
+        if s.change is not None:
+            d["change_from_near"] = u.joints(self.robot, s.change)
         if s.trace:
             d["trace"] = [{"step": k, "value": self._unit(v, kind)} for k, v, kind in s.trace]
         return d
@@ -150,35 +157,38 @@ class IKResult:
         return _clean(np.asarray(v, float) * (1.0 if f is None else f))
 
 
-def _continuum_text(text, units):
-    if text is None:
-        return None
-    # "{value!r}" placeholders hold radians: show them in the display unit
-    import re
-    return re.sub(r"\{([-0-9.e+]+)\}",
-                  lambda m: f"{float(wrap(float(m.group(1)))) * units.a:.4f} {units.angle}", text)
-
-
 def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
-          units=None) -> IKResult:
-    """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`."""
+          units=None, near=None, numeric: bool = False) -> IKResult:
+    """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`.
+
+    ``near (n,)`` (rad / m): the current joints; analytic solutions are then
+    ordered by their change from it, and the numerical solver starts there.
+    ``numeric=True`` (or a robot no analytic family covers) finds the one
+    solution nearest ``near`` numerically (:mod:`kincalc.ik.numeric`).
+    """
     from ..results import Units
     units = units or Units(length=robot.length_unit)
     S, family, why = plan(robot)
+    if near is not None:
+        near = np.asarray(near, float).reshape(robot.dof)
     if target.tcv is not None:
         return _solve_tcv(robot, S, target, units)
-    if family is None:
-        raise UnsupportedRobot(f"{robot.name}: {why}; kincalc cannot solve its inverse "
-                               "kinematics analytically")
+    if family is None or numeric:
+        return _solve_numerical(robot, target, near, units,
+                                why if family is None else "asked for with --numeric")
     if family.needs_orientation and not target.orientation:
         raise UsageError(f"{robot.name} controls {family.controls}: give an orientation too "
                          "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, --matrix, "
                          "--tcv, --pose or --from-q)")
     T = np.asarray(target.T, float)
+    solver = SOLVERS[family.solver or family.name]
     if family.name == "general-6r":
-        cands = SOLVERS[family.name](S, T, explain, robot=robot)
+        cands = solver(S, T, explain, robot=robot)
+    elif family.reverse:
+        cands = [_unreverse(c, robot.dof, explain)
+                 for c in solver(S.reversed(), invert_transform(T), explain)]
     else:
-        cands = SOLVERS[family.name](S, T, explain)
+        cands = solver(S, T, explain)
 
     scale = max(robot.characteristic_length, 1e-12)
     accepted, rejected = [], []
@@ -217,6 +227,11 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                                within_limits=not viol, violations=viol, singular=bool(sing),
                                singularity=desc, continuum=c.continuum, trace=c.trace))
     sols.sort(key=lambda s: (not s.within_limits, s.branch))
+    if near is not None:
+        for s_ in sols:
+            s_.q = _toward(robot, s_.q, near)
+            s_.change = _change(robot, s_.q, near)
+        sols.sort(key=lambda s_: (not s_.within_limits, _scaled_norm(robot, s_.change)))
 
     reachable = any(s.within_limits for s in sols)
     reason = _reason(robot, S, family, T, target, sols, rejected, units)
@@ -230,7 +245,102 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                 result_rejected.append(r)
     return IKResult(robot=robot, target=target, family=family.name, method=family.description,
                     controls=family.controls, solutions=sols, reachable=reachable,
-                    reason=reason, rejected=result_rejected, units=units, note=note)
+                    reason=reason, rejected=result_rejected, units=units, note=note, near=near)
+
+
+def _toward(robot, q, near):
+    """``q`` with each revolute joint moved by a multiple of 2 pi, inside its limits, to
+    the value nearest ``near`` (a joint that may turn more than once takes the short way)."""
+    q = np.array(q, float)
+    lo, hi = robot.limits.T
+    for i in np.flatnonzero(robot.is_revolute):
+        options = [q[i] + 2 * np.pi * k for k in range(-3, 4)]
+        options = [x for x in options if lo[i] - 1e-12 <= x <= hi[i] + 1e-12] or [q[i]]
+        q[i] = min(options, key=lambda x: abs(x - near[i]))
+    return q
+
+
+def _change(robot, q, near):
+    """``q - near`` (n,), rad / m."""
+    return np.asarray(q, float) - near
+
+
+def _scaled_norm(robot, d) -> float:
+    """|d| with prismatic joints divided by the robot's characteristic length."""
+    s = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
+    return float(np.linalg.norm(d / s))
+
+
+def default_start(robot) -> np.ndarray:
+    """The numerical solver's default start: the robot's home joints, inside the limits."""
+    lo, hi = robot.limits.T
+    return np.clip(np.asarray(robot.home, float), lo, hi)
+
+
+def _solve_numerical(robot, target, near, units, why) -> IKResult:
+    """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``."""
+    from .numeric import RESTARTS, solve_numeric
+    start = default_start(robot) if near is None else near
+    full, full_pos = robot.generic_ranks
+    orientation = target.orientation
+    T = np.asarray(target.T, float)
+    res = solve_numeric(robot.fk, T, start, jacobian=robot.jacobian, limits=robot.limits,
+                        revolute=robot.is_revolute, scale=robot.characteristic_length,
+                        orientation=orientation)
+    controls = ("position and orientation" if full >= 6 else
+                f"{full} of the 6 pose components" if orientation else "position")
+    method = ("Levenberg-Marquardt from the start configuration, then the least "
+              "change from it; one solution, not every branch (" + why + ")")
+    sols = []
+    if res.converged:
+        q = res.q
+        viol = _violations(robot, q)
+        sing = bool(_singular_mask(robot, q[None])[0])
+        desc = _singularity(robot, q)[1] if sing else None
+        sols.append(IKSolution(q=q, branch="nearest the start" if near is not None else
+                               "nearest home", position_error=res.position_error,
+                               orientation_error=res.orientation_error,
+                               within_limits=not viol, violations=viol, singular=sing,
+                               singularity=desc,
+                               change=None if near is None else _change(robot, q, near)))
+        reason = "1 solution found numerically (the one with the least change from the start)"
+        if res.restarts:
+            reason += (f"; the start did not converge, restart {res.restarts} did: it may not be "
+                       "the nearest solution")
+    else:
+        far = _out_of_reach(robot, T, units)
+        if far.startswith("out of reach"):
+            reason = far
+        else:
+            L = _len(units)
+            miss = f"position off by {res.position_error * units.l:.4g}{L}"
+            if res.orientation_error is not None:
+                miss += f", orientation off by {res.orientation_error * units.a:.4g} {units.angle}"
+            reason = (f"no solution found numerically from the start and {RESTARTS} restarts; "
+                      f"the closest configuration found misses the target ({miss})")
+            if orientation and full < 6:
+                reason += (f": the robot controls only {full} of the 6 pose components, "
+                           "give the position alone")
+    reachable = bool(sols) and sols[0].within_limits
+    return IKResult(robot=robot, target=target, family="numerical", method=method,
+                    controls=controls, solutions=sols, reachable=reachable, reason=reason,
+                    units=units, near=start if near is not None else None)
+
+
+def _unreverse(c, n: int, explain: bool):
+    """A candidate of the reversed chain (see :meth:`Screws.reversed`) for the robot:
+    ``q = -q'[::-1]``, joint k of the reversed chain being joint n - 1 - k (0-based)."""
+    from .families import Candidate
+    trace = c.trace
+    if explain:
+        trace = [("chain reversed: the solver works on T^-1, joint k of the reversed "
+                  f"chain is joint {n + 1} - k turned the other way; values below are "
+                  "the reversed chain's", "", "none")] + list(trace)
+    return Candidate(q=-np.asarray(c.q, float)[::-1],
+                     signs={n - 1 - i: v for i, v in c.signs.items()},
+                     free=[n - 1 - i for i in c.free],
+                     continuum=None if c.continuum is None else c.continuum.reversed(n),
+                     trace=trace)
 
 
 def _solve_tcv(robot, S, target, units) -> IKResult:

@@ -1,0 +1,227 @@
+"""Numerical inverse kinematics: the solution nearest a start configuration.
+
+For what no closed form covers: redundant arms (seven or more joints, the
+8-DOF hybrid arm of Bayram's paper, seed 004), structures outside
+:mod:`kincalc.ik.families`, and mechanisms known only through their own FK
+function. Unlike the analytic solvers this finds one solution, not every
+branch: the one a motion from the start configuration ``q0`` would take, with
+the *least change* from ``q0``.
+
+Method
+------
+Variables are scaled so that revolute and prismatic joints compare:
+``x_j = q_j`` (rad) for revolute joints and ``x_j = q_j / L`` for prismatic
+ones, with ``L`` the robot's characteristic length; the pose error is
+``e = [(p* - p) / L, log(R* R^T)]`` (world frame; the rotation vector that
+carries the current orientation onto the target).
+
+1. Levenberg-Marquardt on ``e`` with the geometric Jacobian (or central
+   differences of the user's FK), steps projected onto the joint limits
+   (joints at a limit that the step pushes outward are held for that step).
+2. On the solution manifold, least change: repeat a step ``(I - J^+ J)(x0 - x)``
+   in the null space of the task followed by Gauss-Newton back onto the
+   manifold, until the null-space step vanishes. The result satisfies the
+   first-order condition of ``min |x - x0|`` subject to ``f(x) = T*``: ``x - x0``
+   lies in the row space of ``J`` (Whitney's resolved-rate pseudo-inverse,
+   1969, applied at the position level).
+3. If the start does not converge, restarts from seeded random configurations
+   inside the limits; the converged one nearest ``q0`` is returned.
+
+Convergence: ``|e| <= 1e-10``; iterations continue to the rounding floor.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..spatial import rotation_error, rotvec_from_matrix
+
+#: converged when the scaled pose error is at most this (the analytic solvers accept
+#: 1e-9 relative); iterations go on down to STOP or until they make no progress
+TOL = 1e-10
+STOP = 1e-14
+#: largest step (scaled joint space, rad) one iteration may take
+MAX_STEP = 0.5
+#: random restarts tried when the start configuration does not converge
+RESTARTS = 30
+
+
+@dataclass
+class NumericIK:
+    """One numerical IK solution.
+
+    ``q (n,)`` joints (rad / m); ``converged`` whether the target was reached to
+    :data:`TOL`; residuals in m and rad (``orientation_error`` None when only the
+    position was asked for); ``at_limits`` the joints held at a limit;
+    ``distance`` the scaled distance ``|x - x0|`` from the start; ``start`` the
+    start configuration that converged (``q0`` or a restart).
+    """
+
+    q: np.ndarray
+    converged: bool
+    position_error: float
+    orientation_error: float | None
+    iterations: int
+    at_limits: list
+    distance: float
+    start: np.ndarray
+    restarts: int
+
+
+def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float = 1e-6):
+    """Geometric Jacobian ``(6, n)`` (world frame, linear rows then angular) of any
+    FK function ``fk(q (n,)) -> T (4, 4)`` by central differences (step ``h`` rad,
+    ``h * scale`` m)."""
+    q = np.asarray(q, float)
+    n = len(q)
+    J = np.zeros((6, n))
+    for j in range(n):
+        step = h if revolute[j] else h * scale
+        dq = np.zeros(n)
+        dq[j] = step
+        Tp, Tm = np.asarray(fk(q + dq), float), np.asarray(fk(q - dq), float)
+        J[:3, j] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * step)
+        J[3:, j] = rotvec_from_matrix(Tp[:3, :3] @ Tm[:3, :3].T) / (2 * step)
+    return J
+
+
+def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limits=None,
+                  revolute=None, scale: float = 1.0, orientation: bool = True,
+                  least_change: bool = True, restarts: int = RESTARTS,
+                  seed: int = 0, max_iter: int = 300) -> NumericIK:
+    """The IK solution of ``fk`` for target ``T (4, 4)`` nearest ``q0 (n,)``.
+
+    ``fk(q (n,)) -> (4, 4)`` world <- tool, SI; ``jacobian(q) -> (6, n)`` its
+    geometric Jacobian (rows vx vy vz wx wy wz, world frame), or None for
+    central differences; ``limits (n, 2)`` (rad / m, +-inf for none);
+    ``revolute (n,)`` bool (default all revolute); ``scale`` a characteristic
+    length (m) to weigh positions against angles; ``orientation=False`` reaches
+    the position only. When the target cannot be reached, the returned
+    solution is the least-squares best found, with ``converged`` False.
+    """
+    T = np.asarray(T, float)
+    q0 = np.asarray(q0, float).ravel()
+    n = len(q0)
+    revolute = np.ones(n, bool) if revolute is None else np.asarray(revolute, bool)
+    lim = np.tile([-np.inf, np.inf], (n, 1)) if limits is None else np.asarray(limits, float)
+    lo, hi = lim[:, 0], lim[:, 1]
+    s = np.where(revolute, 1.0, scale)               # q = s * x
+    rows = slice(0, 6) if orientation else slice(0, 3)
+    jac = jacobian or (lambda q: finite_difference_jacobian(fk, q, revolute, scale))
+
+    def error(q):
+        Tq = np.asarray(fk(q), float)
+        e = np.empty(6)
+        e[:3] = (T[:3, 3] - Tq[:3, 3]) / scale
+        e[3:] = rotvec_from_matrix(T[:3, :3] @ Tq[:3, :3].T)
+        return e[rows]
+
+    def scaled_jacobian(q):
+        J = np.asarray(jac(q), float).copy()
+        J[:3] /= scale
+        return J[rows] * s
+
+    def held(q, dx):
+        """Joints at a limit that the step ``dx`` would push further out."""
+        return ((q <= lo + 1e-12) & (dx < 0)) | ((q >= hi - 1e-12) & (dx > 0))
+
+    def project(q):
+        return np.clip(q, lo, hi)
+
+    def lm(q, iters):
+        """Levenberg-Marquardt onto the target; returns (q, |e|, iterations used)."""
+        e = error(q)
+        E = float(np.linalg.norm(e))
+        lam = 1e-3
+        k = 0
+        while k < iters and E > STOP:
+            k += 1
+            J = scaled_jacobian(q)
+            free = np.ones(n, bool)
+            for _ in range(2):
+                Jf = J[:, free]
+                A = Jf @ Jf.T + lam ** 2 * np.eye(len(e))
+                dxf = Jf.T @ np.linalg.lstsq(A, e, rcond=None)[0]
+                dx = np.zeros(n)
+                dx[free] = dxf
+                block = held(q, dx) & free
+                if not block.any():
+                    break
+                free &= ~block
+                dx[~free] = 0.0
+            norm = float(np.linalg.norm(dx))
+            if norm > MAX_STEP:                       # a trust region: linearisation holds
+                dx *= MAX_STEP / norm
+            q_new = project(q + s * dx)
+            e_new = error(q_new)
+            E_new = float(np.linalg.norm(e_new))
+            if E_new < E:
+                stalled = E <= TOL and E_new > 0.25 * E      # at the rounding floor
+                q, e, E = q_new, e_new, E_new
+                lam = max(lam / 10, 1e-12)
+                if stalled:
+                    break
+            else:
+                lam *= 10
+                if lam > 1e8 or E <= TOL:
+                    break
+        return q, E, k
+
+    def nearest(q, x0):
+        """Least change: null-space steps towards x0, each followed by LM back on."""
+        used = 0
+        gain = 1.0
+        for _ in range(200):
+            J = scaled_jacobian(q)
+            x = q / s
+            dz = x0 - x
+            Jp = np.linalg.pinv(J, rcond=1e-10)
+            step = dz - Jp @ (J @ dz)
+            block = held(q, step)
+            if block.any():
+                step[block] = 0.0
+            if np.linalg.norm(step) < 1e-10:
+                break
+            q_try, E_try, k = lm(project(q + s * gain * step), 50)
+            used += k
+            if E_try <= TOL and np.linalg.norm(q_try / s - x0) < np.linalg.norm(x - x0) - 1e-15:
+                q = q_try
+                gain = min(1.0, gain * 2)
+            else:
+                gain /= 2
+                if gain < 1e-3:
+                    break
+        return q, used
+
+    def attempt(start):
+        q, E, k = lm(project(start), max_iter)
+        if E <= TOL and least_change:
+            q, extra = nearest(q, q0 / s)
+            k += extra
+        return q, float(np.linalg.norm(error(q))), k
+
+    rng = np.random.default_rng(seed)
+    box_lo = np.where(np.isfinite(lo), lo, np.where(revolute, -np.pi, -scale))
+    box_hi = np.where(np.isfinite(hi), hi, np.where(revolute, np.pi, scale))
+    best = None
+    tried = 0
+    for r in range(restarts + 1):
+        start = project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
+        q, E, k = attempt(start)
+        tried = r
+        cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start)
+        if best is None or cand[:2] < best[:2]:
+            best = cand
+        if E <= TOL:
+            break
+    _, _, q, k, start = best
+    Tq = np.asarray(fk(q), float)
+    pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
+    oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if orientation else None
+    at = [i for i in range(n) if q[i] <= lo[i] + 1e-12 or q[i] >= hi[i] - 1e-12]
+    return NumericIK(q=q, converged=bool(np.linalg.norm(error(q)) <= TOL), position_error=pe,
+                     orientation_error=oe, iterations=k, at_limits=at,
+                     distance=float(np.linalg.norm((q - q0) / s)), start=start, restarts=tried)
