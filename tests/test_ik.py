@@ -355,3 +355,70 @@ def test_wrist_continuum_value_is_the_solutions_own():
                 continue
             c = s.continuum
             assert abs(wrap(s.q[c.i] + c.sign * s.q[c.j] - c.total)) < 1e-9
+
+
+# --- five joints: position and approach direction ------------------------------------
+
+def five_joint_robot(rng, kind):
+    from kincalc.spatial import rot_y, rot_z, transform
+    ang = lambda: rng.uniform(0.3, 2.8) * rng.choice([-1, 1])  # noqa: E731
+    if kind == "position-approach":
+        # axes 4 and 5 meet (a4 = 0); the tool looks along x5 from a point on that line
+        joints = [(rng.choice(["revolute", "prismatic"], p=[0.8, 0.2]), ang(), u(rng), u(rng))
+                  for _ in range(3)] + [("revolute", ang(), 0.0, u(rng)),
+                                        ("revolute", ang(), u(rng), 0.0)]
+        tool = transform(rot_y(np.pi / 2) @ rot_z(u(rng, -3, 3)), [0, 0, 0]) @ \
+            transform(None, [0, 0, u(rng)])
+    else:
+        # axes 2, 3, 4 parallel; joint 5 rolls the tool about its own axis
+        joints = [("revolute", ang(), u(rng), u(rng)), ("revolute", 0.0, u(rng), u(rng)),
+                  ("revolute", 0.0, u(rng), u(rng)), ("revolute", ang(), u(rng), u(rng)),
+                  ("revolute", 0.0, 0.0, u(rng))]
+        tool = transform(rot_z(u(rng, -3, 3)), [0, 0, u(rng)])
+    r = dh(rng, joints)
+    return Robot("five", "dh", r.joints, base=r.base, tool=tool)
+
+
+@pytest.mark.parametrize("kind", ["position-approach", "pitch-roll"])
+def test_five_joint_arms_position_and_approach(kind):
+    rng = np.random.default_rng({"position-approach": 5, "pitch-roll": 6}[kind])
+    trials = hits_full = hits_approach = 0
+    for _ in range(8):
+        r = five_joint_robot(rng, kind)
+        fam, _ = classify(r, Screws.of(r))
+        assert fam is not None and fam.name == kind, fam
+        L = max(1.0, r.characteristic_length)
+        for q in sample_configurations(r, 30, rng):
+            T = r.fk(q)
+            trials += 1
+            # the whole pose: the generating configuration must come back
+            res = solve(r, Target(T))
+            for s in res.solutions:
+                assert np.allclose(r.fk(s.q), T, atol=1e-9 * L)
+            hits_full += any(close(s.q, q, r, 1e-6 * L) for s in res.solutions)
+            # position and approach only: every answer has them; q (but the free roll) is one
+            a = T[:3, 2]
+            P = T.copy()
+            P[:3, :3] = np.eye(3)
+            res = solve(r, Target(P, orientation=False, approach=a))
+            for s in res.solutions:
+                Tq = r.fk(s.q)
+                assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) <= 1e-9 * L
+                assert np.linalg.norm(Tq[:3, 2] - a) <= 1e-9
+            n_fixed = 5 if kind == "position-approach" else 4
+            hits_approach += any(np.all(np.abs(wrap(s.q[:n_fixed] - q[:n_fixed])) < 1e-6 * L)
+                                 for s in res.solutions)
+    assert hits_full / trials >= 0.99 and hits_approach / trials >= 0.99, \
+        (hits_full, hits_approach, trials)
+
+
+def test_five_joint_arm_with_an_unreachable_roll_says_so():
+    rng = np.random.default_rng(9)
+    r = five_joint_robot(rng, "position-approach")
+    T = r.fk(sample_configurations(r, 1, rng)[0])
+    from kincalc.spatial import rot_z
+    T[:3, :3] = T[:3, :3] @ rot_z(0.5)           # same approach, rolled by 0.5 rad
+    res = solve(r, Target(T))
+    assert not res.reachable and res.solutions == []
+    assert "orientation is not" in res.reason and "controls position and approach" in res.reason
+    assert "off by 28.65 deg" in res.reason     # the roll left over: 0.5 rad

@@ -34,6 +34,10 @@ MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, f
                                      float]], typer.Option(
     "--matrix", metavar="R11 ... R33", show_default=False,
     help="Orientation as a rotation matrix, 9 numbers row by row.")]
+ApproachOpt = Annotated[Optional[F3], typer.Option(
+    "--approach", metavar="AX AY AZ", show_default=False,
+    help="Only the approach direction (the tool z axis, world frame; normalised), for "
+         "five-joint arms that set it but not the roll about it.")]
 TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
     "--tcv", metavar="W1 ... W6", show_default=False,
     help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
@@ -70,6 +74,7 @@ def ik(
     quat: QuatOpt = None,
     axis_angle: AxisAngleOpt = None,
     matrix: MatrixOpt = None,
+    approach: ApproachOpt = None,
     tcv: TcvOpt = None,
     pose: PoseOpt = None,
     from_q: FromQOpt = None,
@@ -99,7 +104,8 @@ def ik(
     units = display_units(rob, deg, unit)
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
-                          matrix=matrix, tcv=tcv, pose=pose, from_q=from_q)
+                          matrix=matrix, approach=approach, tcv=tcv, pose=pose,
+                          from_q=from_q)
     q_near = None
     if near is not None:
         from .common import parse_joints
@@ -112,14 +118,16 @@ def ik(
 
 
 def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
-                 quat=None, axis_angle=None, matrix=None, tcv=None, pose=None, from_q=None):
+                 quat=None, axis_angle=None, matrix=None, approach=None, tcv=None, pose=None,
+                 from_q=None):
     """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI)."""
     import numpy as np
 
     from .. import spatial as sp
     from ..ik import Target
     orient = {"--rpy": rpy, "--euler-zyz": euler_zyz, "--euler-xyz": euler_xyz,
-              "--quat": quat, "--axis-angle": axis_angle, "--matrix": matrix, "--tcv": tcv}
+              "--quat": quat, "--axis-angle": axis_angle, "--matrix": matrix,
+              "--approach": approach, "--tcv": tcv}
     given = [k for k, v in orient.items() if v is not None]
     whole = [k for k, v in (("--pose", pose), ("--from-q", from_q)) if v is not None]
     if len(given) > 1:
@@ -158,6 +166,11 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     T[:3, 3] = np.array(xyz, float) * Lf
     if not given:
         return Target(T, orientation=False)
+    if approach is not None:
+        a = np.array(approach, float)
+        if np.linalg.norm(a) < 1e-12:
+            raise InputError("--approach must not be the zero vector")
+        return Target(T, orientation=False, approach=a / np.linalg.norm(a))
     if rpy is not None:
         R = sp.matrix_from_rpy(np.array(rpy) * A)
     elif euler_zyz is not None:

@@ -175,6 +175,10 @@ def _classify_small(robot, S: Screws) -> tuple[Family | None, str]:
     if n == 2:
         return (Family("position-2", "two joints placing the tool point",
                        "position (on the surface the arm sweeps)", False), "")
+    if n == 5 and rev[3:].all():
+        fam = _classify_5(S)
+        if fam is not None:
+            return fam, ""
     if n == 4 and rev[3] and pos_rank == 3:
         return (Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 "
                                           "from the orientation about its axis",
@@ -185,6 +189,32 @@ def _classify_small(robot, S: Screws) -> tuple[Family | None, str]:
     why = (f"no analytic solver for this structure yet ({n} joints, "
            f"{''.join('R' if r else 'P' for r in rev)})")
     return None, why
+
+
+def _classify_5(S: Screws) -> Family | None:
+    """Five joints controlling the position and the approach direction (tool z)."""
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    tol = 1e-7 * max(S.scale, 1.0)
+    c = common_point(S.point[3:], S.axis[3:], tol)
+    if c is not None and float(np.linalg.norm(cross(p0 - c, a0))) < tol \
+            and not _parallel(S.axis[4], a0, 1e-6):
+        return Family("position-approach",
+                      "five joints, axes 4 and 5 meeting on the tool's approach line: joints 1-3 "
+                      "place the point where they meet, joints 4 and 5 turn the approach "
+                      "direction (subproblem 2); the roll about it follows",
+                      "position and approach direction (tool z)", True)
+    on_axis5 = float(np.linalg.norm(cross(p0 - S.point[4], S.axis[4]))) < tol
+    if S.revolute.all() and on_axis5 and _parallel(S.axis[4], a0, 1e-9) \
+            and _parallel(S.axis[1], S.axis[2]) and _parallel(S.axis[2], S.axis[3]) \
+            and not _parallel(S.axis[0], S.axis[1]) and not _parallel(S.axis[4], S.axis[1]):
+        return Family("pitch-roll",
+                      "five joints, axes 2, 3, 4 parallel and joint 5 rolling the tool about its "
+                      "approach axis: joint 1 from the position (subproblem 4), the pitch sum "
+                      "q2 + q3 + q4 from the approach (subproblem 1), a planar two-link problem "
+                      "for joints 2 and 3, joint 5 from the orientation",
+                      "position, the approach direction within the arm's plane, and the roll "
+                      "about it", True)
+    return None
 
 
 # --- solvers -------------------------------------------------------------------
@@ -372,6 +402,77 @@ def solve_point_plus_roll(S, T, explain=False):
     return _last_axis_roll(S, T, [0, 1, 2], explain)
 
 
+def solve_position_approach(S: Screws, T, explain=False, approach_only=False):
+    """Axes 4 and 5 meet at c on the approach line: c = p - d a, then subproblem 2."""
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    c0 = common_point(S.point[3:], S.axis[3:], np.inf)
+    d = float((p0 - c0) @ a0)
+    a = T[:3, 2]
+    ct = T[:3, 3] - d * a
+    out = []
+    for ps in place_point(S, [0, 1, 2], c0, ct, explain):
+        R123 = S.product([0, 1, 2], ps.x)[:3, :3]
+        sols, exact, free = sp2(a0, R123.T @ a, S.axis[3], S.axis[4])
+        for k, (t4, t5) in enumerate(sols):
+            cand = Candidate(q=np.concatenate([ps.x, [t4, t5]]), signs=dict(ps.signs),
+                             free=list(ps.free))
+            if len(sols) == 2:
+                cand.signs[4] = "+" if k == 0 else "-"
+            if free:
+                cand.free.append(3)
+            if explain:
+                cand.trace = [("wrist point where axes 4 and 5 meet (target)", ct.tolist(),
+                               "length")] + list(ps.trace) + [
+                    ("approach to reach, in the frame after joints 1-3", (R123.T @ a).tolist(),
+                     "none"),
+                    ("joints 4, 5 by subproblem 2", [float(t4), float(t5)], "angle")]
+            out.append(cand)
+    return out
+
+
+def solve_pitch_roll(S: Screws, T, explain=False, approach_only=False):
+    """Joint 1 from the position, q2 + q3 + q4 from the approach, joints 2-3 planar,
+    joint 5 (the roll about the approach) from the orientation (free without one)."""
+    h = S.axis[1]
+    o1 = S.point[0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    pt, a = T[:3, 3], T[:3, 2]
+    sgn = [float(np.sign(S.axis[i] @ h)) for i in (1, 2, 3)]
+    t1s, ex1, _ = sp4(h, pt - o1, S.axis[0], float(h @ (p0 - o1)))
+    out = []
+    for i1, t in enumerate(t1s):
+        q1 = -t
+        E1i = np.linalg.inv(S.exp(0, q1))
+        a1 = E1i[:3, :3] @ a                     # approach with joint 1 undone
+        p1 = E1i[:3, :3] @ pt + E1i[:3, 3]       # tool point with joint 1 undone
+        psi, _, _ = sp1(a0, a1, h)               # the pitch sum (projected onto the plane)
+        Rpsi = _rot(h, psi)
+        p4t = p1 + Rpsi @ (S.point[3] - p0)      # where the point of axis 4 must go
+        for ps in place_point(S, [1, 2], S.point[3], p4t, explain):
+            q2, q3 = ps.x
+            q4 = (psi - sgn[0] * q2 - sgn[1] * q3) * sgn[2]
+            q = np.array([q1, q2, q3, q4, 0.0])
+            cand = Candidate(q=q, signs={0: "+" if i1 == 0 else "-", **ps.signs},
+                             free=list(ps.free))
+            if approach_only:
+                cand.signs[4] = "any"    # the roll was not asked for: 0 stands for any value
+            else:
+                R = S.product(range(4), q[:4])[:3, :3]
+                W = R.T @ T[:3, :3] @ S.M[:3, :3].T
+                k = S.axis[4]
+                v = cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+                q[4] = sp1(v, W @ v, k)[0]
+            if explain:
+                cand.trace = [("joint 1 by subproblem 4 (component along the parallel axes)",
+                               float(q1), "angle"),
+                              ("q2 + q3 + q4 from the approach by subproblem 1", float(psi),
+                               "angle"),
+                              ("point of axis 4 to place (target)", p4t.tolist(), "length")] + \
+                    list(ps.trace) + [("joint 5 (roll about the approach)", float(q[4]), "angle")]
+            out.append(cand)
+    return out
+
+
 def solve_general_6r(S, T, explain=False, robot=None):
     from .general6r import solve_general_6r as solver
     qs = sorted(solver(robot, T), key=lambda q: (q[2], q[0]))
@@ -389,4 +490,6 @@ SOLVERS = {
     "planar-3": solve_planar_3,
     "point-plus-roll": solve_point_plus_roll,
     "general-6r": solve_general_6r,
+    "position-approach": solve_position_approach,
+    "pitch-roll": solve_pitch_roll,
 }

@@ -62,6 +62,9 @@ class Target:
     #: a tool-configuration-vector target: (approach (3,), last joint value q_n in rad);
     #: T then holds the position only
     tcv: tuple | None = None
+    #: an approach direction (3,), unit, world frame: the tool z axis to reach when no
+    #: full orientation is given (five-joint arms); T then holds the position only
+    approach: np.ndarray | None = None
 
 
 @dataclass
@@ -100,6 +103,8 @@ class IKResult:
         u = self.units
         out = _header("ik", self.robot, u)
         out["target"] = {"T": u.pose(self.target.T), "orientation_given": self.target.orientation}
+        if self.target.approach is not None:
+            out["target"]["approach"] = _clean(np.asarray(self.target.approach, float))
         out.update({
             "reachable": self.reachable,
             "reason": self.reason,
@@ -176,14 +181,24 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     if family is None or numeric:
         return _solve_numerical(robot, target, near, units,
                                 why if family is None else "asked for with --numeric")
-    if family.needs_orientation and not target.orientation:
+    five = family.name in APPROACH_FAMILIES
+    if target.approach is not None and family.needs_orientation and not five:
+        raise UsageError(f"--approach: {robot.name} controls {family.controls}; give a full "
+                         "orientation (--rpy, --quat, ...)")
+    if family.needs_orientation and not target.orientation and target.approach is None:
         raise UsageError(f"{robot.name} controls {family.controls}: give an orientation too "
                          "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, --matrix, "
-                         "--tcv, --pose or --from-q)")
+                         "--tcv, --pose or --from-q)" +
+                         (" or an approach direction (--approach)" if five else ""))
     T = np.asarray(target.T, float)
+    if target.approach is not None:
+        T = T.copy()
+        T[:3, :3] = _frame_with_z(target.approach)
     solver = SOLVERS[family.solver or family.name]
     if family.name == "general-6r":
         cands = solver(S, T, explain, robot=robot)
+    elif five:
+        cands = solver(S, T, explain, approach_only=target.approach is not None)
     elif family.reverse:
         cands = [_unreverse(c, robot.dof, explain)
                  for c in solver(S.reversed(), invert_transform(T), explain)]
@@ -200,6 +215,9 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     frames = chain_frames(robot.chain, Q)
     PE = np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)
     OE = rotation_error(Tq[:, :3, :3], T[:3, :3]) if target.orientation else None
+    if target.approach is not None:
+        z = Tq[:, :3, 2]
+        OE = np.arctan2(np.linalg.norm(cross(z, target.approach), axis=-1), z @ target.approach)
     o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
     for k, c in enumerate(cands):
         q, pe = Q[k], float(PE[k])
@@ -279,6 +297,9 @@ def default_start(robot) -> np.ndarray:
 
 def _solve_numerical(robot, target, near, units, why) -> IKResult:
     """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``."""
+    if target.approach is not None:
+        raise UsageError(f"--approach: {robot.name} is solved numerically ({why}), which needs "
+                         "a full orientation or the position alone")
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near
     full, full_pos = robot.generic_ranks
@@ -325,6 +346,18 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
     return IKResult(robot=robot, target=target, family="numerical", method=method,
                     controls=controls, solutions=sols, reachable=reachable, reason=reason,
                     units=units, near=start if near is not None else None)
+
+
+#: the families that control the tool's approach direction but not the roll about it
+APPROACH_FAMILIES = ("position-approach", "pitch-roll")
+
+
+def _frame_with_z(a) -> np.ndarray:
+    """A rotation whose z axis is the unit vector ``a`` (x and y chosen)."""
+    z = np.asarray(a, float) / np.linalg.norm(a)
+    x = cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, cross(z, x), z])
 
 
 def _unreverse(c, n: int, explain: bool):
@@ -482,6 +515,10 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
     if rejected:
         best = min(rejected, key=lambda r: (r["position_error"], r["orientation_error"] or 0.0))
         if best["position_error"] <= ACCEPT_POSITION * robot.characteristic_length * 1e3:
+            if target.approach is not None:
+                return (f"the position is reachable but this approach direction is not for a "
+                        f"robot that controls {family.controls}: the closest approach is off "
+                        f"by {(best['orientation_error'] or 0.0) * units.a:.4g} {units.angle}")
             return (f"the position is reachable but this orientation is not for a robot that "
                     f"controls {family.controls}: the best solution is off by "
                     f"{(best['orientation_error'] or 0.0) * units.a:.4g} {units.angle}")
