@@ -422,3 +422,27 @@ def test_five_joint_arm_with_an_unreachable_roll_says_so():
     assert not res.reachable and res.solutions == []
     assert "orientation is not" in res.reason and "controls position and approach" in res.reason
     assert "off by 28.65 deg" in res.reason     # the roll left over: 0.5 rad
+
+
+def test_all_branches_says_why_a_branch_has_no_real_angle():
+    """Beyond the PUMA's reach the elbow equation has no real root. Hand derivation
+    (standard DH, shoulder point at the base origin, wrist centre w = target position):
+    |w|^2 = a2^2 + a3^2 + d3^2 + d4^2 + 2 a2 (a3 cos q3 - d4 sin q3), i.e.
+    cos(q3 + atan2(d4, a3)) = (|w|^2 - a2^2 - a3^2 - d3^2 - d4^2) / (2 a2 hypot(a3, d4))."""
+    import re
+    r = load_robot("puma560")
+    a2, a3, d3, d4 = r.joints[1].a, r.joints[2].a, r.joints[2].d, r.joints[3].d
+    w = np.array([0.85, 0.2, 0.3])
+    T = np.eye(4)
+    T[:3, 3] = w
+    res = solve(r, Target(T), all_branches=True)
+    assert not res.reachable and res.dead_ends
+    text = res.dead_ends[0]
+    value = (w @ w - a2 ** 2 - a3 ** 2 - d3 ** 2 - d4 ** 2) / (2 * a2 * np.hypot(a3, d4))
+    m = re.search(r"cos\(q3 - (-?[0-9.]+) deg\) would have to be (-?[0-9.]+)", text)
+    assert m, text
+    assert float(m.group(2)) == pytest.approx(value, rel=1e-3)
+    phase = np.degrees(-np.arctan2(d4, a3))
+    assert abs(wrap(np.radians(float(m.group(1)) - phase))) < 1e-3
+    # without --all-branches nothing is collected
+    assert solve(r, Target(T)).dead_ends is None

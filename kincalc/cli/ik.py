@@ -293,6 +293,9 @@ def _tables(doc, robot, precision, explain):
         for k, r in enumerate(doc["rejected"], start=1):
             rt.add_row(str(k), *(num(v, precision) for v in r["q"]), escape(r["reason"]))
         c.print(rt)
+    if doc.get("dead_ends"):
+        c.print(kv_table([(str(k), escape(t)) for k, t in enumerate(doc["dead_ends"], start=1)],
+                         title="branches with no real solution"))
     if explain:
         for k, s in enumerate(doc["solutions"], start=1):
             if s.get("trace"):

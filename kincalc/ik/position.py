@@ -29,6 +29,7 @@ solution counts.
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,6 +38,29 @@ from ..spatial import cross
 
 from ..subproblems import sp1
 from .screws import Screws, wrap
+
+#: when set to a list (by ``solve(..., all_branches=True)``), the steps that found no
+#: real value append a sentence here: the textbook's "cos q3 = 1.3, no real angle"
+DEAD_ENDS: ContextVar = ContextVar("dead_ends", default=None)
+
+
+def note_dead_end(text: str) -> None:
+    """Record why a branch has no real solution (when someone is listening)."""
+    sink = DEAD_ENDS.get()
+    if sink is not None and text not in sink:
+        sink.append(text)
+
+
+def _cos_form(values) -> tuple[float, float] | None:
+    """``(value, phase)`` when samples of a trigonometric polynomial are of degree 1,
+    ``c0 + c1 cos x + s1 sin x``: then ``cos(x - phase) = value`` (= -c0 / hypot(c1, s1))."""
+    F = np.fft.rfft(values) / len(values)
+    amp = 2 * abs(F[1])
+    if amp < 1e-12 * max(np.abs(values).max(), 1e-300) or np.abs(F[2:]).max(initial=0.0) > \
+            1e-9 * max(np.abs(F[:2]).max(), 1e-300):
+        return None
+    return float(-F[0].real / amp), float(-np.angle(F[1]))   # F1 = (c1 - i s1) / 2
+
 
 #: samples of a trigonometric resultant (degree <= 4 needs 9; more is harmless)
 TRIG_SAMPLES = 16
@@ -186,6 +210,25 @@ def _poly_roots(xs, values, span) -> np.ndarray:
     return np.real(r[np.abs(np.imag(r)) < tol])
 
 
+def _explain_no_root(S: Screws, joints, R, mode) -> None:
+    """Say why the equation in the last joint has no real root."""
+    names = ", ".join(f"{{j{j}}}" for j in joints)
+    c = joints[-1]
+    if S.revolute[c]:
+        form = _cos_form(R)
+        if form is not None:
+            value, phase = form
+            note_dead_end(f"{{j{c}}}: cos({{j{c}}} - {{a{phase!r}}}) would have to be "
+                          f"{value:.4g}, outside [-1, 1]: no real angle, the point is out of "
+                          f"reach of {names}")
+            return
+        note_dead_end(f"{{j{c}}}: its equation (trigonometric, from eliminating "
+                      f"{{j{joints[1]}}}) has no real root: the point is out of reach of {names}")
+    else:
+        note_dead_end(f"{{j{c}}}: its polynomial (from eliminating {{j{joints[1]}}}) has no "
+                      f"real root: the point is out of reach of {names}")
+
+
 def _solve_b(alpha, beta, gamma, revolute_b, dep, scale):
     """Candidate x_b values (with a sign label) from the coefficients at one x_c."""
     if revolute_b:
@@ -244,6 +287,8 @@ def place_point(S: Screws, joints, p0, pt, explain: bool = False) -> list[PointS
         R, mode = _resultant(alpha, beta, gamma, S.revolute[b], dep)
         roots = _trig_roots(R) if S.revolute[c] else _poly_roots(th, R, span)
         roots = np.sort(roots)
+        if len(roots) == 0:
+            _explain_no_root(S, joints, R, mode)
         xs_c = [(x, f"root {i + 1}" if len(roots) > 1 else None) for i, x in enumerate(roots)]
         if mode in ("eq1", "eq2", "combined", "linear") and len(roots) == 2 and S.revolute[c]:
             # a cos-type equation: label the pair by the sign of the angle from its middle
@@ -265,6 +310,14 @@ def place_point(S: Screws, joints, p0, pt, explain: bool = False) -> list[PointS
         else:
             cands = _solve_b(al, be, ga, S.revolute[b], dep, scale ** 2)
             free_b = False
+            if not cands and S.revolute[b]:
+                k = int(np.argmax(np.maximum(np.abs(be), np.abs(ga))))
+                r = np.hypot(be[k], ga[k])
+                if r > 0:
+                    at = "" if xc is None else f" with {{j{c}}} = {{a{float(xc)!r}}}"
+                    note_dead_end(f"{{j{b}}}: cos({{j{b}}} - {{a{float(np.arctan2(ga[k], be[k]))!r}}})"
+                                  f" would have to be {-al[k] / r:.4g}{at}: no real angle, "
+                                  "the point is out of reach on that branch")
         for xb, sign_b in cands:
             f = S.move_point(b, xb, gc)
             if S.revolute[a]:

@@ -97,6 +97,8 @@ class IKResult:
     units: object = None
     note: str | None = None
     near: np.ndarray | None = None
+    #: with --all-branches: why each branch that found nothing found nothing
+    dead_ends: list | None = None
 
     def to_dict(self) -> dict:
         from ..results import _clean, _header
@@ -123,6 +125,8 @@ class IKResult:
                 for r in self.rejected]
             if self.note:
                 out["rejected_note"] = self.note
+        if self.dead_ends is not None:
+            out["dead_ends"] = self.dead_ends
         return out
 
     def _sol(self, s: IKSolution) -> dict:
@@ -195,15 +199,21 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         T = T.copy()
         T[:3, :3] = _frame_with_z(target.approach)
     solver = SOLVERS[family.solver or family.name]
-    if family.name == "general-6r":
-        cands = solver(S, T, explain, robot=robot)
-    elif five:
-        cands = solver(S, T, explain, approach_only=target.approach is not None)
-    elif family.reverse:
-        cands = [_unreverse(c, robot.dof, explain)
-                 for c in solver(S.reversed(), invert_transform(T), explain)]
-    else:
-        cands = solver(S, T, explain)
+    from .position import DEAD_ENDS
+    dead_ends: list = []
+    token = DEAD_ENDS.set(dead_ends if all_branches else None)
+    try:
+        if family.name == "general-6r":
+            cands = solver(S, T, explain, robot=robot)
+        elif five:
+            cands = solver(S, T, explain, approach_only=target.approach is not None)
+        elif family.reverse:
+            cands = [_unreverse(c, robot.dof, explain)
+                     for c in solver(S.reversed(), invert_transform(T), explain)]
+        else:
+            cands = solver(S, T, explain)
+    finally:
+        DEAD_ENDS.reset(token)
 
     scale = max(robot.characteristic_length, 1e-12)
     accepted, rejected = [], []
@@ -263,7 +273,27 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                 result_rejected.append(r)
     return IKResult(robot=robot, target=target, family=family.name, method=family.description,
                     controls=family.controls, solutions=sols, reachable=reachable,
-                    reason=reason, rejected=result_rejected, units=units, note=note, near=near)
+                    reason=reason, rejected=result_rejected, units=units, note=note, near=near,
+                    dead_ends=[_dead_end_text(robot, d, units, family.reverse)
+                               for d in dead_ends] if all_branches else None)
+
+
+def _dead_end_text(robot, text: str, units, reverse: bool) -> str:
+    """A dead-end sentence with its ``{jI}`` joint and ``{aX}`` angle (rad) placeholders
+    written in the robot's joint names and the display unit."""
+    import re
+    n = robot.dof
+
+    def joint(m):
+        i = int(m.group(1))
+        return robot.joints[n - 1 - i if reverse else i].name
+
+    text = re.sub(r"\{j(\d+)\}", joint, text)
+    text = re.sub(r"\{a([-0-9.e+]+)\}",
+                  lambda m: f"{float(m.group(1)) * units.a:.4g} {units.angle}", text)
+    if reverse:
+        text = ("on the reversed chain (each joint turned the other way): " + text)
+    return text
 
 
 def _toward(robot, q, near):
