@@ -23,9 +23,15 @@ carries the current orientation onto the target).
    manifold, until the null-space step vanishes. The result satisfies the
    first-order condition of ``min |x - x0|`` subject to ``f(x) = T*``: ``x - x0``
    lies in the row space of ``J`` (Whitney's resolved-rate pseudo-inverse,
-   1969, applied at the position level).
+   1969, applied at the position level). A step that would carry a joint past
+   its limit stops exactly on it; the joint stays there while the condition
+   (with a multiplier of the right sign) asks it to.
 3. If the start does not converge, restarts from seeded random configurations
-   inside the limits; the converged one nearest ``q0`` is returned.
+   inside the limits, until one converges (then the least-change step runs
+   from there towards ``q0``).
+
+A user's ``fk`` may raise ValueError (or an ArithmeticError) for joints where the
+mechanism cannot be assembled: such steps are rejected and such restarts skipped.
 
 Convergence: ``|e| <= 1e-10``; iterations continue to the rounding floor.
 """
@@ -71,6 +77,27 @@ class NumericIK:
     restarts: int
 
 
+def _one_sided_jacobian(fk, q, revolute, scale, lo, hi, h: float = 1e-6):
+    """Forward or backward differences, each column towards whichever side ``fk``
+    accepts (near the edge of a mechanism's assembly region)."""
+    q = np.asarray(q, float)
+    T0 = np.asarray(fk(q), float)
+    J = np.zeros((6, len(q)))
+    for j in range(len(q)):
+        step = h if revolute[j] else h * scale
+        for sgn in (1.0, -1.0):
+            dq = np.zeros(len(q))
+            dq[j] = sgn * step
+            try:
+                T1 = np.asarray(fk(q + dq), float)
+            except (ValueError, ArithmeticError):
+                continue
+            J[:3, j] = (T1[:3, 3] - T0[:3, 3]) / (sgn * step)
+            J[3:, j] = rotvec_from_matrix(T1[:3, :3] @ T0[:3, :3].T) / (sgn * step)
+            break
+    return J
+
+
 def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float = 1e-6):
     """Geometric Jacobian ``(6, n)`` (world frame, linear rows then angular) of any
     FK function ``fk(q (n,)) -> T (4, 4)`` by central differences (step ``h`` rad,
@@ -113,14 +140,22 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     jac = jacobian or (lambda q: finite_difference_jacobian(fk, q, revolute, scale))
 
     def error(q):
-        Tq = np.asarray(fk(q), float)
+        """Scaled pose error; inf where ``fk`` refuses ``q`` (a mechanism that cannot
+        be assembled there raises ValueError): such a step is rejected."""
+        try:
+            Tq = np.asarray(fk(q), float)
+        except (ValueError, ArithmeticError):
+            return np.full(6, np.inf)[rows]
         e = np.empty(6)
         e[:3] = (T[:3, 3] - Tq[:3, 3]) / scale
         e[3:] = rotvec_from_matrix(T[:3, :3] @ Tq[:3, :3].T)
         return e[rows]
 
     def scaled_jacobian(q):
-        J = np.asarray(jac(q), float).copy()
+        try:
+            J = np.asarray(jac(q), float).copy()
+        except (ValueError, ArithmeticError):   # a central difference left the mechanism
+            J = _one_sided_jacobian(fk, q, revolute, scale, lo, hi)
         J[:3] /= scale
         return J[rows] * s
 
@@ -131,8 +166,9 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     def project(q):
         return np.clip(q, lo, hi)
 
-    def lm(q, iters):
-        """Levenberg-Marquardt onto the target; returns (q, |e|, iterations used)."""
+    def lm(q, iters, fixed=None):
+        """Levenberg-Marquardt onto the target, ``fixed`` joints kept where they are;
+        returns (q, |e|, iterations used)."""
         e = error(q)
         E = float(np.linalg.norm(e))
         lam = 1e-3
@@ -140,7 +176,7 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
         while k < iters and E > STOP:
             k += 1
             J = scaled_jacobian(q)
-            free = np.ones(n, bool)
+            free = np.ones(n, bool) if fixed is None else ~fixed
             for _ in range(2):
                 Jf = J[:, free]
                 A = Jf @ Jf.T + lam ** 2 * np.eye(len(e))
@@ -170,25 +206,61 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
                     break
         return q, E, k
 
+    def null_step(q, x0, free):
+        """The step towards x0 in the null space of the task, moving ``free`` joints only
+        (joints at a limit that it would push outward are taken out and it is redone)."""
+        J = scaled_jacobian(q)
+        dz = x0 - q / s
+        free = free.copy()
+        for _ in range(n):
+            Jf = J[:, free]
+            step = np.zeros(n)
+            step[free] = dz[free] - np.linalg.pinv(Jf, rcond=1e-10) @ (Jf @ dz[free])
+            block = held(q, step) & free
+            if not block.any():
+                break
+            free &= ~block
+        return step, free
+
     def nearest(q, x0):
-        """Least change: null-space steps towards x0, each followed by LM back on."""
+        """Least change: null-space steps towards x0, each followed by LM back on. A joint
+        a step would carry past its limit stops exactly on it and stays there (pinned)
+        while the first-order condition asks it to; then it is released."""
         used = 0
         gain = 1.0
+        pinned = np.zeros(n, bool)
         for _ in range(200):
-            J = scaled_jacobian(q)
-            x = q / s
-            dz = x0 - x
-            Jp = np.linalg.pinv(J, rcond=1e-10)
-            step = dz - Jp @ (J @ dz)
-            block = held(q, step)
-            if block.any():
-                step[block] = 0.0
+            step, free = null_step(q, x0, ~pinned)
+            pinned |= ~free
             if np.linalg.norm(step) < 1e-10:
-                break
-            q_try, E_try, k = lm(project(q + s * gain * step), 50)
+                # converged for this pinned set: release a joint the step would move inward
+                release = False
+                for j in np.flatnonzero(pinned):
+                    trial, _ = null_step(q, x0, ~pinned | (np.arange(n) == j))
+                    if not held(q, trial)[j] and abs(trial[j]) > 1e-10:
+                        pinned[j] = False
+                        release = True
+                if not release:
+                    break
+                continue
+            dx = gain * step
+            with np.errstate(divide="ignore", invalid="ignore"):
+                room = np.where(dx > 0, (hi - q) / s / dx, np.where(dx < 0, (lo - q) / s / dx,
+                                                                    np.inf))
+            t = float(np.min(room, initial=np.inf))
+            q_new = q + s * min(t, 1.0) * dx
+            hit = None
+            if t < 1.0:
+                hit = int(np.argmin(room))
+                q_new[hit] = lo[hit] if dx[hit] < 0 else hi[hit]
+            mask = pinned.copy()
+            if hit is not None:
+                mask[hit] = True
+            q_try, E_try, k = lm(project(q_new), 50, mask)
             used += k
-            if E_try <= TOL and np.linalg.norm(q_try / s - x0) < np.linalg.norm(x - x0) - 1e-15:
+            if E_try <= TOL and np.linalg.norm(q_try / s - x0) < np.linalg.norm(q / s - x0) - 1e-15:
                 q = q_try
+                pinned = mask
                 gain = min(1.0, gain * 2)
             else:
                 gain /= 2
@@ -197,6 +269,8 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
         return q, used
 
     def attempt(start):
+        if not np.isfinite(error(project(start))).all():
+            return project(start), np.inf, 0          # fk refuses the start: skip it
         q, E, k = lm(project(start), max_iter)
         if E <= TOL and least_change:
             q, extra = nearest(q, q0 / s)
@@ -218,9 +292,12 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
         if E <= TOL:
             break
     _, _, q, k, start = best
-    Tq = np.asarray(fk(q), float)
-    pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
-    oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if orientation else None
+    try:
+        Tq = np.asarray(fk(q), float)
+        pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
+        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if orientation else None
+    except (ValueError, ArithmeticError):      # no start the mechanism accepts
+        pe, oe = np.inf, (np.inf if orientation else None)
     at = [i for i in range(n) if q[i] <= lo[i] + 1e-12 or q[i] >= hi[i] - 1e-12]
     return NumericIK(q=q, converged=bool(np.linalg.norm(error(q)) <= TOL), position_error=pe,
                      orientation_error=oe, iterations=k, at_limits=at,

@@ -1,0 +1,132 @@
+"""Numerical IK (kincalc.ik.numeric) and --near: checked against FK, the analytic
+solutions and the first-order condition of the least change."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from kincalc import load_robot
+from kincalc.ik import Target, solve
+from kincalc.ik.numeric import solve_numeric
+from kincalc.ik.screws import wrap
+from kincalc.ik.selftest import sample_configurations
+
+
+def null_residual(robot, q, q0):
+    """|component of (q - q0) in the null space of the length-scaled Jacobian|."""
+    J = robot.jacobian(q)
+    J[:3] /= robot.characteristic_length
+    N = np.eye(robot.dof) - np.linalg.pinv(J) @ J
+    return float(np.linalg.norm(N @ (q - q0)))
+
+
+@pytest.mark.parametrize("name", ["panda", "iiwa14", "kinova_gen3"])
+def test_redundant_arms_reach_the_pose_with_the_least_change(name):
+    r = load_robot(name)
+    rng = np.random.default_rng(2)
+    lo, hi = r.limits.T
+    Q = sample_configurations(r, 25, rng)
+    for q in Q:
+        T = r.fk(q)
+        q0 = np.clip(q + rng.normal(0, 0.2, r.dof), lo, hi)
+        res = solve(r, Target(T), near=q0)
+        assert res.family == "numerical" and res.reachable and len(res.solutions) == 1
+        s = res.solutions[0]
+        assert np.allclose(r.fk(s.q), T, atol=1e-9)
+        assert np.all(s.q >= lo - 1e-12) and np.all(s.q <= hi + 1e-12)
+        assert np.allclose(s.change, s.q - q0)
+        at_limit = np.any(np.isclose(s.q, lo, atol=1e-9) | np.isclose(s.q, hi, atol=1e-9))
+        if not at_limit:
+            assert null_residual(r, s.q, q0) < 1e-4
+        # the least change is no worse than the configuration that generated the pose
+        assert np.linalg.norm(s.q - q0) <= np.linalg.norm(q - q0) + 1e-9
+
+
+def test_numeric_on_a_six_joint_arm_is_the_nearest_analytic_solution():
+    """For a non-redundant arm the solution set is finite: started next to one analytic
+    solution, the numerical solver must land on that one."""
+    r = load_robot("puma560")
+    rng = np.random.default_rng(5)
+    for q in sample_configurations(r, 20, rng):
+        T = r.fk(q)
+        lo, hi = r.limits.T
+        analytic = [s.q for s in solve(r, Target(T)).solutions
+                    if np.all(s.q > lo + 0.1) and np.all(s.q < hi - 0.1)]
+        if not analytic:
+            continue
+        target = analytic[int(rng.integers(len(analytic)))]
+        res = solve(r, Target(T), near=target + rng.normal(0, 0.02, 6), numeric=True)
+        assert res.family == "numerical"
+        assert np.max(np.abs(wrap(res.solutions[0].q - target))) < 1e-7
+
+
+def test_near_orders_analytic_solutions_by_change():
+    r = load_robot("ur5")
+    q = np.radians([30, -60, 90, -120, -90, 45])
+    near = q + 0.05
+    res = solve(r, Target(r.fk(q)), near=near)
+    changes = [np.linalg.norm(s.change) for s in res.solutions if s.within_limits]
+    assert changes == sorted(changes)
+    assert np.max(np.abs(res.solutions[0].q - q)) < 1e-9     # the generating one, unwrapped
+
+
+def test_a_fk_that_refuses_some_joints_is_stepped_around():
+    """A planar 2R 'mechanism' that cannot be assembled for q2 < -0.2 (fk raises): the
+    solver must reject such steps, not crash, and reach a target with q2 > -0.2."""
+    def fk(q):
+        if q[1] < -0.2:
+            raise ValueError("cannot be assembled")
+        c1, s1 = np.cos(q[0]), np.sin(q[0])
+        c12, s12 = np.cos(q[0] + q[1]), np.sin(q[0] + q[1])
+        T = np.eye(4)
+        T[:2, :2] = [[c12, -s12], [s12, c12]]
+        T[:2, 3] = [c1 + c12, s1 + s12]
+        return T
+    target = fk(np.array([0.3, 1.2]))
+    res = solve_numeric(fk, target, np.array([1.5, -0.1]), orientation=False)
+    assert res.converged and res.q[1] >= -0.2
+    assert np.linalg.norm(fk(res.q)[:3, 3] - target[:3, 3]) < 1e-10
+
+
+def test_least_change_ends_exactly_on_an_active_limit():
+    """A planar 3R reaching a point (one redundant joint). Without limits the least change
+    from q0 has q1 = u1; with q1 limited to [u1 + 0.1, 3] the answer must sit exactly on
+    that limit with the first-order condition holding for the free joints (the bugs:
+    projecting with every joint and zeroing the held one stopped 3.6e-6 short; clipping
+    a step at the limit and pulling back onto the target stopped 2e-7 short)."""
+    def fk(q):
+        a = np.cumsum(q)
+        T = np.eye(4)
+        T[:2, 3] = [np.cos(a).sum(), np.sin(a).sum()]
+        return T
+    q0 = np.array([0.0, 0.5, 0.5])
+    target = fk(np.array([0.9, 0.4, 0.6]))
+    free_run = solve_numeric(fk, target, q0, orientation=False)
+    limits = np.array([[free_run.q[0] + 0.1, 3.0], [-3, 3], [-3, 3]])
+    res = solve_numeric(fk, target, q0, limits=limits, orientation=False)
+    assert res.converged and res.distance > free_run.distance
+    assert res.q[0] == limits[0, 0]
+    h = 1e-6
+    J = np.array([(fk(res.q + h * e)[:2, 3] - fk(res.q - h * e)[:2, 3]) / (2 * h)
+                  for e in np.eye(3)]).T[:, 1:]
+    d = (res.q - q0)[1:]
+    N = np.eye(2) - np.linalg.pinv(J) @ J
+    assert np.linalg.norm(N @ d) < 1e-8
+
+
+def test_cli_numeric_and_near(tmp_path):
+    out = subprocess.run([sys.executable, "-m", "kincalc", "ik", "iiwa7", "--from-q",
+                          "10 20 30 -40 50 60 70", "--near", "10 20 30 -40 50 60 70", "--json"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["method"]["family"] == "numerical" and doc["count"] == 1
+    # started at the generating joints, the least change is no change
+    assert np.allclose(doc["solutions"][0]["q"], [10, 20, 30, -40, 50, 60, 70], atol=1e-6)
+    assert np.allclose(doc["solutions"][0]["change_from_near"], 0, atol=1e-6)
+    far = subprocess.run([sys.executable, "-m", "kincalc", "ik", "iiwa7", "--xyz", "3", "0", "0"],
+                         capture_output=True, text=True)
+    assert far.returncode == 1 and "beyond the outer reach" in " ".join(far.stdout.split())
