@@ -32,7 +32,6 @@ def selftest(
     name, description = (fam.name, fam.description) if fam else (
         "numerical", f"one solution nearest home ({why})")
     m = run(rob, trials, seed)
-    m.pop("method")
     doc = {"kincalc": SCHEMA_VERSION, "command": "selftest", "robot": robot_summary(rob),
            "units": Units(length=rob.length_unit).to_dict(),
            "method": {"family": name, "description": description}, **m}

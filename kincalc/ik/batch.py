@@ -369,12 +369,12 @@ def solve_batch(robot, T) -> BatchIK:
     if T.ndim == 2:
         T = T[None]
     S, family, why = plan(robot)
-    if family is None or (family.solver or family.name) not in SOLVERS:
+    if family is None or family.solver not in SOLVERS:
         raise UnsupportedRobot(f"{robot.name}: batched IK supports the "
                                f"{' and '.join(SOLVERS)} families (and their reversed "
                                f"chains), not {family.name if family else why}; use robot.ik "
                                "pose by pose")
-    solver = SOLVERS[family.solver or family.name]
+    solver = SOLVERS[family.solver]
     if family.reverse:          # solve the chain seen from the tool (Screws.reversed)
         Q, ok = solver(S.reversed(), invert_transform(T))
         Q = -Q[..., ::-1]

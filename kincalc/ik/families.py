@@ -88,9 +88,21 @@ class Family:
     description: str
     controls: str          # which pose components the robot sets
     needs_orientation: bool
-    #: the solver (a key of SOLVERS); it runs on the reversed chain when ``reverse``
-    solver: str = ""
+    #: found on the reversed chain (:meth:`Screws.reversed`); the name is then
+    #: ``reversed-<family>`` and that family's solver runs on the reversed chain
     reverse: bool = False
+
+    @property
+    def solver(self) -> str:
+        """The key of :data:`SOLVERS` (and of the batched solvers) for this family."""
+        return self.name.removeprefix("reversed-") if self.reverse else self.name
+
+
+def _angle_about(k, R) -> float:
+    """The angle of ``R`` about the unit axis ``k`` (subproblem 1 on a vector normal to
+    ``k``); exact when ``R`` is a rotation about ``k``, its projection otherwise."""
+    v = cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+    return sp1(v, R @ v, k)[0]
 
 
 def _parallel(a, b, tol=1e-9) -> bool:
@@ -122,42 +134,38 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
                 fam = Family(f"reversed-{fam.name}",
                              fam.description + ", found on the chain reversed (the base "
                              "seen from the tool: joint k of it is joint 7 - k)",
-                             fam.controls, fam.needs_orientation, fam.solver, True)
+                             fam.controls, fam.needs_orientation, reverse=True)
         if fam is not None:
             return fam, ""
     if n == 6 and rev.all():
         return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
                                      "elimination (Raghavan-Roth, Manocha-Canny)",
-                       "position and orientation", True, "general-6r"), "")
+                       "position and orientation", True), "")
     return _classify_small(robot, S)
 
 
 def _classify_6(S: Screws) -> Family | None:
     """The six-joint families with a closed form, or None."""
     rev = S.revolute
-    n = S.n
-    if n == 6 and rev[3:].all():
-        c = common_point(S.point[3:], S.axis[3:], 1e-7 * max(S.scale, 1.0))
-        if c is not None:
-            return (Family("spherical-wrist",
-                           "spherical wrist: axes 4, 5, 6 meet at one point; joints 1-3 place "
-                           "the wrist centre, joints 4-6 set the orientation",
-                           "position and orientation", True, "spherical-wrist"))
-    if n == 6 and rev.all() and _parallel(S.axis[1], S.axis[2]) and _parallel(S.axis[2], S.axis[3]) \
-            and not _parallel(S.axis[0], S.axis[1]) and not _parallel(S.axis[4], S.axis[1]):
-        c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
-        if c56 is not None:
-            return (Family("three-parallel",
-                           "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
-                           "position and orientation", True, "three-parallel"))
-    if n == 6 and rev[3:].all() and _moves_along(S, range(4), S.axis[3]) \
+    tol = 1e-7 * max(S.scale, 1.0)
+    if rev[3:].all() and common_point(S.point[3:], S.axis[3:], tol) is not None:
+        return Family("spherical-wrist",
+                      "spherical wrist: axes 4, 5, 6 meet at one point; joints 1-3 place "
+                      "the wrist centre, joints 4-6 set the orientation",
+                      "position and orientation", True)
+    wrist_pair = rev[4:].all() and common_point(S.point[4:], S.axis[4:], tol) is not None
+    if wrist_pair and rev.all() and _parallel(S.axis[1], S.axis[2]) \
+            and _parallel(S.axis[2], S.axis[3]) and not _parallel(S.axis[0], S.axis[1]) \
+            and not _parallel(S.axis[4], S.axis[1]):
+        return Family("three-parallel",
+                      "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
+                      "position and orientation", True)
+    if wrist_pair and rev[3] and _moves_along(S, range(4), S.axis[3]) \
             and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
-        c56 = common_point(S.point[4:], S.axis[4:], 1e-7 * max(S.scale, 1.0))
-        if c56 is not None:
-            return (Family("parallel-four-wrist",
-                           "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
-                           "arm) and axes 5, 6 intersect (an offset wrist)",
-                           "position and orientation", True, "parallel-four-wrist"))
+        return Family("parallel-four-wrist",
+                      "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
+                      "arm) and axes 5, 6 intersect (an offset wrist)",
+                      "position and orientation", True)
     return None
 
 
@@ -247,8 +255,7 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
     out = []
     for n_sol, (t1, t2) in enumerate(sols):
         R12 = _rot(k1, t1) @ _rot(k2, t2)
-        v = cross(k3, [1.0, 0, 0] if abs(k3[0]) < 0.9 else [0, 1.0, 0])
-        t3, _, _ = sp1(v, R12.T @ RW @ v, k3)
+        t3 = _angle_about(k3, R12.T @ RW)
         q = np.concatenate([prefix_q, [t1, t2, t3]])
         cand = Candidate(q=q, signs=dict(ps.signs), free=list(ps.free))
         if len(sols) == 2:
@@ -296,8 +303,7 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
             R6 = _rot(S.axis[5], q6)
             # sum of joints 2-4 about h
             R234 = R1.T @ R_t @ R6.T @ R5.T
-            v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
-            q234, _, _ = sp1(v, R234 @ v, h)
+            q234 = _angle_about(h, R234)
             # the point on axis 5 nearest axis 4 -> where axis 4 must be, then a planar 2R
             T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ S.inverse_M() @ np.linalg.inv(
                 S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
@@ -344,8 +350,7 @@ def solve_parallel_four_wrist(S: Screws, T, explain=False) -> list[Candidate]:
         R5 = _rot(S.axis[4], q5)
         q6, _, free6 = sp1(R_t.T @ h, R5.T @ h, S.axis[5])
         R6 = _rot(S.axis[5], q6)
-        v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
-        psi, _, _ = sp1(v, R_t @ R6.T @ R5.T @ v, h)
+        psi = _angle_about(h, R_t @ R6.T @ R5.T)
         T_rest = T @ S.inverse_M() @ np.linalg.inv(S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
         p4 = S.point[3]
         p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
@@ -385,9 +390,7 @@ def _last_axis_roll(S: Screws, T, first: list[int], explain):
     out = []
     for ps in place_point(S, first, c0, ct, explain):
         W = np.linalg.inv(S.product(first, ps.x)) @ T @ S.inverse_M()
-        k = S.axis[n - 1]
-        v = cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
-        qn, _, _ = sp1(v, W[:3, :3] @ v, k)
+        qn = _angle_about(S.axis[n - 1], W[:3, :3])
         cand = Candidate(q=np.concatenate([ps.x, [qn]]), signs=ps.signs, free=ps.free,
                          trace=ps.trace)
         out.append(cand)
@@ -458,10 +461,7 @@ def solve_pitch_roll(S: Screws, T, explain=False, approach_only=False):
                 cand.signs[4] = "any"    # the roll was not asked for: 0 stands for any value
             else:
                 R = S.product(range(4), q[:4])[:3, :3]
-                W = R.T @ T[:3, :3] @ S.M[:3, :3].T
-                k = S.axis[4]
-                v = cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
-                q[4] = sp1(v, W @ v, k)[0]
+                q[4] = _angle_about(S.axis[4], R.T @ T[:3, :3] @ S.M[:3, :3].T)
             if explain:
                 cand.trace = [("joint 1 by subproblem 4 (component along the parallel axes)",
                                float(q1), "angle"),

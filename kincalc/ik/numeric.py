@@ -77,41 +77,35 @@ class NumericIK:
     restarts: int
 
 
-def _one_sided_jacobian(fk, q, revolute, scale, lo, hi, h: float = 1e-6):
-    """Forward or backward differences, each column towards whichever side ``fk``
-    accepts (near the edge of a mechanism's assembly region)."""
-    q = np.asarray(q, float)
-    T0 = np.asarray(fk(q), float)
-    J = np.zeros((6, len(q)))
-    for j in range(len(q)):
-        step = h if revolute[j] else h * scale
-        for sgn in (1.0, -1.0):
-            dq = np.zeros(len(q))
-            dq[j] = sgn * step
-            try:
-                T1 = np.asarray(fk(q + dq), float)
-            except (ValueError, ArithmeticError):
-                continue
-            J[:3, j] = (T1[:3, 3] - T0[:3, 3]) / (sgn * step)
-            J[3:, j] = rotvec_from_matrix(T1[:3, :3] @ T0[:3, :3].T) / (sgn * step)
-            break
-    return J
-
-
 def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float = 1e-6):
     """Geometric Jacobian ``(6, n)`` (world frame, linear rows then angular) of any
     FK function ``fk(q (n,)) -> T (4, 4)`` by central differences (step ``h`` rad,
-    ``h * scale`` m)."""
+    ``h * scale`` m). A column whose central difference ``fk`` refuses (ValueError,
+    ArithmeticError: the edge of a mechanism's assembly region) is taken forward or
+    backward, towards whichever side ``fk`` accepts."""
     q = np.asarray(q, float)
     n = len(q)
     J = np.zeros((6, n))
+
+    def pose(x):
+        try:
+            return np.asarray(fk(x), float)
+        except (ValueError, ArithmeticError):
+            return None
+
+    T0 = None
     for j in range(n):
-        step = h if revolute[j] else h * scale
         dq = np.zeros(n)
-        dq[j] = step
-        Tp, Tm = np.asarray(fk(q + dq), float), np.asarray(fk(q - dq), float)
-        J[:3, j] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * step)
-        J[3:, j] = rotvec_from_matrix(Tp[:3, :3] @ Tm[:3, :3].T) / (2 * step)
+        dq[j] = h if revolute[j] else h * scale
+        Tp, Tm = pose(q + dq), pose(q - dq)
+        if Tp is None or Tm is None:                 # one-sided, from q itself
+            T0 = pose(q) if T0 is None else T0
+            Tp, Tm = (Tp, T0) if Tp is not None else (T0, Tm)
+        if Tp is None or Tm is None:
+            continue
+        width = np.linalg.norm(dq) * (2 if Tp is not T0 and Tm is not T0 else 1)
+        J[:3, j] = (Tp[:3, 3] - Tm[:3, 3]) / width
+        J[3:, j] = rotvec_from_matrix(Tp[:3, :3] @ Tm[:3, :3].T) / width
     return J
 
 
@@ -154,8 +148,8 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     def scaled_jacobian(q):
         try:
             J = np.asarray(jac(q), float).copy()
-        except (ValueError, ArithmeticError):   # a central difference left the mechanism
-            J = _one_sided_jacobian(fk, q, revolute, scale, lo, hi)
+        except (ValueError, ArithmeticError):   # a difference left the mechanism
+            J = finite_difference_jacobian(fk, q, revolute, scale)
         J[:3] /= scale
         return J[rows] * s
 
@@ -286,12 +280,12 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
         start = project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
         q, E, k = attempt(start)
         tried = r
-        cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start)
+        cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start, E)
         if best is None or cand[:2] < best[:2]:
             best = cand
         if E <= TOL:
             break
-    _, _, q, k, start = best
+    _, _, q, k, start, E = best
     try:
         Tq = np.asarray(fk(q), float)
         pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
@@ -299,6 +293,6 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     except (ValueError, ArithmeticError):      # no start the mechanism accepts
         pe, oe = np.inf, (np.inf if orientation else None)
     at = [i for i in range(n) if q[i] <= lo[i] + 1e-12 or q[i] >= hi[i] - 1e-12]
-    return NumericIK(q=q, converged=bool(np.linalg.norm(error(q)) <= TOL), position_error=pe,
+    return NumericIK(q=q, converged=bool(E <= TOL), position_error=pe,
                      orientation_error=oe, iterations=k, at_limits=at,
                      distance=float(np.linalg.norm((q - q0) / s)), start=start, restarts=tried)

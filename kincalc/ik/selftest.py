@@ -69,7 +69,7 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
             none += 1
     n = max(trials, 1)
     return {
-        "trials": trials, "seed": seed, "method": "numerical" if numerical else family.name,
+        "trials": trials, "seed": seed,
         "success_rate": found / n, "missing_rate": missing / n, "no_solution_rate": none / n,
         "wrong_solution_rate": wrong / max(total, 1),
         "solutions_per_pose": {str(k): v for k, v in sorted(counts.items())},

@@ -31,6 +31,7 @@ from ..spatial import cross
 from ..errors import KincalcError, UsageError
 from ..spatial import invert_transform, rotation_error
 from .families import SOLVERS, plan
+from .position import DEAD_ENDS
 from .screws import Screws, wrap
 
 #: a solution is accepted when its FK misses the target by at most this much
@@ -198,8 +199,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     if target.approach is not None:
         T = T.copy()
         T[:3, :3] = _frame_with_z(target.approach)
-    solver = SOLVERS[family.solver or family.name]
-    from .position import DEAD_ENDS
+    solver = SOLVERS[family.solver]
     dead_ends: list = []
     token = DEAD_ENDS.set(dead_ends if all_branches else None)
     try:
@@ -258,7 +258,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     if near is not None:
         for s_ in sols:
             s_.q = _toward(robot, s_.q, near)
-            s_.change = _change(robot, s_.q, near)
+            s_.change = s_.q - near
         sols.sort(key=lambda s_: (not s_.within_limits, _scaled_norm(robot, s_.change)))
 
     reachable = any(s.within_limits for s in sols)
@@ -308,11 +308,6 @@ def _toward(robot, q, near):
     return q
 
 
-def _change(robot, q, near):
-    """``q - near`` (n,), rad / m."""
-    return np.asarray(q, float) - near
-
-
 def _scaled_norm(robot, d) -> float:
     """|d| with prismatic joints divided by the robot's characteristic length."""
     s = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
@@ -332,7 +327,7 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                          "a full orientation or the position alone")
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near
-    full, full_pos = robot.generic_ranks
+    full = robot.generic_ranks[0]
     orientation = target.orientation
     T = np.asarray(target.T, float)
     res = solve_numeric(robot.fk, T, start, jacobian=robot.jacobian, limits=robot.limits,
@@ -353,7 +348,7 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                                orientation_error=res.orientation_error,
                                within_limits=not viol, violations=viol, singular=sing,
                                singularity=desc,
-                               change=None if near is None else _change(robot, q, near)))
+                               change=None if near is None else q - near))
         reason = "1 solution found numerically (the one with the least change from the start)"
         if res.restarts:
             reason += (f"; the start did not converge, restart {res.restarts} did: it may not be "
@@ -375,7 +370,7 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
     reachable = bool(sols) and sols[0].within_limits
     return IKResult(robot=robot, target=target, family="numerical", method=method,
                     controls=controls, solutions=sols, reachable=reachable, reason=reason,
-                    units=units, near=start if near is not None else None)
+                    units=units, near=near)
 
 
 #: the families that control the tool's approach direction but not the roll about it
