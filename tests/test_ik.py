@@ -446,3 +446,40 @@ def test_all_branches_says_why_a_branch_has_no_real_angle():
     assert abs(wrap(np.radians(float(m.group(1)) - phase))) < 1e-3
     # without --all-branches nothing is collected
     assert solve(r, Target(T)).dead_ends is None
+
+
+ARM5 = """name: arm5
+title: five-joint arm with a pitch-roll wrist
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 90, a: 0.033, d: 0.147, theta: 0}
+  - {name: q2, type: revolute, alpha: 0, a: 0.155, d: 0, theta: 0}
+  - {name: q3, type: revolute, alpha: 0, a: 0.135, d: 0, theta: 0}
+  - {name: q4, type: revolute, alpha: 90, a: 0, d: 0, theta: 0}
+  - {name: q5, type: revolute, alpha: 0, a: 0, d: 0.2175, theta: 0}
+"""
+
+
+def test_cli_approach_target(tmp_path):
+    """kincalc ik FILE --xyz ... --approach ...: every solution puts the tool point there
+    with its z axis along the (normalised) approach; the roll is labelled q5:any."""
+    import json
+    import subprocess
+    import sys
+    path = tmp_path / "arm5.yaml"
+    path.write_text(ARM5)
+    a = np.array([0.3, 0.05, -0.2])
+    out = subprocess.run([sys.executable, "-m", "kincalc", "ik", str(path), "--xyz", "0.3", "0.05",
+                          "0.2", "--approach", *map(str, a), "--rad", "--json"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["method"]["family"] == "pitch-roll" and doc["count"] == 4
+    assert np.allclose(doc["target"]["approach"], a / np.linalg.norm(a))
+    r = load_robot(str(path))
+    for s in doc["solutions"]:
+        T = r.fk(np.array(s["q"]))
+        assert np.allclose(T[:3, 3], [0.3, 0.05, 0.2], atol=1e-9)
+        assert np.allclose(T[:3, 2], a / np.linalg.norm(a), atol=1e-9)
+        assert "q5:any" in s["branch"] and not s["singular"]

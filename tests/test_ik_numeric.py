@@ -127,6 +127,15 @@ def test_cli_numeric_and_near(tmp_path):
     # started at the generating joints, the least change is no change
     assert np.allclose(doc["solutions"][0]["q"], [10, 20, 30, -40, 50, 60, 70], atol=1e-6)
     assert np.allclose(doc["solutions"][0]["change_from_near"], 0, atol=1e-6)
+    # --numeric on an analytic robot: the one solution next to --near
+    num = subprocess.run([sys.executable, "-m", "kincalc", "ik", "puma560", "--from-q",
+                          "10 -40 -190 20 30 40", "--near", "12 -38 -188 18 32 38", "--numeric",
+                          "--json"], capture_output=True, text=True)
+    assert num.returncode == 0, num.stderr
+    doc = json.loads(num.stdout)
+    assert doc["method"]["family"] == "numerical" and doc["count"] == 1
+    q = np.array(doc["solutions"][0]["q"])
+    assert np.max(np.abs(q - [10, -40, -190, 20, 30, 40])) < 1e-6
     far = subprocess.run([sys.executable, "-m", "kincalc", "ik", "iiwa7", "--xyz", "3", "0", "0"],
                          capture_output=True, text=True)
     assert far.returncode == 1 and "beyond the outer reach" in " ".join(far.stdout.split())
