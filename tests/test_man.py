@@ -1,7 +1,7 @@
 """The man pages in man/ stay in step with the command line.
 
-For every command path (kincalc, fk, jacobian, ik, selftest, robots, robots
-list, robots show, robots validate) the ``--help`` text is taken from the CLI itself,
+For every command path (kincalc, fk, jacobian, ik, reach, workspace, plot,
+selftest, robots, robots list, robots show, robots validate) the ``--help`` text is taken from the CLI itself,
 in-process through ``kincalc.cli.main.main`` with stdout captured by capsys
 (there is no ``kincalc/__main__.py``, so ``python -m kincalc`` is not used).
 Every long option it lists (both halves of ``--deg / --rad``) must be in
@@ -32,6 +32,9 @@ PAGES: dict[tuple[str, ...], str] = {
     ("fk",): "kincalc-fk.1",
     ("jacobian",): "kincalc-jacobian.1",
     ("ik",): "kincalc-ik.1",
+    ("reach",): "kincalc-reach.1",
+    ("workspace",): "kincalc-workspace.1",
+    ("plot",): "kincalc-plot.1",
     ("selftest",): "kincalc-selftest.1",
     ("robots",): "kincalc-robots.1",
     ("robots", "list"): "kincalc-robots.1",

@@ -61,6 +61,12 @@ NumericOpt = Annotated[bool, typer.Option(
     "--numeric", help="Find the one solution nearest --near numerically (Levenberg-Marquardt, "
                       "then least change), even when a closed form exists. Robots no closed "
                       "form covers (7 or more joints, ...) are solved this way anyway.")]
+PlotOpt = Annotated[Optional[str], typer.Option(
+    "--plot", metavar="FILE", show_default=False,
+    help="Also draw every solution side by side, each titled with its branch, to FILE "
+         "(.png, .svg or .pdf; needs the 'plot' extra).")]
+DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
+                                     help="Pixels per inch of a PNG --plot.")]
 ExplainOpt = Annotated[bool, typer.Option(
     "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
 
@@ -82,6 +88,8 @@ def ik(
     explain: ExplainOpt = False,
     near: NearOpt = None,
     numeric: NumericOpt = False,
+    plot: PlotOpt = None,
+    dpi: DpiOpt = 100,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -100,6 +108,10 @@ def ik(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..ik import solve
+    if plot is not None:
+        from ..plot import check_output, require_matplotlib
+        check_output(plot)
+        require_matplotlib("kincalc ik --plot")
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
@@ -112,15 +124,43 @@ def ik(
         q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
     result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
                    near=q_near, numeric=numeric)
-    output(result.to_dict(), json, _tables, rob, precision, explain)
+    doc = result.to_dict()
+    if plot is not None:
+        doc["plot"] = _plot_solutions(rob, result, plot, units, dpi)
+    output(doc, json, _tables, rob, precision, explain)
     if not result.reachable:
         raise typer.Exit(1)
 
 
+def _plot_solutions(robot, result, path, units, dpi):
+    """Draw every solution of ``result`` to ``path``, titled by number and branch;
+    returns the path, or None (with a note on stderr) when there is nothing to draw."""
+    import sys
+
+    import numpy as np
+
+    from ..plot import config_title, draw_arms
+    sols = result.solutions
+    if not sols:
+        sys.stderr.write(f"kincalc: no solution to draw; {path} not written\n")
+        return None
+    titles = [f"{k}. {s.branch}" + ("" if s.within_limits else " (out of limits)")
+              + "\n" + config_title(robot, s.q, units) for k, s in enumerate(sols, start=1)]
+    p = result.target.T[:3, 3] * units.l
+    length = "" if units.length == "unitless" else f" {units.length}"
+    draw_arms(robot, np.array([s.q for s in sols]), titles, path, units=units, dpi=dpi,
+              suptitle=f"{robot.name}: {len(sols)} IK solution{'s' if len(sols) != 1 else ''} "
+                       f"for p = ({', '.join(f'{x:.4g}' for x in p)}){length}")
+    return path
+
+
 def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
                  quat=None, axis_angle=None, matrix=None, approach=None, tcv=None, pose=None,
-                 from_q=None):
-    """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI)."""
+                 from_q=None, T=None, q=None):
+    """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI).
+
+    ``T`` (a 4x4 matrix, or 16 or 12 numbers) and ``q`` (joint values) are the
+    batch-record forms of ``--pose`` and ``--from-q``."""
     import numpy as np
 
     from .. import spatial as sp
@@ -129,25 +169,30 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
               "--quat": quat, "--axis-angle": axis_angle, "--matrix": matrix,
               "--approach": approach, "--tcv": tcv}
     given = [k for k, v in orient.items() if v is not None]
-    whole = [k for k, v in (("--pose", pose), ("--from-q", from_q)) if v is not None]
+    whole = [k for k, v in (("--pose", pose), ("--from-q", from_q), ("T", T), ("q", q))
+             if v is not None]
+    for name, v in [("--xyz", xyz), *orient.items(), ("T", T), ("q", q)]:
+        if v is not None and not np.all(np.isfinite(np.asarray(v, float))):
+            raise InputError(f"{name}: values must be finite numbers")
     if len(given) > 1:
         raise UsageError(f"give at most one orientation, not {' and '.join(given)}")
     if whole and (given or xyz is not None):
         raise UsageError(f"{whole[0]} gives the whole pose; do not combine it with "
                          f"{(given + (['--xyz'] if xyz is not None else []))[0]}")
     if len(whole) > 1:
-        raise UsageError("give either --pose or --from-q, not both")
+        raise UsageError(f"give either {whole[0]} or {whole[1]}, not both")
     A = 1.0 / units.a   # rad per display angle unit
     Lf = 1.0 / units.l  # m per display length unit
-    if from_q is not None:
+    if from_q is not None or q is not None:
         from .common import parse_joints
-        q = parse_joints(from_q.replace(",", " ").split(), robot, units, option="--from-q")
-        return Target(robot.fk(q), orientation=True)
-    if pose is not None:
-        T = _read_pose(pose)
-        T = T.copy()
-        T[:3, 3] *= Lf
-        return Target(T, orientation=True)
+        tokens = from_q.replace(",", " ").split() if from_q is not None else [str(x) for x in q]
+        qv = parse_joints(tokens, robot, units, option="--from-q" if q is None else "q")
+        return Target(robot.fk(qv), orientation=True)
+    if pose is not None or T is not None:
+        M = _read_pose(pose) if pose is not None else _check_pose(np.array(T, float), "T")
+        M = M.copy()
+        M[:3, 3] *= Lf
+        return Target(M, orientation=True)
     if tcv is not None:
         if xyz is not None:
             raise UsageError("--tcv holds the position; do not give --xyz as well")
@@ -221,14 +266,20 @@ def _read_pose(src: str):
         except ValueError:
             raise InputError(f"--pose {src}: expected 16 numbers or JSON rows of a 4x4 matrix")\
                 from None
+    return _check_pose(M, f"--pose {src}")
+
+
+def _check_pose(M, what):
+    """``M`` (16 or 12 numbers, or a 4x4 matrix) as a 4x4 pose, re-orthonormalised."""
+    import numpy as np
     if M.size == 12:
         M = np.vstack([M.reshape(3, 4), [0, 0, 0, 1]])
-    if M.size != 16:
-        raise InputError(f"--pose {src}: expected a 4x4 matrix (16 numbers), got {M.size}")
+    if M.size != 16 or not np.all(np.isfinite(M)):
+        raise InputError(f"{what}: expected a 4x4 matrix (16 finite numbers), got {M.size}")
     M = M.reshape(4, 4)
     if not np.allclose(M[3], [0, 0, 0, 1]):
-        raise InputError(f"--pose {src}: the last row must be 0 0 0 1")
-    _check_rotation(M[:3, :3], f"--pose {src}")
+        raise InputError(f"{what}: the last row must be 0 0 0 1")
+    _check_rotation(M[:3, :3], what)
     u, _, vt = np.linalg.svd(M[:3, :3])
     M[:3, :3] = u @ vt
     return M
@@ -242,16 +293,21 @@ def _tables(doc, robot, precision, explain):
     from .render import console, heading, kv_table, matrix_table, num
     c = console()
     c.print(heading(doc))
-    c.print(matrix_table(doc["target"]["T"], precision,
-                         title="target T (world <- tool)" + (
-                             "" if doc["target"]["orientation_given"] else
-                             "  (position only: no orientation given)")))
+    u = doc["units"]
+    if doc["target"]["orientation_given"]:
+        c.print(matrix_table(doc["target"]["T"], precision, title="target T (world <- tool)"))
+    else:
+        from .render import vec
+        length = "" if u["length"] == "unitless" else f" {u['length']}"
+        what = ("approach " + vec(doc["target"]["approach"], precision)
+                if "approach" in doc["target"] else "no orientation given")
+        c.print(f"target position: {vec([r[3] for r in doc['target']['T'][:3]], precision)}"
+                f"{length}  ({what})")
     m = doc["method"]
     c.print(kv_table([("method", f"{m['family']}: {m['description']}"),
                       ("controls", m["controls"]),
                       ("reachable", "yes" if doc["reachable"] else "no"),
                       ("", doc["reason"])]))
-    u = doc["units"]
     n = doc["count"]
     if n:
         t = Table(box=box.SIMPLE_HEAD, title=f"{n} solution{'s' if n != 1 else ''} ({u['angle']}"
@@ -296,6 +352,8 @@ def _tables(doc, robot, precision, explain):
     if doc.get("dead_ends"):
         c.print(kv_table([(str(k), escape(t)) for k, t in enumerate(doc["dead_ends"], start=1)],
                          title="branches with no real solution"))
+    if doc.get("plot"):
+        c.print(f"drawing: {escape(doc['plot'])}")
     if explain:
         for k, s in enumerate(doc["solutions"], start=1):
             if s.get("trace"):

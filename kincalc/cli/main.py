@@ -14,8 +14,11 @@ from .. import __version__
 from . import fk as _fk
 from . import ik as _ik
 from . import jacobian as _jacobian
+from . import plot as _plot
+from . import reach as _reach
 from . import robots as _robots
 from . import selftest as _selftest
+from . import workspace as _workspace
 from .common import NUMERIC_ARGS
 
 app = typer.Typer(
@@ -47,6 +50,9 @@ def _root(
 app.command("fk", context_settings=NUMERIC_ARGS)(_fk.fk)
 app.command("jacobian", context_settings=NUMERIC_ARGS)(_jacobian.jacobian)
 app.command("ik", context_settings={"help_option_names": ["-h", "--help"]})(_ik.ik)
+app.command("reach", context_settings={"help_option_names": ["-h", "--help"]})(_reach.reach)
+app.command("workspace")(_workspace.workspace)
+app.command("plot", context_settings=NUMERIC_ARGS)(_plot.plot)
 app.command("selftest")(_selftest.selftest)
 app.add_typer(_robots.app, name="robots")
 

@@ -552,26 +552,24 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
 
 
 def _out_of_reach(robot, T, units) -> str:
-    """Why nothing was found, measured against a sampled reach envelope."""
-    rng = np.random.default_rng(0)
-    lo, hi = robot.limits.T
-    lo = np.where(np.isfinite(lo), lo, -np.pi)
-    hi = np.where(np.isfinite(hi), hi, np.pi)
-    P = robot.fk(rng.uniform(lo, hi, (20000, robot.dof)))[:, :3, 3]
-    origin = robot.base[:3, 3]
-    dist = np.linalg.norm(P - origin, axis=1)
-    d = float(np.linalg.norm(T[:3, 3] - origin))
-    if d > dist.max():
-        L = _len(units)
-        return (f"out of reach: the target is {d * units.l:.4g}{L} from the base, "
-                f"beyond the outer reach (about {dist.max() * units.l:.4g}{L}) by "
-                f"about {(d - dist.max()) * units.l:.4g}{L}")
-    if d < dist.min():
-        L = _len(units)
-        return (f"out of reach: the target is inside the inner void "
-                f"({d * units.l:.4g}{L} from the base, the arm reaches no closer "
-                f"than about {dist.min() * units.l:.4g}{L})")
-    return "no solution: the arm cannot place its tool at this pose"
+    """Why nothing was found, from the nearest reachable position (see
+    :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
+    within the limits, or within reach (then the pose as a whole is not)."""
+    from ..reach import POSITION_TOL, _where_outside, nearest_position
+    p = np.asarray(T, float)[:3, 3]
+    tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
+    L = _len(units)
+    _, _, dist = nearest_position(robot, p)
+    if dist <= tol:
+        return "no solution: the arm cannot place its tool at this pose"
+    free = np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
+    _, p_free, dist_free = nearest_position(robot, p, limits=free)
+    if dist_free <= tol:
+        return (f"out of reach within the joint limits: the nearest position reachable "
+                f"within them is {dist * units.l:.6g}{L} away")
+    _, reason = _where_outside(robot, p, p_free, dist_free,
+                               lambda x: f"{x * units.l:.6g}{L}")
+    return "out of reach: " + reason
 
 
 def _cross_combinations(robot, T, target, sols, units):

@@ -1,0 +1,50 @@
+"""``kincalc plot``: draw the arm at one configuration to a PNG, SVG or PDF file."""
+
+from __future__ import annotations
+
+import sys
+from typing import Annotated
+
+import typer
+
+from .common import (DebugOpt, DegOpt, JointsArg, RobotArg, UnitOpt, display_units,
+                     load_robot, parse_joints)
+
+OutputOpt = Annotated[str, typer.Option(
+    "--output", "-o", metavar="FILE", show_default=False,
+    help="The drawing to write; its suffix picks the format: .png, .svg or .pdf.")]
+DpiOpt = Annotated[int, typer.Option(
+    "--dpi", metavar="N", min=10, max=1200,
+    help="Pixels per inch of a PNG (one 5-inch panel is 5N pixels square).")]
+
+
+def plot(
+    robot: RobotArg,
+    q: JointsArg = None,
+    output: OutputOpt = ...,
+    dpi: DpiOpt = 100,
+    deg: DegOpt = True,
+    unit: UnitOpt = None,
+    debug: DebugOpt = False,
+):
+    """Draw ROBOT at joint values Q into FILE (PNG, SVG or PDF).
+
+    Links are thick lines, revolute joints circles, prismatic joints
+    squares, and the base and tool frames x/y/z triads (red/green/blue), at
+    equal scale on axes in the length unit. A planar arm is drawn in 2D in
+    its plane, any other in 3D. Needs matplotlib: pip install 'kincalc[plot]'.
+
+    ROBOT is a bundled robot's name (kincalc robots list) or a path to a robot
+    YAML file. Q... are the joint values in order, revolute in the angle unit,
+    prismatic in the length unit; negative values need no '--'. Without Q the
+    robot's home configuration is used.
+    """
+    from ..plot import check_output, config_title, draw_arms, require_matplotlib
+    check_output(output)
+    require_matplotlib("kincalc plot")
+    rob = load_robot(robot)
+    units = display_units(rob, deg, unit)
+    qv = parse_joints(q, rob, units)
+    drawing = draw_arms(rob, qv[None, :], [config_title(rob, qv, units)], output,
+                        units=units, dpi=dpi)
+    sys.stdout.write(f"wrote {output} ({drawing.describe()})\n")
