@@ -45,8 +45,10 @@ def test_readme_has_an_example_for_every_command():
 
 @pytest.mark.parametrize("command,shown", CASES, ids=[c for c, _ in CASES])
 def test_readme_example_output(command, shown, tmp_path):
-    bad = re.search(r"Given this `bad.yaml`:\n\n```yaml\n(.*?)```", TEXT, re.S).group(1)
-    (tmp_path / "bad.yaml").write_text(bad)
+    # the files the README shows ("Given this `NAME`:" and a fenced block) are written
+    # where the examples run
+    for name, body in re.findall(r"Given this `([\w.]+)`:\n\n```\w*\n(.*?)```", TEXT, re.S):
+        (tmp_path / name).write_text(body)
     env = dict(os.environ, COLUMNS="100")
     env.pop("NO_COLOR", None)
     argv = [sys.executable, "-m", "kincalc", *shlex.split(command)[1:]]
