@@ -14,7 +14,6 @@ one core for a 6-DOF arm. Medians of --repeat runs.
 
 import argparse
 import os
-import statistics
 import time
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -23,6 +22,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
+from fk_batch import best_of as median_time  # noqa: E402  (the same median timer)
 from kincalc import workspace  # noqa: E402
 
 
@@ -47,15 +47,6 @@ def loop_points(robot, rng, n):
             T = T @ A
         P[k] = (T @ robot.tool)[:3, 3]
     return q, P
-
-
-def median_time(f, repeat):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
 
 
 def main():

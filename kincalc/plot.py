@@ -28,6 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .analysis import _check_q
 from .errors import InputError, KincalcError
 
 #: Output formats, by file suffix.
@@ -127,7 +128,7 @@ def joint_points(robot, q) -> np.ndarray:
     prismatic joint's point is that origin before the joint's travel, where
     the sliding link leaves the previous one.
     """
-    q = _one_config(robot, q)
+    q = _check_q(robot, q)
     frames = _frames(robot, q)
     travel = np.where(robot.is_revolute, 0.0, q + robot.chain.offset)
     return frames[:, :3, 3] - frames[:, :3, 2] * travel[:, None]
@@ -151,7 +152,7 @@ def arm_points(robot, q) -> ArmPoints:
         position ``robot.fk(q)[:3, 3]``; ``tool (4, 4)`` ``T_world_tool``;
         ``base (4, 4)`` ``T_world_0``.
     """
-    q = _one_config(robot, q)
+    q = _check_q(robot, q)
     frames = _frames(robot, q)
     starts = joint_points(robot, q)
     tool = robot.fk(q)
@@ -184,15 +185,6 @@ def _leg(pts, origin, axis, target, L):
 def _append(pts, p, L, force=False):
     if force or np.linalg.norm(p - pts[-1]) > 1e-9 * L:
         pts.append(np.array(p, dtype=float))
-
-
-def _one_config(robot, q) -> np.ndarray:
-    q = np.asarray(q, dtype=float)
-    if q.shape != (robot.dof,):
-        raise ValueError(f"expected joint values of shape ({robot.dof},), got {q.shape}")
-    if not np.all(np.isfinite(q)):
-        raise ValueError("joint values must be finite")
-    return q
 
 
 def _frames(robot, q) -> np.ndarray:

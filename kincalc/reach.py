@@ -134,9 +134,10 @@ def reach(robot, target, *, units=None) -> ReachResult:
     if inside:
         if all(s.singular for s in inside):
             why = inside[0].singularity or "the Jacobian loses rank"
+            every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
-                               reason=f"{_count(sols, inside)}, every one of them at a singular "
-                                      f"configuration ({why}): reachable, but not robustly")
+                               reason=f"{_count(sols, inside)}, {every} a singular "
+                                      f"configuration: {why}; reachable, but not robustly")
         return ReachResult(verdict="reachable", distance=0.0, reason=_count(sols, inside),
                            **common)
 

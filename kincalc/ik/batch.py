@@ -13,8 +13,8 @@ Supported (the closed-form families; others raise
   one of the two invariants of joint 1 does not involve joint 2 (axes 1 and 2
   meet or are parallel: PUMA, KUKA, ABB, Fanuc, Stanford, the textbook arms);
 * ``three-parallel`` (UR family);
-* ``parallel-four-wrist`` (the textbook's offset-wrist arm) and the
-  position-only families under the same closed-form condition.
+* the reversed chains of both (``reversed-spherical-wrist``,
+  ``reversed-three-parallel``).
 
 The formulas are those of :mod:`kincalc.ik.families` and
 :mod:`kincalc.ik.position`; a solution is valid when its FK reproduces the
