@@ -424,3 +424,43 @@ def test_cli_without_matplotlib(tmp_path):
     assert r.stderr == ("kincalc: error: kincalc plot needs matplotlib, which is not installed: "
                         "pip install 'kincalc[plot]'\n")
     assert not target.exists()
+
+
+# --- ik --plot and workspace --plot, through the CLI -----------------------------------
+
+def test_ik_plot_draws_one_panel_per_solution(tmp_path, capsys):
+    # bk_rr reaches (12.99, 2.5) two ways (Example 4.2): two 5-inch panels side by side
+    out = tmp_path / "rr.png"
+    assert main(["ik", "bk_rr", "--xyz", "12.99", "2.5", "0", "--plot", str(out)]) == 0
+    assert png_size(out) == (1000, 500)
+    doc_out = tmp_path / "rr.svg"
+    capsys.readouterr()
+    assert main(["ik", "puma560", "--from-q", "10 -40 170 20 30 40", "--plot", str(doc_out),
+                 "--json"]) == 0
+    import json
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["plot"] == str(doc_out) and doc["count"] == 8
+    # eight panels, four a row: 20 x 10 inches, 72 points each
+    root = ET.parse(doc_out).getroot()
+    assert root.get("width").startswith("1440") and root.get("height").startswith("720")
+
+
+def test_ik_plot_with_no_solution_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "none.png"
+    assert main(["ik", "bk_rr", "--xyz", "20", "0", "0", "--plot", str(out)]) == 1
+    assert not out.exists()
+    assert "no solution to draw" in capsys.readouterr().err
+
+
+def test_workspace_plot_is_deterministic_for_a_seed(tmp_path, capsys):
+    paths = [tmp_path / f"w{k}.png" for k in range(3)]
+    for path, seed in zip(paths, (0, 0, 1)):
+        assert main(["workspace", "puma560", "--samples", "20000", "--seed", str(seed),
+                     "--plot", str(path)]) == 0
+    capsys.readouterr()
+    data = [p.read_bytes() for p in paths]
+    assert data[0][:8] == b"\x89PNG\r\n\x1a\n"
+    assert data[0] == data[1] and data[0] != data[2]
+    # two sections (XY and XZ) for a spatial arm: at least two panels wide
+    w, h = png_size(paths[0])
+    assert w >= 2 * h
