@@ -23,6 +23,7 @@ import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
 from fk_batch import best_of as median_time  # noqa: E402  (the same median timer)
+from fk_batch import naive_fk  # noqa: E402
 from kincalc import workspace  # noqa: E402
 
 
@@ -38,15 +39,10 @@ def numpy_points(robot, rng, n):
 
 
 def loop_points(robot, rng, n):
+    """Reference: uniform joints, then fk_batch's per-configuration numpy loop."""
     lo, hi = workspace.joint_ranges(robot)
     q = rng.uniform(lo, hi, (n, robot.dof))
-    P = np.empty((n, 3))
-    for k in range(n):
-        T = robot.base.copy()
-        for A in robot.link_transforms(q[k]):
-            T = T @ A
-        P[k] = (T @ robot.tool)[:3, 3]
-    return q, P
+    return q, naive_fk(robot, q)[:, :3, 3]
 
 
 def main():

@@ -33,9 +33,12 @@ decided by the same search with the limits removed.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
+
+from .ik.solve import _count_text, _len
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
@@ -89,22 +92,43 @@ class ReachResult:
         return out
 
 
-def _len(units) -> str:
-    return "" if units.length == "unitless" else f" {units.length}"
+def _samples(robot, count: int, seed: int, limits=None) -> np.ndarray:
+    """``(count, n)`` seeded joints uniform within ``limits`` (default the robot's);
+    a bound that is infinite is replaced by a turn (revolute) or the robot's size
+    (prismatic) beyond the other bound or zero. For search starts and shape tests."""
+    lo, hi = (robot.limits if limits is None else np.asarray(limits, float)).T
+    span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
+    lo = np.where(np.isfinite(lo), lo, np.minimum(-span, hi - 2 * span))
+    hi = np.where(np.isfinite(hi), hi, np.maximum(span, lo + 2 * span))
+    return np.random.default_rng(seed).uniform(lo, hi, (count, robot.dof))
+
+
+def unlimited(robot) -> np.ndarray:
+    """``(n, 2)`` limits that hold no joint back (for :func:`nearest_position`)."""
+    return np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
 
 
 def nearest_position(robot, p, *, limits=None, seed: int = 0):
     """The configuration whose tool point is nearest ``p (3,)`` (m, world), within
     ``limits (n, 2)`` (default the robot's). Returns ``(q (n,), tool point (3,),
-    distance)``."""
+    distance)``.
+
+    The last few answers are remembered: ``reach`` asks again for what the IK
+    reason already measured."""
+    key = (tuple(np.asarray(p, float).reshape(3)),
+           None if limits is None else tuple(np.asarray(limits, float).ravel()), seed)
+    q, point, dist = _nearest(robot, key)
+    return q.copy(), point.copy(), dist
+
+
+@functools.lru_cache(maxsize=32)
+def _nearest(robot, key):
     from .workspace import descend
-    rng = np.random.default_rng(seed)
-    lo, hi = (robot.limits if limits is None else np.asarray(limits, float)).T
-    # starts only: unbounded joints are sampled over a turn or the robot's size
-    span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
-    lo = np.where(np.isfinite(lo), lo, np.minimum(-span, hi - 2 * span))
-    hi = np.where(np.isfinite(hi), hi, np.maximum(span, lo + 2 * span))
-    Q = rng.uniform(lo, hi, (SEARCH_SAMPLES, robot.dof))
+    p, limits, seed = key
+    p = np.array(p)
+    if limits is not None:
+        limits = np.array(limits).reshape(robot.dof, 2)
+    Q = _samples(robot, SEARCH_SAMPLES, seed, limits)
     P = robot.fk(Q)[:, :3, 3]
     best = np.argsort(np.linalg.norm(P - p, axis=1))[:SEARCH_STARTS]
     X, pe, _ = descend(robot, Q[best], np.broadcast_to(p, (len(best), 3)), iterations=400,
@@ -136,9 +160,9 @@ def reach(robot, target, *, units=None) -> ReachResult:
             why = inside[0].singularity or "the Jacobian loses rank"
             every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
-                               reason=f"{_count(sols, inside)}, {every} a singular "
+                               reason=f"{_count_text(sols)}, {every} a singular "
                                       f"configuration: {why}; reachable, but not robustly")
-        return ReachResult(verdict="reachable", distance=0.0, reason=_count(sols, inside),
+        return ReachResult(verdict="reachable", distance=0.0, reason=_count_text(sols),
                            **common)
 
     p = np.asarray(target.T, float)[:3, 3]
@@ -184,8 +208,7 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     """The position ``p`` is ``dist`` (> 0) from the nearest point reached within the
     limits: blocked by the limits, or out of reach of the geometry, and where."""
     L = max(robot.characteristic_length, 1e-12)
-    free = np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
-    q_free, p_free, dist_free = nearest_position(robot, p, limits=free)
+    q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
     Lu = _len(units)
     fmt = lambda x: f"{x * units.l:.6g}{Lu}"  # noqa: E731 - a local formatter
     if dist_free <= POSITION_TOL * L:
@@ -218,12 +241,7 @@ def _where_outside(robot, p, p_near, dist, fmt):
     else (a notch in the workspace) is outside the workspace."""
     from .workspace import _frame_of
     o = robot.base[:3, 3]
-    rng = np.random.default_rng(1)
-    lo, hi = robot.limits.T
-    span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
-    Q = rng.uniform(np.where(np.isfinite(lo), lo, -span), np.where(np.isfinite(hi), hi, span),
-                    (512, robot.dof))
-    origin, basis = _frame_of(robot.fk(Q)[:, :3, 3], robot)
+    origin, basis = _frame_of(robot.fk(_samples(robot, 512, 1))[:, :3, 3], robot)
     if basis.shape[1] < 3:
         rel = p - p_near
         off = float(np.linalg.norm(rel - basis @ (basis.T @ rel)))
@@ -248,11 +266,6 @@ def _where_outside(robot, p, p_near, dist, fmt):
             f"base, the arm reaches no closer than {fmt(d_near)}{where}")
     return "outside-workspace", (f"outside the workspace: the nearest reachable point is "
                                  f"{fmt(dist)} away")
-
-
-def _count(sols, inside) -> str:
-    return (f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {len(inside)} within "
-            "the joint limits")
 
 
 def _violation_dict(robot, v, units) -> dict:

@@ -80,12 +80,6 @@ def joint_ranges(robot) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def sample_joints(robot, rng, count: int) -> np.ndarray:
-    """``(count, n)`` joint values drawn uniformly within :func:`joint_ranges`."""
-    lo, hi = joint_ranges(robot)
-    return rng.uniform(lo, hi, (count, robot.dof))
-
-
 def sample_tool_points(robot, rng, count: int, progress=None):
     """``(Q (count, n), P (count, 3))``: joints drawn uniformly within
     :func:`joint_ranges` and their tool points (m, world), in chunks through the
@@ -160,21 +154,22 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
             break
         Ja, ea, Xa = J[idx], E[idx], X[idx]
 
-        def solve(Jm):
+        def solve(Jm, e, damping):
             JT = np.swapaxes(Jm, 1, 2)
             A = JT @ Jm
-            A += (lam[idx] * (1.0 + np.trace(A, axis1=1, axis2=2) / n))[:, None, None] * eye
-            return np.linalg.solve(A, (JT @ ea[..., None]))[..., 0]
-        step = solve(Ja)
+            A += (damping * (1.0 + np.trace(A, axis1=1, axis2=2) / n))[:, None, None] * eye
+            return np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
+        step = solve(Ja, ea, lam[idx])
         # a joint on its limit that the step pushes outwards is held, and the step is
         # solved again without it (clipping afterwards would shorten the step of the
         # joints that can still move, and they would crawl)
         held = ((Xa <= lo) & (step < 0)) | ((Xa >= hi) & (step > 0))
-        if held.any():
-            rows_held = np.flatnonzero(held.any(axis=1))
-            step[rows_held] = solve(Ja * ~held[:, None, :])[rows_held] * ~held[rows_held]
-        big = np.linalg.norm(step, axis=1)
-        step *= np.minimum(1.0, 0.5 / np.maximum(big, 1e-300))[:, None]
+        r = np.flatnonzero(held.any(axis=1))
+        if r.size:
+            free = ~held[r]
+            step[r] = solve(Ja[r] * free[:, None, :], ea[r], lam[idx[r]]) * free
+        moved = np.linalg.norm(step, axis=1)
+        step *= np.minimum(1.0, 0.5 / np.maximum(moved, 1e-300))[:, None]
         Xn = np.clip(Xa + step * col, lo, hi)
         Jn, En = evaluate(Xn, idx)
         errn = np.einsum("bi,bi->b", En, En)
@@ -184,7 +179,6 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
         lam[ok] = np.maximum(lam[ok] / 3.0, 1e-12)
         lam[idx[~better]] *= 4.0
         # stop where converged, or where the damping says no step helps any more
-        moved = np.linalg.norm(step, axis=1)
         active[idx] = (err[idx] > tol ** 2) & (lam[idx] < 1e6) & ~(better & (moved < 1e-15))
     if turns.any():
         base = np.where(np.isfinite(lo0), lo0, -np.pi)[turns]
@@ -355,15 +349,16 @@ def _starts(grid, order, sorted_cells, targets, per_cell=3):
     return np.stack(cand, axis=1)
 
 
-def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3):
+def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=False):
     """``(M,)`` bool: does the robot reach each target (position, and orientation
     ``R_goal (M, 3, 3)`` if given)? ``cand (M, K)`` are candidate starts (sample
     indices, -1 for none), ``Rc (M, K, 3, 3)`` their orientations when ``R_goal``
     is given. Starts from the nearest candidate (in position, plus orientation);
-    the next candidates only where the first failed."""
+    the next candidates only where the first failed. ``exact``: poses go through
+    :meth:`Robot.ik_batch` instead (see :func:`_batchable`)."""
     M = len(targets)
     L = max(robot.characteristic_length, 1e-12)
-    if R_goal is not None and _batchable(robot):
+    if R_goal is not None and exact:
         # the closed form is exact: no start to choose, no branch to miss
         T = np.zeros((M, 4, 4))
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = R_goal, targets, 1.0
@@ -671,7 +666,7 @@ def _dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volu
     at = np.flatnonzero(reachable)
     hit = _reached(robot, Q, P, np.repeat(cand[at], K, axis=0), np.repeat(targets[at], K, axis=0),
                    R_goal=np.tile(Rset, (len(at), 1, 1)),
-                   Rc=np.repeat(Rs[at], K, axis=0)).reshape(len(at), K)
+                   Rc=np.repeat(Rs[at], K, axis=0), exact=exact).reshape(len(at), K)
     progress("dexterity", 2, 2)
     share = hit.mean(axis=1)
     k, a = int(np.sum(share >= fraction - 1e-12)), len(at)
@@ -719,12 +714,12 @@ def _sections(grid, P, w, robot, env) -> list:
         img, ext = image(0, 1, idx[:, 2] == kz)
         zc = grid.lo[2] + (kz + 0.5) * grid.h
         out.append({"title": f"XY section at z = {zc:.4g} m", "xlabel": "x", "ylabel": "y",
-                    "extent": ext, "grid": img, "level": zc})
+                    "extent": ext, "grid": img, "name": "XY", "across": "z", "level": zc})
         ky = int(np.floor((robot.base[1, 3] - grid.lo[1]) / grid.h))
         img, ext = image(0, 2, idx[:, 1] == ky)
         yc = grid.lo[1] + (ky + 0.5) * grid.h
         out.append({"title": f"XZ section at y = {yc:.4g} m", "xlabel": "x", "ylabel": "z",
-                    "extent": ext, "grid": img, "level": yc})
+                    "extent": ext, "grid": img, "name": "XZ", "across": "y", "level": yc})
     elif d == 2:
         img, ext = image(0, 1, np.ones(len(P), bool))
         out.append({"title": "the plane of motion", "xlabel": "u" if grid.basis[2].any() else "x",

@@ -81,12 +81,12 @@ def workspace(
 
 
 def _title(section, units) -> str:
+    """The section's title with its level in the display unit."""
     if "level" not in section:
         return section["title"]
-    axis = "z" if section["title"].startswith("XY") else "y"
-    name = section["title"][:2]
     unit = "" if units.length == "unitless" else f" {units.length}"
-    return f"{name} section at {axis} = {section['level'] * units.l:.4g}{unit}"
+    return (f"{section['name']} section at {section['across']} = "
+            f"{section['level'] * units.l:.4g}{unit}")
 
 
 class _progress:

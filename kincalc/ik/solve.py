@@ -555,15 +555,14 @@ def _out_of_reach(robot, T, units) -> str:
     """Why nothing was found, from the nearest reachable position (see
     :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
-    from ..reach import POSITION_TOL, _where_outside, nearest_position
+    from ..reach import POSITION_TOL, _where_outside, nearest_position, unlimited
     p = np.asarray(T, float)[:3, 3]
     tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
     L = _len(units)
     _, _, dist = nearest_position(robot, p)
     if dist <= tol:
         return "no solution: the arm cannot place its tool at this pose"
-    free = np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
-    _, p_free, dist_free = nearest_position(robot, p, limits=free)
+    _, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
     if dist_free <= tol:
         return (f"out of reach within the joint limits: the nearest position reachable "
                 f"within them is {dist * units.l:.6g}{L} away")
