@@ -54,8 +54,8 @@ def workspace(
     units = display_units(rob, deg, unit)
     if plot is not None:
         from ..plot import check_output, require_matplotlib
-        require_matplotlib("kincalc workspace --plot")
         check_output(plot)
+        require_matplotlib("kincalc workspace --plot")
     with _progress() as report:
         result = analyse(rob, samples, seed, units=units, dexterity=dexterity,
                          orientations=orientations, sections=plot is not None,
