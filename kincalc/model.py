@@ -84,6 +84,12 @@ class Robot:
     length_unit, angle_unit : str
         The units the robot file was written in; the CLI shows lengths in
         ``length_unit`` unless told otherwise.
+    parameters : tuple of (name, value)
+        The file's named ``parameters``, values in the file's units.
+    expressions : tuple of tuple of (field, source)
+        Per joint, the DH fields (``alpha``, ``a``, ``d``, ``theta``) the file
+        gave as expressions over parameters (e.g. ``('d', 'h1')``), as written.
+        Used to print link matrices with the table's own names.
     """
 
     name: str
@@ -98,6 +104,8 @@ class Robot:
     length_unit: str = "m"
     angle_unit: str = "deg"
     path: str | None = None
+    parameters: tuple = ()
+    expressions: tuple = ()
 
     def __post_init__(self):
         if self.convention not in CONVENTIONS:

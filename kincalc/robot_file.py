@@ -135,6 +135,7 @@ class _Reader:
         self.A = 1.0
         self.joint: int | None = None
         self.joint_name: str | None = None
+        self.exprs: list[tuple] = []
 
     # errors --------------------------------------------------------------
     def fail(self, node, message: str):
@@ -340,6 +341,8 @@ class _Reader:
             name=name, convention=convention, joints=tuple(joints), base=base, tool=tool,
             home=home, title=opt_text("title"), source=opt_text("source"),
             notes=opt_text("notes"), length_unit=length_unit, angle_unit=angle_unit,
+            parameters=tuple(self.params.items()),
+            expressions=tuple(self.exprs) if convention != "poe" else (),
         )
 
     def joint_entry(self, node, convention: str) -> Joint:
@@ -373,6 +376,10 @@ class _Reader:
             point = self.vector(fields["point"], "'point'", 3) * self.L
             return Joint(name=name, type=jtype, axis=tuple(axis / norm), point=tuple(point),
                          limits=limits)
+        self.exprs.append(tuple(
+            (key, fields[key].value.strip()) for key in ("alpha", "a", "d", "theta")
+            if isinstance(fields[key], yaml.ScalarNode)
+            and fields[key].tag.rsplit(":", 1)[-1] not in ("int", "float")))
         return Joint(
             name=name, type=jtype,
             alpha=self.number(fields["alpha"], "'alpha'") * self.A,

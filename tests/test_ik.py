@@ -269,6 +269,20 @@ def test_zagreb_tool_configuration_vector_target():
                for s in res.solutions)
 
 
+def test_tcv_typed_to_six_decimals_is_still_reachable():
+    # bug: the approach check allowed 1e-7 rad, so a TCV printed by 'kincalc fk' and
+    # typed back with 6 decimals (approach off by 2.3e-7 rad) was called unreachable
+    from kincalc.spatial import tcv_from_transform
+    r = load_robot("fer_rrpr")
+    q = np.array([D(30), D(60), 0.3, D(45)])
+    w = np.round(tcv_from_transform(r.fk(q), q[3]), 6)
+    T = np.eye(4)
+    T[:3, 3] = w[:3]
+    n = np.linalg.norm(w[3:])
+    res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+    assert res.reachable and any(np.allclose(s.q, q, atol=1e-5) for s in res.solutions)
+
+
 def test_general_6r_through_the_dispatcher():
     r = load_robot("manocha_canny_6r")
     res = r.ik(r.fk(r.home))

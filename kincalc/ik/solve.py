@@ -423,7 +423,7 @@ def _solve_tcv(robot, S, target, units) -> IKResult:
         ae = float(np.arccos(np.clip(Tq[:3, 2] @ approach, -1, 1)))
         cand = type("C", (), {"signs": ps.signs, "free": ps.free})()
         branch = branch_label(robot, S, "tcv", q, cand)
-        if pe > ACCEPT_POSITION * scale or ae > 1e-7:
+        if pe > ACCEPT_POSITION * scale or ae > CHECK_ORIENTATION:
             rejected.append((q, branch, pe, ae))
             continue
         viol = _violations(robot, q)
