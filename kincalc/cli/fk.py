@@ -15,6 +15,19 @@ def fk(
     q: JointsArg = None,
     frames: Annotated[bool, typer.Option(
         "--frames", help="Also print every link transform T_{i-1}^i and every T_0^i.")] = False,
+    symbolic: Annotated[bool, typer.Option(
+        "--symbolic", help="Print the link transforms T_{i-1}^i and T = base T_0^n tool as "
+        "formulas in the joint variables (no Q), simplified, with the abbreviations C1 = "
+        "cos theta1, S12 = sin(theta1 + theta2), ...; lengths named as in the robot file's "
+        "parameters, base and tool numeric (poe robots: product of exponentials, lengths "
+        "numeric). Needs sympy (pip install 'kincalc[symbolic]').")]
+        = False,
+    latex: Annotated[bool, typer.Option(
+        "--latex", help="Print the --symbolic formulas as LaTeX (amsmath bmatrix) with the "
+        "legend of abbreviations; implies --symbolic.")] = False,
+    numeric_lengths: Annotated[bool, typer.Option(
+        "--numeric-lengths", help="With --symbolic or --latex: the robot file's parameter "
+        "values in place of their names (then --unit applies).")] = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -32,7 +45,21 @@ def fk(
     YAML file. Q... are the joint values in order, revolute in the angle unit,
     prismatic in the length unit; negative values need no '--'. Without Q the
     robot's home configuration is used.
+
+    With --symbolic (or --latex) no Q is given: the matrices are derived for
+    every q; --deg/--rad and --precision do not apply (constant angles are
+    exact multiples of pi, symbols are angles).
     """
+    if symbolic or latex or numeric_lengths:
+        from .symbolic import symbolic_check, symbolic_output
+        symbolic_check(symbolic, latex, numeric_lengths, q)
+        from ..symbolic import require_sympy, symbolic_fk
+        require_sympy(f"kincalc fk {'--symbolic' if symbolic or not latex else '--latex'}")
+        rob = load_robot(robot)
+        display_units(rob, deg, unit)
+        result = symbolic_fk(rob, numeric_lengths=numeric_lengths, length_unit=unit)
+        symbolic_output(result, json, latex)
+        return
     from ..analysis import fk_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)

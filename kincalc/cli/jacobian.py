@@ -32,6 +32,17 @@ def jacobian(
         "--analytic", show_default=False,
         help="Also give the analytic Jacobian for this angle set: rpy (fixed X-Y-Z), "
              "zyz or xyz (moving X-Y-Z Euler).")] = None,
+    symbolic: Annotated[bool, typer.Option(
+        "--symbolic", help="Print the geometric Jacobian as formulas in the joint variables "
+        "(no Q), simplified, with the abbreviations C1 = cos theta1, S23 = sin(theta2 + "
+        "theta3), ...; lengths named as in the robot file's parameters. Honours --frame. "
+        "Needs sympy (pip install 'kincalc[symbolic]').")] = False,
+    latex: Annotated[bool, typer.Option(
+        "--latex", help="Print the --symbolic Jacobian as LaTeX (amsmath bmatrix) with the "
+        "legend of abbreviations; implies --symbolic.")] = False,
+    numeric_lengths: Annotated[bool, typer.Option(
+        "--numeric-lengths", help="With --symbolic or --latex: the robot file's parameter "
+        "values in place of their names (then --unit applies).")] = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -47,7 +58,24 @@ def jacobian(
     ROBOT is a bundled robot's name or a path to a robot YAML file; Q... are
     the joint values (default: home). Linear rows are in the length unit per
     radian (per length unit for prismatic columns), angular rows in rad/rad.
+
+    With --symbolic (or --latex) no Q is given: J is derived for every q;
+    --deg/--rad and --precision do not apply.
     """
+    if symbolic or latex or numeric_lengths:
+        from ..errors import UsageError
+        from .symbolic import symbolic_check, symbolic_output
+        symbolic_check(symbolic, latex, numeric_lengths, q)
+        if analytic is not None:
+            raise UsageError("--analytic is not available with --symbolic")
+        from ..symbolic import require_sympy, symbolic_jacobian
+        require_sympy(f"kincalc jacobian {'--symbolic' if symbolic or not latex else '--latex'}")
+        rob = load_robot(robot)
+        display_units(rob, deg, unit)
+        result = symbolic_jacobian(rob, frame=frame.value, numeric_lengths=numeric_lengths,
+                                   length_unit=unit)
+        symbolic_output(result, json, latex)
+        return
     from ..analysis import jacobian_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
