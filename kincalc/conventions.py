@@ -11,6 +11,12 @@
 
 The joint variables keep their meaning (same zero, same direction), so FK
 agrees for every q; intermediate link frames differ between conventions.
+
+A robot's ``expressions`` (the DH fields its file wrote as expressions over
+``parameters``, e.g. ``('a', 'l1')``) travel with their values: ``alpha`` and
+``a`` move to the neighbouring row together with their expressions, and an
+expression whose value moves into the base or tool (or any value of a POE
+robot) is dropped, the number being kept.
 """
 
 from __future__ import annotations
@@ -19,8 +25,44 @@ import dataclasses
 
 import numpy as np
 
-from .model import Joint, Robot
+from .errors import InputError
+from .model import CONVENTIONS, Joint, Robot
 from .spatial import invert_transform, rot_x, transform
+
+#: how each convention is named in messages and in a converted file's source
+CONVENTION_NAMES = {"dh": "standard DH (dh)", "mdh": "modified DH (mdh)",
+                    "poe": "product of exponentials (poe)"}
+
+
+def convert(robot: Robot, to: str) -> Robot:
+    """``robot`` rewritten in convention ``to`` ('dh', 'mdh' or 'poe'), same FK.
+
+    Converting to the robot's own convention returns it unchanged. Otherwise
+    the name, title, units, parameters, limits and home are kept, and the
+    source ends with "(converted from <convention> by kincalc convert)".
+
+    Raises
+    ------
+    InputError
+        ``to`` is not a convention, or ``robot`` is poe and ``to`` is dh or mdh
+        (not supported).
+    """
+    if to not in CONVENTIONS:
+        raise InputError(f"the convention must be one of {', '.join(CONVENTIONS)}, not {to!r}")
+    if to == robot.convention:
+        return robot
+    if robot.convention == "poe":
+        raise InputError(f"{robot.name} is a poe robot; converting poe to {to} is not "
+                         "supported (kincalc converts dh and mdh robots to each other and to poe)")
+    if to == "poe":
+        out = to_poe(robot)
+    elif to == "mdh":
+        out = dh_to_mdh(robot)
+    else:
+        out = mdh_to_dh(robot)
+    note = f"(converted from {CONVENTION_NAMES[robot.convention]} by kincalc convert)"
+    source = f"{robot.source} {note}" if robot.source else note
+    return dataclasses.replace(out, source=source)
 
 
 def _xa(alpha, a):
@@ -36,7 +78,11 @@ def dh_to_mdh(robot: Robot) -> Robot:
         joints.append(dataclasses.replace(j, alpha=prev[0], a=prev[1]))
         prev = (j.alpha, j.a)
     tool = _xa(*prev) @ robot.tool
-    return dataclasses.replace(robot, convention="mdh", joints=tuple(joints), tool=tool)
+    exprs = _expressions(robot)
+    moved = [_fields(e, ("d", "theta")) + _fields(exprs[k - 1], ("alpha", "a")) if k else
+             _fields(e, ("d", "theta")) for k, e in enumerate(exprs)]
+    return dataclasses.replace(robot, convention="mdh", joints=tuple(joints), tool=tool,
+                               expressions=_ordered(moved))
 
 
 def mdh_to_dh(robot: Robot) -> Robot:
@@ -49,7 +95,28 @@ def mdh_to_dh(robot: Robot) -> Robot:
     for k, j in enumerate(js):
         nxt = (js[k + 1].alpha, js[k + 1].a) if k + 1 < len(js) else (0.0, 0.0)
         joints.append(dataclasses.replace(j, alpha=nxt[0], a=nxt[1]))
-    return dataclasses.replace(robot, convention="dh", joints=tuple(joints), base=base)
+    exprs = _expressions(robot)
+    moved = [_fields(e, ("d", "theta")) + (_fields(exprs[k + 1], ("alpha", "a"))
+                                           if k + 1 < len(exprs) else ())
+             for k, e in enumerate(exprs)]
+    return dataclasses.replace(robot, convention="dh", joints=tuple(joints), base=base,
+                               expressions=_ordered(moved))
+
+
+def _expressions(robot: Robot) -> list[tuple]:
+    """``robot.expressions`` with one (possibly empty) entry per joint."""
+    exprs = list(robot.expressions)
+    return exprs + [()] * (robot.dof - len(exprs))
+
+
+def _fields(entry: tuple, keys: tuple) -> tuple:
+    return tuple((k, src) for k, src in entry if k in keys)
+
+
+def _ordered(entries) -> tuple:
+    """Each joint's (field, source) pairs in the file's field order."""
+    order = {"alpha": 0, "a": 1, "d": 2, "theta": 3}
+    return tuple(tuple(sorted(e, key=lambda kv: order[kv[0]])) for e in entries)
 
 
 def to_poe(robot: Robot) -> Robot:
@@ -63,4 +130,4 @@ def to_poe(robot: Robot) -> Robot:
               point=tuple(frames[i, :3, 3]), limits=j.limits)
         for i, j in enumerate(robot.joints))
     M = inv_base @ robot.fk(q0)
-    return dataclasses.replace(robot, convention="poe", joints=joints, tool=M)
+    return dataclasses.replace(robot, convention="poe", joints=joints, tool=M, expressions=())
