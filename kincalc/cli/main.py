@@ -11,10 +11,14 @@ import sys
 import typer
 
 from .. import __version__
+from . import check as _check
+from . import compare as _compare
+from . import convert as _convert
 from . import fk as _fk
 from . import ik as _ik
 from . import jacobian as _jacobian
 from . import plot as _plot
+from . import quiz as _quiz
 from . import reach as _reach
 from . import robots as _robots
 from . import selftest as _selftest
@@ -53,6 +57,10 @@ app.command("ik", context_settings={"help_option_names": ["-h", "--help"]})(_ik.
 app.command("reach", context_settings={"help_option_names": ["-h", "--help"]})(_reach.reach)
 app.command("workspace")(_workspace.workspace)
 app.command("plot", context_settings=NUMERIC_ARGS)(_plot.plot)
+app.command("quiz")(_quiz.quiz)
+app.command("check")(_check.check)
+app.command("compare")(_compare.compare)
+app.command("convert")(_convert.convert)
 app.command("selftest")(_selftest.selftest)
 app.add_typer(_robots.app, name="robots")
 

@@ -1,0 +1,288 @@
+"""``kincalc convert`` and ``kincalc compare``, and the robot-file writer behind convert.
+
+Every bundled robot is converted to every convention, written, read back and
+compared with the original, in Python and through the CLI.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+from kincalc.cli.main import main
+from kincalc.conventions import convert
+from kincalc.equivalence import match
+from kincalc.errors import InputError
+from kincalc.library import bundled_names, load
+from kincalc.model import Joint, Robot
+from kincalc.robot_file import parse_robot_text
+from kincalc.robot_writer import dump_robot, num
+
+ROBOTS = bundled_names()
+CONVENTIONS = ["dh", "mdh", "poe"]
+
+
+def run(capsys, *argv):
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# --- the writer ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ROBOTS)
+@pytest.mark.parametrize("to", CONVENTIONS)
+def test_every_robot_converts_and_reads_back_as_the_same_robot(name, to):
+    robot = load(name)
+    if robot.convention == "poe" and to != "poe":
+        with pytest.raises(InputError, match="not supported"):
+            convert(robot, to)
+        return
+    text = dump_robot(convert(robot, to))
+    back = parse_robot_text(text, f"{name}->{to}")
+    assert back.convention == to
+    m = match(robot, back)
+    assert m.same, m.reason
+    assert [j.name for j in back.joints] == [j.name for j in robot.joints]
+    assert (back.length_unit, back.angle_unit) == (robot.length_unit, robot.angle_unit)
+    assert np.allclose(back.limits, robot.limits) and np.allclose(back.home, robot.home)
+    assert back.parameters == robot.parameters
+    if to != robot.convention:
+        assert back.source.endswith("by kincalc convert)")
+    else:   # unchanged: every value as it was (to rounding)
+        assert back.source == robot.source
+        for j, k in zip(robot.joints, back.joints):
+            for f in ("alpha", "a", "d", "theta"):
+                assert math.isclose(getattr(j, f), getattr(k, f), rel_tol=1e-12, abs_tol=1e-12)
+            if to == "poe":
+                assert np.allclose(j.axis, k.axis, atol=1e-12)
+                assert np.allclose(j.point, k.point, atol=1e-12)
+        assert np.allclose(back.base, robot.base, atol=1e-12)
+        assert np.allclose(back.tool, robot.tool, atol=1e-12)
+    # writing what was read gives the same text: the form is normalised
+    assert dump_robot(back) == text
+
+
+def test_parameter_names_move_with_their_values():
+    text = dump_robot(convert(load("bk_scara_euler"), "dh"))
+    rows = [line for line in text.splitlines() if line.startswith("  - {")]
+    # modified DH a_{i-1} of rows 2 and 3 (l1, l2) become standard DH a_1, a_2
+    assert "a: l1, d: h1," in rows[0]
+    assert "alpha: 180, a: l2," in rows[1]
+    assert "d: d4," in rows[3]
+    back = convert(parse_robot_text(text), "mdh")
+    again = dump_robot(back)
+    assert "d: h1" in again and "a: l1" in again and "a: l2" in again and "d: d4" in again
+    text = dump_robot(convert(load("adept_cobra600"), "mdh"))
+    assert "a: l1, d: 0" in text and "a: l2" in text and "d: h1" in text
+
+
+def test_an_expression_that_no_longer_gives_its_value_is_written_as_the_number():
+    r = load("bk_rr")
+    wrong = Robot(r.name, "mdh", (r.joints[0], Joint("theta2", "revolute", a=11.0)),
+                  tool=r.tool, length_unit="unitless", parameters=r.parameters,
+                  expressions=r.expressions)        # says a = l1 (10), holds 11
+    text = dump_robot(wrong)
+    assert "a: 11," in text and "a: l1" not in text
+
+
+@pytest.mark.parametrize("value,text", [
+    (90.00000000000001, "90"), (431.79999999999995, "431.8"), (6.123e-17, "0"),
+    (-0.0, "0"), (0.1 + 0.2, "0.3"), (1 / 3, "0.33333333333333"), (-45.0, "-45"),
+    (1e20, "1e+20"), (2.5e-7, "2.5e-07"), (1 + 3e-13, "1"),
+    (0.5 + 3e-13, "0.5000000000003"), (-1e-13, "0"),
+])
+def test_numbers(value, text):
+    assert num(value) == text
+    assert abs(float(text) - value) <= 1e-12 * max(abs(value), 1)
+    assert float(num(float(text))) == float(text)
+
+
+def test_awkward_text_survives():
+    title = 'A "robot": #1, with \\ backslash, tab\tand accents: Küçük'
+    r = Robot("odd-name.v2", "dh", (Joint("no", "revolute", a=1.0),
+                                    Joint("null", "prismatic", limits=(0.0, 0.5))),
+              title=title, source="s " * 60, notes="line one\nline two",
+              home=[0.1, 0.2])
+    back = parse_robot_text(dump_robot(r))
+    assert (back.name, back.title, back.notes) == (r.name, title, r.notes)
+    assert back.source == r.source.strip() or back.source == r.source
+    assert [j.name for j in back.joints] == ["no", "null"]
+    assert match(r, back).same
+
+
+def test_general_base_and_tool_are_written_exactly():
+    from randrobots import random_robot
+    rng = np.random.default_rng(5)
+    for convention in CONVENTIONS:
+        r = random_robot(rng, convention, n=4)
+        back = parse_robot_text(dump_robot(r))
+        assert np.allclose(back.base, r.base, atol=1e-12)
+        assert np.allclose(back.tool, r.tool, atol=1e-12)
+        assert match(r, back).same
+
+
+# --- kincalc convert ------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_cli_round_trip(name, capsys, tmp_path):
+    robot = load(name)
+    for to in CONVENTIONS:
+        code, out, err = run(capsys, "convert", name, "--to", to)
+        if robot.convention == "poe" and to != "poe":
+            assert code == 2 and out == "" and err.count("\n") == 1
+            continue
+        assert code == 0, err
+        f = tmp_path / f"{to}.yaml"
+        f.write_text(out, encoding="utf-8")
+        code, out, err = run(capsys, "compare", name, str(f))
+        assert code == 0, out + err
+        assert "same robot" in out
+
+
+def test_output_file_is_not_overwritten_without_force(capsys, tmp_path):
+    f = tmp_path / "out.yaml"
+    assert run(capsys, "convert", "puma560", "--to", "mdh", "-o", str(f))[0] == 0
+    first = f.read_text()
+    assert "convention: mdh" in first
+    code, out, err = run(capsys, "convert", "puma560", "--to", "poe", "-o", str(f))
+    assert code == 2 and "exists; use --force" in err and f.read_text() == first
+    code, out, err = run(capsys, "convert", "puma560", "--to", "poe", "-o", str(f), "--force")
+    assert code == 0 and out == "" and "convention: poe" in f.read_text()
+    assert os.listdir(tmp_path) == ["out.yaml"]          # no temporary file left behind
+    code, _, err = run(capsys, "convert", "puma560", "--to", "poe", "-o", str(tmp_path))
+    assert code == 2 and "is a folder" in err
+    code, _, err = run(capsys, "convert", "puma560", "--to", "poe",
+                       "-o", str(tmp_path / "no" / "such.yaml"))
+    assert code == 2 and "no such folder" in err
+
+
+def test_a_refused_conversion_writes_nothing(capsys, tmp_path):
+    f = tmp_path / "out.yaml"
+    code, out, err = run(capsys, "convert", "ur5_poe", "--to", "dh", "-o", str(f))
+    assert code == 2 and not f.exists()
+    assert err == ("kincalc: error: ur5_poe is a poe robot; converting poe to dh is not "
+                   "supported (kincalc converts dh and mdh robots to each other and to poe)\n")
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["convert", "puma560"], "Missing option '--to'"),
+    (["convert", "puma560", "--to", "urdf"], "--to must be one of dh, mdh, poe"),
+    (["convert", "no_such_robot", "--to", "dh"], "no robot named"),
+])
+def test_convert_bad_input(capsys, argv, message):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and message in err and err.count("\n") == 1
+
+
+def test_same_convention_prints_the_robot_normalised(capsys):
+    code, out, _ = run(capsys, "convert", "puma560", "--to", "dh")
+    assert code == 0
+    back = parse_robot_text(out)
+    assert back.joints == load("puma560").joints
+    assert "converted" not in back.source
+
+
+# --- kincalc compare --------------------------------------------------------------
+
+STUDENT = """name: rr_student
+convention: dh
+units: {length: unitless, angle: deg}
+joints:
+  - {name: t1, type: revolute, alpha: 180, a: 10, d: 0, theta: 90}
+  - {name: t2, type: revolute, alpha: 180, a: 5, d: 0, theta: 0}
+"""
+
+
+@pytest.fixture
+def student(tmp_path):
+    f = tmp_path / "rr_student.yaml"
+    f.write_text(STUDENT)
+    return str(f)
+
+
+def test_compare_json_contract(capsys, student):
+    code, out, _ = run(capsys, "compare", "bk_rr", student, "--allow-offsets", "--json")
+    assert code == 0 and out.count("\n") == 1
+    doc = json.loads(out)
+    for key in ("kincalc", "command", "robots", "units", "same", "position_error",
+                "orientation_error", "worst_q", "offsets", "signs", "first_bad_joint",
+                "reason", "samples", "seed", "allow_offsets"):
+        assert key in doc
+    assert doc["command"] == "compare" and doc["same"] is True
+    assert [r["name"] for r in doc["robots"]] == ["bk_rr", "rr_student"]
+    assert doc["robots"][1]["argument"] == student
+    assert doc["offsets"] == [-90.0, 0.0] and doc["signs"] == [1, -1]
+    assert doc["first_bad_joint"] is None
+    assert doc["reason"] == "same robot up to joint offsets and signs (joints 1 and 2)"
+    assert doc["explanation"][1] == ("joint 1 (theta1): candidate zero is at reference "
+                                     "theta1 = 90 deg")
+    assert doc["position_tolerance"] == 1.5e-05 and doc["length_scale"] == 15
+    assert doc["base"] is None and doc["tool"] is None
+
+
+def test_compare_units(capsys, student):
+    _, out, _ = run(capsys, "compare", "bk_rr", student, "--allow-offsets", "--json", "--rad")
+    doc = json.loads(out)
+    assert doc["units"]["angle"] == "rad"
+    assert math.isclose(doc["offsets"][0], -math.pi / 2, rel_tol=1e-12)
+    m_doc = json.loads(run(capsys, "compare", "puma560", "ur5", "--json", "--unit", "mm")[1])
+    m_doc_m = json.loads(run(capsys, "compare", "puma560", "ur5", "--json")[1])
+    assert math.isclose(m_doc["position_error"], 1000 * m_doc_m["position_error"], rel_tol=1e-9)
+
+
+def test_compare_different_robots_exit_1(capsys, student):
+    code, out, err = run(capsys, "compare", "bk_rr", student, "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["same"] is False and doc["first_bad_joint"] == 2
+    assert doc["reason"].startswith("joint 2 (theta2): its axis differs")
+    assert doc["reason"].endswith("with joint offsets and sign changes allowed they are the "
+                                  "same robot")
+    code, out, _ = run(capsys, "compare", "puma560", "stanford_arm")
+    assert code == 1 and "prismatic in the candidate" in out
+    code, out, _ = run(capsys, "compare", "puma560", "adept_cobra600", "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["position_error"] is None and doc["worst_q"] is None
+
+
+def test_compare_table_shows_the_json(capsys, student, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")
+    code, out, _ = run(capsys, "compare", "bk_rr", student, "--allow-offsets")
+    assert code == 0
+    doc = json.loads(run(capsys, "compare", "bk_rr", student, "--allow-offsets", "--json")[1])
+    assert "same robot   " in out and doc["reason"] in out
+    assert "-90.0000  0.0000" in out and "+1  -1" in out
+    for line in doc["explanation"][1:]:
+        assert line.partition(": ")[2] in out
+    assert "201 configurations" in out
+
+
+def test_compare_free_frames(capsys, tmp_path):
+    f = tmp_path / "moved.yaml"
+    f.write_text(dump_robot(convert(load("puma560"), "poe")).replace(
+        "tool: {xyz: [0.4521, -0.15005, 0.4318]}",
+        "base: {xyz: [1, 2, 3], rpy: [0, 0, 30]}\ntool: {xyz: [0.4521, -0.15005, 0.5318]}"))
+    assert run(capsys, "compare", "puma560", str(f))[0] == 1
+    code, out, _ = run(capsys, "compare", "puma560", str(f), "--free-base", "--free-tool",
+                       "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["same"]
+    base, tool = np.array(doc["base"]), np.array(doc["tool"])
+    assert np.allclose(base[:3, 3], [1, 2, 3]) and math.isclose(base[1, 0], 0.5)
+    assert np.allclose(tool[:3, 3], [0, 0, 0.1])
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["compare", "puma560"], "Missing argument"),
+    (["compare", "puma560", "nope"], "no robot named 'nope'"),
+    (["compare", "puma560", "ur5", "--samples", "0"], "--samples"),
+    (["compare", "bk_rr", "bk_rr", "--unit", "mm"], "unitless"),
+])
+def test_compare_bad_input(capsys, argv, message):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and message in err and err.count("\n") == 1
