@@ -157,17 +157,8 @@ class Report:
 
 def load_sheet(path: str) -> Sheet:
     """Read and validate the sheet at ``path``; raise :class:`SheetError` if invalid."""
-    try:
-        with open(path, encoding="utf-8") as fh:
-            text = fh.read()
-    except FileNotFoundError:
-        raise SheetError(path, None, "no such file") from None
-    except IsADirectoryError:
-        raise SheetError(path, None, "is a directory, not a sheet") from None
-    except UnicodeDecodeError:
-        raise SheetError(path, None, "not UTF-8 text") from None
-    except OSError as exc:
-        raise SheetError(path, None, f"cannot read: {exc.strerror}") from None
+    from .robot_file import read_text
+    text = read_text(path, path, "a sheet", SheetError)
     return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)))
 
 

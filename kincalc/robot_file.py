@@ -52,23 +52,28 @@ def load_robot_file(path, display_name: str | None = None) -> Robot:
         Unreadable file, YAML syntax error, or any invalid field.
     """
     shown = display_name or str(path)
+    robot = parse_robot_text(read_text(path, shown, "a robot file"), shown)
+    object.__setattr__(robot, "path", str(path))
+    return robot
+
+
+def read_text(path, shown: str, what: str, error=RobotFileError) -> str:
+    """The UTF-8 text of ``path``; any failure is an ``error(shown, line, message)``
+    (``what`` names the kind of file, e.g. "a robot file")."""
     try:
         with open(path, encoding="utf-8") as fh:
-            text = fh.read()
+            return fh.read()
     except FileNotFoundError:
-        raise RobotFileError(shown, None, "no such file") from None
+        raise error(shown, None, "no such file") from None
     except IsADirectoryError:
-        raise RobotFileError(shown, None, "is a directory, not a robot file") from None
+        raise error(shown, None, f"is a directory, not {what}") from None
     except UnicodeDecodeError as exc:
         with open(path, "rb") as fh:
             line = fh.read()[:exc.start].count(b"\n") + 1
-        raise RobotFileError(shown, line, f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} "
-                                          "cannot be decoded; save the file as UTF-8)") from None
+        raise error(shown, line, f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} "
+                                 "cannot be decoded; save the file as UTF-8)") from None
     except OSError as exc:
-        raise RobotFileError(shown, None, f"cannot read: {exc.strerror}") from None
-    robot = parse_robot_text(text, shown)
-    object.__setattr__(robot, "path", str(path))
-    return robot
+        raise error(shown, None, f"cannot read: {exc.strerror}") from None
 
 
 def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
