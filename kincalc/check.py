@@ -437,11 +437,16 @@ class _SheetReader(_Reader):
                 return {"T": self.matrix(node, "'answer'", [(4, 4), (3, 4)])}
             keys = {"position": False, "xyz": False, "rpy": False, "euler_zyz": False,
                     "euler_xyz": False, "quat": False, "axis_angle": False, "matrix": False,
-                    "T": False}
+                    "T": False, "tcv": False}
             f = self.mapping(node, "'answer'", keys)
             out = {}
             if "T" in f:
                 out["T"] = self.matrix(f["T"], "'answer.T'", [(4, 4), (3, 4)])
+            if "tcv" in f:
+                if not robot.joints[-1].revolute:
+                    self.fail(f["tcv"], "'answer.tcv': the tool configuration vector needs a "
+                                        "revolute last joint")
+                out["tcv"] = self.vector(f["tcv"], "'answer.tcv'", 6)
             for key in ("position", "xyz"):
                 if key in f:
                     out["position"] = self.vector(f[key], f"'answer.{key}'", 3)
@@ -772,10 +777,15 @@ def _rotation_from(kind: str, values, units) -> np.ndarray:
             "euler_xyz": sp.matrix_from_euler_xyz}[kind](v / units.a)
 
 
-def _fk_errors(answer: dict, T: np.ndarray, units) -> dict:
-    """Per given part of an fk ``answer``: the error in sheet units."""
-    from .spatial import rotation_error
+def _fk_errors(answer: dict, T: np.ndarray, units, q_last: float = 0.0) -> dict:
+    """Per given part of an fk ``answer``: the error in sheet units (``q_last``: the
+    last joint's value, rad, for a tool configuration vector)."""
+    from .spatial import rotation_error, tcv_from_transform
     out = {}
+    if "tcv" in answer:
+        w = tcv_from_transform(T, q_last)
+        out["position"] = float(np.linalg.norm(answer["tcv"][:3] - w[:3] * units.l))
+        out["tcv"] = float(np.max(np.abs(answer["tcv"][3:] - w[3:])))
     if "T" in answer:
         _, rot, pos = _compare_T(answer["T"], T, Tolerance(1, 1, 1), units)
         out["matrix"], out["position"] = rot, pos
@@ -792,7 +802,7 @@ def _fk_errors(answer: dict, T: np.ndarray, units) -> dict:
 
 
 def _fk_ok(err: dict, tol: Tolerance, units, factor=1.0) -> bool:
-    limits = {"position": tol.position * units.l, "matrix": tol.matrix,
+    limits = {"position": tol.position * units.l, "matrix": tol.matrix, "tcv": tol.matrix,
               "orientation": tol.angle * units.a}
     return all(v <= limits[k] * factor for k, v in err.items())
 
@@ -800,7 +810,7 @@ def _fk_ok(err: dict, tol: Tolerance, units, factor=1.0) -> bool:
 def _grade_fk(sheet: Sheet, item: Item) -> ItemResult:
     robot, units, tol = sheet.robot, sheet.units, item.tol
     T = robot.fk(item.q)
-    err = _fk_errors(item.answer, T, units)
+    err = _fk_errors(item.answer, T, units, item.q[-1])
     details = {"expected": units.pose(T), "errors": err}
     parts = ", ".join(f"{k} {_fmt(v)}" for k, v in err.items())
     error = next((err[k] for k in ("position", "orientation", "matrix") if k in err), None)
@@ -817,7 +827,7 @@ def _grade_fk(sheet: Sheet, item: Item) -> ItemResult:
             answer = dict(answer, T=answer["T"].T)
         elif form is not None:
             M = dict(_matrix_slips(M))[form]
-        return _fk_ok(_fk_errors(answer, M, units), tol, units, HINT_FACTOR)
+        return _fk_ok(_fk_errors(answer, M, units, q[-1]), tol, units, HINT_FACTOR)
     forms = [(h, h) for h, _ in _matrix_slips(T)] + [(FULL_TRANSPOSE, FULL_TRANSPOSE)]
     hint = _first_slip(sheet, item, fits, forms=forms) or _angle_set_slip(item.answer, T, tol, units)
     wrong = [k for k, v in err.items() if not _fk_ok({k: v}, tol, units)]

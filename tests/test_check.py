@@ -1250,3 +1250,18 @@ def test_example_homework_fer_rrpr_sheet():
     assert r2.hint and "transpose" in r2.hint.lower(), r2.hint
     r4 = next(r for r in rep.items if r.id == "4")
     assert [s["status"] for s in r4.details["sets"]] == ["correct"] and r4.details["missed"]
+
+
+def test_fk_answer_as_tool_configuration_vector():
+    # w = [p; e^(q4/pi) r3] (the FER Zagreb homework), from the independent DH product
+    q = np.array([math.radians(30), math.radians(60), 0.3, math.radians(45)])
+    T = fer_fk(q)
+    w = np.concatenate([T[:3, 3], math.exp(q[3] / math.pi) * T[:3, 2]])
+    right = one(f"- {{id: w, kind: fk, q: [30, 60, 0.3, 45], answer: {{tcv: {js(w)}}}}}",
+                robot="fer_rrpr")
+    assert right.passed, right.message
+    bad = w.copy()
+    bad[3:] = T[:3, 2]                 # forgot the e^(q4/pi) factor
+    wrong = one(f"- {{id: w, kind: fk, q: [30, 60, 0.3, 45], answer: {{tcv: {js(bad)}}}}}",
+                robot="fer_rrpr")
+    assert not wrong.passed and "tcv" in wrong.message
