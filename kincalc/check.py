@@ -388,7 +388,7 @@ class _SheetReader(_Reader):
             self.fail(node, f"{what}: the rows have different lengths")
         shape = (len(rows), widths.pop())
         if not any(all(want in (0, got) for want, got in zip(s, shape)) for s in shapes):
-            want = " or ".join(f"{r}x{c}".replace("0", "n") for r, c in shapes)
+            want = " or ".join(dict.fromkeys(f"{r}x{c}".replace("0", "n") for r, c in shapes))
             self.fail(node, f"{what} must be {want}, not {shape[0]}x{shape[1]}")
         return M.astype(float)
 
@@ -414,7 +414,7 @@ class _SheetReader(_Reader):
         try:
             return build_target(self.robot_, self.units, **kw)
         except KincalcError as exc:
-            self.fail(node, f"'pose': {exc}")
+            self.fail(node, f"'pose': {sheet_words(str(exc))}")
 
     # answers -------------------------------------------------------------------
     def answer(self, kind: str, node, item: Item):
@@ -440,6 +440,15 @@ class _SheetReader(_Reader):
                     "T": False, "tcv": False}
             f = self.mapping(node, "'answer'", keys)
             out = {}
+            given = [k for k in keys if k in f]
+            if "position" in f and "xyz" in f:
+                self.fail(node, "'answer': give 'position' or 'xyz', not both")
+            if "T" in f and len(given) > 1:
+                self.fail(node, f"'answer': T is the whole pose; do not add "
+                                f"{next(k for k in given if k != 'T')!r}")
+            if "tcv" in f and len(given) > 1:
+                self.fail(node, f"'answer': tcv holds position and approach; do not add "
+                                f"{next(k for k in given if k != 'tcv')!r}")
             if "T" in f:
                 out["T"] = self.matrix(f["T"], "'answer.T'", [(4, 4), (3, 4)])
             if "tcv" in f:
@@ -460,6 +469,10 @@ class _SheetReader(_Reader):
                     out["matrix"] = self.matrix(f[k], "'answer.matrix'", [(3, 3)])
                 else:
                     out[k] = self.vector(f[k], f"'answer.{k}'", 4 if k in ("quat", "axis_angle") else 3)
+                    if k == "quat" and np.linalg.norm(out[k]) < 1e-9:
+                        self.fail(f[k], "'answer.quat' must not be the zero quaternion")
+                    if k == "axis_angle" and np.linalg.norm(out[k][:3]) < 1e-9:
+                        self.fail(f[k], "'answer.axis_angle' needs a non-zero axis")
             if not out:
                 self.fail(node, "'answer' is empty: give T, or position and an orientation")
             return out
@@ -498,6 +511,9 @@ class _SheetReader(_Reader):
             for k, rnode in enumerate(rows, start=1):
                 cells = self.sequence(rnode, f"'answer.table' row {k}", 4)
                 j, s, var = self.dh_row(dict(zip(columns, cells)), k, rnode)
+                if var in variables:
+                    self.fail(rnode, f"row {k}: the joint variable {var} is already row "
+                                     f"{variables.index(var) + 1}'s; each row has its own")
                 joints.append(j)
                 signs.append(s)
                 variables.append(var)
@@ -597,6 +613,19 @@ class _SheetReader(_Reader):
         return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
 
 
+_OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
+
+
+def sheet_words(message: str) -> str:
+    """A message about command-line pose options, in the words of a sheet's ``pose`` keys
+    (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
+    import re
+    message = re.sub(r" X Y Z", "", message)
+    return re.sub(r"--[a-z][a-z-]*",
+                  lambda m: _OPTION_KEYS.get(m.group(0), m.group(0)[2:].replace("-", "_")),
+                  message)
+
+
 def _round1(x: float) -> float:
     """``x`` rounded to one significant digit (tolerances read better that way)."""
     if x <= 0 or not math.isfinite(x):
@@ -614,7 +643,13 @@ def grade(sheet: Sheet) -> Report:
         if item.answer is None:
             r = ItemResult(item.id, item.kind, False, item.points, None, "no answer given")
         else:
-            r = _GRADERS[item.kind](sheet, item)
+            try:
+                r = _GRADERS[item.kind](sheet, item)
+            except SheetError:
+                raise
+            except KincalcError as exc:   # e.g. a pose this robot cannot be asked for
+                raise SheetError(sheet.path, item.line,
+                                 f"item {item.id!r}: {sheet_words(str(exc))}") from None
         r.line = item.line
         results.append(r)
     return Report(sheet=sheet, items=results)
@@ -813,7 +848,7 @@ def _grade_fk(sheet: Sheet, item: Item) -> ItemResult:
     err = _fk_errors(item.answer, T, units, item.q[-1])
     details = {"expected": units.pose(T), "errors": err}
     parts = ", ".join(f"{k} {_fmt(v)}" for k, v in err.items())
-    error = next((err[k] for k in ("position", "orientation", "matrix") if k in err), None)
+    error = max(err.values()) if err else None
     if _fk_ok(err, tol, units):
         return ItemResult(item.id, "fk", True, item.points, error,
                           f"T_0^{robot.dof} is right (differences: {parts})", details=details)
@@ -996,6 +1031,11 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     res = solve(robot, item.target, all_branches=True, units=units)
     sols = res.solutions
     required = [k for k, s in enumerate(sols) if s.within_limits or not item.limits]
+    # a numerical solver finds one solution, not all: the sets are then checked by FK
+    # alone, and nothing can be called missed (unless the answer says "unreachable")
+    exhaustive = res.family != "numerical"
+    if not exhaustive and item.answer:
+        required = []
     jtol = np.where(rev, tol.angle, tol.position)
 
     def close(qa, qb, factor=1.0):
@@ -1015,7 +1055,8 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         entry = {"set": number, "line": line, "q": _clean(_qdisp(robot, q, units)),
                  "residual": {"position": pe * units.l,
                               "orientation": None if oe is None else oe * units.a}}
-        hit = next((k for k in range(len(sols)) if close(q, sols[k].q)), None)
+        hit = next((k for k in range(len(sols)) if close(q, sols[k].q)), None) \
+            if exhaustive else None
         reaches = pe <= tol.position and (oe is None or oe <= tol.angle)
         if hit is not None and hit in matched:
             entry.update(status="duplicate", note=f"the same solution as set {matched[hit]}",
@@ -1031,6 +1072,14 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
             entry.update(status="wrong", note=f"reaches the target but is outside the joint "
                          f"limits ({viol}); the item counts only solutions within the limits",
                          **sol_dict(hit))
+        elif reaches and not exhaustive:
+            from .ik.solve import _violations
+            viol = _violations(robot, q)
+            if viol and item.limits:
+                entry.update(status="wrong", note="reaches the target but is outside the "
+                             "joint limits")
+            else:
+                entry.update(status="correct", note="reaches the target (checked by FK)")
         elif reaches:
             entry.update(status="correct", note="reaches the target (not one of the isolated "
                          "solutions: the target is at a singularity or your set is equivalent)")
@@ -1041,13 +1090,17 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     wrong = [s for s in sets if s["status"] == "wrong"]
     right = [s for s in sets if s["status"] == "correct"]
     passed = not wrong and not missed
-    if not sols:
+    if not exhaustive and item.answer:
+        truth = (f"{robot.name} has no closed-form IK in kincalc: each set is checked by FK, "
+                 "and sets you did not list cannot be named")
+    elif not sols:
         truth = f"the target is not reachable ({res.reason})"
     else:
         truth = (f"the target has {len(required)} solution{'s' if len(required) != 1 else ''}"
                  + (" within the limits" if item.limits and len(required) != len(sols) else ""))
     if passed:
-        msg = (f"right: all {len(right)} solution sets ({truth})" if sets else f"right: {truth}")
+        msg = (f"right: {'all ' if len(right) > 1 else ''}{len(right)} solution "
+               f"set{'s' if len(right) != 1 else ''} ({truth})" if sets else f"right: {truth}")
     else:
         parts = []
         if right:

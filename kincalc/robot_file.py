@@ -33,6 +33,9 @@ DH_JOINT_KEYS = {"name": True, "type": True, "alpha": True, "a": True, "d": True
                  "theta": True, "limits": False}
 POE_JOINT_KEYS = {"name": True, "type": True, "axis": True, "point": True, "limits": False}
 POSE_KEYS = {"xyz", "rpy", "matrix"}
+#: the largest number a robot file or sheet may hold: larger ones overflow products of
+#: lengths (a robot of 1e160 m compared with one of 1 m looked "the same")
+MAX_MAGNITUDE = 1e9
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
 
 
@@ -215,6 +218,9 @@ class _Reader:
             value = self.expression(node, what)
         if not math.isfinite(value):
             self.fail(node, f"{what} must be a finite number, not {node.value!r}")
+        if abs(value) > MAX_MAGNITUDE:
+            self.fail(node, f"{what} is too large: {node.value!r} (kincalc takes numbers up to "
+                            f"{MAX_MAGNITUDE:g} in size)")
         return value
 
     def expression(self, node, what: str) -> float:

@@ -1020,6 +1020,23 @@ INVALID = [
     ("length unit on a unitless robot",
      "robot: bk_rr\nunits: {length: mm}\nitems:\n  - {id: a, kind: singular, q: [1, 2]}\n",
      {2}, ["mm"]),
+    # found by the review of the new commands (each was an internal error or a wrong grade)
+    ("zero quaternion in an fk answer",
+     "robot: bk_rr\nitems:\n  - id: a\n    kind: fk\n    q: [1, 2]\n"
+     "    answer: {position: [1, 2, 0], quat: [0, 0, 0, 0]}\n", {6}, ["quat", "zero"]),
+    ("zero axis in an fk answer",
+     "robot: bk_rr\nitems:\n  - id: a\n    kind: fk\n    q: [1, 2]\n"
+     "    answer: {position: [1, 2, 0], axis_angle: [0, 0, 0, 30]}\n", {6}, ["axis"]),
+    ("position and T in one fk answer",
+     "robot: bk_rr\nitems:\n  - id: a\n    kind: fk\n    q: [1, 2]\n    answer:\n"
+     "      position: [1, 2, 0]\n      T: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]\n",
+     {7}, ["T", "position"]),
+    ("a dh variable used by two rows",
+     "robot: planar_3r\nitems:\n  - id: a\n    kind: dh\n    answer:\n      convention: dh\n"
+     "      table:\n        - [q1, 0, 1, 0]\n        - [q1, 0, 1, 0]\n        - [q3, 0, 1, 0]\n",
+     {9}, ["q1", "row 2"]),
+    ("an absurdly large number",
+     "robot: bk_rr\nitems:\n  - {id: a, kind: fk, q: [1, 1e200]}\n", {3}, ["too large"]),
 ]
 
 
@@ -1265,3 +1282,30 @@ def test_fk_answer_as_tool_configuration_vector():
     wrong = one(f"- {{id: w, kind: fk, q: [30, 60, 0.3, 45], answer: {{tcv: {js(bad)}}}}}",
                 robot="fer_rrpr")
     assert not wrong.passed and "tcv" in wrong.message
+
+
+def test_a_pose_the_robot_cannot_be_asked_for_names_file_line_and_sheet_keys(tmp_path):
+    # planar_3r controls its orientation: a position alone is not a question for it. This
+    # was found while grading, escaped as a command-line message and stopped every sheet
+    bad = "robot: planar_3r\nitems:\n  - {id: b, kind: ik, pose: {xyz: [1, 1, 0]}, answer: [[0, 90, 0]]}\n"
+    with pytest.raises(SheetError) as info:
+        grade(parse_sheet(bad, "p3.yaml", "."))
+    assert info.value.line == 3 and "--" not in str(info.value) and "rpy" in str(info.value)
+    (tmp_path / "p3.yaml").write_text(bad)
+    (tmp_path / "ok.yaml").write_text("robot: bk_rr\nitems:\n  - {id: s, kind: singular, "
+                                      "q: [10, 0], answer: yes}\n")
+    out = kincalc("check", "p3.yaml", "ok.yaml", "-q", cwd=tmp_path)
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and "p3.yaml:3:" in out.stderr
+    assert "ok.yaml" in out.stdout and "1 of 1 items right" in out.stdout
+
+
+def test_redundant_arm_ik_sets_are_checked_by_fk_and_none_called_missed():
+    # a 7-joint arm has infinitely many solutions: kincalc's numerical solver finds one,
+    # so a right set must pass without "missing" the solver's own
+    q = "[10, 20, 30, 40, 50, 60, 70]"
+    right = one(f"- {{id: a, kind: ik, pose: {{q: {q}}}, answer: [{q}]}}", robot="iiwa14")
+    assert right.passed and not right.details["missed"], right.message
+    wrong = one(f"- {{id: a, kind: ik, pose: {{q: {q}}}, answer: [[10, 20, 30, 40, 50, 60, 75]]}}",
+                robot="iiwa14")
+    assert not wrong.passed and not wrong.details["missed"]

@@ -286,3 +286,14 @@ def test_compare_free_frames(capsys, tmp_path):
 def test_compare_bad_input(capsys, argv, message):
     code, out, err = run(capsys, *argv)
     assert code == 2 and out == "" and message in err and err.count("\n") == 1
+
+
+def test_absurd_lengths_are_refused_not_compared(tmp_path, capsys):
+    # found in review: a planar 3R with a = 1e160 compared "the same" as one with a = 1
+    # (the products of lengths overflowed); such files are now invalid
+    f = tmp_path / "huge.yaml"
+    f.write_text("name: huge\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                 "  - {name: q1, type: revolute, alpha: 0, a: 1e160, d: 0, theta: 0}\n")
+    status = main(["compare", "planar_3r", str(f)])
+    err = capsys.readouterr().err
+    assert status == 2 and "huge.yaml:5" in err and "too large" in err

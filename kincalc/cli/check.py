@@ -31,21 +31,21 @@ def check(
     answers are graded per solution set; missed sets are listed by branch.
 
     Exit status: 0 every answer right, 1 some wrong, 2 an invalid sheet (the
-    message names file and line; other sheets are still graded).
+    message names file and line; other sheets are still graded; the worst
+    status counts).
     """
     from ..check import grade, load_sheet
     from ..errors import KincalcError
     status = 0
     for path in sheets:
         try:
-            sheet = load_sheet(path)
+            report = grade(load_sheet(path))
         except KincalcError as exc:
             if len(sheets) == 1 or debug:
                 raise
             sys.stderr.write(f"kincalc: error: {' '.join(str(exc).split())}\n")
             status = 2
             continue
-        report = grade(sheet)
         if json:
             from .render import emit_json
             emit_json(report.to_dict())
