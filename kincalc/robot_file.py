@@ -284,8 +284,8 @@ class _Reader:
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")
         if not NAME_RE.match(name):
-            self.fail(top["name"], f"'name' {name!r} must start with a letter and contain only "
-                                   "letters, digits, '_', '-' and '.'")
+            self.fail(top["name"], f"'name' {name!r} must start with a letter (A-Z, a-z) and "
+                                   "contain only such letters, digits, '_', '-' and '.'")
         convention = self.text(top["convention"], "'convention'")
         if convention not in CONVENTIONS:
             self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "

@@ -138,7 +138,7 @@ BAD_FILES = [
     BadFile("duplicate-top-level-key", sub(DH, "title:", "name: arm4\ntitle:"),
             ("'name'", "twice"), at="name: arm4"),
     BadFile("bad-name", sub(DH, "name: arm3", "name: 6-axis arm"),
-            ("'name'", "'6-axis arm'", "must start with a letter"), at="name: 6-axis"),
+            ("'name'", "'6-axis arm'", "must start with a letter (A-Z, a-z)"), at="name: 6-axis"),
     BadFile("unknown-convention", sub(DH, "convention: dh", "convention: craig"),
             ("'convention'", "'craig'", "dh, mdh, poe"), at="convention:"),
     BadFile("units-not-a-mapping", sub(DH, "units: {length: m, angle: deg}", "units: m"),

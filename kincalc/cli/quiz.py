@@ -63,6 +63,10 @@ def quiz(
     if unknown:
         raise InputError(f"--items: unknown exercise kind {unknown[0]!r} (choose from "
                          f"{', '.join(KINDS)})")
+    if output == "-":
+        output = None                    # '-o -' is standard output, as for convert
+    if output is not None and os.path.isdir(output):
+        raise InputError(f"--output {output}: is a folder; give a file name")
     if output is not None and os.path.exists(output) and not force:
         raise InputError(f"--output {output}: the file exists; give --force to overwrite it")
     if output is not None and not os.path.isdir(os.path.dirname(os.path.abspath(output))):
