@@ -669,8 +669,11 @@ def _qdisp(robot, q, units) -> np.ndarray:
     return np.asarray(q, float) * np.where(robot.is_revolute, units.a, units.l)
 
 
-def _qtext(robot, q, units) -> str:
-    return "(" + ", ".join(_fmt(v) for v in _qdisp(robot, q, units)) + ")"
+def _gaps(robot, qa, qb) -> np.ndarray:
+    """Per-joint distance ``(n,)`` between joint vectors: angles modulo 2 pi (rad), m."""
+    from .ik.screws import wrap
+    d = np.asarray(qa, float) - np.asarray(qb, float)
+    return np.where(robot.is_revolute, np.abs(wrap(d)), np.abs(d))
 
 
 def _joint(robot, i: int) -> str:
@@ -727,14 +730,22 @@ _CONV = {"dh": "standard DH (Rz(θ) Tz(d) Tx(a) Rx(α))",
          "mdh": "modified DH (Rx(α) Tx(a) Rz(θ) Tz(d))"}
 
 
-def _matrix_slips(M: np.ndarray):
-    """``(hint, matrix)``: what a correct 4x4 ``M`` looks like after a form slip."""
+def _transpose_rotation(M: np.ndarray) -> np.ndarray:
+    Mt = np.array(M, float)
+    Mt[:3, :3] = Mt[:3, :3].T
+    return Mt
+
+
+def _invert(M: np.ndarray) -> np.ndarray:
     from .spatial import invert_transform
-    Mt = M.copy()
-    Mt[:3, :3] = M[:3, :3].T
-    yield "fits the right matrix with its rotation part transposed", Mt
-    yield "fits the inverse of the right matrix (the transform in the other direction)", \
-        invert_transform(M)
+    return invert_transform(M)
+
+
+#: ``(hint, f)``: a right 4x4 ``M`` becomes ``f(M)`` after the slip
+MATRIX_SLIPS = (
+    ("fits the right matrix with its rotation part transposed", _transpose_rotation),
+    ("fits the inverse of the right matrix (the transform in the other direction)", _invert),
+)
 
 
 def _compare_T(answer: np.ndarray, T: np.ndarray, tol: Tolerance, units, factor: float = 1.0):
@@ -751,13 +762,12 @@ def _compare_T(answer: np.ndarray, T: np.ndarray, tol: Tolerance, units, factor:
 FULL_TRANSPOSE = "fits the right matrix transposed (rows written as columns)"
 
 
-def _first_slip(sheet, item, check_variant, q_slips=True, joints=None, forms=None):
+def _first_slip(sheet, item, check_variant, joints=None, forms=()):
     """The first slip whose result fits the answer (``check_variant(robot, q, form)``)."""
-    if q_slips:
-        for hint, robot, q in _q_slips(sheet, item.q, joints):
-            if check_variant(robot, q, None):
-                return hint
-    for hint, form in (forms or []):
+    for hint, robot, q in _q_slips(sheet, item.q, joints):
+        if check_variant(robot, q, None):
+            return hint
+    for hint, form in forms:
         if check_variant(sheet.robot, item.q, form):
             return hint
     return None
@@ -783,9 +793,9 @@ def _grade_link(sheet: Sheet, item: Item) -> ItemResult:
         if form == FULL_TRANSPOSE:
             return A.shape == (4, 4) and _compare_T(A.T, M, tol, units, HINT_FACTOR)[0]
         if form is not None:
-            M = dict(_matrix_slips(M))[form]
+            M = form(M)
         return _compare_T(A, M, tol, units, HINT_FACTOR)[0]
-    forms = [(h, h) for h, _ in _matrix_slips(T)] + [(FULL_TRANSPOSE, FULL_TRANSPOSE)]
+    forms = MATRIX_SLIPS + ((FULL_TRANSPOSE, FULL_TRANSPOSE),)
     hint = _first_slip(sheet, item, fits, joints=[i], forms=forms)
     return ItemResult(item.id, "link", False, item.points, max(rot, pos),
                       f"{name} is wrong: largest difference {_fmt(rot)} in the rotation, "
@@ -861,9 +871,9 @@ def _grade_fk(sheet: Sheet, item: Item) -> ItemResult:
                 return False
             answer = dict(answer, T=answer["T"].T)
         elif form is not None:
-            M = dict(_matrix_slips(M))[form]
+            M = form(M)
         return _fk_ok(_fk_errors(answer, M, units, q[-1]), tol, units, HINT_FACTOR)
-    forms = [(h, h) for h, _ in _matrix_slips(T)] + [(FULL_TRANSPOSE, FULL_TRANSPOSE)]
+    forms = MATRIX_SLIPS + ((FULL_TRANSPOSE, FULL_TRANSPOSE),)
     hint = _first_slip(sheet, item, fits, forms=forms) or _angle_set_slip(item.answer, T, tol, units)
     wrong = [k for k, v in err.items() if not _fk_ok({k: v}, tol, units)]
     return ItemResult(item.id, "fk", False, item.points, error,
@@ -912,16 +922,13 @@ def _grade_jacobian(sheet: Sheet, item: Item) -> ItemResult:
 
     def score(Jx, factor=1.0, A=A):
         """(ok, error, row order) of the answer ``A`` against the 6 x n ``Jx``."""
-        if A.shape == (6, n) and n != 6 or A.shape == (6, 6) and n == 6:
+        if A.shape == (6, n):
             best = None
-            for order, rows in (("vx vy vz wx wy wz", Jx), ("wx wy wz vx vy vz",
-                                                             np.vstack([Jx[3:], Jx[:3]]))):
-                lin = float(np.max(np.abs(A[:3] - rows[:3]))) if order[0] == "v" else \
-                    float(np.max(np.abs(A[3:] - rows[3:])))
-                ang = float(np.max(np.abs(A[3:] - rows[3:]))) if order[0] == "v" else \
-                    float(np.max(np.abs(A[:3] - rows[:3])))
-                ok = lin <= lin_tol * factor and ang <= ang_tol * factor
-                cand = (ok, max(lin, ang), order)
+            for order, lin_rows, ang_rows in (("vx vy vz wx wy wz", A[:3], A[3:]),
+                                              ("wx wy wz vx vy vz", A[3:], A[:3])):
+                lin = float(np.max(np.abs(lin_rows - Jx[:3])))
+                ang = float(np.max(np.abs(ang_rows - Jx[3:])))
+                cand = (lin <= lin_tol * factor and ang <= ang_tol * factor, max(lin, ang), order)
                 if best is None or (cand[0], -cand[1]) > (best[0], -best[1]):
                     best = cand
             return best
@@ -949,7 +956,7 @@ def _grade_jacobian(sheet: Sheet, item: Item) -> ItemResult:
         hint = "this is the transpose of J (n x 6): J has one column per joint" + \
             (" — transposed back it is right" if ok_t else "")
         return ItemResult(item.id, "jacobian", False, item.points, None,
-                          f"J must be 6 x {n} (rows {' '.join(['vx','vy','vz','wx','wy','wz'])}),"
+                          f"J must be 6 x {n} (rows vx vy vz wx wy wz),"
                           f" not {n} x 6", hint, details)
 
     def fits(rob, q, form):
@@ -1024,8 +1031,7 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 
 def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
-    from .ik.screws import wrap
-    from .ik.solve import solve
+    from .ik.solve import _violations, solve
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     res = solve(robot, item.target, all_branches=True, units=units)
@@ -1038,9 +1044,8 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         required = []
     jtol = np.where(rev, tol.angle, tol.position)
 
-    def close(qa, qb, factor=1.0):
-        d = np.where(rev, np.abs(wrap(qa - qb)), np.abs(qa - qb))
-        return bool(np.all(d <= jtol * factor))
+    def close(qa, qb):
+        return bool(np.all(_gaps(robot, qa, qb) <= jtol))
 
     def sol_dict(k):
         s = sols[k]
@@ -1065,7 +1070,6 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
             matched[hit] = number
             entry.update(status="correct", **sol_dict(hit))
         elif hit is not None:
-            from .ik.solve import _violations
             viol = ", ".join(f"{_joint(robot, j)} beyond its {side} limit by "
                              f"{_fmt(amount * (units.a if rev[j] else units.l))}"
                              for j, amount, side in (_violations(robot, q) or sols[hit].violations))
@@ -1073,9 +1077,7 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
                          f"limits ({viol}); the item counts only solutions within the limits",
                          **sol_dict(hit))
         elif reaches and not exhaustive:
-            from .ik.solve import _violations
-            viol = _violations(robot, q)
-            if viol and item.limits:
+            if item.limits and _violations(robot, q):
                 entry.update(status="wrong", note="reaches the target but is outside the "
                              "joint limits")
             else:
@@ -1128,7 +1130,6 @@ def _fmt_q(values) -> str:
 
 def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
     """Why a student's set misses: a textbook +/- combination, one joint off, a slip."""
-    from .ik.screws import wrap
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     jtol = np.where(rev, tol.angle, tol.position)
@@ -1138,7 +1139,7 @@ def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
         miss += f" and {_fmt(oe * units.a)}{_unit_suffix(units, 'angle')} in orientation"
 
     def diff(qa, qb):
-        return np.where(rev, np.abs(wrap(qa - qb)), np.abs(qa - qb))
+        return _gaps(robot, qa, qb)
 
     for rej in res.rejected or []:
         if np.all(diff(q, rej["q"]) <= jtol):

@@ -38,7 +38,6 @@ k-th item of that kind, so leaving a kind out does not change the others.
 from __future__ import annotations
 
 import functools
-import json
 import math
 import re
 
@@ -671,10 +670,6 @@ def _item_reach(robot, rng, units) -> dict:
 
 # --- YAML ------------------------------------------------------------------------------
 
-#: plain scalars that YAML 1.1 would read as something else than text
-_YAML_WORDS = {"y", "n", "yes", "no", "true", "false", "on", "off", "null"}
-
-
 def _scalar(v) -> str:
     if v is None:
         return "null"
@@ -691,10 +686,8 @@ def _scalar(v) -> str:
             exponent = exponent if exponent[0] in "+-" else "+" + exponent
             text = f"{mantissa}e{exponent}"
         return text
-    text = str(v)
-    if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.-]*", text) and text.lower() not in _YAML_WORDS:
-        return text
-    return json.dumps(text, ensure_ascii=False)
+    from .robot_writer import yaml_string
+    return yaml_string(str(v), plain_ok=True)
 
 
 def _flat(v) -> bool:

@@ -78,21 +78,21 @@ def _close(a: float, b: float) -> bool:
 def _text(robot, numeric) -> str:
     L = LENGTH_UNITS[robot.length_unit]
     A = ANGLE_UNITS[robot.angle_unit]
-    out = [f"name: {_string(robot.name, plain_ok=True)}"]
+    out = [f"name: {yaml_string(robot.name, plain_ok=True)}"]
     if robot.title:
-        out.append(f"title: {_string(robot.title)}")
+        out.append(f"title: {yaml_string(robot.title)}")
     if robot.source:
         out.append(f"source: {_text_block(robot.source)}")
     out.append(f"convention: {robot.convention}")
     out.append(f"units: {{length: {robot.length_unit}, angle: {robot.angle_unit}}}")
     if robot.parameters:
-        items = ", ".join(f"{_string(k, plain_ok=True)}: {num(v)}" for k, v in robot.parameters)
+        items = ", ".join(f"{yaml_string(k, plain_ok=True)}: {num(v)}" for k, v in robot.parameters)
         out.append(f"parameters: {{{items}}}")
     out.append("joints:")
     exprs = list(robot.expressions) + [()] * (robot.dof - len(robot.expressions))
     for i, j in enumerate(robot.joints):
         scale = A if j.revolute else L
-        fields = [f"name: {_string(j.name, plain_ok=True)}", f"type: {j.type}"]
+        fields = [f"name: {yaml_string(j.name, plain_ok=True)}", f"type: {j.type}"]
         if robot.convention == "poe":
             fields.append(f"axis: {_unit_vector(j.axis)}")
             fields.append(f"point: {_vector(np.asarray(j.point) / L)}")
@@ -101,7 +101,7 @@ def _text(robot, numeric) -> str:
             for f in _DH_FIELDS:
                 unit = A if f in ("alpha", "theta") else L
                 if f in given and (i, f) not in numeric:
-                    fields.append(f"{f}: {_string(given[f], expression=True)}")
+                    fields.append(f"{f}: {yaml_string(given[f], expression=True)}")
                 else:
                     fields.append(f"{f}: {num(getattr(j, f) / unit)}")
         if j.limits is not None:
@@ -187,14 +187,14 @@ def _text_block(s: str) -> str:
     import textwrap
     simple = (s.isprintable() and "  " not in s and s == s.strip() and len(s) > 80)
     if not simple:
-        return _string(s)
+        return yaml_string(s)
     lines = textwrap.wrap(s, width=96, break_long_words=False, break_on_hyphens=False)
     if " ".join(lines) != s:
-        return _string(s)
+        return yaml_string(s)
     return ">-\n" + "\n".join(f"  {line}" for line in lines)
 
 
-def _string(s: str, plain_ok: bool = False, expression: bool = False) -> str:
+def yaml_string(s: str, plain_ok: bool = False, expression: bool = False) -> str:
     """A YAML scalar for ``s``: plain when that reads back as the same text,
     else double-quoted (JSON escapes are valid YAML ones)."""
     s = str(s)
