@@ -39,7 +39,9 @@ CASES = list(examples())
 def test_readme_has_an_example_for_every_command():
     commands = {shlex.split(c)[1] for c, _ in CASES}
     subs = {" ".join(shlex.split(c)[1:3]) for c, _ in CASES if shlex.split(c)[1] == "robots"}
-    assert {"fk", "jacobian", "ik", "selftest", "robots"} <= commands
+    assert {"fk", "jacobian", "ik", "reach", "workspace", "plot", "check", "quiz", "compare",
+            "convert", "selftest", "robots"} <= commands
+    assert any("--symbolic" in c for c, _ in CASES)
     assert {"robots list", "robots show", "robots validate"} <= subs
 
 
