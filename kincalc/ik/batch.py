@@ -27,10 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..spatial import cross, invert_transform, matrix_from_axis_angle, rotation_error
+from ..spatial import cross, invert_transform, matrix_from_axis_angle
 from .families import plan
 from .position import _coefficients, _depends, _reference_point
-from .screws import Screws, wrap
+from .screws import Screws
 from .solve import ACCEPT_ORIENTATION, ACCEPT_POSITION, UnsupportedRobot
 
 
@@ -96,11 +96,27 @@ def _flat(x, ok):
 
 # --- placing a point (joints a, b[, c]) ------------------------------------------
 
-def _place_point(S: Screws, joints, p0, PT):
+_MEMO: dict = {}
+
+
+def _memo(S: Screws, key, make):
+    """``make()``, computed once per screws object ``S`` and ``key`` (robot-level facts
+    that every chunk of poses would otherwise recompute)."""
+    k = (id(S), key)
+    hit = _MEMO.get(k)
+    if hit is None or hit[0] is not S:
+        if len(_MEMO) > 512:
+            _MEMO.clear()
+        hit = _MEMO[k] = (S, make())
+    return hit[1]
+
+
+def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
     """Closed-form point placement for all poses: ``(X (N, K, m), ok (N, K))``.
 
     Needs one invariant of joint a that does not involve joint b (raises
-    UnsupportedRobot otherwise).
+    UnsupportedRobot otherwise). With ``cs``, returns ``(c, s, x, ok)`` instead, the
+    joints' cosines, sines and travels each ``(m, N, K)`` (see :func:`_finish_cs`).
     """
     joints = list(joints)
     a, b = joints[0], joints[1]
@@ -131,8 +147,8 @@ def _place_point(S: Screws, joints, p0, PT):
     else:
         # which invariant is free of joint b (robot-level fact)
         th = 2 * np.pi * np.arange(16) / 16 if S.revolute[c] else np.linspace(-1, 1, 5) * 4 * S.scale
-        g_s = S.move_point(c, th, p0)
-        al_s, be_s, ga_s = coeffs(g_s)
+        al_s, be_s, ga_s = _memo(S, ("samples", tuple(joints), tuple(p0)),
+                                 lambda: coeffs(S.move_point(c, th, p0)))
         dep = _depends(be_s, ga_s, scale ** 2)
         if dep.all():
             if not (S.revolute[b] and S.revolute[c]):
@@ -140,10 +156,11 @@ def _place_point(S: Screws, joints, p0, PT):
                                        "with a prismatic joint 2 or 3; solve it pose by pose")
             xc, okc = _generic_roots(al_s, be_s, ga_s, t)
             gs = S.move_point(c, xc, p0)
-            return _finish(S, joints, p0, PT, t, gs, xc, okc, coeffs, generic=True)
+            X, ok = _finish(S, joints, p0, PT, t, gs, xc, okc, coeffs, generic=True)
+            return _as_cs(S, joints, X, ok) if cs else (X, ok)
         k = 0 if not dep[0] else 1
         if S.revolute[c]:
-            F = np.fft.fft(al_s[k]) / 16
+            F = _memo(S, ("fft", tuple(joints), tuple(p0), k), lambda: np.fft.fft(al_s[k]) / 16)
             if np.abs(F[2:15]).max() > 1e-9 * max(np.abs(F).max(), 1e-300):
                 raise UnsupportedRobot("batched IK: joint 3 enters the placing equation "
                                        "non-linearly; solve this robot pose by pose")
@@ -168,7 +185,71 @@ def _place_point(S: Screws, joints, p0, PT):
                 xc = np.stack([(-qb + sq) / (2 * qa), (-qb - sq) / (2 * qa)], axis=-1)
                 okc = np.stack([okc1, okc1], axis=-1)
         gs = S.move_point(c, xc, p0)                                       # (N, Mc, 3)
-    return _finish(S, joints, p0, PT, t, gs, xc, okc, coeffs, generic=False)
+    if cs and S.revolute[a] and S.revolute[b]:
+        return _finish_cs(S, joints, PT, t, o, gs, xc, okc)
+    X, ok = _finish(S, joints, p0, PT, t, gs, xc, okc, coeffs, generic=False)
+    return _as_cs(S, joints, X, ok) if cs else (X, ok)
+
+
+def _as_cs(S: Screws, joints, X, ok):
+    """``X (N, K, m)`` joint values -> ``(c, s, x (m, N, K), ok)``."""
+    X = np.moveaxis(np.where(ok[..., None], X, 0.0), -1, 0)
+    rev = S.revolute[list(joints)][:, None, None]
+    return np.where(rev, np.cos(X), 1.0), np.where(rev, np.sin(X), 0.0), X, ok
+
+
+def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
+    """Joints b and a (both revolute) for every candidate point ``gs (N, Mc, 3)`` of
+    joint c, as cosines and sines: ``(c, s, x, ok)`` with ``c, s, x (m, N, K)``.
+
+    With ``d = g - o_b``, joint b moves g to ``f = o_b + B d + cos x A d + sin x K d``
+    (:class:`_Axis`), so the two invariants of joint a about ``o`` are
+    ``alpha + beta cos x_b + gamma sin x_b``: the height ``(f - o) . w`` and the squared
+    distance ``|f - o|^2 = |u|^2 + |A d|^2 + 2 cos (u . A d) + 2 sin (u . K d)`` with
+    ``u = o_b - o + B d`` (``|A d| = |K d|``, ``A d . K d = 0``). The one that depends
+    more on x_b gives x_b = atan2(gamma, beta) +- arccos(-alpha / r); joint a is then
+    subproblem 1 on ``f``.
+    """
+    a, b = joints[0], joints[1]
+    c = joints[2] if len(joints) == 3 else None
+    N, Mc = gs.shape[:2]
+    ab, aa = _Axis(S.axis[b]), _Axis(S.axis[a])
+    w = aa.k
+    d = np.moveaxis(gs, -1, 0) - S.point[b][:, None, None]                # (3, N, Mc)
+    u = _cmv(ab.B, d) + (S.point[b] - o)[:, None, None]
+    Ad, Kd = _cmv(ab.A, d), _cmv(ab.K, d)
+    coef = [(_dot(w, u) - t[:, 0, None], _dot(w, Ad), _dot(w, Kd)),
+            ((u * u).sum(0) + (Ad * Ad).sum(0) - t[:, 1, None], 2 * (u * Ad).sum(0),
+             2 * (u * Kd).sum(0))]
+    kb = int(np.argmax([np.abs(be).max(initial=0) + np.abs(ga).max(initial=0)
+                        for _, be, ga in coef]))
+    al, be, ga = coef[kb]
+    scale = S.scale + np.sqrt((PT * PT).sum(-1).max(initial=0.0))
+    r = np.sqrt(be * be + ga * ga)
+    good = r > 1e-12 * scale
+    r = np.where(good, r, 1.0)
+    cc = -al / r
+    okb = (np.abs(cc) <= 1 + 1e-9) & good & okc                            # (N, Mc)
+    cd = np.clip(cc, -1.0, 1.0)
+    sd = np.sqrt(1.0 - cd * cd)
+    cbase, sbase = be / r, ga / r
+    cb = np.stack([cbase * cd - sbase * sd, cbase * cd + sbase * sd], axis=-1)  # (N, Mc, 2)
+    sb = np.stack([sbase * cd + cbase * sd, sbase * cd - cbase * sd], axis=-1)
+    okb = np.stack([okb, okb], axis=-1)
+    f = (S.point[b] - S.point[a])[:, None, None, None] + (_cmv(ab.B, d))[..., None] + \
+        Ad[..., None] * cb + Kd[..., None] * sb                           # f - o_a (3, N, Mc, 2)
+    ca, sa = _sp1_cs((_cmv(aa.A, f), _cmv(aa.K, f)),
+                     (PT.T - S.point[a][:, None])[:, :, None, None], w, 1e-9 * scale ** 2)
+    K = Mc * 2
+    C = [ca.reshape(N, K), cb.reshape(N, K)]
+    Sn = [sa.reshape(N, K), sb.reshape(N, K)]
+    X = [np.zeros((N, K))] * 2
+    if c is not None:
+        xcb = np.broadcast_to(xc[:, :, None], (N, Mc, 2)).reshape(N, K)
+        X.append(xcb)
+        C.append(np.cos(xcb) if S.revolute[c] else np.ones((N, K)))
+        Sn.append(np.sin(xcb) if S.revolute[c] else np.zeros((N, K)))
+    return np.stack(C), np.stack(Sn), np.stack(X), okb.reshape(N, K)
 
 
 def _generic_roots(al_s, be_s, ga_s, t):
@@ -286,88 +367,333 @@ def _polish(S, joints, p0, PT, X, ok, iters: int = 3):
     return X
 
 
+# --- structure-of-arrays pieces for the hot paths ----------------------------------
+#
+# Rotations of many candidates are kept component-first, ``R (3, 3, ...)``, so that
+# every entry is one contiguous array and a product of two rotations is 27 array
+# multiplications (numpy's matmul over stacks of 3x3 matrices costs ~100 ns per
+# product, ten times more). Joint angles travel as their cosine and sine, obtained
+# algebraically from the subproblems (cos/sin cost ~11 ns per value, arctan2 ~1.5 ns).
+
+class _Axis:
+    """A constant unit axis ``k``: ``R(k, t) = cos t A + sin t K + B`` with
+    ``A = I - k k^T``, ``K = [k]x``, ``B = k k^T``."""
+
+    def __init__(self, k):
+        k = np.asarray(k, float)
+        self.k = k
+        self.B = np.outer(k, k)
+        self.A = np.eye(3) - self.B
+        self.K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+
+    def matrix(self, c, s):
+        """``R(k, t) (3, 3, *c.shape)`` from ``c = cos t``, ``s = sin t``."""
+        e = (slice(None), slice(None)) + (None,) * np.ndim(c)
+        return self.A[e] * c + self.K[e] * s + self.B[e]
+
+
+def _cmv(M, v):
+    """Constant ``M (3, 3)`` times vectors ``v (3, ...)`` (one BLAS call)."""
+    return (M @ v.reshape(3, -1)).reshape(v.shape)
+
+
+def _dot(k, v):
+    """Constant ``k (3,)`` dotted with vectors ``v (3, ...)``."""
+    return k[0] * v[0] + k[1] * v[1] + k[2] * v[2]
+
+
+def _mm(A, B):
+    """``A @ B`` for rotations stored ``(3, 3, ...)`` (broadcasting)."""
+    return (A[:, :, None] * B[None, :, :]).sum(1)
+
+
+def _mtm(A, B):
+    """``A^T @ B`` for rotations stored ``(3, 3, ...)`` (broadcasting)."""
+    return (A[:, :, None] * B[:, None, :]).sum(0)
+
+
+def _mv_soa(R, v):
+    """``R @ v`` for ``R (3, 3, ...)``, ``v (3, ...)``."""
+    return (R * v[None]).sum(1)
+
+
+def _unit_cs(x, y, tiny=1e-300):
+    """``(cos, sin)`` of ``arctan2(y, x)`` without trigonometric calls; (1, 0) at the origin."""
+    r = np.sqrt(x * x + y * y)
+    zero = r <= tiny
+    r = np.where(zero, 1.0, r)
+    return np.where(zero, 1.0, x / r), np.where(zero, 0.0, y / r)
+
+
+def _sp1_cs(p1k, p2, k, tiny: float = 1e-9):
+    """Subproblem 1 as ``(cos, sin)``: the angle about unit ``k`` turning ``p1`` onto ``p2``.
+
+    ``p1k = (a, k x a)`` with ``a`` the part of ``p1`` normal to ``k``, as arrays
+    ``(3, ...)`` or constants; ``p2 (3, ...)``. Where ``|a| |p2|`` is below ``tiny``
+    (``p1`` or ``p2`` on the axis: a singular configuration, any angle does) the angle
+    is 0, so that the representative of the continuum is the same for every branch.
+    """
+    a, kxa = p1k
+    x = (a * p2).sum(0) if np.ndim(a) > 1 else _dot(a, p2)
+    y = (kxa * p2).sum(0) if np.ndim(kxa) > 1 else _dot(kxa, p2)
+    return _unit_cs(x, y, tiny)
+
+
+def _sp4_consts(h, p, k):
+    """The robot-level part of subproblem 4 ``h . R(k, t) p = d``: ``(C, r, cos b, sin b)``
+    such that ``t = b +- arccos((d - C) / r)``."""
+    kxp = np.cross(k, p)
+    A = -float(h @ np.cross(k, kxp))
+    B = float(h @ kxp)
+    C = float(h @ k) * float(p @ k)
+    r = float(np.hypot(A, B))
+    if r <= 1e-12:
+        return C, 0.0, 1.0, 0.0
+    return C, r, A / r, B / r
+
+
+def _sp4_cs(consts, d):
+    """Both roots of subproblem 4 as ``(cos, sin, ok)``, each ``(*d.shape, 2)``."""
+    C, r, cb, sb = consts
+    if r == 0.0:
+        z = np.zeros(np.shape(d) + (2,))
+        return z + 1.0, z, z.astype(bool)
+    cc = (d - C) / r
+    ok = np.abs(cc) <= 1 + 1e-9
+    cd = np.clip(cc, -1.0, 1.0)
+    sd = np.sqrt(1.0 - cd * cd)
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    return c, s, np.stack([ok, ok], axis=-1)
+
+
+def _sp4_points(h, p, k, d):
+    """Subproblem 4 ``h . R(k, t) p = d`` for constant ``h``, ``k``, ``d`` and points
+    ``p (3, N)``: ``(cos t, sin t, ok)``, each ``(N, 2)``."""
+    kxp = np.cross(k[:, None], p, axis=0)
+    A = -_dot(h, np.cross(k[:, None], kxp, axis=0))
+    B = _dot(h, kxp)
+    C = float(h @ k) * _dot(k, p)
+    r = np.sqrt(A * A + B * B)
+    good = r > 1e-12
+    r = np.where(good, r, 1.0)
+    cb, sb = A / r, B / r
+    cc = (d - C) / r
+    ok = (np.abs(cc) <= 1 + 1e-9) & good
+    cd = np.clip(cc, -1.0, 1.0)
+    sd = np.sqrt(1.0 - cd * cd)
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    return c, s, np.stack([ok, ok], axis=-1)
+
+
+def _soa_rot(T):
+    """``T (N, 4, 4)`` -> rotation ``(3, 3, N)`` and position ``(3, N)``."""
+    return np.moveaxis(T[:, :3, :3], 0, -1), np.moveaxis(T[:, :3, 3], 0, -1)
+
+
 # --- families -----------------------------------------------------------------------
+#
+# Each family solver returns ``(c, s, x, ok)``: for every joint i and candidate, the
+# cosine and sine of a revolute joint's angle (``c[i], s[i]``) or a prismatic joint's
+# travel (``x[i]``), each ``(n, N, K)``, and the candidates' mask ``ok (N, K)``.
 
 def _spherical_wrist(S: Screws, T):
     from ..structure import common_point
-    c0 = common_point(S.point[3:], S.axis[3:], np.inf)
-    Minv = S.inverse_M()
+    c0 = _memo(S, "wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    Minv = _memo(S, "M^-1", S.inverse_M)
     c_tool = Minv[:3, :3] @ c0 + Minv[:3, 3]
     CT = _mv(T[:, :3, :3], c_tool) + T[:, :3, 3]
-    X, ok = _place_point(S, [0, 1, 2], c0, CT)                           # (N, K, 3)
-    R_pre = np.broadcast_to(np.eye(3), X.shape[:2] + (3, 3))
+    c3, s3, x3, ok = _place_point(S, [0, 1, 2], c0, CT, cs=True)          # (3, N, K4)
+    N, K4 = ok.shape
+    a4, a5, a6 = (_Axis(S.axis[i]) for i in (3, 4, 5))
+    k4, k5, k6 = a4.k, a5.k, a6.k
+    e = np.cross(k6, [1.0, 0, 0] if abs(k6[0]) < 0.9 else [0, 1.0, 0])
+    e /= np.linalg.norm(e)
+    # RW = R_pre^T Rt is needed only through RW k6 and RW e: turn those two vectors
+    # back through joints 1-3 (R^T v = c A v - s K v + B v)
+    Rt = (T[:, :3, :3] @ Minv[:3, :3]).transpose(2, 1, 0)                # (3 cols, 3, N)
+    V = np.broadcast_to(np.stack([_mv_soa(Rt.transpose(1, 0, 2), k6[:, None]),
+                                  _mv_soa(Rt.transpose(1, 0, 2), e[:, None])], axis=1)[..., None],
+                        (3, 2, N, K4))                                  # (3, 2, N, K4)
     for i in range(3):
         if S.revolute[i]:
-            R_pre = R_pre @ _rot(S.axis[i], X[..., i])
-    R_t = T[:, None, :3, :3] @ Minv[:3, :3]
-    RW = np.swapaxes(R_pre, -1, -2) @ R_t                                  # (N, K, 3, 3)
-    k4, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
-    t5, ok5 = _sp4(k4, k6, k5, _mv(RW, k6) @ k4)                          # (N, K, 2)
-    R5 = _rot(k5, t5)
-    q5k6 = _mv(R5, k6)
-    t4 = _sp1(q5k6, _mv(RW, k6)[:, :, None, :], k4)
-    R45 = _rot(k4, t4) @ R5
-    v = cross(k6, [1.0, 0, 0] if abs(k6[0]) < 0.9 else [0, 1.0, 0])
-    t6 = _sp1(np.broadcast_to(v, t4.shape + (3,)),
-              _mv(np.swapaxes(R45, -1, -2) @ RW[:, :, None], v), k6)
-    Q = np.concatenate([np.broadcast_to(X[:, :, None, :], t4.shape + (3,)),
-                        np.stack([t4, t5, t6], axis=-1)], axis=-1)
-    return _flat(Q, ok5 & ok[..., None])
+            ax = _Axis(S.axis[i])
+            V = _cmv(ax.A, V) * c3[i] - _cmv(ax.K, V) * s3[i] + _cmv(ax.B, V)
+    p2, w1 = V[:, 0], V[:, 1]                                             # RW k6, RW e
+    # joint 5: k4 . R5 k6 = k4 . RW k6
+    c5, s5, ok5 = _sp4_cs(_sp4_consts(k4, k6, k5), _dot(k4, p2))       # (N, K4, 2)
+    # joint 4: turn R5 k6 onto RW k6 about k4. R5 k6 = c5 u + s5 v + w; its part
+    # normal to k4 and that part turned by 90 degrees about k4 are linear in (c5, s5)
+    u, v, w = a5.A @ k6, a5.K @ k6, a5.B @ k6
+    x4 = sum(cf * _dot(a4.A @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
+    y4 = sum(cf * _dot(a4.K @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
+    c4, s4 = _unit_cs(x4, y4, 1e-9)
+    # joint 6: turn a vector e normal to k6 onto R5^T R4^T RW e about k6
+    z = _cmv(a4.A, w1)[..., None] * c4 - _cmv(a4.K, w1)[..., None] * s4 + \
+        _cmv(a4.B, w1)[..., None]                                        # R4^T RW e
+    z = _cmv(a5.A, z) * c5 - _cmv(a5.K, z) * s5 + _cmv(a5.B, z)          # (3, N, K4, 2)
+    c6, s6 = _sp1_cs((e, np.cross(k6, e)), z, k6)
+    shape = (N, K4, 2)
+    bc = lambda x: np.broadcast_to(x[..., None], shape)  # noqa: E731
+    c = np.stack([bc(c3[0]), bc(c3[1]), bc(c3[2]), c4, c5, c6])
+    s = np.stack([bc(s3[0]), bc(s3[1]), bc(s3[2]), s4, s5, s6])
+    x = np.stack([bc(x3[0]), bc(x3[1]), bc(x3[2])] + [np.zeros(shape)] * 3)
+    okk = ok5 & ok[..., None]
+    return (c.reshape(6, N, -1), s.reshape(6, N, -1), x.reshape(6, N, -1),
+            okk.reshape(N, -1))
 
 
 def _three_parallel(S: Screws, T):
     from ..structure import common_point
     h = S.axis[1]
-    Minv = S.inverse_M()
-    c56 = common_point(S.point[4:], S.axis[4:], np.inf)
-    CT = _mv(T[:, :3, :3], Minv[:3, :3] @ c56 + Minv[:3, 3]) + T[:, :3, 3]
-    R_t = T[:, :3, :3] @ Minv[:3, :3]
-    o1 = S.point[0]
-    t1, ok1 = _sp4(h, CT - o1, S.axis[0], np.full(len(T), h @ (c56 - o1)))
-    q1 = -t1                                                               # (N, 2)
-    R1 = _rot(S.axis[0], q1)                                               # (N, 2, 3, 3)
-    R1tRt = np.swapaxes(R1, -1, -2) @ R_t[:, None]
-    t5, ok5 = _sp4(h, S.axis[5], S.axis[4], _mv(R1tRt, S.axis[5]) @ h)    # (N, 2, 2)
-    R5 = _rot(S.axis[4], t5)
-    w = _mv(np.swapaxes(R_t, -1, -2)[:, None] @ R1, h)                    # (N, 2, 3)
-    q6 = _sp1(np.broadcast_to(w[:, :, None, :], t5.shape + (3,)), _mv(np.swapaxes(R5, -1, -2), h),
-              S.axis[5])
-    R6 = _rot(S.axis[5], q6)
-    R234 = R1tRt[:, :, None] @ np.swapaxes(R6, -1, -2) @ np.swapaxes(R5, -1, -2)
-    v = cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
-    q234 = _sp1(np.broadcast_to(v, q6.shape + (3,)), _mv(R234, v), h)
-    # E2 E3 E4 = E1^-1 T M^-1 E6^-1 E5^-1; the point of axis 4 lands at E2 E3 (p4)
-    Trest = invert_transform(S.exp(0, q1))[:, :, None] @ (T[:, None, None] @ Minv) @ \
-        invert_transform(S.exp(5, q6)) @ invert_transform(S.exp(4, t5))
-    p4t = _mv(Trest[..., :3, :3], S.point[3]) + Trest[..., :3, 3]          # (N, 2, 2, 3)
+    Minv = _memo(S, "M^-1", S.inverse_M)
+    c56 = _memo(S, "wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
+    TM = T @ Minv
+    CT = _mv(TM[:, :3, :3], c56) + TM[:, :3, 3]
+    Rt, pt = _soa_rot(TM)                                                  # (3, 3, N), (3, N)
     N = len(T)
-    X, okx = _place_point(S, [1, 2], S.point[3], p4t.reshape(-1, 3))      # (N*4, K, 2)
-    K = X.shape[1]
-    X = X.reshape(N, 2, 2, K, 2)
-    okx = okx.reshape(N, 2, 2, K)
-    q2, q3 = X[..., 0], X[..., 1]
-    q4 = q234[..., None] - q2 - q3
-    bq = lambda x: np.broadcast_to(x[..., None], q2.shape)  # noqa: E731
-    Q = np.stack([bq(np.broadcast_to(q1[:, :, None], t5.shape)), q2, q3, q4, bq(t5), bq(q6)],
-                 axis=-1)
+    a1, a5, a6 = _Axis(S.axis[0]), _Axis(S.axis[4]), _Axis(S.axis[5])
+    o1 = S.point[0]
+    # joint 1: the wrist point's height along h is fixed: h . R1^T (CT - o1) = h . (c56 - o1)
+    t1c, t1s, ok1 = _sp4_points(h, np.moveaxis(CT - o1, 0, -1), a1.k, h @ (c56 - o1))
+    c1, s1 = t1c, -t1s                                                     # q1 = -t1, (N, 2)
+    C1, S1 = c1[None], s1[None]                                            # (1, N, 2)
+    Rt_T = Rt.transpose(1, 0, 2)[..., None]                                # Rt^T (3, 3, N, 1)
+    # joint 5: h . R5 k6 = h . R1^T Rt k6
+    v = _mv_soa(Rt, a6.k[:, None])[..., None]                              # Rt k6 (3, N, 1)
+    v = _cmv(a1.A, v) * C1 - _cmv(a1.K, v) * S1 + _cmv(a1.B, v)            # (3, N, 2)
+    c5, s5, ok5 = _sp4_cs(_sp4_consts(h, a6.k, a5.k), _dot(h, v))          # (N, 2, 2)
+    # joint 6: turn Rt^T R1 h onto R5^T h about k6
+    wv = (a1.A @ h)[:, None, None] * C1 + (a1.K @ h)[:, None, None] * S1 + \
+        (a1.B @ h)[:, None, None]                                          # R1 h (3, N, 2)
+    wv = _mv_soa(Rt_T, wv)[..., None]                                      # (3, N, 2, 1)
+    p2 = (a5.A @ h)[:, None, None, None] * c5 - (a5.K @ h)[:, None, None, None] * s5 + \
+        (a5.B @ h)[:, None, None, None]                                    # R5^T h (3, N, 2, 2)
+    wa = _cmv(a6.A, wv)
+    c6, s6 = _sp1_cs((wa, _cmv(a6.K, wv)), p2, a6.k)
+    # joints 2 + 3 + 4 about h: R234 e = R1^T Rt R6^T R5^T e
+    e = np.cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
+    e /= np.linalg.norm(e)
+    v = (a5.A @ e)[:, None, None, None] * c5 - (a5.K @ e)[:, None, None, None] * s5 + \
+        (a5.B @ e)[:, None, None, None]
+    v = _cmv(a6.A, v) * c6 - _cmv(a6.K, v) * s6 + _cmv(a6.B, v)
+    v = _mv_soa(Rt[..., None, None], v)
+    C1, S1 = c1[:, :, None], s1[:, :, None]                                # (N, 2, 1)
+    v = _cmv(a1.A, v) * C1 - _cmv(a1.K, v) * S1 + _cmv(a1.B, v)
+    c234, s234 = _sp1_cs((e, np.cross(h, e)), v, h)                       # (N, 2, 2)
+    # where joints 2, 3 must put axis 4's point: E2 E3 (p4) = E1^-1 T M^-1 E6^-1 E5^-1 (p4)
+    p = S.point[3][:, None, None, None] - S.point[4][:, None, None, None]
+    p = _cmv(a5.A, p) * c5 - _cmv(a5.K, p) * s5 + _cmv(a5.B, p) + \
+        (S.point[4] - S.point[5])[:, None, None, None]                    # E5^-1, shifted to o6
+    p = _cmv(a6.A, p) * c6 - _cmv(a6.K, p) * s6 + _cmv(a6.B, p) + S.point[5][:, None, None, None]
+    p = _mv_soa(Rt[..., None, None], p) + pt[:, :, None, None] - o1[:, None, None, None]
+    p = _cmv(a1.A, p) * C1 - _cmv(a1.K, p) * S1 + _cmv(a1.B, p) + o1[:, None, None, None]
+    cx, sx, _, okx = _place_point(S, [1, 2], S.point[3], np.moveaxis(p, 0, -1).reshape(-1, 3),
+                                  cs=True)                               # (2, N*4, K2)
+    K2 = okx.shape[1]
+    c2, s2, c3, s3 = (v.reshape(N, 2, 2, K2) for v in (cx[0], sx[0], cx[1], sx[1]))
+    okx = okx.reshape(N, 2, 2, K2)
+    # joint 4 = (2 + 3 + 4) - 2 - 3, by the angle-difference formulas
+    c23, s23 = c2 * c3 - s2 * s3, s2 * c3 + c2 * s3
+    C234, S234 = c234[..., None], s234[..., None]
+    c4, s4 = C234 * c23 + S234 * s23, S234 * c23 - C234 * s23
+    shape = (N, 2, 2, K2)
+    b1 = lambda x: np.broadcast_to(x[:, :, None, None], shape)  # noqa: E731
+    b2 = lambda x: np.broadcast_to(x[..., None], shape)  # noqa: E731
+    c = np.stack([b1(c1), c2, c3, c4, b2(c5), b2(c6)]).reshape(6, N, -1)
+    s = np.stack([b1(s1), s2, s3, s4, b2(s5), b2(s6)]).reshape(6, N, -1)
     ok = okx & (ok1[:, :, None] & ok5)[..., None]
-    return Q.reshape(N, -1, 6), ok.reshape(N, -1)
+    return c, s, np.zeros_like(c), ok.reshape(N, -1)
 
 
 SOLVERS = {"spherical-wrist": _spherical_wrist, "three-parallel": _three_parallel}
 
+#: poses per chunk: the working set of a chunk (a few hundred arrays of
+#: CHUNK x 8 doubles) stays in the processor's cache
+CHUNK = 2048
 
-def solve_batch(robot, T) -> BatchIK:
+
+def _fk_matches(robot, c, s, x, T, tol_p: float, tol_o: float) -> np.ndarray:
+    """Does FK of every candidate reproduce its pose? ``c, s, x (n, N, K)`` as the
+    family solvers give them (cosine and sine of each revolute joint's angle, travel
+    of each prismatic joint), ``T (N, 4, 4)``; returns ``(N, K)`` bool.
+
+    The chain ``F_0 J_1 F_1 ... J_n F_n`` (:class:`~kincalc.model.Chain`) is walked
+    column-wise as in :mod:`kincalc.fk`, with each joint's cosine and sine turned by
+    its offset instead of recomputed. Position within ``tol_p`` (m); orientation
+    within ``tol_o`` rad, through ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``.
+    """
+    from ..fk import _apply_fixed, _start
+    chain = robot.chain
+    n, N, K = c.shape
+    M = N * K
+    cols, p = _start(chain.fixed[0], M)
+    for i in range(n):
+        off = chain.offset[i]
+        if chain.revolute[i]:
+            ci, si = c[i].reshape(M), s[i].reshape(M)
+            if off != 0.0:
+                co, so = np.cos(off), np.sin(off)
+                ci, si = ci * co - si * so, si * co + ci * so
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * ci + c1 * si, c1 * ci - c0 * si, cols[2]]
+        else:
+            p = p + cols[2] * (x[i].reshape(M) + off)
+        cols, p = _apply_fixed(cols, p, chain.fixed[i + 1])
+    e_p = ((p.reshape(3, N, K) - T[:, :3, 3].T[:, :, None]) ** 2).sum(0)
+    e_o = sum(((cols[j].reshape(3, N, K) - T[:, :3, j].T[:, :, None]) ** 2).sum(0)
+              for j in range(3))
+    return (e_p <= tol_p ** 2) & (e_o <= 8 * np.sin(tol_o / 2) ** 2)
+
+
+def _first_of_duplicates(q, ok, revolute) -> np.ndarray:
+    """``ok`` with later copies of a solution (every joint within 1e-6) cleared.
+
+    ``q (n, N, K)`` with revolute angles in (-pi, pi]; double roots come twice."""
+    n, N, K = q.shape
+    qk = np.ascontiguousarray(q.transpose(2, 0, 1))                       # (K, n, N)
+    rev = np.asarray(revolute)
+    drop = np.zeros((K, N), bool)
+    for j in range(1, K):
+        for i in range(j):
+            d = np.abs(qk[j] - qk[i])
+            d[rev] = np.minimum(d[rev], 2 * np.pi - d[rev])
+            drop[j] |= (d.max(0) < 1e-6) & ok[:, i]
+    return ok & ~drop.T
+
+
+def _solve_chunk(robot, S, family, solver, T):
+    """``(q (N, K, n), valid (N, K))`` for one chunk of poses."""
+    if family.reverse:          # solve the chain seen from the tool (Screws.reversed)
+        c, s, x, ok = solver(_memo(S, "reversed", S.reversed), invert_transform(T))
+        c, s, x = c[::-1], -s[::-1], -x[::-1]
+    else:
+        c, s, x, ok = solver(S, T)
+    rev = robot.is_revolute
+    with np.errstate(invalid="ignore"):
+        ok = ok & _fk_matches(robot, c, s, x, T,
+                              ACCEPT_POSITION * max(robot.characteristic_length, 1e-12),
+                              ACCEPT_ORIENTATION)
+    q = np.where(rev[:, None, None], np.arctan2(s, c), x)                   # (n, N, K)
+    ok = _first_of_duplicates(q, ok, rev)
+    return np.moveaxis(q, 0, -1), ok
+
+
+def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:
     """Every IK solution of ``robot`` for each pose in ``T (N, 4, 4)``, vectorised.
 
-    Returns a :class:`BatchIK`: ``q (N, K, n)`` (rad / m), ``valid (N, K)``.
-    Invalid slots hold undefined numbers; use the mask. Raises
-    :class:`~kincalc.ik.solve.UnsupportedRobot` for families without a batched
-    closed form.
+    Returns a :class:`BatchIK`: ``q (N, K, n)`` (rad in (-pi, pi] / m),
+    ``valid (N, K)``. Invalid slots hold undefined numbers; use the mask. Poses
+    are solved ``chunk`` at a time (the arithmetic is vectorised within a
+    chunk). Raises :class:`~kincalc.ik.solve.UnsupportedRobot` for families
+    without a batched closed form.
     """
     T = np.asarray(T, float)
     if T.ndim == 2:
         T = T[None]
+    if T.shape[1:] != (4, 4):
+        raise ValueError(f"expected poses of shape (N, 4, 4), got {T.shape}")
     S, family, why = plan(robot)
     if family is None or family.solver not in SOLVERS:
         raise UnsupportedRobot(f"{robot.name}: batched IK supports the "
@@ -375,24 +701,13 @@ def solve_batch(robot, T) -> BatchIK:
                                f"chains), not {family.name if family else why}; use robot.ik "
                                "pose by pose")
     solver = SOLVERS[family.solver]
-    if family.reverse:          # solve the chain seen from the tool (Screws.reversed)
-        Q, ok = solver(S.reversed(), invert_transform(T))
-        Q = -Q[..., ::-1]
-    else:
-        Q, ok = solver(S, T)
-    N, K, n = Q.shape
-    Q = np.where(robot.is_revolute, wrap(Q), Q)
-    # validate by FK, vectorised over every candidate of every pose
-    flat = np.where(ok[..., None], Q, 0.0).reshape(-1, n)
-    Tq = robot.fk(flat).reshape(N, K, 4, 4)
-    pe = np.linalg.norm(Tq[..., :3, 3] - T[:, None, :3, 3], axis=-1)
-    oe = rotation_error(Tq[..., :3, :3], T[:, None, :3, :3])
-    ok = ok & (pe <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)) & \
-        (oe <= ACCEPT_ORIENTATION)
-    # merge duplicates within each pose (double roots come twice)
-    d = np.abs(np.where(robot.is_revolute, wrap(Q[:, :, None, :] - Q[:, None, :, :]),
-                        Q[:, :, None, :] - Q[:, None, :, :])).max(-1)          # (N, K, K)
-    same = (d < 1e-6) & ok[:, None, :] & ok[:, :, None]
-    earlier = np.tril(np.ones((K, K), bool), -1)
-    ok = ok & ~np.any(same & earlier, axis=-1)
-    return BatchIK(q=Q, valid=ok, family=family.name)
+    N = len(T)
+    q = valid = None
+    for start in range(0, max(N, 1), chunk):
+        qc, okc = _solve_chunk(robot, S, family, solver, T[start:start + chunk])
+        if q is None:
+            q = np.empty((N,) + qc.shape[1:])
+            valid = np.empty((N, qc.shape[1]), bool)
+        q[start:start + len(qc)] = qc
+        valid[start:start + len(qc)] = okc
+    return BatchIK(q=q, valid=valid, family=family.name)

@@ -59,10 +59,16 @@ class Screws:
     def move_point(self, i: int, x, p) -> np.ndarray:
         """``E_i(x)`` applied to point(s) ``p (..., 3)``; ``x`` broadcasts."""
         p = np.asarray(p, float)
+        x = np.asarray(x, float)[..., None]
+        k = self.axis[i]
         if not self.revolute[i]:
-            return p + np.asarray(x, float)[..., None] * self.axis[i]
-        R = matrix_from_axis_angle(self.axis[i], x)
-        return np.einsum("...ij,...j->...i", R, p - self.point[i]) + self.point[i]
+            return p + x * k
+        # Rodrigues on the offset from the axis: d -> (k.d) k + cos x (d - (k.d) k) + sin x (k x d)
+        d = p - self.point[i]
+        along = (d @ k)[..., None] * k
+        kxd = np.stack([k[1] * d[..., 2] - k[2] * d[..., 1], k[2] * d[..., 0] - k[0] * d[..., 2],
+                        k[0] * d[..., 1] - k[1] * d[..., 0]], axis=-1)
+        return self.point[i] + along + np.cos(x) * (d - along) + np.sin(x) * kxd
 
     def inverse_M(self) -> np.ndarray:
         return invert_transform(self.M)
