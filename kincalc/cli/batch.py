@@ -182,3 +182,531 @@ def _csv_cell(value):
     if isinstance(value, bool):
         return "true" if value else "false"
     return value
+
+
+# --- chunked, vectorised batch runs of fk, jacobian and ik -------------------------------
+#
+# The input is read in chunks of CHUNK_LINES lines; each chunk is parsed, solved
+# through the vectorised core and formatted by the pure function process_chunk, in this
+# process or, with --jobs N, in N worker processes (at most 2 N chunks in flight, so
+# memory stays constant whatever the input's size; the output keeps the input's order).
+
+CHUNK_LINES = 2048
+#: pose forms solved in one vectorised step (others go through build_target per record)
+_FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
+               frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
+               frozenset({"T"}), frozenset({"q"})}
+
+
+def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=None,
+                frame: str = "base", refused: dict | None = None):
+    """The --batch branch of a command: refuse options that do not combine with it, run,
+    and leave with the batch's exit status."""
+    import typer
+
+    from ..errors import UsageError
+    if given and any(v is not None and v != [] for v in
+                     (given if isinstance(given, list) and kind == "ik" else [given])):
+        raise UsageError("--batch reads its input from a file; do not give "
+                         f"{'pose options' if kind == 'ik' else 'joint values'} too")
+    for option, value in (refused or {}).items():
+        if value:
+            raise UsageError(f"{option} does not combine with --batch")
+    raise typer.Exit(run(kind, robot, units, src, fmt, jobs, frame))
+
+
+def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str = "base") -> int:
+    """Answer every record of ``src`` with ``kind`` ('fk', 'jacobian' or 'ik'); write the
+    output records to stdout; return the exit status (2 if any record was bad, 1 if all
+    were good but some pose had no solution, else 0)."""
+    from functools import partial
+    if fmt not in ("jsonl", "csv"):
+        from ..errors import UsageError
+        raise UsageError(f"--format must be jsonl or csv, not {fmt!r}")
+    if jobs < 1:
+        from ..errors import UsageError
+        raise UsageError(f"--jobs must be at least 1, not {jobs}")
+    source = _Source(src)
+    header, chunks = _chunked(source)
+    work = partial(process_chunk, kind, robot, units, header, fmt, frame)
+    if fmt == "csv":
+        sys.stdout.write(_csv_header(kind, robot))
+    bad = no = False
+    with _progress(source) as advance:
+        for text, b, n in _ordered_map(work, chunks, jobs):
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            bad |= b
+            no |= n
+            advance(source.position)
+    return 2 if bad else 1 if no else 0
+
+
+class _Source:
+    """Lines of a file or stdin, counting the bytes read (for the progress bar)."""
+
+    def __init__(self, src: str):
+        from ..errors import InputError
+        self.src, self.position, self.size = src, 0, None
+        if src == "-":
+            self.fh = sys.stdin
+            return
+        try:
+            self.fh = open(src, encoding="utf-8")
+            import os
+            self.size = os.fstat(self.fh.fileno()).st_size
+        except OSError as exc:
+            raise InputError(f"--batch {src}: cannot read ({exc.strerror})") from None
+
+    def __iter__(self):
+        try:
+            for line in self.fh:
+                self.position += len(line)
+                if line.strip():
+                    yield line
+        finally:
+            if self.fh is not sys.stdin:
+                self.fh.close()
+
+
+def _chunked(source):
+    """``(header or None, iterator of (first index, [lines]))``; a CSV header is the
+    first non-blank line when that does not start with '{'."""
+    lines = iter(source)
+    first = next(lines, None)
+    header = None
+    if first is not None and not first.lstrip().startswith("{"):
+        header = [h.strip() for h in first.strip().split(",")]
+        first = None
+
+    def chunks():
+        import itertools
+        index = 0
+        pending = [] if first is None else [first]
+        while True:
+            block = pending + list(itertools.islice(lines, CHUNK_LINES - len(pending)))
+            pending = []
+            if not block:
+                return
+            yield index, block
+            index += len(block)
+
+    def chunks_as_they_come():
+        """From a pipe: a chunk is what has arrived (up to CHUNK_LINES), so that a
+        producer writing one pose at a time gets each answer at once."""
+        import queue
+        import threading
+        q: queue.Queue = queue.Queue(maxsize=4 * CHUNK_LINES)
+        end = object()
+
+        def read():
+            for line in lines:
+                q.put(line)
+            q.put(end)
+        threading.Thread(target=read, daemon=True).start()
+        index = 0
+        block = [] if first is None else [first]
+        while True:
+            if not block:
+                item = q.get()
+                if item is end:
+                    return
+                block.append(item)
+            while len(block) < CHUNK_LINES:
+                try:
+                    item = q.get_nowait()
+                except queue.Empty:
+                    break
+                if item is end:
+                    yield index, block
+                    return
+                block.append(item)
+            yield index, block
+            index += len(block)
+            block = []
+    return header, (chunks_as_they_come() if source.size is None else chunks())
+
+
+def _ordered_map(fn, items, jobs: int):
+    """``map(fn, items)`` in order, over ``jobs`` processes, at most 2 jobs chunks ahead."""
+    if jobs == 1:
+        for item in items:
+            yield fn(item)
+        return
+    from collections import deque
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        window = deque()
+        for item in items:
+            window.append(pool.submit(fn, item))
+            if len(window) >= 2 * jobs:
+                yield window.popleft().result()
+        while window:
+            yield window.popleft().result()
+
+
+class _progress:
+    """A rich progress bar on stderr when stderr is a terminal and the input a file."""
+
+    def __init__(self, source):
+        self.source, self.bar = source, None
+
+    def __enter__(self):
+        if self.source.size and sys.stderr.isatty():
+            from rich.console import Console
+            from rich.progress import (BarColumn, DownloadColumn, Progress, TextColumn,
+                                       TimeRemainingColumn)
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(), DownloadColumn(),
+                                TimeRemainingColumn(), console=Console(stderr=True),
+                                transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.source.src, total=self.source.size)
+            return lambda pos: self.bar.update(self.task, completed=pos)
+        return lambda pos: None
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.stop()
+        return False
+
+
+def _csv_header(kind, robot) -> str:
+    names = [j.name for j in robot.joints]
+    if kind == "fk":
+        cols = ["index", "id", "x", "y", "z", "roll", "pitch", "yaw", "within_limits", "error"]
+    elif kind == "jacobian":
+        cols = ["index", "id"] + [f"J{r}_{c}" for r in ("vx", "vy", "vz", "wx", "wy", "wz")
+                                  for c in names] + ["rank", "manipulability", "singular", "error"]
+    else:
+        cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "error"]
+    return ",".join(cols) + "\n"
+
+
+def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bool, bool]:
+    """Parse, solve and format one chunk ``item = (first index, lines)``; returns
+    ``(text, any record bad, any pose without a solution)``. Pure: safe to run in a
+    worker process."""
+    import json
+    start, lines = item
+    parsed = []
+    for k, line in enumerate(lines):
+        i = start + k
+        if header is None:
+            parsed.append(_json_record(i, line, json))
+        else:
+            try:
+                parsed.append((i, _csv_record(header, line, robot), None))
+            except RecordError as exc:
+                parsed.append((i, None, f"record {i + 1}: {exc}"))
+    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "ik": _ik_chunk}[kind]
+    records, no = solve(robot, units, parsed, frame)
+    bad = any("error" in r for r in records)
+    if fmt == "jsonl":
+        dump = _ik_json if kind == "ik" else json.dumps
+        text = "".join(dump(r) + "\n" for r in records)
+    else:
+        text = _csv_rows(kind, robot, records)
+    return text, bad, no
+
+
+def _ik_json(r) -> str:
+    """One ik output record as JSON; the solutions' joint values are written with 12
+    significant digits by one format per solution (json.dumps spends ~0.5 us on the
+    shortest repr of each float, most of a batch run's time)."""
+    import json
+    if "solutions" not in r:
+        return json.dumps(r)
+    head = json.dumps({k: v for k, v in r.items() if k != "solutions"})[:-1]
+    sols = ", ".join('{"q": [%s], "branch": %s, "within_limits": %s}'
+                     % (", ".join(["%.12g"] * len(s["q"])) % tuple(s["q"]),
+                        json.dumps(s["branch"]), "true" if s["within_limits"] else "false")
+                     for s in r["solutions"])
+    return f'{head}, "solutions": [{sols}]}}'
+
+
+def _round(a):
+    """Arrays as nested lists rounded to 12 decimals, -0.0 as 0.0 (as results._clean)."""
+    import numpy as np
+    return (np.round(a, 12) + 0.0).tolist()
+
+
+def _head(i, kw):
+    return {"index": i} if kw is None or "id" not in kw else {"index": i, "id": kw["id"]}
+
+
+def _joint_rows(robot, units, parsed, what):
+    """``(good [(index, kw)], q (m, n) SI, error records)`` from records that must hold
+    joint values only."""
+    import numpy as np
+    good, qs, errors = [], [], []
+    for i, kw, err in parsed:
+        if err is None:
+            keys = set(kw) - {"id"}
+            if keys != {"q"}:
+                err = (f"record {i + 1}: {what} takes joint values ('q', or one CSV column "
+                       f"per joint), not {', '.join(sorted(keys - {'q'}))}")
+            elif len(kw["q"]) != robot.dof:
+                err = (f"record {i + 1}: {robot.name} has {robot.dof} joints, got "
+                       f"{len(kw['q'])} values")
+        if err is not None:
+            errors.append((i, {**_head(i, kw), "error": err}))
+            continue
+        good.append((i, kw))
+        qs.append(kw["q"])
+    q = np.array(qs, float).reshape(-1, robot.dof)
+    return good, q / np.where(robot.is_revolute, units.a, units.l), errors
+
+
+def _merge(records, errors):
+    out = records + [r for _, r in errors]
+    out.sort(key=lambda r: r["index"])
+    return out
+
+
+def _within_limits(robot, q):
+    """``(within (...,) bool, q)`` for ``q (..., n)`` in SI: a revolute value outside its
+    limits is moved by a whole turn when that brings it inside (as ``kincalc ik`` does;
+    the value in (-pi, pi] is kept when it is already inside)."""
+    import numpy as np
+    lo, hi = robot.limits[:, 0] - 1e-9, robot.limits[:, 1] + 1e-9
+    rev = robot.is_revolute
+    use = np.array(q, float)
+    done = np.zeros(use.shape, bool)
+    for shift in (0.0, 2 * np.pi, -2 * np.pi):
+        cand = q + np.where(rev, shift, 0.0)
+        fits = (cand >= lo) & (cand <= hi) & ~done
+        use = np.where(fits, cand, use)
+        done |= fits
+    return done.all(-1), use
+
+
+def _fk_chunk(robot, units, parsed, frame):
+
+    from ..spatial import rpy_from_matrix
+    good, q, errors = _joint_rows(robot, units, parsed, "fk")
+    T = robot.fk(q)
+    T[:, :3, 3] *= units.l
+    rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
+    within, _ = _within_limits(robot, q)
+    Tl, xyz, rpyl = _round(T), _round(T[:, :3, 3]), _round(rpy)
+    recs = [{**_head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
+             "within_limits": bool(within[k])} for k, (i, kw) in enumerate(good)]
+    return _merge(recs, errors), False
+
+
+def _jacobian_chunk(robot, units, parsed, frame):
+    import numpy as np
+
+    from ..jacobian import rotate_jacobian
+    good, q, errors = _joint_rows(robot, units, parsed, "jacobian")
+    J = robot.jacobian(q)                                                  # (m, 6, n) SI
+    if frame == "tool" and len(q):
+        J = rotate_jacobian(J, np.swapaxes(robot.fk(q)[:, :3, :3], -1, -2))
+    # rank and singularity as 'kincalc jacobian' (analysis.jacobian_report): linear rows
+    # over the robot's length, prismatic columns times it
+    from ..tolerances import SINGULAR_TOL
+    Jb = robot.jacobian(q)
+    L = robot.characteristic_length
+    Jn = Jb.copy()
+    Jn[:, :3, :] /= L
+    Jn[:, :, ~robot.is_revolute] *= L
+
+    def ranks(M):
+        s = np.linalg.svd(M, compute_uv=False)
+        return (s > SINGULAR_TOL * np.maximum(s[:, :1], 1.0)).sum(-1)
+    full, full_pos = robot.generic_ranks
+    rank = ranks(Jn) if len(q) else np.zeros(0, int)
+    singular = (rank < full) | (ranks(Jn[:, :3]) < full_pos) if len(q) else rank > 0
+    Jd = J.copy()
+    Jd[:, :3] *= np.where(robot.is_revolute, units.l, 1.0)
+    manip = np.prod(np.linalg.svd(Jd, compute_uv=False)[:, :full], axis=-1) if len(q) \
+        else np.zeros(0)
+    Jl = _round(Jd)
+    recs = [{**_head(i, kw), "J": Jl[k], "rank": int(rank[k]),
+             "manipulability": float(manip[k]), "singular": bool(singular[k])}
+            for k, (i, kw) in enumerate(good)]
+    return _merge(recs, errors), False
+
+
+def _poses(robot, units, parsed):
+    """Group records by how they are solved: ``(full [(index, kw)], T (m, 4, 4) SI,
+    partial [(index, kw, Target)], error records)``. Full poses of the common forms are
+    converted in one vectorised step; the rest go through build_target one by one."""
+    import numpy as np
+
+    from .. import spatial as sp
+    from ..errors import KincalcError
+    from .ik import build_target
+    groups, partial, errors = {}, [], []
+    full, Ts = [], []
+    for i, kw, err in parsed:
+        if err is None:
+            form = frozenset(kw) - {"id"}
+            if form in _FAST_FORMS and (form != {"q"} or len(kw["q"]) == robot.dof):
+                groups.setdefault(form, []).append((i, kw))
+                continue
+            try:
+                target = build_target(robot, units, **{k: v for k, v in kw.items() if k != "id"})
+            except KincalcError as exc:
+                err = f"record {i + 1}: {exc}"
+            else:
+                if target.orientation and target.tcv is None and target.approach is None:
+                    full.append((i, kw))
+                    Ts.append(target.T)
+                else:
+                    partial.append((i, kw, target))
+                continue
+        errors.append((i, {**_head(i, kw), "error": err}))
+    A, Lf = 1.0 / units.a, 1.0 / units.l
+    for form, items in groups.items():
+        if form == {"q"}:
+            q = np.array([kw["q"] for _, kw in items]) / np.where(robot.is_revolute, units.a,
+                                                                  units.l)
+            T = robot.fk(q)
+        elif form == {"T"}:
+            T = np.array([_pose_matrix(kw["T"]) for _, kw in items])
+            bad = _not_poses(T)
+            if bad.any():
+                from .ik import _check_pose
+                for k in np.flatnonzero(bad)[::-1]:
+                    i, kw = items[k]
+                    try:
+                        _check_pose(T[k], "T")
+                        msg = "T is not a rigid transform"
+                    except KincalcError as exc:
+                        msg = str(exc)
+                    errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {msg}"}))
+                keep = ~bad
+                items = [it for it, g in zip(items, keep) if g]
+                T = T[keep]
+            T[:, :3, 3] *= Lf
+        else:
+            key = next(iter(form - {"xyz"}))
+            v = np.array([kw[key] for _, kw in items], float)
+            if key == "quat":
+                n = np.linalg.norm(v, axis=-1)
+                zero = n < 1e-12
+                for k in np.flatnonzero(zero):
+                    i, kw = items[k]
+                    errors.append((i, {**_head(i, kw), "error":
+                                       f"record {i + 1}: quat must not be the zero quaternion"}))
+                items = [it for it, z in zip(items, zero) if not z]
+                R = sp.matrix_from_quaternion(v[~zero] / n[~zero, None])
+            else:
+                make = {"rpy": sp.matrix_from_rpy, "euler_zyz": sp.matrix_from_euler_zyz,
+                        "euler_xyz": sp.matrix_from_euler_xyz}[key]
+                R = make(v * A)
+            T = np.zeros((len(items), 4, 4))
+            T[:, :3, :3] = R
+            T[:, :3, 3] = np.array([kw["xyz"] for _, kw in items], float).reshape(-1, 3) * Lf
+            T[:, 3, 3] = 1.0
+        full += items
+        Ts.extend(T)
+    T = np.array(Ts, float).reshape(-1, 4, 4)
+    return full, T, partial, errors
+
+
+def _pose_matrix(flat):
+    import numpy as np
+    a = np.array(flat, float)
+    if a.size == 16:
+        return a.reshape(4, 4)
+    if a.size == 12:
+        return np.vstack([a.reshape(3, 4), [0, 0, 0, 1]])
+    return np.full((4, 4), np.nan)
+
+
+def _not_poses(T):
+    """Which of ``T (m, 4, 4)`` are not rigid transforms (to 1e-6)."""
+    import numpy as np
+    R = T[:, :3, :3]
+    orth = np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3)).max(axis=(-1, -2)) <= 1e-6
+    return ~(orth & (np.linalg.det(R) > 0) & np.all(np.abs(T[:, 3] - [0, 0, 0, 1]) <= 1e-9,
+                                                    axis=-1) & np.isfinite(T).all(axis=(-1, -2)))
+
+
+def _ik_chunk(robot, units, parsed, frame):
+    import numpy as np
+
+    from ..ik.solve import UnsupportedRobot
+    full, T, partial, errors = _poses(robot, units, parsed)
+    qdisp = np.where(robot.is_revolute, units.a, units.l)
+    recs, no = [], False
+    sols_of = {}
+    try:
+        B = robot.ik_batch(T) if len(T) else None
+    except UnsupportedRobot:
+        B = None
+        for (i, kw), t in zip(full, T):
+            partial.append((i, kw, _full_target(t)))
+    if B is not None:
+        valid = B.valid
+        q = B.q[valid]                                                     # (s, n)
+        within, q = _within_limits(robot, q)
+        labels = _labels(robot, B.family, q)
+        owner = np.nonzero(valid)[0]
+        ql = _round(q * qdisp)
+        for k in range(len(q)):
+            sols_of.setdefault(int(owner[k]), []).append(
+                {"q": ql[k], "branch": labels[k], "within_limits": bool(within[k])})
+        for k, (i, kw) in enumerate(full):
+            sols = sols_of.get(k, [])
+            no |= not sols
+            recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
+    for i, kw, target in partial:
+        result = _solve_target(robot, target)
+        sols = [{"q": _round(np.asarray(s.q) * qdisp), "branch": s.branch,
+                 "within_limits": not s.violations} for s in result.solutions]
+        no |= not sols
+        recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
+    return _merge(recs, errors), no
+
+
+def _full_target(T):
+    from ..ik import Target
+    return Target(T, orientation=True)
+
+
+def _solve_target(robot, target):
+    from ..ik.solve import solve
+    return solve(robot, target)
+
+
+def _labels(robot, family: str, q) -> list:
+    """Branch labels of solutions ``q (s, n)``, by the rules of :func:`kincalc.ik.solve`
+    (shoulder, elbow, wrist), computed for all solutions at once."""
+    import importlib
+
+    from ..fk import chain_frames
+    solve_mod = importlib.import_module("kincalc.ik.solve")   # the module, not ik.solve()
+    if len(q) == 0:
+        return []
+
+    class _Cand:
+        signs: dict = {}
+        free: tuple = ()
+    return solve_mod._branch_labels(robot, family, [_Cand] * len(q), chain_frames(robot.chain, q))
+
+
+def _csv_rows(kind, robot, records) -> str:
+    import csv
+    import io
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    n = robot.dof
+    for r in records:
+        head = [r["index"], r.get("id", "")]
+        if "error" in r:
+            width = {"fk": 7, "jacobian": 6 * n + 3, "ik": n + 3}[kind]
+            w.writerow(head + [""] * width + [r["error"]])
+        elif kind == "fk":
+            w.writerow(head + r["xyz"] + r["rpy"] + [_csv_cell(r["within_limits"]), ""])
+        elif kind == "jacobian":
+            w.writerow(head + [x for row in r["J"] for x in row] +
+                       [r["rank"], r["manipulability"], _csv_cell(r["singular"]), ""])
+        elif not r["solutions"]:
+            w.writerow(head + ["", "no solution"] + [""] * n + ["", ""])
+        else:
+            for k, s in enumerate(r["solutions"]):
+                w.writerow(head + [k, s["branch"]] + s["q"] + [_csv_cell(s["within_limits"]), ""])
+    return buf.getvalue()

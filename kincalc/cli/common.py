@@ -34,6 +34,17 @@ JsonOpt = Annotated[bool, typer.Option(
     "--json", help="Print one JSON document (schema in PRODUCT.md/README) instead of tables.")]
 DebugOpt = Annotated[bool, typer.Option(
     "--debug", help="Show a Python traceback on errors.")]
+BatchOpt = Annotated[Optional[str], typer.Option(
+    "--batch", metavar="FILE", show_default=False,
+    help="Answer every record of FILE ('-' for stdin), one output line per record, in order: "
+         "JSON lines ({\"q\": [...]}; for ik and reach any pose: {\"xyz\": [...], \"rpy\": "
+         "[...]}, {\"T\": ...}, ...) or CSV with a header (joint columns by name; x,y,z with "
+         "roll,pitch,yaw or qw,qx,qy,qz). A bad record becomes an error record; exit 2 then.")]
+FormatOpt = Annotated[str, typer.Option(
+    "--format", metavar="jsonl|csv", help="Output format of --batch.")]
+JobsOpt = Annotated[int, typer.Option(
+    "--jobs", "-j", metavar="N", min=1,
+    help="With --batch: solve chunks of records in N processes (output order kept).")]
 
 
 def display_units(robot, deg: bool, unit: str | None):

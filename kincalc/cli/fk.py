@@ -6,8 +6,9 @@ from typing import Annotated
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
-                     UnitOpt, display_units, load_robot, output, parse_joints)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JointsArg, JsonOpt,
+                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output,
+                     parse_joints)
 
 
 def fk(
@@ -28,6 +29,9 @@ def fk(
     numeric_lengths: Annotated[bool, typer.Option(
         "--numeric-lengths", help="With --symbolic or --latex: the robot file's parameter "
         "values in place of their names (then --unit applies).")] = False,
+    batch: BatchOpt = None,
+    fmt: FormatOpt = "jsonl",
+    jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -63,6 +67,9 @@ def fk(
     from ..analysis import fk_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
+    if batch is not None:
+        from .batch import run_command
+        run_command("fk", rob, units, batch, fmt, jobs, given=q)
     qv = parse_joints(q, rob, units)
     result = fk_report(rob, qv, units, frames=frames)
     output(result.to_dict(), json, _tables, rob, precision)

@@ -7,8 +7,8 @@ from typing import Annotated, Optional, Tuple
 import typer
 
 from ..errors import InputError, UsageError
-from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
-                     display_units, load_robot, output)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JsonOpt, PrecisionOpt,
+                     RobotArg, UnitOpt, display_units, load_robot, output)
 
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
@@ -90,6 +90,9 @@ def ik(
     numeric: NumericOpt = False,
     plot: PlotOpt = None,
     dpi: DpiOpt = 100,
+    batch: BatchOpt = None,
+    fmt: FormatOpt = "jsonl",
+    jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -114,6 +117,13 @@ def ik(
         require_matplotlib("kincalc ik --plot")
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
+    if batch is not None:
+        from .batch import run_command
+        run_command("ik", rob, units, batch, fmt, jobs,
+                    given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
+                           tcv, pose, from_q],
+                    refused={"--all-branches": all_branches, "--explain": explain,
+                             "--near": near, "--numeric": numeric, "--plot": plot})
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, approach=approach, tcv=tcv, pose=pose,

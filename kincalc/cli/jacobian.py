@@ -7,8 +7,9 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JointsArg, JsonOpt, PrecisionOpt, RobotArg,
-                     UnitOpt, display_units, load_robot, output, parse_joints)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JointsArg, JsonOpt,
+                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output,
+                     parse_joints)
 
 
 class Frame(str, Enum):
@@ -46,6 +47,9 @@ def jacobian(
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
+    batch: BatchOpt = None,
+    fmt: FormatOpt = "jsonl",
+    jobs: JobsOpt = 1,
     json: JsonOpt = False,
     debug: DebugOpt = False,
 ):
@@ -78,6 +82,10 @@ def jacobian(
         return
     from ..analysis import jacobian_report
     rob = load_robot(robot)
+    if batch is not None:
+        from .batch import run_command
+        run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=q,
+                    frame=frame.value, refused={"--analytic": analytic})
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     result = jacobian_report(rob, qv, units, frame=frame.value,

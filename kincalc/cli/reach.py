@@ -2,22 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
-                     display_units, load_robot, output)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JsonOpt, PrecisionOpt, RobotArg,
+                     UnitOpt, display_units, load_robot, output)
 from .ik import (ApproachOpt, AxisAngleOpt, FromQOpt, MatrixOpt, PoseOpt, QuatOpt, RpyOpt,
                  TcvOpt, XyzEOpt, XyzOpt, ZyzOpt, build_target)
-
-BatchOpt = Annotated[Optional[str], typer.Option(
-    "--batch", metavar="FILE", show_default=False,
-    help="Answer every pose of FILE ('-' for stdin): JSON lines ({\"xyz\": [...], \"rpy\": "
-         "[...]}, {\"T\": ...}, {\"q\": [...]}) or CSV with a header (x,y,z with roll,pitch,yaw "
-         "or qw,qx,qy,qz; or joint columns). One output record per input, in order.")]
-FormatOpt = Annotated[str, typer.Option(
-    "--format", metavar="jsonl|csv", help="Output format of --batch.")]
 
 #: the per-pose fields of a --batch record, in CSV column order
 BATCH_FIELDS = ["index", "reachable", "verdict", "distance", "solutions",

@@ -239,7 +239,7 @@ def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
     f = (S.point[b] - S.point[a])[:, None, None, None] + (_cmv(ab.B, d))[..., None] + \
         Ad[..., None] * cb + Kd[..., None] * sb                           # f - o_a (3, N, Mc, 2)
     ca, sa = _sp1_cs((_cmv(aa.A, f), _cmv(aa.K, f)),
-                     (PT.T - S.point[a][:, None])[:, :, None, None], w, 1e-9 * scale ** 2)
+                     (PT.T - S.point[a][:, None])[:, :, None, None], w, 1e-28 * scale ** 2)
     K = Mc * 2
     C = [ca.reshape(N, K), cb.reshape(N, K)]
     Sn = [sa.reshape(N, K), sb.reshape(N, K)]
@@ -425,13 +425,15 @@ def _unit_cs(x, y, tiny=1e-300):
     return np.where(zero, 1.0, x / r), np.where(zero, 0.0, y / r)
 
 
-def _sp1_cs(p1k, p2, k, tiny: float = 1e-9):
+def _sp1_cs(p1k, p2, k, tiny: float = 1e-28):
     """Subproblem 1 as ``(cos, sin)``: the angle about unit ``k`` turning ``p1`` onto ``p2``.
 
     ``p1k = (a, k x a)`` with ``a`` the part of ``p1`` normal to ``k``, as arrays
-    ``(3, ...)`` or constants; ``p2 (3, ...)``. Where ``|a| |p2|`` is below ``tiny``
-    (``p1`` or ``p2`` on the axis: a singular configuration, any angle does) the angle
-    is 0, so that the representative of the continuum is the same for every branch.
+    ``(3, ...)`` or constants; ``p2 (3, ...)``. Where ``|a| |p2_normal|`` is below
+    ``tiny`` (``p1`` or ``p2`` on the axis to rounding: a singular configuration, any
+    angle does) the angle is 0, so that the continuum's representative is the same for
+    every branch. Near a singularity both factors shrink together (each ~ sin of the
+    distance to it), so the threshold must sit at the rounding floor, not above it.
     """
     a, kxa = p1k
     x = (a * p2).sum(0) if np.ndim(a) > 1 else _dot(a, p2)
@@ -528,7 +530,7 @@ def _spherical_wrist(S: Screws, T):
     u, v, w = a5.A @ k6, a5.K @ k6, a5.B @ k6
     x4 = sum(cf * _dot(a4.A @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
     y4 = sum(cf * _dot(a4.K @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
-    c4, s4 = _unit_cs(x4, y4, 1e-9)
+    c4, s4 = _unit_cs(x4, y4, 1e-28)
     # joint 6: turn a vector e normal to k6 onto R5^T R4^T RW e about k6
     z = _cmv(a4.A, w1)[..., None] * c4 - _cmv(a4.K, w1)[..., None] * s4 + \
         _cmv(a4.B, w1)[..., None]                                        # R4^T RW e
