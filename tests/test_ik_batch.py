@@ -134,3 +134,16 @@ def test_batch_chunks_do_not_change_the_answer():
     a, b = solve_batch(r, T), solve_batch(r, T, chunk=97)
     assert np.array_equal(a.valid, b.valid)
     assert np.allclose(np.where(a.valid[..., None], a.q, 0), np.where(b.valid[..., None], b.q, 0))
+
+
+def test_batch_keeps_both_wrist_solutions_near_the_singularity():
+    """q5 = 2.3e-5 rad: the wrist's two solutions differ clearly (by pi in q4); a
+    degenerate-angle threshold above the rounding floor once set q4 = 0 for them and
+    lost both (found by benchmarks/peers.py against EAIK)."""
+    r = load_robot("puma560")
+    q = np.array([1.1978067658, 0.8500925701, -3.1831982129, 1.4759860354, 0.000023113,
+                  3.765408426])
+    B = solve_batch(r, r.fk(q)[None])
+    sols = B.q[0][B.valid[0]]
+    assert len(sols) == 8
+    assert np.abs(wrap(sols - q)).max(-1).min() < 1e-6
