@@ -22,10 +22,11 @@ CASES = {
     "typer": [PY, "-c", "import typer"],
     "fk": [*KINCALC.split(), "fk", "puma560", "0", "-45", "180", "0", "45", "0", "--json"],
     "jacobian": [*KINCALC.split(), "jacobian", "puma560", "0", "-45", "180", "0", "45", "0", "--json"],
+    "ik": [*KINCALC.split(), "ik", "puma560", "--from-q", "0 -45 180 0 45 0", "--json"],
     "help": [*KINCALC.split(), "--help"],
     "version": [*KINCALC.split(), "--version"],
 }
-RATIOS = [("fk", "deps", 1.3), ("jacobian", "deps", 1.3), ("help", "typer", 1.5),
+RATIOS = [("ik", "deps", 1.3), ("fk", "deps", 1.3), ("jacobian", "deps", 1.3), ("help", "typer", 1.5),
           ("version", "typer", 1.5)]
 
 
