@@ -1,0 +1,101 @@
+"""End-to-end `kincalc ik ROBOT --batch` throughput, and where the time goes.
+
+    python benchmarks/batch_cli.py [--poses 50000] [--robot puma560] [--jobs 1 2]
+
+Writes N poses (JSON lines, xyz + rpy in degrees) to a temporary file, then times whole
+CLI runs (median of --repeat) with each --jobs value, and, in this process, the stages of
+one run on the same records: reading the JSON, building the poses, the batched IK,
+the branch labels and limit flags, and writing the output. The same-run reference is
+`python -c "import json; [json.loads(l) for l in open(F)]"` (reading the input alone).
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+import kincalc  # noqa: E402
+from kincalc.cli import batch  # noqa: E402
+from kincalc.ik.selftest import sample_configurations  # noqa: E402
+from kincalc.spatial import rpy_from_matrix  # noqa: E402
+
+
+def wall(cmd, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        subprocess.run(cmd, stdout=subprocess.DEVNULL, check=False)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--poses", type=int, default=50_000)
+    ap.add_argument("--robot", default="puma560")
+    ap.add_argument("--jobs", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    r = kincalc.load_robot(args.robot)
+    T = r.fk(sample_configurations(r, args.poses, np.random.default_rng(0)))
+    rpy = np.degrees(rpy_from_matrix(T[:, :3, :3]))
+    fd, path = tempfile.mkstemp(suffix=".jsonl")
+    with os.fdopen(fd, "w") as f:
+        for t, a in zip(T, rpy):
+            f.write(json.dumps({"xyz": t[:3, 3].round(9).tolist(), "rpy": a.round(9).tolist()})
+                    + "\n")
+    exe = os.path.join(os.path.dirname(sys.executable), "kincalc")
+    cmd = [exe] if os.path.exists(exe) else [sys.executable, "-c",
+                                              "import sys; from kincalc.cli.main import main; "
+                                              "sys.exit(main())"]
+    ref = wall([sys.executable, "-c", f"import json; [json.loads(l) for l in open({path!r})]"],
+               args.repeat)
+    print(f"{args.poses} poses of {args.robot}; reading the JSON alone: {ref:.2f} s")
+    print(f"{'run':28s} {'wall s':>8s} {'poses/s':>10s} {'x reading':>10s}")
+    for jobs in args.jobs:
+        t = wall(cmd + ["ik", args.robot, "--batch", path, "--jobs", str(jobs)], args.repeat)
+        print(f"{'kincalc ik --batch -j ' + str(jobs):28s} {t:8.2f} {args.poses / t:10.0f} "
+              f"{t / ref:10.2f}")
+    # stages, in this process, on the same records
+    lines = open(path).read().splitlines(keepends=True)
+    from kincalc.cli.common import display_units
+    units = display_units(r, True, None)
+    stages = {}
+    t0 = time.perf_counter()
+    parsed = [batch._json_record(i, line, json) for i, line in enumerate(lines)]
+    stages["read JSON records"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    full, Tq, _, _ = batch._poses(r, units, parsed)
+    stages["build poses (vectorised)"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    B = r.ik_batch(Tq)
+    stages["ik_batch"] = time.perf_counter() - t0
+    q = B.q[B.valid]
+    t0 = time.perf_counter()
+    batch._within_limits(r, q)
+    batch._labels(r, B.family, q)
+    stages["limit flags + branch labels"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    for k in range(0, len(lines), batch.CHUNK_LINES):
+        batch.process_chunk("ik", r, units, None, "jsonl", "base",
+                            (k, lines[k:k + batch.CHUNK_LINES]))
+    whole = time.perf_counter() - t0
+    stages["formatting and the rest"] = whole - sum(stages.values())
+    print(f"\nstages of one run, in-process ({whole:.2f} s, {args.poses / whole:.0f} poses/s):")
+    for name, t in stages.items():
+        print(f"  {name:28s} {t:6.2f} s  {t / args.poses * 1e6:7.1f} us/pose  "
+              f"{100 * t / whole:5.1f} %")
+    os.unlink(path)
+
+
+if __name__ == "__main__":
+    main()
