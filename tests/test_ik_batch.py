@@ -147,3 +147,9 @@ def test_batch_keeps_both_wrist_solutions_near_the_singularity():
     sols = B.q[0][B.valid[0]]
     assert len(sols) == 8
     assert np.abs(wrap(sols - q)).max(-1).min() < 1e-6
+
+
+def test_batch_of_no_poses_has_the_robots_slots():
+    for name in ("puma560", "ur5"):
+        B = solve_batch(load_robot(name), np.zeros((0, 4, 4)))
+        assert B.q.shape == (0, 8, 6) and B.valid.shape == (0, 8)

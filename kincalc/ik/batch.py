@@ -704,8 +704,11 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:
                                "pose by pose")
     solver = SOLVERS[family.solver]
     N = len(T)
+    if N == 0:              # the number of slots K comes from solving one pose
+        qc, okc = _solve_chunk(robot, S, family, solver, robot.fk(robot.home)[None])
+        return BatchIK(q=qc[:0], valid=okc[:0], family=family.name)
     q = valid = None
-    for start in range(0, max(N, 1), chunk):
+    for start in range(0, N, chunk):
         qc, okc = _solve_chunk(robot, S, family, solver, T[start:start + chunk])
         if q is None:
             q = np.empty((N,) + qc.shape[1:])
