@@ -82,7 +82,8 @@ def main():
     q = B.q[B.valid]
     t0 = time.perf_counter()
     batch._within_limits(r, q)
-    batch._labels(r, B.family, q)
+    from kincalc.ik.batch import branch_labels
+    branch_labels(r, B.family, q, np.nonzero(B.valid)[1], np.nonzero(B.valid)[0])
     stages["limit flags + branch labels"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     for k in range(0, len(lines), batch.CHUNK_LINES):

@@ -153,3 +153,22 @@ def test_batch_of_no_poses_has_the_robots_slots():
     for name in ("puma560", "ur5"):
         B = solve_batch(load_robot(name), np.zeros((0, 4, 4)))
         assert B.q.shape == (0, 8, 6) and B.valid.shape == (0, 8)
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "kuka_kr16", "stanford_arm"])
+def test_batch_branch_labels_equal_the_per_pose_solvers(name):
+    """The vectorised labels against robot.ik's, solution by solution."""
+    from kincalc.ik.batch import branch_labels
+    r = load_robot(name)
+    T = r.fk(sample_configurations(r, 25, np.random.default_rng(9)))
+    B = solve_batch(r, T)
+    rows, slots = np.nonzero(B.valid)
+    labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
+    for k, (i, q) in enumerate(zip(rows, B.q[B.valid])):
+        ref = r.ik(T[i]).solutions
+        match = min(ref, key=lambda s: np.abs(wrap(np.asarray(s.q) - q)).max())
+        words = labels[k].split(" branch ")[0]
+        if name == "stanford_arm":      # robot.ik adds "q2:+ d3:root 2"; batch the slot
+            assert match.branch.startswith(words + " "), (i, labels[k], match.branch)
+        else:
+            assert labels[k] == match.branch, (i, labels[k], match.branch)

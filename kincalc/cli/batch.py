@@ -628,6 +628,7 @@ def _not_poses(T):
 def _ik_chunk(robot, units, parsed, frame):
     import numpy as np
 
+    from ..ik.batch import branch_labels
     from ..ik.solve import UnsupportedRobot
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
@@ -643,8 +644,8 @@ def _ik_chunk(robot, units, parsed, frame):
         valid = B.valid
         q = B.q[valid]                                                     # (s, n)
         within, q = _within_limits(robot, q)
-        labels = _labels(robot, B.family, q)
-        owner = np.nonzero(valid)[0]
+        owner, slot = np.nonzero(valid)
+        labels = branch_labels(robot, B.family, q, slot, owner)
         ql = _round(q * qdisp)
         for k in range(len(q)):
             sols_of.setdefault(int(owner[k]), []).append(
@@ -670,22 +671,6 @@ def _full_target(T):
 def _solve_target(robot, target):
     from ..ik.solve import solve
     return solve(robot, target)
-
-
-def _labels(robot, family: str, q) -> list:
-    """Branch labels of solutions ``q (s, n)``, by the rules of :func:`kincalc.ik.solve`
-    (shoulder, elbow, wrist), computed for all solutions at once."""
-    import importlib
-
-    from ..fk import chain_frames
-    solve_mod = importlib.import_module("kincalc.ik.solve")   # the module, not ik.solve()
-    if len(q) == 0:
-        return []
-
-    class _Cand:
-        signs: dict = {}
-        free: tuple = ()
-    return solve_mod._branch_labels(robot, family, [_Cand] * len(q), chain_frames(robot.chain, q))
 
 
 def _csv_rows(kind, robot, records) -> str:

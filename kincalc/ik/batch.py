@@ -716,3 +716,72 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:
         q[start:start + len(qc)] = qc
         valid[start:start + len(qc)] = okc
     return BatchIK(q=q, valid=valid, family=family.name)
+
+
+def branch_labels(robot, family: str, q, slots, poses=None) -> list:
+    """Branch labels of solutions ``q (s, n)`` (SI) of a batched family, all at once.
+
+    The words are those of :func:`kincalc.ik.solve.branch_label`: shoulder right/left
+    (which side of the plane of axes 1 and 2 the wrist point lies), elbow up/down (for
+    parallel axes 2 and 3) and wrist flip/no-flip (the sign of (z4 x z6) . z5), from the
+    joint frames of each solution, vectorised. Where none applies (the reversed chains)
+    the label is ``branch K``, ``K`` the solution's slot ``slots (s,)`` of the closed form;
+    where two solutions of one pose (``poses (s,)``, the pose index of each solution)
+    get the same words, ``branch K`` is appended to theirs.
+    """
+    from ..fk import chain_frames
+    q = np.asarray(q, float)
+    s = len(q)
+    if s == 0:
+        return []
+    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
+    if first is None:
+        return [f"branch {int(k)}" for k in slots]
+    F = chain_frames(robot.chain, q)
+    z, o = F[:, :, :3, 2], F[:, :, :3, 3]
+    rev = robot.is_revolute
+    # the point where the last axes meet (least squares over their lines)
+    A = np.zeros((s, 3, 3))
+    b = np.zeros((s, 3))
+    for j in range(first, robot.dof):
+        Pj = np.eye(3) - z[:, j, :, None] * z[:, j, None, :]
+        A += Pj
+        b += np.einsum("sij,sj->si", Pj, o[:, j])
+    P = np.linalg.solve(A, b[..., None])[..., 0]
+    code = np.zeros(s, int)
+    words = []
+    if rev[0]:
+        n01 = cross(z[:, 0], z[:, 1])
+        if (np.linalg.norm(n01, axis=-1) > 1e-6).all():
+            words.append(("shoulder right", "shoulder left"))
+            code = code * 2 + (((P - o[:, 0]) * n01).sum(-1) < 0)
+    if robot.dof >= 3 and rev[1] and rev[2] and \
+            (np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6).all():
+        sh, el = o[:, 1], o[:, 2]
+        tgt = P if family == "spherical-wrist" else o[:, 3]
+        h = z[:, 1]
+        line = tgt - sh
+        line = line - h * (h * line).sum(-1)[:, None]
+        v = el - sh
+        v = v - h * (h * v).sum(-1)[:, None]
+        ll = np.maximum((line * line).sum(-1), 1e-300)
+        perp = v - line * ((v * line).sum(-1) / ll)[:, None]
+        up = (perp * z[:, 0]).sum(-1)
+        alt = (cross(el - sh, tgt - el) * h).sum(-1)
+        up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
+        words.append(("elbow up", "elbow down"))
+        code = code * 2 + (up < 0)
+    words.append(("wrist no-flip", "wrist flip"))
+    code = code * 2 + ((cross(z[:, 3], z[:, 5]) * z[:, 4]).sum(-1) < 0)
+    table = []
+    for c in range(2 ** len(words)):
+        bits = [(c >> (len(words) - 1 - k)) & 1 for k in range(len(words))]
+        table.append(" ".join(w[bit] for w, bit in zip(words, bits)))
+    out = [table[c] for c in code.tolist()]
+    # the words may not tell every branch apart (robot.ik adds the +/- choice of the
+    # other steps, e.g. Stanford's d3 root): name the closed form's slot as well there
+    key = code + (2 ** len(words)) * (np.zeros(s, int) if poses is None else np.asarray(poses))
+    _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    for k in np.flatnonzero(counts[inverse] > 1).tolist():
+        out[k] = f"{out[k]} branch {int(slots[k])}"
+    return out
