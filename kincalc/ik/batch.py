@@ -66,28 +66,6 @@ def _sp1(p1, p2, k):
     return np.arctan2((cross(k, a) * p2).sum(-1), (a * p2).sum(-1))
 
 
-def _sp4(h, p, k, d):
-    """Subproblem 4, vectorised: ``h . R(k, t) p = d``; returns ``(t (..., 2), ok (..., 2))``.
-
-    ``h``, ``p`` are ``(..., 3)`` or ``(3,)``; ``d (...)``.
-    """
-    h = np.asarray(h, float)
-    p = np.asarray(p, float)
-    kxp = cross(k, p)
-    A = -(h * cross(k, kxp)).sum(-1)
-    B = (h * kxp).sum(-1)
-    C = (h * k).sum(-1) * (p * k).sum(-1)
-    r = np.hypot(A, B)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        c = (np.asarray(d) - C) / r
-    ok = np.abs(c) <= 1 + 1e-9
-    delta = np.arccos(np.clip(c, -1, 1))
-    base = np.arctan2(B, A)
-    t = np.stack([base + delta, base - delta], axis=-1)
-    okk = np.stack([ok, ok], axis=-1) & (r > 1e-12)[..., None]
-    return t, okk
-
-
 def _flat(x, ok):
     """Merge the last two axes of ``x (N, A, B, ...)`` and ``ok (N, A, B)``."""
     N, A, B = ok.shape
@@ -216,8 +194,8 @@ def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
     ab, aa = _Axis(S.axis[b]), _Axis(S.axis[a])
     w = aa.k
     d = np.moveaxis(gs, -1, 0) - S.point[b][:, None, None]                # (3, N, Mc)
-    u = _cmv(ab.B, d) + (S.point[b] - o)[:, None, None]
-    Ad, Kd = _cmv(ab.A, d), _cmv(ab.K, d)
+    Ad, Kd, Bd = _cmv(ab.A, d), _cmv(ab.K, d), _cmv(ab.B, d)
+    u = Bd + (S.point[b] - o)[:, None, None]
     coef = [(_dot(w, u) - t[:, 0, None], _dot(w, Ad), _dot(w, Kd)),
             ((u * u).sum(0) + (Ad * Ad).sum(0) - t[:, 1, None], 2 * (u * Ad).sum(0),
              2 * (u * Kd).sum(0))]
@@ -229,14 +207,8 @@ def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
     good = r > 1e-12 * scale
     r = np.where(good, r, 1.0)
     cc = -al / r
-    okb = (np.abs(cc) <= 1 + 1e-9) & good & okc                            # (N, Mc)
-    cd = np.clip(cc, -1.0, 1.0)
-    sd = np.sqrt(1.0 - cd * cd)
-    cbase, sbase = be / r, ga / r
-    cb = np.stack([cbase * cd - sbase * sd, cbase * cd + sbase * sd], axis=-1)  # (N, Mc, 2)
-    sb = np.stack([sbase * cd + cbase * sd, sbase * cd - cbase * sd], axis=-1)
-    okb = np.stack([okb, okb], axis=-1)
-    f = (S.point[b] - S.point[a])[:, None, None, None] + (_cmv(ab.B, d))[..., None] + \
+    cb, sb, okb = _both_roots(be / r, ga / r, cc, (np.abs(cc) <= 1 + 1e-9) & good & okc)
+    f = (S.point[b] - S.point[a])[:, None, None, None] + Bd[..., None] + \
         Ad[..., None] * cb + Kd[..., None] * sb                           # f - o_a (3, N, Mc, 2)
     ca, sa = _sp1_cs((_cmv(aa.A, f), _cmv(aa.K, f)),
                      (PT.T - S.point[a][:, None])[:, :, None, None], w, 1e-28 * scale ** 2)
@@ -386,6 +358,11 @@ class _Axis:
         self.A = np.eye(3) - self.B
         self.K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
 
+    def turn_back(self, v, c, s):
+        """``R(k, t)^T v = cos t A v - sin t K v + B v`` for vectors ``v (3, ...)``
+        (broadcasting with ``c``, ``s``)."""
+        return _cmv(self.A, v) * c - _cmv(self.K, v) * s + _cmv(self.B, v)
+
     def matrix(self, c, s):
         """``R(k, t) (3, 3, *c.shape)`` from ``c = cos t``, ``s = sin t``."""
         e = (slice(None), slice(None)) + (None,) * np.ndim(c)
@@ -402,19 +379,19 @@ def _dot(k, v):
     return k[0] * v[0] + k[1] * v[1] + k[2] * v[2]
 
 
-def _mm(A, B):
-    """``A @ B`` for rotations stored ``(3, 3, ...)`` (broadcasting)."""
-    return (A[:, :, None] * B[None, :, :]).sum(1)
-
-
-def _mtm(A, B):
-    """``A^T @ B`` for rotations stored ``(3, 3, ...)`` (broadcasting)."""
-    return (A[:, :, None] * B[:, None, :]).sum(0)
-
-
 def _mv_soa(R, v):
     """``R @ v`` for ``R (3, 3, ...)``, ``v (3, ...)``."""
     return (R * v[None]).sum(1)
+
+
+def _both_roots(cb, sb, cc, ok):
+    """``t = b +- arccos(cc)`` as ``(cos t, sin t, ok)``, each with a last axis of 2,
+    from ``cos b``, ``sin b`` and ``cc`` (clipped into [-1, 1]); ``ok`` is repeated."""
+    cd = np.clip(cc, -1.0, 1.0)
+    sd = np.sqrt(1.0 - cd * cd)
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    return c, s, np.stack([ok, ok], axis=-1)
 
 
 def _unit_cs(x, y, tiny=1e-300):
@@ -461,12 +438,7 @@ def _sp4_cs(consts, d):
         z = np.zeros(np.shape(d) + (2,))
         return z + 1.0, z, z.astype(bool)
     cc = (d - C) / r
-    ok = np.abs(cc) <= 1 + 1e-9
-    cd = np.clip(cc, -1.0, 1.0)
-    sd = np.sqrt(1.0 - cd * cd)
-    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
-    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
-    return c, s, np.stack([ok, ok], axis=-1)
+    return _both_roots(cb, sb, cc, np.abs(cc) <= 1 + 1e-9)
 
 
 def _sp4_points(h, p, k, d):
@@ -479,14 +451,8 @@ def _sp4_points(h, p, k, d):
     r = np.sqrt(A * A + B * B)
     good = r > 1e-12
     r = np.where(good, r, 1.0)
-    cb, sb = A / r, B / r
     cc = (d - C) / r
-    ok = (np.abs(cc) <= 1 + 1e-9) & good
-    cd = np.clip(cc, -1.0, 1.0)
-    sd = np.sqrt(1.0 - cd * cd)
-    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
-    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
-    return c, s, np.stack([ok, ok], axis=-1)
+    return _both_roots(A / r, B / r, cc, (np.abs(cc) <= 1 + 1e-9) & good)
 
 
 def _soa_rot(T):
@@ -514,14 +480,12 @@ def _spherical_wrist(S: Screws, T):
     e /= np.linalg.norm(e)
     # RW = R_pre^T Rt is needed only through RW k6 and RW e: turn those two vectors
     # back through joints 1-3 (R^T v = c A v - s K v + B v)
-    Rt = (T[:, :3, :3] @ Minv[:3, :3]).transpose(2, 1, 0)                # (3 cols, 3, N)
-    V = np.broadcast_to(np.stack([_mv_soa(Rt.transpose(1, 0, 2), k6[:, None]),
-                                  _mv_soa(Rt.transpose(1, 0, 2), e[:, None])], axis=1)[..., None],
-                        (3, 2, N, K4))                                  # (3, 2, N, K4)
+    Rt, _ = _soa_rot(T @ Minv)                                           # (3, 3, N)
+    V = np.broadcast_to(np.stack([_mv_soa(Rt, k6[:, None]), _mv_soa(Rt, e[:, None])],
+                                 axis=1)[..., None], (3, 2, N, K4))     # (3, 2, N, K4)
     for i in range(3):
         if S.revolute[i]:
-            ax = _Axis(S.axis[i])
-            V = _cmv(ax.A, V) * c3[i] - _cmv(ax.K, V) * s3[i] + _cmv(ax.B, V)
+            V = _Axis(S.axis[i]).turn_back(V, c3[i], s3[i])
     p2, w1 = V[:, 0], V[:, 1]                                             # RW k6, RW e
     # joint 5: k4 . R5 k6 = k4 . RW k6
     c5, s5, ok5 = _sp4_cs(_sp4_consts(k4, k6, k5), _dot(k4, p2))       # (N, K4, 2)
@@ -532,9 +496,8 @@ def _spherical_wrist(S: Screws, T):
     y4 = sum(cf * _dot(a4.K @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
     c4, s4 = _unit_cs(x4, y4, 1e-28)
     # joint 6: turn a vector e normal to k6 onto R5^T R4^T RW e about k6
-    z = _cmv(a4.A, w1)[..., None] * c4 - _cmv(a4.K, w1)[..., None] * s4 + \
-        _cmv(a4.B, w1)[..., None]                                        # R4^T RW e
-    z = _cmv(a5.A, z) * c5 - _cmv(a5.K, z) * s5 + _cmv(a5.B, z)          # (3, N, K4, 2)
+    z = a4.turn_back(w1[..., None], c4, s4)                              # R4^T RW e
+    z = a5.turn_back(z, c5, s5)                                           # (3, N, K4, 2)
     c6, s6 = _sp1_cs((e, np.cross(k6, e)), z, k6)
     shape = (N, K4, 2)
     bc = lambda x: np.broadcast_to(x[..., None], shape)  # noqa: E731
@@ -564,33 +527,30 @@ def _three_parallel(S: Screws, T):
     Rt_T = Rt.transpose(1, 0, 2)[..., None]                                # Rt^T (3, 3, N, 1)
     # joint 5: h . R5 k6 = h . R1^T Rt k6
     v = _mv_soa(Rt, a6.k[:, None])[..., None]                              # Rt k6 (3, N, 1)
-    v = _cmv(a1.A, v) * C1 - _cmv(a1.K, v) * S1 + _cmv(a1.B, v)            # (3, N, 2)
+    v = a1.turn_back(v, C1, S1)                                            # (3, N, 2)
     c5, s5, ok5 = _sp4_cs(_sp4_consts(h, a6.k, a5.k), _dot(h, v))          # (N, 2, 2)
     # joint 6: turn Rt^T R1 h onto R5^T h about k6
     wv = (a1.A @ h)[:, None, None] * C1 + (a1.K @ h)[:, None, None] * S1 + \
         (a1.B @ h)[:, None, None]                                          # R1 h (3, N, 2)
     wv = _mv_soa(Rt_T, wv)[..., None]                                      # (3, N, 2, 1)
-    p2 = (a5.A @ h)[:, None, None, None] * c5 - (a5.K @ h)[:, None, None, None] * s5 + \
-        (a5.B @ h)[:, None, None, None]                                    # R5^T h (3, N, 2, 2)
+    p2 = a5.turn_back(h[:, None, None, None], c5, s5)                      # R5^T h (3, N, 2, 2)
     wa = _cmv(a6.A, wv)
     c6, s6 = _sp1_cs((wa, _cmv(a6.K, wv)), p2, a6.k)
     # joints 2 + 3 + 4 about h: R234 e = R1^T Rt R6^T R5^T e
     e = np.cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
     e /= np.linalg.norm(e)
-    v = (a5.A @ e)[:, None, None, None] * c5 - (a5.K @ e)[:, None, None, None] * s5 + \
-        (a5.B @ e)[:, None, None, None]
-    v = _cmv(a6.A, v) * c6 - _cmv(a6.K, v) * s6 + _cmv(a6.B, v)
+    v = a5.turn_back(e[:, None, None, None], c5, s5)
+    v = a6.turn_back(v, c6, s6)
     v = _mv_soa(Rt[..., None, None], v)
     C1, S1 = c1[:, :, None], s1[:, :, None]                                # (N, 2, 1)
-    v = _cmv(a1.A, v) * C1 - _cmv(a1.K, v) * S1 + _cmv(a1.B, v)
+    v = a1.turn_back(v, C1, S1)
     c234, s234 = _sp1_cs((e, np.cross(h, e)), v, h)                       # (N, 2, 2)
     # where joints 2, 3 must put axis 4's point: E2 E3 (p4) = E1^-1 T M^-1 E6^-1 E5^-1 (p4)
     p = S.point[3][:, None, None, None] - S.point[4][:, None, None, None]
-    p = _cmv(a5.A, p) * c5 - _cmv(a5.K, p) * s5 + _cmv(a5.B, p) + \
-        (S.point[4] - S.point[5])[:, None, None, None]                    # E5^-1, shifted to o6
-    p = _cmv(a6.A, p) * c6 - _cmv(a6.K, p) * s6 + _cmv(a6.B, p) + S.point[5][:, None, None, None]
+    p = a5.turn_back(p, c5, s5) + (S.point[4] - S.point[5])[:, None, None, None]
+    p = a6.turn_back(p, c6, s6) + S.point[5][:, None, None, None]
     p = _mv_soa(Rt[..., None, None], p) + pt[:, :, None, None] - o1[:, None, None, None]
-    p = _cmv(a1.A, p) * C1 - _cmv(a1.K, p) * S1 + _cmv(a1.B, p) + o1[:, None, None, None]
+    p = a1.turn_back(p, C1, S1) + o1[:, None, None, None]
     cx, sx, _, okx = _place_point(S, [1, 2], S.point[3], np.moveaxis(p, 0, -1).reshape(-1, 3),
                                   cs=True)                               # (2, N*4, K2)
     K2 = okx.shape[1]
