@@ -128,3 +128,22 @@ def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
 def rate_matrix_condition(angles, kind: str) -> np.ndarray:
     """Smallest singular value of ``E(phi)``: 0 at the set's gimbal lock."""
     return np.linalg.svd(angular_rate_matrix(angles, kind), compute_uv=False)[..., -1]
+
+
+def scaled_ranks(J, revolute, length: float):
+    """``(rank of J, rank of its linear rows)``, each ``(...,)``, for ``J (..., 6, n)`` (SI)
+    made scale-free first: linear rows divided by ``length`` (m), prismatic columns
+    multiplied by it. A singular value counts when above ``SINGULAR_TOL`` times the
+    largest (or times 1 when the largest is below 1)."""
+    from .tolerances import SINGULAR_TOL
+    J = np.array(J, dtype=float)
+    if J.size == 0:
+        z = np.zeros(J.shape[:-2], int)
+        return z, z
+    J[..., :3, :] /= length
+    J[..., :, ~np.asarray(revolute)] *= length
+
+    def rank(M):
+        s = np.linalg.svd(M, compute_uv=False)
+        return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
+    return rank(J), rank(J[..., :3, :])

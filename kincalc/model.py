@@ -184,19 +184,14 @@ class Robot:
         when either rank drops below these. Taken as the largest rank over a
         few seeded random configurations within the limits.
         """
-        from .tolerances import SINGULAR_TOL
+        from .jacobian import scaled_ranks
         rng = np.random.default_rng(12345)
         lo, hi = self.limits.T
         lo = np.where(np.isfinite(lo), lo, -np.pi)
         hi = np.where(np.isfinite(hi), hi, np.pi)
         J = self.jacobian(rng.uniform(lo, hi, (5, self.dof)))
-        L = self.characteristic_length
-        J[:, :3, :] /= L
-        J[:, :, ~self.is_revolute] *= L
-        def rank(M):
-            s = np.linalg.svd(M, compute_uv=False)
-            return int(np.max(np.sum(s > SINGULAR_TOL * np.maximum(s[:, :1], 1.0), axis=-1)))
-        return rank(J), rank(J[:, :3, :])
+        rank, position_rank = scaled_ranks(J, self.is_revolute, self.characteristic_length)
+        return int(rank.max()), int(position_rank.max())
 
     # --- kinematics (delegating to the numeric core) ----------------------
 

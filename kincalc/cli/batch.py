@@ -37,39 +37,27 @@ class RecordError(ValueError):
     """A batch record that cannot be used; the message names what is wrong."""
 
 
-def _lines(src: str):
-    if src == "-":
-        yield from sys.stdin
-        return
-    from ..errors import InputError
-    try:
-        fh = open(src, encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"--batch {src}: cannot read ({exc.strerror})") from None
-    with fh:
-        yield from fh
-
-
 def records(src: str, robot) -> Iterator[tuple[int, dict | None, str | None]]:
     """``(index, pose keywords for build_target, None)`` or ``(index, None, error)`` for
     each input record of ``src`` (a path or ``-``), streaming."""
-    import json
+    header, chunks = _chunked(_Source(src))
+    for start, lines in chunks:
+        yield from _parse(header, robot, start, lines)
 
-    lines = (line for line in _lines(src) if line.strip())
-    first = next(lines, None)
-    if first is None:
-        return
-    if first.lstrip().startswith("{"):
-        yield _json_record(0, first, json)
-        for i, line in enumerate(lines, start=1):
-            yield _json_record(i, line, json)
-        return
-    header = [h.strip() for h in first.strip().split(",")]
-    for i, line in enumerate(lines):
+
+def _parse(header, robot, start: int, lines) -> list:
+    """:func:`records` of one chunk of lines, the first being record ``start``."""
+    import json
+    out = []
+    for i, line in enumerate(lines, start):
+        if header is None:
+            out.append(_json_record(i, line, json))
+            continue
         try:
-            yield i, _csv_record(header, line, robot), None
+            out.append((i, _csv_record(header, line, robot), None))
         except RecordError as exc:
-            yield i, None, f"record {i + 1}: {exc}"
+            out.append((i, None, f"record {i + 1}: {exc}"))
+    return out
 
 
 def _json_record(i, line, json):
@@ -198,15 +186,15 @@ _FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
                frozenset({"T"}), frozenset({"q"})}
 
 
-def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=None,
+def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=(),
                 frame: str = "base", refused: dict | None = None):
-    """The --batch branch of a command: refuse options that do not combine with it, run,
-    and leave with the batch's exit status."""
+    """The --batch branch of a command: refuse the command's own inputs (``given``, the
+    values of its joint or pose arguments) and the options in ``refused``, run, and leave
+    with the batch's exit status."""
     import typer
 
     from ..errors import UsageError
-    if given and any(v is not None and v != [] for v in
-                     (given if isinstance(given, list) and kind == "ik" else [given])):
+    if any(v is not None and len(v) for v in given):
         raise UsageError("--batch reads its input from a file; do not give "
                          f"{'pose options' if kind == 'ik' else 'joint values'} too")
     for option, value in (refused or {}).items():
@@ -388,16 +376,7 @@ def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bo
     worker process."""
     import json
     start, lines = item
-    parsed = []
-    for k, line in enumerate(lines):
-        i = start + k
-        if header is None:
-            parsed.append(_json_record(i, line, json))
-        else:
-            try:
-                parsed.append((i, _csv_record(header, line, robot), None))
-            except RecordError as exc:
-                parsed.append((i, None, f"record {i + 1}: {exc}"))
+    parsed = _parse(header, robot, start, lines)
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "ik": _ik_chunk}[kind]
     records, no = solve(robot, units, parsed, frame)
     bad = any("error" in r for r in records)
@@ -497,26 +476,16 @@ def _fk_chunk(robot, units, parsed, frame):
 def _jacobian_chunk(robot, units, parsed, frame):
     import numpy as np
 
-    from ..jacobian import rotate_jacobian
+    from ..jacobian import rotate_jacobian, scaled_ranks
     good, q, errors = _joint_rows(robot, units, parsed, "jacobian")
-    J = robot.jacobian(q)                                                  # (m, 6, n) SI
+    Jb = robot.jacobian(q)                                                 # (m, 6, n) SI, base
+    J = Jb
     if frame == "tool" and len(q):
-        J = rotate_jacobian(J, np.swapaxes(robot.fk(q)[:, :3, :3], -1, -2))
-    # rank and singularity as 'kincalc jacobian' (analysis.jacobian_report): linear rows
-    # over the robot's length, prismatic columns times it
-    from ..tolerances import SINGULAR_TOL
-    Jb = robot.jacobian(q)
-    L = robot.characteristic_length
-    Jn = Jb.copy()
-    Jn[:, :3, :] /= L
-    Jn[:, :, ~robot.is_revolute] *= L
-
-    def ranks(M):
-        s = np.linalg.svd(M, compute_uv=False)
-        return (s > SINGULAR_TOL * np.maximum(s[:, :1], 1.0)).sum(-1)
+        J = rotate_jacobian(Jb, np.swapaxes(robot.fk(q)[:, :3, :3], -1, -2))
+    # rank and singularity as 'kincalc jacobian' (analysis.jacobian_report)
+    rank, position_rank = scaled_ranks(Jb, robot.is_revolute, robot.characteristic_length)
     full, full_pos = robot.generic_ranks
-    rank = ranks(Jn) if len(q) else np.zeros(0, int)
-    singular = (rank < full) | (ranks(Jn[:, :3]) < full_pos) if len(q) else rank > 0
+    singular = (rank < full) | (position_rank < full_pos)
     Jd = J.copy()
     Jd[:, :3] *= np.where(robot.is_revolute, units.l, 1.0)
     manip = np.prod(np.linalg.svd(Jd, compute_uv=False)[:, :full], axis=-1) if len(q) \
@@ -628,8 +597,9 @@ def _not_poses(T):
 def _ik_chunk(robot, units, parsed, frame):
     import numpy as np
 
+    from ..ik import Target
     from ..ik.batch import branch_labels
-    from ..ik.solve import UnsupportedRobot
+    from ..ik.solve import UnsupportedRobot, solve
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
@@ -639,7 +609,7 @@ def _ik_chunk(robot, units, parsed, frame):
     except UnsupportedRobot:
         B = None
         for (i, kw), t in zip(full, T):
-            partial.append((i, kw, _full_target(t)))
+            partial.append((i, kw, Target(t, orientation=True)))
     if B is not None:
         valid = B.valid
         q = B.q[valid]                                                     # (s, n)
@@ -655,22 +625,12 @@ def _ik_chunk(robot, units, parsed, frame):
             no |= not sols
             recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
     for i, kw, target in partial:
-        result = _solve_target(robot, target)
+        result = solve(robot, target)
         sols = [{"q": _round(np.asarray(s.q) * qdisp), "branch": s.branch,
                  "within_limits": not s.violations} for s in result.solutions]
         no |= not sols
         recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
     return _merge(recs, errors), no
-
-
-def _full_target(T):
-    from ..ik import Target
-    return Target(T, orientation=True)
-
-
-def _solve_target(robot, target):
-    from ..ik.solve import solve
-    return solve(robot, target)
 
 
 def _csv_rows(kind, robot, records) -> str:

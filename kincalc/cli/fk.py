@@ -69,7 +69,7 @@ def fk(
     units = display_units(rob, deg, unit)
     if batch is not None:
         from .batch import run_command
-        run_command("fk", rob, units, batch, fmt, jobs, given=q)
+        run_command("fk", rob, units, batch, fmt, jobs, given=[q])
     qv = parse_joints(q, rob, units)
     result = fk_report(rob, qv, units, frames=frames)
     output(result.to_dict(), json, _tables, rob, precision)

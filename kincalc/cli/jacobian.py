@@ -84,7 +84,7 @@ def jacobian(
     rob = load_robot(robot)
     if batch is not None:
         from .batch import run_command
-        run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=q,
+        run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     frame=frame.value, refused={"--analytic": analytic})
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
