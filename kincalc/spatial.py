@@ -132,6 +132,9 @@ def rpy_from_matrix(R) -> np.ndarray:
     cp = np.hypot(R[..., 0, 0], R[..., 1, 0])
     pitch = np.arctan2(-R[..., 2, 0], cp)
     locked = cp < GIMBAL_TOL
+    # at lock the pitch is exactly +-pi/2: the tilt left in cp (< GIMBAL_TOL) has no
+    # direction once roll is 0, and keeping it would double the round-trip error
+    pitch = np.where(locked, np.copysign(np.pi / 2, pitch), pitch)
     roll = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
     yaw = np.where(locked, np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
                    np.arctan2(R[..., 1, 0], R[..., 0, 0]))
@@ -154,6 +157,8 @@ def euler_zyz_from_matrix(R) -> np.ndarray:
     sb = np.hypot(R[..., 0, 2], R[..., 1, 2])
     b = np.arctan2(sb, R[..., 2, 2])
     locked = sb < GIMBAL_TOL
+    # at lock b is exactly 0 or pi (see rpy_from_matrix)
+    b = np.where(locked, np.where(R[..., 2, 2] > 0, 0.0, np.pi), b)
     a = np.where(locked, 0.0, np.arctan2(R[..., 1, 2], R[..., 0, 2]))
     c_free = np.arctan2(R[..., 2, 1], -R[..., 2, 0])
     # b = 0: R = Rz(c); b = pi: R = Ry(pi) Rz(c) = [[-cc, sc, 0], [sc, cc, 0], ...]
@@ -178,6 +183,7 @@ def euler_xyz_from_matrix(R) -> np.ndarray:
     cb = np.hypot(R[..., 0, 0], R[..., 0, 1])
     b = np.arctan2(R[..., 0, 2], cb)
     locked = cb < GIMBAL_TOL
+    b = np.where(locked, np.copysign(np.pi / 2, b), b)       # see rpy_from_matrix
     a = np.where(locked, 0.0, np.arctan2(-R[..., 1, 2], R[..., 2, 2]))
     c = np.where(locked, np.arctan2(R[..., 1, 0], R[..., 1, 1]),
                  np.arctan2(-R[..., 0, 1], R[..., 0, 0]))
