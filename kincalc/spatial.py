@@ -21,6 +21,8 @@ arrays and never writes into its arguments.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .tolerances import GIMBAL_TOL, SMALL_ANGLE
@@ -34,7 +36,8 @@ __all__ = [
     "axis_angle_from_matrix", "matrix_from_axis_angle",
     "rotvec_from_matrix", "matrix_from_rotvec",
     "tcv_from_transform", "transform_from_tcv",
-    "log_transform", "adjoint", "rotation_error",
+    "log_transform", "adjoint", "rotation_error", "rotation_angle",
+    "matrix_from_unit_axis_angle",
 ]
 
 
@@ -373,3 +376,38 @@ def rotation_error(R_a, R_b) -> np.ndarray:
     """Angle (rad, ``(...,)``) of the rotation taking ``R_b`` to ``R_a``."""
     R = np.swapaxes(np.asarray(R_b, dtype=float), -1, -2) @ np.asarray(R_a, dtype=float)
     return axis_angle_from_matrix(R)[1]
+
+
+def rotation_angle(R) -> np.ndarray:
+    """Angle (rad, ``(...,)``, in [0, pi]) of rotations ``R (..., 3, 3)``.
+
+    ``atan2(sin, cos)`` with ``2 sin = |vee(R - R^T)|`` and ``2 cos = tr R - 1``:
+    both parts are accurate to rounding at every angle, so the angle is too (to
+    ~1e-16 rad absolute), near 0 and near pi alike, without the quaternion of
+    :func:`axis_angle_from_matrix` (cheaper when only the angle is needed).
+    """
+    R = np.asarray(R, dtype=float)
+    x = R[..., 2, 1] - R[..., 1, 2]
+    y = R[..., 0, 2] - R[..., 2, 0]
+    z = R[..., 1, 0] - R[..., 0, 1]
+    return np.arctan2(np.sqrt(x * x + y * y + z * z),
+                      R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0)
+
+
+def matrix_from_unit_axis_angle(axis, angle) -> np.ndarray:
+    """Rodrigues' formula for one rotation: ``R (3, 3)`` by ``angle`` (rad, a scalar)
+    about the unit vector ``axis (3,)``.
+
+    ``R = c I + s [k]x + (1 - c) k k^T``, written out in Python floats: the one-rotation
+    case of :func:`matrix_from_axis_angle` without its normalisation, checks and
+    broadcasting (the geometric IK solvers build many single rotations per pose).
+    The axis must already be unit; it is not checked.
+    """
+    x, y, z = np.asarray(axis, dtype=float).tolist()
+    angle = float(angle)
+    c, s = math.cos(angle), math.sin(angle)
+    C = 1.0 - c
+    xC, yC, zC = x * C, y * C, z * C
+    return np.array([[c + x * xC, x * yC - z * s, x * zC + y * s],
+                     [y * xC + z * s, c + y * yC, y * zC - x * s],
+                     [z * xC - y * s, z * yC + x * s, c + z * zC]])

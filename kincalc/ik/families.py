@@ -39,10 +39,11 @@ from functools import lru_cache
 import numpy as np
 
 from ..spatial import cross
-from ..spatial import matrix_from_axis_angle as _rot
+from ..spatial import matrix_from_unit_axis_angle as _rot
 
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
+from ..subproblems._small import norm3
 from .position import place_point
 from .screws import Screws
 
@@ -106,7 +107,7 @@ def _angle_about(k, R) -> float:
 
 
 def _parallel(a, b, tol=1e-9) -> bool:
-    return float(np.linalg.norm(cross(a, b))) < tol
+    return norm3(cross(a, b)) < tol
 
 
 @lru_cache(maxsize=64)
@@ -227,6 +228,35 @@ def _classify_5(S: Screws) -> Family | None:
 
 # --- solvers -------------------------------------------------------------------
 
+def _exp(S: Screws, i: int, x) -> np.ndarray:
+    """``E_i(x)`` (4, 4) for one value: :meth:`Screws.exp` without its broadcasting."""
+    E = np.eye(4)
+    if S.revolute[i]:
+        R = _rot(S.axis[i], x)
+        E[:3, :3] = R
+        E[:3, 3] = S.point[i] - R @ S.point[i]
+    else:
+        E[:3, 3] = float(x) * S.axis[i]
+    return E
+
+
+def _product(S: Screws, idx, xs) -> np.ndarray:
+    """``E_idx[0](xs[0]) E_idx[1](xs[1]) ...`` (4, 4), as :meth:`Screws.product`."""
+    T = np.eye(4)
+    for i, x in zip(idx, xs):
+        T = T @ _exp(S, i, x)
+    return T
+
+
+def _inv(T) -> np.ndarray:
+    """Inverse of one rigid transform (4, 4): ``[R^T, -R^T p]``."""
+    out = np.eye(4)
+    Rt = T[:3, :3].T
+    out[:3, :3] = Rt
+    out[:3, 3] = -(Rt @ T[:3, 3])
+    return out
+
+
 def _point_in_tool(S: Screws, p):
     """Coordinates of world point ``p`` (at q = 0) in the tool frame M."""
     Minv = S.inverse_M()
@@ -243,7 +273,7 @@ def solve_spherical_wrist(S: Screws, T, explain=False) -> list[Candidate]:
     out = []
     for ps in place_point(S, [0, 1, 2], c0, ct, explain):
         q123 = ps.x
-        W = np.linalg.inv(S.product([0, 1, 2], q123)) @ T @ S.inverse_M()
+        W = _inv(_product(S, [0, 1, 2], q123)) @ T @ S.inverse_M()
         out.extend(_wrist(S, W[:3, :3], q123, ps, [3, 4, 5], ct, explain))
     return out
 
@@ -305,6 +335,9 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
             R234 = R1.T @ R_t @ R6.T @ R5.T
             q234 = _angle_about(h, R234)
             # the point on axis 5 nearest axis 4 -> where axis 4 must be, then a planar 2R
+            # Screws.exp and numpy's inverse on purpose (not _exp, _inv): at the stretched
+            # elbow of a UR arm's home pose the elbow is a double root whose value and
+            # up/down label follow the rounding of exactly these products
             T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ S.inverse_M() @ np.linalg.inv(
                 S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
             # T_rest = E2 E3 E4; the point of axis 4 at q = 0 maps to E2 E3 (p4) (E4 fixes it)
@@ -351,7 +384,7 @@ def solve_parallel_four_wrist(S: Screws, T, explain=False) -> list[Candidate]:
         q6, _, free6 = sp1(R_t.T @ h, R5.T @ h, S.axis[5])
         R6 = _rot(S.axis[5], q6)
         psi = _angle_about(h, R_t @ R6.T @ R5.T)
-        T_rest = T @ S.inverse_M() @ np.linalg.inv(S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
+        T_rest = T @ S.inverse_M() @ _inv(_exp(S, 5, q6)) @ _inv(_exp(S, 4, q5))
         p4 = S.point[3]
         p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
         for ps in place_point(S, [0, 1, 2], p4, p4t, explain):
@@ -389,7 +422,7 @@ def _last_axis_roll(S: Screws, T, first: list[int], explain):
     ct = _from_tool(T, _point_in_tool(S, c0))
     out = []
     for ps in place_point(S, first, c0, ct, explain):
-        W = np.linalg.inv(S.product(first, ps.x)) @ T @ S.inverse_M()
+        W = _inv(_product(S, first, ps.x)) @ T @ S.inverse_M()
         qn = _angle_about(S.axis[n - 1], W[:3, :3])
         cand = Candidate(q=np.concatenate([ps.x, [qn]]), signs=ps.signs, free=ps.free,
                          trace=ps.trace)
@@ -414,7 +447,7 @@ def solve_position_approach(S: Screws, T, explain=False, approach_only=False):
     ct = T[:3, 3] - d * a
     out = []
     for ps in place_point(S, [0, 1, 2], c0, ct, explain):
-        R123 = S.product([0, 1, 2], ps.x)[:3, :3]
+        R123 = _product(S, [0, 1, 2], ps.x)[:3, :3]
         sols, exact, free = sp2(a0, R123.T @ a, S.axis[3], S.axis[4])
         for k, (t4, t5) in enumerate(sols):
             cand = Candidate(q=np.concatenate([ps.x, [t4, t5]]), signs=dict(ps.signs),
@@ -445,7 +478,7 @@ def solve_pitch_roll(S: Screws, T, explain=False, approach_only=False):
     out = []
     for i1, t in enumerate(t1s):
         q1 = -t
-        E1i = np.linalg.inv(S.exp(0, q1))
+        E1i = _inv(_exp(S, 0, q1))
         a1 = E1i[:3, :3] @ a                     # approach with joint 1 undone
         p1 = E1i[:3, :3] @ pt + E1i[:3, 3]       # tool point with joint 1 undone
         psi, _, _ = sp1(a0, a1, h)               # the pitch sum (projected onto the plane)
@@ -460,7 +493,7 @@ def solve_pitch_roll(S: Screws, T, explain=False, approach_only=False):
             if approach_only:
                 cand.signs[4] = "any"    # the roll was not asked for: 0 stands for any value
             else:
-                R = S.product(range(4), q[:4])[:3, :3]
+                R = _product(S, range(4), q[:4])[:3, :3]
                 q[4] = _angle_about(S.axis[4], R.T @ T[:3, :3] @ S.M[:3, :3].T)
             if explain:
                 cand.trace = [("joint 1 by subproblem 4 (component along the parallel axes)",

@@ -67,7 +67,10 @@ manipulators", IEEE Trans. Robotics and Automation 10(5):648-657, 1994.
 6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the
    *given* robot (``robot.chain``, so the DH model above only has to be
    close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame
-   geometric Jacobian, steps limited to 0.5 rad. Candidates whose final
+   geometric Jacobian, steps limited to 0.5 rad. FK, joint frames and
+   Jacobian of all candidates come from six stacked 4x4 products
+   (:class:`_ChainTerms`), the rotation log from the skew part below 90
+   degrees. Candidates whose final
    residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are dropped, the rest are
    wrapped to (-pi, pi] and merged when within 1e-6 rad.
 
@@ -118,10 +121,22 @@ Limitations
 * The 1e-10 acceptance is relative to ``robot.characteristic_length``; a
   pose outside the workspace gives an empty ``(0, 6)`` array.
 * Robots with a prismatic joint are not handled (ValueError).
-* Measured (one core, numpy/OpenBLAS): median ~1 ms per pose for a generic
-  robot (mean 1.3, 99th percentile 3.2 ms), 1.5-3 ms for UR/PUMA/KUKA/ABB
-  arms (per-pose model of the other pivot), plus a one-off 4-20 ms per
-  robot for the model and the pivot ranking (cached for 64 robots).
+* Measured (one core, numpy/OpenBLAS, ``benchmarks/ik_single.py``): median
+  ~0.6 ms per pose for a generic robot (~1 ms for ``robot.ik`` with its
+  checks and labels), of which 0.1-0.15 ms is the 24x24 ``eig``; 1-2 ms for UR/PUMA/KUKA/ABB arms (per-pose model of the other
+  pivot), plus a one-off 4-20 ms per robot for the model and the pivot
+  ranking (cached for 64 robots).
+
+Many poses at once
+------------------
+:func:`solve_general_6r_batch` runs the same steps (pivot joint 3) for
+``N`` poses together: batched QR and pencils, ``numpy.linalg.eig`` over
+``(N, 24, 24)``, back-substitution and Newton over all candidates of all
+poses, the cluster treatment vectorised for pairs of close eigenvalues;
+poses it does not finish (a degenerate standard form, a cluster of three
+or more, every pose of a robot whose pivot ranking does not start at
+joint 3) go through :func:`solve_general_6r` one by one. About 0.2-0.35 ms
+per pose for N = 1000.
 """
 
 from __future__ import annotations
@@ -130,10 +145,9 @@ import functools
 
 import numpy as np
 
-from ..jacobian import _jacobian_and_pose
-from ..spatial import invert_transform, rotvec_from_matrix
+from ..spatial import cross, invert_transform, rotvec_from_matrix
 
-__all__ = ["solve_general_6r"]
+__all__ = ["solve_general_6r", "solve_general_6r_batch"]
 
 #: sine of the angle below which two consecutive axes are treated as parallel.
 PARALLEL_TOL = 1e-7
@@ -153,10 +167,13 @@ PERTURB = (1e-3, 1e-4)
 # 3-point DFT grid: exact for (1, cos, sin) expansions.
 _GRID = np.array([0.0, 2.0 * np.pi / 3.0, 4.0 * np.pi / 3.0])
 _VINV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=1))
+# the same fit for two angles at once: (9, 9), rows i1 * 3 + i2, columns grid a * 3 + b
+_VINV2 = np.kron(_VINV, _VINV)
 # (1, c, s) * (1 + x^2) in powers (1, x, x^2) of x = tan(theta / 2)
 _H = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
 _H2 = np.kron(_H, _H)     # trig (i4, i5) -> powers (j4, j5), both flattened i*3 + j
 _DELTAS = (0.0, 1.1071487177940904, -0.6435011087932844, 2.4980915447965089)
+_COS_SIN_DELTAS = tuple((float(np.cos(d)), float(np.sin(d))) for d in _DELTAS)
 _STEP_MAX = 0.5
 _NEWTON_ITERS = 10
 _GIVE_UP = {3: 1e-2, 6: 1e-6}      # after this many steps, drop candidates still above
@@ -190,7 +207,7 @@ def _f14(l, p):
     """The 14 Raghavan-Roth quantities ``(..., 14)`` of ``l, p (..., 3)``."""
     pp = np.einsum("...i,...i->...", p, p)[..., None]
     pl = np.einsum("...i,...i->...", p, l)[..., None]
-    return np.concatenate([l, p, pp, pl, np.cross(p, l), pp * l - 2.0 * pl * p], axis=-1)
+    return np.concatenate([l, p, pp, pl, cross(p, l), pp * l - 2.0 * pl * p], axis=-1)
 
 
 def _wrap(q):
@@ -208,7 +225,7 @@ def _dh_frames(dirs, pts, L):
     for i in range(1, 6):                            # frame i: axes i (0-based i-1) and i+1
         u, v = dirs[i - 1], dirs[i]
         p, r = pts[i - 1], pts[i]
-        n = np.cross(u, v)
+        n = cross(u, v)
         sn = np.linalg.norm(n)
         if sn > PARALLEL_TOL:
             # closest points p + t u (axis i) and r + s v (axis i+1)
@@ -233,7 +250,7 @@ def _dh_frames(dirs, pts, L):
             elif x[i - 1] is not None:
                 xi = x[i - 1]
             else:                                    # axes 1 and 2 coincide
-                xi = np.cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
+                xi = cross(u, [1.0, 0.0, 0.0] if abs(u[0]) < 0.9 else [0.0, 1.0, 0.0])
             foot_j = ref + w
         xi = xi - v * (xi @ v)
         x[i] = xi / np.linalg.norm(xi)
@@ -246,7 +263,7 @@ def _dh_frames(dirs, pts, L):
     F = np.zeros((7, 4, 4))
     for i in range(7):
         F[i, :3, 0] = x[i]
-        F[i, :3, 1] = np.cross(z[i], x[i])
+        F[i, :3, 1] = cross(z[i], x[i])
         F[i, :3, 2] = z[i]
         F[i, :3, 3] = o[i]
         F[i, 3, 3] = 1.0
@@ -266,6 +283,7 @@ class _Model:
         g1, g2 = np.meshgrid(_GRID, _GRID, indexing="ij")
         A12 = _dh(g1.ravel(), d[0], a[0], al[0]) @ _dh(g2.ravel(), d[1], a[1], al[1])
         self.N12 = invert_transform(A12)                  # (9, 4, 4)
+        self.N12R, self.N12t = self.N12[:, :3, :3].copy(), self.N12[:, :3, 3].copy()
         self.post = invert_transform(_dh(0.0, d[5], a[5], al[5]))
         # left side: l, p of A3 A4 A5 on the 3x3x3 grid -> coefficients
         g3, g4, g5 = (m.ravel() for m in np.meshgrid(_GRID, _GRID, _GRID, indexing="ij"))
@@ -305,42 +323,43 @@ class _Model:
 
     # --- per pose -------------------------------------------------------
 
+    def _coefficients(self, T):
+        """``(P (..., 3, 14, 9), Q (..., 14, 8), W (..., 4, 4))`` of poses ``T (..., 4, 4)``:
+        the system ``P(theta_3) X1 = Q X2`` and the scaled target with A_6^-1 folded in."""
+        W = self.Binv @ T @ self.Einv
+        W[..., :3, 3] /= self.L
+        W = W @ self.post
+        lT, pT = W[..., None, :3, 2], W[..., None, :3, 3]
+        # right side at the 3x3 grid of (theta_1, theta_2): R @ l, R @ p + t
+        lR = np.einsum("kij,...kj->...ki", self.N12R, lT)
+        pR = np.einsum("kij,...kj->...ki", self.N12R, pT) + self.N12t
+        Rc = np.swapaxes(_VINV2 @ _f14(lR, pR), -1, -2)           # (..., 14, 9)
+        P = np.broadcast_to(self.P, T.shape[:-2] + self.P.shape).copy()
+        P[..., 0, :, 0] -= Rc[..., :, 0]
+        return P, Rc[..., :, 1:], W
+
     def candidates(self, T):
         """Joint-value candidates ``(m, 6)`` from the eigenproblem, or None if degenerate."""
-        Tp = self.Binv @ T @ self.Einv
-        Tp = Tp.copy()
-        Tp[:3, 3] /= self.L
-        W = Tp @ self.post
-        lT, pT = W[:3, 2], W[:3, 3]
-        R, t = self.N12[:, :3, :3], self.N12[:, :3, 3]
-        F = _f14(R @ lT, R @ pT + t).reshape(3, 3, 14)
-        Rc = np.einsum("ia,jb,abe->eij", _VINV, _VINV, F).reshape(14, 9)
-        P = self.P.copy()
-        P[0, :, 0] -= Rc[:, 0]
-        Q = Rc[:, 1:]
+        P, Q, W = self._coefficients(T)
         Qf, Rq = np.linalg.qr(Q, mode="complete")
         rd = np.abs(np.diag(Rq[:8]))
         if rd.min() <= 1e-9 * max(rd.max(), 1e-300):
             return None
         N = Qf[:, 8:].T                                   # (6, 14), N Q = 0
         S = N @ P                                          # (3, 6, 9)
-        scale = np.linalg.norm(S.transpose(1, 0, 2).reshape(6, -1), axis=1)
+        scale = np.sqrt(np.einsum("kij,kij->i", S, S))
         if scale.min() <= 1e-12 * scale.max():
             return None
         S = S / scale[None, :, None]
 
         best = None
-        for delta in _DELTAS:
-            cd, sd = np.cos(delta), np.sin(delta)
+        for delta, (cd, sd) in zip(_DELTAS, _COS_SIN_DELTAS):
             Sc = S[1] * cd + S[2] * sd
             Ss = S[2] * cd - S[1] * sd
-            coeffs = [(S[0] + Sc) @ _H2, 2.0 * Ss @ _H2, (S[0] - Sc) @ _H2]   # 1, y, y^2
-            mats = []
-            for K in coeffs:
-                M12 = np.zeros((12, 12))
-                M12[:6, :9] = K
-                M12[6:, 3:] = K
-                mats.append(M12)
+            coeffs = np.stack([S[0] + Sc, 2.0 * Ss, S[0] - Sc]) @ _H2    # 1, y, y^2
+            mats = np.zeros((3, 12, 12))
+            mats[:, :6, :9] = coeffs
+            mats[:, 6:, 3:] = coeffs
             cond = np.linalg.cond(mats[2])
             if best is None or cond < best[0]:
                 best = (cond, delta, mats)
@@ -352,8 +371,7 @@ class _Model:
         AiB = np.linalg.solve(Am, np.concatenate([Cm, Bm], axis=1))
         Comp = np.zeros((24, 24))
         Comp[:12, 12:] = np.eye(12)
-        Comp[12:, :12] = -AiB[:, :12]
-        Comp[12:, 12:] = -AiB[:, 12:]
+        Comp[12:] = -AiB
         y, vecs = np.linalg.eig(Comp)
         with np.errstate(all="ignore"):
             phi = 2.0 * np.arctan(y)
@@ -368,25 +386,38 @@ class _Model:
         th3 = phi.real + delta
         idx = np.argmax(np.abs(v), axis=0)
         v = (v / v[idx, np.arange(v.shape[1])]).real.T.reshape(-1, 4, 3)   # (m, j4, j5)
-        th4 = _ratio_angle(v, axis=1)
-        th5 = _ratio_angle(v, axis=2)
+        return self._back_substitute(P, Qf, Rq, W, th3, _ratio_angle(v, axis=1),
+                                     _ratio_angle(v, axis=2))
 
+    def _back_substitute(self, P, Qf, Rq, W, th3, th4, th5):
+        """Joint values ``(..., m, 6)`` (original offsets, wrapped) from theta_3..5 ``(..., m)``:
+        theta_1, theta_2 from ``Q X2 = P X1`` through the QR of Q, theta_6 from
+        ``A_6 = (A_1 .. A_5)^-1 T'``. ``P (..., 3, 14, 9)``, ``Qf (..., 14, 14)``,
+        ``Rq (..., 14, 8)``, ``W (..., 4, 4)`` for the pose of each leading index."""
         c3, s3, c4, s4, c5, s5 = (f(t) for t in (th3, th4, th5) for f in (np.cos, np.sin))
-        b4 = np.stack([np.ones_like(c4), c4, s4], -1)
-        b5 = np.stack([np.ones_like(c5), c5, s5], -1)
-        X1 = (b4[:, :, None] * b5[:, None, :]).reshape(-1, 9)
-        Pt = P[0] + c3[:, None, None] * P[1] + s3[:, None, None] * P[2]     # (m, 14, 9)
-        rhs = np.einsum("mij,mj->mi", Pt, X1)
-        X2 = np.linalg.solve(Rq[:8], (rhs @ Qf[:, :8]).T).T                 # (m, 8)
+        one = np.ones_like(c4)
+        b4 = np.stack([one, c4, s4], -1)
+        b5 = np.stack([one, c5, s5], -1)
+        X1 = (b4[..., :, None] * b5[..., None, :]).reshape(b4.shape[:-1] + (9,))
+        b3 = np.stack([one, c3, s3], -1)                                    # (..., m, 3)
+        # Q X2 = P(theta3) X1 = sum_k b3_k P_k X1, solved through Q = Qf Rq: X2 = Y Z with
+        # Y the 27 products b3_k X1_j and Z = (Rq8^-1 Qf8^T P_flat^T)^T, one per pose
+        Y = (b3[..., :, None] * X1[..., None, :]).reshape(b3.shape[:-1] + (27,))
+        Pflat = np.swapaxes(P, -1, -2).reshape(P.shape[:-3] + (27, 14))
+        Z = np.swapaxes(np.linalg.solve(Rq[..., :8, :],
+                                        np.swapaxes(Pflat @ Qf[..., :, :8], -1, -2)), -1, -2)
+        X2 = Y @ Z                                                          # (..., m, 8)
         # X2 = products (i1, i2) != (0, 0), flattened i1 * 3 + i2 minus one
-        th1 = np.arctan2(X2[:, 5], X2[:, 2])
-        th2 = np.arctan2(X2[:, 1], X2[:, 0])
-        d, a, al = self.d, self.a, self.alpha
-        A15 = (_dh(th1, d[0], a[0], al[0]) @ _dh(th2, d[1], a[1], al[1])
-               @ _dh(th3, d[2], a[2], al[2]) @ _dh(th4, d[3], a[3], al[3])
-               @ _dh(th5, d[4], a[4], al[4]))
-        R6 = invert_transform(A15) @ W                                       # = Rz(theta6)
-        th6 = np.arctan2(R6[:, 1, 0], R6[:, 0, 0])
+        th1 = np.arctan2(X2[..., 5], X2[..., 2])
+        th2 = np.arctan2(X2[..., 1], X2[..., 0])
+        th15 = np.stack([th1, th2, th3, th4, th5], axis=-1)
+        A = _dh(th15, self.d[:5], self.a[:5], self.alpha[:5])[..., :3, :3]   # (..., m, 5, 3, 3)
+        R15 = A[..., 0, :, :] @ A[..., 1, :, :] @ A[..., 2, :, :] @ A[..., 3, :, :] \
+            @ A[..., 4, :, :]
+        w0 = W[..., None, :3, 0]                                              # (..., 1, 3)
+        # R6 = R15^T W = Rz(theta6): theta6 from its first column
+        r6 = np.einsum("...ki,...k->...i", R15, w0)
+        th6 = np.arctan2(r6[..., 1], r6[..., 0])
         th = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
         return _wrap(th - self.offset)
 
@@ -424,6 +455,8 @@ def _split_clusters(v, phi, mats):
     if m < 2:
         return v, phi
     order = np.argsort(phi.real)
+    if np.min(np.diff(phi.real[order])) >= CLUSTER_TOL:
+        return v, phi                                    # no cluster (the common case)
     groups, cur = [], [order[0]]
     for a, b in zip(order[:-1], order[1:]):
         if abs(phi[b].real - phi[a].real) < CLUSTER_TOL:
@@ -483,9 +516,10 @@ def _structure_residual(V):
 
 def _ratio_angle(v, axis):
     """Angle theta with x = tan(theta/2) from monomial vectors ``v (m, 4, 3)`` along ``axis``."""
-    n = v.shape[axis]
-    lo = np.take(v, np.arange(n - 1), axis=axis)
-    hi = np.take(v, np.arange(1, n), axis=axis)
+    if axis == 1:
+        lo, hi = v[:, :-1, :], v[:, 1:, :]
+    else:
+        lo, hi = v[:, :, :-1], v[:, :, 1:]
     sum_axes = (1, 2)
     cross = np.sum(lo * hi, axis=sum_axes)
     dlo = np.sum(lo * lo, axis=sum_axes)
@@ -543,6 +577,17 @@ class _Robot6R:
             self._perturbed = [self.model.perturbed(size) for size in PERTURB]
         return self._perturbed
 
+    def shifted_model(self, T, shift):
+        """``(model, order)``: the 6R of the cyclic shift ``shift`` for pose ``T`` (its
+        target is the identity) and its joints' indices in the original order."""
+        G = self.T0 @ invert_transform(T)
+        order = np.r_[shift:6, 0:shift]
+        dirs, pts = self.dirs[order].copy(), self.pts[order].copy()
+        moved = order < shift
+        dirs[moved] = dirs[moved] @ G[:3, :3].T
+        pts[moved] = pts[moved] @ G[:3, :3].T + G[:3, 3]
+        return _Model.from_lines(dirs, pts, G, self.L), order
+
     def candidates(self, T, shift):
         """Candidates ``(m, 6)`` (original joint order), or None if degenerate.
 
@@ -554,13 +599,7 @@ class _Robot6R:
         """
         if shift == 0:
             return self.model.candidates(T)
-        G = self.T0 @ invert_transform(T)
-        order = np.r_[shift:6, 0:shift]
-        dirs, pts = self.dirs[order].copy(), self.pts[order].copy()
-        moved = order < shift
-        dirs[moved] = dirs[moved] @ G[:3, :3].T
-        pts[moved] = pts[moved] @ G[:3, :3].T + G[:3, 3]
-        model = _Model.from_lines(dirs, pts, G, self.L)
+        model, order = self.shifted_model(T, shift)
         c = model.candidates(np.eye(4))
         if c is None:
             return None
@@ -583,6 +622,86 @@ def _robot_data(robot):
 
 # --- Newton polishing on the real robot -----------------------------------
 
+class _ChainTerms:
+    """``robot.chain`` of a 6R as constant arrays for :meth:`link_transforms`.
+
+    The chain is ``F_0 Rz(q_1 + o_1) F_1 ... Rz(q_6 + o_6) F_6``; each
+    ``Rz(t) F_i = cos(t) Kc_i + sin(t) Ks_i + K0_i`` (the first two rows of
+    ``F_i`` mixed, the last two kept), so all six links of all candidates come
+    from three products, and FK, the joint frames and the Jacobian from six
+    stacked matrix products (not a Python loop of small operations per joint).
+    """
+
+    def __init__(self, chain):
+        F = np.asarray(chain.fixed, float)
+        self.F0 = F[0, :3, :].copy()                      # (3, 4)
+        Fi = F[1:]
+        self.Kc = np.zeros((6, 4, 4))
+        self.Ks = np.zeros((6, 4, 4))
+        self.K0 = np.zeros((6, 4, 4))
+        self.Kc[:, :2] = Fi[:, :2]
+        self.Ks[:, 0], self.Ks[:, 1] = -Fi[:, 1], Fi[:, 0]
+        self.K0[:, 2:] = Fi[:, 2:]
+        self.offset = np.asarray(chain.offset, float)
+
+    def frames(self, Q):
+        """``(m, 7, 3, 4)``: rows 0-2 of ``F_0 A_1 ... A_i`` for i = 0..6 at ``Q (m, 6)``;
+        the z column of entry i is joint i+1's axis, its last column a point on it, and
+        entry 6 is the tool pose."""
+        th = Q + self.offset
+        c = np.cos(th)[..., None, None]
+        s = np.sin(th)[..., None, None]
+        A = c * self.Kc + s * self.Ks + self.K0           # (m, 6, 4, 4)
+        out = np.empty((len(Q), 7, 3, 4))
+        out[:, 0] = self.F0
+        for i in range(6):
+            np.matmul(out[:, i], A[:, i], out=out[:, i + 1])
+        return out
+
+
+@functools.lru_cache(maxsize=64)
+def _chain_terms_cached(robot):
+    return _ChainTerms(robot.chain)
+
+
+def _chain_terms(robot):
+    try:
+        return _chain_terms_cached(robot)
+    except TypeError:                      # unhashable robot-like object
+        return _ChainTerms(robot.chain)
+
+
+def _rotvec(R):
+    """Rotation vector ``(m, 3)`` of ``R (m, 3, 3)``: from the skew part, which is
+    accurate to rounding up to 90 degrees; larger angles go through the quaternion
+    (:func:`~kincalc.spatial.rotvec_from_matrix`)."""
+    v = 0.5 * np.stack([R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0],
+                        R[:, 1, 0] - R[:, 0, 1]], axis=-1)          # sin(angle) axis
+    c = 0.5 * (R[:, 0, 0] + R[:, 1, 1] + R[:, 2, 2] - 1.0)        # cos(angle)
+    sn = np.sqrt(np.einsum("ij,ij->i", v, v))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f = np.where(sn > 1e-300, np.arctan2(sn, c) / sn, 1.0)
+    w = v * f[:, None]
+    far = c < 0.0
+    if np.any(far):
+        w[far] = rotvec_from_matrix(R[far])
+    return w
+
+
+def _jacobian_error(terms, T, Q, L):
+    """``(J (m, 6, 6), e (m, 6))`` at ``Q (m, 6)`` for targets ``T (m or 1, 4, 4)``:
+    the base-frame geometric Jacobian with its linear rows divided by ``L`` and the
+    error ``[(p* - p) / L; log(R* R^T)]``."""
+    F = terms.frames(Q)
+    z = F[:, :6, :, 2]                                    # (m, 6, 3) axes
+    pe = F[:, 6, :, 3]
+    lin = cross(z, pe[:, None, :] - F[:, :6, :, 3]) / L
+    J = np.concatenate([lin, z], axis=-1).transpose(0, 2, 1)
+    ep = (T[:, :3, 3] - pe) / L
+    ew = _rotvec(T[:, :3, :3] @ np.swapaxes(F[:, 6, :, :3], -1, -2))
+    return J, np.concatenate([ep, ew], axis=-1)
+
+
 def _pose_error(T, Tc, L):
     ep = (T[:3, 3] - Tc[:, :3, 3]) / L
     ew = rotvec_from_matrix(T[:3, :3] @ np.swapaxes(Tc[:, :3, :3], -1, -2))
@@ -592,19 +711,22 @@ def _pose_error(T, Tc, L):
 def _polish(robot, T, Q, L, iters=_NEWTON_ITERS):
     """Damped Newton on ``fk(q) = T``; returns ``(q, residual)``.
 
-    A candidate stops when its residual is at rounding level (below 1e-13, or
-    below ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or
+    ``T`` is one pose ``(4, 4)`` or one per candidate ``(m, 4, 4)`` (the batched
+    solver). A candidate stops when its residual is at rounding level (below 1e-13,
+    or below ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or
     when it is still far after a few (``_GIVE_UP``: spurious candidates from
     complex eigenvalues; the few that would wander into a solution after many
     steps only find one that a good candidate already gave).
     """
-    chain = robot.chain
-    Q = np.array(Q, dtype=float)
+    terms = _chain_terms(robot)
+    Q = np.array(Q, dtype=float).reshape(-1, 6)
+    T = np.asarray(T, dtype=float).reshape(-1, 4, 4)
+    per_row = len(T) > 1 or len(Q) == 1
     res = np.full(len(Q), np.inf)
     idx = np.arange(len(Q))
+    eye = np.eye(6)
     for it in range(iters + 1):
-        J, Tc = _jacobian_and_pose(chain, Q[idx])
-        e = _pose_error(T, Tc, L)
+        J, e = _jacobian_error(terms, T[idx] if per_row else T, Q[idx], L)
         r = np.max(np.abs(e), axis=-1)
         prev = res[idx]
         res[idx] = r
@@ -613,11 +735,10 @@ def _polish(robot, T, Q, L, iters=_NEWTON_ITERS):
         if it == iters or not np.any(go):
             break
         idx, J, e = idx[go], J[go], e[go]
-        J[:, :3, :] /= L
         JT = np.swapaxes(J, -1, -2)
         H = JT @ J
         lam = 1e-14 * np.trace(H, axis1=-2, axis2=-1)[:, None, None] + 1e-300
-        dq = np.linalg.solve(H + lam * np.eye(6), (JT @ e[..., None]))[..., 0]
+        dq = np.linalg.solve(H + lam * eye, (JT @ e[..., None]))[..., 0]
         n = np.max(np.abs(dq), axis=-1, keepdims=True)
         dq = np.where(n > _STEP_MAX, dq * (_STEP_MAX / np.maximum(n, 1e-300)), dq)
         Q[idx] += dq
@@ -645,7 +766,7 @@ def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
     their residual is below 1e-6 (merged, wrapped), which shows the accuracy of the elimination
     itself.
     """
-    if robot.dof != 6 or not all(j.revolute for j in robot.joints):
+    if robot.dof != 6 or not all([j.revolute for j in robot.joints]):
         raise ValueError("solve_general_6r needs a robot with exactly 6 revolute joints, got "
                          + "".join("R" if j.revolute else "P" for j in robot.joints))
     T = np.asarray(T, dtype=float)
@@ -672,3 +793,227 @@ def solve_general_6r(robot, T, *, polish: bool = True) -> np.ndarray:
     Q, res = _polish(robot, T, cand, data.L)
     Q = _wrap(Q[res < ACCEPT_TOL])
     return _merge(Q)
+
+
+# --- many poses at once -------------------------------------------------------
+
+#: solution slots per pose of :func:`solve_general_6r_batch` (a general 6R has at most 16)
+BATCH_SLOTS = 16
+
+
+def _candidates_batch(model, T):
+    """Raw candidates of the standard form (pivot joint 3) for poses ``T (M, 4, 4)``.
+
+    The steps of :meth:`_Model.candidates`, vectorised over poses: returns ``(Q (M, 48, 6),
+    valid (M, 48), fallback (M,))``. Slots 0-23 hold the eigenvalues, slots 24-47 the second
+    vectors of two-eigenvalue clusters (:func:`_split_clusters_batch`). ``fallback`` marks
+    the poses the batch does not finish: a degenerate elimination (the single-pose solver
+    then tries other pivots) or a cluster of three or more eigenvalues.
+    """
+    M = len(T)
+    P, Qm, W = model._coefficients(T)
+    Qf, Rq = np.linalg.qr(Qm, mode="complete")
+    rd = np.abs(np.diagonal(Rq[:, :8, :8], axis1=-2, axis2=-1))
+    bad = rd.min(axis=-1) <= 1e-9 * np.maximum(rd.max(axis=-1), 1e-300)
+    Nt = np.swapaxes(Qf[:, :, 8:], -1, -2)                              # (M, 6, 14)
+    S = np.einsum("mij,mkjl->mkil", Nt, P)                              # (M, 3, 6, 9)
+    scale = np.sqrt(np.einsum("mkij,mkij->mi", S, S))
+    bad |= scale.min(axis=-1) <= 1e-12 * scale.max(axis=-1)
+    S = S / np.where(bad[:, None], 1.0, scale)[:, None, :, None]
+    # the shift delta per pose: the first with cond(A) < 1e4, else the best conditioned
+    mats = np.zeros((M, 3, 12, 12))
+    delta = np.zeros(M)
+    best = np.full(M, np.inf)
+    todo = np.flatnonzero(~bad)
+    for k, (dl, (cd, sd)) in enumerate(zip(_DELTAS, _COS_SIN_DELTAS)):
+        if len(todo) == 0:
+            break
+        Sx = S[todo]
+        Sc = Sx[:, 1] * cd + Sx[:, 2] * sd
+        Ss = Sx[:, 2] * cd - Sx[:, 1] * sd
+        coeffs = np.stack([Sx[:, 0] + Sc, 2.0 * Ss, Sx[:, 0] - Sc], axis=1) @ _H2
+        mk = np.zeros((len(todo), 3, 12, 12))
+        mk[:, :, :6, :9] = coeffs
+        mk[:, :, 6:, 3:] = coeffs
+        cond = np.linalg.cond(mk[:, 2])
+        take = (cond < best[todo]) | (k == 0)
+        rows = todo[take]
+        mats[rows], delta[rows], best[rows] = mk[take], dl, cond[take]
+        todo = todo[~(cond < 1e4)]
+    bad |= ~np.isfinite(best) | (best > 1e10)
+    Q = np.zeros((M, 48, 6))
+    valid = np.zeros((M, 48), bool)
+    g = np.flatnonzero(~bad)
+    if len(g) == 0:
+        return Q, valid, bad
+    Cm, Bm, Am = mats[g, 0], mats[g, 1], mats[g, 2]
+    AiB = np.linalg.solve(Am, np.concatenate([Cm, Bm], axis=2))
+    Comp = np.zeros((len(g), 24, 24))
+    Comp[:, :12, 12:] = np.eye(12)
+    Comp[:, 12:] = -AiB
+    y, vecs = np.linalg.eig(Comp)
+    with np.errstate(all="ignore"):
+        phi = 2.0 * np.arctan(y.astype(complex))
+    keep = np.isfinite(phi) & (np.abs(phi.imag) < IMAG_TOL)
+    big = np.abs(y) > 1.0
+    v = np.where(big[:, None, :], vecs[:, 12:], vecs[:, :12]).astype(complex)   # (G, 12, 24)
+    v[:, 0, :][~keep] = 1.0                       # harmless stand-ins for dropped slots
+    v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    v, phi, keep, more = _split_clusters_batch(v, phi, keep, (Cm, Bm, Am))
+    th3 = phi.real + delta[g, None]
+    idx = np.argmax(np.abs(v), axis=1)                                          # (G, 48)
+    piv = np.take_along_axis(v, idx[:, None, :], axis=1)
+    with np.errstate(all="ignore"):
+        vr = (v / piv).real
+    vr = np.swapaxes(vr, 1, 2).reshape(-1, 4, 3)
+    with np.errstate(all="ignore"):
+        th4 = _ratio_angle(vr, axis=1).reshape(len(g), 48)
+        th5 = _ratio_angle(vr, axis=2).reshape(len(g), 48)
+    th3, th4, th5 = (np.where(keep, t, 0.0) for t in (th3, th4, th5))
+    Q[g] = model._back_substitute(P[g], Qf[g], Rq[g], W[g], th3, th4, th5)
+    valid[g] = keep & np.all(np.isfinite(Q[g]), axis=-1)
+    bad[g] |= more
+    return Q, valid, bad
+
+
+def _split_clusters_batch(v, phi, keep, mats):
+    """:func:`_split_clusters` for clusters of two eigenvalues, vectorised over poses.
+
+    ``v (G, 12, 24)``, ``phi``, ``keep (G, 24)``; returns ``(v (G, 12, 48), phi (G, 48),
+    keep (G, 48), more (G,))``: a pair's own vectors stay in their slots (kept or not by
+    the same rule), its two subspace vectors go to slots 24 + (the pair's slots), and
+    ``more`` flags poses with a cluster of three or more (left to the single-pose path).
+    """
+    G = len(phi)
+    key = np.where(keep, phi.real, np.inf)
+    order = np.argsort(key, axis=1)
+    sk = np.take_along_axis(key, order, axis=1)
+    with np.errstate(invalid="ignore"):
+        close = np.diff(sk, axis=1) < CLUSTER_TOL                              # (G, 23)
+    run3 = np.any(close[:, :-1] & close[:, 1:], axis=1)
+    v2 = np.zeros((G, 12, 48), complex)
+    v2[:, :, :24] = v
+    v2[:, 0, 24:] = 1.0
+    phi2 = np.concatenate([phi, np.zeros((G, 24), complex)], axis=1)
+    keep2 = np.concatenate([keep, np.zeros((G, 24), bool)], axis=1)
+    pg, pj = np.nonzero(close & ~run3[:, None])
+    if len(pg) == 0:
+        return v2, phi2, keep2, run3
+    a, b = order[pg, pj], order[pg, pj + 1]
+    Cm, Bm, Am = (m[pg] for m in mats)
+    mean = (phi[pg, a].real + phi[pg, b].real) / 2.0
+    y = np.tan(mean / 2.0)
+    small = np.abs(y) <= 1.0
+    with np.errstate(all="ignore"):
+        w = np.where(small, 0.0, 1.0 / y)
+    yy, ww = np.where(small, y, 0.0)[:, None, None], w[:, None, None]
+    Sig = np.where(small[:, None, None], (Am * yy + Bm) * yy + Cm, Am + (Bm + Cm * ww) * ww)
+    Nsub = np.swapaxes(np.linalg.svd(Sig)[2][:, -2:, :], -1, -2)             # (p, 12, 2)
+    Mop = np.zeros((len(pg), 2, 2))
+    for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
+        lhs = Nsub[:, lo] + _TAU * Nsub[:, hi]
+        rhs = Nsub[:, hi] - _TAU * Nsub[:, lo]
+        Mop += wgt * (np.linalg.pinv(lhs, rcond=np.finfo(float).eps * len(lo)) @ rhs)
+    _, Cv = np.linalg.eig(Mop)
+    sub = Nsub @ Cv                                                            # (p, 12, 2)
+    both = np.stack([v[pg, :, a], v[pg, :, b], sub[:, :, 0], sub[:, :, 1]], axis=1)  # (p,4,12)
+    res = _structure_residual(both.reshape(-1, 12).T).reshape(-1, 4)
+    rank = np.argsort(np.argsort(res, axis=1, kind="stable"), axis=1, kind="stable")
+    kept = (res < 1e-3) | (rank < 2)
+    for col, slot in ((0, a), (1, b), (2, 24 + a), (3, 24 + b)):
+        v2[pg, :, slot] = both[:, col]
+        keep2[pg, slot] = kept[:, col]
+    phi2[pg, 24 + a] = mean
+    phi2[pg, 24 + b] = mean
+    return v2, phi2, keep2, run3
+
+
+def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
+    """All real IK solutions of a 6R robot for many poses at once, vectorised over poses.
+
+    Parameters
+    ----------
+    robot : Robot
+        Six revolute joints (any geometry; see :func:`solve_general_6r`).
+    T : array_like (N, 4, 4)
+        Tool poses ``T_world_tool`` (SI, world frame).
+
+    Returns
+    -------
+    Q : ndarray (N, BATCH_SLOTS, 6)
+        Joint values (rad, wrapped to (-pi, pi]); 0 in unused slots.
+    ok : ndarray (N, BATCH_SLOTS) bool
+        The valid slots: each reproduces its pose by FK to 1e-10 relative to
+        ``robot.characteristic_length`` (position) and 1e-10 rad, after Newton
+        polishing on ``robot.chain``; duplicates within MERGE_TOL are merged.
+        Valid slots come first. A non-finite pose gets no solution.
+
+    Method: the elimination of :func:`solve_general_6r` with pivot joint 3 (the
+    per-robot precomputed form) on all poses at once: batched QR, 12x12 pencils,
+    24x24 companion eigenproblems (``numpy.linalg.eig`` over ``(N, 24, 24)``),
+    back-substitution, the cluster treatment for pairs of close eigenvalues, and
+    damped Newton on all candidates of all poses together. The single-pose solver
+    is called (a loop over those poses only) where the batch does not finish: a
+    pose whose standard form degenerates, a cluster of three or more eigenvalues
+    (both rare for a generic robot), and every pose of a robot whose pivot
+    ranking does not put joint 3 first (nearly special robots: UR-, PUMA-like).
+
+    Raises ValueError if ``robot`` is not 6 revolute joints or ``T`` is not (N, 4, 4).
+    """
+    if robot.dof != 6 or not all([j.revolute for j in robot.joints]):
+        raise ValueError("solve_general_6r_batch needs a robot with exactly 6 revolute "
+                         "joints, got " + "".join("R" if j.revolute else "P"
+                                                  for j in robot.joints))
+    T = np.asarray(T, dtype=float)
+    if T.ndim != 3 or T.shape[1:] != (4, 4):
+        raise ValueError(f"T must be an (N, 4, 4) array of transforms, got shape {T.shape}")
+    N, K = len(T), BATCH_SLOTS
+    Q_out = np.zeros((N, K, 6))
+    ok = np.zeros((N, K), bool)
+    finite = np.all(np.isfinite(T), axis=(1, 2))
+    data = _robot_data(robot)
+    rows = np.flatnonzero(finite)
+    fallback = np.zeros(N, bool)
+    if data.shifts[0] != 0:
+        fallback[rows] = True
+        rows = rows[:0]
+    if len(rows):
+        cand, valid, bad = _candidates_batch(data.model, T[rows])
+        fallback[rows[bad]] = True
+        valid &= ~bad[:, None]
+        pose, slot = np.nonzero(valid)
+        Qp, res = _polish(robot, T[rows][pose], cand[pose, slot], data.L)
+        acc = res < ACCEPT_TOL
+        Qa = np.zeros_like(cand)
+        Qa[pose[acc], slot[acc]] = _wrap(Qp[acc])
+        good = np.zeros(valid.shape, bool)
+        good[pose[acc], slot[acc]] = True
+        Qa, good = _compact(Qa, good, None)
+        if good.shape[1] > 1:
+            D = np.max(np.abs(_wrap(Qa[:, :, None, :] - Qa[:, None, :, :])), axis=-1)
+            dup = np.any(np.tril((D < MERGE_TOL) & good[:, None, :], k=-1), axis=2)
+            good &= ~dup
+        Qa, good = _compact(Qa, good, K)
+        Q_out[rows, :good.shape[1]] = Qa
+        ok[rows, :good.shape[1]] = good
+    for n in np.flatnonzero(fallback):
+        try:
+            sols = solve_general_6r(robot, T[n])[:K]
+        except ValueError:
+            continue
+        Q_out[n, :len(sols)] = sols
+        ok[n, :len(sols)] = True
+    return Q_out, ok
+
+
+def _compact(Q, ok, width):
+    """Valid slots first (stable), cut to the most any row uses (or ``width`` columns)."""
+    order = np.argsort(~ok, axis=1, kind="stable")
+    ok = np.take_along_axis(ok, order, axis=1)
+    Q = np.take_along_axis(Q, order[..., None], axis=1)
+    w = int(ok.sum(axis=1).max(initial=0)) if width is None else width
+    if Q.shape[1] < w:
+        pad = w - Q.shape[1]
+        Q = np.concatenate([Q, np.zeros((len(Q), pad, 6))], axis=1)
+        ok = np.concatenate([ok, np.zeros((len(ok), pad), bool)], axis=1)
+    return Q[:, :w], ok[:, :w]

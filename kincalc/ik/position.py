@@ -35,6 +35,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..spatial import cross
+from ..spatial import matrix_from_unit_axis_angle as _rot
+from ..subproblems._small import cross3, norm3
 
 from ..subproblems import sp1
 from .screws import Screws, wrap
@@ -352,21 +354,21 @@ def point_of(S: Screws, joints, x, p0):
 
 def _polish(S: Screws, joints, p0, pt, x, frozen=(), iters: int = 30):
     """Gauss-Newton on the point equations; None if it does not converge onto pt."""
-    scale = S.scale + np.linalg.norm(pt)
+    scale = S.scale + norm3(pt)
     x = x.copy()
     active = [k for k in range(len(joints)) if k not in frozen]
     for _ in range(iters):
         p, J = _point_jacobian(S, joints, x, p0)
         err = pt - p
-        if np.linalg.norm(err) < 1e-14 * scale:
+        if norm3(err) < 1e-14 * scale:
             break
         Ja = J[:, active]
         step, *_ = np.linalg.lstsq(Ja, err, rcond=None)
         x[active] += step
-        if np.linalg.norm(step) < 1e-16 * max(scale, 1):
+        if norm3(step) < 1e-16 * max(scale, 1):
             break
     p = point_of(S, joints, x, p0)
-    if not np.all(np.isfinite(x)) or np.linalg.norm(p - pt) > 1e-9 * scale:
+    if not np.all(np.isfinite(x)) or norm3(p - pt) > 1e-9 * scale:
         return None
     for k, j in enumerate(joints):
         if S.revolute[j]:
@@ -376,17 +378,25 @@ def _polish(S: Screws, joints, p0, pt, x, frozen=(), iters: int = 30):
 
 def _point_jacobian(S: Screws, joints, x, p0):
     """Point position and its 3 x m Jacobian w.r.t. the joints' values."""
-    # world poses of each joint's line after the preceding joints' motion
-    T = np.eye(4)
+    # world poses of each joint's line after the preceding joints' motion, as a
+    # rotation R and translation t (T = [R t]) built up joint by joint
+    R = np.eye(3)
+    t = np.zeros(3)
     axes, pts = [], []
     for j, xj in zip(joints, x):
-        axes.append(T[:3, :3] @ S.axis[j])
-        pts.append(T[:3, :3] @ S.point[j] + T[:3, 3])
-        T = T @ S.exp(j, xj)
-    p = T[:3, :3] @ p0 + T[:3, 3]
+        w, o = S.axis[j], S.point[j]
+        axes.append(R @ w)
+        pts.append(R @ o + t)
+        if S.revolute[j]:
+            Rj = _rot(w, xj)
+            t = t + R @ (o - Rj @ o)
+            R = R @ Rj
+        else:
+            t = t + R @ (w * xj)
+    p = R @ p0 + t
     J = np.empty((3, len(joints)))
     for k, j in enumerate(joints):
-        J[:, k] = cross(axes[k], p - pts[k]) if S.revolute[j] else axes[k]
+        J[:, k] = cross3(axes[k], p - pts[k]) if S.revolute[j] else axes[k]
     return p, J
 
 

@@ -23,13 +23,14 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
 from ..spatial import cross
 
 from ..errors import KincalcError, UsageError
-from ..spatial import invert_transform, rotation_error
+from ..spatial import invert_transform, rotation_angle, rotation_error
 from .families import SOLVERS, plan
 from .position import DEAD_ENDS
 from .screws import Screws, wrap
@@ -217,35 +218,42 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
 
     scale = max(robot.characteristic_length, 1e-12)
     accepted, rejected = [], []
-    # FK, frames and residuals of every candidate at once (the per-candidate work is
-    # what a pose costs; the vectorised core does it in one pass)
-    from ..fk import chain_frames
-    Q = np.array([_normalise(robot, c.q) for c in cands]).reshape(len(cands), robot.dof)
-    Tq = robot.fk(Q)
-    frames = chain_frames(robot.chain, Q)
+    # FK, frames, Jacobians, labels and residuals of every candidate at once (the
+    # per-candidate work is what a pose costs; the vectorised core does it in one pass)
+    C = _constants(robot)
+    Q = _normalise_rows(robot, np.array([np.asarray(c.q, float) for c in cands]
+                                        ).reshape(len(cands), robot.dof), C)
+    frames, Tq = _frames_and_pose(robot, Q, C)
     PE = np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)
-    OE = rotation_error(Tq[:, :3, :3], T[:3, :3]) if target.orientation else None
+    OE = rotation_angle(np.swapaxes(T[:3, :3], -1, -2) @ Tq[:, :3, :3]) \
+        if target.orientation else None
     if target.approach is not None:
         z = Tq[:, :3, 2]
         OE = np.arctan2(np.linalg.norm(cross(z, target.approach), axis=-1), z @ target.approach)
     o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
+    ok_all = PE <= ACCEPT_POSITION * scale
+    if OE is not None:
+        ok_all &= OE <= o_tol
+    branches = _branch_labels(robot, family.name, cands, frames, C)
+    PE_l = PE.tolist()
+    OE_l = [None] * len(cands) if OE is None else OE.tolist()
     for k, c in enumerate(cands):
-        q, pe = Q[k], float(PE[k])
-        oe = None if OE is None else float(OE[k])
-        ok = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= o_tol)
-        branch = branch_label(robot, S, family.name, q, c, frames[k])
-        if not ok:
+        q, pe, oe, branch = Q[k], PE_l[k], OE_l[k], branches[k]
+        if not ok_all[k]:
             rejected.append({"q": q, "branch": branch, "position_error": pe,
                              "orientation_error": oe,
                              "reason": _miss_reason(pe, oe, units)})
             continue
-        accepted.append((q, c, branch, pe, oe))
-    accepted = _dedupe(robot, accepted)
-    singular = _singular_mask(robot, np.array([a[0] for a in accepted]).reshape(-1, robot.dof))
+        accepted.append((k, q, c, branch, pe, oe))
+    keep = _dedupe_rows(robot, Q[[a[0] for a in accepted]].reshape(-1, robot.dof), C)
+    accepted = [accepted[i] for i in keep]
+    rows = [a[0] for a in accepted]
+    singular = _singular_mask(robot, Q[rows].reshape(-1, robot.dof),
+                              J=_jacobian_from_frames(frames[rows], Tq[rows], C), c=C)
 
     sols = []
-    for (q, c, branch, pe, oe), sing in zip(accepted, singular):
-        viol = _violations(robot, q)
+    violations = _violations_rows(Q[rows].reshape(-1, robot.dof), C)
+    for (_, q, c, branch, pe, oe), sing, viol in zip(accepted, singular.tolist(), violations):
         desc = _singularity(robot, q)[1] if sing else None
         if c.free:
             sing = True
@@ -447,11 +455,24 @@ def _solve_tcv(robot, S, target, units) -> IKResult:
                     reachable=reachable, reason=reason, units=units)
 
 
-def _violations(robot, q) -> list:
-    """``(joint index, amount beyond the limit, 'lower'|'upper')`` for each violated limit."""
-    lo, hi = robot.limits.T
-    return sorted([(i, float(lo[i] - q[i]), "lower") for i in range(robot.dof) if q[i] < lo[i] - 1e-12] +
-                  [(i, float(q[i] - hi[i]), "upper") for i in range(robot.dof) if q[i] > hi[i] + 1e-12])
+def _violations(robot, q, c=None) -> list:
+    """``(joint index, amount beyond the limit, 'lower'|'upper')`` for each violated limit.
+    ``c``: the robot's :func:`_constants` when already at hand."""
+    c = c or _constants(robot)
+    q = np.asarray(q, float).tolist()
+    return sorted([(i, lo - x, "lower") for i, (x, lo) in enumerate(zip(q, c.lo_list))
+                   if x < lo - 1e-12] +
+                  [(i, x - hi, "upper") for i, (x, hi) in enumerate(zip(q, c.hi_list))
+                   if x > hi + 1e-12])
+
+
+def _violations_rows(Q, c) -> list:
+    """:func:`_violations` of each row of ``Q (k, n)``: the limits compared for all rows
+    at once, the lists built only for rows that violate one."""
+    low = Q < c.lo - 1e-12
+    high = Q > c.hi + 1e-12
+    bad = (low | high).any(axis=1)
+    return [_violations(None, q, c) if b else [] for q, b in zip(Q, bad.tolist())]
 
 
 def _count_text(sols) -> str:
@@ -459,48 +480,149 @@ def _count_text(sols) -> str:
     return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
 
 
+@dataclass(frozen=True)
+class _Constants:
+    """Per-robot facts the post-processing of every pose needs (built once per robot)."""
+
+    revolute: np.ndarray      # (n,) bool
+    lo: np.ndarray            # (n,) lower limits, rad / m (-inf when unlimited)
+    hi: np.ndarray
+    lo_list: list             # the same as Python floats
+    hi_list: list
+    fixed: np.ndarray         # (n + 1, 4, 4) the chain's fixed transforms
+    offset: np.ndarray        # (n,) the chain's joint offsets
+
+
+@lru_cache(maxsize=64)
+def _constants_cached(robot) -> _Constants:
+    return _make_constants(robot)
+
+
+def _make_constants(robot) -> _Constants:
+    lo, hi = robot.limits.T
+    ch = robot.chain
+    arrays = [robot.is_revolute, lo.copy(), hi.copy(), np.array(ch.fixed, float),
+              np.array(ch.offset, float)]
+    for a in arrays:
+        a.setflags(write=False)            # shared by every call for this robot
+    rev, lo, hi, fixed, offset = arrays
+    return _Constants(rev, lo, hi, lo.tolist(), hi.tolist(), fixed, offset)
+
+
+def _constants(robot) -> _Constants:
+    try:
+        return _constants_cached(robot)
+    except TypeError:                      # unhashable robot-like object
+        return _make_constants(robot)
+
+
 def _normalise(robot, q):
     """Revolute joints into (-pi, pi], or shifted by 2 pi into their limits."""
-    q = np.array(q, float)
-    lo, hi = robot.limits.T
-    for i, j in enumerate(robot.joints):
-        if not j.revolute:
-            continue
-        x = float(wrap(q[i]))
-        if not (lo[i] - 1e-12 <= x <= hi[i] + 1e-12):
-            for shift in (2 * np.pi, -2 * np.pi, 4 * np.pi, -4 * np.pi):
-                if lo[i] - 1e-12 <= x + shift <= hi[i] + 1e-12:
-                    x += shift
-                    break
-        q[i] = x
-    return q
+    return _normalise_rows(robot, np.asarray(q, float)[None])[0]
 
 
-def _dedupe(robot, items):
-    out = []
-    for it in items:
-        if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(it[0] - o[0]), it[0] - o[0]))
-                          < 1e-6) for o in out):
-            out.append(it)
-    return out
+def _normalise_rows(robot, Q, c=None):
+    """:func:`_normalise` of each row of ``Q (k, n)`` (a new array)."""
+    c = c or _constants(robot)
+    Q = np.array(Q, float)
+    rev = c.revolute
+    if not rev.any() or len(Q) == 0:
+        return Q
+    x = wrap(Q[:, rev])
+    lo, hi = c.lo[rev] - 1e-12, c.hi[rev] + 1e-12
+    done = (lo <= x) & (x <= hi)
+    if not done.all():
+        for shift in (2 * np.pi, -2 * np.pi, 4 * np.pi, -4 * np.pi):
+            y = x + shift
+            fit = ~done & (lo <= y) & (y <= hi)
+            x = np.where(fit, y, x)
+            done |= fit
+    Q[:, rev] = x
+    return Q
 
 
-def _singular_mask(robot, Q) -> np.ndarray:
+def _dedupe_rows(robot, Q, c=None) -> list:
+    """Indices of the rows of ``Q (k, n)`` to keep, in order: each row unless it is
+    within 1e-6 (wrapped for revolute joints) of an earlier kept one."""
+    if len(Q) < 2:
+        return list(range(len(Q)))
+    rev = (c or _constants(robot)).revolute
+    D = Q[:, None, :] - Q[None, :, :]
+    close = np.all(np.abs(np.where(rev, wrap(D), D)) < 1e-6, axis=-1).tolist()
+    kept = []
+    for i, row in enumerate(close):
+        if not any(row[j] for j in kept):
+            kept.append(i)
+    return kept
+
+
+def _frames_and_pose(robot, Q, c=None):
+    """``(frames (k, n, 4, 4), tool poses (k, 4, 4))`` of ``Q (k, n)``: the frames of
+    :func:`kincalc.fk.chain_frames` (just after each joint's motion) and the pose of
+    :func:`kincalc.fk.forward_kinematics`, in one pass of stacked 4x4 products (equal to
+    theirs to rounding)."""
+    c = c or _constants(robot)
+    k, n = Q.shape
+    x = Q + c.offset
+    rev = c.revolute
+    cs = np.where(rev, np.cos(x), 1.0)[..., None, None]
+    sn = np.where(rev, np.sin(x), 0.0)[..., None, None]
+    tz = np.where(rev, 0.0, x)[..., None, None]
+    Jm = cs * _EC + sn * _ES + tz * _ET + _E0            # (k, n, 4, 4) joint motions
+    frames = np.empty((k, n, 4, 4))
+    before = np.broadcast_to(c.fixed[0], (k, 4, 4))
+    for i in range(n):
+        np.matmul(before, Jm[:, i], out=frames[:, i])
+        before = frames[:, i] @ c.fixed[i + 1]
+    return frames, np.array(before) if n else np.broadcast_to(c.fixed[0], (k, 4, 4)).copy()
+
+
+# J_i(x) = cos x EC + sin x ES + x ET + E0: Rz(x) for a revolute joint (cos, sin of the
+# angle, no slide), Tz(x) for a prismatic one (cos 1, sin 0)
+_EC = np.diag([1.0, 1.0, 0.0, 0.0])
+_ES = np.array([[0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0] * 4, [0.0] * 4])
+_ET = np.zeros((4, 4))
+_ET[2, 3] = 1.0
+_E0 = np.diag([0.0, 0.0, 1.0, 1.0])
+
+
+def _jacobian_from_frames(frames, Tq, c) -> np.ndarray:
+    """The base-frame geometric Jacobian ``(k, 6, n)`` from joint frames and tool poses
+    (the columns of :func:`kincalc.jacobian.jacobian_base`)."""
+    rev = c.revolute
+    k, n = frames.shape[:2]
+    J = np.zeros((k, 6, n))
+    z = frames[:, :, :3, 2]
+    lin = cross(z, Tq[:, None, :3, 3] - frames[:, :, :3, 3])
+    J[:, :3, :] = np.where(rev[:, None], lin, z).transpose(0, 2, 1)
+    J[:, 3:, :] = np.where(rev[:, None], z, 0.0).transpose(0, 2, 1)
+    return J
+
+
+def _singular_mask(robot, Q, J=None, c=None) -> np.ndarray:
     """``(k,)`` bool: is each configuration singular (rank below the generic rank of J
-    or of its linear rows, on the length-normalised Jacobian, as jacobian_report)?"""
+    or of its linear rows, on the length-normalised Jacobian, as jacobian_report)?
+    ``J`` (k, 6, n): the base-frame Jacobians at ``Q`` when already known."""
     from ..tolerances import SINGULAR_TOL
     if len(Q) == 0:
         return np.zeros(0, bool)
-    J = robot.jacobian(Q)
+    J = robot.jacobian(Q) if J is None else J.copy()
     L = robot.characteristic_length
     J[:, :3, :] /= L
-    J[:, :, ~robot.is_revolute] *= L
+    J[:, :, ~(c or _constants(robot)).revolute] *= L
     full, full_pos = robot.generic_ranks
 
     def rank(M):
         sv = np.linalg.svd(M, compute_uv=False)
         return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
-    return (rank(J) < full) | (rank(J[:, :3, :]) < full_pos)
+    rJ = rank(J)
+    out = rJ < full
+    # rank 6 of J (6 x 6) gives rank 3 of its first three rows: their smallest singular
+    # value is at least J's (interlacing) and their threshold at most J's
+    rest = ~((rJ == 6) & (J.shape[1:] == (6, 6)) & (full_pos == 3))
+    if rest.any():
+        out[rest] |= rank(J[rest, :3, :]) < full_pos
+    return out
 
 
 def _singularity(robot, q):
@@ -609,46 +731,79 @@ def branch_label(robot, S: Screws, family: str, q, cand, F=None) -> str:
     """Geometric branch label of solution ``q`` (see module docstring); ``F`` are its
     joint frames (``chain_frames``) when already computed."""
     from ..fk import chain_frames
-    from ..structure import common_point
     if F is None:
-        F = chain_frames(robot.chain, q)
-    z = F[:, :3, 2]
-    o = F[:, :3, 3]
-    rev = robot.is_revolute
-    parts, named = [], set()
+        F = chain_frames(robot.chain, np.asarray(q, float))
+    return _branch_labels(robot, family, [cand], np.asarray(F)[None])[0]
+
+
+def _branch_labels(robot, family: str, cands, F, c=None) -> list:
+    """:func:`branch_label` of every candidate at once; ``F (k, n, 4, 4)`` their joint
+    frames. The geometry (wrist centre, shoulder side, elbow, wrist flip) is computed
+    for all candidates in one pass; only the words are put together per candidate."""
+    k = len(cands)
+    if k == 0:
+        return []
+    z = F[:, :, :3, 2]
+    o = F[:, :, :3, 3]
+    rev = (c or _constants(robot)).revolute
+    words = [[] for _ in range(k)]
+    named = [set() for _ in range(k)]
+    has_p = np.zeros(k, bool)
     P = None
-    if family == "spherical-wrist":
-        P = common_point(o[3:], z[3:], np.inf)
-    elif family == "three-parallel":
-        P = common_point(o[4:], z[4:], np.inf)
-    if P is not None and rev[0] and np.linalg.norm(cross(z[0], z[1])) > 1e-6:
-        side = float((P - o[0]) @ cross(z[0], z[1]))
-        parts.append("shoulder right" if side >= 0 else "shoulder left")
-        named.add(0)
-    if P is not None and robot.dof >= 3 and rev[1] and rev[2] and \
-            np.linalg.norm(cross(z[1], z[2])) < 1e-6:
-        s = o[1]
-        e = o[2]
-        target = P if family == "spherical-wrist" else o[3]
-        h = z[1]
-        line = target - s
-        line -= h * (h @ line)
-        v = e - s
-        v -= h * (h @ v)
-        perp = v - line * (v @ line) / max(line @ line, 1e-300)
-        up = float(perp @ z[0])
-        if abs(up) < 1e-9 * robot.characteristic_length:
-            up = float(cross(e - s, target - e) @ h)
-        parts.append("elbow up" if up >= 0 else "elbow down")
-        named.add(2 if family == "spherical-wrist" else 1)
-        named.add(1 if family == "spherical-wrist" else 2)
-    if family in ("spherical-wrist", "three-parallel"):
-        w = float(cross(z[3], z[5]) @ z[4])
-        parts.append("wrist no-flip" if w >= 0 else "wrist flip")
-        named.add(4)
-    for i in sorted(cand.signs):
-        if i not in named:
-            parts.append(f"{robot.joints[i].name}:{cand.signs[i]}")
-    if cand.free:
-        parts.append("(" + ", ".join(robot.joints[i].name for i in cand.free) + " free)")
-    return " ".join(parts) if parts else "unique"
+    first = 3 if family == "spherical-wrist" else 4 if family == "three-parallel" else None
+    if first is not None:
+        # where the last axes meet (kincalc.structure.common_point with an infinite
+        # tolerance, for all candidates): least squares over the lines
+        A = np.zeros((k, 3, 3))
+        b = np.zeros((k, 3))
+        for j in range(first, robot.dof):
+            d = z[:, j]
+            Pj = np.eye(3) - d[:, :, None] * d[:, None, :]
+            A += Pj
+            b += (Pj @ o[:, j, :, None])[..., 0]
+        has_p = np.linalg.svd(A, compute_uv=False)[:, -1] >= 1e-6
+        P = np.zeros((k, 3))
+        if has_p.any():
+            P[has_p] = np.linalg.solve(A[has_p], b[has_p, :, None])[..., 0]
+    if P is not None and rev[0]:
+        n01 = cross(z[:, 0], z[:, 1])
+        side = np.einsum("ij,ij->i", P - o[:, 0], n01)
+        shoulder = has_p & (np.linalg.norm(n01, axis=-1) > 1e-6)
+        for i in np.flatnonzero(shoulder).tolist():
+            words[i].append("shoulder right" if side[i] >= 0 else "shoulder left")
+            named[i].add(0)
+    if P is not None and robot.dof >= 3 and rev[1] and rev[2]:
+        elbow = has_p & (np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6)
+        if elbow.any():
+            s_, e = o[:, 1], o[:, 2]
+            tgt = P if family == "spherical-wrist" else o[:, 3]
+            h = z[:, 1]
+            line = tgt - s_
+            line = line - h * np.einsum("ij,ij->i", h, line)[:, None]
+            v = e - s_
+            v = v - h * np.einsum("ij,ij->i", h, v)[:, None]
+            ll = np.maximum(np.einsum("ij,ij->i", line, line), 1e-300)
+            perp = v - line * (np.einsum("ij,ij->i", v, line) / ll)[:, None]
+            up = np.einsum("ij,ij->i", perp, z[:, 0])
+            alt = np.einsum("ij,ij->i", cross(e - s_, tgt - e), h)
+            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
+            pair = (2, 1) if family == "spherical-wrist" else (1, 2)
+            for i in np.flatnonzero(elbow).tolist():
+                words[i].append("elbow up" if up[i] >= 0 else "elbow down")
+                named[i].update(pair)
+    if first is not None:
+        w = np.einsum("ij,ij->i", cross(z[:, 3], z[:, 5]), z[:, 4])
+        for i in range(k):
+            words[i].append("wrist no-flip" if w[i] >= 0 else "wrist flip")
+            named[i].add(4)
+    names = [j.name for j in robot.joints]
+    out = []
+    for i, cand in enumerate(cands):
+        parts = words[i]
+        for j in sorted(cand.signs):
+            if j not in named[i]:
+                parts.append(f"{names[j]}:{cand.signs[j]}")
+        if cand.free:
+            parts.append("(" + ", ".join(names[j] for j in cand.free) + " free)")
+        out.append(" ".join(parts) if parts else "unique")
+    return out

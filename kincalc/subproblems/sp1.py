@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross
+from ._small import cross3, norm3
 
 
 def sp1(p1, p2, k, tol: float = 1e-9):
@@ -27,13 +27,13 @@ def sp1(p1, p2, k, tol: float = 1e-9):
         Relative tolerance for "same height and radius" and "on the axis".
     """
     p1, p2, k = (np.asarray(v, dtype=float) for v in (p1, p2, k))
-    kxp = cross(k, p1)
+    kxp = cross3(k, p1)
     # p1 projected on the plane of rotation, in the basis (-k x (k x p1), k x p1)
-    a = cross(kxp, k)          # = p1 - (k.p1) k
+    a = cross3(kxp, k)         # = p1 - (k.p1) k
     x = a @ p2
     y = kxp @ p2
-    scale = max(np.linalg.norm(p1), np.linalg.norm(p2), 1e-300)
-    r1, r2 = np.linalg.norm(a), np.linalg.norm(p2 - k * (k @ p2))
+    scale = max(norm3(p1), norm3(p2), 1e-300)
+    r1, r2 = norm3(a), norm3(p2 - k * (k @ p2))
     if r1 < tol * scale or r2 < tol * scale:
         return 0.0, bool(abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale), True
     theta = float(np.arctan2(y, x))

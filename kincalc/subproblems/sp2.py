@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import matrix_from_axis_angle as _rot
+from ..spatial import matrix_from_unit_axis_angle as _rot
 from .sp1 import sp1
 from .sp4 import sp4
 

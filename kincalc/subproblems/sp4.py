@@ -13,18 +13,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross
+from ._small import cross3, norm3
 
 
 def sp4(h, p, k, d, tol: float = 1e-12):
     """Return ``(thetas, exact, free)``; ``thetas`` a list of 0, 1 or 2 angles (rad)."""
     h, p, k = (np.asarray(v, dtype=float) for v in (h, p, k))
-    kxp = cross(k, p)
-    A = -(h @ cross(k, kxp))   # h . (p - (k.p)k)
+    kxp = cross3(k, p)
+    A = -(h @ cross3(k, kxp))  # h . (p - (k.p)k)
     B = h @ kxp
     C = (h @ k) * (k @ p)
     r = np.hypot(A, B)
-    scale = max(np.linalg.norm(h) * np.linalg.norm(p), abs(d), 1e-300)
+    scale = max(norm3(h) * norm3(p), abs(d), 1e-300)
     if r < tol * scale:
         return [0.0], bool(abs(C - d) < 1e-9 * scale), True
     base = np.arctan2(B, A)
