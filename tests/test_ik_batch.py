@@ -49,9 +49,43 @@ def test_batch_unreachable_poses_have_no_solutions():
     assert solve_batch(r, T).counts.tolist() == [0] * 5
 
 
-def test_batch_refuses_families_without_a_closed_form():
+@pytest.mark.parametrize("name", ["bk_offset_wrist", "adept_cobra600", "iiwa14"])
+def test_batch_refuses_families_without_a_batched_solver(name):
     with pytest.raises(UnsupportedRobot):
-        solve_batch(load_robot("manocha_canny_6r"), np.eye(4)[None])
+        solve_batch(load_robot(name), np.eye(4)[None])
+
+
+def test_general_6r_batch_equals_robot_ik_with_its_labels():
+    """A general 6R (no closed form) through ik_batch: the same solutions as robot.ik
+    and, through branch_labels, the same 'q3:root k' labels, on the textbook robot and
+    random 6R robots (the generating configuration is always among them)."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from randrobots import random_robot
+
+    from kincalc.ik.batch import branch_labels
+    rng = np.random.default_rng(21)
+    robots = [load_robot("manocha_canny_6r")] + [
+        random_robot(rng, types=["revolute"] * 6) for _ in range(2)]
+    for r in robots:
+        Q = rng.uniform(-np.pi, np.pi, (60, 6))
+        T = r.fk(Q)
+        B = solve_batch(r, T, chunk=25)
+        assert B.family == "general-6r" and B.q.shape == (60, 16, 6)
+        rows, slots = np.nonzero(B.valid)
+        labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
+        for i in range(60):
+            sols = B.q[i][B.valid[i]]
+            assert np.abs(wrap(sols - Q[i])).max(-1).min() < 1e-6
+            assert np.allclose(r.fk(sols), T[i], atol=1e-9 * r.characteristic_length)
+            if i % 6:
+                continue
+            ref = {s.branch: np.asarray(s.q) for s in r.ik(T[i]).solutions}
+            mine = dict(zip((labels[k] for k in np.flatnonzero(rows == i)), sols))
+            assert mine.keys() == ref.keys(), (r.name, i)
+            for key, q in mine.items():
+                assert np.abs(wrap(ref[key] - q)).max() < 1e-7, (r.name, i, key)
 
 
 def _dh_robot(rng, alphas, a, d):

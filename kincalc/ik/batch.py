@@ -14,7 +14,10 @@ Supported (the closed-form families; others raise
   meet or are parallel: PUMA, KUKA, ABB, Fanuc, Stanford, the textbook arms);
 * ``three-parallel`` (UR family);
 * the reversed chains of both (``reversed-spherical-wrist``,
-  ``reversed-three-parallel``).
+  ``reversed-three-parallel``);
+* ``general-6r`` (any six revolute joints): the algebraic elimination of
+  :func:`kincalc.ik.general6r.solve_general_6r_batch`, vectorised over poses
+  (``K = 16`` slots, each pose's solutions ordered by joint 3 then joint 1).
 
 The formulas are those of :mod:`kincalc.ik.families` and
 :mod:`kincalc.ik.position`; a solution is valid when its FK reproduces the
@@ -657,6 +660,8 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:
     if T.shape[1:] != (4, 4):
         raise ValueError(f"expected poses of shape (N, 4, 4), got {T.shape}")
     S, family, why = plan(robot)
+    if family is not None and family.name == "general-6r":
+        return _general_6r(robot, T, chunk)
     if family is None or family.solver not in SOLVERS:
         raise UnsupportedRobot(f"{robot.name}: batched IK supports the "
                                f"{' and '.join(SOLVERS)} families (and their reversed "
@@ -678,6 +683,24 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:
     return BatchIK(q=q, valid=valid, family=family.name)
 
 
+def _general_6r(robot, T, chunk: int) -> BatchIK:
+    """:func:`~kincalc.ik.general6r.solve_general_6r_batch` in chunks, each pose's
+    solutions ordered as :func:`kincalc.ik.solve` orders them (by joint 3, then joint 1:
+    the order of its ``root k`` labels)."""
+    from .general6r import BATCH_SLOTS, solve_general_6r_batch
+    N = len(T)
+    q = np.zeros((N, BATCH_SLOTS, 6))
+    valid = np.zeros((N, BATCH_SLOTS), bool)
+    for start in range(0, N, chunk):
+        qc, okc = solve_general_6r_batch(robot, T[start:start + chunk])
+        # invalid slots last, valid ones by (q3, q1)
+        key = np.where(okc, qc[..., 2], np.inf), np.where(okc, qc[..., 0], np.inf)
+        order = np.lexsort((key[1], key[0]), axis=-1)
+        q[start:start + len(qc)] = np.take_along_axis(qc, order[..., None], axis=1)
+        valid[start:start + len(qc)] = np.take_along_axis(okc, order, axis=1)
+    return BatchIK(q=q, valid=valid, family="general-6r")
+
+
 def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     """Branch labels of solutions ``q (s, n)`` (SI) of a batched family, all at once.
 
@@ -695,6 +718,15 @@ def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     if s == 0:
         return []
     first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
+    if family == "general-6r":
+        # robot.ik's words: the roots of joint 3 in order, when there is more than one
+        # (the batch orders each pose's solutions so, see _general_6r)
+        slots = np.asarray(slots)
+        more = np.ones(s, bool) if poses is None else \
+            np.bincount(np.asarray(poses))[np.asarray(poses)] > 1
+        name = robot.joints[2].name
+        return [f"{name}:root {int(k) + 1}" if m else "unique"
+                for k, m in zip(slots.tolist(), more.tolist())]
     if first is None:
         return [f"branch {int(k)}" for k in slots]
     F = chain_frames(robot.chain, q)
