@@ -2,6 +2,8 @@
 
     python benchmarks/startup.py [--repeat 21]
 
+Run it with the interpreter of a normal (non-editable) install: ``pip install .``
+writes kincalc's bytecode, an editable install may not (a warning is printed).
 Prints the median wall time of each command over interleaved repetitions and
 the ratios kincalc/reference (targets: fk --json <= 1.3 x the dependency
 import; --help and --version <= 1.5 x `import typer`).
@@ -30,10 +32,27 @@ RATIOS = [("ik", "deps", 1.3), ("fk", "deps", 1.3), ("jacobian", "deps", 1.3), (
           ("version", "typer", 1.5)]
 
 
+def _bytecode_warning() -> str | None:
+    """Start-up is only meaningful with kincalc's bytecode cached (a normal ``pip install``
+    writes it; an editable install under PYTHONDONTWRITEBYTECODE compiles every module on
+    every run, about 40 ms here)."""
+    import importlib.util
+    from pathlib import Path
+    spec = importlib.util.find_spec("kincalc")
+    cache = Path(spec.origin).parent / "__pycache__" if spec and spec.origin else None
+    if cache is None or not any(cache.glob("*.pyc")):
+        return (f"warning: no bytecode cache in {cache}: every run recompiles kincalc "
+                "(editable install with PYTHONDONTWRITEBYTECODE?); measure a `pip install .`")
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=21)
     args = ap.parse_args()
+    warning = _bytecode_warning()
+    if warning:
+        print(warning, file=sys.stderr)
     times = {k: [] for k in CASES}
     for _ in range(args.repeat):          # interleaved, so drift hits every case alike
         for name, cmd in CASES.items():

@@ -185,6 +185,42 @@ def test_cli_import_is_light():
     assert out.stdout.strip() == "[]", out.stdout
 
 
+def test_help_and_version_import_no_command_module():
+    """The commands are built on first use: --help and --version import none of them,
+    and a command imports its own module only."""
+    code = ("import sys; from kincalc.cli.main import main; "
+            "import contextlib, io\n"
+            "for args in (['--help'], ['--version'], ['compare', '--help']):\n"
+            "    with contextlib.redirect_stdout(io.StringIO()): main(args)\n"
+            "    print(sorted(m.split('.')[-1] for m in sys.modules\n"
+            "                 if m.startswith('kincalc.cli.') and m not in\n"
+            "                 ('kincalc.cli.main', 'kincalc.cli.common')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    assert out[:3] == ["[]", "[]", "['compare']"], out
+
+
+def test_command_table_short_help_is_each_commands_own():
+    """kincalc --help lists COMMANDS' short help without importing the commands; each
+    must be the first paragraph of the command's docstring (what click would show)."""
+    import importlib
+    import inspect
+
+    import typer
+
+    from kincalc.cli.main import COMMANDS
+    for name, (module, attr, _, text) in COMMANDS.items():
+        target = getattr(importlib.import_module(f"kincalc.cli.{module}"), attr)
+        doc = target.info.help if isinstance(target, typer.Typer) else inspect.getdoc(target)
+        assert " ".join(text.split()) == " ".join(doc.split("\n\n")[0].split()), name
+
+
+def test_unknown_command_points_to_the_main_help(capsys):
+    code, _, err = run(capsys, "ik2", "puma560")
+    assert code == 2 and err.strip() == ("kincalc: error: No such command 'ik2'. "
+                                         "Did you mean 'ik'? (see 'kincalc --help')")
+
+
 def test_no_color_env(capsys, monkeypatch):
     monkeypatch.setenv("NO_COLOR", "1")
     code, out, _ = run(capsys, "fk", "bk_rr", "30", "-60")

@@ -8,32 +8,105 @@ from __future__ import annotations
 
 import sys
 
+import click
 import typer
+from typer.core import TyperGroup
 
 from .. import __version__
-from . import check as _check
-from . import compare as _compare
-from . import convert as _convert
-from . import fk as _fk
-from . import ik as _ik
-from . import jacobian as _jacobian
-from . import plot as _plot
-from . import quiz as _quiz
-from . import reach as _reach
-from . import robots as _robots
-from . import selftest as _selftest
-from . import workspace as _workspace
+
 from .common import NUMERIC_ARGS
+
+_HELP = {"help_option_names": ["-h", "--help"]}
+
+#: The commands, in the order of ``kincalc --help``: name -> (module of kincalc.cli,
+#: its function or ``app`` for a group, context settings, the short help). A command's
+#: module is imported only when that command runs (or shows its own help), so start-up
+#: pays for one command, not twelve. The short help is the first sentence of the
+#: command's docstring; tests/test_cli.py checks that the two agree.
+COMMANDS = {
+    "fk": ("fk", "fk", NUMERIC_ARGS,
+           "Forward kinematics: the tool pose for joint values Q."),
+    "jacobian": ("jacobian", "jacobian", NUMERIC_ARGS,
+                 "Geometric Jacobian (6 x n, rows vx vy vz wx wy wz) at joint values Q."),
+    "ik": ("ik", "ik", _HELP,
+           "Inverse kinematics: every joint solution that reaches a pose."),
+    "reach": ("reach", "reach", _HELP,
+              "Reachability: can the robot reach a pose, and if not, why."),
+    "workspace": ("workspace", "workspace", None,
+                  "Workspace: Monte-Carlo sampling of the joint space within the limits."),
+    "plot": ("plot", "plot", NUMERIC_ARGS,
+             "Draw ROBOT at joint values Q into FILE (PNG, SVG or PDF)."),
+    "quiz": ("quiz", "quiz", None,
+             "Write a random exercise sheet for ROBOT (the format 'kincalc check' grades)."),
+    "check": ("check", "check", None,
+              "Grade homework sheets: each answer right or wrong, with hints and a score."),
+    "compare": ("compare", "compare", None,
+                "Are ROBOT_A and ROBOT_B the same robot (same tool pose for every joint value)?"),
+    "convert": ("convert", "convert", None,
+                "Rewrite ROBOT in another convention: standard DH <-> modified DH, or either to "
+                "product of exponentials (poe)."),
+    "selftest": ("selftest", "selftest", None,
+                 "Check IK on random configurations within the limits (IKFast's --iktests "
+                 "metrics)."),
+    "robots": ("robots", "app", None, "The robot library: list, show and validate robot files."),
+}
+
+
+class _LazyGroup(TyperGroup):
+    """The root group: commands built from :data:`COMMANDS` on first use."""
+
+    def list_commands(self, ctx) -> list[str]:
+        return list(COMMANDS)
+
+    def get_command(self, ctx, name):
+        if name not in COMMANDS:
+            return None
+        if name not in self.commands:
+            self.commands[name] = _build(name)
+        return self.commands[name]
+
+    def resolve_command(self, ctx, args):
+        if args and args[0] not in COMMANDS and not args[0].startswith("-"):
+            import difflib
+            near = difflib.get_close_matches(args[0], COMMANDS)
+            hint = f" Did you mean {', '.join(repr(m) for m in near)}?" if near else ""
+            raise click.UsageError(f"No such command '{args[0]}'.{hint}", ctx)
+        return super().resolve_command(ctx, args)
+
+    def format_commands(self, ctx, formatter) -> None:
+        # click's layout, from the table (building every command would import them all)
+        from click.utils import make_default_short_help
+        width = formatter.width - 6 - max(len(n) for n in COMMANDS)
+        rows = [(name, make_default_short_help(text, width))
+                for name, (_, _, _, text) in COMMANDS.items()]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+def _build(name: str):
+    """The click command of ``name`` (imports its module)."""
+    import importlib
+    module, attr, settings, _ = COMMANDS[name]
+    target = getattr(importlib.import_module(f"{__package__}.{module}"), attr)
+    if isinstance(target, typer.Typer):                      # a command group (robots)
+        cmd = typer.main.get_command(target)
+        cmd.name = name
+        return cmd
+    one = typer.Typer(add_completion=False, rich_markup_mode=None)
+    one.command(name, **({"context_settings": settings} if settings else {}))(target)
+    return typer.main.get_command(one)
+
 
 app = typer.Typer(
     name="kincalc",
+    cls=_LazyGroup,
     help="Robot kinematics calculator: forward and inverse kinematics, Jacobians and robot files. "
          "ROBOT is a bundled robot's name or a path to a YAML robot file.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,  # plain click help: rich.markdown costs ~60 ms of start-up
-    context_settings={"help_option_names": ["-h", "--help"]},
+    context_settings=_HELP,
 )
 
 
@@ -49,20 +122,6 @@ def _root(
                                  help="Print the version and exit."),
 ):
     """Robot kinematics calculator."""
-
-
-app.command("fk", context_settings=NUMERIC_ARGS)(_fk.fk)
-app.command("jacobian", context_settings=NUMERIC_ARGS)(_jacobian.jacobian)
-app.command("ik", context_settings={"help_option_names": ["-h", "--help"]})(_ik.ik)
-app.command("reach", context_settings={"help_option_names": ["-h", "--help"]})(_reach.reach)
-app.command("workspace")(_workspace.workspace)
-app.command("plot", context_settings=NUMERIC_ARGS)(_plot.plot)
-app.command("quiz")(_quiz.quiz)
-app.command("check")(_check.check)
-app.command("compare")(_compare.compare)
-app.command("convert")(_convert.convert)
-app.command("selftest")(_selftest.selftest)
-app.add_typer(_robots.app, name="robots")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -86,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         if debug:
             raise
         cmd = exc.ctx.command_path if exc.ctx is not None else "kincalc"
-        if cmd == "kincalc" and args and not args[0].startswith("-"):
+        if cmd == "kincalc" and args and args[0] in COMMANDS:
             cmd = f"kincalc {args[0]}"   # an option error inside a command names the command
         if type(exc).__name__ == "NoArgsIsHelpError":  # bare `kincalc` or `kincalc robots`
             sys.stderr.write(f"{cmd}: error: missing command (see '{cmd} --help')\n")
