@@ -69,28 +69,36 @@ def main():
     lines = open(path).read().splitlines(keepends=True)
     from kincalc.cli.common import display_units
     units = display_units(r, True, None)
-    stages = {}
-    t0 = time.perf_counter()
-    parsed = [batch._json_record(i, line, json) for i, line in enumerate(lines)]
-    stages["read JSON records"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    full, Tq, _, _ = batch._poses(r, units, parsed)
-    stages["build poses (vectorised)"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    B = r.ik_batch(Tq)
-    stages["ik_batch"] = time.perf_counter() - t0
-    q = B.q[B.valid]
-    t0 = time.perf_counter()
-    batch._within_limits(r, q)
     from kincalc.ik.batch import branch_labels
-    branch_labels(r, B.family, q, np.nonzero(B.valid)[1], np.nonzero(B.valid)[0])
-    stages["limit flags + branch labels"] = time.perf_counter() - t0
+    stages = dict.fromkeys(["read JSON records", "build poses (vectorised)", "ik_batch",
+                            "limit flags + branch labels", "write JSON lines"], 0.0)
+
+    def timed(name, f, *a):
+        t = time.perf_counter()
+        out = f(*a)
+        stages[name] += time.perf_counter() - t
+        return out
+
+    # the stages chunk by chunk, as the CLI runs them (the sizes and caches matter)
+    for k in range(0, len(lines), batch.CHUNK_LINES):
+        chunk = lines[k:k + batch.CHUNK_LINES]
+        parsed = timed("read JSON records",
+                       lambda: [batch._json_record(k + i, ln, json) for i, ln in enumerate(chunk)])
+        full, Tq, _, _ = timed("build poses (vectorised)", batch._poses, r, units, parsed)
+        B = timed("ik_batch", r.ik_batch, Tq)
+        q = B.q[B.valid]
+        owner, slot = np.nonzero(B.valid)
+        within, q = timed("limit flags + branch labels", batch._within_limits, r, q)
+        labels = timed("limit flags + branch labels", branch_labels, r, B.family, q, slot, owner)
+        timed("write JSON lines", batch._solutions_json, np.round(q, 12), labels, within,
+              owner, len(full))
+    # the whole of the same work (chunks parsed, solved and written as the CLI does)
     t0 = time.perf_counter()
     for k in range(0, len(lines), batch.CHUNK_LINES):
         batch.process_chunk("ik", r, units, None, "jsonl", "base",
                             (k, lines[k:k + batch.CHUNK_LINES]))
     whole = time.perf_counter() - t0
-    stages["formatting and the rest"] = whole - sum(stages.values())
+    stages["the rest (records, output lines)"] = whole - sum(stages.values())
     print(f"\nstages of one run, in-process ({whole:.2f} s, {args.poses / whole:.0f} poses/s):")
     for name, t in stages.items():
         print(f"  {name:28s} {t:6.2f} s  {t / args.poses * 1e6:7.1f} us/pose  "

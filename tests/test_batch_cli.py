@@ -5,6 +5,8 @@ here from the PUMA's table, finite differences of it for the Jacobian, and the
 single-pose commands' JSON for the IK labels and limit flags.
 """
 
+import csv
+import io
 import json
 import os
 import select
@@ -257,3 +259,36 @@ def test_memory_stays_flat_on_a_large_input(tmp_path, kind):
         return int(out.stderr.strip().splitlines()[-1])
     small, large = peak(2000), peak(200_000)
     assert large < small + 40_000, (small, large)   # kB: no growth with the input's size
+
+
+def test_ik_batch_a_question_the_robot_cannot_take_is_an_error_record(tmp_path, capsys):
+    """An approach-only pose for a 6-DOF arm, after a full chunk of good poses, is that
+    record's error: the run goes on (it used to end the whole run with a one-line error
+    after printing the first chunk)."""
+    r = load_robot("puma560")
+    T = r.fk(sample_configurations(r, 2100, np.random.default_rng(4)))
+    rows = [{"T": t.tolist()} for t in T]
+    rows.insert(2050, {"xyz": [0.4, 0.1, 0.2], "approach": [0, 0, -1]})
+    code, out, err = run(capsys, "ik", "puma560", "--batch", write(tmp_path, "a.jsonl", rows))
+    recs = lines(out)
+    assert code == 2 and err == "" and len(recs) == 2101
+    assert "approach" in recs[2050]["error"] and recs[2050]["error"].startswith("record 2051:")
+    assert all(rec["reachable"] for k, rec in enumerate(recs) if k != 2050)
+
+
+def test_ik_batch_jsonl_solutions_are_the_csv_solutions(tmp_path, capsys):
+    """The JSON lines of a chunk are written in bulk (one format over all solutions),
+    the CSV row by row: both must carry the same numbers, labels and limit flags."""
+    r = load_robot("ur5")
+    T = r.fk(sample_configurations(r, 300, np.random.default_rng(8)))
+    src = write(tmp_path, "u.jsonl", [{"T": t.tolist(), "id": f"p{k}"} for k, t in enumerate(T)])
+    _, out, _ = run(capsys, "ik", "ur5", "--batch", src)
+    _, csv_out, _ = run(capsys, "ik", "ur5", "--batch", src, "--format", "csv")
+    rows = list(csv.reader(io.StringIO(csv_out)))[1:]
+    flat = [(rec["index"], rec["id"], k, s["branch"], s["q"], s["within_limits"])
+            for rec in lines(out) for k, s in enumerate(rec["solutions"])]
+    assert len(flat) == len(rows) > 300
+    for (i, ident, k, branch, q, within), row in zip(flat, rows):
+        assert row[:4] == [str(i), ident, str(k), branch]
+        assert np.allclose([float(x) for x in row[4:10]], q, rtol=1e-11, atol=1e-9)
+        assert row[10] == ("true" if within else "false")

@@ -78,10 +78,10 @@ def _numbers(value, count, where) -> tuple:
     if not isinstance(value, (list, tuple)) or (count and len(value) != count):
         raise RecordError(f"{where}: expected {count} numbers")
     try:
-        out = tuple(float(x) for x in value)
+        out = tuple(map(float, value))
     except (TypeError, ValueError):
         raise RecordError(f"{where}: expected numbers") from None
-    if not all(math.isfinite(x) for x in out):
+    if not all(map(math.isfinite, out)):
         raise RecordError(f"{where}: values must be finite")
     return out
 
@@ -378,7 +378,8 @@ def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bo
     start, lines = item
     parsed = _parse(header, robot, start, lines)
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "ik": _ik_chunk}[kind]
-    records, no = solve(robot, units, parsed, frame)
+    records, no = (_ik_chunk(robot, units, parsed, frame, fmt) if kind == "ik"
+                   else solve(robot, units, parsed, frame))
     bad = any("error" in r for r in records)
     if fmt == "jsonl":
         dump = _ik_json if kind == "ik" else json.dumps
@@ -396,11 +397,43 @@ def _ik_json(r) -> str:
     if "solutions" not in r:
         return json.dumps(r)
     head = json.dumps({k: v for k, v in r.items() if k != "solutions"})[:-1]
+    if isinstance(r["solutions"], _SolutionsJSON):
+        return f'{head}, "solutions": [{r["solutions"]}]}}'
     sols = ", ".join('{"q": [%s], "branch": %s, "within_limits": %s}'
                      % (", ".join(["%.12g"] * len(s["q"])) % tuple(s["q"]),
                         json.dumps(s["branch"]), "true" if s["within_limits"] else "false")
                      for s in r["solutions"])
     return f'{head}, "solutions": [{sols}]}}'
+
+
+class _SolutionsJSON(str):
+    """A pose's solutions already written as JSON (the items of the array), by
+    :func:`_solutions_json` for a whole chunk at once."""
+
+
+def _solutions_json(ql, labels, within, owner, count) -> list:
+    """The JSON text of each pose's solutions, for ``count`` poses: ``ql (s, n)`` the
+    display values (rounded), ``labels``/``within (s,)`` and ``owner (s,)`` the pose of
+    each solution, ascending. One %-format runs over all solutions of the chunk (per
+    solution formatting in Python was the largest cost of a batch run); the numbers are
+    written with 12 significant digits, as :func:`_ik_json` writes them."""
+    import json
+
+    import numpy as np
+    s, n = ql.shape
+    one = ('{"q": [' + ", ".join(["%.12g"] * n) + '], "branch": %s, "within_limits": %s}\x1e')
+    quoted = {lab: json.dumps(lab) for lab in set(labels)}
+    cells = np.empty((s, n + 2), object)
+    cells[:, :n] = ql
+    cells[:, n] = [quoted[lab] for lab in labels]
+    cells[:, n + 1] = np.where(within, "true", "false")
+    items = ((one * s) % tuple(cells.ravel().tolist())).split("\x1e")
+    ends = np.searchsorted(owner, np.arange(1, count + 1)).tolist()
+    out, start = [], 0
+    for end in ends:
+        out.append(_SolutionsJSON(", ".join(items[start:end])))
+        start = end
+    return out
 
 
 def _round(a):
@@ -594,11 +627,12 @@ def _not_poses(T):
                                                     axis=-1) & np.isfinite(T).all(axis=(-1, -2)))
 
 
-def _ik_chunk(robot, units, parsed, frame):
+def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     import numpy as np
 
     from ..ik import Target
     from ..ik.batch import branch_labels
+    from ..errors import KincalcError
     from ..ik.solve import UnsupportedRobot, solve
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
@@ -616,16 +650,25 @@ def _ik_chunk(robot, units, parsed, frame):
         within, q = _within_limits(robot, q)
         owner, slot = np.nonzero(valid)
         labels = branch_labels(robot, B.family, q, slot, owner)
-        ql = _round(q * qdisp)
-        for k in range(len(q)):
-            sols_of.setdefault(int(owner[k]), []).append(
-                {"q": ql[k], "branch": labels[k], "within_limits": bool(within[k])})
-        for k, (i, kw) in enumerate(full):
-            sols = sols_of.get(k, [])
-            no |= not sols
-            recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
+        counts = valid.sum(axis=1)
+        if fmt == "jsonl":
+            sols_of = _solutions_json(np.round(q * qdisp, 12) + 0.0, labels, within, owner,
+                                      len(full))
+        else:
+            ql = _round(q * qdisp)
+            for k in range(len(q)):
+                sols_of.setdefault(int(owner[k]), []).append(
+                    {"q": ql[k], "branch": labels[k], "within_limits": bool(within[k])})
+        for k, ((i, kw), c) in enumerate(zip(full, counts.tolist())):
+            sols = sols_of[k] if fmt == "jsonl" else sols_of.get(k, [])
+            no |= not c
+            recs.append({**_head(i, kw), "reachable": bool(c), "solutions": sols})
     for i, kw, target in partial:
-        result = solve(robot, target)
+        try:
+            result = solve(robot, target)
+        except KincalcError as exc:        # a question this robot cannot take: its record
+            errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {exc}"}))
+            continue
         sols = [{"q": _round(np.asarray(s.q) * qdisp), "branch": s.branch,
                  "within_limits": not s.violations} for s in result.solutions]
         no |= not sols

@@ -701,6 +701,23 @@ def _general_6r(robot, T, chunk: int) -> BatchIK:
     return BatchIK(q=q, valid=valid, family="general-6r")
 
 
+def _meeting_point_local(robot, first: int) -> np.ndarray:
+    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
+    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
+    only with the joints before them), from the robot at q = 0; once per robot."""
+    def make():
+        from ..fk import chain_frames
+        F = chain_frames(robot.chain, np.zeros(robot.dof))
+        A, b = np.zeros((3, 3)), np.zeros(3)
+        for j in range(first, robot.dof):
+            Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
+            A += Pj
+            b += Pj @ F[j, :3, 3]
+        P = np.linalg.solve(A, b)
+        return F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
+    return _memo(plan(robot)[0], ("meeting point", first), make)
+
+
 def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     """Branch labels of solutions ``q (s, n)`` (SI) of a batched family, all at once.
 
@@ -732,14 +749,11 @@ def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     F = chain_frames(robot.chain, q)
     z, o = F[:, :, :3, 2], F[:, :, :3, 3]
     rev = robot.is_revolute
-    # the point where the last axes meet (least squares over their lines)
-    A = np.zeros((s, 3, 3))
-    b = np.zeros((s, 3))
-    for j in range(first, robot.dof):
-        Pj = np.eye(3) - z[:, j, :, None] * z[:, j, None, :]
-        A += Pj
-        b += np.einsum("sij,sj->si", Pj, o[:, j])
-    P = np.linalg.solve(A, b[..., None])[..., 0]
+    # the point where the last axes meet: fixed in the frame of joint `first` (those axes
+    # move together after it), so its coordinates there are found once per robot
+    local = _meeting_point_local(robot, first)
+    Rf = F[:, first - 1, :3, :3]
+    P = (Rf @ local[:, None])[..., 0] + o[:, first - 1]
     code = np.zeros(s, int)
     words = []
     if rev[0]:
