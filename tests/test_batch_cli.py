@@ -292,3 +292,33 @@ def test_ik_batch_jsonl_solutions_are_the_csv_solutions(tmp_path, capsys):
         assert row[:4] == [str(i), ident, str(k), branch]
         assert np.allclose([float(x) for x in row[4:10]], q, rtol=1e-11, atol=1e-9)
         assert row[10] == ("true" if within else "false")
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["fk", "puma560", "--frames"], "--frames"),
+    (["fk", "puma560", "--symbolic"], "--symbolic"),
+    (["fk", "puma560", "--latex"], "--latex"),
+    (["jacobian", "puma560", "--symbolic"], "--symbolic"),
+    (["jacobian", "puma560", "--numeric-lengths"], "--numeric-lengths"),
+    (["ik", "puma560", "--plot", "out.png"], "--plot"),
+])
+def test_batch_refuses_options_it_would_ignore(tmp_path, capsys, argv, option):
+    src = write(tmp_path, "q.jsonl", [{"q": [0, 0, 0, 0, 0, 0]}])
+    code, out, err = run(capsys, *argv, "--batch", src)
+    assert code == 2 and out == ""
+    assert err == f"kincalc: error: {option} does not combine with --batch\n"
+
+
+def test_reach_batch_jobs_gives_the_same_output_in_order(tmp_path, capsys):
+    """reach --batch goes through the chunked runner: with -j 2 the records come out
+    byte-identical and in input order (more records than one reach chunk)."""
+    rng = np.random.default_rng(3)
+    rows = [{"xyz": list(rng.uniform(-1.2, 1.2, 3)), "id": k} for k in range(150)]
+    rows.insert(70, "not json\n")
+    src = write(tmp_path, "targets.jsonl", rows)
+    code1, out1, _ = run(capsys, "reach", "bk_rr", "--batch", src)
+    code2, out2, _ = run(capsys, "reach", "bk_rr", "--batch", src, "-j", "2")
+    assert code1 == code2 == 2 and out1 == out2
+    recs = lines(out1)
+    assert [r["index"] for r in recs] == list(range(151))
+    assert "error" in recs[70] and all("verdict" in r for k, r in enumerate(recs) if k != 70)

@@ -23,7 +23,6 @@ on; the exit status then says so (2).
 from __future__ import annotations
 
 import sys
-from typing import Iterator
 
 #: pose keys of a JSON record and the number of values each takes
 POSE_KEYS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
@@ -35,14 +34,6 @@ CSV_GROUPS = {("x", "y", "z"): "xyz", ("roll", "pitch", "yaw"): "rpy",
 
 class RecordError(ValueError):
     """A batch record that cannot be used; the message names what is wrong."""
-
-
-def records(src: str, robot) -> Iterator[tuple[int, dict | None, str | None]]:
-    """``(index, pose keywords for build_target, None)`` or ``(index, None, error)`` for
-    each input record of ``src`` (a path or ``-``), streaming."""
-    header, chunks = _chunked(_Source(src))
-    for start, lines in chunks:
-        yield from _parse(header, robot, start, lines)
 
 
 def _parse(header, robot, start: int, lines) -> list:
@@ -144,26 +135,6 @@ def _is_float(text: str) -> bool:
     return True
 
 
-class Writer:
-    """Output records, one per input, as JSON lines or CSV (with a header), flushed
-    as they come so that a pipeline sees results before the input ends."""
-
-    def __init__(self, fmt: str, columns: list[str]):
-        import csv
-        import json
-        self.fmt, self.columns, self._json = fmt, columns, json
-        self._csv = csv.writer(sys.stdout, lineterminator="\n") if fmt == "csv" else None
-        if self._csv is not None:
-            self._csv.writerow(columns)
-
-    def write(self, record: dict) -> None:
-        if self._csv is not None:
-            self._csv.writerow([_csv_cell(record.get(c)) for c in self.columns])
-        else:
-            sys.stdout.write(self._json.dumps(record, allow_nan=False) + "\n")
-        sys.stdout.flush()
-
-
 def _csv_cell(value):
     if value is None:
         return ""
@@ -180,6 +151,12 @@ def _csv_cell(value):
 # memory stays constant whatever the input's size; the output keeps the input's order).
 
 CHUNK_LINES = 2048
+#: reach analyses pose by pose (milliseconds each): smaller chunks, so that answers and
+#: the progress bar come at once and --jobs has work to share
+REACH_CHUNK_LINES = 64
+#: the per-pose fields of a reach record, in CSV column order
+REACH_FIELDS = ["index", "reachable", "verdict", "distance", "solutions",
+                "solutions_within_limits", "reason", "error"]
 #: pose forms solved in one vectorised step (others go through build_target per record)
 _FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
                frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
@@ -196,7 +173,7 @@ def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given
     from ..errors import UsageError
     if any(v is not None and len(v) for v in given):
         raise UsageError("--batch reads its input from a file; do not give "
-                         f"{'pose options' if kind == 'ik' else 'joint values'} too")
+                         f"{'pose options' if kind in ('ik', 'reach') else 'joint values'} too")
     for option, value in (refused or {}).items():
         if value:
             raise UsageError(f"{option} does not combine with --batch")
@@ -215,7 +192,7 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         from ..errors import UsageError
         raise UsageError(f"--jobs must be at least 1, not {jobs}")
     source = _Source(src)
-    header, chunks = _chunked(source)
+    header, chunks = _chunked(source, REACH_CHUNK_LINES if kind == "reach" else CHUNK_LINES)
     work = partial(process_chunk, kind, robot, units, header, fmt, frame)
     if fmt == "csv":
         sys.stdout.write(_csv_header(kind, robot))
@@ -257,9 +234,11 @@ class _Source:
                 self.fh.close()
 
 
-def _chunked(source):
-    """``(header or None, iterator of (first index, [lines]))``; a CSV header is the
-    first non-blank line when that does not start with '{'."""
+def _chunked(source, size: int = 0):
+    """``(header or None, iterator of (first index, [lines]))``, at most ``size`` lines
+    a chunk (default CHUNK_LINES); a CSV header is the first non-blank line when that
+    does not start with '{'."""
+    size = size or CHUNK_LINES
     lines = iter(source)
     first = next(lines, None)
     header = None
@@ -272,7 +251,7 @@ def _chunked(source):
         index = 0
         pending = [] if first is None else [first]
         while True:
-            block = pending + list(itertools.islice(lines, CHUNK_LINES - len(pending)))
+            block = pending + list(itertools.islice(lines, size - len(pending)))
             pending = []
             if not block:
                 return
@@ -280,11 +259,11 @@ def _chunked(source):
             index += len(block)
 
     def chunks_as_they_come():
-        """From a pipe: a chunk is what has arrived (up to CHUNK_LINES), so that a
+        """From a pipe: a chunk is what has arrived (up to ``size`` lines), so that a
         producer writing one pose at a time gets each answer at once."""
         import queue
         import threading
-        q: queue.Queue = queue.Queue(maxsize=4 * CHUNK_LINES)
+        q: queue.Queue = queue.Queue(maxsize=4 * size)
         end = object()
 
         def read():
@@ -300,7 +279,7 @@ def _chunked(source):
                 if item is end:
                     return
                 block.append(item)
-            while len(block) < CHUNK_LINES:
+            while len(block) < size:
                 try:
                     item = q.get_nowait()
                 except queue.Empty:
@@ -365,6 +344,8 @@ def _csv_header(kind, robot) -> str:
     elif kind == "jacobian":
         cols = ["index", "id"] + [f"J{r}_{c}" for r in ("vx", "vy", "vz", "wx", "wy", "wz")
                                   for c in names] + ["rank", "manipulability", "singular", "error"]
+    elif kind == "reach":
+        cols = REACH_FIELDS
     else:
         cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "error"]
     return ",".join(cols) + "\n"
@@ -375,14 +356,15 @@ def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bo
     ``(text, any record bad, any pose without a solution)``. Pure: safe to run in a
     worker process."""
     import json
+    from functools import partial
     start, lines = item
     parsed = _parse(header, robot, start, lines)
-    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "ik": _ik_chunk}[kind]
+    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}.get(kind)
     records, no = (_ik_chunk(robot, units, parsed, frame, fmt) if kind == "ik"
                    else solve(robot, units, parsed, frame))
     bad = any("error" in r for r in records)
     if fmt == "jsonl":
-        dump = _ik_json if kind == "ik" else json.dumps
+        dump = _ik_json if kind == "ik" else partial(json.dumps, allow_nan=False)
         text = "".join(dump(r) + "\n" for r in records)
     else:
         text = _csv_rows(kind, robot, records)
@@ -676,12 +658,44 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     return _merge(recs, errors), no
 
 
+def _reach_chunk(robot, units, parsed, frame):
+    """Reach records of one chunk (the analysis runs pose by pose)."""
+    from ..errors import KincalcError
+    from ..reach import reach
+    from ..results import _clean
+    from .ik import build_target
+    out, no = [], False
+    for index, kw, error in parsed:
+        head = _head(index, kw)
+        if error is None:
+            try:
+                pose = {k: v for k, v in kw.items() if k != "id"}
+                result = reach(robot, build_target(robot, units, **pose), units=units)
+            except KincalcError as exc:
+                error = f"record {index + 1}: {exc}"
+        if error is not None:
+            out.append({**head, "error": error})
+            continue
+        no |= not result.reachable
+        out.append({**head, "reachable": result.reachable, "verdict": result.verdict,
+                    "distance": None if result.distance is None else
+                    _clean(result.distance * units.l),
+                    "solutions": result.solutions,
+                    "solutions_within_limits": result.within_limits,
+                    "reason": result.reason})
+    return out, no
+
+
 def _csv_rows(kind, robot, records) -> str:
     import csv
     import io
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     n = robot.dof
+    if kind == "reach":
+        for r in records:
+            w.writerow([_csv_cell(r.get(c)) for c in REACH_FIELDS])
+        return buf.getvalue()
     for r in records:
         head = [r["index"], r.get("id", "")]
         if "error" in r:

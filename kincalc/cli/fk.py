@@ -54,6 +54,12 @@ def fk(
     every q; --deg/--rad and --precision do not apply (constant angles are
     exact multiples of pi, symbols are angles).
     """
+    if batch is not None:
+        from .batch import run_command
+        rob = load_robot(robot)
+        run_command("fk", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
+                    refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
+                             "--numeric-lengths": numeric_lengths})
     if symbolic or latex or numeric_lengths:
         from .symbolic import symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)
@@ -67,9 +73,6 @@ def fk(
     from ..analysis import fk_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
-    if batch is not None:
-        from .batch import run_command
-        run_command("fk", rob, units, batch, fmt, jobs, given=[q])
     qv = parse_joints(q, rob, units)
     result = fk_report(rob, qv, units, frames=frames)
     output(result.to_dict(), json, _tables, rob, precision)

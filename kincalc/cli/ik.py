@@ -111,7 +111,7 @@ def ik(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..ik import solve
-    if plot is not None:
+    if plot is not None and batch is None:
         from ..plot import check_output, require_matplotlib
         check_output(plot)
         require_matplotlib("kincalc ik --plot")

@@ -66,6 +66,13 @@ def jacobian(
     With --symbolic (or --latex) no Q is given: J is derived for every q;
     --deg/--rad and --precision do not apply.
     """
+    if batch is not None:
+        from .batch import run_command
+        rob = load_robot(robot)
+        run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
+                    frame=frame.value,
+                    refused={"--analytic": analytic, "--symbolic": symbolic, "--latex": latex,
+                             "--numeric-lengths": numeric_lengths})
     if symbolic or latex or numeric_lengths:
         from ..errors import UsageError
         from .symbolic import symbolic_check, symbolic_output
@@ -82,10 +89,6 @@ def jacobian(
         return
     from ..analysis import jacobian_report
     rob = load_robot(robot)
-    if batch is not None:
-        from .batch import run_command
-        run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
-                    frame=frame.value, refused={"--analytic": analytic})
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     result = jacobian_report(rob, qv, units, frame=frame.value,

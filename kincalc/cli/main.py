@@ -75,9 +75,8 @@ class _LazyGroup(TyperGroup):
 
     def format_commands(self, ctx, formatter) -> None:
         # click's layout, from the table (building every command would import them all)
-        from click.utils import make_default_short_help
         width = formatter.width - 6 - max(len(n) for n in COMMANDS)
-        rows = [(name, make_default_short_help(text, width))
+        rows = [(name, click.Command(name, help=text).get_short_help_str(width))
                 for name, (_, _, _, text) in COMMANDS.items()]
         with formatter.section("Commands"):
             formatter.write_dl(rows)

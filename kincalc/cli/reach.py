@@ -5,14 +5,10 @@ from __future__ import annotations
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JsonOpt, PrecisionOpt, RobotArg,
-                     UnitOpt, display_units, load_robot, output)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JsonOpt, PrecisionOpt,
+                     RobotArg, UnitOpt, display_units, load_robot, output)
 from .ik import (ApproachOpt, AxisAngleOpt, FromQOpt, MatrixOpt, PoseOpt, QuatOpt, RpyOpt,
                  TcvOpt, XyzEOpt, XyzOpt, ZyzOpt, build_target)
-
-#: the per-pose fields of a --batch record, in CSV column order
-BATCH_FIELDS = ["index", "reachable", "verdict", "distance", "solutions",
-                "solutions_within_limits", "reason", "error"]
 
 
 def reach(
@@ -30,6 +26,7 @@ def reach(
     from_q: FromQOpt = None,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -54,13 +51,11 @@ def reach(
     if fmt not in ("jsonl", "csv"):
         from ..errors import UsageError
         raise UsageError(f"--format must be jsonl or csv, not {fmt!r}")
-    pose_given = [xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach, tcv,
-                  pose, from_q]
     if batch is not None:
-        if any(v is not None for v in pose_given):
-            from ..errors import UsageError
-            raise UsageError("--batch reads the poses from a file; do not give pose options too")
-        raise typer.Exit(_run_batch(rob, units, batch, fmt))
+        from .batch import run_command
+        run_command("reach", rob, units, batch, fmt, jobs,
+                    given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
+                           tcv, pose, from_q])
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, approach=approach, tcv=tcv, pose=pose, from_q=from_q)
@@ -68,37 +63,6 @@ def reach(
     output(result.to_dict(), json, _tables, rob, precision)
     if not result.reachable:
         raise typer.Exit(1)
-
-
-def _run_batch(robot, units, src, fmt) -> int:
-    """Answer each record of ``src``; return the exit status (2 if any record was bad,
-    1 if any pose was unreachable, else 0)."""
-    from ..errors import KincalcError
-    from ..reach import reach as _reach
-    from ..results import _clean
-    from .batch import Writer, records
-    out = Writer(fmt, BATCH_FIELDS)
-    bad = no = False
-    for index, kw, error in records(src, robot):
-        ident = {} if kw is None or "id" not in kw else {"id": kw.pop("id")}
-        if error is None:
-            try:
-                result = _reach(robot, build_target(robot, units, **kw), units=units)
-            except KincalcError as exc:
-                error = f"record {index + 1}: {exc}"
-        if error is not None:
-            bad = True
-            out.write({"index": index, **ident, "error": error})
-            continue
-        no |= not result.reachable
-        out.write({"index": index, **ident, "reachable": result.reachable,
-                   "verdict": result.verdict,
-                   "distance": None if result.distance is None else
-                   _clean(result.distance * units.l),
-                   "solutions": result.solutions,
-                   "solutions_within_limits": result.within_limits,
-                   "reason": result.reason})
-    return 2 if bad else 1 if no else 0
 
 
 def _tables(doc, robot, precision):
