@@ -738,72 +738,104 @@ def branch_label(robot, S: Screws, family: str, q, cand, F=None) -> str:
 
 def _branch_labels(robot, family: str, cands, F, c=None) -> list:
     """:func:`branch_label` of every candidate at once; ``F (k, n, 4, 4)`` their joint
-    frames. The geometry (wrist centre, shoulder side, elbow, wrist flip) is computed
-    for all candidates in one pass; only the words are put together per candidate."""
-    k = len(cands)
-    if k == 0:
-        return []
-    z = F[:, :, :3, 2]
-    o = F[:, :, :3, 3]
-    rev = (c or _constants(robot)).revolute
-    words = [[] for _ in range(k)]
-    named = [set() for _ in range(k)]
-    has_p = np.zeros(k, bool)
-    P = None
-    first = 3 if family == "spherical-wrist" else 4 if family == "three-parallel" else None
-    if first is not None:
-        # where the last axes meet (kincalc.structure.common_point with an infinite
-        # tolerance, for all candidates): least squares over the lines
-        A = np.zeros((k, 3, 3))
-        b = np.zeros((k, 3))
-        for j in range(first, robot.dof):
-            d = z[:, j]
-            Pj = np.eye(3) - d[:, :, None] * d[:, None, :]
-            A += Pj
-            b += (Pj @ o[:, j, :, None])[..., 0]
-        has_p = np.linalg.svd(A, compute_uv=False)[:, -1] >= 1e-6
-        P = np.zeros((k, 3))
-        if has_p.any():
-            P[has_p] = np.linalg.solve(A[has_p], b[has_p, :, None])[..., 0]
-    if P is not None and rev[0]:
-        n01 = cross(z[:, 0], z[:, 1])
-        side = np.einsum("ij,ij->i", P - o[:, 0], n01)
-        shoulder = has_p & (np.linalg.norm(n01, axis=-1) > 1e-6)
-        for i in np.flatnonzero(shoulder).tolist():
-            words[i].append("shoulder right" if side[i] >= 0 else "shoulder left")
-            named[i].add(0)
-    if P is not None and robot.dof >= 3 and rev[1] and rev[2]:
-        elbow = has_p & (np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6)
-        if elbow.any():
-            s_, e = o[:, 1], o[:, 2]
-            tgt = P if family == "spherical-wrist" else o[:, 3]
-            h = z[:, 1]
-            line = tgt - s_
-            line = line - h * np.einsum("ij,ij->i", h, line)[:, None]
-            v = e - s_
-            v = v - h * np.einsum("ij,ij->i", h, v)[:, None]
-            ll = np.maximum(np.einsum("ij,ij->i", line, line), 1e-300)
-            perp = v - line * (np.einsum("ij,ij->i", v, line) / ll)[:, None]
-            up = np.einsum("ij,ij->i", perp, z[:, 0])
-            alt = np.einsum("ij,ij->i", cross(e - s_, tgt - e), h)
-            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
-            pair = (2, 1) if family == "spherical-wrist" else (1, 2)
-            for i in np.flatnonzero(elbow).tolist():
-                words[i].append("elbow up" if up[i] >= 0 else "elbow down")
-                named[i].update(pair)
-    if first is not None:
-        w = np.einsum("ij,ij->i", cross(z[:, 3], z[:, 5]), z[:, 4])
-        for i in range(k):
-            words[i].append("wrist no-flip" if w[i] >= 0 else "wrist flip")
-            named[i].add(4)
+    frames. The geometric words come from :func:`branch_geometry` for all candidates in
+    one pass; the +/- choices of the other steps are added per candidate."""
+    codes = branch_geometry(robot, family, F, c).tolist()
     names = [j.name for j in robot.joints]
     out = []
-    for i, cand in enumerate(cands):
-        parts = words[i]
-        for j in sorted(cand.signs):
-            if j not in named[i]:
-                parts.append(f"{names[j]}:{cand.signs[j]}")
+    for row, cand in zip(codes, cands):
+        parts = [WORDS[w][x - 1] for w, x in enumerate(row) if x]
+        named = set().union(*(_NAMED[w] for w, x in enumerate(row) if x))
+        parts += [f"{names[j]}:{cand.signs[j]}" for j in sorted(cand.signs) if j not in named]
         if cand.free:
             parts.append("(" + ", ".join(names[j] for j in cand.free) + " free)")
         out.append(" ".join(parts) if parts else "unique")
     return out
+
+
+#: the geometric words of a branch label, for the codes 1 and 2 of :func:`branch_geometry`
+WORDS = (("shoulder right", "shoulder left"), ("elbow up", "elbow down"),
+         ("wrist no-flip", "wrist flip"))
+#: the joints whose +/- choice each word already names (shoulder 1, elbow 2 and 3, wrist 5)
+_NAMED = ({0}, {1, 2}, {4})
+
+
+def branch_geometry(robot, family: str, F, c=None) -> np.ndarray:
+    """The geometric words of the branch labels of solutions with joint frames
+    ``F (k, n, 4, 4)`` (:func:`kincalc.fk.chain_frames`, world frame): codes ``(k, 3)``
+    for (shoulder, elbow, wrist), each 0 where the word does not apply, else 1 or 2 for
+    the first or second word of :data:`WORDS` (see the module docstring for the rules).
+
+    The point P of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
+    meet on a UR arm) is fixed in the frame of the joint before those axes, so it is
+    carried from its coordinates there (:func:`_meeting_point_local`) instead of being
+    intersected anew for every solution. ``c``: the robot's :func:`_constants`.
+    """
+    F = np.asarray(F, float)
+    k = len(F)
+    codes = np.zeros((k, 3), np.int8)
+    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
+    if first is None or k == 0:
+        return codes
+    z, o = F[:, :, :3, 2], F[:, :, :3, 3]
+    rev = (c or _constants(robot)).revolute
+    local = _meeting_point_local(robot, first)
+    if local is not None:
+        P = (F[:, first - 1, :3, :3] @ local[:, None])[..., 0] + o[:, first - 1]
+        if rev[0]:
+            n01 = cross(z[:, 0], z[:, 1])
+            side = np.einsum("ij,ij->i", P - o[:, 0], n01)
+            codes[:, 0] = np.where(np.linalg.norm(n01, axis=-1) > 1e-6,
+                                   np.where(side >= 0, 1, 2), 0)
+        if robot.dof >= 3 and rev[1] and rev[2]:
+            # the elbow (axis 3) against the shoulder-to-target line, in the plane of the
+            # parallel axes 2 and 3; the target is P, or axis 4 for a UR arm
+            sh, el, h = o[:, 1], o[:, 2], z[:, 1]
+            tgt = P if family == "spherical-wrist" else o[:, 3]
+            line = tgt - sh
+            line = line - h * np.einsum("ij,ij->i", h, line)[:, None]
+            v = el - sh
+            v = v - h * np.einsum("ij,ij->i", h, v)[:, None]
+            ll = np.maximum(np.einsum("ij,ij->i", line, line), 1e-300)
+            perp = v - line * (np.einsum("ij,ij->i", v, line) / ll)[:, None]
+            up = np.einsum("ij,ij->i", perp, z[:, 0])
+            # the elbow on the line (stretched or folded): the turn sense decides
+            alt = np.einsum("ij,ij->i", cross(el - sh, tgt - el), h)
+            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
+            parallel = np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6
+            codes[:, 1] = np.where(parallel, np.where(up >= 0, 1, 2), 0)
+    w = np.einsum("ij,ij->i", cross(z[:, 3], z[:, 5]), z[:, 4])
+    codes[:, 2] = np.where(w >= 0, 1, 2)
+    return codes
+
+
+def _meeting_point_local(robot, first: int):
+    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
+    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
+    only with the joints before them: the axes after it turn about lines through it), from
+    the robot at q = 0; None if those axes are all parallel. Cached per robot."""
+    try:
+        return _meeting_point_cached(robot, first)
+    except TypeError:                      # unhashable robot-like object
+        return _meeting_point(robot, first)
+
+
+@lru_cache(maxsize=64)
+def _meeting_point_cached(robot, first: int):
+    return _meeting_point(robot, first)
+
+
+def _meeting_point(robot, first: int):
+    from ..fk import chain_frames
+    F = chain_frames(robot.chain, np.zeros(robot.dof))
+    A, b = np.zeros((3, 3)), np.zeros(3)
+    for j in range(first, robot.dof):
+        Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
+        A += Pj
+        b += Pj @ F[j, :3, 3]
+    if np.linalg.svd(A, compute_uv=False)[-1] < 1e-6:
+        return None
+    P = np.linalg.solve(A, b)
+    local = F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
+    local.setflags(write=False)
+    return local
