@@ -206,3 +206,22 @@ def test_batch_branch_labels_equal_the_per_pose_solvers(name):
             assert match.branch.startswith(words + " "), (i, labels[k], match.branch)
         else:
             assert labels[k] == match.branch, (i, labels[k], match.branch)
+
+
+def test_batch_resultant_path_at_the_stretched_elbow(monkeypatch):
+    """The resultant placement (arms with no closed form for joints 1-3) at the stretched
+    and folded elbow, where J^T J of its Newton polish is singular: numpy raised
+    LinAlgError for the whole batch. The offset-shoulder closed form is switched off so
+    that KUKA and ABB arms take that path; every pose must be answered exactly."""
+    from test_ik_batch_offset_shoulder import stretched_and_folded
+
+    import kincalc.ik.batch as batch
+    monkeypatch.setattr(batch, "_offset_shoulder", lambda *a, **k: None)
+    for name in ("kuka_kr16", "abb_irb6640"):
+        r = load_robot(name)
+        for Qe in stretched_and_folded(r, sample_configurations(r, 30, np.random.default_rng(5))):
+            T = r.fk(Qe)
+            B = solve_batch(r, T)                      # raised LinAlgError
+            for i in range(len(T)):
+                sols = B.q[i][B.valid[i]]
+                assert np.allclose(r.fk(sols), T[i], atol=1e-9 * r.characteristic_length)

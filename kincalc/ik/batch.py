@@ -11,7 +11,10 @@ Supported (the closed-form families; others raise
 
 * ``spherical-wrist`` whose joints 1-3 place the wrist centre in closed form:
   one of the two invariants of joint 1 does not involve joint 2 (axes 1 and 2
-  meet or are parallel: PUMA, KUKA, ABB, Fanuc, Stanford, the textbook arms);
+  meet or are parallel: PUMA, ABB IRB 120, Stanford, the textbook arms), or
+  axes 2 and 3 are parallel (the offset shoulders of KUKA, Fanuc, ABB IRB 6640:
+  subproblem 4 on joint 1, then a planar 2R; :func:`_offset_shoulder_cs`);
+  other revolute arms through a degree-8 resultant per pose;
 * ``three-parallel`` (UR family);
 * the reversed chains of both (``reversed-spherical-wrist``,
   ``reversed-three-parallel``);
@@ -95,8 +98,11 @@ def _memo(S: Screws, key, make):
 def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
     """Closed-form point placement for all poses: ``(X (N, K, m), ok (N, K))``.
 
-    Needs one invariant of joint a that does not involve joint b (raises
-    UnsupportedRobot otherwise). With ``cs``, returns ``(c, s, x, ok)`` instead, the
+    Joints ``(a, b[, c])``, point ``p0 (3,)`` at q = 0 and targets ``PT (N, 3)`` (world
+    frame, m). One invariant of joint a free of joint b gives joint c first; else axes
+    b and c parallel give the offset-shoulder closed form (:func:`_offset_shoulder_cs`);
+    else three revolute joints go through the resultant (:func:`_generic_roots`), and
+    anything else raises UnsupportedRobot. With ``cs``, returns ``(c, s, x, ok)`` instead, the
     joints' cosines, sines and travels each ``(m, N, K)`` (see :func:`_finish_cs`).
     """
     joints = list(joints)
@@ -132,6 +138,11 @@ def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
                                  lambda: coeffs(S.move_point(c, th, p0)))
         dep = _depends(be_s, ga_s, scale ** 2)
         if dep.all():
+            shoulder = _offset_shoulder(S, joints, p0)
+            if shoulder is not None:          # axes b, c parallel: closed form, no resultant
+                cq, sq, xq, okq = _offset_shoulder_cs(shoulder, PT, scale)
+                return (cq, sq, xq, okq) if cs else \
+                    (np.moveaxis(np.arctan2(sq, cq), 0, -1), okq)
             if not (S.revolute[b] and S.revolute[c]):
                 raise UnsupportedRobot("batched IK: this arm's position part has no closed form "
                                        "with a prismatic joint 2 or 3; solve it pose by pose")
@@ -177,6 +188,135 @@ def _as_cs(S: Screws, joints, X, ok):
     X = np.moveaxis(np.where(ok[..., None], X, 0.0), -1, 0)
     rev = S.revolute[list(joints)][:, None, None]
     return np.where(rev, np.cos(X), 1.0), np.where(rev, np.sin(X), 0.0), X, ok
+
+
+@dataclass(frozen=True)
+class _Shoulder:
+    """Robot-level constants of the offset-shoulder placement (:func:`_offset_shoulder`),
+    world frame at q = 0, metres."""
+
+    o1: np.ndarray          # (3,) a point of axis a
+    rows: np.ndarray        # (12, 3): p -> (A, B, w.p, then A_h A_w p, A_h K_w p, A_h B_w p)
+    q_off: np.ndarray       # (3,) A_h (o_a - o_b)
+    hw: float               # h . w
+    d: float                # h . (p0 - o_a), the height joint a must give the point
+    wxh: float              # |w x h| (> 0: axis a not parallel to h)
+    uv2: float              # |u|^2 + |v|^2
+    cb3: float              # cos and sine of the phase of u . R_c v, and its amplitude |u| |v|
+    sb3: float
+    r3: float
+    G: np.ndarray           # (6, 3): u, v, k_c x v, h x u, h x v, h x (k_c x v)
+
+
+def _offset_shoulder(S: Screws, joints, p0):
+    """Constants of the closed form for joints ``(a, b, c)``, all revolute, with axes b
+    and c parallel (common unit direction ``h = axis[b]``) and axis a not parallel to
+    them, placing ``p0`` (3,) (world frame, q = 0); ``None`` for any other structure
+    (or a degenerate one: ``p0`` on axis c, or axis c through axis b). Once per robot.
+
+    Axes b and c leave a point's height along h above their own points unchanged, so
+    ``h . (E_a^-1 pt - o_b) = h . (p0 - o_b)``: with ``p = pt - o_a`` and ``t = x_a``,
+    ``h . R(w, -t) p = d``, ``d = h . (p0 - o_a)``. Rodrigues on ``R(w, -t) p`` makes
+    it ``A cos t + B sin t + C = d`` with ``A = (A_w h) . p``, ``B = (w x h) . p``,
+    ``C = (h . w)(w . p)``. The point then lies in a plane normal to h, where joints
+    c, b are a planar 2R arm: with ``u = A_h (o_c - o_b)``, ``v = A_h (p0 - o_c)``
+    (``A_h = I - h h^T``), ``|A_h (E_c p0 - o_b)|^2 = |u|^2 + |v|^2 + 2 u . R_c v``.
+    """
+    def make():
+        a, b, c = joints
+        if not (S.revolute[a] and S.revolute[b] and S.revolute[c]):
+            return None
+        w, h, kc = S.axis[a], S.axis[b], S.axis[c]
+        o1, o2, o3 = S.point[a], S.point[b], S.point[c]
+        if np.linalg.norm(np.cross(h, kc)) > 1e-12:
+            return None
+        wxh = float(np.linalg.norm(np.cross(w, h)))
+        if wxh < 1e-9:
+            return None
+        ax_w, ax_h = _Axis(w), _Axis(h)
+        u = ax_h.A @ (o3 - o2)
+        v = ax_h.A @ (np.asarray(p0, float) - o3)
+        r3 = float(np.linalg.norm(u) * np.linalg.norm(v))
+        if r3 <= 1e-12 * S.scale ** 2:
+            return None
+        kv = np.cross(kc, v)
+        al3, be3 = float(u @ v), float(u @ kv)
+        rows = np.vstack([ax_w.A @ h, np.cross(w, h), w,
+                          ax_h.A @ ax_w.A, ax_h.A @ ax_w.K, ax_h.A @ ax_w.B])
+        G = np.vstack([u, v, kv, np.cross(h, u), np.cross(h, v), np.cross(h, kv)])
+        return _Shoulder(o1=o1, rows=rows, q_off=ax_h.A @ (o1 - o2), hw=float(h @ w),
+                         d=float(h @ (np.asarray(p0, float) - o1)), wxh=wxh,
+                         uv2=float(u @ u + v @ v), cb3=al3 / r3, sb3=be3 / r3, r3=r3, G=G)
+    return _memo(S, ("offset shoulder", tuple(joints), tuple(np.asarray(p0, float))), make)
+
+
+#: rounding of a cosine computed from lengths of size ``scale``, per unit of
+#: ``scale / amplitude`` (a few dozen float64 epsilons)
+_ROUNDING = 64 * np.finfo(float).eps
+
+
+def _snap_double_root(cc, band):
+    """``cc`` with values within ``band`` of +-1 set to +-1.
+
+    A cosine that close to +-1 is a double root to rounding: the pose fixes the angle
+    only to ~sqrt(band) (a singular configuration: the stretched elbow, the shoulder
+    cylinder). Taking the double root itself returns an exactly singular pose's
+    configuration to rounding instead of two copies ~sqrt(band) either side, and moves
+    a merely nearby pair by no more than that noise."""
+    return np.where(np.abs(cc) >= 1.0 - band, np.sign(cc), cc)
+
+
+def _offset_shoulder_cs(sh: _Shoulder, PT, scale: float):
+    """All placements of the point by joints ``(a, b, c)`` (see :func:`_offset_shoulder`)
+    for targets ``PT (N, 3)`` (world frame, m): ``(c, s, x, ok)``, the joints' cosines,
+    sines and (zero) travels ``(3, N, 4)`` and ``ok (N, 4)``; the four slots are
+    (joint a root) x (joint c root). ``scale`` (m) sets the tolerances.
+
+    1. joint a, Paden-Kahan subproblem 4 (Paden 1985; ``h . R(k, t) p = d``):
+       ``A cos t + B sin t = d - C`` gives ``t = atan2(B, A) +- arccos((d - C) / r)``,
+       ``r = hypot(A, B) = |w x h| |A_w p|`` (two roots, one on the shoulder-singularity
+       cylinder ``r = |d - C|``, none inside it). With ``p`` on axis a (``r`` ~ 0) the
+       height does not depend on ``t``: ``t = 0`` when ``d = C`` (as robot.ik's free joint).
+    2. joint c, subproblem 3 (Murray, Li & Sastry 1994, sec. 3.3.2) by the law of cosines
+       in the plane normal to h: ``u . R_c v = (|q|^2 - |u|^2 - |v|^2) / 2`` with
+       ``q = A_h (E_a^-1 pt - o_b)`` and ``u . R_c v = cos x_c (u . v) + sin x_c
+       (u . k_c x v)``: ``x_c = phase +- arccos(...)`` (a double root at the stretched
+       or folded elbow).
+    3. joint b, subproblem 1 (ibid.): the angle about h turning ``u + R_c v`` onto ``q``;
+       cos and sine from ``(u + R_c v) . q`` and ``(h x (u + R_c v)) . q``, each linear in
+       ``(cos x_c, sin x_c)``.
+    """
+    N = len(PT)
+    P = sh.rows @ (PT.T - sh.o1[:, None])                                    # (12, N)
+    A, B, wp = P[0], P[1], P[2]
+    # joint a (subproblem 4)
+    C = sh.hw * wp
+    r = np.sqrt(A * A + B * B)
+    good = r > 1e-12 * scale * sh.wxh
+    rr = np.where(good, r, 1.0)
+    cc = np.where(good, (sh.d - C) / rr, 0.0)
+    ok1 = np.where(good, np.abs(cc) <= 1 + 1e-9, np.abs(sh.d - C) <= 1e-9 * scale)
+    cc = _snap_double_root(cc, _ROUNDING * scale / rr)
+    ca, sa, ok1 = _both_roots(np.where(good, A / rr, 1.0), np.where(good, B / rr, 0.0),
+                              np.where(good, cc, 1.0), ok1)                # (N, 2)
+    # the target seen before joint a, projected on the plane normal to h:
+    # q = A_h (R(w, -t) p + o_a - o_b), R^T p = cos A_w p - sin K_w p + B_w p
+    q = P[3:6, :, None] * ca - P[6:9, :, None] * sa + \
+        (P[9:12] + sh.q_off[:, None])[:, :, None]                           # (3, N, 2)
+    # joint c (subproblem 3, law of cosines)
+    cc3 = (0.5 * ((q * q).sum(0) - sh.uv2)) / sh.r3
+    ok3 = (np.abs(cc3) <= 1 + 1e-9) & ok1
+    cc3 = _snap_double_root(cc3, _ROUNDING * scale ** 2 / sh.r3)
+    cc_, sc_, ok3 = _both_roots(sh.cb3, sh.sb3, cc3, ok3)                  # (N, 2, 2)
+    # joint b (subproblem 1)
+    g = (sh.G @ q.reshape(3, -1)).reshape(6, N, 2, 1)
+    x = g[0] + g[1] * cc_ + g[2] * sc_
+    y = g[3] + g[4] * cc_ + g[5] * sc_
+    cb, sb = _unit_cs(x, y, 1e-28 * scale ** 2)
+    shape = (N, 2, 2)
+    c = np.stack([np.broadcast_to(ca[..., None], shape), cb, cc_]).reshape(3, N, 4)
+    s = np.stack([np.broadcast_to(sa[..., None], shape), sb, sc_]).reshape(3, N, 4)
+    return c, s, np.zeros_like(c), ok3.reshape(N, 4)
 
 
 def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
@@ -337,7 +477,12 @@ def _polish(S, joints, p0, PT, X, ok, iters: int = 3):
                       for k, j in enumerate(joints)], axis=-1)            # (N, K, 3, m)
         err = PT[:, None, :] - p
         Jt = np.swapaxes(J, -1, -2)
-        dx = np.linalg.solve(Jt @ J + 1e-18 * np.eye(J.shape[-1]), Jt @ err[..., None])[..., 0]
+        H = Jt @ J
+        # damping relative to H's size: at a singular configuration (a stretched elbow) H
+        # is singular, and an absolute 1e-18 is below its rounding (numpy raised
+        # LinAlgError for the whole batch); 1e-14 of the trace keeps the step exact elsewhere
+        lam = 1e-14 * np.trace(H, axis1=-2, axis2=-1)[..., None, None] + 1e-300
+        dx = np.linalg.solve(H + lam * np.eye(J.shape[-1]), Jt @ err[..., None])[..., 0]
         X = X + np.where(ok[..., None], dx, 0.0)
     return X
 
