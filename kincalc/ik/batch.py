@@ -846,93 +846,40 @@ def _general_6r(robot, T, chunk: int) -> BatchIK:
     return BatchIK(q=q, valid=valid, family="general-6r")
 
 
-def _meeting_point_local(robot, first: int) -> np.ndarray:
-    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
-    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
-    only with the joints before them), from the robot at q = 0; once per robot."""
-    def make():
-        from ..fk import chain_frames
-        F = chain_frames(robot.chain, np.zeros(robot.dof))
-        A, b = np.zeros((3, 3)), np.zeros(3)
-        for j in range(first, robot.dof):
-            Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
-            A += Pj
-            b += Pj @ F[j, :3, 3]
-        P = np.linalg.solve(A, b)
-        return F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
-    return _memo(plan(robot)[0], ("meeting point", first), make)
-
-
 def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     """Branch labels of solutions ``q (s, n)`` (SI) of a batched family, all at once.
 
-    The words are those of :func:`kincalc.ik.solve.branch_label`: shoulder right/left
-    (which side of the plane of axes 1 and 2 the wrist point lies), elbow up/down (for
-    parallel axes 2 and 3) and wrist flip/no-flip (the sign of (z4 x z6) . z5), from the
-    joint frames of each solution, vectorised. Where none applies (the reversed chains)
-    the label is ``branch K``, ``K`` the solution's slot ``slots (s,)`` of the closed form;
-    where two solutions of one pose (``poses (s,)``, the pose index of each solution)
-    get the same words, ``branch K`` is appended to theirs.
+    The words are those of :func:`kincalc.ik.solve.branch_label`, from
+    :func:`kincalc.ik.solve.branch_geometry` on the joint frames of all solutions:
+    shoulder right/left, elbow up/down, wrist flip/no-flip. Where none applies (the
+    reversed chains) the label is ``branch K``, ``K`` the solution's slot ``slots (s,)``
+    of the closed form; where two solutions of one pose (``poses (s,)``, the pose index
+    of each solution) get the same words, ``branch K`` is appended to theirs. A general
+    6R's solutions are ``<joint 3>:root k`` in the order of :func:`_general_6r`, as
+    robot.ik labels them.
     """
     from ..fk import chain_frames
+    from .solve import WORDS, branch_geometry
     q = np.asarray(q, float)
     s = len(q)
     if s == 0:
         return []
-    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
+    slots = np.asarray(slots)
     if family == "general-6r":
-        # robot.ik's words: the roots of joint 3 in order, when there is more than one
-        # (the batch orders each pose's solutions so, see _general_6r)
-        slots = np.asarray(slots)
         more = np.ones(s, bool) if poses is None else \
             np.bincount(np.asarray(poses))[np.asarray(poses)] > 1
         name = robot.joints[2].name
         return [f"{name}:root {int(k) + 1}" if m else "unique"
                 for k, m in zip(slots.tolist(), more.tolist())]
-    if first is None:
-        return [f"branch {int(k)}" for k in slots]
-    F = chain_frames(robot.chain, q)
-    z, o = F[:, :, :3, 2], F[:, :, :3, 3]
-    rev = robot.is_revolute
-    # the point where the last axes meet: fixed in the frame of joint `first` (those axes
-    # move together after it), so its coordinates there are found once per robot
-    local = _meeting_point_local(robot, first)
-    Rf = F[:, first - 1, :3, :3]
-    P = (Rf @ local[:, None])[..., 0] + o[:, first - 1]
-    code = np.zeros(s, int)
-    words = []
-    if rev[0]:
-        n01 = cross(z[:, 0], z[:, 1])
-        if (np.linalg.norm(n01, axis=-1) > 1e-6).all():
-            words.append(("shoulder right", "shoulder left"))
-            code = code * 2 + (((P - o[:, 0]) * n01).sum(-1) < 0)
-    if robot.dof >= 3 and rev[1] and rev[2] and \
-            (np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6).all():
-        sh, el = o[:, 1], o[:, 2]
-        tgt = P if family == "spherical-wrist" else o[:, 3]
-        h = z[:, 1]
-        line = tgt - sh
-        line = line - h * (h * line).sum(-1)[:, None]
-        v = el - sh
-        v = v - h * (h * v).sum(-1)[:, None]
-        ll = np.maximum((line * line).sum(-1), 1e-300)
-        perp = v - line * ((v * line).sum(-1) / ll)[:, None]
-        up = (perp * z[:, 0]).sum(-1)
-        alt = (cross(el - sh, tgt - el) * h).sum(-1)
-        up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
-        words.append(("elbow up", "elbow down"))
-        code = code * 2 + (up < 0)
-    words.append(("wrist no-flip", "wrist flip"))
-    code = code * 2 + ((cross(z[:, 3], z[:, 5]) * z[:, 4]).sum(-1) < 0)
-    table = []
-    for c in range(2 ** len(words)):
-        bits = [(c >> (len(words) - 1 - k)) & 1 for k in range(len(words))]
-        table.append(" ".join(w[bit] for w, bit in zip(words, bits)))
-    out = [table[c] for c in code.tolist()]
+    codes = branch_geometry(robot, family, chain_frames(robot.chain, q))
+    key = codes.astype(int) @ [9, 3, 1]                   # one of 27 word combinations
+    table = [" ".join(WORDS[w][x - 1] for w, x in enumerate((c // 9, c // 3 % 3, c % 3)) if x)
+             for c in range(27)]
+    out = [table[c] or f"branch {k}" for c, k in zip(key.tolist(), slots.tolist())]
     # the words may not tell every branch apart (robot.ik adds the +/- choice of the
     # other steps, e.g. Stanford's d3 root): name the closed form's slot as well there
-    key = code + (2 ** len(words)) * (np.zeros(s, int) if poses is None else np.asarray(poses))
-    _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
-    for k in np.flatnonzero(counts[inverse] > 1).tolist():
+    pose = np.zeros(s, int) if poses is None else np.asarray(poses)
+    _, inverse, counts = np.unique(key + 27 * pose, return_inverse=True, return_counts=True)
+    for k in np.flatnonzero((counts[inverse] > 1) & (key > 0)).tolist():
         out[k] = f"{out[k]} branch {int(slots[k])}"
     return out
