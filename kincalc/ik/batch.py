@@ -657,7 +657,78 @@ def _spherical_wrist(S: Screws, T):
             okk.reshape(N, -1))
 
 
+def _wrist_q5_cs(S: Screws, v):
+    """Joint 5 of a three-parallel arm from ``v = R1^T R(q) k6 (3, N, 2)``, the unit axis 6
+    with joint 1 undone (world frame at q = 0), for each pose and root of joint 1.
+
+    Returns ``(cos, sin, ok)`` of both roots, each ``(N, 2, 2)`` (last axis: ``b + delta``,
+    ``b - delta``), and the wrist-singular mask ``sing (N, 2)``. The roots come from
+    :func:`kincalc.ik.families._wrist_q5`, exact to rounding next to the singularity.
+    Where axis 6 is parallel to h within ``PARALLEL_WRIST_TOL``, both slots hold the
+    aligned value: ``b`` along h, ``b + pi`` against it.
+    """
+    from .families import PARALLEL_WRIST_TOL, _wrist_q5, _wrist_q5_constants
+    h = S.axis[1]
+    consts = _memo(S, "wrist q5", lambda: _wrist_q5_constants(S))
+    f = _dot(h, v)                                                         # (N, 2)
+    if consts is None:          # axis 6 or h along axis 5: plain subproblem 4
+        c5, s5, ok5 = _sp4_cs(_sp4_consts(h, S.axis[5], S.axis[4]), f)
+        return c5, s5, ok5, np.zeros(f.shape, bool)
+    vp = v - h[:, None, None] * f
+    P = np.sqrt((vp * vp).sum(0))                                          # |v normal to h|
+    cb, sb, r = consts[0], consts[1], consts[2]
+    cd, sd, ok = _wrist_q5(consts, f, P, 1e-9 * r)
+    sing = P <= PARALLEL_WRIST_TOL
+    cd = np.where(sing, np.where(f > 0, 1.0, -1.0), cd)
+    sd = np.where(sing, 0.0, sd)
+    ok = ok | sing
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    return c, s, np.stack([ok, ok], axis=-1), sing
+
+
+def _wrist_singular_q6(S: Screws, Rt, pt, c1, s1, c5, s5, v, sing, c6, s6, ok5):
+    """Joint 6 on the wrist-singular branches ``sing (N, 2)`` of a three-parallel arm, by
+    the convention of :func:`kincalc.ik.families._parallel_wrist_q6`.
+
+    The two joint-5 slots of such a branch hold one double root. Here they carry one
+    representative per arc of the continuum. ``Rt (3, 3, N)``, ``pt (3, N)``: rotation
+    and translation of ``T M^-1``. ``c1, s1 (N, 2)``: joint 1. ``c5, s5 (N, 2, 2)``:
+    joint 5, aligned where ``sing``. ``v (3, N, 2)``: axis 6 with joint 1 undone. Returns
+    ``c6, s6, ok5`` (N, 2, 2), new arrays changed only where ``sing``. The singular
+    branches are gathered and solved as arrays, with no loop over poses.
+    """
+    from .families import _parallel_wrist_q6
+    h = S.axis[1]
+    n, j = np.nonzero(sing)
+    a1, a5 = _Axis(S.axis[0]), _Axis(S.axis[4])
+    o1, p4, p5, p6 = (S.point[i][:, None] for i in (0, 3, 4, 5))
+    R, t = Rt[:, :, n], pt[:, n]                                           # (3, 3, M), (3, M)
+    C1, S1, C5, S5 = c1[n, j], s1[n, j], c5[n, j, 0], s5[n, j, 0]         # (M,)
+    # with joint 1 undone: axis 6, W = E1^-1 T M^-1 p6, and axis 4 at q6 = 0,
+    # P0 = E1^-1 T M^-1 E5^-1 p4 (E5^-1 x = R5^T (x - p5) + p5)
+    W = a1.turn_back(_mv_soa(R, p6) + t - o1, C1, S1) + o1                # (3, M)
+    q = a5.turn_back(p4 - p5, C5, S5) + p5
+    P0 = a1.turn_back(_mv_soa(R, q) + t - o1, C1, S1) + o1
+    Ah = _Axis(h).A
+    a = _cmv(Ah, W - S.point[1][:, None]).T                                # (M, 3)
+    b = _cmv(Ah, P0 - W).T
+    sigma = np.where(_dot(h, v[:, n, j]) > 0, 1.0, -1.0)
+    q6, okq, _ = _parallel_wrist_q6(S, a, b, sigma)                        # (M, 2)
+    c6, s6, ok5 = np.array(c6), np.array(s6), np.array(ok5)
+    c6[n, j], s6[n, j] = np.cos(q6), np.sin(q6)
+    ok5[n, j] &= okq
+    return c6, s6, ok5
+
+
 def _three_parallel(S: Screws, T):
+    """Every candidate of the three-parallel (UR-type) family for poses ``T (N, 4, 4)``
+    (world frame, m), as ``(c, s, x, ok)``: cosines, sines and (zero) travels of the
+    joints ``(6, N, 8)`` and the mask ``(N, 8)``. The slots are (joint 1 root) x (joint 5
+    root) x (elbow), the formulas those of :func:`kincalc.ik.families.solve_three_parallel`.
+    At the wrist singularity (axis 6 parallel to axes 2-4) the joint-5 slots of the
+    branch carry the continuum's representatives instead (:func:`_wrist_singular_q6`).
+    """
     from ..structure import common_point
     h = S.axis[1]
     Minv = _memo(S, "M^-1", S.inverse_M)
@@ -676,14 +747,18 @@ def _three_parallel(S: Screws, T):
     # joint 5: h . R5 k6 = h . R1^T Rt k6
     v = _mv_soa(Rt, a6.k[:, None])[..., None]                              # Rt k6 (3, N, 1)
     v = a1.turn_back(v, C1, S1)                                            # (3, N, 2)
-    c5, s5, ok5 = _sp4_cs(_sp4_consts(h, a6.k, a5.k), _dot(h, v))          # (N, 2, 2)
+    c5, s5, ok5, sing = _wrist_q5_cs(S, v)                                 # (N, 2, 2), (N, 2)
     # joint 6: turn Rt^T R1 h onto R5^T h about k6
     wv = (a1.A @ h)[:, None, None] * C1 + (a1.K @ h)[:, None, None] * S1 + \
         (a1.B @ h)[:, None, None]                                          # R1 h (3, N, 2)
     wv = _mv_soa(Rt_T, wv)[..., None]                                      # (3, N, 2, 1)
     p2 = a5.turn_back(h[:, None, None, None], c5, s5)                      # R5^T h (3, N, 2, 2)
     wa = _cmv(a6.A, wv)
-    c6, s6 = _sp1_cs((wa, _cmv(a6.K, wv)), p2, a6.k)
+    # p2 projected on the plane normal to k6 as well: next to the singularity both normal
+    # parts are small and p2's component along k6 times wa's rounding would swamp them
+    c6, s6 = _sp1_cs((wa, _cmv(a6.K, wv)), _cmv(a6.A, p2), a6.k)
+    if sing.any():      # axis 6 parallel to h: joint 6 by the convention, one per arc
+        c6, s6, ok5 = _wrist_singular_q6(S, Rt, pt, c1, s1, c5, s5, v, sing, c6, s6, ok5)
     # joints 2 + 3 + 4 about h: R234 e = R1^T Rt R6^T R5^T e
     e = np.cross(h, [1.0, 0, 0] if abs(h[0]) < 0.9 else [0, 1.0, 0])
     e /= np.linalg.norm(e)
@@ -704,10 +779,13 @@ def _three_parallel(S: Screws, T):
     K2 = okx.shape[1]
     c2, s2, c3, s3 = (v.reshape(N, 2, 2, K2) for v in (cx[0], sx[0], cx[1], sx[1]))
     okx = okx.reshape(N, 2, 2, K2)
-    # joint 4 = (2 + 3 + 4) - 2 - 3, by the angle-difference formulas
-    c23, s23 = c2 * c3 - s2 * s3, s2 * c3 + c2 * s3
+    # joint 4 = g4 ((2 + g3 3 + g4 4) - 2 - g3 3), by the angle-difference formulas;
+    # g3, g4 = +-1 as axes 3, 4 point along h or against it
+    g3, g4 = (1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3))
+    s3g = g3 * s3
+    c23, s23 = c2 * c3 - s2 * s3g, s2 * c3 + c2 * s3g
     C234, S234 = c234[..., None], s234[..., None]
-    c4, s4 = C234 * c23 + S234 * s23, S234 * c23 - C234 * s23
+    c4, s4 = C234 * c23 + S234 * s23, g4 * (S234 * c23 - C234 * s23)
     shape = (N, 2, 2, K2)
     b1 = lambda x: np.broadcast_to(x[:, :, None, None], shape)  # noqa: E731
     b2 = lambda x: np.broadcast_to(x[..., None], shape)  # noqa: E731

@@ -307,11 +307,194 @@ def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
     return out
 
 
+#: A three-parallel arm's axis 6 counts as parallel to axes 2-4 when the sine of the
+#: angle between them is at most this. That is the wrist singularity: joints 2, 3, 4
+#: and 6 then all turn about parallel axes, and a one-parameter continuum of
+#: configurations reaches the pose. A representative of the continuum misses the pose
+#: by at most about this much (in rad, and times the arm's size), well inside the 1e-9
+#: acceptance. The tolerance also absorbs the rounding of joint 1 near the shoulder's
+#: double root, which is 1e-12 and more. Above this value the pose has isolated
+#: solutions. They are computed exactly, with joint 5 from the well-conditioned form of
+#: :func:`_wrist_q5`.
+PARALLEL_WRIST_TOL = 1e-10
+
+
+@dataclass(frozen=True)
+class ParallelContinuum:
+    """A three-parallel arm at its wrist singularity: joints ``joints`` (0-based) turn
+    about parallel axes, so only ``sum(sign_k q_k)`` is fixed, to ``total`` (rad).
+    Joint ``free`` can take any value the elbow can follow. The others follow it: the
+    sum, and the planar elbow placing axis 4. It has the same interface as
+    :class:`Continuum` (``reversed``, ``text``) for the dispatcher."""
+
+    joints: tuple
+    signs: tuple
+    free: int
+    total: float
+
+    def reversed(self, n: int) -> "ParallelContinuum":
+        """The same relation for the original chain of a reversed one (joint k of the
+        reversed chain is joint n - 1 - k, turned the other way)."""
+        pairs = sorted((n - 1 - i, s) for i, s in zip(self.joints, self.signs))
+        return ParallelContinuum(tuple(i for i, _ in pairs), tuple(s for _, s in pairs),
+                                 n - 1 - self.free, -self.total)
+
+    def text(self, names, angle_unit: str, per_rad: float) -> str:
+        from .screws import wrap
+        terms = [("-" if s < 0 else "") + names[j] if k == 0 else
+                 ("- " if s < 0 else "+ ") + names[j]
+                 for k, (j, s) in enumerate(zip(self.joints, self.signs))]
+        rest = ", ".join(names[j] for j in self.joints if j != self.free)
+        return (f"{' '.join(terms)} = {float(wrap(self.total)) * per_rad:.4f} {angle_unit} "
+                f"(axis of {names[self.free]} parallel to theirs: {names[self.free]} free, "
+                f"{rest} follow it)")
+
+
+def _wrist_q5_constants(S: Screws):
+    """Joint 5's equation ``h . R(k5, t) k6 = f`` for a three-parallel arm, written as
+    ``C + r cos(t - b) = f``. ``h`` is the direction of axes 2-4 and the screws are
+    taken at q = 0 (world frame).
+
+    Returns ``(cos b, sin b, r, top, bottom)`` with ``top = 1 - (C + r)`` and
+    ``bottom = 1 + (C - r)``, both >= 0. They are 0 when axis 6 can be turned parallel
+    (``top``) or antiparallel (``bottom``) to h. With beta the angle from k5 to h and
+    gamma the angle from k5 to k6, ``C + r = cos(beta - gamma)`` and
+    ``C - r = cos(beta + gamma)``. Computing them from the angles makes them exact to
+    the rounding of the angles, not to the rounding of 1. Returns ``None`` when
+    ``r`` is 0 (axis 6 or h along axis 5).
+    """
+    h, k5, k6 = S.axis[1], S.axis[4], S.axis[5]
+    beta = np.arctan2(norm3(cross(k5, h)), float(k5 @ h))
+    gamma = np.arctan2(norm3(cross(k5, k6)), float(k5 @ k6))
+    kxp = cross(k5, k6)
+    A = -float(h @ cross(k5, kxp))
+    B = float(h @ kxp)
+    r = float(np.hypot(A, B))
+    if r <= 1e-12:
+        return None
+    return (A / r, B / r, r, 2.0 * np.sin(0.5 * (beta - gamma)) ** 2,
+            2.0 * np.cos(0.5 * (beta + gamma)) ** 2)
+
+
+def _wrist_q5(consts, f, P, tol: float):
+    """Both roots ``t = b +- delta`` of joint 5's equation ``C + r cos(t - b) = f`` (see
+    :func:`_wrist_q5_constants`). Returns ``(cos delta, sin delta, ok)`` with ``delta``
+    in [0, pi]; ``ok`` says that the roots are real within ``tol`` (in units of f).
+
+    ``f = h . v`` and ``P = |v - f h|`` for the unit vector ``v = R1^T R(q) k6``
+    (arrays that broadcast). Near the singularity ``1 - f`` and ``1 + f`` are small, so
+    they are computed as ``P^2 / (1 + f)`` and ``P^2 / (1 - f)`` on their own side. This
+    keeps ``delta`` exact to the rounding of ``P``. The plain ``arccos((f - C) / r)`` is
+    only good to sqrt(eps) there, which is 1.5e-8 rad at an exactly aligned wrist.
+    """
+    cb, sb, r, top, bottom = consts
+    f = np.asarray(f, float)
+    P2 = np.asarray(P, float) ** 2
+    one_minus = np.where(f > 0, P2 / (1.0 + np.abs(f)), 1.0 - f)
+    one_plus = np.where(f < 0, P2 / (1.0 + np.abs(f)), 1.0 + f)
+    um = one_minus - top           # r (1 - cos delta)
+    wm = one_plus - bottom         # r (1 + cos delta)
+    ok = (um >= -tol) & (wm >= -tol)
+    u, w = np.maximum(um, 0.0), np.maximum(wm, 0.0)
+    n = np.maximum(u + w, 1e-300)  # 2 r
+    return (w - u) / n, 2.0 * np.sqrt(u * w) / n, ok
+
+
+def _parallel_wrist_q6(S: Screws, a, b, sigma):
+    """Representative values of joint 6 at the wrist singularity of a three-parallel arm.
+
+    There joints 2, 3, 4 and 6 turn about parallel axes (direction ``h``). All
+    quantities here are projected on the plane normal to h, in the frame with joint 1
+    undone (world frame, m). Turning joint 6 by ``q6`` swings axis 4 about axis 6 by
+    ``-sigma q6``. Joints 2 and 3 (a planar two-link arm) must then reach axis 4. They
+    reach distances between ``|l2 - l3|`` and ``l2 + l3`` from axis 2, where ``l2`` is
+    the distance from axis 2 to axis 3 and ``l3`` the distance from axis 3 to axis 4.
+    So the continuum is made of one or two arcs of ``q6``.
+
+    Convention, per arc: ``q6 = 0`` when the arc holds it. Otherwise ``q6`` is the
+    value that puts axis 4 nearest the middle of the elbow's reach,
+    ``(|l2 - l3| + l2 + l3) / 2`` from axis 2. Of the two such values the one on the
+    side of ``q6 = 0`` is used. This value is inside the arc, away from the stretched
+    and folded elbow.
+
+    ``a (..., 3)``: from axis 2 to axis 6, normal to h. ``b (..., 3)``: from axis 6 to
+    axis 4 at ``q6 = 0``, normal to h. ``sigma (...)``: +1 when axis 6 points along h,
+    -1 when it points against it.
+
+    Returns ``q6 (..., 2)`` (rad, in (-pi, pi]), ``ok (..., 2)`` and ``phi (..., 2)``.
+    Slot 0 is the arc on the side of ``q6 = 0`` (or the only arc). Slot 1 is the other
+    arc, valid only when there are two. ``phi`` is the angle about h from ``a`` to axis
+    4's offset, whose sign tells the two arcs apart.
+    """
+    from .screws import wrap
+    h = S.axis[1]
+    perp = lambda x: x - (x @ h) * h  # noqa: E731
+    l2 = norm3(perp(S.point[2] - S.point[1]))
+    l3 = norm3(perp(S.point[3] - S.point[2]))
+    lo_r, hi_r = abs(l2 - l3), l2 + l3
+    mid_r = 0.5 * (lo_r + hi_r)
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    sigma = np.asarray(sigma, float)
+    A2, B2 = (a * a).sum(-1), (b * b).sum(-1)
+    AB = np.sqrt(A2 * B2)
+    # axis 6 on axis 2 or axis 4 on axis 6: joint 6 does not move axis 4 relative to
+    # axis 2, so every q6 is equally good and q6 = 0 is used
+    flat = AB <= (1e-9 * max(S.scale, 1e-300)) ** 2
+    den = np.where(flat, 1.0, 2.0 * AB)
+    cos0 = 2.0 * (a * b).sum(-1) / den
+    sin0 = 2.0 * (cross(a, b) @ h) / den
+    c_out, c_in, c_mid = ((x * x - A2 - B2) / den for x in (hi_r, lo_r, mid_r))
+    hi, lo = np.minimum(c_out, 1.0), np.maximum(c_in, -1.0)
+    reach = flat | (lo <= hi + 1e-12)
+    two = ~flat & (c_out < 1.0) & (c_in > -1.0)
+    zero_in = flat | ((cos0 >= lo - 1e-12) & (cos0 <= hi + 1e-12))
+    phim = np.arccos(np.clip(c_mid, lo, np.maximum(lo, hi)))
+    side = np.where(sin0 >= 0, 1.0, -1.0)
+    phi0 = np.arctan2(sin0, cos0)
+    q6 = np.stack([np.where(zero_in, 0.0, sigma * (phi0 - side * phim)),
+                   sigma * (phi0 + side * phim)], axis=-1)
+    phi = np.stack([np.where(zero_in, phi0, side * phim), -side * phim], axis=-1)
+    return wrap(q6), np.stack([reach, reach & two], axis=-1), phi
+
+
+def _angle_onto(p1, p2, k) -> float:
+    """The angle about unit ``k`` turning ``p1`` toward ``p2`` (subproblem 1 without a
+    threshold). Near-zero projections keep their direction, since the solution's other
+    joints absorb the rounding of a nearly free angle. 0 when a projection is exactly 0.
+
+    Both vectors are projected on the plane normal to ``k``. Otherwise the rounding of
+    ``p1``'s projection along ``k`` (~1e-16) times ``p2``'s component along ``k`` (~1)
+    would swamp the products of two small normal parts next to the singularity."""
+    a = p1 - (k @ p1) * k
+    b = p2 - (k @ p2) * k
+    return float(np.arctan2(float(cross(k, a) @ b), float(a @ b)))
+
+
 def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
+    """Three-parallel (UR-type) arm, pose ``T`` (4, 4; world frame, m): all candidates.
+
+    Joint 1 comes from the height of the wrist point along h, the direction of axes 2-4
+    (subproblem 4). Joint 5 comes from the component of axis 6 along h (subproblem 4,
+    in the form of :func:`_wrist_q5`). Joint 6 and the angle about h of joints 2-4
+    come from subproblem 1. Joints 2 and 3 then place a point of axis 4, a planar
+    two-link problem. Axes 3 and 4 may point along h or against it (signs s3, s4): the
+    rotation about h is ``q2 + s3 q3 + s4 q4``.
+
+    Wrist singularity: axis 6 parallel to h within :data:`PARALLEL_WRIST_TOL`, which for
+    a UR arm is q5 = 0 or 180 deg. The rotation is then
+    ``R1 R_h(q2 + s3 q3 + s4 q4 + sigma q6) R5``, with ``sigma = +-1`` the direction of
+    axis 6 along h. Joint 6 can take any value the elbow can follow. For such a branch
+    of joint 1, joint 5 is the aligned value (a double root). The candidates are the
+    representatives of :func:`_parallel_wrist_q6`: ``q6 = 0`` where the elbow reaches
+    it, else a value in mid-reach, one per arc of the continuum. Each is followed by
+    both elbow solutions. They are marked with joint 6 free and a
+    :class:`ParallelContinuum` giving the fixed sum.
+    """
     h = S.axis[1]
     c56 = common_point(S.point[4:], S.axis[4:], np.inf)
     ct = _from_tool(T, _point_in_tool(S, c56))
-    R_t = T[:3, :3] @ S.inverse_M()[:3, :3]        # R(q) for the product of exponentials
+    Minv = S.inverse_M()
+    R_t = T[:3, :3] @ Minv[:3, :3]        # R(q) for the product of exponentials
     o1 = S.point[0]
     out = []
     # joint 1: the component along h of (c56 - o1) is unchanged by joints 2-4 (and 5, 6 fix c56)
@@ -320,46 +503,91 @@ def solve_three_parallel(S: Screws, T, explain=False) -> list[Candidate]:
     t1s = [-t for t in t1s]   # sp4 solved h . R(k1, t)(ct - o1) = d; we need R(k1, -q1)
     if not ex1:
         return []
+    s3, s4 = (1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3))
+    consts = _wrist_q5_constants(S)
+
+    def finish(q1, q5, q6, signs, sigma):
+        """Joints 2-4 for the given q1, q5, q6 -> candidates. ``sigma`` (+-1, axis 6
+        along or against h) at the wrist singularity, else None."""
+        R1 = _rot(S.axis[0], q1)
+        R5 = _rot(S.axis[4], q5)
+        R6 = _rot(S.axis[5], q6)
+        # angle about h of joints 2-4: R2 R3 R4 = R_h(q2 + s3 q3 + s4 q4)
+        q234 = _angle_about(h, R1.T @ R_t @ R6.T @ R5.T)
+        # the point of axis 4 at q = 0 maps to E2 E3 (p4) (E4 fixes it), with
+        # E2 E3 E4 = E1^-1 T M^-1 E6^-1 E5^-1. This uses Screws.exp and numpy's inverse
+        # on purpose (not _exp, _inv): at the stretched elbow of a UR arm's home pose
+        # the elbow is a double root whose value and up/down label follow the rounding
+        # of exactly these products.
+        T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ Minv @ np.linalg.inv(
+            S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
+        p4 = S.point[3]
+        p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
+        res = []
+        for ps in place_point(S, [1, 2], p4, p4t, explain):
+            q2, q3 = ps.x
+            q4 = s4 * (q234 - q2 - s3 * q3)
+            cand = Candidate(q=np.array([q1, q2, q3, q4, q5, q6]), signs={**signs, **ps.signs})
+            if sigma is not None:
+                cand.free.append(5)
+                cand.continuum = ParallelContinuum(
+                    (1, 2, 3, 5), (1, int(s3), int(s4), int(sigma)), 5,
+                    float(q2 + s3 * q3 + s4 * q4 + sigma * q6))
+            if explain:
+                if sigma is None:
+                    steps = [("joint 5 by subproblem 4", float(q5), "angle"),
+                             ("joint 6 by subproblem 1", float(q6), "angle")]
+                else:
+                    steps = [("axis 6 parallel to axes 2-4 (wrist singularity): joint 5 "
+                              "at its aligned value", float(q5), "angle"),
+                             ("joint 6 free: 0 where the elbow reaches, else mid-reach "
+                              "(one value per arc of the continuum)", float(q6), "angle")]
+                cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist(), "length"),
+                              ("joint 1 by subproblem 4 (component along the parallel "
+                               "axes)", float(q1), "angle")] + steps + [
+                              ("q2 + s3 q3 + s4 q4 by subproblem 1", float(q234), "angle")] + \
+                    ps.trace
+            res.append(cand)
+        return res
+
     for i1, q1 in enumerate(t1s):
         R1 = _rot(S.axis[0], q1)
-        # joint 5: h . R(k5, q5) k6 = h . R1^T R_t k6 (rotations about h drop out)
-        t5s, ex5, free5 = sp4(h, S.axis[5], S.axis[4], float(h @ (R1.T @ R_t @ S.axis[5])))
-        if not ex5:
+        sign1 = {0: "+" if i1 == 0 else "-"}
+        v = R1.T @ R_t @ S.axis[5]          # axis 6 with joint 1 undone
+        f = float(h @ v)
+        P = norm3(v - f * h)
+        if consts is None:                  # degenerate wrist: plain subproblem 4
+            t5s, ex5, _ = sp4(h, S.axis[5], S.axis[4], f)
+            roots = t5s if ex5 else []
+        elif P <= PARALLEL_WRIST_TOL:
+            # wrist singularity: axis 6 along +-h; joint 5 at the aligned value
+            sigma = 1.0 if f > 0 else -1.0
+            cb, sb = consts[0], consts[1]
+            q5 = float(np.arctan2(sigma * sb, sigma * cb))
+            W = _from_tool(T, S.point[5] @ Minv[:3, :3].T + Minv[:3, 3])    # axis 6
+            G0 = _inv(_exp(S, 0, q1)) @ T @ Minv @ _inv(_exp(S, 4, q5))
+            P0 = G0[:3, :3] @ S.point[3] + G0[:3, 3]                      # axis 4, q6 = 0
+            W = R1.T @ (W - o1) + o1
+            perp = lambda x: x - (x @ h) * h  # noqa: E731
+            q6s, oks, phis = _parallel_wrist_q6(S, perp(W - S.point[1]), perp(P0 - W), sigma)
+            two = bool(oks[1])
+            for q6, ok, phi in zip(q6s.tolist(), oks.tolist(), phis.tolist()):
+                if ok:
+                    signs = {**sign1, **({3: "+" if phi >= 0 else "-"} if two else {})}
+                    out.extend(finish(q1, q5, q6, signs, sigma))
             continue
-        for i5, q5 in enumerate(t5s):
+        else:
+            cd, sd, ok5 = _wrist_q5(consts, f, P, 1e-12)
+            if not ok5:
+                continue
+            base = np.arctan2(consts[1], consts[0])
+            dl = float(np.arctan2(sd, cd))
+            roots = [base + dl, base - dl]
+        for i5, q5 in enumerate(roots):
             R5 = _rot(S.axis[4], q5)
-            # joint 6: R6^T R5^T h = R_t^T R1 h, i.e. R(k6, q6) (R_t^T R1 h) = R5^T h
-            q6, _, free6 = sp1(R_t.T @ R1 @ h, R5.T @ h, S.axis[5])
-            R6 = _rot(S.axis[5], q6)
-            # sum of joints 2-4 about h
-            R234 = R1.T @ R_t @ R6.T @ R5.T
-            q234 = _angle_about(h, R234)
-            # the point on axis 5 nearest axis 4 -> where axis 4 must be, then a planar 2R
-            # Screws.exp and numpy's inverse on purpose (not _exp, _inv): at the stretched
-            # elbow of a UR arm's home pose the elbow is a double root whose value and
-            # up/down label follow the rounding of exactly these products
-            T_rest = np.linalg.inv(S.exp(0, q1)) @ T @ S.inverse_M() @ np.linalg.inv(
-                S.exp(5, q6)) @ np.linalg.inv(S.exp(4, q5))
-            # T_rest = E2 E3 E4; the point of axis 4 at q = 0 maps to E2 E3 (p4) (E4 fixes it)
-            p4 = S.point[3]
-            p4t = T_rest[:3, :3] @ p4 + T_rest[:3, 3]
-            for ps in place_point(S, [1, 2], p4, p4t, explain):
-                q2, q3 = ps.x
-                q4 = q234 - q2 - q3
-                q = np.array([q1, q2, q3, q4, q5, q6])
-                cand = Candidate(q=q, signs={0: "+" if i1 == 0 else "-",
-                                             4: "+" if i5 == 0 else "-", **ps.signs})
-                if free6:
-                    cand.free.append(5)
-                    cand.continuum = Continuum(3, 5, 1)
-                if explain:
-                    cand.trace = [("point where axes 5 and 6 meet (target)", ct.tolist(), "length"),
-                                  ("joint 1 by subproblem 4 (component along the parallel "
-                                   "axes)", float(q1), "angle"),
-                                  ("joint 5 by subproblem 4", float(q5), "angle"),
-                                  ("joint 6 by subproblem 1", float(q6), "angle"),
-                                  ("q2 + q3 + q4 by subproblem 1", float(q234), "angle")] + ps.trace
-                out.append(cand)
+            # joint 6: R(k6, q6) (R_t^T R1 h) = R5^T h
+            q6 = _angle_onto(R_t.T @ R1 @ h, R5.T @ h, S.axis[5])
+            out.extend(finish(q1, q5, q6, {**sign1, 4: "+" if i5 == 0 else "-"}, None))
     return out
 
 
