@@ -113,8 +113,16 @@ def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
     # wrist: the last three joints revolute and the first and third of them aligned
     if n >= 6 and rev[n - 3:].all() and parallel(dirs[n - 3], dirs[n - 1], tol_dir):
         kinds.append("wrist")
-        texts.append(f"wrist singularity: the axes of joints {n - 2} and {n} are aligned, "
-                     f"so only q{n - 2} + q{n} (or q{n - 2} - q{n}) matters")
+        if point_line_distance(pts[n - 1], pts[n - 3], dirs[n - 3]) < tol_len:
+            texts.append(f"wrist singularity: the axes of joints {n - 2} and {n} are aligned, "
+                         f"so only q{n - 2} + q{n} (or q{n - 2} - q{n}) matters")
+        else:
+            # parallel but apart (a UR arm at q5 = 0): every revolute joint about that
+            # direction turns the tool the same way, and only their signed sum is fixed
+            group = [j + 1 for j in range(n) if rev[j] and parallel(dirs[j], dirs[n - 1], tol_dir)]
+            texts.append(f"wrist singularity: the axis of joint {n} is parallel to those of "
+                         f"joints {', '.join(map(str, group[:-1]))}, so only the signed sum "
+                         f"of q{', q'.join(map(str, group))} is fixed by the orientation")
 
     wrist = spherical_wrist(robot)
     point = None

@@ -148,9 +148,7 @@ def test_batch_at_singular_configurations_returns_only_true_solutions(name):
     r = load_robot(name)
     rng = np.random.default_rng(5)
     Q = sample_configurations(r, 200, rng)
-    # (UR arms at exactly q5 = 0 or pi, axis 6 parallel to axes 2-4, are not solved
-    # by either solver yet: the pose is reported unreachable; see the README)
-    Q[:100, 4] = rng.choice([0.0, np.pi], 100) if name != "ur5" else 0.3
+    Q[:100, 4] = rng.choice([0.0, np.pi], 100)
     Q[100:150, 2] = 0.0
     Q[150:] = 0.0
     T = r.fk(Q)

@@ -190,3 +190,14 @@ def test_elbow_and_shoulder_singularities_named():
     assert "shoulder" in res.singularity.kinds
     res = jacobian_report(r, D(np.array([10, 35, -50, 30, 40, 0])))
     assert not res.singular
+
+
+def test_ur_wrist_singularity_names_the_parallel_joints():
+    """A UR5 at q5 = 0: axis 6 is parallel to axes 2-4 but not on axis 4's line, so the
+    sum of all four joints is what the orientation fixes (not q4 + q6 alone)."""
+    r = load_robot("ur5")
+    res = jacobian_report(r, np.radians([20, -70, 80, -30, 0, 40]))
+    assert res.singular and "wrist" in res.singularity.kinds
+    text = " ".join(res.singularity.descriptions)
+    assert "parallel to those of joints 2, 3, 4" in text and "q2, q3, q4, q6" in text
+    assert "only q4 + q6" not in text
