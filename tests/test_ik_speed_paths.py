@@ -204,6 +204,10 @@ def test_dedupe_rows_is_the_greedy_first_kept():
             kept.append(i)
     assert _dedupe_rows(robot, Q) == kept
     assert len(kept) == 7
+    # two turns apart (a value shifted into wide limits) is the same; distinct rows all stay
+    far = np.concatenate([base, base[[4]] - 4 * np.pi * robot.is_revolute])
+    assert _dedupe_rows(robot, far) == list(range(6))
+    assert _dedupe_rows(robot, base) == list(range(6))
 
 
 @pytest.mark.parametrize("name", ["puma560", "stanford_arm", "fer_rrpr", "bk_rrp"])

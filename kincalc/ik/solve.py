@@ -547,8 +547,14 @@ def _dedupe_rows(robot, Q, c=None) -> list:
     if len(Q) < 2:
         return list(range(len(Q)))
     rev = (c or _constants(robot)).revolute
-    D = Q[:, None, :] - Q[None, :, :]
-    close = np.all(np.abs(np.where(rev, wrap(D), D)) < 1e-6, axis=-1).tolist()
+    D = np.abs(Q[:, None, :] - Q[None, :, :])
+    # wrapped distance of revolute joints: the difference taken the short way round
+    Dr = np.mod(D[..., rev], 2 * np.pi)
+    D[..., rev] = np.minimum(Dr, 2 * np.pi - Dr)
+    close = np.all(D < 1e-6, axis=-1)
+    if not np.triu(close, 1).any():                 # no two rows alike: the common case
+        return list(range(len(Q)))
+    close = close.tolist()
     kept = []
     for i, row in enumerate(close):
         if not any(row[j] for j in kept):
