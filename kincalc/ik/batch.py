@@ -615,6 +615,16 @@ def _soa_rot(T):
 # travel (``x[i]``), each ``(n, N, K)``, and the candidates' mask ``ok (N, K)``.
 
 def _spherical_wrist(S: Screws, T):
+    """Every candidate of the spherical-wrist family for poses ``T (N, 4, 4)`` (world
+    frame, m), as ``(c, s, x, ok)``: cosines, sines and travels of the joints
+    ``(6, N, 2 K4)`` and the mask ``(N, 2 K4)``. The slots are (placement of joints 1-3,
+    ``K4`` of them) x (root of joint 5); the formulas are those of
+    :func:`kincalc.ik.families.solve_spherical_wrist`. Joint 5 comes from
+    :func:`_spherical_wrist_q5_cs`, exact to rounding up to the wrist singularity. There
+    (axis 6 on the line of axis 4) both joint-5 slots hold the aligned value with q4 = 0
+    and q6 carrying q4 + sigma q6: one representative of the continuum, as robot.ik
+    returns it (the second copy is dropped as a duplicate).
+    """
     from ..structure import common_point
     c0 = _memo(S, "wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
     Minv = _memo(S, "M^-1", S.inverse_M)
@@ -623,7 +633,7 @@ def _spherical_wrist(S: Screws, T):
     c3, s3, x3, ok = _place_point(S, [0, 1, 2], c0, CT, cs=True)          # (3, N, K4)
     N, K4 = ok.shape
     a4, a5, a6 = (_Axis(S.axis[i]) for i in (3, 4, 5))
-    k4, k5, k6 = a4.k, a5.k, a6.k
+    k6 = a6.k
     e = np.cross(k6, [1.0, 0, 0] if abs(k6[0]) < 0.9 else [0, 1.0, 0])
     e /= np.linalg.norm(e)
     # RW = R_pre^T Rt is needed only through RW k6 and RW e: turn those two vectors
@@ -635,14 +645,22 @@ def _spherical_wrist(S: Screws, T):
         if S.revolute[i]:
             V = _Axis(S.axis[i]).turn_back(V, c3[i], s3[i])
     p2, w1 = V[:, 0], V[:, 1]                                             # RW k6, RW e
-    # joint 5: k4 . R5 k6 = k4 . RW k6
-    c5, s5, ok5 = _sp4_cs(_sp4_consts(k4, k6, k5), _dot(k4, p2))       # (N, K4, 2)
+    # joint 5: k4 . R5 k6 = k4 . RW k6, exact to rounding up to the wrist singularity
+    c5, s5, ok5, sing = _spherical_wrist_q5_cs(S, a4, p2)              # (N, K4, 2), (N, K4)
     # joint 4: turn R5 k6 onto RW k6 about k4. R5 k6 = c5 u + s5 v + w; its part
-    # normal to k4 and that part turned by 90 degrees about k4 are linear in (c5, s5)
+    # normal to k4 and that part turned by 90 degrees about k4 are linear in (c5, s5).
+    # RW k6 is projected on the plane normal to k4 first: next to the singularity both
+    # normal parts are ~P, x4 and y4 ~P^2, and the rounding of the constant vectors'
+    # component along k4 (~1e-17) times RW k6's (~1) would swamp them (as in
+    # families._angle_onto)
+    p2n = _cmv(a4.A, p2)                                                   # (3, N, K4)
     u, v, w = a5.A @ k6, a5.K @ k6, a5.B @ k6
-    x4 = sum(cf * _dot(a4.A @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
-    y4 = sum(cf * _dot(a4.K @ g, p2)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
+    x4 = sum(cf * _dot(a4.A @ g, p2n)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
+    y4 = sum(cf * _dot(a4.K @ g, p2n)[..., None] for cf, g in ((c5, u), (s5, v), (1.0, w)))
     c4, s4 = _unit_cs(x4, y4, 1e-28)
+    if sing.any():      # axes 4 and 6 on one line: the representative has q4 = 0
+        c4 = np.where(sing[..., None], 1.0, c4)
+        s4 = np.where(sing[..., None], 0.0, s4)
     # joint 6: turn a vector e normal to k6 onto R5^T R4^T RW e about k6
     z = a4.turn_back(w1[..., None], c4, s4)                              # R4^T RW e
     z = a5.turn_back(z, c5, s5)                                           # (3, N, K4, 2)
@@ -655,6 +673,41 @@ def _spherical_wrist(S: Screws, T):
     okk = ok5 & ok[..., None]
     return (c.reshape(6, N, -1), s.reshape(6, N, -1), x.reshape(6, N, -1),
             okk.reshape(N, -1))
+
+
+def _spherical_wrist_q5_cs(S: Screws, a4: _Axis, v):
+    """Joint 5 of a spherical wrist from ``v = R_W k6 (3, N, K)``: the unit axis 6 that
+    joints 4-6 must produce, with joints 1-3 undone (world frame at q = 0), for each pose
+    and placement of joints 1-3. ``a4``: axis 4.
+
+    Solves ``k4 . R(k5, q5) k6 = k4 . v`` in the form of
+    :func:`kincalc.ik.families._wrist_middle_roots` (as robot.ik does): ``(cos, sin, ok)``
+    of both roots, each ``(N, K, 2)`` (last axis: ``b + delta``, ``b - delta``), and the
+    wrist-singular mask ``sing (N, K)``. Where ``v`` lies within ``PARALLEL_WRIST_TOL``
+    (sine) of the line of axis 4 and the wrist can put axis 6 on it, both slots hold the
+    aligned value (``b`` along axis 4, ``b + pi`` against it); the caller sets q4 = 0
+    there, so that the two slots are one representative of the continuum.
+    """
+    from .families import PARALLEL_WRIST_TOL, _cone_constants, _wrist_q5
+    consts = _memo(S, "spherical wrist q5",
+                   lambda: _cone_constants(S.axis[3], S.axis[4], S.axis[5]))
+    f = _dot(a4.k, v)                                                       # (N, K)
+    if consts is None:          # axis 5 along axis 4 or 6: plain subproblem 4
+        c5, s5, ok5 = _sp4_cs(_sp4_consts(a4.k, S.axis[5], S.axis[4]), f)
+        return c5, s5, ok5, np.zeros(f.shape, bool)
+    cb, sb, r, top, bottom = consts
+    kv = _cmv(a4.K, v)                                                      # k4 x v
+    P = np.sqrt((kv * kv).sum(0))                                           # |v across k4|
+    cd, sd, ok = _wrist_q5(consts, f, P, 1e-9 * r)
+    gap = 0.5 * PARALLEL_WRIST_TOL ** 2
+    sing = (P <= PARALLEL_WRIST_TOL) & np.where(f > 0, top <= gap, bottom <= gap)
+    if sing.any():
+        cd = np.where(sing, np.where(f > 0, 1.0, -1.0), cd)
+        sd = np.where(sing, 0.0, sd)
+        ok = ok | sing
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    return c, s, np.stack([ok, ok], axis=-1), sing
 
 
 def _wrist_q5_cs(S: Screws, v):

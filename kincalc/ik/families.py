@@ -271,15 +271,114 @@ def solve_spherical_wrist(S: Screws, T, explain=False) -> list[Candidate]:
     c0 = common_point(S.point[3:], S.axis[3:], np.inf)
     ct = _from_tool(T, _point_in_tool(S, c0))
     out = []
+    consts = _cone_constants(S.axis[3], S.axis[4], S.axis[5])
     for ps in place_point(S, [0, 1, 2], c0, ct, explain):
         q123 = ps.x
         W = _inv(_product(S, [0, 1, 2], q123)) @ T @ S.inverse_M()
-        out.extend(_wrist(S, W[:3, :3], q123, ps, [3, 4, 5], ct, explain))
+        out.extend(_wrist(S, W[:3, :3], q123, ps, [3, 4, 5], ct, explain, consts))
     return out
 
 
-def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain):
-    """Angles of three concurrent revolute axes idx with R(a1) R(a2) R(a3) = RW."""
+def _wrist_middle_roots(consts, f: float, P: float):
+    """The middle wrist joint's roots (rad) from ``k1 . R(k2, t) k3 = f``, the equation
+    of :func:`_wrist` written ``C + r cos(t - b) = f`` (``consts`` from
+    :func:`_cone_constants` ``(k1, k2, k3)``; axes at q = 0, world frame).
+
+    ``f = k1 . v`` and ``P = |k1 x v|`` for the unit vector ``v = R_W k3``: the target
+    direction of the third axis, along and across the first.
+
+    Returns ``(roots, sigma)``:
+
+    * the wrist singularity: ``v`` within :data:`PARALLEL_WRIST_TOL` (sine) of the line
+      of ``k1`` (``P <= tol``), and the wrist able to put its third axis on that line
+      (``top``, resp. ``bottom``, at most ``tol^2 / 2``: the cone angles differ from
+      equal, resp. supplementary, by at most ``tol`` rad). Then ``roots`` is the one
+      aligned value, ``b`` when ``v`` points along ``k1`` (``sigma = +1``) and ``b + pi``
+      against it (``sigma = -1``). The outer axes are then on one line: a representative
+      of the continuum misses the pose by at most ~2 tol rad.
+    * otherwise ``sigma`` is None and ``roots`` is ``[b + delta, b - delta]`` with
+      ``delta`` from :func:`_wrist_q5`, exact to rounding up to the singularity (the plain
+      ``arccos`` is only good to sqrt(eps) ~ 1.5e-8 rad there). One root only where the
+      target is out of the wrist's reach (the least-squares angle, ``delta`` 0 or pi;
+      the FK check rejects it) and at the tangent double root of a side where the wrist
+      cannot line its outer axes up (``delta`` or ``pi - delta`` below 1e-9 rad there:
+      both roots give one configuration).
+    """
+    cb, sb, r, top, bottom = consts
+    sigma = 1.0 if f > 0 else -1.0
+    gap_tol = 0.5 * PARALLEL_WRIST_TOL ** 2
+    if P <= PARALLEL_WRIST_TOL and (top if f > 0 else bottom) <= gap_tol:
+        return [float(np.arctan2(sigma * sb, sigma * cb))], sigma
+    cd, sd, ok = _wrist_q5(consts, f, P, 1e-12)
+    base = float(np.arctan2(sb, cb))
+    delta = float(np.arctan2(sd, cd))
+    if not ok or (delta < 1e-9 and top > gap_tol) or (np.pi - delta < 1e-9 and bottom > gap_tol):
+        return [base + delta], None
+    return [base + delta, base - delta], None
+
+
+def _wrist(S: Screws, RW, prefix_q, ps, idx, centre, explain, consts=None):
+    """Angles of three concurrent revolute axes ``idx`` with ``R(k1, t1) R(k2, t2)
+    R(k3, t3) = RW`` (rotation (3, 3) in the world frame at q = 0; axes from ``S`` at
+    q = 0), appended to ``prefix_q``: candidates (rad).
+
+    ``t2`` from ``k1 . R(k2, t2) k3 = k1 . (RW k3)`` (subproblem 4, in the form of
+    :func:`_wrist_middle_roots`), ``t1`` turning ``R(k2, t2) k3`` onto ``RW k3`` about
+    ``k1`` (subproblem 1 on the parts normal to ``k1``, no threshold: next to the
+    singularity both are small and their rounding, ~1e-16 / sin(distance), is absorbed
+    by ``t3``), ``t3`` from the rest (subproblem 1).
+
+    At the wrist singularity (``RW k3`` on the line of ``k1``, see
+    :func:`_wrist_middle_roots`) ``R(k1, t1) R2 R(k3, t3) = R(k1, t1 + sigma t3) R2`` and
+    only ``t1 + sigma t3`` is fixed. One representative is returned: ``t2`` at its aligned
+    value, ``t1 = 0`` and ``t3`` carrying the combination; joint ``idx[0]`` is marked
+    free and a :class:`Continuum` gives ``t1 + sigma t3``. ``consts``: the
+    :func:`_cone_constants` of the three axes (computed when not given).
+    """
+    k1, k2, k3 = (S.axis[i] for i in idx)
+    if consts is None:
+        consts = _cone_constants(k1, k2, k3)
+    if consts is None:       # axis 2 along axis 1 or 3: not a working wrist
+        return _wrist_sp2(S, RW, prefix_q, ps, idx, centre, explain)
+    v = RW @ k3
+    roots, sigma = _wrist_middle_roots(consts, float(k1 @ v), norm3(cross(k1, v)))
+    out = []
+    for n_sol, t2 in enumerate(roots):
+        R2 = _rot(k2, t2)
+        t1 = 0.0 if sigma is not None else _angle_onto(R2 @ k3, v, k1)
+        R12 = _rot(k1, t1) @ R2
+        t3 = _angle_about(k3, R12.T @ RW)
+        q = np.concatenate([prefix_q, [t1, t2, t3]])
+        cand = Candidate(q=q, signs=dict(ps.signs), free=list(ps.free))
+        if len(roots) == 2:
+            cand.signs[idx[1]] = "+" if n_sol == 0 else "-"
+        if sigma is not None:
+            # axes idx[0] and idx[2] on one line: rotations add (or subtract, when the
+            # axes point opposite ways) and only that combination is fixed
+            cand.free.append(idx[0])
+            cand.continuum = Continuum(idx[0], idx[2], int(sigma), t1 + sigma * t3)
+        if explain:
+            a, b, c = (i + 1 for i in idx)
+            if sigma is None:
+                steps = [(f"joint {b} by subproblem 4: axis {c}'s component along axis {a}",
+                          float(t2), "angle"),
+                         (f"joint {a} by subproblem 1: turn axis {c} onto R_W times it",
+                          float(t1), "angle")]
+            else:
+                steps = [(f"axes {a} and {c} aligned (wrist singularity): joint {b} at its "
+                          "aligned value", float(t2), "angle"),
+                         (f"joint {a} free: 0 (joint {c} takes joint {a} "
+                          f"{'+' if sigma > 0 else '-'} joint {c})", float(t1), "angle")]
+            cand.trace = [("wrist centre (target)", centre.tolist(), "length")] + list(ps.trace) + [
+                ("wrist: rotation left for joints 4-6, R_W", RW.tolist(), "none")] + steps + [
+                (f"joint {c} by subproblem 1", float(t3), "angle")]
+        out.append(cand)
+    return out
+
+
+def _wrist_sp2(S: Screws, RW, prefix_q, ps, idx, centre, explain):
+    """:func:`_wrist` by plain subproblem 2 (then 1), for a degenerate wrist whose middle
+    axis lies along one of the others (no cone constants)."""
     k1, k2, k3 = (S.axis[i] for i in idx)
     sols, exact, free = sp2(k3, RW @ k3, k1, k2)
     out = []
@@ -363,7 +462,16 @@ def _wrist_q5_constants(S: Screws):
     the rounding of the angles, not to the rounding of 1. Returns ``None`` when
     ``r`` is 0 (axis 6 or h along axis 5).
     """
-    h, k5, k6 = S.axis[1], S.axis[4], S.axis[5]
+    return _cone_constants(S.axis[1], S.axis[4], S.axis[5])
+
+
+def _cone_constants(h, k5, k6):
+    """:func:`_wrist_q5_constants` for any unit vectors (3,): the equation
+    ``h . R(k5, t) k6 = f`` as ``C + r cos(t - b) = f``, returned as
+    ``(cos b, sin b, r, top, bottom)``, or ``None`` when ``r`` is 0. ``R(k5, t) k6``
+    sweeps a cone about ``k5``; ``top`` (``bottom``) is 0 when the cone holds ``h``
+    (``-h``). The three-parallel arm uses it with ``h`` the direction of axes 2-4, the
+    spherical wrist with ``h = k4`` (:func:`_wrist`)."""
     beta = np.arctan2(norm3(cross(k5, h)), float(k5 @ h))
     gamma = np.arctan2(norm3(cross(k5, k6)), float(k5 @ k6))
     kxp = cross(k5, k6)
