@@ -688,26 +688,38 @@ def _spherical_wrist_q5_cs(S: Screws, a4: _Axis, v):
     aligned value (``b`` along axis 4, ``b + pi`` against it); the caller sets q4 = 0
     there, so that the two slots are one representative of the continuum.
     """
-    from .families import PARALLEL_WRIST_TOL, _cone_constants, _wrist_q5
+    from .families import PARALLEL_WRIST_TOL, _cone_constants
     consts = _memo(S, "spherical wrist q5",
                    lambda: _cone_constants(S.axis[3], S.axis[4], S.axis[5]))
     f = _dot(a4.k, v)                                                       # (N, K)
     if consts is None:          # axis 5 along axis 4 or 6: plain subproblem 4
         c5, s5, ok5 = _sp4_cs(_sp4_consts(a4.k, S.axis[5], S.axis[4]), f)
         return c5, s5, ok5, np.zeros(f.shape, bool)
-    cb, sb, r, top, bottom = consts
+    top, bottom = consts[3], consts[4]
     kv = _cmv(a4.K, v)                                                      # k4 x v
     P = np.sqrt((kv * kv).sum(0))                                           # |v across k4|
-    cd, sd, ok = _wrist_q5(consts, f, P, 1e-9 * r)
     gap = 0.5 * PARALLEL_WRIST_TOL ** 2
     sing = (P <= PARALLEL_WRIST_TOL) & np.where(f > 0, top <= gap, bottom <= gap)
+    return _cone_roots_cs(consts, f, P, sing) + (sing,)
+
+
+def _cone_roots_cs(consts, f, P, sing):
+    """Both roots ``t = b +- delta`` of ``C + r cos(t - b) = f`` (``consts`` of
+    :func:`kincalc.ik.families._cone_constants`; ``f`` and ``P`` the target vector's
+    parts along and across the reference axis, arrays of one shape), by
+    :func:`kincalc.ik.families._wrist_q5`: ``(cos, sin, ok)``, each of that shape plus
+    a last axis of 2 (``b + delta``, ``b - delta``). Where ``sing`` both slots hold the
+    aligned value, ``b`` for ``f > 0``, ``b + pi`` otherwise."""
+    from .families import _wrist_q5
+    cb, sb, r = consts[0], consts[1], consts[2]
+    cd, sd, ok = _wrist_q5(consts, f, P, 1e-9 * r)
     if sing.any():
         cd = np.where(sing, np.where(f > 0, 1.0, -1.0), cd)
         sd = np.where(sing, 0.0, sd)
         ok = ok | sing
     c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
     s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
-    return c, s, np.stack([ok, ok], axis=-1), sing
+    return c, s, np.stack([ok, ok], axis=-1)
 
 
 def _wrist_q5_cs(S: Screws, v):
@@ -720,7 +732,7 @@ def _wrist_q5_cs(S: Screws, v):
     Where axis 6 is parallel to h within ``PARALLEL_WRIST_TOL``, both slots hold the
     aligned value: ``b`` along h, ``b + pi`` against it.
     """
-    from .families import PARALLEL_WRIST_TOL, _wrist_q5, _wrist_q5_constants
+    from .families import PARALLEL_WRIST_TOL, _wrist_q5_constants
     h = S.axis[1]
     consts = _memo(S, "wrist q5", lambda: _wrist_q5_constants(S))
     f = _dot(h, v)                                                         # (N, 2)
@@ -729,15 +741,8 @@ def _wrist_q5_cs(S: Screws, v):
         return c5, s5, ok5, np.zeros(f.shape, bool)
     vp = v - h[:, None, None] * f
     P = np.sqrt((vp * vp).sum(0))                                          # |v normal to h|
-    cb, sb, r = consts[0], consts[1], consts[2]
-    cd, sd, ok = _wrist_q5(consts, f, P, 1e-9 * r)
     sing = P <= PARALLEL_WRIST_TOL
-    cd = np.where(sing, np.where(f > 0, 1.0, -1.0), cd)
-    sd = np.where(sing, 0.0, sd)
-    ok = ok | sing
-    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
-    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
-    return c, s, np.stack([ok, ok], axis=-1), sing
+    return _cone_roots_cs(consts, f, P, sing) + (sing,)
 
 
 def _wrist_singular_q6(S: Screws, Rt, pt, c1, s1, c5, s5, v, sing, c6, s6, ok5):
