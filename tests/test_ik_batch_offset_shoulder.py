@@ -210,8 +210,9 @@ def test_offset_shoulder_structure_is_recognised(label, robot):
 
 def test_closed_form_is_the_path_taken(monkeypatch):
     """With the resultant's root finder disabled the offset-shoulder arms still solve
-    (through the closed form, which is called); arms whose axes 1 and 2 meet keep their
-    own path, and a prismatic joint 3 is not taken for this structure."""
+    (through the closed form, which is called); arms whose axes 1 and 2 meet and 2 and 3
+    are parallel (PUMA, IRB 120) take it too (it is tried first: parallel axes 2 and 3 are
+    all it needs), and a prismatic joint 3 is not taken for this structure."""
     calls = []
     closed_form = batch._offset_shoulder_cs
 
@@ -234,7 +235,7 @@ def test_closed_form_is_the_path_taken(monkeypatch):
     for name in ("puma560", "abb_irb120"):            # axes 1 and 2 meet
         r = load_robot(name)
         solve_batch(r, r.fk(sample_configurations(r, 20, np.random.default_rng(1))))
-    assert calls == []
+    assert len(calls) == 2
     S, _, _ = plan(load_robot("stanford_arm"))
     assert batch._offset_shoulder(S, [0, 1, 2], np.array([0.1, 0.2, 0.3])) is None
 

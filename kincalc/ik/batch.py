@@ -10,10 +10,10 @@ Supported (the closed-form families; others raise
 :class:`~kincalc.ik.solve.UnsupportedRobot`, use :func:`kincalc.ik.solve` per pose):
 
 * ``spherical-wrist`` whose joints 1-3 place the wrist centre in closed form:
-  one of the two invariants of joint 1 does not involve joint 2 (axes 1 and 2
-  meet or are parallel: PUMA, ABB IRB 120, Stanford, the textbook arms), or
-  axes 2 and 3 are parallel (the offset shoulders of KUKA, Fanuc, ABB IRB 6640:
-  subproblem 4 on joint 1, then a planar 2R; :func:`_offset_shoulder_cs`);
+  axes 2 and 3 parallel and axis 1 not (PUMA, ABB, KUKA and Fanuc with their
+  shoulder offsets: subproblem 4 on joint 1, then a planar 2R;
+  :func:`_offset_shoulder_cs`), or one of the two invariants of joint 1 free of
+  joint 2 (axes 1 and 2 meet or are parallel: Stanford, the textbook arms);
   other revolute arms through a degree-8 resultant per pose;
 * ``three-parallel`` (UR family);
 * the reversed chains of both (``reversed-spherical-wrist``,
@@ -99,9 +99,9 @@ def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
     """Closed-form point placement for all poses: ``(X (N, K, m), ok (N, K))``.
 
     Joints ``(a, b[, c])``, point ``p0 (3,)`` at q = 0 and targets ``PT (N, 3)`` (world
-    frame, m). One invariant of joint a free of joint b gives joint c first; else axes
-    b and c parallel give the offset-shoulder closed form (:func:`_offset_shoulder_cs`);
-    else three revolute joints go through the resultant (:func:`_generic_roots`), and
+    frame, m). Axes b and c parallel (and a not) give the offset-shoulder closed form
+    (:func:`_offset_shoulder_cs`); else one invariant of joint a free of joint b gives
+    joint c first; else three revolute joints go through the resultant (:func:`_generic_roots`), and
     anything else raises UnsupportedRobot. With ``cs``, returns ``(c, s, x, ok)`` instead, the
     joints' cosines, sines and travels each ``(m, N, K)`` (see :func:`_finish_cs`).
     """
@@ -132,17 +132,16 @@ def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
         okc = np.ones((N, 1), bool)
         xc = None
     else:
+        shoulder = _offset_shoulder(S, joints, p0)
+        if shoulder is not None:              # axes b, c parallel: closed form
+            cq, sq, xq, okq = _offset_shoulder_cs(shoulder, PT, scale)
+            return (cq, sq, xq, okq) if cs else (np.moveaxis(np.arctan2(sq, cq), 0, -1), okq)
         # which invariant is free of joint b (robot-level fact)
         th = 2 * np.pi * np.arange(16) / 16 if S.revolute[c] else np.linspace(-1, 1, 5) * 4 * S.scale
         al_s, be_s, ga_s = _memo(S, ("samples", tuple(joints), tuple(p0)),
                                  lambda: coeffs(S.move_point(c, th, p0)))
         dep = _depends(be_s, ga_s, scale ** 2)
         if dep.all():
-            shoulder = _offset_shoulder(S, joints, p0)
-            if shoulder is not None:          # axes b, c parallel: closed form, no resultant
-                cq, sq, xq, okq = _offset_shoulder_cs(shoulder, PT, scale)
-                return (cq, sq, xq, okq) if cs else \
-                    (np.moveaxis(np.arctan2(sq, cq), 0, -1), okq)
             if not (S.revolute[b] and S.revolute[c]):
                 raise UnsupportedRobot("batched IK: this arm's position part has no closed form "
                                        "with a prismatic joint 2 or 3; solve it pose by pose")
