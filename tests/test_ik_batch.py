@@ -223,3 +223,24 @@ def test_batch_resultant_path_at_the_stretched_elbow(monkeypatch):
             for i in range(len(T)):
                 sols = B.q[i][B.valid[i]]
                 assert np.allclose(r.fk(sols), T[i], atol=1e-9 * r.characteristic_length)
+
+
+@pytest.mark.parametrize("name", ["puma560", "kuka_kr16", "ur5"])
+def test_batch_labels_name_the_free_joint_at_the_wrist_singularity(name):
+    """At q5 = 0 or 180 deg the batch's labels are robot.ik's, '(... free)' included."""
+    from kincalc.ik.batch import branch_labels
+    r = load_robot(name)
+    rng = np.random.default_rng(12)
+    Q = sample_configurations(r, 30, rng)
+    Q[:, 4] = rng.choice([0.0, np.pi], 30)
+    T = r.fk(Q)
+    B = solve_batch(r, T)
+    rows, slots = np.nonzero(B.valid)
+    labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
+    seen_free = 0
+    for i in range(len(Q)):
+        mine = sorted(labels[k].split(" branch ")[0] for k in np.flatnonzero(rows == i))
+        ref = sorted(s.branch for s in r.ik(T[i]).solutions)
+        assert mine == ref, (i, mine, ref)
+        seen_free += sum("free)" in x for x in mine)
+    assert seen_free >= 30                   # the generating continuum at least, every pose

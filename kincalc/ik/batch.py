@@ -1006,7 +1006,8 @@ def branch_labels(robot, family: str, q, slots, poses=None) -> list:
         name = robot.joints[2].name
         return [f"{name}:root {int(k) + 1}" if m else "unique"
                 for k, m in zip(slots.tolist(), more.tolist())]
-    codes = branch_geometry(robot, family, chain_frames(robot.chain, q))
+    F = chain_frames(robot.chain, q)
+    codes = branch_geometry(robot, family, F)
     key = codes.astype(int) @ [9, 3, 1]                   # one of 27 word combinations
     table = [" ".join(WORDS[w][x - 1] for w, x in enumerate((c // 9, c // 3 % 3, c % 3)) if x)
              for c in range(27)]
@@ -1017,4 +1018,14 @@ def branch_labels(robot, family: str, q, slots, poses=None) -> list:
     _, inverse, counts = np.unique(key + 27 * pose, return_inverse=True, return_counts=True)
     for k in np.flatnonzero((counts[inverse] > 1) & (key > 0)).tolist():
         out[k] = f"{out[k]} branch {int(slots[k])}"
+    # a continuum's representative (the wrist singularity) names its free joint, as
+    # robot.ik does: axis 6 along axis 4 (spherical wrist) or along axis 2 (UR arm),
+    # within the solvers' PARALLEL_WRIST_TOL (the representatives are aligned exactly)
+    from .families import PARALLEL_WRIST_TOL
+    ref, free = {"spherical-wrist": (3, 3), "three-parallel": (1, 5)}.get(family, (None, None))
+    if ref is not None:
+        z = F[:, :, :3, 2]
+        aligned = np.linalg.norm(cross(z[:, ref], z[:, 5]), axis=-1) <= PARALLEL_WRIST_TOL
+        for k in np.flatnonzero(aligned).tolist():
+            out[k] = f"{out[k]} ({robot.joints[free].name} free)"
     return out
