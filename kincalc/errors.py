@@ -82,3 +82,27 @@ class RobotFileError(KincalcError):
 
 class InputError(KincalcError):
     """A value given on the command line or to the API is invalid (exit 2)."""
+
+
+class MissingExtra(KincalcError):
+    """An optional dependency (an extra of the kincalc package) is not installed."""
+
+    exit_status = 2
+
+    def __init__(self, command: str, module: str, extra: str):
+        self.command = command
+        self.module = module
+        self.extra = extra
+        super().__init__(f"{command} needs {module}, which is not installed: "
+                         f"pip install 'kincalc[{extra}]'")
+
+
+def require_extra(command: str, module: str, extra: str):
+    """Import and return ``module``, or raise :class:`MissingExtra` naming ``command``
+    (what the user ran, as it should read in the message: ``"kincalc ik --plot"``) and
+    the extra that installs it."""
+    import importlib
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise MissingExtra(command, module, extra) from None

@@ -107,6 +107,38 @@ def forward_kinematics(chain, q) -> np.ndarray:
     return out.reshape(q.shape[:-1] + (4, 4))
 
 
+#: up to this many configurations chain_frames multiplies stacked 4x4 matrices (fewer
+#: numpy calls: ~35 against ~80 us for one to a few dozen); above it, the column-wise
+#: walk of forward_kinematics, four times faster for thousands
+_FEW = 32
+
+# J_i(x) = cos x EC + sin x ES + x ET + E0: Rz(x) for a revolute joint (cos, sin of the
+# angle, no slide), Tz(x) for a prismatic one (cos 1, sin 0)
+_EC = np.diag([1.0, 1.0, 0.0, 0.0])
+_ES = np.array([[0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0] * 4, [0.0] * 4])
+_ET = np.zeros((4, 4))
+_ET[2, 3] = 1.0
+_E0 = np.diag([0.0, 0.0, 1.0, 1.0])
+
+
+def _frames_stacked(chain, flat) -> np.ndarray:
+    """:func:`chain_frames` of ``flat (N, n)`` by stacked 4x4 products."""
+    N, n = flat.shape
+    x = flat + chain.offset
+    rev = chain.revolute
+    cs = np.where(rev, np.cos(x), 1.0)[..., None, None]
+    sn = np.where(rev, np.sin(x), 0.0)[..., None, None]
+    tz = np.where(rev, 0.0, x)[..., None, None]
+    motion = cs * _EC + sn * _ES + tz * _ET + _E0            # (N, n, 4, 4)
+    out = np.empty((N, n, 4, 4))
+    before = np.broadcast_to(chain.fixed[0], (N, 4, 4))
+    for i in range(n):
+        np.matmul(before, motion[:, i], out=out[:, i])
+        if i + 1 < n:
+            before = out[:, i] @ chain.fixed[i + 1]
+    return out
+
+
 def chain_frames(chain, q) -> np.ndarray:
     """World poses ``(..., n, 4, 4)`` of the frames just after each joint's motion.
 
@@ -115,6 +147,8 @@ def chain_frames(chain, q) -> np.ndarray:
     """
     q, flat = _as_batch(chain, q)
     N, n = flat.shape
+    if N <= _FEW:
+        return _frames_stacked(chain, flat).reshape(q.shape[:-1] + (n, 4, 4))
     out = np.zeros((N, n, 4, 4))
     out[..., 3, 3] = 1.0
     F = chain.fixed

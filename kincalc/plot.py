@@ -29,7 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .analysis import _check_q
-from .errors import InputError, KincalcError
+from .errors import InputError, MissingExtra, require_extra  # noqa: F401 (MissingExtra: kincalc.plot.MissingExtra)
 
 #: Output formats, by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -53,30 +53,13 @@ _JOINT_FACE = "#f2a13a"
 _TRIAD_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")   # x red, y green, z blue
 
 
-class MissingExtra(KincalcError):
-    """An optional dependency (an extra of the kincalc package) is not installed."""
-
-    exit_status = 2
-
-    def __init__(self, command: str, module: str, extra: str):
-        self.command = command
-        self.module = module
-        self.extra = extra
-        super().__init__(f"{command} needs {module}, which is not installed: "
-                         f"pip install 'kincalc[{extra}]'")
-
-
 def require_matplotlib(command: str):
     """Import and return matplotlib, or raise :class:`MissingExtra` naming ``command``.
 
     ``command`` is what the user ran, as it should read in the message:
     ``"kincalc plot"``, ``"kincalc ik --plot"``.
     """
-    try:
-        import matplotlib
-    except ImportError:
-        raise MissingExtra(command, "matplotlib", "plot") from None
-    return matplotlib
+    return require_extra(command, "matplotlib", "plot")
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 sympy is the optional extra ``symbolic`` (``pip install 'kincalc[symbolic]'``)
 and is imported only inside the functions of this module that need it, never
 at import time: :func:`require_sympy` imports it or raises
-:class:`~kincalc.plot.MissingExtra`.
+:class:`~kincalc.errors.MissingExtra`.
 
 Frames and conventions (the same as the numeric core, see :mod:`kincalc.model`)
 -----------------------------------------------------------------------------
@@ -83,12 +83,8 @@ def require_sympy(command: str):
     ``command`` is what the user ran, as it should read in the message:
     ``"kincalc fk --symbolic"``.
     """
-    try:
-        import sympy
-    except ImportError:
-        from .plot import MissingExtra
-        raise MissingExtra(command, "sympy", "symbolic") from None
-    return sympy
+    from .errors import require_extra
+    return require_extra(command, "sympy", "symbolic")
 
 
 # --- results ------------------------------------------------------------------

@@ -243,3 +243,18 @@ def test_fk_does_not_modify_input():
 def _names():
     from kincalc.library import bundled_names
     return bundled_names()
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford_arm", "bk_rrp", "ur5_poe", "puma560_mdh"])
+def test_chain_frames_few_and_many_configurations(name):
+    """chain_frames multiplies stacked 4x4s for a few configurations and walks columns
+    for many (the walk of fk): the two agree frame by frame, a single configuration is
+    the batch's row, and the last frame times the chain's tool transform is fk."""
+    from kincalc.fk import _FEW, chain_frames
+    r = load_robot(name)
+    Q = np.random.default_rng(3).uniform(-2, 2, (_FEW + 8, r.dof))
+    many = chain_frames(r.chain, Q)
+    few = np.concatenate([chain_frames(r.chain, Q[:_FEW]), chain_frames(r.chain, Q[_FEW:])])
+    assert np.allclose(few, many, atol=1e-14)
+    assert np.allclose(chain_frames(r.chain, Q[0]), many[0], atol=1e-14)
+    assert np.allclose(few[:, -1] @ r.chain.fixed[-1], r.fk(Q), atol=1e-13)

@@ -359,9 +359,9 @@ def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bo
     from functools import partial
     start, lines = item
     parsed = _parse(header, robot, start, lines)
-    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}.get(kind)
-    records, no = (_ik_chunk(robot, units, parsed, frame, fmt) if kind == "ik"
-                   else solve(robot, units, parsed, frame))
+    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk,
+             "ik": partial(_ik_chunk, fmt=fmt)}[kind]
+    records, no = solve(robot, units, parsed, frame)
     bad = any("error" in r for r in records)
     if fmt == "jsonl":
         dump = _ik_json if kind == "ik" else partial(json.dumps, allow_nan=False)
@@ -619,7 +619,6 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
-    sols_of = {}
     try:
         B = robot.ik_batch(T) if len(T) else None
     except UnsupportedRobot:
@@ -633,16 +632,15 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
         owner, slot = np.nonzero(valid)
         labels = branch_labels(robot, B.family, q, slot, owner)
         counts = valid.sum(axis=1)
+        # each pose's solutions: written as JSON in bulk, or as dicts for the CSV rows
         if fmt == "jsonl":
             sols_of = _solutions_json(np.round(q * qdisp, 12) + 0.0, labels, within, owner,
                                       len(full))
         else:
-            ql = _round(q * qdisp)
-            for k in range(len(q)):
-                sols_of.setdefault(int(owner[k]), []).append(
-                    {"q": ql[k], "branch": labels[k], "within_limits": bool(within[k])})
-        for k, ((i, kw), c) in enumerate(zip(full, counts.tolist())):
-            sols = sols_of[k] if fmt == "jsonl" else sols_of.get(k, [])
+            sols_of = [[] for _ in full]
+            for o, ql, lab, w in zip(owner.tolist(), _round(q * qdisp), labels, within.tolist()):
+                sols_of[o].append({"q": ql, "branch": lab, "within_limits": w})
+        for ((i, kw), c, sols) in zip(full, counts.tolist(), sols_of):
             no |= not c
             recs.append({**_head(i, kw), "reachable": bool(c), "solutions": sols})
     for i, kw, target in partial:

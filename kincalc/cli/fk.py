@@ -61,10 +61,10 @@ def fk(
                     refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
                              "--numeric-lengths": numeric_lengths})
     if symbolic or latex or numeric_lengths:
-        from .symbolic import symbolic_check, symbolic_output
+        from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)
-        from ..symbolic import require_sympy, symbolic_fk
-        require_sympy(f"kincalc fk {'--symbolic' if symbolic or not latex else '--latex'}")
+        from ..symbolic import symbolic_fk
+        require_sympy_for("fk", symbolic, latex)
         rob = load_robot(robot)
         display_units(rob, deg, unit)
         result = symbolic_fk(rob, numeric_lengths=numeric_lengths, length_unit=unit)

@@ -75,12 +75,12 @@ def jacobian(
                              "--numeric-lengths": numeric_lengths})
     if symbolic or latex or numeric_lengths:
         from ..errors import UsageError
-        from .symbolic import symbolic_check, symbolic_output
+        from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)
         if analytic is not None:
             raise UsageError("--analytic is not available with --symbolic")
-        from ..symbolic import require_sympy, symbolic_jacobian
-        require_sympy(f"kincalc jacobian {'--symbolic' if symbolic or not latex else '--latex'}")
+        from ..symbolic import symbolic_jacobian
+        require_sympy_for("jacobian", symbolic, latex)
         rob = load_robot(robot)
         display_units(rob, deg, unit)
         result = symbolic_jacobian(rob, frame=frame.value, numeric_lengths=numeric_lengths,

@@ -13,6 +13,13 @@ def symbolic_check(symbolic: bool, latex: bool, numeric_lengths: bool, q) -> Non
                          "give no joint values Q")
 
 
+def require_sympy_for(command: str, symbolic: bool, latex: bool) -> None:
+    """sympy, or the one-line error naming ``kincalc COMMAND --symbolic`` (or ``--latex``
+    when only that was given)."""
+    from ..symbolic import require_sympy
+    require_sympy(f"kincalc {command} {'--symbolic' if symbolic or not latex else '--latex'}")
+
+
 def symbolic_output(result, json: bool, latex: bool) -> None:
     """JSON, LaTeX or tables of a SymbolicFK / SymbolicJacobian."""
     import sys

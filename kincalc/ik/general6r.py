@@ -141,11 +141,10 @@ per pose for N = 1000.
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
 from ..spatial import cross, invert_transform, rotvec_from_matrix
+from .cache import per_robot
 
 __all__ = ["solve_general_6r", "solve_general_6r_batch"]
 
@@ -608,16 +607,9 @@ class _Robot6R:
         return out
 
 
-@functools.lru_cache(maxsize=64)
-def _robot_data_cached(robot):
-    return _Robot6R(robot)
-
-
+@per_robot
 def _robot_data(robot):
-    try:
-        return _robot_data_cached(robot)
-    except TypeError:                      # unhashable robot-like object
-        return _Robot6R(robot)
+    return _Robot6R(robot)
 
 
 # --- Newton polishing on the real robot -----------------------------------
@@ -659,16 +651,9 @@ class _ChainTerms:
         return out
 
 
-@functools.lru_cache(maxsize=64)
-def _chain_terms_cached(robot):
-    return _ChainTerms(robot.chain)
-
-
+@per_robot
 def _chain_terms(robot):
-    try:
-        return _chain_terms_cached(robot)
-    except TypeError:                      # unhashable robot-like object
-        return _ChainTerms(robot.chain)
+    return _ChainTerms(robot.chain)
 
 
 def _rotvec(R):

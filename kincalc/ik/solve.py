@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import numpy as np
 
@@ -31,6 +30,7 @@ from ..spatial import cross
 
 from ..errors import KincalcError, UsageError
 from ..spatial import invert_transform, rotation_angle, rotation_error
+from .cache import per_robot
 from .families import SOLVERS, plan
 from .position import DEAD_ENDS
 from .screws import Screws, wrap
@@ -493,12 +493,8 @@ class _Constants:
     offset: np.ndarray        # (n,) the chain's joint offsets
 
 
-@lru_cache(maxsize=64)
-def _constants_cached(robot) -> _Constants:
-    return _make_constants(robot)
-
-
-def _make_constants(robot) -> _Constants:
+@per_robot
+def _constants(robot) -> _Constants:
     lo, hi = robot.limits.T
     ch = robot.chain
     arrays = [robot.is_revolute, lo.copy(), hi.copy(), np.array(ch.fixed, float),
@@ -507,13 +503,6 @@ def _make_constants(robot) -> _Constants:
         a.setflags(write=False)            # shared by every call for this robot
     rev, lo, hi, fixed, offset = arrays
     return _Constants(rev, lo, hi, lo.tolist(), hi.tolist(), fixed, offset)
-
-
-def _constants(robot) -> _Constants:
-    try:
-        return _constants_cached(robot)
-    except TypeError:                      # unhashable robot-like object
-        return _make_constants(robot)
 
 
 def _normalise(robot, q):
@@ -564,32 +553,12 @@ def _dedupe_rows(robot, Q, c=None) -> list:
 
 def _frames_and_pose(robot, Q, c=None):
     """``(frames (k, n, 4, 4), tool poses (k, 4, 4))`` of ``Q (k, n)``: the frames of
-    :func:`kincalc.fk.chain_frames` (just after each joint's motion) and the pose of
-    :func:`kincalc.fk.forward_kinematics`, in one pass of stacked 4x4 products (equal to
-    theirs to rounding)."""
+    :func:`kincalc.fk.chain_frames` (just after each joint's motion) and the tool pose,
+    the last frame times the chain's last fixed transform."""
+    from ..fk import chain_frames
     c = c or _constants(robot)
-    k, n = Q.shape
-    x = Q + c.offset
-    rev = c.revolute
-    cs = np.where(rev, np.cos(x), 1.0)[..., None, None]
-    sn = np.where(rev, np.sin(x), 0.0)[..., None, None]
-    tz = np.where(rev, 0.0, x)[..., None, None]
-    Jm = cs * _EC + sn * _ES + tz * _ET + _E0            # (k, n, 4, 4) joint motions
-    frames = np.empty((k, n, 4, 4))
-    before = np.broadcast_to(c.fixed[0], (k, 4, 4))
-    for i in range(n):
-        np.matmul(before, Jm[:, i], out=frames[:, i])
-        before = frames[:, i] @ c.fixed[i + 1]
-    return frames, np.array(before) if n else np.broadcast_to(c.fixed[0], (k, 4, 4)).copy()
-
-
-# J_i(x) = cos x EC + sin x ES + x ET + E0: Rz(x) for a revolute joint (cos, sin of the
-# angle, no slide), Tz(x) for a prismatic one (cos 1, sin 0)
-_EC = np.diag([1.0, 1.0, 0.0, 0.0])
-_ES = np.array([[0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0] * 4, [0.0] * 4])
-_ET = np.zeros((4, 4))
-_ET[2, 3] = 1.0
-_E0 = np.diag([0.0, 0.0, 1.0, 1.0])
+    frames = chain_frames(robot.chain, Q)
+    return frames, frames[:, -1] @ c.fixed[-1]
 
 
 def _jacobian_from_frames(frames, Tq, c) -> np.ndarray:
@@ -815,23 +784,12 @@ def branch_geometry(robot, family: str, F, c=None) -> np.ndarray:
     return codes
 
 
+@per_robot
 def _meeting_point_local(robot, first: int):
     """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
     coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
     only with the joints before them: the axes after it turn about lines through it), from
     the robot at q = 0; None if those axes are all parallel. Cached per robot."""
-    try:
-        return _meeting_point_cached(robot, first)
-    except TypeError:                      # unhashable robot-like object
-        return _meeting_point(robot, first)
-
-
-@lru_cache(maxsize=64)
-def _meeting_point_cached(robot, first: int):
-    return _meeting_point(robot, first)
-
-
-def _meeting_point(robot, first: int):
     from ..fk import chain_frames
     F = chain_frames(robot.chain, np.zeros(robot.dof))
     A, b = np.zeros((3, 3)), np.zeros(3)

@@ -1,0 +1,21 @@
+"""Per-robot caches for the solvers' robot-level constants."""
+
+from __future__ import annotations
+
+from functools import lru_cache, wraps
+
+
+def per_robot(fn):
+    """``fn(robot, *args)`` computed once per robot (and arguments), for the 64 robots
+    used last. Robots hash by value (:class:`kincalc.model.Robot` is frozen); a robot-like
+    object that does not hash is computed afresh on every call."""
+    cached = lru_cache(maxsize=64)(fn)
+
+    @wraps(fn)
+    def call(robot, *args):
+        try:
+            return cached(robot, *args)
+        except TypeError:                  # unhashable robot-like object
+            return fn(robot, *args)
+    call.cache_clear = cached.cache_clear
+    return call
