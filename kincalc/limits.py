@@ -1,0 +1,91 @@
+"""Limits on what kincalc reads and how much it is asked to compute, in one place.
+
+Every input kincalc reads is untrusted (a robot file from the web, a student's
+homework sheet, a pipe of batch records): each read is bounded, each number has
+a magnitude limit, and each request (samples, trials) a size limit. Going past a
+limit is a one-line :class:`~kincalc.errors.KincalcError` naming the limit, never
+a MemoryError or a hang. The README's section "Limits" lists these numbers; a
+test checks that it does.
+
+Nothing here imports beyond the standard library.
+"""
+
+from __future__ import annotations
+
+import errno
+
+#: the largest magnitude of a number in a robot file, a sheet, a batch record or on the
+#: command line (metres, radians, or the user's units before conversion). Products of
+#: larger lengths overflow (a robot of 1e160 m compared with one of 1 m looked "the same").
+MAX_MAGNITUDE = 1e9
+
+#: the largest robot file, homework sheet or --pose file kincalc reads, in bytes
+MAX_FILE_BYTES = 1 << 20
+
+#: the most items one homework sheet may hold
+MAX_SHEET_ITEMS = 200
+
+#: the longest line of a --batch input, in bytes (a 4x4 pose with an id is ~400)
+MAX_RECORD_BYTES = 1 << 16
+
+#: user text quoted back in a message is cut to this many characters
+MAX_QUOTE = 60
+
+
+def quote(text, limit: int = MAX_QUOTE) -> str:
+    """``repr(text)`` cut to about ``limit`` characters (with '...' and the full length
+    when cut), for echoing a user's value in a one-line message."""
+    text = str(text)
+    if len(text) <= limit:
+        return repr(text)
+    return f"{text[:limit]!r}... ({len(text)} characters)"
+
+
+def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
+    """The bytes of the regular file (or stdin, for ``"-"``) at ``path``, at most
+    ``limit`` of them.
+
+    Raises
+    ------
+    TooLarge
+        When the file holds more than ``limit`` bytes (read stops at ``limit + 1``,
+        so an endless device such as /dev/zero is refused, not read).
+    OSError
+        As ``open`` raises it (missing file, a directory, permission, a name too long).
+    """
+    import sys
+    if path == "-":
+        data = sys.stdin.buffer.read(limit + 1)
+    else:
+        with open(path, "rb") as fh:
+            data = fh.read(limit + 1)
+    if len(data) > limit:
+        raise TooLarge(limit)
+    return data
+
+
+class TooLarge(Exception):
+    """A file beyond its size limit (``limit`` bytes)."""
+
+    def __init__(self, limit: int):
+        super().__init__(f"larger than {size_text(limit)} (kincalc's limit for this file)")
+        self.limit = limit
+
+
+def size_text(nbytes: int) -> str:
+    """``1 MiB``, ``64 KiB`` or ``500 bytes``."""
+    for unit, size in (("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if nbytes >= size and nbytes % size == 0:
+            return f"{nbytes // size} {unit}"
+    return f"{nbytes} bytes"
+
+
+def os_error_text(exc: OSError) -> str:
+    """A short reason for an OSError of opening a user's file (no path in it)."""
+    if exc.errno == errno.ENAMETOOLONG:
+        return "the name is too long for a file"
+    if exc.errno == errno.ENOENT:
+        return "no such file"
+    if exc.errno == errno.EISDIR:
+        return "is a directory"
+    return exc.strerror or type(exc).__name__
