@@ -1,0 +1,75 @@
+"""The CLI's contract with its users, as assertions shared by the fuzz tests.
+
+``run_cli`` runs ``kincalc`` in-process (fast enough for thousands of cases) with
+its own stdin, stdout and stderr; ``assert_contract`` checks what every run must
+satisfy whatever the input (PRODUCT.md, "Exit status" and "JSON output"):
+
+* the exit status is 0, 1 or 2 (3 is an internal error: a bug);
+* stderr holds at most one line and never a traceback (unless ``--debug``);
+* every JSON document on stdout parses strictly (no NaN or Infinity);
+* with ``--batch``, one output record per input record, in order.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import sys
+
+from kincalc.cli.main import main
+
+#: the statuses a well-behaved run may end with
+STATUSES = {0, 1, 2}
+
+
+class _Stdin(io.TextIOWrapper):
+    """A text stdin over bytes, with a ``buffer`` as the real one has."""
+
+
+def run_cli(argv, stdin: bytes | str = b"", cwd: str | None = None):
+    """``(status, stdout, stderr)`` of ``kincalc *argv`` run in this process, with
+    ``stdin`` as standard input and, if given, ``cwd`` as the working folder."""
+    data = stdin.encode() if isinstance(stdin, str) else stdin
+    fake_in = _Stdin(io.BytesIO(data), encoding="utf-8")
+    out, err = io.StringIO(), io.StringIO()
+    old = os.getcwd()
+    saved = sys.stdin
+    try:
+        if cwd is not None:
+            os.chdir(cwd)
+        sys.stdin = fake_in
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            status = main([str(a) for a in argv])
+    finally:
+        sys.stdin = saved
+        os.chdir(old)
+    return status, out.getvalue(), err.getvalue()
+
+
+def _strict(token):
+    raise ValueError(f"non-finite number {token} in JSON output")
+
+
+def json_documents(text: str) -> list:
+    """Every line of ``text`` parsed as strict JSON (NaN/Infinity are errors)."""
+    return [json.loads(line, parse_constant=_strict) for line in text.splitlines() if line]
+
+
+def assert_contract(status, out, err, argv=(), *, records: int | None = None):
+    """Assert the invariants above for one run; ``records`` is the number of batch input
+    records when the run was ``--batch`` (then stdout must hold that many JSON lines)."""
+    where = f"kincalc {' '.join(map(str, argv))}"[:300]
+    assert status in STATUSES, f"{where}: exit {status}: {err[:500]}"
+    if "--debug" not in argv:
+        assert "Traceback" not in err, f"{where}: traceback on stderr: {err[:500]}"
+        assert err.count("\n") <= 1 and "\n" not in err.rstrip("\n"), \
+            f"{where}: more than one stderr line: {err[:500]}"
+    if "--json" in argv or ("--batch" in argv and "csv" not in argv):
+        docs = json_documents(out)
+        # a run refused as a whole (an unknown robot, a bad option) writes nothing
+        if records is not None and (status != 2 or out):
+            assert len(docs) == records, f"{where}: {records} records in, {len(docs)} out"
+            assert [d.get("index") for d in docs] == list(range(records)), \
+                f"{where}: records out of order"
