@@ -20,3 +20,17 @@ SINGULAR_TOL = 1e-6
 
 #: geometric tests on axes (parallel, intersecting), relative to robot size.
 GEOMETRY_TOL = 1e-9
+
+#: IK families are recognised from the joint axes: axes meet when they pass within
+#: STRUCTURE_POINT_TOL x the arm's size (at least 1 m) of one point, and are parallel
+#: when the sine of their angle is below STRUCTURE_ANGLE_TOL. Loose enough for
+#: calibrated models and rounded datasheets (a twist written 1.5708 for pi/2 is 3.7e-6
+#: off): such a robot is only nearly of its family, and its closed-form solutions are
+#: refined on the true robot (kincalc.ik.refine).
+STRUCTURE_POINT_TOL = 1e-4
+STRUCTURE_ANGLE_TOL = 1e-4
+
+#: a family's structure is exact when it holds to these (rounding of a file's values):
+#: the closed form's answers are then the robot's own, to rounding
+EXACT_POINT_TOL = 1e-11
+EXACT_ANGLE_TOL = 1e-12

@@ -916,6 +916,8 @@ def _solve_chunk(robot, S, family, solver, T):
     else:
         c, s, x, ok = solver(S, T)
     rev = robot.is_revolute
+    if not family.exact:
+        return _on_true_robot(robot, c, s, x, ok, T)
     with np.errstate(invalid="ignore"):
         ok = ok & _fk_matches(robot, c, s, x, T,
                               ACCEPT_POSITION * max(robot.characteristic_length, 1e-12),
@@ -923,6 +925,35 @@ def _solve_chunk(robot, S, family, solver, T):
     q = np.where(rev[:, None, None], np.arctan2(s, c), x)                   # (n, N, K)
     ok = _first_of_duplicates(q, ok, rev)
     return np.moveaxis(q, 0, -1), ok
+
+
+def _on_true_robot(robot, c, s, x, ok, T):
+    """:func:`_solve_chunk` for a robot only nearly of its family (as
+    :func:`kincalc.ik.solve._on_true_robot`): the closed form's candidates ``c, s, x
+    (n, N, K)`` refined by Newton's method on the robot itself, and for six revolute
+    joints the general 6R elimination's solutions added as further slots."""
+    from .refine import refine
+    from .screws import wrap
+    rev = robot.is_revolute
+    n, N, K = c.shape
+    with np.errstate(invalid="ignore"):
+        q = np.moveaxis(np.where(rev[:, None, None], np.arctan2(s, c), x), 0, -1).copy()
+    ok = ok & np.isfinite(q).all(-1)
+    q[ok] = refine(robot, q[ok], np.repeat(T[:, None], K, axis=1)[ok])
+    if robot.dof == 6 and rev.all():
+        from .general6r import solve_general_6r_batch
+        qg, okg = solve_general_6r_batch(robot, T)
+        q, ok = np.concatenate([q, qg], axis=1), np.concatenate([ok, okg], axis=1)
+    q = np.where(rev, wrap(q), q)
+    Tq = robot.fk(q[ok])
+    L = max(robot.characteristic_length, 1e-12)
+    Tt = np.repeat(T[:, None], q.shape[1], axis=1)[ok]
+    good = (np.linalg.norm(Tq[:, :3, 3] - Tt[:, :3, 3], axis=-1) <= ACCEPT_POSITION * L) & \
+        (np.linalg.norm(Tq[:, :3, :3] - Tt[:, :3, :3], axis=(-2, -1))
+         <= 2 * np.sqrt(2) * np.sin(ACCEPT_ORIENTATION / 2))
+    ok[ok] = good
+    ok = _first_of_duplicates(np.moveaxis(q, -1, 0), ok, rev)
+    return q, ok
 
 
 def solve_batch(robot, T, *, chunk: int = CHUNK) -> BatchIK:

@@ -33,7 +33,7 @@ Families (recognised from geometry, never from names):
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 
 import numpy as np
@@ -42,6 +42,8 @@ from ..spatial import cross
 from ..spatial import matrix_from_unit_axis_angle as _rot
 
 from ..structure import common_point
+from ..tolerances import (EXACT_ANGLE_TOL, EXACT_POINT_TOL, STRUCTURE_ANGLE_TOL,
+                          STRUCTURE_POINT_TOL)
 from ..subproblems import sp1, sp2, sp4
 from ..subproblems._small import norm3
 from .position import place_point
@@ -92,6 +94,15 @@ class Family:
     #: found on the reversed chain (:meth:`Screws.reversed`); the name is then
     #: ``reversed-<family>`` and that family's solver runs on the reversed chain
     reverse: bool = False
+    #: the geometric facts the closed form relies on, as ``(kind, joints)`` pairs with
+    #: 0-based joints of the robot's chain: ``("parallel", js)`` axes parallel,
+    #: ``("meet", js)`` axes through one point, ``("meet-approach", js)`` through one point
+    #: on the tool's approach line (z at q = 0), ``("roll", (j,))`` the axis is that line
+    structure: tuple = ()
+    #: the structure holds to rounding (see :func:`classify`); False for a robot that is
+    #: only nearly of this family: its closed form then runs on the nearest robot of the
+    #: family (:func:`idealised`) and the dispatchers refine its solutions on the robot
+    exact: bool = True
 
     @property
     def solver(self) -> str:
@@ -112,80 +123,155 @@ def _parallel(a, b, tol=1e-9) -> bool:
 
 @lru_cache(maxsize=64)
 def plan(robot) -> tuple[Screws, Family | None, str]:
-    """``(screws, family, why)`` of ``robot``: geometry facts, computed once per robot."""
+    """``(screws, family, why)`` of ``robot``: geometry facts, computed once per robot.
+
+    The screws are those the family's solver runs on: the robot's own, or for a robot
+    only nearly of its family those of the nearest robot that is (:func:`idealised`)."""
     S = Screws.of(robot)
     family, why = classify(robot, S)
+    if family is not None and not family.exact:
+        S = idealised(S, family.structure)
     return S, family, why
 
 
-def _moves_along(S: Screws, idx, h) -> bool:
-    """Do joints ``idx`` all rotate about, or slide along, direction ``h``?"""
-    return all(_parallel(S.axis[i], h) for i in idx)
+def idealised(S: Screws, structure) -> Screws:
+    """The screws ``S`` moved the least way onto ``structure`` (:attr:`Family.structure`):
+    parallel axes turned to their mean direction (each keeping its sense), meeting axes
+    moved (parallel to themselves) through their least-squares common point, which for
+    ``meet-approach`` is then taken onto the approach line; a ``roll`` axis becomes the
+    approach line. Directions first, so that points meet on the final lines."""
+    axis, point = S.axis.copy(), S.point.copy()
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    order = {"parallel": 0, "roll": 0, "meet": 1, "meet-approach": 1}
+    for kind, js in sorted(structure, key=lambda c: order[c[0]]):
+        js = list(js)
+        if kind == "parallel":
+            signs = np.sign(axis[js] @ axis[js[0]])
+            mean = (signs[:, None] * axis[js]).sum(0)
+            axis[js] = signs[:, None] * (mean / np.linalg.norm(mean))
+        elif kind == "roll":
+            axis[js] = np.sign(axis[js] @ a0)[:, None] * a0
+            point[js] = p0
+        else:
+            c = common_point(point[js], axis[js], np.inf)
+            if kind == "meet-approach":
+                c = p0 + ((c - p0) @ a0) * a0
+            point[js] = c
+    ideal = Screws(axis, point, S.revolute.copy(), S.M.copy(), S.scale)
+    move, turn = structure_defect(S, ideal)
+    return replace(ideal, slack=1e3 * (move + turn * max(S.scale, 1.0)))
+
+
+def structure_defect(S: Screws, ideal: Screws) -> tuple[float, float]:
+    """How far the screws ``ideal`` are from ``S``: ``(metres, rad)``, the largest
+    distance a joint's line moved and the largest angle an axis turned."""
+    turn = float(np.max(norm3_rows(cross(S.axis, ideal.axis)), initial=0.0))
+    d = ideal.point - S.point          # the new point's distance from the old line
+    move = float(np.max(norm3_rows(d - (d * S.axis).sum(-1)[:, None] * S.axis), initial=0.0))
+    return move, turn
+
+
+def norm3_rows(v) -> np.ndarray:
+    return np.sqrt((np.asarray(v) ** 2).sum(-1))
+
+
+def _moves_along(S: Screws, idx, h, tol: float) -> bool:
+    """Do joints ``idx`` all rotate about, or slide along, direction ``h`` (within
+    ``tol`` rad)?"""
+    return all(_parallel(S.axis[i], h, tol) for i in idx)
 
 
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
-    """The family of ``robot`` (or None) and a sentence saying why."""
+    """The family of ``robot`` (or None) and a sentence saying why.
+
+    A family is recognised when the axes meet and are parallel as it needs to within
+    :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` (of the arm's size) and
+    :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (rad). It is ``exact`` when they do
+    to within ``EXACT_POINT_TOL`` and ``EXACT_ANGLE_TOL`` (rounding): a calibrated
+    model or a rounded datasheet gives a robot that is only nearly of its family, whose
+    closed-form solutions the dispatcher refines on the true robot.
+    """
+    family, why = _classify(robot, S, STRUCTURE_POINT_TOL, STRUCTURE_ANGLE_TOL)
+    if family is not None and family.name != "general-6r":
+        strict, _ = _classify(robot, S, EXACT_POINT_TOL, EXACT_ANGLE_TOL)
+        if strict is None or strict.name != family.name:
+            family = replace(family, exact=False)
+    return family, why
+
+
+def _classify(robot, S: Screws, point_tol: float, angle_tol: float
+              ) -> tuple[Family | None, str]:
+    """:func:`classify` with the given structure tolerances (relative, rad)."""
     n, rev = S.n, S.revolute
     if n == 6:
-        fam = _classify_6(S)
+        fam = _classify_6(S, point_tol, angle_tol)
         if fam is None:
             # the same structures seen from the tool: a spherical wrist at the base, ...
-            fam = _classify_6(S.reversed())
+            fam = _classify_6(S.reversed(), point_tol, angle_tol)
             if fam is not None:
+                # the facts hold of the same lines: name them by the robot's joints
+                facts = tuple((kind, tuple(sorted(n - 1 - j for j in js)))
+                              for kind, js in fam.structure)
                 fam = Family(f"reversed-{fam.name}",
                              fam.description + ", found on the chain reversed (the base "
                              "seen from the tool: joint k of it is joint 7 - k)",
-                             fam.controls, fam.needs_orientation, reverse=True)
+                             fam.controls, fam.needs_orientation, reverse=True,
+                             structure=facts)
         if fam is not None:
             return fam, ""
     if n == 6 and rev.all():
         return (Family("general-6r", "general 6R: no decomposable structure; algebraic "
                                      "elimination (Raghavan-Roth, Manocha-Canny)",
                        "position and orientation", True), "")
-    return _classify_small(robot, S)
+    return _classify_small(robot, S, point_tol, angle_tol)
 
 
-def _classify_6(S: Screws) -> Family | None:
+def _classify_6(S: Screws, point_tol: float, par: float) -> Family | None:
     """The six-joint families with a closed form, or None."""
     rev = S.revolute
-    tol = 1e-7 * max(S.scale, 1.0)
+    tol = point_tol * max(S.scale, 1.0)
     if rev[3:].all() and common_point(S.point[3:], S.axis[3:], tol) is not None:
         return Family("spherical-wrist",
                       "spherical wrist: axes 4, 5, 6 meet at one point; joints 1-3 place "
                       "the wrist centre, joints 4-6 set the orientation",
-                      "position and orientation", True)
+                      "position and orientation", True, structure=(("meet", (3, 4, 5)),))
     wrist_pair = rev[4:].all() and common_point(S.point[4:], S.axis[4:], tol) is not None
-    if wrist_pair and rev.all() and _parallel(S.axis[1], S.axis[2]) \
-            and _parallel(S.axis[2], S.axis[3]) and not _parallel(S.axis[0], S.axis[1]) \
+    if wrist_pair and rev.all() and _parallel(S.axis[1], S.axis[2], par) \
+            and _parallel(S.axis[2], S.axis[3], par) and not _parallel(S.axis[0], S.axis[1]) \
             and not _parallel(S.axis[4], S.axis[1]):
         return Family("three-parallel",
                       "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
-                      "position and orientation", True)
-    if wrist_pair and rev[3] and _moves_along(S, range(4), S.axis[3]) \
+                      "position and orientation", True,
+                      structure=(("parallel", (1, 2, 3)), ("meet", (4, 5))))
+    if wrist_pair and rev[3] and _moves_along(S, range(4), S.axis[3], par) \
             and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
         return Family("parallel-four-wrist",
                       "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
                       "arm) and axes 5, 6 intersect (an offset wrist)",
-                      "position and orientation", True)
+                      "position and orientation", True,
+                      structure=(("parallel", (0, 1, 2, 3)), ("meet", (4, 5))))
     return None
 
 
-def _classify_small(robot, S: Screws) -> tuple[Family | None, str]:
+def _classify_small(robot, S: Screws, point_tol: float, par: float
+                    ) -> tuple[Family | None, str]:
     """Families of fewer (or more) than six joints."""
     n, rev = S.n, S.revolute
     pos_rank = robot.generic_ranks[1]
     if n == 3 and pos_rank == 3:
         return (Family("position-3", "three joints placing the tool point in space",
                        "position", False), "")
-    if n == 3 and rev.all() and _parallel(S.axis[0], S.axis[1]) and _parallel(S.axis[1], S.axis[2]):
+    if n == 3 and rev.all() and _parallel(S.axis[0], S.axis[1], par) \
+            and _parallel(S.axis[1], S.axis[2], par):
         return (Family("planar-3", "planar 3R: three parallel axes; a point on axis 3 by "
                                    "joints 1-2, joint 3 from the orientation",
-                       "position in the plane and rotation about the axes", True), "")
+                       "position in the plane and rotation about the axes", True,
+                       structure=(("parallel", (0, 1, 2)),)), "")
     if n == 2:
         return (Family("position-2", "two joints placing the tool point",
                        "position (on the surface the arm sweeps)", False), "")
     if n == 5 and rev[3:].all():
-        fam = _classify_5(S)
+        fam = _classify_5(S, point_tol, par)
         if fam is not None:
             return fam, ""
     if n == 4 and rev[3] and pos_rank == 3:
@@ -200,10 +286,10 @@ def _classify_small(robot, S: Screws) -> tuple[Family | None, str]:
     return None, why
 
 
-def _classify_5(S: Screws) -> Family | None:
+def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
     """Five joints controlling the position and the approach direction (tool z)."""
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
-    tol = 1e-7 * max(S.scale, 1.0)
+    tol = point_tol * max(S.scale, 1.0)
     c = common_point(S.point[3:], S.axis[3:], tol)
     if c is not None and float(np.linalg.norm(cross(p0 - c, a0))) < tol \
             and not _parallel(S.axis[4], a0, 1e-6):
@@ -211,10 +297,11 @@ def _classify_5(S: Screws) -> Family | None:
                       "five joints, axes 4 and 5 meeting on the tool's approach line: joints 1-3 "
                       "place the point where they meet, joints 4 and 5 turn the approach "
                       "direction (subproblem 2); the roll about it follows",
-                      "position and approach direction (tool z)", True)
+                      "position and approach direction (tool z)", True,
+                      structure=(("meet-approach", (3, 4)),))
     on_axis5 = float(np.linalg.norm(cross(p0 - S.point[4], S.axis[4]))) < tol
-    if S.revolute.all() and on_axis5 and _parallel(S.axis[4], a0, 1e-9) \
-            and _parallel(S.axis[1], S.axis[2]) and _parallel(S.axis[2], S.axis[3]) \
+    if S.revolute.all() and on_axis5 and _parallel(S.axis[4], a0, par) \
+            and _parallel(S.axis[1], S.axis[2], par) and _parallel(S.axis[2], S.axis[3], par) \
             and not _parallel(S.axis[0], S.axis[1]) and not _parallel(S.axis[4], S.axis[1]):
         return Family("pitch-roll",
                       "five joints, axes 2, 3, 4 parallel and joint 5 rolling the tool about its "
@@ -222,7 +309,7 @@ def _classify_5(S: Screws) -> Family | None:
                       "q2 + q3 + q4 from the approach (subproblem 1), a planar two-link problem "
                       "for joints 2 and 3, joint 5 from the orientation",
                       "position, the approach direction within the arm's plane, and the roll "
-                      "about it", True)
+                      "about it", True, structure=(("parallel", (1, 2, 3)), ("roll", (4,))))
     return None
 
 

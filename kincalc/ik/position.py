@@ -368,7 +368,7 @@ def _polish(S: Screws, joints, p0, pt, x, frozen=(), iters: int = 30):
         if norm3(step) < 1e-16 * max(scale, 1):
             break
     p = point_of(S, joints, x, p0)
-    if not np.all(np.isfinite(x)) or norm3(p - pt) > 1e-9 * scale:
+    if not np.all(np.isfinite(x)) or norm3(p - pt) > max(1e-9 * scale, S.slack):
         return None
     for k, j in enumerate(joints):
         if S.revolute[j]:

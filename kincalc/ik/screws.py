@@ -23,6 +23,11 @@ class Screws:
     revolute: np.ndarray    # (n,) bool
     M: np.ndarray           # (4, 4) tool pose at q = 0
     scale: float            # characteristic length (m)
+    #: how far (m) a point the solvers place may miss its target and still be kept:
+    #: 0 for a robot's own screws; for the nearest robot of a family
+    #: (:func:`~kincalc.ik.families.idealised`) the size of the difference, since a
+    #: target the true robot reaches is then reached only to about that much
+    slack: float = 0.0
 
     @staticmethod
     def of(robot) -> "Screws":
@@ -85,7 +90,7 @@ class Screws:
         Mi = self.inverse_M()
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
-                      self.revolute[::-1].copy(), Mi, self.scale)
+                      self.revolute[::-1].copy(), Mi, self.scale, self.slack)
 
 
 def wrap(x):

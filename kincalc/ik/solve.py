@@ -31,7 +31,7 @@ from ..spatial import cross
 from ..errors import KincalcError, UsageError
 from ..spatial import invert_transform, rotation_angle, rotation_error
 from .cache import per_robot
-from .families import SOLVERS, plan
+from .families import SOLVERS, Candidate, plan
 from .position import DEAD_ENDS
 from .screws import Screws, wrap
 
@@ -216,13 +216,17 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     finally:
         DEAD_ENDS.reset(token)
 
+    Q = np.array([np.asarray(c.q, float) for c in cands]).reshape(len(cands), robot.dof)
+    method = family.description
+    if not family.exact:
+        cands, Q, method = _on_true_robot(robot, family, target, T, cands, Q, units)
+
     scale = max(robot.characteristic_length, 1e-12)
     accepted, rejected = [], []
     # FK, frames, Jacobians, labels and residuals of every candidate at once (the
     # per-candidate work is what a pose costs; the vectorised core does it in one pass)
     C = _constants(robot)
-    Q = _normalise_rows(robot, np.array([np.asarray(c.q, float) for c in cands]
-                                        ).reshape(len(cands), robot.dof), C)
+    Q = _normalise_rows(robot, Q, C)
     frames, Tq = _frames_and_pose(robot, Q, C)
     PE = np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)
     OE = rotation_angle(np.swapaxes(T[:3, :3], -1, -2) @ Tq[:, :3, :3]) \
@@ -279,11 +283,42 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
             if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
                                               r["q"] - o["q"])) < 1e-6) for o in result_rejected):
                 result_rejected.append(r)
-    return IKResult(robot=robot, target=target, family=family.name, method=family.description,
+    return IKResult(robot=robot, target=target, family=family.name, method=method,
                     controls=family.controls, solutions=sols, reachable=reachable,
                     reason=reason, rejected=result_rejected, units=units, note=note, near=near,
                     dead_ends=[_dead_end_text(robot, d, units, family.reverse)
                                for d in dead_ends] if all_branches else None)
+
+
+def _on_true_robot(robot, family, target, T, cands, Q, units):
+    """``(candidates, Q, method text)`` for a robot that is only nearly of ``family``
+    (:func:`~kincalc.ik.families.classify`): the candidates of the nearest robot of the
+    family (``plan``'s screws), refined by Newton's method on the robot itself
+    (:mod:`kincalc.ik.refine`), and for six revolute joints joined by the general 6R
+    elimination's solutions, which need no structure (so a solution near a singularity
+    of the structured robot, where branches meet, is not lost). A continuum of the
+    structured robot is not one of the true robot: the refined candidates are ordinary
+    solutions, checked for singularity as any other."""
+    from dataclasses import replace
+
+    from .families import structure_defect
+    from .refine import refine
+    mode = "approach" if target.approach is not None else \
+        "pose" if family.needs_orientation else "position"
+    Q = refine(robot, Q, T, mode=mode, approach=target.approach)
+    cands = [replace(c, q=q, free=[], continuum=None) for c, q in zip(cands, Q)]
+    move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
+    method = (f"{family.description}; the axes have this structure only to within "
+              f"{move * units.l:.2g}{_len(units)} and {turn:.2g} rad, so it was solved for "
+              "the nearest robot that has it and every solution refined by Newton's method "
+              "on the robot as given")
+    if robot.dof == 6 and robot.is_revolute.all() and target.approach is None:
+        from .general6r import solve_general_6r
+        more = solve_general_6r(robot, T)
+        cands = cands + [Candidate(q=q) for q in more]
+        Q = np.vstack([Q, np.asarray(more, float).reshape(-1, 6)])
+        method += ", and joined with the general 6R elimination's solutions"
+    return cands, Q, method
 
 
 def _dead_end_text(robot, text: str, units, reverse: bool) -> str:
@@ -635,17 +670,57 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
             for i, amount in sorted(worst.items()))
         return f"blocked by joint limits: all {len(sols)} solutions violate a limit ({what})"
     if rejected:
-        best = min(rejected, key=lambda r: (r["position_error"], r["orientation_error"] or 0.0))
-        if best["position_error"] <= ACCEPT_POSITION * robot.characteristic_length * 1e3:
-            if target.approach is not None:
-                return (f"the position is reachable but this approach direction is not for a "
-                        f"robot that controls {family.controls}: the closest approach is off "
-                        f"by {(best['orientation_error'] or 0.0) * units.a:.4g} {units.angle}")
-            return (f"the position is reachable but this orientation is not for a robot that "
-                    f"controls {family.controls}: the best solution is off by "
-                    f"{(best['orientation_error'] or 0.0) * units.a:.4g} {units.angle}")
-        return "no solution: " + best["reason"]
+        placed = _placing(robot, rejected)
+        if not placed:
+            best = min(rejected, key=lambda r: (r["position_error"], r["branch"]))
+            return "no solution: " + best["reason"]
+        what = "approach direction" if target.approach is not None else "orientation"
+        head = (f"the position is reachable but this {what} is not for a robot that controls "
+                f"{family.controls}: ")
+        if family.name in APPROACH_FAMILIES and target.approach is None \
+                and _reach_approach(robot, placed, T[:3, 2]):
+            # the five-joint solvers place the tool and its approach: what is left is the
+            # roll about the approach, one value per solution of the family
+            rolls = ", ".join(f"{_angle_text(r['orientation_error'], units)} ({r['branch']})"
+                              for r in placed)
+            return (head + f"the {_count_words(len(placed))} that reach the position and "
+                    f"the approach leave the roll about it off by {rolls}")
+        best = placed[0]
+        return (head + f"the closest solution ({best['branch']}) is off by "
+                f"{_angle_text(best['orientation_error'], units)}")
     return _out_of_reach(robot, T, units)
+
+
+def _placing(robot, rejected) -> list:
+    """The rejected candidates that reach the target position, each once, in order of
+    their orientation error (then branch): the facts a reason may quote. Candidates
+    within rounding of each other in position are equal here; which of them is "best"
+    must not depend on the last bits of their position errors."""
+    tol = ACCEPT_POSITION * max(robot.characteristic_length, 1e-12) * 1e3
+    placed = sorted((r for r in rejected if r["position_error"] <= tol),
+                    key=lambda r: (r["orientation_error"] or 0.0, r["branch"]))
+    out = []
+    for r in placed:
+        if not any(r["branch"] == o["branch"] and np.allclose(
+                np.where(robot.is_revolute, wrap(r["q"] - o["q"]), r["q"] - o["q"]), 0,
+                atol=1e-9) for o in out):
+            out.append(r)
+    return out
+
+
+def _reach_approach(robot, candidates, a) -> bool:
+    """Whether every candidate's tool z axis is the approach ``a`` (unit, world)."""
+    z = robot.fk(np.array([c["q"] for c in candidates]))[:, :3, 2]
+    return bool(np.all(np.linalg.norm(cross(z, a), axis=-1) <= ACCEPT_ORIENTATION)
+                and np.all(z @ a > 0))
+
+
+def _angle_text(angle, units) -> str:
+    return f"{(angle or 0.0) * units.a:.4g} {units.angle}"
+
+
+def _count_words(n: int) -> str:
+    return "solution" if n == 1 else f"{n} solutions"
 
 
 def _out_of_reach(robot, T, units) -> str:
