@@ -44,8 +44,7 @@ from ..spatial import matrix_from_unit_axis_angle as _rot
 from ..structure import common_point
 from ..tolerances import (EXACT_ANGLE_TOL, EXACT_POINT_TOL, STRUCTURE_ANGLE_TOL,
                           STRUCTURE_POINT_TOL)
-from ..subproblems import sp1, sp2, sp4
-from ..subproblems._small import norm3
+from .legacy_sp import norm3, sp1, sp2, sp4
 from .position import place_point
 from .screws import Screws
 

@@ -36,9 +36,9 @@ import numpy as np
 
 from ..spatial import cross
 from ..spatial import matrix_from_unit_axis_angle as _rot
-from ..subproblems._small import cross3, norm3
+from .legacy_sp import cross3, norm3
 
-from ..subproblems import sp1
+from .legacy_sp import sp1
 from .screws import Screws, wrap
 
 #: when set to a list (by ``solve(..., all_branches=True)``), the steps that found no
