@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import KincalcError, RobotFileError
+from .errors import KincalcError, RobotFileError, TargetMismatch
 from .results import _clean
 from .robot_file import _compose, _line, _Reader
 
@@ -616,6 +616,13 @@ class _SheetReader(_Reader):
 _OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
 
 
+#: how a sheet names the parts of an IK target (its ``pose`` keys), for the core's
+#: messages about them (:class:`kincalc.errors.TargetMismatch`)
+SHEET_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
+               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
+                              "or q)"}
+
+
 def sheet_words(message: str) -> str:
     """A message about command-line pose options, in the words of a sheet's ``pose`` keys
     (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
@@ -648,8 +655,9 @@ def grade(sheet: Sheet) -> Report:
             except SheetError:
                 raise
             except KincalcError as exc:   # e.g. a pose this robot cannot be asked for
-                raise SheetError(sheet.path, item.line,
-                                 f"item {item.id!r}: {sheet_words(str(exc))}") from None
+                text = exc.words(SHEET_WORDS) if isinstance(exc, TargetMismatch) \
+                    else sheet_words(str(exc))
+                raise SheetError(sheet.path, item.line, f"item {item.id!r}: {text}") from None
         r.line = item.line
         results.append(r)
     return Report(sheet=sheet, items=results)
@@ -1031,7 +1039,7 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 
 def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
-    from .ik.solve import _violations, solve
+    from .ik.solve import solve, violation_list
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     res = solve(robot, item.target, all_branches=True, units=units)
@@ -1072,12 +1080,12 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         elif hit is not None:
             viol = ", ".join(f"{_joint(robot, j)} beyond its {side} limit by "
                              f"{_fmt(amount * (units.a if rev[j] else units.l))}"
-                             for j, amount, side in (_violations(robot, q) or sols[hit].violations))
+                             for j, amount, side in (violation_list(robot, q) or sols[hit].violations))
             entry.update(status="wrong", note=f"reaches the target but is outside the joint "
                          f"limits ({viol}); the item counts only solutions within the limits",
                          **sol_dict(hit))
         elif reaches and not exhaustive:
-            if item.limits and _violations(robot, q):
+            if item.limits and violation_list(robot, q):
                 entry.update(status="wrong", note="reaches the target but is outside the "
                              "joint limits")
             else:

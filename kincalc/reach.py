@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .ik.solve import _count_text, _len
+from .ik.solve import count_text, length_suffix
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
@@ -160,9 +160,9 @@ def reach(robot, target, *, units=None) -> ReachResult:
             why = inside[0].singularity or "the Jacobian loses rank"
             every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
-                               reason=f"{_count_text(sols)}, {every} a singular "
+                               reason=f"{count_text(sols)}, {every} a singular "
                                       f"configuration: {why}; reachable, but not robustly")
-        return ReachResult(verdict="reachable", distance=0.0, reason=_count_text(sols),
+        return ReachResult(verdict="reachable", distance=0.0, reason=count_text(sols),
                            **common)
 
     p = np.asarray(target.T, float)[:3, 3]
@@ -209,11 +209,12 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     limits: blocked by the limits, or out of reach of the geometry, and where."""
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
-    Lu = _len(units)
+    Lu = length_suffix(units)
     fmt = lambda x: f"{x * units.l:.6g}{Lu}"  # noqa: E731 - a local formatter
     if dist_free <= POSITION_TOL * L:
-        from .ik.solve import _normalise, _violations
-        viol = _violations(robot, _normalise(robot, q_free))
+        from .ik.engine import normalise
+        from .ik.solve import violation_list
+        viol = violation_list(robot, normalise(robot, q_free))
         blocked = [_violation_dict(robot, v, units) for v in viol]
         what = ", ".join(_violation_text(robot, v, units) for v in viol)
         return ReachResult(
@@ -279,7 +280,7 @@ def _violation_dict(robot, v, units) -> dict:
 
 def _violation_text(robot, v, units) -> str:
     d = _violation_dict(robot, v, units)
-    unit = units.angle if robot.joints[v[0]].revolute else _len(units).strip()
+    unit = units.angle if robot.joints[v[0]].revolute else length_suffix(units).strip()
     return (f"{d['joint']} {d['by']:.4g} {unit} beyond its {d['side']} limit "
             f"{d['limit']:.4g} {unit}").replace("  ", " ")
 

@@ -363,7 +363,7 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
         T = np.zeros((M, 4, 4))
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = R_goal, targets, 1.0
         sol = robot.ik_batch(T)
-        return np.any(sol.valid & within_limits(robot, sol.q), axis=1)
+        return np.any(sol.valid & sol.within, axis=1)
     safe = np.maximum(cand, 0)
     cost = np.linalg.norm(P[safe] - targets[:, None, :], axis=2) / L
     if R_goal is not None:
@@ -388,25 +388,12 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
 
 def _batchable(robot) -> bool:
     """Does :meth:`Robot.ik_batch` cover this robot (a closed-form family)?"""
-    from .ik.solve import UnsupportedRobot
+    from .ik.engine import UnsupportedRobot
     try:
         robot.ik_batch(robot.fk(np.asarray(robot.home, float))[None])
     except UnsupportedRobot:
         return False
     return True
-
-
-def within_limits(robot, Q) -> np.ndarray:
-    """``(...)`` bool: do joints ``Q (..., n)`` lie within the limits, revolute joints
-    allowing any whole number of turns (so -170 deg passes a [0, 360] limit)?"""
-    lo, hi = robot.limits.T
-    Q = np.asarray(Q, float)
-    eps = 1e-12
-    turn = 2 * np.pi
-    rev = robot.is_revolute
-    shifted_ok = np.ceil((lo - eps - Q) / turn) <= np.floor((hi + eps - Q) / turn)
-    plain_ok = (Q >= lo - eps) & (Q <= hi + eps)
-    return np.all(np.where(rev, shifted_ok, plain_ok), axis=-1)
 
 
 # --- orientations ------------------------------------------------------------

@@ -457,23 +457,6 @@ def _merge(records, errors):
     return out
 
 
-def _within_limits(robot, q):
-    """``(within (...,) bool, q)`` for ``q (..., n)`` in SI: a revolute value outside its
-    limits is moved by a whole turn when that brings it inside (as ``kincalc ik`` does;
-    the value in (-pi, pi] is kept when it is already inside)."""
-    import numpy as np
-    lo, hi = robot.limits[:, 0] - 1e-9, robot.limits[:, 1] + 1e-9
-    rev = robot.is_revolute
-    use = np.array(q, float)
-    done = np.zeros(use.shape, bool)
-    for shift in (0.0, 2 * np.pi, -2 * np.pi):
-        cand = q + np.where(rev, shift, 0.0)
-        fits = (cand >= lo) & (cand <= hi) & ~done
-        use = np.where(fits, cand, use)
-        done |= fits
-    return done.all(-1), use
-
-
 def _fk_chunk(robot, units, parsed, frame):
 
     from ..spatial import rpy_from_matrix
@@ -481,7 +464,8 @@ def _fk_chunk(robot, units, parsed, frame):
     T = robot.fk(q)
     T[:, :3, 3] *= units.l
     rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
-    within, _ = _within_limits(robot, q)
+    from ..ik.engine import within_limits
+    within = within_limits(robot, q)
     Tl, xyz, rpyl = _round(T), _round(T[:, :3, 3]), _round(rpy)
     recs = [{**_head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
              "within_limits": bool(within[k])} for k, (i, kw) in enumerate(good)]
@@ -613,9 +597,9 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     import numpy as np
 
     from ..ik import Target
-    from ..ik.batch import branch_labels
     from ..errors import KincalcError
-    from ..ik.solve import UnsupportedRobot, solve
+    from ..ik.engine import UnsupportedRobot
+    from ..ik.solve import solve
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
@@ -628,9 +612,9 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     if B is not None:
         valid = B.valid
         q = B.q[valid]                                                     # (s, n)
-        within, q = _within_limits(robot, q)
-        owner, slot = np.nonzero(valid)
-        labels = branch_labels(robot, B.family, q, slot, owner)
+        within = B.within[valid]
+        owner, _ = np.nonzero(valid)
+        labels = B.labels[valid].tolist()
         counts = valid.sum(axis=1)
         # each pose's solutions: written as JSON in bulk, or as dicts for the CSV rows
         if fmt == "jsonl":

@@ -1002,3 +1002,25 @@ def _compact(Q, ok, width):
         Q = np.concatenate([Q, np.zeros((len(Q), pad, 6))], axis=1)
         ok = np.concatenate([ok, np.zeros((len(ok), pad), bool)], axis=1)
     return Q[:, :w], ok[:, :w]
+
+
+def general_6r(robot, targets, br):
+    """The branches of a general 6R robot: the elimination's solutions of every pose
+    (:func:`solve_general_6r_batch`), ordered by joint 3 then joint 1, one slot each,
+    labelled by their rank (``root k`` of joint 3). ``targets`` must be whole poses."""
+    from dataclasses import replace as _replace
+    from .engine import UnsupportedRobot
+    if targets.kind != "pose":
+        raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
+    Q, ok = solve_general_6r_batch(robot, targets.T)
+    key3 = np.where(ok, Q[..., 2], np.inf)
+    key1 = np.where(ok, Q[..., 0], np.inf)
+    order = np.lexsort((key1, key3), axis=-1)
+    Q = np.take_along_axis(Q, order[..., None], axis=1)
+    ok = np.take_along_axis(ok, order, axis=1)
+    K = Q.shape[1]
+    out = _replace(br, ok=ok & br.ok[:, :1], parent=np.zeros(K, int),
+                   signs=tuple(((2, f"root {k + 1}"),) for k in range(K)))
+    for j in range(6):
+        out = out.set(j, Q[..., j], np.cos(Q[..., j]), np.sin(Q[..., j]))
+    return out

@@ -9,7 +9,7 @@ robot's base transform is already inside the axes and M).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,34 @@ class Screws:
     #: (:func:`~kincalc.ik.families.idealised`) the size of the difference, since a
     #: target the true robot reaches is then reached only to about that much
     slack: float = 0.0
+    #: robot-level constants of the solvers, computed once (see :meth:`constant`)
+    cache: dict = field(default_factory=dict, compare=False, repr=False, init=False)
+
+    def constant(self, key, make):
+        """``make()``, computed once for these screws and ``key``: the robot-level
+        constants of a solver (a subproblem's fixed vectors, a placement's structure),
+        which every batch of poses would otherwise compute again."""
+        try:
+            return self.cache[key]
+        except KeyError:
+            value = self.cache[key] = make()
+            return value
+
+    def turn(self, i: int, c, s, v) -> np.ndarray:
+        """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
+        and sine ``c, s (...)``: ``c v + s (k x v) + (1 - c) (k . v) k`` (Rodrigues)."""
+        k = self.axis[i]
+        c, s = np.asarray(c)[..., None], np.asarray(s)[..., None]
+        kxv = np.stack([k[1] * v[..., 2] - k[2] * v[..., 1], k[2] * v[..., 0] - k[0] * v[..., 2],
+                        k[0] * v[..., 1] - k[1] * v[..., 0]], axis=-1)
+        return c * v + s * kxv + (1.0 - c) * (v @ k)[..., None] * k
+
+    def move(self, i: int, x, c, s, p) -> np.ndarray:
+        """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle
+        with cosine and sine ``c, s (...)``, or slid along it by ``x (...)``."""
+        if self.revolute[i]:
+            return self.point[i] + self.turn(i, c, s, p - self.point[i])
+        return p + np.asarray(x)[..., None] * self.axis[i]
 
     @staticmethod
     def of(robot) -> "Screws":

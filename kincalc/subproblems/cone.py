@@ -85,8 +85,11 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
     c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
     s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
     theta = np.arctan2(s, c)
-    # one root where the cones only touch (delta 0 or pi), or a single aligned value
-    two = exact & ~aligned & (sd > 1e-9)
+    # one root where the cones only touch (delta 0 or pi: both roots are one
+    # configuration), or a single aligned value; next to the singularity, where the cone
+    # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
+    touch = (sd <= 1e-9) & np.where(cd > 0, top > gap, bottom > gap)
+    two = exact & ~aligned & ~touch
     ok = np.stack([np.ones_like(two), two], axis=-1)
     sol = Solutions((theta,), (c,), (s,), ok, np.stack([exact, exact], -1),
                     np.stack([aligned, aligned], -1))

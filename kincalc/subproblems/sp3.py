@@ -16,7 +16,7 @@ from .solutions import Solutions, as_vectors, dot
 from .sp4 import sp4
 
 
-def sp3(p1, p2, k, d, *, tol: float = 1e-12) -> Solutions:
+def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
     """Solve subproblem 3 for every problem of a batch.
 
     Parameters
@@ -28,6 +28,11 @@ def sp3(p1, p2, k, d, *, tol: float = 1e-12) -> Solutions:
     d : array_like (...)
         The distance to reach (same length unit; broadcast against the vectors'
         leading shape).
+    scale : array_like (...), optional
+        The size of the squared lengths the inputs were computed from (default: their
+        own, ``(|p1|^2 + |p2|^2 + d^2) / 2``): a caller whose ``d`` comes from larger
+        quantities (a target far from the origin) passes their size, so that a tangent
+        within their rounding counts as one.
 
     Returns
     -------
@@ -41,4 +46,6 @@ def sp3(p1, p2, k, d, *, tol: float = 1e-12) -> Solutions:
     # different sizes came out not exact or as two roots, and an exactly solvable
     # problem with p2 = 0 not exact)
     squares = dot(p1, p1) + dot(p2, p2)
-    return sp4(p2, p1, k, 0.5 * (squares - d * d), tol=tol, scale=0.5 * (squares + d * d))
+    own = 0.5 * (squares + d * d)
+    return sp4(p2, p1, k, 0.5 * (squares - d * d), tol=tol,
+               scale=own if scale is None else np.maximum(own, scale))
