@@ -485,7 +485,7 @@ def _out_of_reach(robot, T, units) -> str:
     """Why nothing was found, from the nearest reachable position (see
     :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
-    from ..reach import POSITION_TOL, _where_outside, nearest_position, unlimited
+    from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
     p = np.asarray(T, float)[:3, 3]
     tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
     L = length_suffix(units)
@@ -496,7 +496,7 @@ def _out_of_reach(robot, T, units) -> str:
     if dist_free <= tol:
         return (f"out of reach within the joint limits: the nearest position reachable "
                 f"within them is {dist * units.l:.6g}{L} away")
-    _, reason = _where_outside(robot, p, p_free, dist_free,
+    _, reason = where_outside(robot, p, p_free, dist_free,
                                lambda x: f"{x * units.l:.6g}{L}")
     return "out of reach: " + reason
 
