@@ -97,8 +97,6 @@ def sample_tool_points(robot, rng, count: int, progress=None):
     return Q, P
 
 
-
-
 # --- the reach envelope ------------------------------------------------------
 
 def _push(robot, X, direction, rounds: int = 40):
