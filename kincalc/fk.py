@@ -72,6 +72,32 @@ def _walk(chain, q, on_joint=None):
     return cols, p
 
 
+def tool_from_cs(chain, c, s, x):
+    """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic),
+    joint-major: ``c, s, x (n, M)``, joint offsets not applied (IK's solvers give joint
+    values without them; the chain's offsets are turned in here, without trigonometry).
+    Returns ``(cols, p)``: the rotation's columns, a list of three ``(3, M)``, and the
+    position ``(3, M)`` (structure of arrays, as :func:`forward_kinematics` walks it).
+
+    For checking IK candidates whose angles are known by their cosines and sines."""
+    M = c.shape[1]
+    F = chain.fixed
+    cols, p = _start(F[0], M)
+    for i in range(chain.dof):
+        off = float(chain.offset[i])
+        if chain.revolute[i]:
+            ci, si = c[i], s[i]
+            if off != 0.0:
+                co, so = np.cos(off), np.sin(off)
+                ci, si = ci * co - si * so, si * co + ci * so
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * ci + c1 * si, c1 * ci - c0 * si, cols[2]]
+        else:
+            p = p + cols[2] * (x[i] + off)
+        cols, p = _apply_fixed(cols, p, F[i + 1])
+    return cols, p
+
+
 def _as_batch(chain, q):
     q = np.asarray(q, dtype=float)
     if q.ndim == 0 or q.shape[-1] != chain.dof:

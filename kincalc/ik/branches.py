@@ -200,6 +200,17 @@ class Branches:
             out[:, :, j] = v
         return out
 
+    def cs(self) -> tuple:
+        """``(c, s)``, each ``(N, K, n)``: the cosine and sine of every revolute joint's
+        value (1 and 0 for prismatic joints and joints never set)."""
+        c = np.ones((self.N, self.K, self.n))
+        s = np.zeros((self.N, self.K, self.n))
+        for j, v in self.cos.items():
+            c[:, :, j] = v
+        for j, v in self.sin.items():
+            s[:, :, j] = v
+        return c, s
+
     def free_mask(self) -> np.ndarray:
         """``(N, K, n)`` bool: joints left free in each slot."""
         out = np.zeros((self.N, self.K, self.n), bool)

@@ -22,7 +22,7 @@ the same label and flags wherever it is asked for.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -32,7 +32,7 @@ from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .families import Family, plan
 from .labels import labels
-from .screws import wrap
+from .screws import TURN, wrap
 from .solvers import SOLVERS
 from .target import Targets
 
@@ -52,16 +52,21 @@ class Solved:
     (and is not a copy of an earlier slot); ``position_error (N, K)`` (m) and
     ``orientation_error (N, K)`` (rad; NaN where no orientation is checked);
     ``violation (N, K, n)`` how far each joint is beyond its limits (negative below the
-    lower, positive above the upper, 0 within); ``within (N, K)``; ``singular (N, K)``
-    (valid slots); ``free (N, K, n)`` joints the target leaves undetermined; ``labels``
-    an object array ``(N, K)`` of branch labels (candidate slots); ``continuum (N, K, 5)``
-    (mask, first joint, second joint, sign, total) or None; ``branches``: the solver's
-    :class:`~kincalc.ik.branches.Branches` (notes and dead ends, with ``explain``).
+    lower, positive above the upper, 0 within); ``within (N, K)``; ``free (N, K, n)``
+    joints the target leaves undetermined; ``signs``: each slot's +/- per step;
+    ``continuum (N, K, 5)`` (mask, first joint, second joint, sign, total) or None;
+    ``branches``: the solver's :class:`~kincalc.ik.branches.Branches` (its notes and
+    dead ends, with ``explain``; None for a batch solved in chunks).
+
+    :attr:`labels` (branch labels of the candidates) and :attr:`singular` (the singular
+    flag of the valid solutions) are computed when first asked for: a batch that only
+    needs the joint values does not pay for them.
     """
 
     family: str
     spec: Family
     method: str
+    robot: object
     q: np.ndarray
     candidate: np.ndarray
     valid: np.ndarray
@@ -69,16 +74,51 @@ class Solved:
     orientation_error: np.ndarray
     violation: np.ndarray
     within: np.ndarray
-    singular: np.ndarray
     free: np.ndarray
-    labels: np.ndarray
+    signs: tuple
     continuum: np.ndarray | None
-    branches: Branches
+    branches: Branches | None
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def counts(self) -> np.ndarray:
         """Number of solutions of each target, ``(N,)``."""
         return self.valid.sum(axis=1)
+
+    def _frames(self, mask):
+        """Joint frames and tool poses of the slots ``mask (N, K)``."""
+        from ..fk import chain_frames
+        Q = self.q[mask]
+        if not len(Q):
+            n = self.q.shape[-1]
+            return np.zeros((0, n, 4, 4)), np.zeros((0, 4, 4))
+        F = chain_frames(self.robot.chain, Q)
+        return F, F[:, -1] @ self.robot.chain.fixed[-1]
+
+    @property
+    def labels(self) -> np.ndarray:
+        """``(N, K)`` object array: the branch label of every candidate slot."""
+        if "labels" not in self.memo:
+            lab = np.empty(self.candidate.shape, object)
+            idx = np.nonzero(self.candidate)
+            if len(idx[0]):
+                F, _ = self._frames(self.candidate)
+                lab[idx] = labels(self.robot, self.spec.solver, F,
+                                  [self.signs[k] for k in idx[1].tolist()], self.free[idx])
+            self.memo["labels"] = lab
+        return self.memo["labels"]
+
+    @property
+    def singular(self) -> np.ndarray:
+        """``(N, K)`` bool: valid solutions at a singular configuration (the Jacobian's
+        rank test of :func:`singular`, or a joint the target leaves free)."""
+        if "singular" not in self.memo:
+            sing = np.zeros(self.valid.shape, bool)
+            if self.valid.any():
+                F, tool = self._frames(self.valid)
+                sing[self.valid] = singular(self.robot, self.q[self.valid], F, tool)
+            self.memo["singular"] = sing | (self.valid & self.free.any(-1))
+        return self.memo["singular"]
 
 
 #: targets solved together (memory: a few kB per target and slot)
@@ -106,8 +146,8 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
     return replace(first, q=join("q"), candidate=join("candidate"), valid=join("valid"),
                    position_error=join("position_error"),
                    orientation_error=join("orientation_error"), violation=join("violation"),
-                   within=join("within"), singular=join("singular"), free=join("free"),
-                   labels=join("labels"), continuum=cont, branches=None)
+                   within=join("within"), free=join("free"), continuum=cont, branches=None,
+                   memo={})
 
 
 def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
@@ -135,13 +175,15 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
     else:
         br = SOLVERS[family.solver](S, targets, br)
     q = br.q(robot.is_revolute)
+    c, s = br.cs()
     q = np.where(robot.is_revolute, wrap(q), q)
     candidate = br.ok.copy()
     method = family.description
     if not family.exact:
         from .nearly import on_true_robot
         q, candidate, br, method = on_true_robot(robot, family, targets, q, candidate, br)
-    return _check(robot, family, method, targets, q, candidate, br)
+        c, s = np.cos(q), np.sin(q)
+    return _check(robot, family, method, targets, q, c, s, candidate, br)
 
 
 #: the pseudo-family of tool-configuration-vector targets (Schilling 1990): the last
@@ -163,69 +205,64 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
         raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five)
 
 
-def _check(robot, family, method, targets, q, candidate, br) -> Solved:
-    """Steps 1-4 of the module docstring for ``q (N, K, n)``."""
-    from ..fk import chain_frames
+def _check(robot, family, method, targets, q, c, s, candidate, br) -> Solved:
+    """Steps 1-3 of the module docstring for ``q (N, K, n)`` (and its joints' cosines
+    and sines ``c, s``)."""
+    from ..fk import tool_from_cs
     N, K, n = q.shape
+    M = N * K
     L = max(robot.characteristic_length, 1e-12)
-    rev = robot.is_revolute
-    idx = np.nonzero(candidate)
-    Q = q[idx]                                                           # (m, n)
-    F = chain_frames(robot.chain, Q) if len(Q) else np.zeros((0, n, 4, 4))
-    tool = F[:, -1] @ robot.chain.fixed[-1] if len(Q) else np.zeros((0, 4, 4))
-    Tt = targets.T[idx[0]]
-    pe = np.linalg.norm(tool[:, :3, 3] - Tt[:, :3, 3], axis=-1)
-    oe = _orientation_error(targets, idx[0], tool)
+    # FK of every slot, joint-major and structure of arrays (contiguous rows)
+    major = lambda a: np.ascontiguousarray(a.reshape(M, n).T)  # noqa: E731
+    cols, p = tool_from_cs(robot.chain, major(c), major(s), major(q))
+    T = targets.T
+    pe = _distance(p, np.repeat(T[:, :3, 3], K, axis=0).T)
+    oe = _orientation_error(targets, cols, K)
     o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
     reach = pe <= ACCEPT_POSITION * L
     if oe is not None:
         reach &= oe <= o_tol
-    Qn = normalise(robot, Q)
-    q = q.copy()
-    q[idx] = Qn
-    valid = np.zeros((N, K), bool)
-    valid[idx] = reach
+    with np.errstate(invalid="ignore"):            # dead slots may hold anything
+        valid = candidate & reach.reshape(N, K)
+    q = normalise(robot, np.where(candidate[..., None], q, 0.0))
     valid &= ~duplicates(robot, q, valid)
     viol = violations(robot, q)
-    within = ~(viol != 0).any(-1)
-    free = br.free_mask()
-    sing = np.zeros((N, K), bool)
-    good = valid[idx]
-    if good.any():
-        sing[tuple(i[good] for i in idx)] = singular(robot, Qn[good], F[good], tool[good])
-    sing |= valid & free.any(-1)
-    lab = np.empty((N, K), object)
-    if len(Q):
-        lab[idx] = labels(robot, family.solver, F, [br.signs[k] for k in idx[1].tolist()],
-                          free[idx])
-    PE = np.zeros((N, K))
-    PE[idx] = pe
-    OE = np.full((N, K), np.nan)
-    if oe is not None:
-        OE[idx] = oe
-    cont = br.extra.get("continuum")
-    return Solved(family=family.name, spec=family, method=method, q=q, candidate=candidate,
-                  valid=valid,
-                  position_error=PE, orientation_error=OE, violation=viol, within=within,
-                  singular=sing, free=free, labels=lab, continuum=cont, branches=br)
+    return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
+                  candidate=candidate, valid=valid,
+                  position_error=np.where(candidate, pe.reshape(N, K), 0.0),
+                  orientation_error=np.full((N, K), np.nan) if oe is None else
+                  np.where(candidate, oe.reshape(N, K), np.nan),
+                  violation=viol, within=~(viol != 0).any(-1), free=br.free_mask(),
+                  signs=br.signs, continuum=br.extra.get("continuum"), branches=br)
 
 
-def _orientation_error(targets: Targets, owner, tool):
-    """Angle (rad) between each candidate's orientation and its target's, for the
-    components the target gives: the whole rotation, or the approach (tool z)."""
+def _distance(a, b):
+    """``|a - b|`` of structure-of-arrays points ``(3, M)``."""
+    d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
+    return np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
+def _orientation_error(targets: Targets, cols, K):
+    """Angle (rad) between each slot's orientation (rotation columns ``cols``, three
+    ``(3, M)``) and its target's, for the components the target gives: the whole
+    rotation (from ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate for small
+    angles), or the approach (tool z)."""
     if targets.kind == "position":
         return None
     if targets.kind in ("approach", "tcv"):
-        a = targets.approach[owner]
-        z = tool[:, :3, 2]
-        c = (z * a).sum(-1)
-        s = np.linalg.norm(np.cross(z, a), axis=-1)
-        return np.arctan2(s, c)
-    R = np.swapaxes(targets.T[owner, :3, :3], -1, -2) @ tool[:, :3, :3]
-    c = 0.5 * (np.trace(R, axis1=-2, axis2=-1) - 1.0)
-    s = 0.5 * np.linalg.norm(np.stack([R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0],
-                                       R[:, 1, 0] - R[:, 0, 1]], -1), axis=-1)
-    return np.arctan2(s, c)
+        a = np.repeat(targets.approach, K, axis=0).T
+        z = cols[2]
+        c = z[0] * a[0] + z[1] * a[1] + z[2] * a[2]
+        x = z[1] * a[2] - z[2] * a[1]
+        y = z[2] * a[0] - z[0] * a[2]
+        w = z[0] * a[1] - z[1] * a[0]
+        return np.arctan2(np.sqrt(x * x + y * y + w * w), c)
+    R = targets.T[:, :3, :3]
+    f2 = 0.0
+    for j in range(3):
+        d = cols[j] - np.repeat(R[:, :, j], K, axis=0).T
+        f2 = f2 + d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    return 2.0 * np.arcsin(np.minimum(np.sqrt(f2) / (2.0 * np.sqrt(2.0)), 1.0))
 
 
 def normalise(robot, Q) -> np.ndarray:
@@ -281,11 +318,21 @@ def duplicates(robot, q, valid) -> np.ndarray:
     if K < 2 or not valid.any():
         return drop
     rev = robot.is_revolute
+    Q = np.ascontiguousarray(np.moveaxis(q, -1, 0))                          # (n, N, K)
     for j in range(1, K):
-        d = np.abs(q[:, :j] - q[:, j:j + 1])                                # (N, j, n)
-        d[..., rev] = np.abs(wrap(d[..., rev]))
-        same = (d.max(-1) < DUPLICATE) & valid[:, :j] & ~drop[:, :j]
-        drop[:, j] = valid[:, j] & same.any(-1)
+        live = valid[:, j]
+        if not live.any():
+            continue
+        for i in range(j):
+            same = live & valid[:, i] & ~drop[:, i]
+            for k in range(n):
+                if not same.any():
+                    break
+                d = Q[k, :, j] - Q[k, :, i]
+                if rev[k]:
+                    d = d - TURN * np.rint(d / TURN)
+                same &= np.abs(d) < DUPLICATE
+            drop[:, j] |= same
     return drop
 
 

@@ -38,14 +38,18 @@ def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
         One slot: ``theta[0] (..., 1)``.
     """
     p1, p2, k = as_vectors(p1, p2, k)
-    kxp = cross(k, p1)
     h1, h2 = dot(k, p1), dot(k, p2)
-    a = p1 - h1[..., None] * k
-    x, y = dot(a, p2), dot(kxp, p2)
-    scale = np.maximum(np.maximum(norm(p1), norm(p2)), 1e-300)
-    r1, r2 = norm(a), norm(p2 - h2[..., None] * k)
-    free = (r1 < tol * scale) | (r2 < tol * scale)
-    exact = (np.abs(h1 - h2) < tol * scale) & (np.abs(r1 - r2) < tol * scale)
+    a = p1 - h1[..., None] * k                      # p1 across the axis
+    b = p2 - h2[..., None] * k                      # p2 across the axis
+    x, y = dot(a, b), dot(cross(k, a), b)
+    if tol > 0.0:
+        scale = np.maximum(np.maximum(norm(p1), norm(p2)), 1e-300)
+        r1, r2 = norm(a), norm(b)
+        free = (r1 < tol * scale) | (r2 < tol * scale)
+        exact = (np.abs(h1 - h2) < tol * scale) & (np.abs(r1 - r2) < tol * scale)
+    else:                   # no threshold: free only where a part across the axis is 0
+        free = (x == 0.0) & (y == 0.0)
+        exact = np.ones(free.shape, bool)
     theta, c, s = angles(np.where(free, 1.0, x)[..., None], np.where(free, 0.0, y)[..., None])
     one = np.ones(theta.shape, bool)
     return Solutions((theta,), (c,), (s,), one, exact[..., None], free[..., None])

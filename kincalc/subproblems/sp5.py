@@ -53,8 +53,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3, *, tol: float = GEOMETRY_TOL) -> Solutions:
     Solutions
         Four slots; ``theta = (theta1, theta2, theta3)``, each ``(..., 4)``.
     """
-    p0, p1, p2, p3, k1, k2, k3 = as_vectors(p0, p1, p2, p3, k1, k2, k3)
-    L = np.maximum.reduce([norm(v) for v in (p0, p1, p2, p3)])
+    p0, p1, p2, p3, k1, k2, k3 = np.broadcast_arrays(*as_vectors(p0, p1, p2, p3, k1, k2, k3))
+    L = np.maximum(np.maximum(norm(p0), norm(p1)), np.maximum(norm(p2), norm(p3)))
     Ls = np.maximum(L, 1e-300)
     c1, A1 = _circle(p0, k1, p1)
     c3, A3 = _circle(p2, k3, p3)
