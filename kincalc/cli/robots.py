@@ -46,8 +46,10 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
 
     from .render import console
     t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots", title_justify="left")
-    for col in ("name", "dof", "structure", "convention", "units", "title"):
-        t.add_column(col, no_wrap=col != "title")
+    for col in ("name", "dof", "structure", "convention", "units"):
+        t.add_column(col, no_wrap=True)
+    # a title squeezed narrower than this reads a word a line: then it gets a panel of its own
+    t.add_column("title", min_width=25)
     for e in entries:
         if "error" in e:
             t.add_row(e["name"], "", "", "", "", f"[red]broken: {e['error']}[/red]")
