@@ -27,7 +27,7 @@ def check(
 ):
     """Grade homework sheets: each answer right or wrong, with hints and a score.
 
-    A sheet names a robot (bundled, a path, or an inline robot) and lists
+    A sheet names a robot (bundled, a file in its folder, or inline) and lists
     items (dh, link, fk, ik, jacobian, reach, singular), each with the
     student's answer. Every item is graded against kincalc's own results;
     wrong answers get the error and, where one fits, the slip behind it
