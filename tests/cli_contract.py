@@ -7,7 +7,8 @@ satisfy whatever the input (PRODUCT.md, "Exit status" and "JSON output"):
 * the exit status is 0, 1 or 2 (3 is an internal error: a bug);
 * stderr holds at most one line and never a traceback (unless ``--debug``);
 * every JSON document on stdout parses strictly (no NaN or Infinity);
-* with ``--batch``, one output record per input record, in order.
+* with ``--batch``, one output record per input record, in order;
+* (with :func:`snapshot`) nothing in the working folder is written or changed.
 """
 
 from __future__ import annotations
@@ -73,3 +74,22 @@ def assert_contract(status, out, err, argv=(), *, records: int | None = None):
             assert len(docs) == records, f"{where}: {records} records in, {len(docs)} out"
             assert [d.get("index") for d in docs] == list(range(records)), \
                 f"{where}: records out of order"
+
+
+def snapshot(root) -> dict:
+    """Every file under ``root`` with a hash of its content (a symbolic link: its
+    target, not followed), to assert that a run wrote, changed or removed nothing:
+    ``assert snapshot(folder) == before``."""
+    import hashlib
+    out = {}
+    for dirpath, dirnames, filenames in os.walk(root):
+        for name in filenames + [d for d in dirnames if os.path.islink(os.path.join(dirpath, d))]:
+            path = os.path.join(dirpath, name)
+            if os.path.islink(path):
+                out[path] = ("link", os.readlink(path))
+            elif os.path.isfile(path):
+                with open(path, "rb") as fh:
+                    out[path] = hashlib.sha256(fh.read()).hexdigest()
+            else:                                   # a FIFO, a socket: its kind only
+                out[path] = ("special", os.stat(path).st_mode)
+    return out

@@ -256,27 +256,39 @@ def _check_rotation(R, what):
 
 def _read_pose(src: str):
     import json as _json
-    import sys
 
     import numpy as np
+
+    from ..limits import TooLarge, os_error_text, read_bounded, size_text
+    what = f"--pose {src}"
     try:
-        text = sys.stdin.read() if src == "-" else open(src, encoding="utf-8").read()
+        raw = read_bounded(src)
+    except TooLarge as exc:
+        raise InputError(f"{what}: larger than {size_text(exc.limit)}, kincalc's limit for "
+                         "a pose file (a 4x4 matrix is a few hundred bytes)") from None
     except OSError as exc:
-        raise InputError(f"--pose {src}: cannot read ({exc.strerror})") from None
+        raise InputError(f"{what}: cannot read ({os_error_text(exc)})") from None
+    except ValueError:
+        raise InputError(f"{what}: cannot read (not a valid file name)") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{what}: not UTF-8 text; expected 16 numbers or JSON rows of a "
+                         "4x4 matrix") from None
     try:
         data = _json.loads(text)
         if isinstance(data, dict):
             data = data.get("T", data.get("target", {}).get("T") if isinstance(
                 data.get("target"), dict) else None)
         M = np.array(data, dtype=float)
-    except (ValueError, TypeError):
+    except (ValueError, TypeError, RecursionError):
         try:
             M = np.array(text.replace(",", " ").replace("[", " ").replace("]", " ").split(),
                          dtype=float)
         except ValueError:
-            raise InputError(f"--pose {src}: expected 16 numbers or JSON rows of a 4x4 matrix")\
+            raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
                 from None
-    return _check_pose(M, f"--pose {src}")
+    return _check_pose(M, what)
 
 
 def _check_pose(M, what):

@@ -6,6 +6,7 @@ from typing import Annotated, Optional
 
 import typer
 
+from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
 from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
                      display_units, load_robot, output)
 
@@ -13,17 +14,18 @@ from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
 def workspace(
     robot: RobotArg,
     samples: Annotated[int, typer.Option(
-        "--samples", metavar="N", min=1000,
+        "--samples", metavar="N", min=1000, max=MAX_SAMPLES,
         help="Joint configurations sampled uniformly within the limits.")] = 200_000,
     seed: Annotated[int, typer.Option(
-        "--seed", metavar="S", help="Seed of the random generator: the same seed gives the "
-                                    "same numbers.")] = 0,
+        "--seed", metavar="S", min=0,
+        help="Seed of the random generator, a non-negative integer: the same seed gives "
+             "the same numbers.")] = 0,
     dexterity: Annotated[float, typer.Option(
         "--dexterity", metavar="F",
         help="Fraction of the test orientations a point must reach to count as dexterous "
              "(1 = every one, the textbook's dexterous workspace).")] = 1.0,
     orientations: Annotated[Optional[int], typer.Option(
-        "--orientations", metavar="K", min=2, show_default=False,
+        "--orientations", metavar="K", min=2, max=MAX_ORIENTATIONS, show_default=False,
         help="Number of test orientations for dexterity (default 48 for arms that control "
              "the full orientation, 24 for one angle).")] = None,
     plot: Annotated[Optional[str], typer.Option(
