@@ -82,10 +82,34 @@ def parse_joints(tokens: list[str] | None, robot, units, option: str | None = No
         raise InputError(f"{where}{robot.name} has {robot.dof} joints "
                          f"({', '.join(j.name for j in robot.joints)}), "
                          f"got {len(values)} joint value{'s' if len(values) != 1 else ''}")
+    for joint, value in zip(robot.joints, values):
+        check_number(value, f"{where}joint {joint.name}")
     q = np.array(values)
-    if not np.all(np.isfinite(q)):
-        raise InputError(f"{where}joint values must be finite numbers")
     return q / np.where(robot.is_revolute, units.a, units.l)
+
+
+def check_number(value: float, what: str) -> float:
+    """``value`` if it is finite and within :data:`~kincalc.limits.MAX_MAGNITUDE` (the
+    limit robot files have), else an :class:`InputError` naming ``what``.
+
+    Every number from the command line passes here, in the user's units, before any
+    arithmetic: beyond the limit, products overflow to inf and NaN (numpy warnings on
+    stderr, ``q3=inf`` in tables, JSON that cannot be written)."""
+    import math
+
+    from ..limits import MAX_MAGNITUDE
+    if not math.isfinite(value):
+        raise InputError(f"{what}: {value:g} is not a finite number")
+    if abs(value) > MAX_MAGNITUDE:
+        raise InputError(f"{what}: {value:g} is too large (kincalc takes numbers up to "
+                         f"{MAX_MAGNITUDE:g} in size)")
+    return value
+
+
+def check_numbers(values, what: str) -> None:
+    """:func:`check_number` for each of ``values`` (an option's numbers)."""
+    for v in values:
+        check_number(float(v), what)
 
 
 def _suggest_option(token: str) -> str:

@@ -8,7 +8,7 @@ import typer
 
 from ..errors import InputError, UsageError
 from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JsonOpt, PrecisionOpt,
-                     RobotArg, UnitOpt, display_units, load_robot, output)
+                     RobotArg, UnitOpt, check_numbers, display_units, load_robot, output)
 
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
@@ -181,9 +181,9 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     given = [k for k, v in orient.items() if v is not None]
     whole = [k for k, v in (("--pose", pose), ("--from-q", from_q), ("T", T), ("q", q))
              if v is not None]
-    for name, v in [("--xyz", xyz), *orient.items(), ("T", T), ("q", q)]:
-        if v is not None and not np.all(np.isfinite(np.asarray(v, float))):
-            raise InputError(f"{name}: values must be finite numbers")
+    for name, v in [("--xyz", xyz), *orient.items(), ("T", T)]:
+        if v is not None:
+            check_numbers(np.asarray(v, float).ravel(), name)
     if len(given) > 1:
         raise UsageError(f"give at most one orientation, not {' and '.join(given)}")
     if whole and (given or xyz is not None):
@@ -284,8 +284,9 @@ def _check_pose(M, what):
     import numpy as np
     if M.size == 12:
         M = np.vstack([M.reshape(3, 4), [0, 0, 0, 1]])
-    if M.size != 16 or not np.all(np.isfinite(M)):
+    if M.size != 16:
         raise InputError(f"{what}: expected a 4x4 matrix (16 finite numbers), got {M.size}")
+    check_numbers(M.ravel(), what)
     M = M.reshape(4, 4)
     if not np.allclose(M[3], [0, 0, 0, 1]):
         raise InputError(f"{what}: the last row must be 0 0 0 1")

@@ -131,6 +131,7 @@ def main(argv: list[str] | None = None) -> int:
 
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
+    _quiet_numeric_warnings(debug)
     try:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
         status = app(args=args, prog_name="kincalc", standalone_mode=False)
@@ -173,6 +174,20 @@ def main(argv: list[str] | None = None) -> int:
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
+
+
+def _quiet_numeric_warnings(debug: bool) -> None:
+    """Keep numpy's RuntimeWarnings (overflow, invalid value) off the user's stderr,
+    except with --debug.
+
+    A backstop: command-line numbers are bounded (:func:`kincalc.cli.common.check_number`)
+    so that no computation overflows, and the core silences the divisions it expects to
+    degenerate with ``np.errstate``. numpy's warnings are the built-in RuntimeWarning, so
+    this needs no numpy import at start-up. The filter is process-wide: ``main`` is the
+    program (tests that call it run under pytest, which restores the filters per test)."""
+    if not debug:
+        import warnings
+        warnings.filterwarnings("ignore", category=RuntimeWarning)
 
 
 def _one_line(text: str) -> str:
