@@ -48,17 +48,24 @@ def resolve(robot: str) -> tuple[Path, str]:
     otherwise a bundled name is tried first, then a file of that name.
     """
     looks_like_path = os.sep in robot or "/" in robot or robot.endswith((".yaml", ".yml"))
-    if not looks_like_path:
-        candidate = library_dir() / f"{robot}.yaml"
-        if candidate.is_file():
-            return candidate, robot
+    if not looks_like_path and _is(library_dir() / f"{robot}.yaml", Path.is_file):
+        return library_dir() / f"{robot}.yaml", robot
     p = Path(robot)
-    if p.exists():
+    if _is(p, Path.exists):
         return p, robot
     if looks_like_path:
         return p, robot  # let the loader report "no such file" with the path
     close = difflib.get_close_matches(robot, bundled_names(), n=3, cutoff=0.6)
     raise RobotNotFoundError(robot, close)
+
+
+def _is(path: Path, test) -> bool:
+    """``test(path)``, False when the name cannot be a file at all (too long for the
+    file system: ``is_file`` raises ENAMETOOLONG instead of answering)."""
+    try:
+        return test(path)
+    except OSError:
+        return False
 
 
 def load(robot: str):

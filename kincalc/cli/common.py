@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Annotated, List, Optional
 
+import click
 import typer
 
 from ..errors import InputError, UsageError
@@ -16,8 +17,40 @@ from ..errors import InputError, UsageError
 #: click would otherwise read "-45" as the short options -4 -5.
 NUMERIC_ARGS = {"ignore_unknown_options": True, "help_option_names": ["-h", "--help"]}
 
+
+class FileName(click.ParamType):
+    """A file name, as typed (no check here: the command reports a missing file in its
+    own words); the shell completes it from the files there."""
+
+    name = "file"
+
+    def convert(self, value, param, ctx):
+        return value
+
+    def shell_complete(self, ctx, param, incomplete):
+        from click.shell_completion import CompletionItem
+        return [CompletionItem(incomplete, type="file")]
+
+
+class RobotName(FileName):
+    """A bundled robot's name or a robot file; the shell completes the bundled names that
+    start with what is typed, else file names."""
+
+    name = "robot"
+
+    def shell_complete(self, ctx, param, incomplete):
+        if "/" not in incomplete:
+            from click.shell_completion import CompletionItem
+
+            from ..library import bundled_names
+            names = [n for n in bundled_names() if n.startswith(incomplete)]
+            if names:
+                return [CompletionItem(n) for n in names]
+        return super().shell_complete(ctx, param, incomplete)
+
+
 RobotArg = Annotated[str, typer.Argument(
-    metavar="ROBOT", show_default=False,
+    metavar="ROBOT", show_default=False, click_type=RobotName(),
     help="A bundled robot's name (see 'kincalc robots list') or a path to a robot YAML file.")]
 JointsArg = Annotated[Optional[List[str]], typer.Argument(
     metavar="Q...", show_default=False,
@@ -31,11 +64,12 @@ UnitOpt = Annotated[Optional[str], typer.Option(
 PrecisionOpt = Annotated[int, typer.Option(
     "--precision", metavar="N", min=0, max=17, help="Decimals shown in tables.")]
 JsonOpt = Annotated[bool, typer.Option(
-    "--json", help="Print one JSON document (schema in PRODUCT.md/README) instead of tables.")]
+    "--json", help="Print one JSON document instead of tables (its fields: README, "
+                   "\"JSON output\", and the command's man page).")]
 DebugOpt = Annotated[bool, typer.Option(
     "--debug", help="Show a Python traceback on errors.")]
 BatchOpt = Annotated[Optional[str], typer.Option(
-    "--batch", metavar="FILE", show_default=False,
+    "--batch", metavar="FILE", show_default=False, click_type=FileName(),
     help="Answer every record of FILE ('-' for stdin), one output line per record, in order: "
          "JSON lines ({\"q\": [...]}; for ik and reach any pose: {\"xyz\": [...], \"rpy\": "
          "[...]}, {\"T\": ...}, ...) or CSV with a header (joint columns by name; x,y,z with "
