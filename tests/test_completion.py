@@ -67,6 +67,7 @@ def test_sub_commands_options_and_choices():
     assert complete("bash", "kincalc robots ") == ["plain,list", "plain,show", "plain,validate"]
     assert complete("bash", "kincalc fk puma560 --fr") == ["plain,--frames"]
     assert complete("bash", "kincalc jacobian puma560 --frame ") == ["plain,base", "plain,tool"]
+    assert "plain,--force" in complete("bash", "kincalc plot puma560 --f")
     assert complete("bash", "kincalc completion ") == ["plain,bash", "plain,zsh", "plain,fish"]
 
 
@@ -75,6 +76,8 @@ def test_robot_names_then_files(tmp_path):
     assert complete("bash", "kincalc robots validate ur5_p") == ["plain,ur5_poe"]
     # nothing bundled matches, or a path is being typed: the shell lists files
     assert complete("bash", "kincalc fk ./my", cwd=tmp_path) == ["file,./my"]
+    assert complete("bash", "kincalc ik puma560 --pose ") == ["file,"]
+    assert complete("bash", "kincalc plot puma560 -o ") == ["file,"]
     assert complete("bash", "kincalc fk puma560 --batch ") == ["file,"]
 
 

@@ -74,6 +74,9 @@ BatchOpt = Annotated[Optional[str], typer.Option(
          "JSON lines ({\"q\": [...]}; for ik and reach any pose: {\"xyz\": [...], \"rpy\": "
          "[...]}, {\"T\": ...}, ...) or CSV with a header (joint columns by name; x,y,z with "
          "roll,pitch,yaw or qw,qx,qy,qz). A bad record becomes an error record; exit 2 then.")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Let the output replace an existing regular file (never a link, a device "
+                    "or one of the command's own input files).")]
 FormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv", help="Output format of --batch.")]
 JobsOpt = Annotated[int, typer.Option(
@@ -164,6 +167,29 @@ def _command_path() -> str:
     import click
     ctx = click.get_current_context(silent=True)
     return ctx.command_path if ctx is not None else "kincalc"
+
+
+def output_target(path: str, option: str, force: bool, robot: str | None = None,
+                  files=()):
+    """The :class:`kincalc.outputs.Target` of an output option, knowing the command's
+    input files: the robot file of ``robot`` (a name or a path) and each ``(option,
+    path)`` of ``files`` (``-`` and None skipped), none of which it may write."""
+    from ..outputs import Target
+    inputs = []
+    if robot is not None:
+        inputs.append(("the robot file", robot_file(robot)))
+    inputs += [(f"the {opt} file", p) for opt, p in files if p not in (None, "-")]
+    return Target(path, option, force, tuple(inputs))
+
+
+def robot_file(robot: str) -> str | None:
+    """The file a ROBOT argument names (a bundled robot's too), or None if none."""
+    from ..errors import KincalcError
+    from ..library import resolve
+    try:
+        return str(resolve(robot)[0])
+    except KincalcError:
+        return None
 
 
 def load_robot(name: str):
