@@ -48,6 +48,7 @@ def test_deg_and_rad_together_are_refused(argv, first, second, tmp_path):
     ["fk", "puma560", "--deg", "--deg", "--json"],
     ["fk", "bk_rr", "--unit", "--rad", "--deg"],          # '--rad' is --unit's value here
     ["fk", "bk_rr", "--batch", "-", "--deg"],
+    ["fk", "bk_rr", "--deg", "--rad", "--help"],          # help first, as click does
 ])
 def test_a_flag_repeated_or_consumed_as_a_value_is_no_contradiction(argv):
     status, _, err = run(*argv, stdin=b'{"q": [0, 0]}\n')

@@ -71,7 +71,7 @@ class _Group(TyperGroup):
         name, cmd, rest = super().resolve_command(ctx, args)
         if cmd is not None and not isinstance(cmd, click.Group):
             clash = _opposite_flags(cmd, rest)
-            if clash:
+            if clash and not {"-h", "--help"} & set(rest):     # help first, as click does
                 raise click.UsageError(f"{clash[0]} and {clash[1]} contradict each other; "
                                        "give one of them",
                                        click.Context(cmd, info_name=name, parent=ctx))
