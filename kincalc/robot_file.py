@@ -448,19 +448,26 @@ class _Reader:
         )
 
     def pose(self, node, what: str) -> np.ndarray:
-        fields = self.mapping(node, what, {k: False for k in POSE_KEYS})
-        if "matrix" in fields:
-            if "xyz" in fields or "rpy" in fields:
+        """``base`` or ``tool``: ``{xyz, rpy}``, ``{matrix: [4 rows]}`` or the 4x4 matrix
+        itself (a list of 4 rows, as PRODUCT.md allows)."""
+        import yaml
+        if isinstance(node, yaml.SequenceNode):     # the bare matrix
+            matrix, mwhat = node, f"{what} (a 4x4 matrix)"
+        else:
+            fields = self.mapping(node, what, {k: False for k in POSE_KEYS})
+            matrix, mwhat = fields.get("matrix"), f"{what}.matrix"
+            if matrix is not None and ("xyz" in fields or "rpy" in fields):
                 self.fail(node, f"{what}: give either 'matrix' or 'xyz'/'rpy', not both")
-            rows = self.sequence(fields["matrix"], f"{what}.matrix", 4)
-            M = np.array([self.vector(r, f"{what}.matrix row {k + 1}", 4)
+        if matrix is not None:
+            rows = self.sequence(matrix, mwhat, 4)
+            M = np.array([self.vector(r, f"{mwhat} row {k + 1}", 4)
                           for k, r in enumerate(rows)])
             if not np.allclose(M[3], [0, 0, 0, 1], atol=1e-9):
-                self.fail(fields["matrix"], f"{what}.matrix: the last row must be [0, 0, 0, 1]")
+                self.fail(matrix, f"{mwhat}: the last row must be [0, 0, 0, 1]")
             R = M[:3, :3]
             if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
-                self.fail(fields["matrix"], f"{what}.matrix: the upper-left 3x3 block is not a "
-                                            "rotation (orthonormal, determinant +1)")
+                self.fail(matrix, f"{mwhat}: the upper-left 3x3 block is not a "
+                                  "rotation (orthonormal, determinant +1)")
             M = M.copy()
             M[:3, 3] *= self.L
             # re-orthonormalise the rotation given to 6 digits

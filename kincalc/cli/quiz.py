@@ -7,7 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..errors import InputError
-from .common import DebugOpt, RobotArg, load_robot
+from .common import DebugOpt, FileName, RobotArg, load_robot, output_target
 
 SeedOpt = Annotated[Optional[int], typer.Option(
     "--seed", metavar="S", min=0, show_default=False,
@@ -21,9 +21,12 @@ ItemsOpt = Annotated[str, typer.Option(
     help="The exercises, one item each, in this order (a kind may repeat): dh, link, fk, ik, "
          "jacobian, reach, singular.")]
 OutputOpt = Annotated[Optional[str], typer.Option(
-    "-o", "--output", metavar="FILE", show_default=False,
-    help="Write the sheet to FILE instead of standard output.")]
-ForceOpt = Annotated[bool, typer.Option("--force", help="Overwrite an existing --output file.")]
+    "-o", "--output", metavar="FILE", show_default=False, click_type=FileName(),
+    help="Write the sheet to FILE instead of standard output ('-'). An existing FILE is "
+         "not replaced without --force.")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Let --output replace an existing regular file (never a link, a device "
+                    "or the robot file).")]
 SheetDegOpt = Annotated[Optional[bool], typer.Option(
     "--deg/--rad", show_default=False,
     help="Angles on the sheet in degrees or radians. Default: the robot file's angle unit.")]
@@ -51,7 +54,6 @@ def quiz(
 
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
-    import os
     import sys
 
     from .. import __version__
@@ -65,12 +67,11 @@ def quiz(
                          f"{', '.join(KINDS)})")
     if output == "-":
         output = None                    # '-o -' is standard output, as for convert
-    if output is not None and os.path.isdir(output):
-        raise InputError(f"--output {output}: is a folder; give a file name")
-    if output is not None and os.path.exists(output) and not force:
-        raise InputError(f"--output {output}: the file exists; give --force to overwrite it")
-    if output is not None and not os.path.isdir(os.path.dirname(os.path.abspath(output))):
-        raise InputError(f"--output {output}: no such folder")
+    target = None
+    if output is not None:               # before any work: a refused file costs nothing
+        from ..outputs import check_target
+        target = output_target(output, "--output", force, robot)
+        check_target(target)
     rob = load_robot(robot)
     drawn = seed is None
     if drawn:
@@ -94,15 +95,8 @@ def quiz(
     if output is None:
         sys.stdout.write(text)
         return
-    tmp = f"{output}.tmp{os.getpid()}"
-    try:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, output)
-    except OSError as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise InputError(f"--output {output}: cannot write ({exc.strerror})") from None
+    from ..outputs import write_text
+    write_text(target, text)             # a temporary file renamed over it when complete
     n = len(sheet["items"])
     sys.stderr.write(f"kincalc: wrote {output} ({n} item{'s' if n != 1 else ''}"
                      f"{', with answers' if answers else ''})\n")
