@@ -26,6 +26,7 @@ import numpy as np
 from .errors import InputError, KincalcError, RobotFileError
 from .limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
 from .results import _clean
+from .spatial import TCV_MAX_ROLL
 from .robot_file import _compose, _line, _Reader
 
 KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
@@ -449,6 +450,10 @@ class _SheetReader(_Reader):
         if "answer" in f and not f["answer"].tag.endswith(":null"):
             item.answer_line = _line(f["answer"])
             item.answer = self.answer(kind, f["answer"], item)
+            if kind == "fk" and "tcv" in item.answer and abs(item.q[-1]) > TCV_MAX_ROLL:
+                # e^(q_n / pi) leaves the numbers a sheet can hold, and soon overflows
+                self.fail(f["q"], f"'answer.tcv': the tool configuration vector is given only "
+                                  f"for a last joint within {TCV_MAX_ROLL:.1f} rad (ten turns)")
         return item
 
     def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:

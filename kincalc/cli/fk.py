@@ -108,7 +108,8 @@ def _tables(doc, robot, precision):
         (f"axis-angle ({a})", vec(o["axis_angle"]["axis"], precision) + "  |  "
          + num(o["axis_angle"]["angle"], precision)),
         (f"rotation vector ({a})", vec(o["rotation_vector"], precision)),
-        ("tcv [p; e^(qn/pi) r3]", "n/a (last joint is prismatic)" if doc["tcv"] is None
-         else vec(doc["tcv"], precision)),
+        ("tcv [p; e^(qn/pi) r3]", vec(doc["tcv"], precision) if doc["tcv"] is not None
+         else "n/a (last joint is prismatic)" if not robot.joints[-1].revolute
+         else "n/a (the last joint has turned more than ten times: e^(qn/pi) is too large)"),
     ]
     c.print(kv_table(rows))

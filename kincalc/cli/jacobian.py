@@ -118,7 +118,8 @@ def _tables(doc, robot, precision):
         ("rank", str(doc["rank"])),
         ("manipulability", num(doc["manipulability"], precision + 2)),
         ("position manipulability", num(doc["position_manipulability"], precision + 2)),
-        ("condition", "inf" if doc["condition"] is None else num(doc["condition"], precision)),
+        ("condition", "unbounded (singular)" if doc["condition"] is None
+         else num(doc["condition"], precision)),
         ("singular", "yes" if doc["singular"] else "no"),
     ]
     sg = doc.get("singularity")
