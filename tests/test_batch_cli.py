@@ -552,7 +552,7 @@ def test_batch_dev_zero_ends_with_one_error_record():
     assert status == 2
     assert json_documents(out) == [{"index": 0, "error": "record 1: longer than 64 KiB, "
                                     "kincalc's limit for a --batch line"}]
-    assert err.startswith("kincalc: error: --batch '/dev/zero': record 1 runs on for more "
+    assert err.startswith("kincalc: error: --batch /dev/zero: record 1 runs on for more "
                           "than 16 MiB without a newline") and err.count("\n") == 1
 
 

@@ -404,10 +404,16 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
             pool.shutdown(wait=True, cancel_futures=True)
         source.close()
     if source.stopped is not None:
-        raise InputError(f"--batch {quote(src)}: record {source.stopped} runs on for more than "
+        raise InputError(f"--batch {_shown(src)}: record {source.stopped} runs on for more than "
                          f"{size_text(MAX_BATCH_SKIP_BYTES)} without a newline (not a file of "
                          "lines?); reading stopped there")
     return 2 if bad else 1 if no else 0
+
+
+def _shown(name: str) -> str:
+    """A file name as a message shows it: as given, or quoted and cut when it holds
+    characters that would break the line (or is very long)."""
+    return name if name.isprintable() and len(name) <= 1000 else quote(name, 200)
 
 
 class _Source:
@@ -431,8 +437,13 @@ class _Source:
                     raise InputError("--batch -: there is no standard input")
                 try:
                     fd = sys.stdin.fileno()
-                except (AttributeError, OSError, ValueError):   # an in-memory stdin
-                    self._read = sys.stdin.buffer.read1
+                except (AttributeError, OSError, ValueError):   # an in-memory stdin (tests)
+                    buffer = getattr(sys.stdin, "buffer", None)
+                    if buffer is not None:
+                        self._read = getattr(buffer, "read1", buffer.read)
+                    else:                                       # text only: as UTF-8
+                        self._read = lambda n: sys.stdin.read(n).encode("utf-8",
+                                                                        "surrogateescape")
                 else:
                     self._read = lambda n: os.read(fd, n)
             else:
@@ -442,7 +453,7 @@ class _Source:
             mode = None if fd is None else os.fstat(fd).st_mode
         except OSError as exc:
             self.close()
-            raise InputError(f"--batch {quote(src)}: cannot read ({os_error_text(exc)})") \
+            raise InputError(f"--batch {_shown(src)}: cannot read ({os_error_text(exc)})") \
                 from None
         if mode is not None and not stat.S_ISREG(mode):
             import select
@@ -463,7 +474,7 @@ class _Source:
                 self._poll.poll()
                 continue
             except OSError as exc:
-                raise InputError(f"--batch {quote(self.src)}: cannot read "
+                raise InputError(f"--batch {_shown(self.src)}: cannot read "
                                  f"({os_error_text(exc)})") from None
             self.position += len(data or b"")
             return data or b""
