@@ -31,6 +31,11 @@ MAX_EXPRESSION = 500
 #: the longest line of a --batch input, in bytes (a 4x4 pose with an id is ~400)
 MAX_RECORD_BYTES = 1 << 16
 
+#: how much of a --batch line longer than MAX_RECORD_BYTES is skipped looking for its
+#: newline, in bytes: a line that runs on further (/dev/zero, a binary file) ends the
+#: input there
+MAX_BATCH_SKIP_BYTES = 1 << 24
+
 #: user text quoted back in a message is cut to this many characters
 MAX_QUOTE = 60
 

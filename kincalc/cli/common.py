@@ -73,12 +73,19 @@ BatchOpt = Annotated[Optional[str], typer.Option(
     help="Answer every record of FILE ('-' for stdin), one output line per record, in order: "
          "JSON lines ({\"q\": [...]}; for ik and reach any pose: {\"xyz\": [...], \"rpy\": "
          "[...]}, {\"T\": ...}, ...) or CSV with a header (joint columns by name; x,y,z with "
-         "roll,pitch,yaw or qw,qx,qy,qz). A bad record becomes an error record; exit 2 then.")]
+         "roll,pitch,yaw or qw,qx,qy,qz). Each non-blank line is a record (in CSV, after the "
+         "header); a line longer than 64 KiB, not UTF-8, or with a value that is not a finite "
+         "number within 1e9 gets an error record, and the run goes on (exit 2 then).")]
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let the output replace an existing regular file (never a link, a device "
                     "or one of the command's own input files).")]
 FormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv", help="Output format of --batch.")]
+InputFormatOpt = Annotated[str, typer.Option(
+    "--input-format", metavar="auto|jsonl|csv",
+    help="Input format of --batch. auto: a name ending in .jsonl or .ndjson is JSON lines, "
+         "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
+         "line is a header of column names, else JSON lines.")]
 JobsOpt = Annotated[int, typer.Option(
     "--jobs", "-j", metavar="N", min=1,
     help="With --batch: solve chunks of records in N processes (output order kept).")]

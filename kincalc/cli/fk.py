@@ -6,9 +6,9 @@ from typing import Annotated
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JointsArg, JsonOpt,
-                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output,
-                     parse_joints)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JointsArg,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot,
+                     output, parse_joints)
 
 
 def fk(
@@ -31,6 +31,7 @@ def fk(
         "values in place of their names (then --unit applies).")] = False,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
@@ -59,7 +60,8 @@ def fk(
         rob = load_robot(robot)
         run_command("fk", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
-                             "--numeric-lengths": numeric_lengths})
+                             "--numeric-lengths": numeric_lengths},
+                    input_format=input_format)
     if symbolic or latex or numeric_lengths:
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)

@@ -7,9 +7,9 @@ from typing import Annotated, Optional, Tuple
 import typer
 
 from ..errors import InputError, UsageError
-from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, JobsOpt, JsonOpt,
-                     PrecisionOpt, RobotArg, UnitOpt, check_numbers, display_units, load_robot,
-                     output, output_target)
+from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt, JobsOpt,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, check_numbers, display_units,
+                     load_robot, output, output_target)
 
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
@@ -98,6 +98,7 @@ def ik(
     force: ForceOpt = False,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
@@ -131,7 +132,8 @@ def ik(
                     given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
                            tcv, pose, from_q],
                     refused={"--all-branches": all_branches, "--explain": explain,
-                             "--near": near, "--numeric": numeric, "--plot": plot})
+                             "--near": near, "--numeric": numeric, "--plot": plot},
+                    input_format=input_format)
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, approach=approach, tcv=tcv, pose=pose,

@@ -1,7 +1,9 @@
 """The ``kincalc`` command: the typer app and the one place errors become exit codes.
 
 Exit statuses (PRODUCT.md): 0 done; 1 a well-formed question answered "no";
-2 bad input or usage (one line on stderr); 3 an internal error (a bug).
+2 bad input or usage (one line on stderr); 3 an internal error (a bug); 130 Ctrl-C;
+141 (128 + SIGPIPE, as a shell reports it) stdout closed before the output was written
+(``kincalc ... | head -1``), quietly.
 """
 
 from __future__ import annotations
@@ -195,8 +197,15 @@ def main(argv: list[str] | None = None) -> int:
     _quiet_numeric_warnings(debug)
     try:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
+        # (and typer turns a KeyboardInterrupt into Exit(130), quietly)
         status = app(args=args, prog_name="kincalc", standalone_mode=False)
         return status if isinstance(status, int) else 0
+    except SystemExit as exc:
+        # typer and click meet a closed stdout (EPIPE) with sys.exit(1), which the README
+        # defines as "the answer was no": a closed pipe is not an answer
+        if isinstance(exc.__context__, BrokenPipeError):
+            return _stdout_closed()
+        raise
     except click.exceptions.Exit as exc:
         return exc.exit_code
     except click.exceptions.Abort:
@@ -225,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"kincalc: error: {_one_line(str(exc))}\n")
         return exc.exit_status
     except BrokenPipeError:
-        return 0
+        return _stdout_closed()
     except KeyboardInterrupt:
         return 130
     except Exception as exc:  # a bug: say so, and how to see it
@@ -249,6 +258,26 @@ def _quiet_numeric_warnings(debug: bool) -> None:
     if not debug:
         import warnings
         warnings.filterwarnings("ignore", category=RuntimeWarning)
+
+
+#: the exit status when stdout is closed early: 128 + SIGPIPE, what a shell reports for a
+#: program a closed pipe stops (``cat big | head -1``)
+EXIT_STDOUT_CLOSED = 141
+
+
+def _stdout_closed() -> int:
+    """Leave quietly after stdout was closed by its reader: point the stdout descriptor
+    at /dev/null, so that the interpreter's last flush of what is still buffered does not
+    fail (and print) again, and return :data:`EXIT_STDOUT_CLOSED`."""
+    import os
+    try:
+        fd = sys.stdout.fileno()            # (through typer's wrapper, if it put one on)
+        null = os.open(os.devnull, os.O_WRONLY)
+    except (AttributeError, OSError, ValueError):    # not a real stdout (a test's)
+        return EXIT_STDOUT_CLOSED
+    os.dup2(null, fd)
+    os.close(null)
+    return EXIT_STDOUT_CLOSED
 
 
 def _one_line(text: str) -> str:
