@@ -712,8 +712,7 @@ def test_workers_exit_when_the_parent_is_killed():
     assert left == []
 
 
-@pytest.mark.xfail(strict=True, reason="kincalc/ik/batch.py scales its tolerances by the "
-                   "largest position in the chunk (issue 14, for the owner of ik_batch)")
+
 def test_a_far_pose_does_not_change_its_neighbours_answers(capsys):
     """A pose 1e9 from the base (within the limits) in the same chunk made ik --batch
     answer 'unreachable' for an ordinary pose."""

@@ -109,7 +109,8 @@ def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
     a, b = joints[0], joints[1]
     c = joints[2] if len(joints) == 3 else None
     N = PT.shape[0]
-    scale = S.scale + np.linalg.norm(PT, axis=-1).max(initial=0.0)
+    # tolerances per pose: one far target in a chunk must not loosen its neighbours'
+    scale = S.scale + np.linalg.norm(PT, axis=-1)                         # (N,)
     o = _reference_point(S, a, b)
     w = S.axis[a]
     if S.revolute[a]:
@@ -140,7 +141,7 @@ def _place_point(S: Screws, joints, p0, PT, cs: bool = False):
         th = 2 * np.pi * np.arange(16) / 16 if S.revolute[c] else np.linspace(-1, 1, 5) * 4 * S.scale
         al_s, be_s, ga_s = _memo(S, ("samples", tuple(joints), tuple(p0)),
                                  lambda: coeffs(S.move_point(c, th, p0)))
-        dep = _depends(be_s, ga_s, scale ** 2)
+        dep = _depends(be_s, ga_s, (S.scale + np.linalg.norm(p0)) ** 2)   # robot-level
         if dep.all():
             if not (S.revolute[b] and S.revolute[c]):
                 raise UnsupportedRobot("batched IK: this arm's position part has no closed form "
@@ -305,13 +306,13 @@ def _offset_shoulder_cs(sh: _Shoulder, PT, scale: float):
     # joint c (subproblem 3, law of cosines)
     cc3 = (0.5 * ((q * q).sum(0) - sh.uv2)) / sh.r3
     ok3 = (np.abs(cc3) <= 1 + 1e-9) & ok1
-    cc3 = _snap_double_root(cc3, _ROUNDING * scale ** 2 / sh.r3)
+    cc3 = _snap_double_root(cc3, _ROUNDING * scale[:, None] ** 2 / sh.r3)
     cc_, sc_, ok3 = _both_roots(sh.cb3, sh.sb3, cc3, ok3)                  # (N, 2, 2)
     # joint b (subproblem 1)
     g = (sh.G @ q.reshape(3, -1)).reshape(6, N, 2, 1)
     x = g[0] + g[1] * cc_ + g[2] * sc_
     y = g[3] + g[4] * cc_ + g[5] * sc_
-    cb, sb = _unit_cs(x, y, 1e-28 * scale ** 2)
+    cb, sb = _unit_cs(x, y, 1e-28 * scale[:, None, None] ** 2)
     shape = (N, 2, 2)
     c = np.stack([np.broadcast_to(ca[..., None], shape), cb, cc_]).reshape(3, N, 4)
     s = np.stack([np.broadcast_to(sa[..., None], shape), sb, sc_]).reshape(3, N, 4)
@@ -344,7 +345,7 @@ def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
     kb = int(np.argmax([np.abs(be).max(initial=0) + np.abs(ga).max(initial=0)
                         for _, be, ga in coef]))
     al, be, ga = coef[kb]
-    scale = S.scale + np.sqrt((PT * PT).sum(-1).max(initial=0.0))
+    scale = (S.scale + np.sqrt((PT * PT).sum(-1)))[:, None]                # (N, 1) per pose
     r = np.sqrt(be * be + ga * ga)
     good = r > 1e-12 * scale
     r = np.where(good, r, 1.0)
@@ -353,7 +354,8 @@ def _finish_cs(S: Screws, joints, PT, t, o, gs, xc, okc):
     f = (S.point[b] - S.point[a])[:, None, None, None] + Bd[..., None] + \
         Ad[..., None] * cb + Kd[..., None] * sb                           # f - o_a (3, N, Mc, 2)
     ca, sa = _sp1_cs((_cmv(aa.A, f), _cmv(aa.K, f)),
-                     (PT.T - S.point[a][:, None])[:, :, None, None], w, 1e-28 * scale ** 2)
+                     (PT.T - S.point[a][:, None])[:, :, None, None], w,
+                     1e-28 * scale[..., None] ** 2)
     K = Mc * 2
     C = [ca.reshape(N, K), cb.reshape(N, K)]
     Sn = [sa.reshape(N, K), sb.reshape(N, K)]
@@ -398,7 +400,7 @@ def _generic_roots(al_s, be_s, ga_s, t):
 def _finish(S, joints, p0, PT, t, gs, xc, okc, coeffs, generic):
     """Joint b from the invariant(s) involving it, joint a by subproblem 1."""
     b = joints[1]
-    scale = S.scale + np.linalg.norm(PT, axis=-1).max(initial=0.0)
+    scale = (S.scale + np.linalg.norm(PT, axis=-1))[:, None]              # (N, 1) per pose
     al, be, ga = coeffs(gs)                                                # (2, N, Mc)
     al = al - t.T[:, :, None]
     if generic:
