@@ -66,7 +66,8 @@ def main():
         print(f"{'kincalc ik --batch -j ' + str(jobs):28s} {t:8.2f} {args.poses / t:10.0f} "
               f"{t / ref:10.2f}")
     # stages, in this process, on the same records
-    lines = open(path).read().splitlines(keepends=True)
+    with open(path, "rb") as fh:                  # records as the reader gives them: bytes
+        lines = fh.read().splitlines()
     from kincalc.cli.common import display_units
     units = display_units(r, True, None)
     from kincalc.ik.batch import branch_labels
@@ -82,8 +83,7 @@ def main():
     # the stages chunk by chunk, as the CLI runs them (the sizes and caches matter)
     for k in range(0, len(lines), batch.CHUNK_LINES):
         chunk = lines[k:k + batch.CHUNK_LINES]
-        parsed = timed("read JSON records",
-                       lambda: [batch._json_record(k + i, ln, json) for i, ln in enumerate(chunk)])
+        parsed = timed("read JSON records", batch._parse, None, r, k, chunk)
         full, Tq, _, _ = timed("build poses (vectorised)", batch._poses, r, units, parsed)
         B = timed("ik_batch", r.ik_batch, Tq)
         q = B.q[B.valid]

@@ -23,8 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import KincalcError, RobotFileError, TargetMismatch
+from .errors import InputError, KincalcError, RobotFileError, TargetMismatch
+from .limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
 from .results import _clean
+from .spatial import TCV_MAX_ROLL
 from .robot_file import _compose, _line, _Reader
 
 KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
@@ -155,20 +157,77 @@ class Report:
 
 # --- reading a sheet -----------------------------------------------------------------
 
-def load_sheet(path: str) -> Sheet:
-    """Read and validate the sheet at ``path``; raise :class:`SheetError` if invalid."""
+def load_sheet(path: str, robots_dirs=()) -> Sheet:
+    """Read and validate the sheet at ``path`` (at most
+    :data:`~kincalc.limits.MAX_FILE_BYTES`); raise :class:`SheetError` if invalid.
+    ``robots_dirs``: folders besides the sheet's own that its ``robot:`` may name a file
+    in (see :func:`sheet_robot_path`)."""
     from .robot_file import read_text
     text = read_text(path, path, "a sheet", SheetError)
-    return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)))
+    return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)), robots_dirs)
 
 
-def parse_sheet(text: str, file: str = "<sheet>", folder: str = ".") -> Sheet:
-    """Parse the YAML ``text`` of a sheet; relative robot paths are looked up in ``folder``."""
+def parse_sheet(text: str, file: str = "<sheet>", folder: str = ".", robots_dirs=()) -> Sheet:
+    """Parse the YAML ``text`` of a sheet; a robot file it names must be in ``folder``
+    (the sheet's) or in one of ``robots_dirs`` (see :func:`sheet_robot_path`)."""
     try:
         root = _compose(text, file)
     except RobotFileError as exc:
         raise SheetError(file, exc.line, exc.detail) from None
-    return _SheetReader(file, folder).sheet(root)
+    return _SheetReader(file, folder, robots_dirs).sheet(root)
+
+
+def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
+    """The robot file a sheet's ``robot: NAME`` means, under the one rule for sheets.
+
+    A sheet is untrusted input (a student writes it, a grader runs it), so it may name
+    only a file inside ``folder`` (the sheet's own) or inside one of ``robots_dirs``
+    (folders the grader allows, ``--robots-dir``). A relative ``name`` is looked up in
+    each of ``robots_dirs``, in order, then in ``folder`` (the grader's robots come
+    first); an absolute one is taken as it is. A candidate counts only when its real
+    path (symbolic links followed) lies inside one of those folders, and that is
+    decided before anything is asked of the file system about the candidate itself,
+    so an absolute path, a ``..`` or a symbolic link leading out is refused (as
+    "outside", when no candidate inside is a file) without telling whether such a
+    file exists. No file is opened here.
+
+    Raises
+    ------
+    InputError
+        The name leads out of the allowed folders, or names no regular file there.
+        The message starts "robot 'NAME'" (NAME cut to :data:`~kincalc.limits.MAX_QUOTE`).
+    """
+    q = quote(name)
+    if not name or "\0" in name:
+        raise InputError(f"robot {q} is not a file name")
+    bases = [*robots_dirs, folder]
+    roots = [os.path.realpath(b) for b in bases]
+    candidates = [name] if os.path.isabs(name) else [os.path.join(b, name) for b in bases]
+    inside = [c for c in candidates if _within(os.path.realpath(c), roots)]
+    for c in inside:
+        if os.path.isfile(c):
+            return c
+    if len(inside) < len(candidates):
+        allowed = "the sheet's folder or a --robots-dir folder" if robots_dirs else \
+            "the sheet's folder"
+        raise InputError(f"robot {q} is outside {allowed}: a sheet's robot is a bundled robot, "
+                         f"an inline robot or a file in {allowed} (no absolute path, no '..', "
+                         "no symbolic link leading out)"
+                         + ("" if robots_dirs else
+                            "; a grader can allow another folder with --robots-dir DIR"))
+    import difflib
+
+    from .library import bundled_names
+    close = difflib.get_close_matches(name, bundled_names(), n=1)
+    where = "in the sheet's folder" + (" or a --robots-dir folder" if robots_dirs else "")
+    raise InputError(f"robot {q} is neither a bundled robot nor a file {where}"
+                     + (f" (did you mean {close[0]!r}?)" if close else
+                        " (see 'kincalc robots list')"))
+
+
+def _within(path: str, roots) -> bool:
+    """Whether the real path ``path`` is one of the real paths ``roots`` or inside one."""
+    return any(path == r or path.startswith(r.rstrip(os.sep) + os.sep) for r in roots)
 
 
 class _SheetReader(_Reader):
@@ -176,11 +235,13 @@ class _SheetReader(_Reader):
 
     def fail(self, node, message: str):
         raise SheetError(self.file, _line(node) if node is not None else None,
-                         (f"item {self.item!r}: " if self.item is not None else "") + message)
+                         (f"item {quote(self.item)}: " if self.item is not None else "")
+                         + message)
 
-    def __init__(self, file: str, folder: str):
+    def __init__(self, file: str, folder: str, robots_dirs=()):
         super().__init__(file)
         self.folder = folder
+        self.robots_dirs = tuple(robots_dirs)
         self.item: str | None = None
 
     # the sheet ---------------------------------------------------------------------
@@ -190,7 +251,8 @@ class _SheetReader(_Reader):
         if "kincalc-sheet" in top:
             version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")
             if version.strip() != "1":
-                self.fail(top["kincalc-sheet"], f"this kincalc reads sheet format 1, not {version!r}")
+                self.fail(top["kincalc-sheet"], f"this kincalc reads sheet format 1, not "
+                                                f"{quote(version)}")
         robot = self.robot_ref(top["robot"])
         self.robot_ = robot
         units = {}
@@ -200,14 +262,16 @@ class _SheetReader(_Reader):
             if "angle" in u:
                 units["angle"] = self.text(u["angle"], "'units.angle'")
                 if units["angle"] not in ANGLE_UNITS:
-                    self.fail(u["angle"], f"'units.angle' must be deg or rad, not {units['angle']!r}")
+                    self.fail(u["angle"], f"'units.angle' must be deg or rad, not "
+                                          f"{quote(units['angle'])}")
             if "length" in u:
                 units["length"] = self.text(u["length"], "'units.length'")
                 if units["length"] not in LENGTH_UNITS:
                     self.fail(u["length"], f"'units.length' must be one of "
-                                           f"{', '.join(LENGTH_UNITS)}, not {units['length']!r}")
+                                           f"{', '.join(LENGTH_UNITS)}, not "
+                                           f"{quote(units['length'])}")
                 if (units["length"] == "unitless") != (robot.length_unit == "unitless"):
-                    self.fail(u["length"], f"robot {robot.name!r} is "
+                    self.fail(u["length"], f"robot {quote(robot.name)} is "
                               + ("unitless" if robot.length_unit == "unitless" else
                                  f"in {robot.length_unit}")
                               + f"; 'units.length: {units['length']}' does not apply")
@@ -230,8 +294,10 @@ class _SheetReader(_Reader):
             if not isinstance(pnode, yaml.MappingNode):
                 self.fail(pnode, "'parameters' must be a mapping of names to numbers")
             for knode, vnode in pnode.value:
-                value = self.number(vnode, f"parameter {knode.value!r}")
-                self.sheet_params[str(knode.value)] = value
+                if not isinstance(knode, yaml.ScalarNode):
+                    self.fail(knode, "'parameters': keys must be plain names")
+                value = self.number(vnode, f"parameter {quote(knode.value)}")
+                self.sheet_params[knode.value] = value
         self.length_params.update(self.sheet_params)
         self.angle_params.update(self.sheet_params)
         self.params = dict(self.length_params)
@@ -242,11 +308,15 @@ class _SheetReader(_Reader):
         inodes = self.sequence(top["items"], "'items'")
         if not inodes:
             self.fail(top["items"], "'items' is empty")
+        if len(inodes) > MAX_SHEET_ITEMS:
+            self.fail(top["items"], f"'items' has {len(inodes)} items; a sheet holds at most "
+                                    f"{MAX_SHEET_ITEMS} (kincalc's limit)")
         items, seen = [], {}
         for node in inodes:
             item = self.item_entry(node, tol)
             if item.id in seen:
-                self.fail(node, f"id {item.id!r} is already used by the item on line {seen[item.id]}")
+                self.fail(node, f"id {quote(item.id)} is already used by the item on line "
+                                f"{seen[item.id]}")
             seen[item.id] = item.line
             items.append(item)
             self.item = None
@@ -270,27 +340,44 @@ class _SheetReader(_Reader):
             reader = _Reader(self.file)
             try:
                 return reader.robot(node)
-            except RobotFileError as exc:
-                raise SheetError(self.file, exc.line, "robot: " + str(exc).split(": ", 1)[1]) \
+            except RobotFileError as exc:      # the sheet's own text: quoted as for a sheet
+                where = self.file if exc.line is None else f"{self.file}:{exc.line}"
+                raise SheetError(self.file, exc.line, "robot: " + str(exc)[len(where) + 2:]) \
                     from None
         name = self.text(node, "'robot'").strip()
-        local = os.path.join(self.folder, name)
-        if "/" not in name and not name.endswith((".yaml", ".yml")) and name in bundled_names():
-            path, shown = library_dir() / f"{name}.yaml", name
-        elif os.path.isfile(local):
-            path, shown = local, name
-        elif os.path.isfile(name):
-            path, shown = name, name
-        else:
-            import difflib
-            close = difflib.get_close_matches(name, bundled_names(), n=1)
-            self.fail(node, f"robot {name!r} is neither a bundled robot nor a file next to the "
-                            "sheet" + (f" (did you mean {close[0]!r}?)" if close else
-                                       " (see 'kincalc robots list')"))
+        if "/" not in name and "\\" not in name and not name.endswith((".yaml", ".yml")) \
+                and name in bundled_names():
+            return load_robot_file(library_dir() / f"{name}.yaml", display_name=name)
         try:
-            return load_robot_file(path, display_name=shown)
+            path = sheet_robot_path(name, self.folder, self.robots_dirs)
+        except InputError as exc:
+            self.fail(node, str(exc))
+        return self.robot_file(node, name, path)
+
+    def robot_file(self, node, name: str, path: str):
+        """The robot file at ``path`` that ``robot: NAME`` named. Its content is never
+        quoted: the sheet's author may not own it (another student's sheet in the same
+        folder, a grader's file), so a problem in it is reported by its line only."""
+        from .robot_file import parse_robot_text, read_text
+        q = quote(name)
+        try:
+            text = read_text(path, name, "a robot file")
         except RobotFileError as exc:
-            raise SheetError(self.file, _line(node), f"robot {name!r}: {exc}") from None
+            if exc.line is None:        # about the file (size, a folder, unreadable)
+                self.fail(node, f"robot {q}: {exc.detail}")
+            text = None
+            line = exc.line
+        if text is not None:
+            try:
+                robot = parse_robot_text(text, name)
+            except RobotFileError as exc:
+                line = exc.line
+            else:
+                object.__setattr__(robot, "path", str(path))
+                return robot
+        at = f" (the first problem is on its line {line})" if line is not None else ""
+        self.fail(node, f"robot {q} is not a valid robot file{at}; 'kincalc robots validate' "
+                        "on it says what is wrong")
 
     def tolerance(self, node, base: Tolerance) -> Tolerance:
         t = self.mapping(node, "'tolerance'", TOLERANCE_KEYS)
@@ -315,7 +402,8 @@ class _SheetReader(_Reader):
         if "kind" in raw and isinstance(raw["kind"], yaml.ScalarNode):
             kind = raw["kind"].value
             if kind not in KINDS:
-                self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not {kind!r}")
+                self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not "
+                                       f"{quote(kind)}")
         keys = dict(ITEM_KEYS, **KIND_KEYS.get(kind, {}))
         f = self.mapping(node, "the item", keys)
         ident = self.text(f["id"], "'id'").strip()
@@ -334,7 +422,8 @@ class _SheetReader(_Reader):
         if kind == "link":
             k = self.number(f["link"], "'link'")
             if k != int(k) or not 1 <= k <= robot.dof:
-                self.fail(f["link"], f"'link' must be a joint number 1..{robot.dof}, not {f['link'].value}")
+                self.fail(f["link"], f"'link' must be a joint number 1..{robot.dof}, not "
+                                     f"{cut(f['link'].value)}")
             item.link = int(k)
             if item.q.shape == (1,):          # just q_i: the other joints do not matter
                 q = np.zeros(robot.dof)
@@ -344,23 +433,27 @@ class _SheetReader(_Reader):
         if kind == "jacobian" and "frame" in f:
             item.frame = self.text(f["frame"], "'frame'").strip()
             if item.frame not in ("base", "tool"):
-                self.fail(f["frame"], f"'frame' must be base or tool, not {item.frame!r}")
+                self.fail(f["frame"], f"'frame' must be base or tool, not {quote(item.frame)}")
         for key in ("tool", "base"):
             if key in f:
                 v = self.text(f[key], f"'{key}'").strip()
                 if v not in ("compare", "ignore"):
-                    self.fail(f[key], f"'{key}' must be compare or ignore, not {v!r}")
+                    self.fail(f[key], f"'{key}' must be compare or ignore, not {quote(v)}")
                 setattr(item, key, v)
         if kind == "ik" and "limits" in f:
             v = self.text(f["limits"], "'limits'").strip()
             if v not in ("respect", "ignore"):
-                self.fail(f["limits"], f"'limits' must be respect or ignore, not {v!r}")
+                self.fail(f["limits"], f"'limits' must be respect or ignore, not {quote(v)}")
             item.limits = v == "respect"
         if "pose" in f:
             item.target = self.pose_target(f["pose"])
         if "answer" in f and not f["answer"].tag.endswith(":null"):
             item.answer_line = _line(f["answer"])
             item.answer = self.answer(kind, f["answer"], item)
+            if kind == "fk" and "tcv" in item.answer and abs(item.q[-1]) > TCV_MAX_ROLL:
+                # e^(q_n / pi) leaves the numbers a sheet can hold, and soon overflows
+                self.fail(f["q"], f"'answer.tcv': the tool configuration vector is given only "
+                                  f"for a last joint within {TCV_MAX_ROLL:.1f} rad (ten turns)")
         return item
 
     def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:
@@ -425,7 +518,7 @@ class _SheetReader(_Reader):
                 self.fail(node, "'answer' must be yes or no")
             v = str(node.value).strip().lower()
             if v not in ("yes", "no", "true", "false", "y", "n"):
-                self.fail(node, f"'answer' must be yes or no, not {node.value!r}")
+                self.fail(node, f"'answer' must be yes or no, not {quote(node.value)}")
             return v in ("yes", "true", "y")
         if kind == "link":
             return self.matrix(node, "'answer'", [(4, 4), (3, 4)])
@@ -480,6 +573,10 @@ class _SheetReader(_Reader):
             sets = self.sequence(node, "'answer' (a list of solution sets)")
             if sets and not isinstance(sets[0], yaml.SequenceNode):
                 sets = [node]                      # one set written as a flat list
+            if len(sets) > MAX_IK_SETS:
+                self.fail(node, f"'answer' has {len(sets)} solution sets; an ik item takes at "
+                                f"most {MAX_IK_SETS} (kincalc's limit; a six-joint arm has at "
+                                f"most 16 solutions)")
             return [(_line(s), self.joints(s, f"'answer' set {k + 1}"))
                     for k, s in enumerate(sets)]
         if kind == "dh":
@@ -494,7 +591,8 @@ class _SheetReader(_Reader):
                                             "name": False})
         conv = self.text(f["convention"], "'answer.convention'").strip()
         if conv not in ("dh", "mdh"):
-            self.fail(f["convention"], f"'answer.convention' must be dh or mdh, not {conv!r}")
+            self.fail(f["convention"], f"'answer.convention' must be dh or mdh, not "
+                                       f"{quote(conv)}")
         if ("table" in f) == ("joints" in f):
             self.fail(node, "'answer' needs either 'table' (rows of cells) or 'joints' (mappings)")
         joints, signs, variables = [], [], []
@@ -524,7 +622,8 @@ class _SheetReader(_Reader):
                                    "d": True, "theta": True})
                 jtype = self.text(jf["type"], "'type'").strip()
                 if jtype not in ("revolute", "prismatic"):
-                    self.fail(jf["type"], f"'type' must be revolute or prismatic, not {jtype!r}")
+                    self.fail(jf["type"], f"'type' must be revolute or prismatic, not "
+                                          f"{quote(jtype)}")
                 name = self.text(jf["name"], "'name'").strip() if "name" in jf else f"q{k}"
                 joints.append(Joint(
                     name=name, type=jtype, alpha=self.angle(jf["alpha"], "'alpha'"),
@@ -586,7 +685,7 @@ class _SheetReader(_Reader):
             sign = c1 - c0
             if abs(abs(sign) - 1.0) > 1e-9 or abs(self._at(cnode, var, 7.0) - (c0 + 7 * sign)) > 1e-9:
                 self.fail(cnode, f"row {k}, {c}: the joint variable {var} must appear as {var} or "
-                                 f"-{var} plus a constant, not {cnode.value!r}")
+                                 f"-{var} plus a constant, not {quote(cnode.value)}")
             values[c] = c0 * scale
         self.params = dict(self.length_params)
         joint = Joint(name=var, type="revolute" if col == "theta" else "prismatic",
@@ -657,7 +756,7 @@ def grade(sheet: Sheet) -> Report:
             except KincalcError as exc:   # e.g. a pose this robot cannot be asked for
                 text = exc.words(SHEET_WORDS) if isinstance(exc, TargetMismatch) \
                     else sheet_words(str(exc))
-                raise SheetError(sheet.path, item.line, f"item {item.id!r}: {text}") from None
+                raise SheetError(sheet.path, item.line, f"item {quote(item.id)}: {text}") from None
         r.line = item.line
         results.append(r)
     return Report(sheet=sheet, items=results)

@@ -37,8 +37,9 @@ class RobotNotFoundError(KincalcError):
         hint = ""
         if self.suggestions:
             hint = f"; did you mean {', '.join(repr(s) for s in self.suggestions)}?"
+        from .limits import quote
         super().__init__(
-            f"no robot named {name!r} and no such file{hint} "
+            f"no robot named {quote(name)} and no such file{hint} "
             "(see 'kincalc robots list')"
         )
 

@@ -45,18 +45,19 @@ def resolve(robot: str) -> tuple[Path, str]:
     """Return ``(path, display_name)`` for a robot name or path.
 
     A value containing a path separator or ending in .yaml/.yml is a path;
-    otherwise a bundled name is tried first, then a file of that name.
+    otherwise a bundled name is tried first, then a file of that name. A name
+    the system cannot hold (too long, a NUL character) is no robot: the tests
+    go through ``os.path``, which answers False where ``Path.is_file`` raises
+    (ENAMETOOLONG).
     """
     looks_like_path = os.sep in robot or "/" in robot or robot.endswith((".yaml", ".yml"))
     if not looks_like_path:
         candidate = library_dir() / f"{robot}.yaml"
-        if candidate.is_file():
+        if os.path.isfile(candidate):
             return candidate, robot
     p = Path(robot)
-    if p.exists():
-        return p, robot
-    if looks_like_path:
-        return p, robot  # let the loader report "no such file" with the path
+    if looks_like_path or os.path.exists(p):
+        return p, robot  # the loader reports "no such file" or "is a directory"
     close = difflib.get_close_matches(robot, bundled_names(), n=3, cutoff=0.6)
     raise RobotNotFoundError(robot, close)
 

@@ -25,11 +25,36 @@ MAX_FILE_BYTES = 1 << 20
 #: the most items one homework sheet may hold
 MAX_SHEET_ITEMS = 200
 
+#: the longest arithmetic expression a number in a robot file or sheet may be, in characters
+MAX_EXPRESSION = 500
+
 #: the longest line of a --batch input, in bytes (a 4x4 pose with an id is ~400)
 MAX_RECORD_BYTES = 1 << 16
 
+#: how much of a --batch line longer than MAX_RECORD_BYTES is skipped looking for its
+#: newline, in bytes: a line that runs on further (/dev/zero, a binary file) ends the
+#: input there
+MAX_BATCH_SKIP_BYTES = 1 << 24
+
 #: user text quoted back in a message is cut to this many characters
 MAX_QUOTE = 60
+
+#: the most solution sets one ik item of a sheet may list (a six-joint arm has at most 16
+#: solutions; each wrong set is analysed for slips, so the count bounds grading time)
+MAX_IK_SETS = 16
+
+#: the most samples ``kincalc workspace --samples`` takes (about 200 bytes of memory and
+#: 5 microseconds each: 5e6 samples is ~1 GB and ~30 s)
+MAX_SAMPLES = 5_000_000
+
+#: the most test orientations ``kincalc workspace --orientations`` takes (each is tested
+#: at every reachable test point, in chunks: 1000 take minutes for an arm without
+#: closed-form IK)
+MAX_ORIENTATIONS = 1000
+
+#: the most round trips ``kincalc selftest --trials`` takes (drawn in chunks: memory stays
+#: small, but a round trip takes up to a few milliseconds)
+MAX_TRIALS = 1_000_000
 
 
 def quote(text, limit: int = MAX_QUOTE) -> str:
@@ -39,6 +64,13 @@ def quote(text, limit: int = MAX_QUOTE) -> str:
     if len(text) <= limit:
         return repr(text)
     return f"{text[:limit]!r}... ({len(text)} characters)"
+
+
+def cut(text, limit: int = MAX_QUOTE) -> str:
+    """``text`` cut to ``limit`` characters (with '...' when cut), for names a message
+    shows unquoted (a joint's name in "joint 2 (q2)")."""
+    text = str(text)
+    return text if len(text) <= limit else f"{text[:limit]}..."
 
 
 def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:

@@ -30,6 +30,8 @@ import numpy as np
 
 from .analysis import _check_q
 from .errors import InputError, MissingExtra, require_extra  # noqa: F401 (MissingExtra: kincalc.plot.MissingExtra)
+from .limits import quote
+from .outputs import as_target, check_target, replacing
 
 #: Output formats, by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -269,33 +271,35 @@ def _fmt_num(x: float) -> str:
 def check_output(path) -> str:
     """Check that a drawing can go to ``path``; return its format: png, svg or pdf.
 
-    Cheap and free of matplotlib, for commands to call before long work.
-    Raises :class:`~kincalc.errors.InputError` for another suffix or a
-    folder that does not exist.
+    ``path`` is a file name or an :class:`kincalc.outputs.Target` (which says whether an
+    existing file may be replaced, and which files are the command's inputs). Cheap and
+    free of matplotlib, for commands to call before long work. Raises
+    :class:`~kincalc.errors.InputError` for another suffix, or a file that may not be
+    written (:func:`kincalc.outputs.check_target`: a missing folder, an existing file
+    without ``force``, anything but a regular file, one of the inputs).
     """
-    p = Path(path)
+    target = as_target(path)
+    p = Path(target.path)
     fmt = p.suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         what = f"unsupported format {p.suffix!r}" if p.suffix else "no format suffix"
-        raise InputError(f"cannot draw to {str(path)!r}: {what} (use a file name ending in "
+        raise InputError(f"cannot draw to {quote(str(target.path), 300)}: {what} (use a file name ending in "
                          f"{', '.join('.' + f for f in FORMATS[:-1])} or .{FORMATS[-1]})")
-    folder = p.parent
-    if not folder.is_dir():
-        raise InputError(f"cannot write {str(path)!r}: folder {str(folder)!r} does not exist")
+    check_target(target)
     return fmt
 
 
 def _save(fig, path, fmt, dpi, projections) -> Drawing:
-    try:
-        fig.savefig(path, format=fmt, dpi=dpi, metadata=_METADATA[fmt])
-    except OSError as exc:
-        raise InputError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from None
+    target = as_target(path)
+    # to a temporary file renamed over the target when complete (kincalc.outputs)
+    with replacing(target) as fh:
+        fig.savefig(fh, format=fmt, dpi=dpi, metadata=_METADATA[fmt])
     w_in, h_in = fig.get_size_inches()
     if fmt == "png":
         size = (int(round(w_in * dpi)), int(round(h_in * dpi)), "px")
     else:
         size = (int(round(w_in * 72)), int(round(h_in * 72)), "pt")
-    return Drawing(str(path), fmt, *size, projections=tuple(projections))
+    return Drawing(str(target.path), fmt, *size, projections=tuple(projections))
 
 
 def _title_inches(cols: int) -> float:
@@ -366,8 +370,10 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
         Joint values, rad / m.
     titles : sequence of k str
         Panel titles (see :func:`config_title`).
-    path : str or Path
-        Output file; its suffix picks the format: .png, .svg or .pdf.
+    path : str, Path or kincalc.outputs.Target
+        Output file; its suffix picks the format: .png, .svg or .pdf. An existing
+        file is refused unless given as a ``Target(path, force=True)``, and then
+        only a regular file is replaced (:mod:`kincalc.outputs`).
     suptitle : str, optional
         Figure title; default the robot's name and title.
     units : Units, optional
@@ -382,7 +388,7 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     Raises
     ------
     InputError
-        Unsupported suffix, missing folder, unwritable file.
+        Unsupported suffix, missing folder, unwritable or existing file.
     MissingExtra
         matplotlib is not installed.
     """
@@ -521,8 +527,8 @@ def draw_sections(sections, path, *, suptitle, colour_label, dpi=100) -> Drawing
         "extent": (xmin, xmax, ymin, ymax), "grid": ndarray (H, W)}``; row 0
         of ``grid`` is at ``ymin`` (``origin='lower'``), NaN cells are empty
         and left blank.
-    path : str or Path
-        Output file: .png, .svg or .pdf.
+    path : str, Path or kincalc.outputs.Target
+        Output file: .png, .svg or .pdf, as for :func:`draw_arms`.
     suptitle : str
         Figure title.
     colour_label : str

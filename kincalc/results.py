@@ -110,9 +110,11 @@ class FKResult:
     cumulative: np.ndarray | None = None
 
     def tcv(self):
-        """Tool configuration vector, or ``None`` when the last joint is prismatic."""
-        from .spatial import tcv_from_transform
-        if not self.robot.joints[-1].revolute:
+        """Tool configuration vector, or ``None`` when the last joint is prismatic or
+        turned beyond :data:`~kincalc.spatial.TCV_MAX_ROLL` (ten turns: e^(q_n/pi) would
+        be beyond kincalc's number limit, and from 2229 rad on infinite)."""
+        from .spatial import TCV_MAX_ROLL, tcv_from_transform
+        if not self.robot.joints[-1].revolute or abs(self.q[-1]) > TCV_MAX_ROLL:
             return None
         w = tcv_from_transform(self.T, self.q[-1])
         w[:3] *= self.units.l

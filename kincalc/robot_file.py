@@ -20,6 +20,9 @@ import re
 import numpy as np
 
 from .errors import RobotFileError
+# MAX_MAGNITUDE stays importable from here (robot_file.MAX_MAGNITUDE), as it was defined here
+from .limits import (MAX_EXPRESSION, MAX_FILE_BYTES, MAX_MAGNITUDE, TooLarge, cut, os_error_text,
+                     quote, read_bounded, size_text)
 from .model import CONVENTIONS, JOINT_TYPES, Joint, Robot
 from .spatial import matrix_from_rpy, transform
 from .units import ANGLE_UNITS, LENGTH_UNITS
@@ -33,9 +36,6 @@ DH_JOINT_KEYS = {"name": True, "type": True, "alpha": True, "a": True, "d": True
                  "theta": True, "limits": False}
 POE_JOINT_KEYS = {"name": True, "type": True, "axis": True, "point": True, "limits": False}
 POSE_KEYS = {"xyz", "rpy", "matrix"}
-#: the largest number a robot file or sheet may hold: larger ones overflow products of
-#: lengths (a robot of 1e160 m compared with one of 1 m looked "the same")
-MAX_MAGNITUDE = 1e9
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
 
 
@@ -60,23 +60,32 @@ def load_robot_file(path, display_name: str | None = None) -> Robot:
     return robot
 
 
-def read_text(path, shown: str, what: str, error=RobotFileError) -> str:
-    """The UTF-8 text of ``path``; any failure is an ``error(shown, line, message)``
-    (``what`` names the kind of file, e.g. "a robot file")."""
+def read_text(path, shown: str, what: str, error=RobotFileError,
+              limit: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of ``path``, at most ``limit`` bytes of it (read through
+    :func:`kincalc.limits.read_bounded`, so an endless device is refused, not read);
+    any failure is an ``error(shown, line, message)`` (``what`` names the kind of file,
+    e.g. "a robot file"). Only a failure to decode has a line: every other message is
+    about the file, never its content."""
     try:
-        with open(path, encoding="utf-8") as fh:
-            return fh.read()
-    except FileNotFoundError:
-        raise error(shown, None, "no such file") from None
+        data = read_bounded(path, limit)
+    except TooLarge:
+        raise error(shown, None, f"the file is larger than {size_text(limit)}, kincalc's "
+                                 f"limit for {what}") from None
     except IsADirectoryError:
         raise error(shown, None, f"is a directory, not {what}") from None
-    except UnicodeDecodeError as exc:
-        with open(path, "rb") as fh:
-            line = fh.read()[:exc.start].count(b"\n") + 1
-        raise error(shown, line, f"not UTF-8 text (byte 0x{exc.object[exc.start]:02x} "
-                                 "cannot be decoded; save the file as UTF-8)") from None
     except OSError as exc:
-        raise error(shown, None, f"cannot read: {exc.strerror}") from None
+        reason = os_error_text(exc)
+        raise error(shown, None, reason if reason == "no such file" else
+                    f"cannot read: {reason}") from None
+    except ValueError:                       # a NUL character in the name
+        raise error(shown, None, "cannot read: not a valid file name") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise error(shown, line, f"not UTF-8 text (byte 0x{data[exc.start]:02x} "
+                                 "cannot be decoded; save the file as UTF-8)") from None
 
 
 def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
@@ -100,10 +109,40 @@ def _compose(text: str, file: str):
         raise RobotFileError(file, line, f"not valid YAML: character {what} is not allowed "
                                          "(control characters cannot appear in YAML)") from None
     except yaml.YAMLError as exc:
-        raise RobotFileError(file, None, f"not valid YAML: {_one_line(str(exc))}") from None
+        raise RobotFileError(file, None, f"not valid YAML: {_one_line(str(exc))[:200]}") from None
+    except RecursionError:               # the pure-Python composer on deep nesting
+        raise RobotFileError(file, None, "not valid YAML: nested too deeply") from None
     if node is None:
         raise RobotFileError(file, 1, "the file is empty")
+    _plain_tags(node, file)
     return node
+
+
+#: the tags of plain YAML: text, numbers, yes/no, null, lists and mappings
+PLAIN_TAGS = {f"tag:yaml.org,2002:{t}" for t in ("str", "int", "float", "bool", "null", "seq",
+                                                  "map")}
+
+
+def _plain_tags(root, file: str):
+    """Refuse any other tag (``!!python/object``, ``!!binary``, ``!custom``): nothing is
+    ever constructed from one, but a file that has one is not what it looks like. Each
+    node is visited once, so an alias bomb costs its text's length, not its size."""
+    import yaml
+    seen, todo = set(), [root]
+    while todo:
+        node = todo.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if node.tag not in PLAIN_TAGS:
+            tag = node.tag.replace("tag:yaml.org,2002:", "!!")
+            raise RobotFileError(file, _line(node), f"the tag {quote(tag)} is not allowed "
+                                 "(kincalc reads plain YAML: text, numbers, lists, mappings)")
+        if isinstance(node, yaml.SequenceNode):
+            todo.extend(node.value)
+        elif isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                todo.extend((k, v))
 
 
 def _yaml_error(exc) -> tuple[int | None, str]:
@@ -161,12 +200,12 @@ class _Reader:
             if key is None:
                 self.fail(knode, f"{what}: keys must be plain names")
             if key in out:
-                self.fail(knode, f"{what}: {key!r} is given twice")
+                self.fail(knode, f"{what}: {quote(key)} is given twice")
             if key not in keys:
                 close = difflib.get_close_matches(key, list(keys), n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else \
                     f" (allowed: {', '.join(keys)})"
-                self.fail(knode, f"unknown key {key!r} in {what}{hint}")
+                self.fail(knode, f"unknown key {quote(key)} in {what}{hint}")
             out[key] = vnode
         for key, required in keys.items():
             if required and key not in out:
@@ -181,7 +220,7 @@ class _Reader:
             return "a mapping"
         if isinstance(node, yaml.SequenceNode):
             return "a list"
-        return f"{node.value!r}" if node.value != "" else "empty"
+        return quote(node.value) if node.value != "" else "empty"
 
     def sequence(self, node, what: str, length: int | None = None) -> list:
         import yaml
@@ -209,38 +248,39 @@ class _Reader:
             except ValueError:
                 value = self.expression(node, what)
             except OverflowError:
-                self.fail(node, f"{what} is too large a number: {node.value!r}")
+                self.fail(node, f"{what} is too large a number: {quote(node.value)}")
         elif tag == "bool":
-            self.fail(node, f"{what} must be a number, not {node.value!r}")
+            self.fail(node, f"{what} must be a number, not {quote(node.value)}")
         elif tag == "null" or node.value.strip() == "":
             self.fail(node, f"{what} is empty; give a number")
         else:
             value = self.expression(node, what)
         if not math.isfinite(value):
-            self.fail(node, f"{what} must be a finite number, not {node.value!r}")
+            self.fail(node, f"{what} must be a finite number, not {quote(node.value)}")
         if abs(value) > MAX_MAGNITUDE:
-            self.fail(node, f"{what} is too large: {node.value!r} (kincalc takes numbers up to "
-                            f"{MAX_MAGNITUDE:g} in size)")
+            self.fail(node, f"{what} is too large: {quote(node.value)} (kincalc takes numbers "
+                            f"up to {MAX_MAGNITUDE:g} in size)")
         return value
 
     def expression(self, node, what: str) -> float:
         src = node.value
-        if len(src) > 500:
-            self.fail(node, f"{what}: expression longer than 500 characters")
+        if len(src) > MAX_EXPRESSION:
+            self.fail(node, f"{what}: expression longer than {MAX_EXPRESSION} characters")
         try:
             tree = ast.parse(src.strip(), mode="eval")
         except SyntaxError:
-            self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', not {src!r}")
+            self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', "
+                            f"not {quote(src)}")
         except (RecursionError, MemoryError, ValueError):
             self.fail(node, f"{what}: expression too deeply nested")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
-            self.fail(node, f"{what}: {exc} in {src!r}")
+            self.fail(node, f"{what}: {exc} in {quote(src)}")
         except ZeroDivisionError:
-            self.fail(node, f"{what}: division by zero in {src!r}")
+            self.fail(node, f"{what}: division by zero in {quote(src)}")
         except OverflowError:
-            self.fail(node, f"{what}: number too large in {src!r}")
+            self.fail(node, f"{what}: number too large in {quote(src)}")
         except RecursionError:
             self.fail(node, f"{what}: expression too deeply nested")
 
@@ -256,8 +296,10 @@ class _Reader:
                 return math.pi
             if e.id in self.params:
                 return self.params[e.id]
-            known = ", ".join(sorted(self.params)) or "none defined"
-            raise _ExprError(f"unknown name {e.id!r} (parameters: {known})")
+            names = sorted(self.params)
+            known = ", ".join(cut(n) for n in names[:10]) + (
+                f", ... ({len(names)} in all)" if len(names) > 10 else "") or "none defined"
+            raise _ExprError(f"unknown name {quote(e.id)} (parameters: {known})")
         if isinstance(e, ast.UnaryOp) and isinstance(e.op, (ast.USub, ast.UAdd)):
             v = self._eval(e.operand)
             return -v if isinstance(e.op, ast.USub) else v
@@ -284,21 +326,22 @@ class _Reader:
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")
         if not NAME_RE.match(name):
-            self.fail(top["name"], f"'name' {name!r} must start with a letter (A-Z, a-z) and "
+            self.fail(top["name"], f"'name' {quote(name)} must start with a letter (A-Z, a-z) and "
                                    "contain only such letters, digits, '_', '-' and '.'")
         convention = self.text(top["convention"], "'convention'")
         if convention not in CONVENTIONS:
             self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "
-                                         f"(dh = standard, mdh = modified/Craig), not {convention!r}")
+                                         "(dh = standard, mdh = modified/Craig), not "
+                                         f"{quote(convention)}")
         units = self.mapping(top["units"], "'units'", {"length": True, "angle": True})
         length_unit = self.text(units["length"], "'units.length'")
         if length_unit not in LENGTH_UNITS:
             self.fail(units["length"], f"'units.length' must be one of {', '.join(LENGTH_UNITS)}, "
-                                       f"not {length_unit!r}")
+                                       f"not {quote(length_unit)}")
         angle_unit = self.text(units["angle"], "'units.angle'")
         if angle_unit not in ANGLE_UNITS:
             self.fail(units["angle"], f"'units.angle' must be one of {', '.join(ANGLE_UNITS)}, "
-                                      f"not {angle_unit!r}")
+                                      f"not {quote(angle_unit)}")
         self.L = LENGTH_UNITS[length_unit]
         self.A = ANGLE_UNITS[angle_unit]
 
@@ -307,12 +350,15 @@ class _Reader:
             if not isinstance(pnode, yaml.MappingNode):
                 self.fail(pnode, "'parameters' must be a mapping of names to numbers")
             for knode, vnode in pnode.value:
+                if not isinstance(knode, yaml.ScalarNode):
+                    self.fail(knode, "'parameters': keys must be plain names")
                 pname = knode.value
-                if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", str(pname)) or pname == "pi":
-                    self.fail(knode, f"parameter name {pname!r} must be an identifier other than 'pi'")
+                if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", pname) or pname == "pi":
+                    self.fail(knode, f"parameter name {quote(pname)} must be an identifier "
+                                     "other than 'pi'")
                 if pname in self.params:
-                    self.fail(knode, f"parameter {pname!r} is given twice")
-                self.params[pname] = self.number(vnode, f"parameter {pname!r}")
+                    self.fail(knode, f"parameter {quote(pname)} is given twice")
+                self.params[pname] = self.number(vnode, f"parameter {quote(pname)}")
 
         jnodes = self.sequence(top["joints"], "'joints'")
         if not jnodes:
@@ -323,7 +369,8 @@ class _Reader:
             self.joint, self.joint_name = k, None
             joint = self.joint_entry(jnode, convention)
             if joint.name in seen:
-                self.fail(jnode, f"name {joint.name!r} is already used by joint {seen[joint.name]}")
+                self.fail(jnode, f"name {quote(joint.name)} is already used by joint "
+                                 f"{seen[joint.name]}")
             seen[joint.name] = k
             joints.append(joint)
         self.joint, self.joint_name = None, None
@@ -362,14 +409,14 @@ class _Reader:
         if isinstance(node, yaml.MappingNode):
             for knode, vnode in node.value:
                 if knode.value == "name" and isinstance(vnode, yaml.ScalarNode):
-                    self.joint_name = str(vnode.value)
+                    self.joint_name = cut(vnode.value)
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
         if not name.strip():
             self.fail(fields["name"], "'name' must not be empty")
         jtype = self.text(fields["type"], "'type'")
         if jtype not in JOINT_TYPES:
-            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {jtype!r}")
+            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {quote(jtype)}")
         revolute = jtype == "revolute"
         limits = None
         if "limits" in fields:
@@ -401,19 +448,26 @@ class _Reader:
         )
 
     def pose(self, node, what: str) -> np.ndarray:
-        fields = self.mapping(node, what, {k: False for k in POSE_KEYS})
-        if "matrix" in fields:
-            if "xyz" in fields or "rpy" in fields:
+        """``base`` or ``tool``: ``{xyz, rpy}``, ``{matrix: [4 rows]}`` or the 4x4 matrix
+        itself (a list of 4 rows, as PRODUCT.md allows)."""
+        import yaml
+        if isinstance(node, yaml.SequenceNode):     # the bare matrix
+            matrix, mwhat = node, f"{what} (a 4x4 matrix)"
+        else:
+            fields = self.mapping(node, what, {k: False for k in POSE_KEYS})
+            matrix, mwhat = fields.get("matrix"), f"{what}.matrix"
+            if matrix is not None and ("xyz" in fields or "rpy" in fields):
                 self.fail(node, f"{what}: give either 'matrix' or 'xyz'/'rpy', not both")
-            rows = self.sequence(fields["matrix"], f"{what}.matrix", 4)
-            M = np.array([self.vector(r, f"{what}.matrix row {k + 1}", 4)
+        if matrix is not None:
+            rows = self.sequence(matrix, mwhat, 4)
+            M = np.array([self.vector(r, f"{mwhat} row {k + 1}", 4)
                           for k, r in enumerate(rows)])
             if not np.allclose(M[3], [0, 0, 0, 1], atol=1e-9):
-                self.fail(fields["matrix"], f"{what}.matrix: the last row must be [0, 0, 0, 1]")
+                self.fail(matrix, f"{mwhat}: the last row must be [0, 0, 0, 1]")
             R = M[:3, :3]
             if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
-                self.fail(fields["matrix"], f"{what}.matrix: the upper-left 3x3 block is not a "
-                                            "rotation (orthonormal, determinant +1)")
+                self.fail(matrix, f"{mwhat}: the upper-left 3x3 block is not a "
+                                  "rotation (orthonormal, determinant +1)")
             M = M.copy()
             M[:3, 3] *= self.L
             # re-orthonormalise the rotation given to 6 digits

@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from .limits import MAX_MAGNITUDE
 from .tolerances import GIMBAL_TOL, SMALL_ANGLE
 
 __all__ = [
@@ -301,6 +302,12 @@ def matrix_from_rotvec(r) -> np.ndarray:
 
 
 # --- tool configuration vector ---------------------------------------------
+
+#: the largest |q_n| (rad) whose tool configuration vector is given: e^(q_n/pi) stays
+#: within kincalc's magnitude limit (1e9, :data:`kincalc.limits.MAX_MAGNITUDE`), about
+#: 65 rad or ten turns. Beyond it the exponential leaves the numbers kincalc reads back
+#: and soon overflows to infinity (q_n > 2229 rad).
+TCV_MAX_ROLL = math.pi * math.log(MAX_MAGNITUDE)
 
 def tcv_from_transform(T, q_last) -> np.ndarray:
     """Tool configuration vector ``w = [p; exp(q_n / pi) r3]`` of shape ``(..., 6)``.

@@ -45,6 +45,7 @@ import numpy as np
 
 from .errors import UsageError
 from .ik.nearest import descend, motion_frame
+from .limits import MAX_ORIENTATIONS, MAX_SAMPLES
 
 #: mean samples per occupied grid cell the grid is sized for
 SAMPLES_PER_CELL = 24
@@ -63,6 +64,9 @@ MANIPULABILITY_SAMPLES = 200_000
 CONDITION_SAMPLES = 50_000
 #: samples per chunk of the FK pass (the progress bar moves per chunk)
 CHUNK = 1 << 16
+#: (point, orientation) pairs of the dexterity test solved at a time (~25 kB each while
+#: solved by damped least squares: the memory stays ~200 MB whatever --orientations is)
+PAIR_CHUNK = 1 << 13
 #: z for 95 % two-sided intervals
 Z95 = 1.959963984540054
 
@@ -434,13 +438,28 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     48 for SO(3), 24 for one angle). ``sections=True`` also builds the XY and XZ
     sections for plotting. ``progress(stage, done, total)`` is called as work
     proceeds.
+
+    Raises
+    ------
+    UsageError
+        ``samples`` outside 1000 ... :data:`~kincalc.limits.MAX_SAMPLES` (every sample's
+        joints and tool point are kept: the grid, the envelope and the starts of the
+        boundary tests index them), a ``seed`` that is not a non-negative integer,
+        ``orientations`` beyond :data:`~kincalc.limits.MAX_ORIENTATIONS`, ``dexterity``
+        outside (0, 1], or a prismatic joint without limits.
     """
     import time
 
     from .results import Units
     units = units or Units(length=robot.length_unit)
-    if samples < 1000:
-        raise UsageError(f"--samples must be at least 1000, not {samples}")
+    if not 1000 <= samples <= MAX_SAMPLES:
+        raise UsageError(f"--samples must be from 1000 to {MAX_SAMPLES} (kincalc's limit), "
+                         f"not {samples}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise UsageError(f"--seed must be a non-negative integer, not {seed!r}")
+    if orientations is not None and not 2 <= orientations <= MAX_ORIENTATIONS:
+        raise UsageError(f"--orientations must be from 2 to {MAX_ORIENTATIONS} (kincalc's "
+                         f"limit), not {orientations}")
     if not 0.0 < dexterity <= 1.0:
         raise UsageError(f"--dexterity must be a fraction in (0, 1], not {dexterity}")
     progress = progress or (lambda *a: None)
@@ -540,12 +559,18 @@ def _dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volu
     progress("dexterity", 0, 2)
     reachable = _reached(robot, Q, P, cand, targets)
     progress("dexterity", 1, 2)
-    # every (point, orientation) pair of the reachable points at once
+    # every (point, orientation) pair of the reachable points, PAIR_CHUNK pairs at a time
+    # (each pair is solved on its own: the chunks change nothing but the memory)
     K = len(Rset)
     at = np.flatnonzero(reachable)
-    hit = _reached(robot, Q, P, np.repeat(cand[at], K, axis=0), np.repeat(targets[at], K, axis=0),
-                   R_goal=np.tile(Rset, (len(at), 1, 1)),
-                   Rc=np.repeat(Rs[at], K, axis=0), exact=exact).reshape(len(at), K)
+    hit = np.zeros((len(at), K), bool)
+    step = max(1, PAIR_CHUNK // K)
+    for s in range(0, len(at), step):
+        a = at[s:s + step]
+        hit[s:s + len(a)] = _reached(
+            robot, Q, P, np.repeat(cand[a], K, axis=0), np.repeat(targets[a], K, axis=0),
+            R_goal=np.tile(Rset, (len(a), 1, 1)), Rc=np.repeat(Rs[a], K, axis=0),
+            exact=exact).reshape(len(a), K)
     progress("dexterity", 2, 2)
     share = hit.mean(axis=1)
     k, a = int(np.sum(share >= fraction - 1e-12)), len(at)

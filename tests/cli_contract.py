@@ -7,7 +7,13 @@ satisfy whatever the input (PRODUCT.md, "Exit status" and "JSON output"):
 * the exit status is 0, 1 or 2 (3 is an internal error: a bug);
 * stderr holds at most one line and never a traceback (unless ``--debug``);
 * every JSON document on stdout parses strictly (no NaN or Infinity);
-* with ``--batch``, one output record per input record, in order.
+* with ``--batch``, one output record per input record, in order (``assert_batch_csv``
+  checks the same of ``--format csv`` output, rows grouped by ``index``);
+* (with :func:`snapshot`) nothing in the working folder is written or changed.
+
+What an input record is (README, "Batch mode"): every line that is not blank (only
+spaces, tabs, a CR), except the header line of CSV input; a line over the length limit
+counts whatever it holds.
 """
 
 from __future__ import annotations
@@ -66,10 +72,65 @@ def assert_contract(status, out, err, argv=(), *, records: int | None = None):
         assert "Traceback" not in err, f"{where}: traceback on stderr: {err[:500]}"
         assert err.count("\n") <= 1 and "\n" not in err.rstrip("\n"), \
             f"{where}: more than one stderr line: {err[:500]}"
-    if "--json" in argv or ("--batch" in argv and "csv" not in argv):
+    if "--json" in argv or ("--batch" in argv and output_format(argv) != "csv"):
         docs = json_documents(out)
         # a run refused as a whole (an unknown robot, a bad option) writes nothing
         if records is not None and (status != 2 or out):
             assert len(docs) == records, f"{where}: {records} records in, {len(docs)} out"
             assert [d.get("index") for d in docs] == list(range(records)), \
                 f"{where}: records out of order"
+
+
+def snapshot(root) -> dict:
+    """Every file under ``root`` with a hash of its content (a symbolic link: its
+    target, not followed), to assert that a run wrote, changed or removed nothing:
+    ``assert snapshot(folder) == before``."""
+    import hashlib
+    out = {}
+    for dirpath, dirnames, filenames in os.walk(root):
+        for name in filenames + [d for d in dirnames if os.path.islink(os.path.join(dirpath, d))]:
+            path = os.path.join(dirpath, name)
+            if os.path.islink(path):
+                out[path] = ("link", os.readlink(path))
+            elif os.path.isfile(path):
+                with open(path, "rb") as fh:
+                    out[path] = hashlib.sha256(fh.read()).hexdigest()
+            else:                                   # a FIFO, a socket: its kind only
+                out[path] = ("special", os.stat(path).st_mode)
+    return out
+
+
+def output_format(argv) -> str:
+    """The value of ``--format`` in ``argv`` (``jsonl`` when not given)."""
+    argv = [str(a) for a in argv]
+    for k, a in enumerate(argv):
+        if a == "--format" and k + 1 < len(argv):
+            return argv[k + 1]
+        if a.startswith("--format="):
+            return a.split("=", 1)[1]
+    return "jsonl"
+
+
+#: how NaN and infinities would look in a CSV cell (Python's and JSON's spellings)
+NON_FINITE = {"nan", "inf", "-inf", "NaN", "Infinity", "-Infinity"}
+
+
+def assert_batch_csv(status, out, argv=(), *, records: int):
+    """The ``--format csv`` output of a batch run: a header row, then rows whose
+    ``index`` column runs through 0 .. records-1 in order (ik writes one row per
+    solution, so an index may repeat on consecutive rows), every row as wide as the
+    header, and no NaN or infinite cell."""
+    import csv
+    where = f"kincalc {' '.join(map(str, argv))}"[:300]
+    if status == 2 and not out:             # refused as a whole
+        return
+    rows = list(csv.reader(io.StringIO(out)))
+    assert rows and rows[0][0] == "index", f"{where}: no CSV header: {out[:200]!r}"
+    indexes = []
+    for row in rows[1:]:
+        assert len(row) == len(rows[0]), f"{where}: a row of {len(row)} cells: {row}"
+        assert not NON_FINITE & set(row), f"{where}: a non-finite cell: {row}"
+        if not indexes or indexes[-1] != row[0]:
+            indexes.append(row[0])
+    assert indexes == [str(i) for i in range(records)], \
+        f"{where}: {records} records in, indexes out {indexes[:20]}..."

@@ -27,6 +27,8 @@ import pytest
 
 from kincalc.cli.main import main
 from kincalc.errors import RobotFileError
+from kincalc.limits import MAX_EXPRESSION, MAX_FILE_BYTES
+from yaml_fuzz import bomb, padded
 
 # ---------------------------------------------------------------------------
 # Valid robot files the bad ones are derived from (each bad file changes one
@@ -84,6 +86,7 @@ def drop_line(text: str, start: str) -> str:
 
 DIRECTORY = object()  # the "file" is a directory
 MISSING = object()    # the file does not exist
+ENDLESS = object()    # the "file" is a symbolic link to /dev/zero
 
 
 @dataclass(frozen=True)
@@ -112,6 +115,9 @@ BAD_FILES = [
             ("UTF-8",), at="title:"),
     BadFile("directory-not-file", DIRECTORY, ("directory",)),
     BadFile("missing-file", MISSING, ("no such file",)),
+    BadFile("file-beyond-the-size-limit", padded(DH, MAX_FILE_BYTES + 1),
+            ("the file is larger than 1 MiB, kincalc's limit for a robot file",)),
+    BadFile("endless-file", ENDLESS, ("larger than 1 MiB",)),
 
     # --- YAML syntax --------------------------------------------------------
     BadFile("yaml-syntax-error", sub(DH, "convention: dh", "convention: dh: mdh"),
@@ -125,6 +131,18 @@ BAD_FILES = [
             forbid=("<unicode string>", "position")),
     BadFile("yaml-two-documents", DH + "---\nname: arm4\n",
             ("not valid YAML", "document"), at="---", forbid=("YAML: but",)),
+    BadFile("yaml-billion-laughs", sub(DH, "home: [0, 30, -30]", "home: " + bomb(9, "list")),
+            ("'home' has 9 values",), at="home:"),
+    BadFile("yaml-recursive-alias", sub(DH, JOINTS_DH, "joints: &j [*j]\n"),
+            ("joint 1", "must be a mapping", "list"), at="joints:"),
+    BadFile("yaml-python-tag-not-constructed",
+            sub(DH, "d: 0.1,", "d: !!python/object/apply:os.system [touch pwned],"),
+            ("the tag '!!python/object/apply:os.system' is not allowed",), at="name: q1"),
+    BadFile("yaml-python-name-tag", sub(DH, "title: Three-link test arm",
+                                        "title: !!python/name:os.system"),
+            ("the tag '!!python/name:os.system' is not allowed", "plain YAML"), at="title:"),
+    BadFile("yaml-custom-tag", sub(DH, "d: 0.1,", "d: !metres 0.1,"),
+            ("the tag '!metres' is not allowed",), at="name: q1"),
 
     # --- top level ----------------------------------------------------------
     BadFile("top-level-list", "- name: arm3\n- convention: dh\n", ("must be a mapping", "list")),
@@ -141,6 +159,12 @@ BAD_FILES = [
             ("'name'", "'6-axis arm'", "must start with a letter (A-Z, a-z)"), at="name: 6-axis"),
     BadFile("unknown-convention", sub(DH, "convention: dh", "convention: craig"),
             ("'convention'", "'craig'", "dh, mdh, poe"), at="convention:"),
+    BadFile("long-value-quoted-cut", sub(DH, "convention: dh", "convention: " + "c" * 5000),
+            ("'convention'", "'" + "c" * 60 + "'... (5000 characters)"), at="convention:",
+            forbid=("c" * 61,)),
+    BadFile("long-key-quoted-cut",
+            sub(DH, "convention: dh", "convention: dh\n? " + "k" * 5000 + "\n: 1"),
+            ("unknown key", "(5000 characters)"), at="kkkk", forbid=("k" * 61,)),
     BadFile("units-not-a-mapping", sub(DH, "units: {length: m, angle: deg}", "units: m"),
             ("'units'", "mapping"), at="units:"),
     BadFile("unknown-length-unit", sub(DH, "length: m,", "length: furlong,"),
@@ -154,6 +178,9 @@ BAD_FILES = [
             ("'parameters'", "mapping"), at="parameters:"),
     BadFile("parameter-named-pi", sub(DH, "l2: 0.25}", "l2: 0.25, pi: 3.14}"),
             ("'pi'",), at="parameters:"),
+    BadFile("parameter-key-not-a-name",
+            sub(DH, "parameters: {l1: 0.3, l2: 0.25}", "parameters: {[l1]: 0.3, l2: 0.25}"),
+            ("'parameters'", "plain names"), at="parameters:"),
     BadFile("parameter-division-by-zero", sub(DH, "l2: 0.25}", "l2: l1 / 0}"),
             ("parameter 'l2'", "division by zero"), at="parameters:"),
 
@@ -198,6 +225,16 @@ BAD_FILES = [
             ("joint 1 (q1)", "'alpha'", "-.inf", "number"), at="name: q1"),
     BadFile("value-overflows-to-inf", sub(DH, "d: 0.1,", "d: 1e999,"),
             ("joint 1 (q1)", "'d'", "finite"), at="name: q1"),
+    BadFile("value-5000-digits-quoted-cut", sub(DH, "d: 0.1,", "d: " + "1" * 5000 + ","),
+            ("joint 1 (q1)", "'d'", "finite", "(5000 characters)"), at="name: q1",
+            forbid=("1" * 61,)),
+    BadFile("joint-name-cut", sub(DH, "name: q2, type: revolute", "name: " + "q" * 5000
+                                  + ", type: rotary"),
+            ("joint 2 (" + "q" * 60 + "...)", "'rotary'"), at="type: rotary", forbid=("q" * 61,)),
+    BadFile("expression-too-long", sub(DH, "a: l1,", "a: \"" + "+".join(["l1"] * 200) + "\","),
+            ("joint 2 (q2)", f"expression longer than {MAX_EXPRESSION} characters"), at="name: q2"),
+    BadFile("expression-name-quoted-cut", sub(DH, "a: l1,", "a: " + "z" * 400 + ","),
+            ("joint 2 (q2)", "unknown name", "(400 characters)"), at="name: q2"),
     BadFile("expression-unknown-name", sub(DH, "a: l2,", "a: l3 + 0.1,"),
             ("joint 3 (q3)", "'a'", "unknown name 'l3'", "l1, l2"), at="name: q3"),
     BadFile("expression-division-by-zero", sub(DH, "a: l1,", "a: l1 / (l2 - 0.25),"),
@@ -273,6 +310,9 @@ def _write(tmp_path: Path, case: BadFile) -> tuple[Path, str]:
         path.mkdir()
         return path, ""
     if case.content is MISSING:
+        return path, ""
+    if case.content is ENDLESS:
+        path.symlink_to("/dev/zero")
         return path, ""
     data = case.content
     if isinstance(data, str):
@@ -401,7 +441,43 @@ BAD_COMMANDS = [
                ("--precision", "-1")),
     BadCommand("precision-too-large", ("fk", "bk_rr", "--precision", "99"),
                ("--precision", "99")),
+
+    # --- issue 14: bounded reads and bounded requests -------------------------
+    BadCommand("robot-file-endless", ("fk", "/dev/zero"),
+               ("/dev/zero", "larger than 1 MiB, kincalc's limit for a robot file")),
+    BadCommand("robot-path-too-long", ("fk", "a" * 300 + ".yaml"),
+               ("cannot read: the name is too long for a file",)),
+    BadCommand("pose-file-endless", ("ik", "puma560", "--pose", "/dev/zero"),
+               ("--pose /dev/zero", "larger than 1 MiB")),
+    BadCommand("pose-file-missing", ("ik", "puma560", "--pose", "nope.txt"),
+               ("--pose nope.txt", "no such file")),
+    BadCommand("pose-file-name-too-long", ("ik", "puma560", "--pose", "p" * 300),
+               ("--pose", "the name is too long for a file")),
+    BadCommand("sheet-endless", ("check", "/dev/zero"),
+               ("/dev/zero", "larger than 1 MiB, kincalc's limit for a sheet")),
+    BadCommand("check-robots-dir-missing", ("check", "hw.yaml", "--robots-dir", "nope"),
+               ("--robots-dir nope", "no such folder")),
+    BadCommand("workspace-samples-beyond-the-limit",
+               ("workspace", "bk_rr", "--samples", "1000000000"), ("--samples", "5000000")),
+    BadCommand("workspace-seed-negative", ("workspace", "bk_rr", "--seed", "-1"),
+               ("--seed", "-1", "x>=0")),
+    BadCommand("workspace-orientations-beyond-the-limit",
+               ("workspace", "puma560", "--orientations", "100000000"),
+               ("--orientations", "1000")),
+    BadCommand("selftest-trials-beyond-the-limit",
+               ("selftest", "bk_rr", "--trials", "100000000"), ("--trials", "1000000")),
 ]
+
+#: every command that takes a ROBOT, with the other arguments it needs
+ROBOT_COMMANDS = [("fk", "{}"), ("jacobian", "{}"), ("plot", "{} 0 0 -o x.png"),
+                  ("quiz", "{}"), ("compare", "bk_rr {}"), ("compare", "{} bk_rr"),
+                  ("robots show", "{}"), ("ik", "{} --xyz 1 0 0"), ("reach", "{} --xyz 1 0 0"),
+                  ("workspace", "{}"), ("selftest", "{}"), ("convert", "{} --to dh")]
+BAD_COMMANDS += [
+    BadCommand(f"robot-name-too-long-{cmd.replace(' ', '-')}-{k}",
+               tuple(cmd.split()) + tuple(args.format("a" * 300).split()),
+               ("no robot named '" + "a" * 60 + "'... (300 characters)",), forbid=("a" * 61,))
+    for k, (cmd, args) in enumerate(ROBOT_COMMANDS)]
 
 
 @pytest.mark.parametrize("case", BAD_COMMANDS, ids=[c.id for c in BAD_COMMANDS])
@@ -458,3 +534,15 @@ def test_validate_good_and_bad_files(tmp_path, monkeypatch, capsys):
     line = _one_line(err)
     assert "bad.yaml:4:" in line and "'units.angle'" in line and "'grad'" in line
     assert status == 2
+
+
+def test_pose_from_stdin_is_bounded():
+    from cli_contract import assert_contract, run_cli
+    argv = ["ik", "puma560", "--pose", "-"]
+    status, out, err = run_cli(argv, stdin=b"0 " * MAX_FILE_BYTES)
+    assert_contract(status, out, err, argv)
+    assert status == 2 and out == "" and "--pose -: larger than 1 MiB" in err
+    status, out, err = run_cli(argv, stdin=b"[" * 100_000)          # nested too deeply
+    assert status == 2 and "--pose -" in err and "internal error" not in err
+    status, out, err = run_cli(argv, stdin=b"\xff\xfe")
+    assert status == 2 and "not UTF-8" in err

@@ -322,3 +322,403 @@ def test_reach_batch_jobs_gives_the_same_output_in_order(tmp_path, capsys):
     recs = lines(out1)
     assert [r["index"] for r in recs] == list(range(151))
     assert "error" in recs[70] and all("verdict" in r for k, r in enumerate(recs) if k != 70)
+
+
+# --- issue 14: reading never loses a record, pipes, signals ------------------------------
+#
+# Each bug has a test where it lived (the reader _blocks/_chunked, the record parser
+# _parse, the runner) and one through the command line.
+
+from kincalc.limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES  # noqa: E402
+from cli_contract import json_documents, run_cli  # noqa: E402
+
+KINCALC = [sys.executable, "-c", "import sys; from kincalc.cli.main import main; "
+           "sys.exit(main())"]
+
+
+class _Bytes:
+    """A batch source over ``pieces`` (each read returns the next one), as _Source is."""
+
+    def __init__(self, *pieces, src="-", ready=True):
+        self.pieces, self.src, self.position, self.stopped = list(pieces), src, 0, None
+        self.reads, self._ready = 0, ready
+
+    def read(self):
+        self.reads += 1
+        return self.pieces.pop(0) if self.pieces else b""
+
+    def ready(self):
+        return self._ready
+
+    def close(self):
+        pass
+
+
+class _Zeros(_Bytes):
+    """/dev/zero: reads that never end, with no newline."""
+
+    def read(self):
+        self.reads += 1
+        return bytes(batch_mod.READ_BYTES)
+
+
+def _records(source, size=2048, input_format="auto"):
+    header, chunks = batch_mod._chunked(source, size, input_format)
+    return header, [line for (start, lines), _ in chunks for line in lines]
+
+
+@pytest.mark.parametrize("first", [b"42", b"[]", b'"text"', b"null", b"true", b"NaN",
+                                   b"{broken", b"not json", b"\xff\xfe", b"1,2,3"])
+def test_a_bad_first_record_does_not_make_json_lines_csv(first):
+    """The first line decided the format: a JSON lines input whose first record was not
+    an object was read as CSV with it as the header (3 records in, 2 out)."""
+    rest = [b'{"q": [0, 0, 0, 0, 0, 0]}', b'{"q": [1, 2, 3, 4, 5, 6]}']
+    header, lines = _records(_Bytes(b"\n".join([first] + rest) + b"\n"))
+    assert header is None and lines == [first] + rest
+
+
+@pytest.mark.parametrize("data, src, input_format, header", [
+    (b"q1,q2,q3,q4,q5,q6\n1,2,3,4,5,6\n", "-", "auto", ("q1", "q2", "q3", "q4", "q5", "q6")),
+    (b"\xef\xbb\xbf x, y ,z\r\n1,2,3\n", "-", "auto", ("x", "y", "z")),
+    (b"\n  \nx,y,z\n1,2,3\n", "-", "auto", ("x", "y", "z")),
+    (b"x,y,z\n1,2,3\n", "-", "jsonl", None),
+    (b"x,y,z\n1,2,3\n", "in.jsonl", "auto", None),
+    (b"x,y,z\n1,2,3\n", "in.NDJSON", "auto", None),
+    (b'{"q": []}\n1,2,3\n', "in.csv", "auto", ('{"q": []}',)),
+    (b'null\n1,2,3\n', "-", "csv", ("null",)),
+])
+def test_the_input_format_rule(data, src, input_format, header):
+    """--input-format, then the name's ending, then a first line of column names."""
+    got, lines = _records(_Bytes(data, src=src), input_format=input_format)
+    assert got == header
+    assert len(lines) == data.count(b"\n") - (header is not None) - data.count(b"\n\n") - \
+        data.startswith(b"\n") - (b"  \n" in data)
+
+
+def test_an_unreadable_csv_header_is_every_records_error():
+    header, lines = _records(_Bytes(b"x,\xff,z\n1,2,3\n4,5,6\n"), input_format="csv")
+    assert "not UTF-8" in header and len(lines) == 2
+    parsed = batch_mod._parse(header, load_robot("puma560"), 0, lines)
+    assert [e for _, _, e in parsed] == [f"record {i}: {header}" for i in (1, 2)]
+
+
+def test_blank_lines_crlf_and_the_byte_order_mark():
+    """A record is every line that is not blank; a CR before the newline and a byte order
+    mark at the start of the input are not part of a line (the mark may come byte by byte
+    from a pipe)."""
+    header, lines = _records(_Bytes(b"\xef", b"\xbb", b"\xbf{\"q\": [1]}\r\n", b"\r\n \t\n",
+                                    b'{"q": [2]}\n\xef\xbb\xbf{"q": [3]}'))
+    assert header is None
+    assert lines == [b'{"q": [1]}\r', b'{"q": [2]}', b'\xef\xbb\xbf{"q": [3]}']
+    parsed = batch_mod._parse(None, load_robot("bk_rr"), 0, lines)
+    assert parsed[0][1] == {"q": (1.0,)} and parsed[1][1] == {"q": (2.0,)}
+    assert "byte order mark" in parsed[2][2]
+
+
+def test_an_over_long_line_is_its_records_error_and_reading_goes_on():
+    """A line beyond MAX_RECORD_BYTES is one record (None, its error), read in bounded
+    pieces and skipped to its newline; the next line is the next record, even when the
+    long line is blank."""
+    long = b"{" + b" " * (3 * batch_mod.READ_BYTES) + b"}"
+    source = _Bytes(b'{"q": [1]}\n' + long[:1000], long[1000:70000], long[70000:] + b"\n{}\n",
+                    b" " * (MAX_RECORD_BYTES + 1) + b"\n", b" " * MAX_RECORD_BYTES + b"\n[]")
+    header, lines = _records(source)
+    assert lines == [b'{"q": [1]}', None, b"{}", None, b"[]"]
+    parsed = batch_mod._parse(None, load_robot("bk_rr"), 0, lines)
+    assert parsed[1][2] == "record 2: longer than 64 KiB, kincalc's limit for a --batch line"
+
+
+def test_an_endless_line_ends_the_input_after_a_bounded_read():
+    """/dev/zero was read until memory ran out: now its one line is record 1's error, and
+    reading stops after MAX_BATCH_SKIP_BYTES."""
+    source = _Zeros()
+    header, lines = _records(source)
+    assert header is None and lines == [None] and source.stopped == 1
+    assert source.reads * batch_mod.READ_BYTES <= MAX_BATCH_SKIP_BYTES + 3 * batch_mod.READ_BYTES
+
+
+def test_a_chunk_is_what_has_arrived_from_a_pipe():
+    """With nothing more ready, the lines so far are a chunk of their own, flagged so that
+    their answers are written before the reader waits (with --jobs N too)."""
+    header, chunks = batch_mod._chunked(_Bytes(b"{}\n{}\n", b"{}\n", ready=False), 2048)
+    assert list(chunks) == [((0, [b"{}", b"{}"]), True), ((2, [b"{}"]), True)]
+    header, chunks = batch_mod._chunked(_Bytes(b"{}\n" * 5, ready=True), 2)
+    assert [(c[0], len(c[1]), f) for c, f in chunks] == [(0, 2, False), (2, 2, False),
+                                                          (4, 1, True)]
+
+
+@pytest.mark.parametrize("line, error", [
+    (b'{"q": [0, 0, 0, 0, 0, \xff]}', "not UTF-8 text (byte 0xff at position 23)"),
+    (b'{"q": [0, 0, 0, 0, 0, 0]}\0', "holds a NUL byte"),
+    (b'{"q": [1, 2, 3, 4, 5, 6], "q": [1, 2, 3, 4, 5, 6]}', "field 'q' is given twice"),
+    (b'{"q": [true, 0, 0, 0, 0, 0]}', "q: true is not a number"),
+    (b'{"q": ["1", 0, 0, 0, 0, 0]}', "q: a string is not a number"),
+    (b'{"q": [NaN, 0, 0, 0, 0, 0]}', "NaN is not a finite number (JSON has no NaN"),
+    (b'{"q": [0, -Infinity, 0, 0, 0, 0]}', "-Infinity is not a finite number"),
+    (b'{"q": [0, 0, 1e400, 0, 0, 0]}', "q: value 3 is not a finite number"),
+    (b'{"q": [0, 0, 0, 1e200, 0, 0]}', "q: value 4 (1e+200) is beyond 1e9"),
+    (b'{"q": [0, 0, 0, 0, 1000000001, 0]}', "q: value 5 (1e+09) is beyond 1e9"),
+    (b'{"q": [0, 0, 0, 0, 0, 1' + b"0" * 400 + b']}', "q: value 6 is beyond 1e9"),
+    (b'{"q": [0, 0, 0, 0, 0, 1' + b"0" * 5000 + b']}', "not JSON (a number too long"),
+    (b'{"q": ' + b"[" * 30000 + b"]" * 30000 + b"}", "not JSON (nested too deeply)"),
+    (b'{"xyz": [1e200, 0, 0]}', "xyz: value 1 (1e+200) is beyond 1e9"),
+    (b'{"q": [0, 0, 0, 0, 0, 0], "id": NaN}', "NaN is not a finite number"),
+    (b'{"q": [0, 0, 0, 0, 0, 0], "id": 1e999}', "id must be a string"),
+    (b'{"q": [0, 0, 0, 0, 0, 0], "id": [1]}', "id must be a string"),
+    (b"42", "expected a JSON object ({...}), not a number"),
+    (b"null", "expected a JSON object ({...}), not null"),
+    (b'{"' + b"k" * 1000 + b'": 1}', "unknown field 'kkkkkkkk"),
+])
+def test_json_records_that_are_their_own_error(line, error):
+    (i, kw, err), = batch_mod._parse(None, load_robot("puma560"), 4, [line])
+    assert kw is None and err.startswith(f"record 5: {error}"), err
+    assert len(err) < 300
+
+
+def test_json_records_at_the_limits_are_read():
+    rows = [b'{"q": [1e9, -1e9, 999999999.5, 0, -0.0, 5e-324], "id": "a:b"}',
+            b'{"q": [1, 2, 3, 4, 5, 6], "id": 1e300}', b'{"q": [0, 0, 0, 0, 0, 0], "id": null}']
+    parsed = batch_mod._parse(None, load_robot("puma560"), 0, rows)
+    assert [e for _, _, e in parsed] == [None] * 3
+    assert parsed[0][1] == {"q": (1e9, -1e9, 999999999.5, 0.0, -0.0, 5e-324), "id": "a:b"}
+
+
+@pytest.mark.parametrize("cells, error", [
+    ("nan,0,0,0,0,0", "column 'q1': 'nan' is not a number"),
+    ("0,inf,0,0,0,0", "column 'q2': 'inf' is not a number"),
+    ("0,0,true,0,0,0", "column 'q3': 'true' is not a number"),
+    ("0,0,0,1e200,0,0", "column 'q4' (1e+200) is beyond 1e9"),
+    ("0,0,0,0,1e999,0", "column 'q5' is not a finite number"),
+    ("0,0,0,0,,0", "column 'q5': empty cell"),
+    ("0,0,0,0,0,1_0", "column 'q6': '1_0' is not a number"),
+    ("0,0,0,0,0,\u0661", "column 'q6': '\u0661' is not a number"),
+    ('0,0,0,0,0,"1"', "column 'q6': '\"1\"' is not a number"),
+    ("0,0,0,0,0", "5 values for 6 columns"),
+])
+def test_csv_cells_that_are_their_records_error(cells, error):
+    """A NaN or inf cell lost the whole fk/jacobian run (a JSON ValueError, an SVD that
+    did not converge) and gave ik an 'unreachable'; 'true' was read as 1."""
+    header = tuple(f"q{k}" for k in range(1, 7))
+    (i, kw, err), = batch_mod._parse(header, load_robot("puma560"), 0, [cells.encode()])
+    assert err == f"record 1: {error}" or err.startswith(f"record 1: {error}"), err
+
+
+def test_csv_headers_that_cannot_be_used():
+    robot = load_robot("puma560")
+    for header, error in [(("x", "y", "z", "x"), "column 'x' appears twice"),
+                          (("x", "y", "w"), "unknown column 'x'")]:
+        (_, _, err), = batch_mod._parse(header, robot, 0, [b"1,2,3"])
+        assert err.startswith(f"record 1: {error}"), err
+
+
+@pytest.mark.parametrize("command", ["fk", "jacobian", "ik", "reach"])
+def test_a_bad_record_is_its_own_error_and_the_run_goes_on(command, tmp_path):
+    """Through the command line: each fault of issue 14 costs its own record only (one
+    invalid UTF-8 byte lost the whole run, even record 0; a NaN CSV cell or 1e200 in
+    reach lost every record)."""
+    good = b'{"q": [10, 20, 30, 40, 50, 60]}'
+    rows = [b"42", good, b'{"q": [0, 0, 0, 0, 0, \xff]}', good, b'{"q": [NaN, 0, 0, 0, 0, 0]}',
+            b'{"xyz": [1e200, 0, 0]}', good]
+    status, out, err = run_cli([command, "puma560", "--batch", "-"], b"\n".join(rows))
+    docs = json_documents(out)
+    assert status == 2 and err == "" and [d["index"] for d in docs] == list(range(7))
+    assert [k for k, d in enumerate(docs) if "error" not in d] == [1, 3, 6]
+    csv_rows = b"q1,q2,q3,q4,q5,q6\n10,20,30,40,50,60\nnan,0,0,0,0,0\ninf,0,0,0,0,0\n" \
+               b"true,0,0,0,0,0\n1e200,0,0,0,0,0\n10,20,30,40,50,60\n"
+    status, out, err = run_cli([command, "puma560", "--batch", "-"], csv_rows)
+    docs = json_documents(out)
+    assert status == 2 and err == "" and len(docs) == 6
+    assert [k for k, d in enumerate(docs) if "error" not in d] == [0, 5]
+    assert all(d.get("reachable", True) for k, d in enumerate(docs) if k in (0, 5))
+
+
+def test_reach_batch_a_huge_position_is_one_error_of_forty(tmp_path):
+    rng = np.random.default_rng(14)
+    rows = [{"xyz": list(rng.uniform(-0.5, 0.5, 3)), "rpy": [0, 90, 0]} for _ in range(40)]
+    rows[17] = {"xyz": [1e200, 0, 0]}
+    status, out, err = run_cli(["reach", "puma560", "--batch",
+                                write(tmp_path, "r.jsonl", rows)])
+    docs = json_documents(out)
+    assert status == 2 and err == "" and len(docs) == 40
+    assert [k for k, d in enumerate(docs) if "error" in d] == [17]
+    assert "beyond 1e9" in docs[17]["error"]
+
+
+def test_batch_dev_zero_ends_with_one_error_record():
+    """/dev/zero as --batch was read until MemoryError (exit 3)."""
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero")
+    status, out, err = run_cli(["fk", "puma560", "--batch", "/dev/zero"])
+    assert status == 2
+    assert json_documents(out) == [{"index": 0, "error": "record 1: longer than 64 KiB, "
+                                    "kincalc's limit for a --batch line"}]
+    assert err.startswith("kincalc: error: --batch /dev/zero: record 1 runs on for more "
+                          "than 16 MiB without a newline") and err.count("\n") == 1
+
+
+def test_no_output_holds_nan_even_if_the_core_returns_it(monkeypatch, capsys):
+    """Results that come out NaN become their record's error (the core should never give
+    them for inputs within the limits; this is the guard)."""
+    r = load_robot("puma560")
+    real = type(r).fk
+
+    def fk(self, q):
+        T = real(self, q)
+        T[1] = np.nan
+        return T
+    monkeypatch.setattr(type(r), "fk", fk)
+    status, out, err = run_cli(["fk", "puma560", "--batch", "-"],
+                               '{"q": [0, 0, 0, 0, 0, 0]}\n{"q": [1, 0, 0, 0, 0, 0]}\n')
+    docs = json_documents(out)
+    assert status == 2 and "T" in docs[0]
+    assert docs[1] == {"index": 1, "error": "record 2: the result is not a finite number for "
+                       "these values"}
+
+
+def test_input_format_option(tmp_path, capsys):
+    src = write(tmp_path, "q.txt", ["q1,q2,q3,q4,q5,q6\n", "0,0,0,0,0,0\n"])
+    assert len(lines(run(capsys, "fk", "puma560", "--batch", src)[1])) == 1
+    code, out, err = run(capsys, "fk", "puma560", "--batch", src, "--input-format", "jsonl")
+    assert code == 2 and len(lines(out)) == 2
+    code, out, err = run(capsys, "fk", "puma560", "--batch", src, "--input-format", "xml")
+    assert code == 2 and out == "" and "--input-format must be auto, jsonl or csv" in err
+
+
+# --- pipes, processes and signals (real processes) --------------------------------------
+
+def _kincalc(*argv, **kw):
+    return subprocess.Popen([*KINCALC, *argv], env={**os.environ, "OMP_NUM_THREADS": "1"},
+                            **kw)
+
+
+@pytest.mark.parametrize("command", ["fk", "ik"])
+def test_a_pipe_into_jobs_does_not_hang(command, tmp_path):
+    """`cat poses.jsonl | kincalc ik puma560 --batch - -j 2` hung forever (3 of 3 runs with
+    5,000 records, 4 of 5 with 3): the pool forked while the stdin reader thread held
+    stdin's lock, and each worker deadlocked closing its stdin. Several runs, since the
+    hang was a race."""
+    rows = "".join('{"q": [%d, 20, 30, 40, 50, 60]}\n' % k for k in range(3))
+    for _ in range(4):
+        p = subprocess.run([*KINCALC, command, "puma560", "--batch", "-", "-j", "2"],
+                           input=rows, capture_output=True, text=True, timeout=60)
+        assert p.returncode == 0 and p.stderr == ""
+        assert [d["index"] for d in json_documents(p.stdout)] == [0, 1, 2]
+    big = "".join('{"q": [%d, 20, 30, 40, 50, 60]}\n' % (k % 300) for k in range(5000))
+    p = subprocess.run([*KINCALC, command, "puma560", "--batch", "-", "-j", "2"],
+                       input=big, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and len(json_documents(p.stdout)) == 5000
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_each_answer_comes_at_once_from_a_pipe_with_jobs(jobs):
+    """A producer writing one pose at a time gets each answer before it writes the next,
+    with --jobs N too (the answers of the chunks in flight are written before the reader
+    waits)."""
+    p = _kincalc("ik", "puma560", "--batch", "-", "-j", jobs, stdin=subprocess.PIPE,
+                 stdout=subprocess.PIPE, text=True)
+    try:
+        for k in range(4):
+            p.stdin.write('{"q": [0, %d, 0, 0, 30, 0]}\n' % (10 * k))
+            p.stdin.flush()
+            ready, _, _ = select.select([p.stdout], [], [], 60)
+            assert ready, f"no answer to record {k + 1} while the input is open"
+            assert json.loads(p.stdout.readline())["index"] == k
+        p.stdin.close()
+        assert p.wait(timeout=60) == 0
+    finally:
+        p.kill()
+        p.wait()
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_closed_stdout_exits_141_quietly(tmp_path, jobs):
+    """`kincalc fk puma560 --batch big.jsonl | head -1` exited 1, which the README defines
+    as "the answer was no". Here the reader takes one line and closes the pipe."""
+    src = write(tmp_path, "big.jsonl", ['{"q": [%d, 20, 30, 40, 50, 60]}\n' % (k % 300)
+                                        for k in range(20000)])
+    p = _kincalc("fk", "puma560", "--batch", src, "-j", jobs, stdout=subprocess.PIPE,
+                 stderr=subprocess.PIPE)
+    assert json.loads(p.stdout.readline())["index"] == 0
+    p.stdout.close()
+    assert p.wait(timeout=60) == 141
+    assert p.stderr.read() == b""
+
+
+def test_a_closed_stdout_in_process_is_141(monkeypatch):
+    """main() maps the sys.exit(1) that typer makes of an EPIPE to 141."""
+    class Closed(io.StringIO):
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+    monkeypatch.setattr(sys, "stdout", Closed())
+    err = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b'{"q": [0,0,0,0,0,0]}\n')))
+    assert main(["fk", "puma560", "--batch", "-"]) == 141      # (typer's sys.exit(1) was 1)
+    assert err.getvalue() == ""
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_ctrl_c_exits_130_with_whole_lines_and_no_traceback(tmp_path, jobs):
+    """Ctrl-C with -j 2 printed the workers' KeyboardInterrupt tracebacks. SIGINT goes to
+    the whole process group, as from a terminal, while the parent is blocked writing to
+    a full pipe (the reader pauses): exit 130, nothing on stderr, and the output ends with
+    a whole line (CPython's buffered stdout lost the rest of an interrupted write)."""
+    import signal
+    import time
+    src = write(tmp_path, "big.jsonl", ['{"q": [%d, 20, 30, 40, 50, 60]}\n' % (k % 300)
+                                        for k in range(60000)])
+    p = _kincalc("ik", "puma560", "--batch", src, "-j", jobs, stdout=subprocess.PIPE,
+                 stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        # (unbuffered: communicate() reads the descriptor, past a buffered reader's bytes)
+        first = os.read(p.stdout.fileno(), 1 << 16)
+        time.sleep(1.0)                 # let the pipe fill: the parent blocks in a write
+        os.killpg(p.pid, signal.SIGINT)
+        rest, err = p.communicate(timeout=60)
+    finally:
+        p.kill()
+        p.wait()
+    assert p.returncode == 130 and err == b""
+    out = first + rest
+    assert out.endswith(b"\n") and len(json_documents(out.decode())) < 60000
+    leftover = subprocess.run(["pgrep", "-g", str(p.pid)], capture_output=True, text=True)
+    assert leftover.stdout.split() == []
+
+
+def test_workers_exit_when_the_parent_is_killed():
+    """A killed parent never shuts its pool down: the workers, blocked reading their task
+    queue (whose write end they hold too), stayed forever."""
+    import time
+    p = _kincalc("fk", "puma560", "--batch", "-", "-j", "2", stdin=subprocess.PIPE,
+                 stdout=subprocess.PIPE, start_new_session=True)
+    p.stdin.write(b'{"q": [0, 0, 0, 0, 0, 0]}\n')
+    p.stdin.flush()
+    if not select.select([p.stdout], [], [], 60)[0]:
+        os.killpg(p.pid, 9)
+        pytest.fail("no answer from a pipe with -j 2")
+    p.stdout.readline()
+    group = lambda: subprocess.run(["pgrep", "-g", str(p.pid)], capture_output=True,  # noqa
+                                   text=True).stdout.split()
+    assert len(group()) == 3                       # the parent and two workers
+    p.kill()
+    p.wait()
+    for _ in range(300):
+        if not group():
+            break
+        time.sleep(0.1)
+    left = group()
+    for pid in left:                               # do not leave them behind either way
+        os.kill(int(pid), 9)
+    assert left == []
+
+
+
+def test_a_far_pose_does_not_change_its_neighbours_answers(capsys):
+    """A pose 1e9 from the base (within the limits) in the same chunk made ik --batch
+    answer 'unreachable' for an ordinary pose."""
+    alone = run_cli(["ik", "puma560", "--batch", "-"],
+                    '{"xyz": [0.3, 0.1, 0.2], "quat": [1, 0, 0, 0]}\n')[1]
+    both = run_cli(["ik", "puma560", "--batch", "-"],
+                   '{"xyz": [1e9, -1e9, 1e9], "rpy": [0, 0, 0]}\n'
+                   '{"xyz": [0.3, 0.1, 0.2], "quat": [1, 0, 0, 0]}\n')[1]
+    assert json_documents(both)[1]["solutions"] == json_documents(alone)[0]["solutions"]

@@ -1309,3 +1309,232 @@ def test_redundant_arm_ik_sets_are_checked_by_fk_and_none_called_missed():
     wrong = one(f"- {{id: a, kind: ik, pose: {{q: {q}}}, answer: [[10, 20, 30, 40, 50, 60, 75]]}}",
                 robot="iiwa14")
     assert not wrong.passed and not wrong.details["missed"]
+
+
+# ---------------------------------------------------------------------------
+# Sheets are untrusted input (issue 14): the robot: rule, limits, quotes cut
+
+from kincalc.check import sheet_robot_path  # noqa: E402
+from kincalc.errors import InputError  # noqa: E402
+from kincalc.limits import MAX_FILE_BYTES, MAX_IK_SETS, MAX_QUOTE, MAX_SHEET_ITEMS  # noqa: E402
+
+SECRET = "KINCALC-SECRET-7d1e0b"
+SINGULAR = "items:\n  - {id: a, kind: singular, q: [30, 0], answer: yes}\n"
+
+
+def bk_rr_text() -> str:
+    return open(os.path.join(ROOT, "robots", "bk_rr.yaml"), encoding="utf-8").read()
+
+
+@pytest.fixture
+def folders(tmp_path):
+    """tmp/secret.yaml and tmp/outside/arm.yaml (a valid robot) outside the sheet's folder
+    tmp/work, which holds arm.yaml, sub/arm.yaml, links out and in, a FIFO and robots/."""
+    (tmp_path / "secret.yaml").write_text(f"name: {SECRET}\nkey: {SECRET}\n")
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "arm.yaml").write_text(bk_rr_text().replace("title:",
+                                                                        f"title: {SECRET}"))
+    work = tmp_path / "work"
+    (work / "sub").mkdir(parents=True)
+    (work / "robots").mkdir()
+    for p in ("arm.yaml", "sub/arm.yaml", "robots/course.yaml"):
+        (work / p).write_text(bk_rr_text())
+    os.symlink("../outside/arm.yaml", work / "link.yaml")
+    os.symlink("../outside", work / "linkdir")
+    os.symlink("arm.yaml", work / "inlink.yaml")
+    os.mkfifo(work / "fifo.yaml")
+    return work
+
+
+@pytest.mark.parametrize("name", ["arm.yaml", "./arm.yaml", "sub/arm.yaml", "sub/../arm.yaml",
+                                  "inlink.yaml", "robots/course.yaml"])
+def test_sheet_robot_path_inside_the_folder(folders, name):
+    path = sheet_robot_path(name, str(folders))
+    assert os.path.realpath(path).startswith(str(folders.resolve()))
+    assert sheet_robot_path(str(folders / name), str(folders)) == str(folders / name)
+
+
+@pytest.mark.parametrize("name", ["../secret.yaml", "../outside/arm.yaml", "link.yaml",
+                                  "linkdir/arm.yaml", "sub/../../secret.yaml", "/etc/passwd",
+                                  "/dev/zero", "..", "{TMP}/secret.yaml", "{TMP}/outside/arm.yaml"])
+def test_sheet_robot_path_refuses_what_leads_out(folders, name):
+    name = name.replace("{TMP}", str(folders.parent))
+    with pytest.raises(InputError, match="is outside the sheet's folder"):
+        sheet_robot_path(name, str(folders))
+    # the message is the same whether the file exists or not (no oracle)
+    ghost = name.replace("secret", "ghost").replace("arm.yaml", "ghost.yaml")
+    if ghost != name:
+        with pytest.raises(InputError, match="is outside the sheet's folder"):
+            sheet_robot_path(ghost, str(folders))
+
+
+def test_sheet_robot_path_robots_dirs(folders):
+    robots = str(folders / "robots")
+    with pytest.raises(InputError, match="neither a bundled robot nor a file"):
+        sheet_robot_path("course.yaml", str(folders / "sub"))
+    assert sheet_robot_path("course.yaml", str(folders / "sub"), [robots]) == \
+        os.path.join(robots, "course.yaml")
+    # the grader's folder comes first: a file of the same name next to the sheet loses
+    (folders / "robots" / "arm.yaml").write_text(bk_rr_text())
+    assert sheet_robot_path("arm.yaml", str(folders), [robots]) == os.path.join(robots, "arm.yaml")
+    # a path out of the sheet's folder that lands in an allowed folder is allowed
+    assert os.path.samefile(sheet_robot_path("../robots/course.yaml", str(folders / "sub"),
+                                             [robots]), os.path.join(robots, "course.yaml"))
+    with pytest.raises(InputError, match="is outside the sheet's folder or a --robots-dir"):
+        sheet_robot_path("../secret.yaml", str(folders), [robots])
+
+
+@pytest.mark.parametrize("name,words", [("fifo.yaml", "neither a bundled robot"),
+                                        ("sub", "neither a bundled robot"),
+                                        ("arm.yaml\0x", "not a file name"),
+                                        ("", "not a file name"),
+                                        ("a" * 5000, "(5000 characters)")])
+def test_sheet_robot_path_odd_names(folders, name, words):
+    with pytest.raises(InputError) as info:
+        sheet_robot_path(name, str(folders))
+    assert words in str(info.value) and len(str(info.value)) < 300
+
+
+def run_check(folder, text, *options):
+    (folder / "hw.yaml").write_text(text)
+    from cli_contract import run_cli
+    return run_cli(["check", "hw.yaml", *options], cwd=folder)
+
+
+@pytest.mark.parametrize("ref", ["/etc/passwd", "../secret.yaml", "link.yaml",
+                                 "../outside/arm.yaml", "linkdir/arm.yaml", "/dev/zero"])
+def test_check_never_reads_a_robot_outside_the_folder(folders, ref):
+    status, out, err = run_check(folders, f"robot: {ref}\n" + SINGULAR)
+    assert status == 2 and out == ""
+    assert err.startswith("kincalc: error: hw.yaml:1: robot ") and err.count("\n") == 1
+    assert "outside the sheet's folder" in err and "--robots-dir" in err
+    assert SECRET not in err and "root:" not in err
+
+
+def test_check_robots_dir_widens_the_rule(folders):
+    text = "robot: ../outside/arm.yaml\n" + SINGULAR
+    status, _, err = run_check(folders, text)
+    assert status == 2 and "outside" in err
+    status, out, err = run_check(folders, text, "--robots-dir", "../outside", "--json")
+    assert status == 0, err
+    assert SECRET in json.loads(out)["robot"]["title"]      # allowed: the grader said so
+    status, _, err = run_check(folders, text, "--robots-dir", "nope")
+    assert status == 2 and "--robots-dir nope: no such folder" in err
+
+
+def test_check_grades_a_quiz_sheet_whose_robot_is_in_a_robots_dir(tmp_path):
+    # kincalc quiz writes robot: ../robots/arm.yaml for a robot file beside the sheets'
+    # folder; the grader allows that folder
+    from cli_contract import run_cli
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "robots" / "arm.yaml").write_text(bk_rr_text().replace("name: bk_rr", "name: arm"))
+    (tmp_path / "sheets").mkdir()
+    status, _, err = run_cli(["quiz", "robots/arm.yaml", "--seed", "1", "--answers", "-o",
+                              "sheets/hw.yaml"], cwd=tmp_path)
+    assert status == 0, err
+    status, _, err = run_cli(["check", "sheets/hw.yaml", "-q"], cwd=tmp_path)
+    assert status == 2 and "outside the sheet's folder" in err
+    status, out, err = run_cli(["check", "sheets/hw.yaml", "-q", "--robots-dir", "robots"],
+                               cwd=tmp_path)
+    assert status == 0, err
+
+
+def test_a_bad_robot_file_is_reported_by_line_never_by_content(folders):
+    # another student's sheet in the same folder, named as the robot: the message says
+    # it is no robot file and where, not what it holds
+    (folders / "other.yaml").write_text(f"student: Bob\nrobot: bk_rr\nitems:\n"
+                                        f"  - {{id: '{SECRET}', kind: singular, q: [0, 0]}}\n")
+    status, out, err = run_check(folders, "robot: other.yaml\n" + SINGULAR)
+    assert status == 2 and out == ""
+    assert SECRET not in err and "Bob" not in err and "student" not in err
+    assert "robot 'other.yaml' is not a valid robot file (the first problem is on its line 1)" \
+        in err
+    assert "kincalc robots validate" in err
+    # a file that is no UTF-8: the line, not the byte
+    (folders / "bin.yaml").write_bytes(b"name: x\n\xff\xfe" + SECRET.encode())
+    status, _, err = run_check(folders, "robot: bin.yaml\n" + SINGULAR)
+    assert status == 2 and "line 2" in err and "0xff" not in err and SECRET not in err
+
+
+def test_a_robot_file_too_large(folders):
+    (folders / "big.yaml").write_bytes(bk_rr_text().encode() + b"#" * MAX_FILE_BYTES)
+    status, _, err = run_check(folders, "robot: big.yaml\n" + SINGULAR)
+    assert status == 2, err
+    assert "robot 'big.yaml': the file is larger than 1 MiB, kincalc's limit for a robot file" \
+        in err
+
+
+def test_an_endless_device_is_never_opened_as_a_robot(folders):
+    # a symbolic link to /dev/zero leads outside; /dev/zero in an allowed folder is no
+    # regular file: neither is opened
+    os.symlink("/dev/zero", folders / "z.yaml")
+    status, _, err = run_check(folders, "robot: z.yaml\n" + SINGULAR)
+    assert status == 2 and "outside" in err
+    status, _, err = run_check(folders, "robot: /dev/zero\n" + SINGULAR, "--robots-dir", "/dev")
+    assert status == 2 and "neither a bundled robot nor a file" in err
+
+
+def test_sheet_size_limit(tmp_path):
+    big = tmp_path / "big.yaml"
+    big.write_bytes(("robot: bk_rr\n" + SINGULAR).encode() + b"#" * MAX_FILE_BYTES)
+    with pytest.raises(SheetError, match="larger than 1 MiB, kincalc's limit for a sheet"):
+        load_sheet(str(big))
+    from cli_contract import run_cli
+    for path in (str(big), "/dev/zero"):
+        status, out, err = run_cli(["check", path])
+        assert status == 2 and out == "" and err.count("\n") == 1
+        assert "larger than 1 MiB" in err
+    # exactly at the limit is a sheet
+    ok = ("robot: bk_rr\n" + SINGULAR).encode()
+    big.write_bytes(ok + b"#" * (MAX_FILE_BYTES - len(ok)))
+    assert len(load_sheet(str(big)).items) == 1
+
+
+def items_text(n: int) -> str:
+    return "robot: bk_rr\nitems:\n" + "".join(
+        f"  - {{id: i{k}, kind: singular, q: [30, 0], answer: yes}}\n" for k in range(n))
+
+
+def test_sheet_item_limit():
+    assert len(parse_sheet(items_text(MAX_SHEET_ITEMS), "hw.yaml").items) == MAX_SHEET_ITEMS
+    for n in (MAX_SHEET_ITEMS + 1, 3000):
+        with pytest.raises(SheetError) as info:
+            parse_sheet(items_text(n), "hw.yaml")
+        assert info.value.line == 3                 # where the list starts
+        assert f"'items' has {n} items; a sheet holds at most {MAX_SHEET_ITEMS}" in str(info.value)
+
+
+def test_ik_answer_set_limit():
+    sets = ", ".join(["[30, -60]"] * (MAX_IK_SETS + 1))
+    text = f"robot: bk_rr\nitems:\n  - {{id: a, kind: ik, pose: {{xyz: [12.99, 2.5, 0]}}, " \
+           f"answer: [{sets}]}}\n"
+    with pytest.raises(SheetError, match=f"17 solution sets; an ik item takes at most "
+                                         f"{MAX_IK_SETS}"):
+        parse_sheet(text, "hw.yaml")
+    ok = text.replace(sets, ", ".join(["[30, -60]"] * MAX_IK_SETS))
+    assert len(parse_sheet(ok, "hw.yaml").items[0].answer) == MAX_IK_SETS
+
+
+@pytest.mark.parametrize("text,words", [
+    ("robot: " + "x" * 5000 + "\n" + SINGULAR, ["robot 'xxx", "(5000 characters)"]),
+    ("robot: bk_rr\ntolerance: " + "9" * 1_000_000 + "\n" + SINGULAR,
+     ["'tolerance' must be a mapping", "(1000000 characters)"]),
+    ("robot: bk_rr\ntolerance: {angle: " + "9" * 1000 + "}\n" + SINGULAR,
+     ["'tolerance.angle'", "(1000 characters)"]),
+    ("robot: bk_rr\nitems:\n  - {id: " + "i" * 5000 + ", kind: fkk}\n",
+     ["item 'iii", "(5000 characters)", "'kind'", "'fkk'"]),
+    ("robot: bk_rr\nitems:\n  - {id: a, kind: " + "k" * 5000 + "}\n",
+     ["'kind' must be one of", "(5000 characters)"]),
+    ("robot: bk_rr\nitems:\n  - {id: a, kind: singular, q: [30, 0], answer: " + "m" * 5000 + "}\n",
+     ["yes or no", "(5000 characters)"]),
+    ("robot: bk_rr\nitems:\n  - {id: a, kind: link, link: " + "7" * 500 + ", q: [1, 2]}\n",
+     ["'link'"]),
+    ("robot: bk_rr\nparameters: {[a]: 1}\n" + SINGULAR, ["'parameters'", "plain names"]),
+])
+def test_quotes_of_the_sheet_are_cut(text, words):
+    with pytest.raises(SheetError) as info:
+        parse_sheet(text, "hw.yaml")
+    message = str(info.value)
+    assert len(message) < 2 * MAX_QUOTE + 300, message[:500]
+    for w in words:
+        assert w in message, message

@@ -159,7 +159,7 @@ def test_output_file_is_not_overwritten_without_force(capsys, tmp_path):
     assert code == 2 and "is a folder" in err
     code, _, err = run(capsys, "convert", "puma560", "--to", "poe",
                        "-o", str(tmp_path / "no" / "such.yaml"))
-    assert code == 2 and "no such folder" in err
+    assert code == 2 and "does not exist" in err
 
 
 def test_a_refused_conversion_writes_nothing(capsys, tmp_path):

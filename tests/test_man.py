@@ -1,7 +1,7 @@
 """The man pages in man/ stay in step with the command line.
 
 For every command path (kincalc, fk, jacobian, ik, reach, workspace, plot,
-selftest, robots, robots list, robots show, robots validate) the ``--help`` text is taken from the CLI itself,
+selftest, robots, robots list, robots show, robots validate, completion) the ``--help`` text is taken from the CLI itself,
 in-process through ``kincalc.cli.main.main`` with stdout captured by capsys
 (there is no ``kincalc/__main__.py``, so ``python -m kincalc`` is not used).
 Every long option it lists (both halves of ``--deg / --rad``) must be in
@@ -44,6 +44,7 @@ PAGES: dict[tuple[str, ...], str] = {
     ("robots", "list"): "kincalc-robots.1",
     ("robots", "show"): "kincalc-robots.1",
     ("robots", "validate"): "kincalc-robots.1",
+    ("completion",): "kincalc-completion.1",
 }
 PAGE_FILES = sorted(set(PAGES.values()))
 

@@ -81,3 +81,58 @@ def test_golden_fk_facts(fact):
     assert np.allclose(T[:3, 3] / L, fact["position"], atol=tol), (T[:3, 3] / L, fact["source"])
     if "rotation" in fact:
         assert np.allclose(T[:3, :3], fact["rotation"], atol=fact.get("rotation_tolerance", 1e-4))
+
+
+# --- names and files the system cannot hold or kincalc will not read (issue 14) -------
+
+from kincalc import limits, robot_file  # noqa: E402
+from kincalc.errors import RobotFileError, RobotNotFoundError  # noqa: E402
+from kincalc.library import load, resolve  # noqa: E402
+
+
+@pytest.mark.parametrize("name", ["a" * 300, "a" * 5000, "a\0b", "pum\0a560"])
+def test_resolve_a_name_no_file_can_have(name):
+    # ENAMETOOLONG or a NUL character: no robot of that name, not an OSError
+    with pytest.raises(RobotNotFoundError) as info:
+        resolve(name)
+    message = str(info.value)
+    assert len(message) < 300
+    if len(name) > limits.MAX_QUOTE:
+        assert f"({len(name)} characters)" in message
+
+
+@pytest.mark.parametrize("name,words", [
+    ("a" * 300 + ".yaml", "the name is too long for a file"),
+    ("a/" * 2100 + "x.yaml", "the name is too long for a file"),
+    ("arm\0.yaml", "not a valid file name"),
+])
+def test_load_a_path_no_file_can_have(name, words):
+    with pytest.raises(RobotFileError, match=words):
+        load(name)
+
+
+def test_read_text_is_bounded(tmp_path):
+    big = tmp_path / "big.yaml"
+    big.write_bytes(b"#" * (limits.MAX_FILE_BYTES + 1))
+    for path in (big, "/dev/zero"):
+        with pytest.raises(RobotFileError, match="larger than 1 MiB, kincalc's limit for a "
+                                                 "robot file") as info:
+            robot_file.load_robot_file(path)
+        assert info.value.line is None
+    big.write_bytes(b"#" * limits.MAX_FILE_BYTES)        # at the limit: read (and empty)
+    with pytest.raises(RobotFileError, match="the file is empty"):
+        robot_file.load_robot_file(big)
+    assert robot_file.read_text(big, "big", "a file", limit=10 ** 7) == "#" * limits.MAX_FILE_BYTES
+
+
+def test_read_text_reports_the_line_of_a_bad_byte(tmp_path):
+    path = tmp_path / "bin.yaml"
+    path.write_bytes(b"name: x\ntitle: \xff\n")
+    with pytest.raises(RobotFileError) as info:
+        robot_file.read_text(path, "bin.yaml", "a robot file")
+    assert info.value.line == 2 and "0xff" in str(info.value)
+
+
+def test_max_magnitude_is_the_shared_limit():
+    # robot_file.MAX_MAGNITUDE was a copy; it stays importable and is the same number
+    assert robot_file.MAX_MAGNITUDE is limits.MAX_MAGNITUDE

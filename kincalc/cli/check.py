@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import sys
-from typing import Annotated, List
+from typing import Annotated, List, Optional
 
 import typer
 
@@ -16,13 +16,18 @@ def check(
         help="One or more homework sheets (YAML; format in 'man kincalc-check').")],
     quiet: Annotated[bool, typer.Option(
         "--quiet", "-q", help="Print only each sheet's score line.")] = False,
+    robots_dir: Annotated[Optional[List[str]], typer.Option(
+        "--robots-dir", metavar="DIR", show_default=False,
+        help="Also let a sheet's 'robot:' name a robot file in DIR (repeatable; looked up "
+             "before the sheet's folder). Without it a sheet may name only a bundled robot, "
+             "an inline robot or a file in its own folder.")] = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
     debug: DebugOpt = False,
 ):
     """Grade homework sheets: each answer right or wrong, with hints and a score.
 
-    A sheet names a robot (bundled, a path, or an inline robot) and lists
+    A sheet names a robot (bundled, a file in its folder, or inline) and lists
     items (dh, link, fk, ik, jacobian, reach, singular), each with the
     student's answer. Every item is graded against kincalc's own results;
     wrong answers get the error and, where one fits, the slip behind it
@@ -30,16 +35,26 @@ def check(
     transposed or inverted matrix, standard and modified DH mixed up). IK
     answers are graded per solution set; missed sets are listed by branch.
 
+    Sheets are untrusted input: a sheet's robot file must lie in the sheet's
+    folder (or a --robots-dir folder), and no message quotes another file.
+
     Exit status: 0 every answer right, 1 some wrong, 2 an invalid sheet (the
     message names file and line; other sheets are still graded; the worst
     status counts).
     """
+    import os
+
     from ..check import grade, load_sheet
-    from ..errors import KincalcError
+    from ..errors import InputError, KincalcError
+    dirs = list(robots_dir or [])
+    for d in dirs:
+        if not os.path.isdir(d):
+            raise InputError(f"--robots-dir {d}: "
+                             + ("no such folder" if not os.path.exists(d) else "not a folder"))
     status = 0
     for path in sheets:
         try:
-            report = grade(load_sheet(path))
+            report = grade(load_sheet(path, dirs))
         except KincalcError as exc:
             if len(sheets) == 1 or debug:
                 raise

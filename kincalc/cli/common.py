@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Annotated, List, Optional
 
+import click
 import typer
 
 from ..errors import InputError, UsageError
@@ -16,8 +17,40 @@ from ..errors import InputError, UsageError
 #: click would otherwise read "-45" as the short options -4 -5.
 NUMERIC_ARGS = {"ignore_unknown_options": True, "help_option_names": ["-h", "--help"]}
 
+
+class FileName(click.ParamType):
+    """A file name, as typed (no check here: the command reports a missing file in its
+    own words); the shell completes it from the files there."""
+
+    name = "file"
+
+    def convert(self, value, param, ctx):
+        return value
+
+    def shell_complete(self, ctx, param, incomplete):
+        from click.shell_completion import CompletionItem
+        return [CompletionItem(incomplete, type="file")]
+
+
+class RobotName(FileName):
+    """A bundled robot's name or a robot file; the shell completes the bundled names that
+    start with what is typed, else file names."""
+
+    name = "robot"
+
+    def shell_complete(self, ctx, param, incomplete):
+        if "/" not in incomplete:
+            from click.shell_completion import CompletionItem
+
+            from ..library import bundled_names
+            names = [n for n in bundled_names() if n.startswith(incomplete)]
+            if names:
+                return [CompletionItem(n) for n in names]
+        return super().shell_complete(ctx, param, incomplete)
+
+
 RobotArg = Annotated[str, typer.Argument(
-    metavar="ROBOT", show_default=False,
+    metavar="ROBOT", show_default=False, click_type=RobotName(),
     help="A bundled robot's name (see 'kincalc robots list') or a path to a robot YAML file.")]
 JointsArg = Annotated[Optional[List[str]], typer.Argument(
     metavar="Q...", show_default=False,
@@ -31,17 +64,28 @@ UnitOpt = Annotated[Optional[str], typer.Option(
 PrecisionOpt = Annotated[int, typer.Option(
     "--precision", metavar="N", min=0, max=17, help="Decimals shown in tables.")]
 JsonOpt = Annotated[bool, typer.Option(
-    "--json", help="Print one JSON document (schema in PRODUCT.md/README) instead of tables.")]
+    "--json", help="Print one JSON document instead of tables (its fields: README, "
+                   "\"JSON output\", and the command's man page).")]
 DebugOpt = Annotated[bool, typer.Option(
     "--debug", help="Show a Python traceback on errors.")]
 BatchOpt = Annotated[Optional[str], typer.Option(
-    "--batch", metavar="FILE", show_default=False,
+    "--batch", metavar="FILE", show_default=False, click_type=FileName(),
     help="Answer every record of FILE ('-' for stdin), one output line per record, in order: "
          "JSON lines ({\"q\": [...]}; for ik and reach any pose: {\"xyz\": [...], \"rpy\": "
          "[...]}, {\"T\": ...}, ...) or CSV with a header (joint columns by name; x,y,z with "
-         "roll,pitch,yaw or qw,qx,qy,qz). A bad record becomes an error record; exit 2 then.")]
+         "roll,pitch,yaw or qw,qx,qy,qz). Each non-blank line is a record (in CSV, after the "
+         "header); a line longer than 64 KiB, not UTF-8, or with a value that is not a finite "
+         "number within 1e9 gets an error record, and the run goes on (exit 2 then).")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Let the output replace an existing regular file (never a link, a device "
+                    "or one of the command's own input files).")]
 FormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv", help="Output format of --batch.")]
+InputFormatOpt = Annotated[str, typer.Option(
+    "--input-format", metavar="auto|jsonl|csv",
+    help="Input format of --batch. auto: a name ending in .jsonl or .ndjson is JSON lines, "
+         "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
+         "line is a header of column names, else JSON lines.")]
 JobsOpt = Annotated[int, typer.Option(
     "--jobs", "-j", metavar="N", min=1,
     help="With --batch: solve chunks of records in N processes (output order kept).")]
@@ -82,10 +126,34 @@ def parse_joints(tokens: list[str] | None, robot, units, option: str | None = No
         raise InputError(f"{where}{robot.name} has {robot.dof} joints "
                          f"({', '.join(j.name for j in robot.joints)}), "
                          f"got {len(values)} joint value{'s' if len(values) != 1 else ''}")
+    for joint, value in zip(robot.joints, values):
+        check_number(value, f"{where}joint {joint.name}")
     q = np.array(values)
-    if not np.all(np.isfinite(q)):
-        raise InputError(f"{where}joint values must be finite numbers")
     return q / np.where(robot.is_revolute, units.a, units.l)
+
+
+def check_number(value: float, what: str) -> float:
+    """``value`` if it is finite and within :data:`~kincalc.limits.MAX_MAGNITUDE` (the
+    limit robot files have), else an :class:`InputError` naming ``what``.
+
+    Every number from the command line passes here, in the user's units, before any
+    arithmetic: beyond the limit, products overflow to inf and NaN (numpy warnings on
+    stderr, ``q3=inf`` in tables, JSON that cannot be written)."""
+    import math
+
+    from ..limits import MAX_MAGNITUDE
+    if not math.isfinite(value):
+        raise InputError(f"{what}: {value:g} is not a finite number")
+    if abs(value) > MAX_MAGNITUDE:
+        raise InputError(f"{what}: {value:g} is too large (kincalc takes numbers up to "
+                         f"{MAX_MAGNITUDE:g} in size)")
+    return value
+
+
+def check_numbers(values, what: str) -> None:
+    """:func:`check_number` for each of ``values`` (an option's numbers)."""
+    for v in values:
+        check_number(float(v), what)
 
 
 def _suggest_option(token: str) -> str:
@@ -106,6 +174,29 @@ def _command_path() -> str:
     import click
     ctx = click.get_current_context(silent=True)
     return ctx.command_path if ctx is not None else "kincalc"
+
+
+def output_target(path: str, option: str, force: bool, robot: str | None = None,
+                  files=()):
+    """The :class:`kincalc.outputs.Target` of an output option, knowing the command's
+    input files: the robot file of ``robot`` (a name or a path) and each ``(option,
+    path)`` of ``files`` (``-`` and None skipped), none of which it may write."""
+    from ..outputs import Target
+    inputs = []
+    if robot is not None:
+        inputs.append(("the robot file", robot_file(robot)))
+    inputs += [(f"the {opt} file", p) for opt, p in files if p not in (None, "-")]
+    return Target(path, option, force, tuple(inputs))
+
+
+def robot_file(robot: str) -> str | None:
+    """The file a ROBOT argument names (a bundled robot's too), or None if none."""
+    from ..errors import KincalcError
+    from ..library import resolve
+    try:
+        return str(resolve(robot)[0])
+    except KincalcError:
+        return None
 
 
 def load_robot(name: str):

@@ -6,18 +6,19 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import DebugOpt, RobotArg
+from .common import DebugOpt, FileName, RobotArg, load_robot, output_target
 
 ToOpt = Annotated[str, typer.Option(
     "--to", metavar="dh|mdh|poe", show_default=False,
     help="The convention to write: dh (standard DH), mdh (modified DH, Craig) or poe "
          "(product of exponentials). poe robots cannot be converted to dh or mdh.")]
 OutputOpt = Annotated[Optional[str], typer.Option(
-    "-o", "--output", metavar="FILE", show_default=False,
-    help="Write the robot file to FILE instead of standard output. An existing FILE is "
-         "not overwritten without --force.")]
+    "-o", "--output", metavar="FILE", show_default=False, click_type=FileName(),
+    help="Write the robot file to FILE instead of standard output ('-'). An existing FILE "
+         "is not replaced without --force.")]
 ForceOpt = Annotated[bool, typer.Option(
-    "--force", help="Let -o overwrite an existing file.")]
+    "--force", help="Let -o replace an existing regular file (never a link, a device or "
+                    "the robot file itself).")]
 
 
 def convert(
@@ -43,57 +44,30 @@ def convert(
     from ..robot_writer import dump_robot
     if to not in CONVENTIONS:
         raise UsageError(f"--to must be one of {', '.join(CONVENTIONS)}, not {to!r}")
-    rob = load_robot_checked(robot, output_file, force)
+    target = _check_target(output_file, force, robot)
+    rob = load_robot(robot)
     text = dump_robot(_convert(rob, to))
-    if output_file is None or output_file == "-":
+    if target is None:
         import sys
         sys.stdout.write(text)
         return
-    _write(output_file, text, force)
+    _write(target, text)
 
 
-def load_robot_checked(robot, output_file, force):
-    """The robot, after checking -o before any work (a refused file costs nothing)."""
-    from .common import load_robot
-    if output_file not in (None, "-"):
-        _check_target(output_file, force)
-    return load_robot(robot)
+def _check_target(path: str | None, force: bool, robot: str):
+    """The :class:`kincalc.outputs.Target` of ``-o`` (None for standard output), checked
+    before any work: a refused file costs nothing."""
+    if path in (None, "-"):
+        return None
+    from ..outputs import check_target
+    target = output_target(path, "-o", force, robot)
+    check_target(target)
+    return target
 
 
-def _check_target(path: str, force: bool) -> None:
-    import os
-
-    from ..errors import InputError
-    if os.path.isdir(path):
-        raise InputError(f"-o {path}: is a folder; give a file name")
-    if os.path.lexists(path) and not force:
-        raise InputError(f"-o {path}: the file exists; use --force to overwrite it")
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(f"-o {path}: no such folder {folder}")
-
-
-def _write(path: str, text: str, force: bool) -> None:
-    """Write ``text`` to ``path`` atomically: a new file next to it, then renamed
-    over it, so an interrupted write never leaves a half file behind."""
-    import os
-    import tempfile
-
-    from ..errors import InputError
-    _check_target(path, force)
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=".kincalc-", suffix=".yaml", dir=folder)
-    except OSError as exc:
-        raise InputError(f"-o {path}: cannot write in {folder}: {exc.strerror}") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        if os.path.lexists(path) and not force:   # appeared meanwhile
-            raise InputError(f"-o {path}: the file exists; use --force to overwrite it")
-        os.replace(tmp, path)
-    except OSError as exc:
-        raise InputError(f"-o {path}: cannot write: {exc.strerror}") from None
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+def _write(target, text: str) -> None:
+    """Write ``text`` to ``target`` through a temporary file renamed over it when
+    complete (:mod:`kincalc.outputs`): an interrupted write never leaves a half file,
+    and a new file's mode follows the umask."""
+    from ..outputs import write_text
+    write_text(target, text)

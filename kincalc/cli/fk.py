@@ -6,9 +6,9 @@ from typing import Annotated
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JointsArg, JsonOpt,
-                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output,
-                     parse_joints)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JointsArg,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot,
+                     output, parse_joints)
 
 
 def fk(
@@ -31,6 +31,7 @@ def fk(
         "values in place of their names (then --unit applies).")] = False,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
@@ -59,7 +60,8 @@ def fk(
         rob = load_robot(robot)
         run_command("fk", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
-                             "--numeric-lengths": numeric_lengths})
+                             "--numeric-lengths": numeric_lengths},
+                    input_format=input_format)
     if symbolic or latex or numeric_lengths:
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)
@@ -108,7 +110,8 @@ def _tables(doc, robot, precision):
         (f"axis-angle ({a})", vec(o["axis_angle"]["axis"], precision) + "  |  "
          + num(o["axis_angle"]["angle"], precision)),
         (f"rotation vector ({a})", vec(o["rotation_vector"], precision)),
-        ("tcv [p; e^(qn/pi) r3]", "n/a (last joint is prismatic)" if doc["tcv"] is None
-         else vec(doc["tcv"], precision)),
+        ("tcv [p; e^(qn/pi) r3]", vec(doc["tcv"], precision) if doc["tcv"] is not None
+         else "n/a (last joint is prismatic)" if not robot.joints[-1].revolute
+         else "n/a (the last joint has turned more than ten times: e^(qn/pi) is too large)"),
     ]
     c.print(kv_table(rows))

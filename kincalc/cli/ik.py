@@ -7,8 +7,9 @@ from typing import Annotated, Optional, Tuple
 import typer
 
 from ..errors import InputError, UsageError
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JsonOpt, PrecisionOpt,
-                     RobotArg, UnitOpt, display_units, load_robot, output)
+from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt, JobsOpt,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, check_numbers, display_units,
+                     load_robot, output, output_target)
 
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
@@ -43,7 +44,7 @@ TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], ty
     help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
          "the last joint's angle in one (robots whose last joint rolls the tool).")]
 PoseOpt = Annotated[Optional[str], typer.Option(
-    "--pose", metavar="FILE", show_default=False,
+    "--pose", metavar="FILE", show_default=False, click_type=FileName(),
     help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "
          "or JSON (a list of rows, or an object with a 'T' field).")]
 FromQOpt = Annotated[Optional[str], typer.Option(
@@ -62,9 +63,13 @@ NumericOpt = Annotated[bool, typer.Option(
                       "then least change), even when a closed form exists. Robots no closed "
                       "form covers (7 or more joints, ...) are solved this way anyway.")]
 PlotOpt = Annotated[Optional[str], typer.Option(
-    "--plot", metavar="FILE", show_default=False,
+    "--plot", metavar="FILE", show_default=False, click_type=FileName(),
     help="Also draw every solution side by side, each titled with its branch, to FILE "
-         "(.png, .svg or .pdf; needs the 'plot' extra).")]
+         "(.png, .svg or .pdf; needs the 'plot' extra). An existing FILE is not replaced "
+         "without --force.")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Let --plot replace an existing regular file (never a link, a device or "
+                    "the robot or --pose file).")]
 DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
                                      help="Pixels per inch of a PNG --plot.")]
 ExplainOpt = Annotated[bool, typer.Option(
@@ -90,8 +95,10 @@ def ik(
     numeric: NumericOpt = False,
     plot: PlotOpt = None,
     dpi: DpiOpt = 100,
+    force: ForceOpt = False,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
@@ -111,9 +118,11 @@ def ik(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..ik import solve
+    plot_to = None
     if plot is not None and batch is None:
         from ..plot import check_output, require_matplotlib
-        check_output(plot)
+        plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose)])
+        check_output(plot_to)
         require_matplotlib("kincalc ik --plot")
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
@@ -123,7 +132,8 @@ def ik(
                     given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
                            tcv, pose, from_q],
                     refused={"--all-branches": all_branches, "--explain": explain,
-                             "--near": near, "--numeric": numeric, "--plot": plot})
+                             "--near": near, "--numeric": numeric, "--plot": plot},
+                    input_format=input_format)
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, approach=approach, tcv=tcv, pose=pose,
@@ -135,16 +145,17 @@ def ik(
     result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
                    near=q_near, numeric=numeric)
     doc = result.to_dict()
-    if plot is not None:
-        doc["plot"] = _plot_solutions(rob, result, plot, units, dpi)
+    if plot_to is not None:
+        doc["plot"] = _plot_solutions(rob, result, plot_to, units, dpi)
     output(doc, json, _tables, rob, precision, explain)
     if not result.reachable:
         raise typer.Exit(1)
 
 
-def _plot_solutions(robot, result, path, units, dpi):
-    """Draw every solution of ``result`` to ``path``, titled by number and branch;
-    returns the path, or None (with a note on stderr) when there is nothing to draw."""
+def _plot_solutions(robot, result, target, units, dpi):
+    """Draw every solution of ``result`` to ``target`` (a :class:`kincalc.outputs.Target`),
+    titled by number and branch; returns its path, or None (with a note on stderr) when
+    there is nothing to draw."""
     import sys
 
     import numpy as np
@@ -152,16 +163,16 @@ def _plot_solutions(robot, result, path, units, dpi):
     from ..plot import config_title, draw_arms
     sols = result.solutions
     if not sols:
-        sys.stderr.write(f"kincalc: no solution to draw; {path} not written\n")
+        sys.stderr.write(f"kincalc: no solution to draw; {target.shown} not written\n")
         return None
     titles = [f"{k}. {s.branch}" + ("" if s.within_limits else " (out of limits)")
               + "\n" + config_title(robot, s.q, units) for k, s in enumerate(sols, start=1)]
     p = result.target.T[:3, 3] * units.l
     length = "" if units.length == "unitless" else f" {units.length}"
-    draw_arms(robot, np.array([s.q for s in sols]), titles, path, units=units, dpi=dpi,
+    draw_arms(robot, np.array([s.q for s in sols]), titles, target, units=units, dpi=dpi,
               suptitle=f"{robot.name}: {len(sols)} IK solution{'s' if len(sols) != 1 else ''} "
                        f"for p = ({', '.join(f'{x:.4g}' for x in p)}){length}")
-    return path
+    return str(target.path)
 
 
 def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
@@ -181,9 +192,9 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     given = [k for k, v in orient.items() if v is not None]
     whole = [k for k, v in (("--pose", pose), ("--from-q", from_q), ("T", T), ("q", q))
              if v is not None]
-    for name, v in [("--xyz", xyz), *orient.items(), ("T", T), ("q", q)]:
-        if v is not None and not np.all(np.isfinite(np.asarray(v, float))):
-            raise InputError(f"{name}: values must be finite numbers")
+    for name, v in [("--xyz", xyz), *orient.items(), ("T", T)]:
+        if v is not None:
+            check_numbers(np.asarray(v, float).ravel(), name)
     if len(given) > 1:
         raise UsageError(f"give at most one orientation, not {' and '.join(given)}")
     if whole and (given or xyz is not None):
@@ -256,27 +267,39 @@ def _check_rotation(R, what):
 
 def _read_pose(src: str):
     import json as _json
-    import sys
 
     import numpy as np
+
+    from ..limits import TooLarge, os_error_text, read_bounded, size_text
+    what = f"--pose {src}"
     try:
-        text = sys.stdin.read() if src == "-" else open(src, encoding="utf-8").read()
+        raw = read_bounded(src)
+    except TooLarge as exc:
+        raise InputError(f"{what}: larger than {size_text(exc.limit)}, kincalc's limit for "
+                         "a pose file (a 4x4 matrix is a few hundred bytes)") from None
     except OSError as exc:
-        raise InputError(f"--pose {src}: cannot read ({exc.strerror})") from None
+        raise InputError(f"{what}: cannot read ({os_error_text(exc)})") from None
+    except ValueError:
+        raise InputError(f"{what}: cannot read (not a valid file name)") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{what}: not UTF-8 text; expected 16 numbers or JSON rows of a "
+                         "4x4 matrix") from None
     try:
         data = _json.loads(text)
         if isinstance(data, dict):
             data = data.get("T", data.get("target", {}).get("T") if isinstance(
                 data.get("target"), dict) else None)
         M = np.array(data, dtype=float)
-    except (ValueError, TypeError):
+    except (ValueError, TypeError, RecursionError):
         try:
             M = np.array(text.replace(",", " ").replace("[", " ").replace("]", " ").split(),
                          dtype=float)
         except ValueError:
-            raise InputError(f"--pose {src}: expected 16 numbers or JSON rows of a 4x4 matrix")\
+            raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
                 from None
-    return _check_pose(M, f"--pose {src}")
+    return _check_pose(M, what)
 
 
 def _check_pose(M, what):
@@ -284,8 +307,9 @@ def _check_pose(M, what):
     import numpy as np
     if M.size == 12:
         M = np.vstack([M.reshape(3, 4), [0, 0, 0, 1]])
-    if M.size != 16 or not np.all(np.isfinite(M)):
+    if M.size != 16:
         raise InputError(f"{what}: expected a 4x4 matrix (16 finite numbers), got {M.size}")
+    check_numbers(M.ravel(), what)
     M = M.reshape(4, 4)
     if not np.allclose(M[3], [0, 0, 0, 1]):
         raise InputError(f"{what}: the last row must be 0 0 0 1")

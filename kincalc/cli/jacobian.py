@@ -7,9 +7,9 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JointsArg, JsonOpt,
-                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output,
-                     parse_joints)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JointsArg,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot,
+                     output, parse_joints)
 
 
 class Frame(str, Enum):
@@ -49,6 +49,7 @@ def jacobian(
     precision: PrecisionOpt = 4,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     json: JsonOpt = False,
     debug: DebugOpt = False,
@@ -72,7 +73,8 @@ def jacobian(
         run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     frame=frame.value,
                     refused={"--analytic": analytic, "--symbolic": symbolic, "--latex": latex,
-                             "--numeric-lengths": numeric_lengths})
+                             "--numeric-lengths": numeric_lengths},
+                    input_format=input_format)
     if symbolic or latex or numeric_lengths:
         from ..errors import UsageError
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output
@@ -118,7 +120,8 @@ def _tables(doc, robot, precision):
         ("rank", str(doc["rank"])),
         ("manipulability", num(doc["manipulability"], precision + 2)),
         ("position manipulability", num(doc["position_manipulability"], precision + 2)),
-        ("condition", "inf" if doc["condition"] is None else num(doc["condition"], precision)),
+        ("condition", "unbounded (singular)" if doc["condition"] is None
+         else num(doc["condition"], precision)),
         ("singular", "yes" if doc["singular"] else "no"),
     ]
     sg = doc.get("singularity")

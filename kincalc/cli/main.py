@@ -1,7 +1,9 @@
 """The ``kincalc`` command: the typer app and the one place errors become exit codes.
 
 Exit statuses (PRODUCT.md): 0 done; 1 a well-formed question answered "no";
-2 bad input or usage (one line on stderr); 3 an internal error (a bug).
+2 bad input or usage (one line on stderr); 3 an internal error (a bug); 130 Ctrl-C;
+141 (128 + SIGPIPE, as a shell reports it) stdout closed before the output was written
+(``kincalc ... | head -1``), quietly.
 """
 
 from __future__ import annotations
@@ -49,10 +51,36 @@ COMMANDS = {
                  "Check IK on random configurations within the limits (IKFast's --iktests "
                  "metrics)."),
     "robots": ("robots", "app", None, "The robot library: list, show and validate robot files."),
+    "completion": ("completion", "completion", None,
+                   "Print the shell completion script for bash, zsh or fish."),
 }
 
 
-class _LazyGroup(TyperGroup):
+class _Group(TyperGroup):
+    """A kincalc command group: one "No such command" message, and opposite flags
+    (``--deg`` and ``--rad``) refused when both are given."""
+
+    def resolve_command(self, ctx, args):
+        if ctx.resilient_parsing:            # shell completion: never fail
+            return super().resolve_command(ctx, args)
+        if args and not args[0].startswith("-") and self.get_command(ctx, args[0]) is None:
+            # one message with the suggestions (click >= 8.4 adds its own "Did you mean"
+            # and typer another: they said it twice)
+            import difflib
+            near = difflib.get_close_matches(args[0], self.list_commands(ctx))
+            hint = f" Did you mean {', '.join(repr(m) for m in near)}?" if near else ""
+            raise click.UsageError(f"No such command '{args[0]}'.{hint}", ctx)
+        name, cmd, rest = super().resolve_command(ctx, args)
+        if cmd is not None and not isinstance(cmd, click.Group):
+            clash = _opposite_flags(cmd, rest)
+            if clash and not {"-h", "--help"} & set(rest):     # help first, as click does
+                raise click.UsageError(f"{clash[0]} and {clash[1]} contradict each other; "
+                                       "give one of them",
+                                       click.Context(cmd, info_name=name, parent=ctx))
+        return name, cmd, rest
+
+
+class _LazyGroup(_Group):
     """The root group: commands built from :data:`COMMANDS` on first use."""
 
     def list_commands(self, ctx) -> list[str]:
@@ -65,14 +93,6 @@ class _LazyGroup(TyperGroup):
             self.commands[name] = _build(name)
         return self.commands[name]
 
-    def resolve_command(self, ctx, args):
-        if args and args[0] not in COMMANDS and not args[0].startswith("-"):
-            import difflib
-            near = difflib.get_close_matches(args[0], COMMANDS)
-            hint = f" Did you mean {', '.join(repr(m) for m in near)}?" if near else ""
-            raise click.UsageError(f"No such command '{args[0]}'.{hint}", ctx)
-        return super().resolve_command(ctx, args)
-
     def format_commands(self, ctx, formatter) -> None:
         # click's layout, from the table (building every command would import them all)
         width = formatter.width - 6 - max(len(n) for n in COMMANDS)
@@ -81,6 +101,48 @@ class _LazyGroup(TyperGroup):
         with formatter.section("Commands"):
             formatter.write_dl(rows)
 
+    def shell_complete(self, ctx, incomplete):
+        # command names from the table, as format_commands does (click would build and
+        # import every command on each TAB), then the root's own options
+        from click.shell_completion import CompletionItem
+        items = [CompletionItem(name, help=text) for name, (_, _, _, text) in COMMANDS.items()
+                 if name.startswith(incomplete)]
+        return items + click.Command.shell_complete(self, ctx, incomplete)
+
+    def _main_shell_completion(self, ctx_args, prog_name, complete_var=None):
+        # click's protocol (_KINCALC_COMPLETE=bash_complete, zsh_complete, fish_complete),
+        # which the scripts of 'kincalc completion SHELL' speak; typer's override expects
+        # its own scripts. Costs one environment lookup when not completing.
+        click.Command._main_shell_completion(self, ctx_args, prog_name, complete_var)
+
+
+def _opposite_flags(command, args) -> tuple[str, str] | None:
+    """The first on/off flag pair of ``command`` (``--deg/--rad``) given both ways in
+    ``args``, as the two option strings in the order given; None if there is none.
+
+    click keeps the last of the two silently. Values of options are skipped as click
+    consumes them (``--unit --rad`` gives --unit the value '--rad'); ``--`` ends options."""
+    takes, pairs = {}, []
+    for p in command.params:
+        if isinstance(p, click.Option):
+            for o in p.opts + p.secondary_opts:
+                takes[o] = 0 if p.is_flag or p.count else p.nargs
+            if p.is_flag and p.secondary_opts:
+                pairs.append((set(p.opts), set(p.secondary_opts)))
+    given, i = [], 0
+    while i < len(args) and args[i] != "--":
+        if args[i] in takes:
+            given.append(args[i])
+            i += takes[args[i]]
+        i += 1
+    for on, off in pairs:
+        both = [o for o in given if o in on or o in off]
+        first = both[0] if both else None
+        other = next((o for o in both if (o in on) != (first in on)), None)
+        if other is not None:
+            return first, other
+    return None
+
 
 def _build(name: str):
     """The click command of ``name`` (imports its module)."""
@@ -88,6 +150,7 @@ def _build(name: str):
     module, attr, settings, _ = COMMANDS[name]
     target = getattr(importlib.import_module(f"{__package__}.{module}"), attr)
     if isinstance(target, typer.Typer):                      # a command group (robots)
+        target.info.cls = _Group
         cmd = typer.main.get_command(target)
         cmd.name = name
         return cmd
@@ -131,10 +194,18 @@ def main(argv: list[str] | None = None) -> int:
 
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
+    _quiet_numeric_warnings(debug)
     try:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
+        # (and typer turns a KeyboardInterrupt into Exit(130), quietly)
         status = app(args=args, prog_name="kincalc", standalone_mode=False)
         return status if isinstance(status, int) else 0
+    except SystemExit as exc:
+        # typer and click meet a closed stdout (EPIPE) with sys.exit(1), which the README
+        # defines as "the answer was no": a closed pipe is not an answer
+        if isinstance(exc.__context__, BrokenPipeError):
+            return _stdout_closed()
+        raise
     except click.exceptions.Exit as exc:
         return exc.exit_code
     except click.exceptions.Abort:
@@ -163,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"kincalc: error: {_one_line(_words(exc))}\n")
         return exc.exit_status
     except BrokenPipeError:
-        return 0
+        return _stdout_closed()
     except KeyboardInterrupt:
         return 130
     except Exception as exc:  # a bug: say so, and how to see it
@@ -186,6 +257,40 @@ def _words(exc) -> str:
     """The message of a core error, in the command line's words where it has fields."""
     from ..errors import TargetMismatch
     return exc.words(TARGET_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
+
+
+def _quiet_numeric_warnings(debug: bool) -> None:
+    """Keep numpy's RuntimeWarnings (overflow, invalid value) off the user's stderr,
+    except with --debug.
+
+    A backstop: command-line numbers are bounded (:func:`kincalc.cli.common.check_number`)
+    so that no computation overflows, and the core silences the divisions it expects to
+    degenerate with ``np.errstate``. numpy's warnings are the built-in RuntimeWarning, so
+    this needs no numpy import at start-up. The filter is process-wide: ``main`` is the
+    program (tests that call it run under pytest, which restores the filters per test)."""
+    if not debug:
+        import warnings
+        warnings.filterwarnings("ignore", category=RuntimeWarning)
+
+
+#: the exit status when stdout is closed early: 128 + SIGPIPE, what a shell reports for a
+#: program a closed pipe stops (``cat big | head -1``)
+EXIT_STDOUT_CLOSED = 141
+
+
+def _stdout_closed() -> int:
+    """Leave quietly after stdout was closed by its reader: point the stdout descriptor
+    at /dev/null, so that the interpreter's last flush of what is still buffered does not
+    fail (and print) again, and return :data:`EXIT_STDOUT_CLOSED`."""
+    import os
+    try:
+        fd = sys.stdout.fileno()            # (through typer's wrapper, if it put one on)
+        null = os.open(os.devnull, os.O_WRONLY)
+    except (AttributeError, OSError, ValueError):    # not a real stdout (a test's)
+        return EXIT_STDOUT_CLOSED
+    os.dup2(null, fd)
+    os.close(null)
+    return EXIT_STDOUT_CLOSED
 
 
 def _one_line(text: str) -> str:

@@ -7,12 +7,13 @@ from typing import Annotated
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JointsArg, RobotArg, UnitOpt, display_units,
-                     load_robot, parse_joints)
+from .common import (DebugOpt, DegOpt, FileName, ForceOpt, JointsArg, RobotArg, UnitOpt,
+                     display_units, load_robot, output_target, parse_joints)
 
 OutputOpt = Annotated[str, typer.Option(
-    "--output", "-o", metavar="FILE", show_default=False,
-    help="The drawing to write; its suffix picks the format: .png, .svg or .pdf.")]
+    "--output", "-o", metavar="FILE", show_default=False, click_type=FileName(),
+    help="The drawing to write; its suffix picks the format: .png, .svg or .pdf. An "
+         "existing FILE is not replaced without --force.")]
 DpiOpt = Annotated[int, typer.Option(
     "--dpi", metavar="N", min=10, max=1200,
     help="Pixels per inch of a PNG (one 5-inch panel is 5N pixels square).")]
@@ -23,6 +24,7 @@ def plot(
     q: JointsArg = None,
     output: OutputOpt = ...,
     dpi: DpiOpt = 100,
+    force: ForceOpt = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     debug: DebugOpt = False,
@@ -40,11 +42,12 @@ def plot(
     robot's home configuration is used.
     """
     from ..plot import check_output, config_title, draw_arms, require_matplotlib
-    check_output(output)
+    target = output_target(output, "-o", force, robot)
+    check_output(target)
     require_matplotlib("kincalc plot")
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
-    drawing = draw_arms(rob, qv[None, :], [config_title(rob, qv, units)], output,
+    drawing = draw_arms(rob, qv[None, :], [config_title(rob, qv, units)], target,
                         units=units, dpi=dpi)
     sys.stdout.write(f"wrote {output} ({drawing.describe()})\n")

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, JobsOpt, JsonOpt, PrecisionOpt,
-                     RobotArg, UnitOpt, display_units, load_robot, output)
+from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JsonOpt,
+                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output)
 from .ik import (ApproachOpt, AxisAngleOpt, FromQOpt, MatrixOpt, PoseOpt, QuatOpt, RpyOpt,
                  TcvOpt, XyzEOpt, XyzOpt, ZyzOpt, build_target)
 
@@ -26,6 +26,7 @@ def reach(
     from_q: FromQOpt = None,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
+    input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
     unit: UnitOpt = None,
@@ -55,7 +56,8 @@ def reach(
         from .batch import run_command
         run_command("reach", rob, units, batch, fmt, jobs,
                     given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
-                           tcv, pose, from_q])
+                           tcv, pose, from_q],
+                    input_format=input_format)
     target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
                           euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
                           matrix=matrix, approach=approach, tcv=tcv, pose=pose, from_q=from_q)

@@ -7,7 +7,7 @@ from typing import Annotated, List
 
 import typer
 
-from .common import DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt
+from .common import DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName, UnitOpt
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
                   rich_markup_mode=None,
@@ -46,8 +46,10 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
 
     from .render import console
     t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots", title_justify="left")
-    for col in ("name", "dof", "structure", "convention", "units", "title"):
-        t.add_column(col, no_wrap=col != "title")
+    for col in ("name", "dof", "structure", "convention", "units"):
+        t.add_column(col, no_wrap=True)
+    # a title squeezed narrower than this reads a word a line: then it gets a panel of its own
+    t.add_column("title", min_width=25)
     for e in entries:
         if "error" in e:
             t.add_row(e["name"], "", "", "", "", f"[red]broken: {e['error']}[/red]")
@@ -171,20 +173,24 @@ def _show_tables(doc, rob, u, precision):
 
 @app.command()
 def validate(
-    files: Annotated[List[str], typer.Argument(metavar="FILE...", show_default=False,
-                                                help="Robot YAML files to check.")],
+    files: Annotated[List[str], typer.Argument(
+        metavar="FILE...", show_default=False, click_type=RobotName(),
+        help="Robot YAML files to check, or bundled robots' names.")],
     json: JsonOpt = False,
     debug: DebugOpt = False,
 ):
-    """Check robot files; print one line per file. Exit 2 if any is invalid."""
+    """Check robot files (or bundled robots); print one line per file. Exit 2 if any is
+    invalid."""
     import sys
 
     from ..errors import KincalcError
+    from ..library import resolve
     from ..robot_file import load_robot_file
     report, bad = [], 0
     for f in files:
         try:
-            r = load_robot_file(f)
+            # a name as every command takes it: a bundled robot first, then a file
+            r = load_robot_file(resolve(f)[0], display_name=f)
             report.append({"file": f, "valid": True, "name": r.name, "dof": r.dof,
                            "convention": r.convention, "error": None})
         except KincalcError as exc:

@@ -6,12 +6,13 @@ from typing import Annotated
 
 import typer
 
+from ..limits import MAX_TRIALS
 from .common import DebugOpt, JsonOpt, RobotArg, load_robot
 
 
 def selftest(
     robot: RobotArg,
-    trials: Annotated[int, typer.Option("--trials", metavar="N", min=1,
+    trials: Annotated[int, typer.Option("--trials", metavar="N", min=1, max=MAX_TRIALS,
                                         help="Number of random configurations.")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed (>= 0).")] = 0,
     json: JsonOpt = False,

@@ -6,32 +6,38 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
-                     display_units, load_robot, output)
+from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
+from .common import (DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
+                     display_units, load_robot, output, output_target)
 
 
 def workspace(
     robot: RobotArg,
     samples: Annotated[int, typer.Option(
-        "--samples", metavar="N", min=1000,
+        "--samples", metavar="N", min=1000, max=MAX_SAMPLES,
         help="Joint configurations sampled uniformly within the limits.")] = 200_000,
     seed: Annotated[int, typer.Option(
-        "--seed", metavar="S", help="Seed of the random generator: the same seed gives the "
-                                    "same numbers.")] = 0,
+        "--seed", metavar="S", min=0,
+        help="Seed of the random generator, a non-negative integer: the same seed gives "
+             "the same numbers.")] = 0,
     dexterity: Annotated[float, typer.Option(
         "--dexterity", metavar="F",
         help="Fraction of the test orientations a point must reach to count as dexterous "
              "(1 = every one, the textbook's dexterous workspace).")] = 1.0,
     orientations: Annotated[Optional[int], typer.Option(
-        "--orientations", metavar="K", min=2, show_default=False,
+        "--orientations", metavar="K", min=2, max=MAX_ORIENTATIONS, show_default=False,
         help="Number of test orientations for dexterity (default 48 for arms that control "
              "the full orientation, 24 for one angle).")] = None,
     plot: Annotated[Optional[str], typer.Option(
-        "--plot", metavar="FILE", show_default=False,
+        "--plot", metavar="FILE", show_default=False, click_type=FileName(),
         help="Also draw XY and XZ sections of the reachable set, coloured by "
-             "manipulability, to FILE (.png, .svg or .pdf; needs the 'plot' extra).")] = None,
+             "manipulability, to FILE (.png, .svg or .pdf; needs the 'plot' extra). An "
+             "existing FILE is not replaced without --force.")] = None,
     dpi: Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
                                      help="Resolution of a PNG --plot.")] = 100,
+    force: Annotated[bool, typer.Option(
+        "--force", help="Let --plot replace an existing regular file (never a link, a "
+                        "device or the robot file).")] = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
@@ -50,12 +56,14 @@ def workspace(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..workspace import analyse
+    plot_to = None
+    if plot is not None:            # before the sampling: a refused file costs nothing
+        from ..plot import check_output, require_matplotlib
+        plot_to = output_target(plot, "--plot", force, robot)
+        check_output(plot_to)
+        require_matplotlib("kincalc workspace --plot")
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
-    if plot is not None:
-        from ..plot import check_output, require_matplotlib
-        check_output(plot)
-        require_matplotlib("kincalc workspace --plot")
     with _progress() as report:
         result = analyse(rob, samples, seed, units=units, dexterity=dexterity,
                          orientations=orientations, sections=plot is not None,
@@ -73,8 +81,8 @@ def workspace(
                      xlabel=s["xlabel"] + unit, ylabel=s["ylabel"] + unit,
                      title=_title(s, units))
                 for s in result.sections]
-        draw_sections(secs, plot, suptitle=f"{rob.title or rob.name}: workspace sections "
-                                           f"({samples} samples, seed {seed})",
+        draw_sections(secs, plot_to, suptitle=f"{rob.title or rob.name}: workspace sections "
+                                              f"({samples} samples, seed {seed})",
                       colour_label="manipulability (Yoshikawa, as kincalc jacobian)", dpi=dpi)
         doc["plot"] = plot
     output(doc, json, _tables, rob, precision)

@@ -14,7 +14,14 @@ import time
 
 import numpy as np
 
+from ..errors import UsageError
+from ..limits import MAX_TRIALS
 from .screws import wrap
+
+#: configurations drawn (and FK'd) at a time: memory stays a few MB whatever ``trials``
+#: is, and the numbers are those of one draw of ``trials`` (a Generator fills arrays
+#: in order)
+CHUNK = 4096
 
 
 def sample_configurations(robot, n: int, rng) -> np.ndarray:
@@ -28,25 +35,36 @@ def sample_configurations(robot, n: int, rng) -> np.ndarray:
 
 
 def run(robot, trials: int = 1000, seed: int = 0) -> dict:
-    """Run ``trials`` round trips; return the metrics as a plain dict."""
+    """Run ``trials`` round trips; return the metrics as a plain dict.
+
+    Raises
+    ------
+    UsageError
+        ``trials`` outside 1 ... :data:`~kincalc.limits.MAX_TRIALS`, or a ``seed``
+        that is not a non-negative integer.
+    """
     from .families import plan
     from .solve import Target, solve
+    if isinstance(trials, bool) or not isinstance(trials, (int, np.integer)) \
+            or not 1 <= trials <= MAX_TRIALS:
+        raise UsageError(f"--trials must be from 1 to {MAX_TRIALS} (kincalc's limit), "
+                         f"not {trials!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise UsageError(f"--seed must be a non-negative integer, not {seed!r}")
     _, family, _ = plan(robot)
     # give the orientation only where the robot controls it (otherwise a position
     # target has the family's full solution set, as in the textbooks)
     orientation = family is None or family.needs_orientation
     numerical = family is None
     rng = np.random.default_rng(seed)
-    Q = sample_configurations(robot, trials, rng)
-    Ts = robot.fk(Q)
     found = missing = none = wrong = total = 0
-    times = []
+    times = np.empty(trials)
     counts: dict[int, int] = {}
     scale = robot.characteristic_length
-    for q, T in zip(Q, Ts):
+    for k, (q, T) in enumerate(_round_trip_inputs(robot, trials, rng)):
         t0 = time.perf_counter()
         res = solve(robot, Target(T, orientation=orientation))
-        times.append(time.perf_counter() - t0)
+        times[k] = time.perf_counter() - t0
         sols = res.solutions
         counts[len(sols)] = counts.get(len(sols), 0) + 1
         total += len(sols)
@@ -67,7 +85,7 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
             missing += 1
         else:
             none += 1
-    n = max(trials, 1)
+    n = trials
     return {
         "trials": trials, "seed": seed,
         "success_rate": found / n, "missing_rate": missing / n, "no_solution_rate": none / n,
@@ -76,3 +94,11 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
         "time_per_pose_ms": {"median": round(float(np.median(times) * 1e3), 4),
                              "mean": round(float(np.mean(times) * 1e3), 4)},
     }
+
+
+def _round_trip_inputs(robot, trials: int, rng):
+    """``(q, T)`` pairs: :func:`sample_configurations` and their FK, drawn :data:`CHUNK`
+    at a time."""
+    for start in range(0, trials, CHUNK):
+        Q = sample_configurations(robot, min(CHUNK, trials - start), rng)
+        yield from zip(Q, robot.fk(Q))

@@ -1,0 +1,206 @@
+"""The files kincalc writes (drawings, robot files, exercise sheets), none ever destroyed.
+
+Every writer goes through here: ``kincalc plot -o``, ``ik --plot``, ``workspace --plot``,
+``convert -o`` and ``quiz -o``, and the drawing functions of :mod:`kincalc.plot`. The
+rules (README, "Output files"):
+
+* an existing file is refused unless ``force``;
+* ``force`` replaces a regular file only: a folder, a symbolic link, a device, a FIFO or
+  a socket is refused whatever the flag (run as root, replacing ``/dev/...`` with a
+  drawing is not a mistake to make easy);
+* a command's own input (its robot file, --pose file, ...) is refused, ``force`` or not:
+  the same file is the same device and inode (:func:`os.path.samefile`), so a hard link
+  or a symbolic link to the input is caught too;
+* checks come before any work (:func:`check_target`), and again at the end;
+* the data go to a temporary file in the target's folder, which is renamed over the
+  target only when complete (:func:`replacing`): a failed or interrupted write leaves the
+  old file whole and no half-written new one;
+* a new file gets mode ``0o666 & ~umask``, as other tools' outputs do (not the 0600 of
+  a temporary file); a replaced file keeps its mode.
+
+Standard library only. Messages name the option the path came with (``-o``, ``--plot``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import stat
+import tempfile
+from dataclasses import dataclass
+
+from .errors import InputError
+from .limits import quote
+
+_KINDS = ((stat.S_ISLNK, "a symbolic link"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
+          (stat.S_ISSOCK, "a socket"))
+
+
+@dataclass(frozen=True)
+class Target:
+    """A file to write and what may be done to it.
+
+    ``path`` as the user gave it; ``option`` how it was given (``"-o"``, ``"--plot"``),
+    for messages; ``force`` lets an existing regular file be replaced; ``inputs`` are
+    ``(what, path)`` pairs of the files the command reads (``("the robot file",
+    "arm.yaml")``), which are never written.
+    """
+
+    path: str
+    option: str = "-o"
+    force: bool = False
+    inputs: tuple = ()
+
+    @property
+    def shown(self) -> str:
+        """The path for a one-line message: as given, quoted when unprintable, cut when
+        absurdly long."""
+        return shown_path(self.path)
+
+    def fail(self, reason: str):
+        raise InputError(f"{self.option} {self.shown}: {reason}")
+
+
+#: longer paths are cut in messages (a path is echoed whole up to this many characters)
+_SHOWN_PATH = 300
+
+
+def shown_path(path) -> str:
+    """``path`` for a one-line message: as given, quoted when unprintable (a newline),
+    cut when longer than a few hundred characters."""
+    p = str(path)
+    return p if p.isprintable() and len(p) <= _SHOWN_PATH else quote(p, _SHOWN_PATH)
+
+
+def as_target(path) -> Target:
+    """``path`` (a str, a path-like or a :class:`Target`) as a :class:`Target`."""
+    if isinstance(path, Target):
+        return path
+    return Target(os.fspath(path))
+
+
+def check_target(target) -> str:
+    """Refuse a file that may not be written (see the module's rules); return its folder.
+
+    Cheap (a few ``stat`` calls), for commands to call before long work.
+
+    Raises
+    ------
+    InputError
+        No file name, a missing folder, a folder, one of the command's inputs, an existing
+        file without ``force``, or anything but a regular file.
+    """
+    t = as_target(target)
+    path = str(t.path)
+    if not path:
+        raise InputError(f"{t.option}: give a file name")
+    if path.endswith(("/", os.sep)):
+        t.fail("names a folder; give a file name")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        t.fail(f"the folder {shown_path(folder)} does not exist")
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return folder
+    except OSError as exc:
+        t.fail(f"cannot write: {exc.strerror}")
+    for what, source in t.inputs:
+        if source is not None and _same_file(path, source):
+            t.fail(f"that is {what}, which this command reads; kincalc never writes over "
+                   "its input")
+    if stat.S_ISDIR(st.st_mode):
+        t.fail("is a folder, cannot write a file there; give a file name")
+    kind = next((name for test, name in _KINDS if test(st.st_mode)), None)
+    if kind is not None or not stat.S_ISREG(st.st_mode):
+        t.fail(f"is {kind or 'not a regular file'}; kincalc replaces regular files only, "
+               "even with --force")
+    if not t.force:
+        t.fail("the file exists; use --force to overwrite it")
+    return folder
+
+
+def _same_file(a: str, b) -> bool:
+    try:
+        return os.path.samefile(a, os.fspath(b))
+    except (OSError, ValueError):
+        return False
+
+
+@contextlib.contextmanager
+def replacing(target, *, binary: bool = True):
+    """Write ``target`` through a temporary file: ``with replacing(t) as fh: fh.write(...)``.
+
+    ``fh`` is a file object open for writing (bytes, or UTF-8 text with ``binary=False``)
+    on a new temporary file in the target's folder. When the block ends without an
+    exception the target is checked again, and the file renamed over it (with ``force``)
+    or linked to its name (without: if a file of that name appeared meanwhile it is left
+    alone). Otherwise the temporary file is removed and the target is untouched.
+
+    Raises
+    ------
+    InputError
+        As :func:`check_target`, or when the folder or the file cannot be written.
+    """
+    t = as_target(target)
+    folder = check_target(t)
+    path = str(t.path)
+    try:
+        old = os.stat(path, follow_symlinks=False)
+        mode = stat.S_IMODE(old.st_mode) & 0o777
+    except FileNotFoundError:
+        mode = 0o666 & ~_umask()
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".kincalc-", suffix=".tmp", dir=folder)
+    except OSError as exc:
+        t.fail(f"cannot write in {folder}: {exc.strerror}")
+    try:
+        if hasattr(os, "fchmod"):
+            os.fchmod(fd, mode)
+        with os.fdopen(fd, "wb" if binary else "w",
+                       **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
+            yield fh
+            fh.flush()
+            os.fsync(fh.fileno())
+        check_target(t)                       # changed while we worked?
+        _commit(tmp, path, t)
+    except OSError as exc:
+        t.fail(f"cannot write: {exc.strerror or exc}")
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+
+
+def _commit(tmp: str, path: str, t: Target) -> None:
+    if t.force and os.path.lexists(path):
+        os.replace(tmp, path)                 # a regular file (just checked): atomic
+        return
+    try:
+        os.link(tmp, path)                    # atomic, and never over an existing name
+    except FileExistsError:
+        t.fail("the file exists; use --force to overwrite it")
+    except OSError:                           # a file system without hard links
+        if os.path.lexists(path):
+            t.fail("the file exists; use --force to overwrite it")
+        os.replace(tmp, path)
+
+
+def write_text(target, text: str) -> None:
+    """Write ``text`` (UTF-8) to ``target`` by :func:`replacing`."""
+    with replacing(target, binary=False) as fh:
+        fh.write(text)
+
+
+def _umask() -> int:
+    """The process's umask (Linux: read, not set; elsewhere set and restored)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
