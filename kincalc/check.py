@@ -778,7 +778,7 @@ def _qdisp(robot, q, units) -> np.ndarray:
 
 def _gaps(robot, qa, qb) -> np.ndarray:
     """Per-joint distance ``(n,)`` between joint vectors: angles modulo 2 pi (rad), m."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     d = np.asarray(qa, float) - np.asarray(qb, float)
     return np.where(robot.is_revolute, np.abs(wrap(d)), np.abs(d))
 
@@ -1121,7 +1121,7 @@ def _grade_reach(sheet: Sheet, item: Item) -> ItemResult:
 
 def _target_residual(robot, target, q) -> tuple[float, float | None]:
     """(position error (m), orientation error (rad) or None) of joints ``q`` for ``target``."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     from .spatial import rotation_error
     T = robot.fk(q)
     pe = float(np.linalg.norm(T[:3, 3] - target.T[:3, 3]))
@@ -1382,7 +1382,7 @@ def _reference_table(robot, conv: str, fold_tool: bool):
 def _row_hint(robot, cand, row, units, tol) -> str | None:
     """Where the answer's table first differs from the robot's own table, if at or
     before ``row`` (DH tables are not unique, so this is a hint, not the verdict)."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     ref = _reference_table(robot, cand.convention, np.allclose(cand.tool, np.eye(4)))
     if ref is None:
         return None

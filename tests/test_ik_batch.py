@@ -8,7 +8,7 @@ import pytest
 from kincalc import load_robot
 from kincalc.ik.engine import UnsupportedRobot, solve_batch
 from kincalc.ik.families import plan
-from kincalc.ik.screws import wrap
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.library import bundled_names
 

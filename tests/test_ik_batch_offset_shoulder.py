@@ -16,7 +16,7 @@ from kincalc import load_robot
 from kincalc.fk import chain_frames
 from kincalc.ik.engine import solve_batch
 from kincalc.ik.families import plan
-from kincalc.ik.screws import wrap
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
 from randrobots import random_pose

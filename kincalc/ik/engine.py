@@ -22,7 +22,7 @@ the same label and flags wherever it is asked for.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -32,7 +32,7 @@ from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .families import Family, plan
 from .labels import labels
-from .screws import TURN, wrap
+from ..spatial import wrap
 from .solvers import SOLVERS
 from .target import Targets
 
@@ -137,17 +137,21 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
         raise ValueError(f"expected poses of shape (N, 4, 4), got {T.shape}")
     if len(T) <= chunk:
         return solve_targets(robot, Targets(T))
-    parts = [solve_targets(robot, Targets(T[i:i + chunk])) for i in range(0, len(T), chunk)]
-    first = parts[0]
-    join = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
-    cont = None if first.continuum is None and all(p.continuum is None for p in parts) else \
-        np.concatenate([p.continuum if p.continuum is not None
-                        else np.zeros(p.valid.shape + (5,)) for p in parts])
-    return replace(first, q=join("q"), candidate=join("candidate"), valid=join("valid"),
-                   position_error=join("position_error"),
-                   orientation_error=join("orientation_error"), violation=join("violation"),
-                   within=join("within"), free=join("free"), continuum=cont, branches=None,
-                   memo={})
+    first = solve_targets(robot, Targets(T[:chunk]))
+    names = [f.name for f in fields(Solved) if isinstance(getattr(first, f.name), np.ndarray)]
+    shape = {name: getattr(first, name) for name in names}
+    if first.continuum is None:
+        names.append("continuum")
+        shape["continuum"] = np.zeros(first.valid.shape + (5,))
+    out = {name: np.empty((len(T),) + a.shape[1:], a.dtype) for name, a in shape.items()}
+    for start in range(0, len(T), chunk):
+        part = first if start == 0 else solve_targets(robot, Targets(T[start:start + chunk]))
+        for name, a in out.items():
+            value = getattr(part, name)
+            a[start:start + chunk] = 0.0 if value is None else value
+    if not out["continuum"].any():
+        out["continuum"] = None
+    return replace(first, **out, branches=None, memo={})
 
 
 def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
@@ -278,6 +282,9 @@ def normalise(robot, Q) -> np.ndarray:
     x = wrap(Q[..., rev])
     turn = 2 * np.pi
     inside = (x >= lo - LIMIT_TOL) & (x <= hi + LIMIT_TOL)
+    if inside.all():
+        Q[..., rev] = x
+        return Q
     with np.errstate(invalid="ignore"):          # infinite limits: x is inside
         up = x + turn * np.ceil((lo - LIMIT_TOL - x) / turn)     # first turn above lo
     up = np.where(np.isfinite(up), up, x)
@@ -317,22 +324,17 @@ def duplicates(robot, q, valid) -> np.ndarray:
     drop = np.zeros((N, K), bool)
     if K < 2 or not valid.any():
         return drop
+    earlier = np.tri(K, k=-1, dtype=bool)                          # [j, i]: i < j
+    pose, j, i = np.nonzero(valid[:, :, None] & valid[:, None, :] & earlier)
+    d = q[pose, j] - q[pose, i]                                    # (pairs, n)
     rev = robot.is_revolute
-    Q = np.ascontiguousarray(np.moveaxis(q, -1, 0))                          # (n, N, K)
-    for j in range(1, K):
-        live = valid[:, j]
-        if not live.any():
-            continue
-        for i in range(j):
-            same = live & valid[:, i] & ~drop[:, i]
-            for k in range(n):
-                if not same.any():
-                    break
-                d = Q[k, :, j] - Q[k, :, i]
-                if rev[k]:
-                    d = d - TURN * np.rint(d / TURN)
-                same &= np.abs(d) < DUPLICATE
-            drop[:, j] |= same
+    d[:, rev] = wrap(d[:, rev])
+    near = (np.abs(d) < DUPLICATE).all(-1)
+    pose, j, i = pose[near], j[near], i[near]
+    for slot in np.unique(j).tolist():          # ascending: a slot's verdict before later ones
+        at = j == slot
+        kept = ~drop[pose[at], i[at]]
+        drop[pose[at][kept], slot] = True
     return drop
 
 

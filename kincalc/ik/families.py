@@ -36,12 +36,12 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..spatial import cross
+from ..spatial import cross, wrap
 
 from ..structure import common_point
 from ..tolerances import (EXACT_ANGLE_TOL, EXACT_POINT_TOL, STRUCTURE_ANGLE_TOL,
                           STRUCTURE_POINT_TOL)
-from .screws import Screws, wrap
+from .screws import Screws
 
 
 @dataclass(frozen=True)

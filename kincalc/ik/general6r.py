@@ -164,7 +164,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross, invert_transform, rotvec_from_matrix
+from ..spatial import cross, invert_transform, rotvec_from_matrix, wrap
 from .cache import per_robot
 
 __all__ = ["BATCH_SLOTS", "solve_general_6r", "solve_general_6r_batch"]
@@ -307,11 +307,6 @@ def _f14(l, p):
 # matters at a batch of one)
 _sum, _max, _min, _all = np.add.reduce, np.maximum.reduce, np.minimum.reduce, np.logical_and.reduce
 _nnz = np.count_nonzero
-
-
-def _wrap(q):
-    """Angles wrapped to (-pi, pi]."""
-    return np.pi - np.mod(np.pi - q, 2.0 * np.pi)
 
 
 def _dot(u, v):
@@ -897,7 +892,7 @@ class _Robot6R:
             pose, _, cand, bad, _ = self.raw(Ts, k)
             worst = np.inf
             if not bad.any() and np.all(np.bincount(pose, minlength=3) > 0):
-                dist = np.max(np.abs(_wrap(cand - qs[pose])), axis=1)
+                dist = np.max(np.abs(wrap(cand - qs[pose])), axis=1)
                 near = np.full(3, np.inf)
                 np.minimum.at(near, pose, dist)
                 worst = float(near.max())
@@ -1127,7 +1122,7 @@ def _solve_block(data, T, Q_out, ok):
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     Qp, res, moved = _polish(data.terms, np.take(Tt, pose, axis=0), cand)
     acc = res < ACCEPT_TOL
-    pose, Qp = pose[acc], _wrap(Qp[acc])
+    pose, Qp = pose[acc], wrap(Qp[acc])
     rank = np.arange(len(pose)) - np.searchsorted(pose, pose)     # in slot order
     if width > 16 or _nnz(moved):
         # duplicates: a solution within MERGE_TOL of one in an earlier slot of its pose

@@ -12,7 +12,8 @@ from dataclasses import replace
 import numpy as np
 
 from .refine import refine
-from .screws import Screws, wrap
+from ..spatial import wrap
+from .screws import Screws
 
 
 def on_true_robot(robot, family, targets, q, candidate, br):

@@ -48,16 +48,18 @@ class Screws:
         v = np.asarray(v, float)
         c, s = np.asarray(c)[..., None], np.asarray(s)[..., None]
         flat = v.reshape(-1, 3)
-        kxv = (flat @ self.skew(i).T).reshape(v.shape)      # one product, not six
+        kxv = (flat @ self.skew_t(i)).reshape(v.shape)      # one product, not six
         along = (flat @ k).reshape(v.shape[:-1] + (1,)) * k
         return c * (v - along) + s * kxv + along
 
-    def skew(self, i: int) -> np.ndarray:
-        """``[k]x (3, 3)`` of joint i's axis (``[k]x v = k x v``), once per joint."""
+    def skew_t(self, i: int) -> np.ndarray:
+        """``[k]x^T (3, 3)``, contiguous, of joint i's axis (rows ``v @ [k]x^T = k x v``),
+        once per joint."""
         def make():
             k = self.axis[i]
-            return np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-        return self.constant(("skew", i), make)
+            return np.ascontiguousarray(
+                np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]]).T)
+        return self.constant(("skew_t", i), make)
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle
@@ -128,14 +130,3 @@ class Screws:
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
                       self.revolute[::-1].copy(), Mi, self.scale, self.slack)
-
-
-def wrap(x):
-    """Angles wrapped into (-pi, pi] (by rounding the number of turns: a remainder
-    would be seven times slower on large batches)."""
-    x = np.asarray(x, float)
-    y = x - TURN * np.rint(x / TURN)
-    return np.where(y <= -np.pi, y + TURN, y)
-
-
-TURN = 2 * np.pi

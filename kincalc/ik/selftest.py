@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ..limits import MAX_TRIALS
-from .screws import wrap
+from ..spatial import wrap
 
 #: configurations drawn (and FK'd) at a time: memory stays a few MB whatever ``trials``
 #: is, and the numbers are those of one draw of ``trials`` (a Generator fills arrays

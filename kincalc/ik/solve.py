@@ -22,7 +22,7 @@ from ..spatial import rotation_error
 from ..tolerances import ACCEPT_POSITION
 from .engine import TCV, Solved, UnsupportedRobot, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
-from .screws import wrap
+from ..spatial import wrap
 from .target import Targets
 
 #: --all-branches lists cross combinations only up to this many

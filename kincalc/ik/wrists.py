@@ -23,7 +23,8 @@ from ..subproblems import sp1
 from ..subproblems.cone import cone
 from ..subproblems.solutions import cross, dot
 from .branches import Branches
-from .screws import Screws, wrap
+from ..spatial import wrap
+from .screws import Screws
 
 
 def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:

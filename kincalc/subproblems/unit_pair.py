@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import wrap
 from ..tolerances import GEOMETRY_TOL
 from .roots import polynomial_roots
 from .solutions import Solutions, principal
@@ -200,11 +201,11 @@ def _general(Mn, bn, U, s, Vt, tol):
     t = np.stack([np.arctan2(x[..., 1], x[..., 0]), np.arctan2(x[..., 3], x[..., 2])], -1)
     t, res = _gauss_newton(Mn, bn, t)
     ok = have & on_torus & (res <= RESIDUAL_TOL)
-    t = np.arctan2(np.sin(t), np.cos(t))
+    t = wrap(t)
     # one solution found twice (a double root) is one
     for j in range(1, SLOTS):
         for i in range(j):
-            same = (np.abs(_wrap(t[:, j] - t[:, i])) < _SAME_ANGLE).all(-1)
+            same = (np.abs(wrap(t[:, j] - t[:, i])) < _SAME_ANGLE).all(-1)
             ok[:, j] &= ~(same & ok[:, i])
     return t, ok, circle
 
@@ -242,7 +243,3 @@ def _df(A, phi):
     _, a1, b1, a2, b2 = A
     return (-a1 * np.sin(phi) + b1 * np.cos(phi) - 2 * a2 * np.sin(2 * phi)
             + 2 * b2 * np.cos(2 * phi))
-
-
-def _wrap(t):
-    return np.arctan2(np.sin(t), np.cos(t))
