@@ -486,28 +486,38 @@ class _SheetReader(_Reader):
         return M.astype(float)
 
     def pose_target(self, node):
-        """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (through ik's build_target)."""
+        """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
+        :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
         import yaml
 
-        from .cli.ik import build_target
+        from .ik import Target
+        from .ik.target import BadTarget, defect_text, target_form, targets_from, to_si
         f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
         if not f:
             self.fail(node, "'pose' is empty: give xyz with an orientation, T, tcv or q")
         kw = {}
         for key, vnode in f.items():
             if key == "q":
-                qs = self.joints(vnode, "'pose.q'")
-                kw["q"] = list(qs * np.where(self.robot_.is_revolute, self.units.a, self.units.l))
+                kw["q"] = self.joints(vnode, "'pose.q'")
             elif key in ("T", "matrix") and isinstance(vnode, yaml.SequenceNode) and vnode.value \
                     and isinstance(vnode.value[0], yaml.SequenceNode):
                 n = 4 if key == "T" else 3
-                kw[key] = tuple(self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel())
+                kw[key] = self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel()
             else:
-                kw[key] = tuple(self.vector(vnode, f"'pose.{key}'", POSE_FIELDS[key]))
+                kw[key] = self.vector(vnode, f"'pose.{key}'", POSE_FIELDS[key])
         try:
-            return build_target(self.robot_, self.units, **kw)
-        except KincalcError as exc:
-            self.fail(node, f"'pose': {sheet_words(str(exc))}")
+            form = target_form(kw)
+        except BadTarget as exc:
+            self.fail(node, f"'pose': {exc.words(lambda field: field)}")
+        if form == "q":
+            return Target(self.robot_.fk(kw["q"]), orientation=True)
+        values = None if form is None else to_si(form, np.asarray(kw[form], float)[None],
+                                                 self.units)
+        xyz = None if "xyz" not in kw else np.asarray(kw["xyz"], float)[None] / self.units.l
+        targets, defect = targets_from(form, values, xyz)
+        if defect[0] is not None:
+            self.fail(node, f"'pose': {defect_text(form, defect[0], form)}")
+        return Target.of(targets)
 
     # answers -------------------------------------------------------------------
     def answer(self, kind: str, node, item: Item):

@@ -45,6 +45,17 @@ class Target:
     tcv: tuple | None = None
     approach: np.ndarray | None = None
 
+    @staticmethod
+    def of(targets: Targets, i: int = 0) -> "Target":
+        """Target ``i`` of a batch (the inverse of :meth:`targets`)."""
+        T = targets.T[i].copy()
+        if targets.kind == "tcv":
+            return Target(T, orientation=False,
+                          tcv=(targets.approach[i].copy(), float(targets.roll[i])))
+        if targets.kind == "approach":
+            return Target(T, orientation=False, approach=targets.approach[i].copy())
+        return Target(T, orientation=targets.kind == "pose")
+
     def targets(self) -> Targets:
         """This target as a batch of one for the engine."""
         T = np.asarray(self.T, float)[None]
