@@ -165,6 +165,23 @@ def _frames_stacked(chain, flat) -> np.ndarray:
     return out
 
 
+def frame_columns(chain, q) -> list:
+    """The frames of :func:`chain_frames` for ``q (M, n)`` as structure of arrays: per
+    joint ``(cols, p)``, its rotation's three columns and its origin, each ``(3, M)``
+    (world frame; the z column is the joint's axis). For many configurations this is
+    several times faster than the ``(M, n, 4, 4)`` stack, which it never builds."""
+    q = np.asarray(q, dtype=float).reshape(-1, chain.dof)
+    F = chain.fixed
+    qq = q + chain.offset
+    cols, p = _start(F[0], q.shape[0])
+    out = []
+    for i in range(chain.dof):
+        cols, p = _move(chain, i, cols, p, qq[:, i])
+        out.append((cols, p))
+        cols, p = _apply_fixed(cols, p, F[i + 1])
+    return out
+
+
 def chain_frames(chain, q) -> np.ndarray:
     """World poses ``(..., n, 4, 4)`` of the frames just after each joint's motion.
 

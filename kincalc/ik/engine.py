@@ -102,9 +102,10 @@ class Solved:
             lab = np.empty(self.candidate.shape, object)
             idx = np.nonzero(self.candidate)
             if len(idx[0]):
-                F, _ = self._frames(self.candidate)
-                lab[idx] = labels(self.robot, self.spec.solver, F,
-                                  [self.signs[k] for k in idx[1].tolist()], self.free[idx])
+                from ..fk import frame_columns
+                F = frame_columns(self.robot.chain, self.q[self.candidate])
+                lab[idx] = labels(self.robot, self.spec.solver, F, self.signs, idx[1],
+                                  self.free[idx])
             self.memo["labels"] = lab
         return self.memo["labels"]
 
@@ -180,7 +181,6 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = SOLVERS[family.solver](S, targets, br)
     q = br.q(robot.is_revolute)
     c, s = br.cs()
-    q = np.where(robot.is_revolute, wrap(q), q)
     candidate = br.ok.copy()
     method = family.description
     if not family.exact:
@@ -229,7 +229,7 @@ def _check(robot, family, method, targets, q, c, s, candidate, br) -> Solved:
     with np.errstate(invalid="ignore"):            # dead slots may hold anything
         valid = candidate & reach.reshape(N, K)
     q = normalise(robot, np.where(candidate[..., None], q, 0.0))
-    valid &= ~duplicates(robot, q, valid)
+    valid &= ~duplicates(robot, q, valid, (c, s))
     viol = violations(robot, q)
     return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
                   candidate=candidate, valid=valid,
@@ -275,23 +275,25 @@ def normalise(robot, Q) -> np.ndarray:
     that lies within them (the lowest, for limits wider than a turn), else the one
     that misses them least. A new array; prismatic joints are kept."""
     Q = np.array(Q, float)
-    rev = robot.is_revolute
-    if not rev.any() or Q.size == 0:
+    if Q.size == 0:
         return Q
-    lo, hi = robot.limits[rev, 0], robot.limits[rev, 1]
-    x = wrap(Q[..., rev])
     turn = 2 * np.pi
-    inside = (x >= lo - LIMIT_TOL) & (x <= hi + LIMIT_TOL)
-    if inside.all():
-        Q[..., rev] = x
-        return Q
-    with np.errstate(invalid="ignore"):          # infinite limits: x is inside
-        up = x + turn * np.ceil((lo - LIMIT_TOL - x) / turn)     # first turn above lo
-    up = np.where(np.isfinite(up), up, x)
-    below = up - turn
-    pick = np.where(up <= hi + LIMIT_TOL, up,
-                    np.where(_miss(below, lo, hi) <= _miss(up, lo, hi), below, up))
-    Q[..., rev] = np.where(inside, x, pick)
+    for j in np.flatnonzero(robot.is_revolute).tolist():
+        lo, hi = robot.limits[j].tolist()
+        x = wrap(Q[..., j])
+        Q[..., j] = x
+        if lo - LIMIT_TOL <= -np.pi and hi + LIMIT_TOL >= np.pi:     # every x is inside
+            continue
+        inside = (x >= lo - LIMIT_TOL) & (x <= hi + LIMIT_TOL)
+        if inside.all():
+            continue
+        with np.errstate(invalid="ignore"):      # an infinite limit: x is inside
+            up = x + turn * np.ceil((lo - LIMIT_TOL - x) / turn)     # first turn above lo
+        up = np.where(np.isfinite(up), up, x)
+        below = up - turn
+        pick = np.where(up <= hi + LIMIT_TOL, up,
+                        np.where(_miss(below, lo, hi) <= _miss(up, lo, hi), below, up))
+        Q[..., j] = np.where(inside, x, pick)
     return Q
 
 
@@ -317,20 +319,43 @@ def violations(robot, q) -> np.ndarray:
     return below + above
 
 
-def duplicates(robot, q, valid) -> np.ndarray:
+def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     """``(N, K)``: valid slots whose every joint is within ``DUPLICATE`` (wrapped for
-    revolute joints) of an earlier valid slot's."""
+    revolute joints) of an earlier valid slot that is kept; ``cs``: the joints' cosines
+    and sines ``(N, K, n)`` when known.
+
+    Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
+    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are
+    1-Lipschitz, so two slots within ``DUPLICATE`` in every joint have keys within
+    ``sum_k |w_k| DUPLICATE``, and only the pairs that pass are compared joint by joint
+    (distinct solutions almost never do)."""
     N, K, n = q.shape
     drop = np.zeros((N, K), bool)
     if K < 2 or not valid.any():
         return drop
-    earlier = np.tri(K, k=-1, dtype=bool)                          # [j, i]: i < j
-    pose, j, i = np.nonzero(valid[:, :, None] & valid[:, None, :] & earlier)
-    d = q[pose, j] - q[pose, i]                                    # (pairs, n)
     rev = robot.is_revolute
+    c, s = (np.cos(q), np.sin(q)) if cs is None else cs
+    w = 1.0 + 0.37 * np.arange(n)                              # generic, fixed weights
+    key = (c.reshape(-1, n) @ np.where(rev, w, 0.0)
+           + s.reshape(-1, n) @ np.where(rev, 0.61 * w, 0.0)
+           + q.reshape(-1, n) @ np.where(rev, 0.0, w)).reshape(N, K)
+    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    # poses with two valid keys within reach: neighbours once each pose's keys are sorted
+    with np.errstate(invalid="ignore"):
+        ordered = np.sort(np.where(valid, key, np.nan), axis=1)      # NaN (invalid) last
+        suspect = (np.diff(ordered, axis=1) <= reach).any(1)
+    if not suspect.any():
+        return drop
+    poses = np.flatnonzero(suspect)
+    kv, ok = key[poses], valid[poses]
+    near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
+        & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
+    pose, j, i = np.nonzero(near)
+    pose = poses[pose]
+    d = q[pose, j] - q[pose, i]                                    # (pairs, n)
     d[:, rev] = wrap(d[:, rev])
-    near = (np.abs(d) < DUPLICATE).all(-1)
-    pose, j, i = pose[near], j[near], i[near]
+    same = (np.abs(d) < DUPLICATE).all(-1)
+    pose, j, i = pose[same], j[same], i[same]
     for slot in np.unique(j).tolist():          # ascending: a slot's verdict before later ones
         at = j == slot
         kept = ~drop[pose[at], i[at]]

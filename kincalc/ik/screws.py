@@ -43,23 +43,21 @@ class Screws:
 
     def turn(self, i: int, c, s, v) -> np.ndarray:
         """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
-        and sine ``c, s (...)``: ``c v + s (k x v) + (1 - c) (k . v) k`` (Rodrigues)."""
-        k = self.axis[i]
+        and sine ``c, s (...)``: ``v + s (k x v) + (1 - c) k x (k x v)`` (Rodrigues),
+        both cross products in one matrix product."""
         v = np.asarray(v, float)
+        A = (v.reshape(-1, 3) @ self.crosses(i)).reshape(v.shape[:-1] + (6,))
         c, s = np.asarray(c)[..., None], np.asarray(s)[..., None]
-        flat = v.reshape(-1, 3)
-        kxv = (flat @ self.skew_t(i)).reshape(v.shape)      # one product, not six
-        along = (flat @ k).reshape(v.shape[:-1] + (1,)) * k
-        return c * (v - along) + s * kxv + along
+        return v + s * A[..., :3] + (1.0 - c) * A[..., 3:]
 
-    def skew_t(self, i: int) -> np.ndarray:
-        """``[k]x^T (3, 3)``, contiguous, of joint i's axis (rows ``v @ [k]x^T = k x v``),
-        once per joint."""
+    def crosses(self, i: int) -> np.ndarray:
+        """``[[k]x^T, ([k]x^2)^T] (3, 6)``, contiguous, of joint i's axis ``k``: rows
+        ``v @ crosses = (k x v, k x (k x v))``; computed once per joint."""
         def make():
             k = self.axis[i]
-            return np.ascontiguousarray(
-                np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]]).T)
-        return self.constant(("skew_t", i), make)
+            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+            return np.ascontiguousarray(np.concatenate([K.T, (K @ K).T], axis=1))
+        return self.constant(("crosses", i), make)
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle
