@@ -193,23 +193,27 @@ class Branches:
                 {j: v[:, parent] for j, v in self.cos.items()},
                 {j: v[:, parent] for j, v in self.sin.items()})
 
-    def q(self, revolute) -> np.ndarray:
+    def q(self) -> np.ndarray:
         """``(N, K, n)`` joint values (0 where a joint was never set)."""
         out = np.zeros((self.N, self.K, self.n))
         for j, v in self.value.items():
             out[:, :, j] = v
         return out
 
-    def cs(self) -> tuple:
-        """``(c, s)``, each ``(N, K, n)``: the cosine and sine of every revolute joint's
-        value (1 and 0 for prismatic joints and joints never set)."""
-        c = np.ones((self.N, self.K, self.n))
-        s = np.zeros((self.N, self.K, self.n))
+    def joint_major(self) -> tuple:
+        """``(c, s, x)``, each ``(n, N K)`` contiguous, joint by joint: the cosine and
+        sine of every revolute joint (1 and 0 for prismatic joints and joints never
+        set) and every joint's value (0 where never set), for the FK check, which walks
+        the chain joint-major."""
+        M = self.N * self.K
+        c, s, x = np.ones((self.n, M)), np.zeros((self.n, M)), np.zeros((self.n, M))
         for j, v in self.cos.items():
-            c[:, :, j] = v
+            c[j] = v.ravel()
         for j, v in self.sin.items():
-            s[:, :, j] = v
-        return c, s
+            s[j] = v.ravel()
+        for j, v in self.value.items():
+            x[j] = v.ravel()
+        return c, s, x
 
     def free_mask(self) -> np.ndarray:
         """``(N, K, n)`` bool: joints left free in each slot."""

@@ -179,15 +179,17 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = br.reversed_chain()
     else:
         br = SOLVERS[family.solver](S, targets, br)
-    q = br.q(robot.is_revolute)
-    c, s = br.cs()
     candidate = br.ok.copy()
     method = family.description
-    if not family.exact:
+    if family.exact:
+        c, s, x = br.joint_major()
+    else:
         from .nearly import on_true_robot
-        q, candidate, br, method = on_true_robot(robot, family, targets, q, candidate, br)
-        c, s = np.cos(q), np.sin(q)
-    return _check(robot, family, method, targets, q, c, s, candidate, br)
+        q, candidate, br, method = on_true_robot(robot, family, targets, br.q(), candidate,
+                                                 br)
+        x = np.ascontiguousarray(q.reshape(-1, n).T)
+        c, s = np.cos(x), np.sin(x)
+    return _check(robot, family, method, targets, (c, s, x), candidate, br)
 
 
 #: the pseudo-family of tool-configuration-vector targets (Schilling 1990): the last
@@ -209,16 +211,15 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
         raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five)
 
 
-def _check(robot, family, method, targets, q, c, s, candidate, br) -> Solved:
-    """Steps 1-3 of the module docstring for ``q (N, K, n)`` (and its joints' cosines
-    and sines ``c, s``)."""
+def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
+    """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
+    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`)."""
     from ..fk import tool_from_cs
-    N, K, n = q.shape
-    M = N * K
+    c, s, x = joints
+    N, K = candidate.shape
+    n = robot.dof
     L = max(robot.characteristic_length, 1e-12)
-    # FK of every slot, joint-major and structure of arrays (contiguous rows)
-    major = lambda a: np.ascontiguousarray(a.reshape(M, n).T)  # noqa: E731
-    cols, p = tool_from_cs(robot.chain, major(c), major(s), major(q))
+    cols, p = tool_from_cs(robot.chain, c, s, x)
     T = targets.T
     pe = _distance(p, np.repeat(T[:, :3, 3], K, axis=0).T)
     oe = _orientation_error(targets, cols, K)
@@ -228,7 +229,7 @@ def _check(robot, family, method, targets, q, c, s, candidate, br) -> Solved:
         reach &= oe <= o_tol
     with np.errstate(invalid="ignore"):            # dead slots may hold anything
         valid = candidate & reach.reshape(N, K)
-    q = normalise(robot, np.where(candidate[..., None], q, 0.0))
+    q = normalise(robot, np.where(candidate[..., None], x.T.reshape(N, K, n), 0.0))
     valid &= ~duplicates(robot, q, valid, (c, s))
     viol = violations(robot, q)
     return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
@@ -322,7 +323,7 @@ def violations(robot, q) -> np.ndarray:
 def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     """``(N, K)``: valid slots whose every joint is within ``DUPLICATE`` (wrapped for
     revolute joints) of an earlier valid slot that is kept; ``cs``: the joints' cosines
-    and sines ``(N, K, n)`` when known.
+    and sines, joint-major ``(n, N K)``, when known.
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
     ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are
@@ -334,11 +335,11 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     if K < 2 or not valid.any():
         return drop
     rev = robot.is_revolute
-    c, s = (np.cos(q), np.sin(q)) if cs is None else cs
+    x = q.reshape(-1, n).T
+    c, s = (np.cos(x), np.sin(x)) if cs is None else cs
     w = 1.0 + 0.37 * np.arange(n)                              # generic, fixed weights
-    key = (c.reshape(-1, n) @ np.where(rev, w, 0.0)
-           + s.reshape(-1, n) @ np.where(rev, 0.61 * w, 0.0)
-           + q.reshape(-1, n) @ np.where(rev, 0.0, w)).reshape(N, K)
+    key = (np.where(rev, w, 0.0) @ c + np.where(rev, 0.61 * w, 0.0) @ s
+           + np.where(rev, 0.0, w) @ x).reshape(N, K)
     reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
     # poses with two valid keys within reach: neighbours once each pose's keys are sorted
     with np.errstate(invalid="ignore"):
