@@ -28,6 +28,21 @@ class UsageError(KincalcError):
     """A command line or API call that does not make sense (exit 2)."""
 
 
+class BadValue(UsageError):
+    """A request's value outside what kincalc takes (exit 2), as data: ``field`` the
+    parameter as the Python API names it (``samples``, ``seed``), ``need`` what it must
+    be (``"from 1000 to 5000000 (kincalc's limit)"``), ``value`` what was given.
+    :meth:`words` names the field as the caller names it (``--samples`` on the command
+    line)."""
+
+    def __init__(self, field: str, need: str, value):
+        self.field, self.need, self.value = field, need, value
+        super().__init__(self.words(lambda f: f))
+
+    def words(self, name) -> str:
+        return f"{name(self.field)} must be {self.need}, not {self.value!r}"
+
+
 class RobotNotFoundError(KincalcError):
     """Neither a bundled robot name nor a readable file."""
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import UsageError
+from .errors import BadValue, UsageError
 from .ik.nearest import descend, motion_frame
 from .limits import MAX_ORIENTATIONS, MAX_SAMPLES
 
@@ -441,7 +441,7 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
 
     Raises
     ------
-    UsageError
+    BadValue
         ``samples`` outside 1000 ... :data:`~kincalc.limits.MAX_SAMPLES` (every sample's
         joints and tool point are kept: the grid, the envelope and the starts of the
         boundary tests index them), a ``seed`` that is not a non-negative integer,
@@ -453,15 +453,14 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     from .results import Units
     units = units or Units(length=robot.length_unit)
     if not 1000 <= samples <= MAX_SAMPLES:
-        raise UsageError(f"--samples must be from 1000 to {MAX_SAMPLES} (kincalc's limit), "
-                         f"not {samples}")
+        raise BadValue("samples", f"from 1000 to {MAX_SAMPLES} (kincalc's limit)", samples)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UsageError(f"--seed must be a non-negative integer, not {seed!r}")
+        raise BadValue("seed", "a non-negative integer", seed)
     if orientations is not None and not 2 <= orientations <= MAX_ORIENTATIONS:
-        raise UsageError(f"--orientations must be from 2 to {MAX_ORIENTATIONS} (kincalc's "
-                         f"limit), not {orientations}")
+        raise BadValue("orientations", f"from 2 to {MAX_ORIENTATIONS} (kincalc's limit)",
+                       orientations)
     if not 0.0 < dexterity <= 1.0:
-        raise UsageError(f"--dexterity must be a fraction in (0, 1], not {dexterity}")
+        raise BadValue("dexterity", "a fraction in (0, 1]", dexterity)
     progress = progress or (lambda *a: None)
     rng = np.random.default_rng(seed)
     lo, hi = joint_ranges(robot)

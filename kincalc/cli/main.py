@@ -255,8 +255,12 @@ TARGET_WORDS = {"approach": "--approach", "tcv": "--tcv", "prefix": "{field}: ",
 
 def _words(exc) -> str:
     """The message of a core error, in the command line's words where it has fields."""
-    from ..errors import TargetMismatch
-    return exc.words(TARGET_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
+    from ..errors import BadValue, TargetMismatch
+    if isinstance(exc, TargetMismatch):
+        return exc.words(TARGET_WORDS)
+    if isinstance(exc, BadValue):
+        return exc.words(lambda field: "--" + field.replace("_", "-"))
+    return str(exc)
 
 
 def _quiet_numeric_warnings(debug: bool) -> None:

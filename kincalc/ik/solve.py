@@ -182,7 +182,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         near = np.asarray(near, float).reshape(robot.dof)
     if target.tcv is None and (family is None or numeric):
         return _solve_numerical(robot, target, near, units,
-                                why if family is None else "asked for with --numeric")
+                                why if family is None else "asked for")
     # the steps record their intermediate quantities (explain) and their dead ends
     # (all_branches) only when asked: a batch of poses records nothing
     sv = solve_targets(robot, target.targets(), explain=explain or all_branches)
