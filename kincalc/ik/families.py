@@ -32,7 +32,6 @@ that has it (:func:`idealised`) and refined (:mod:`kincalc.ik.nearly`).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 import numpy as np
 
@@ -41,6 +40,7 @@ from ..spatial import cross, wrap
 from ..structure import common_point
 from ..tolerances import (EXACT_ANGLE_TOL, EXACT_POINT_TOL, STRUCTURE_ANGLE_TOL,
                           STRUCTURE_POINT_TOL)
+from .cache import per_robot
 from .screws import Screws
 
 
@@ -98,9 +98,11 @@ def _parallel(a, b, tol=1e-9) -> bool:
     return float(np.linalg.norm(cross(a, b))) < tol
 
 
-@lru_cache(maxsize=64)
+@per_robot
 def plan(robot) -> tuple[Screws, Family | None, str]:
     """``(screws, family, why)`` of ``robot``: geometry facts, computed once per robot.
+    The solvers keep their robot-level constants on these screws
+    (:meth:`~kincalc.ik.screws.Screws.constant`), so they too are computed once per robot.
 
     The screws are those the family's solver runs on: the robot's own, or for a robot
     only nearly of its family those of the nearest robot that is (:func:`idealised`)."""

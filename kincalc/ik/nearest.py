@@ -10,9 +10,9 @@ Below the IK engine, so that its "out of reach" reasons and :mod:`kincalc.reach`
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
+
+from .cache import per_robot
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
@@ -159,7 +159,7 @@ def nearest_position(robot, p, *, limits=None, seed: int = 0):
     return q.copy(), point.copy(), dist
 
 
-@functools.lru_cache(maxsize=32)
+@per_robot
 def _nearest(robot, key):
     p, limits, seed = key
     p = np.array(p)
