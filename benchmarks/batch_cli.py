@@ -70,7 +70,6 @@ def main():
         lines = fh.read().splitlines()
     from kincalc.cli.common import display_units
     units = display_units(r, True, None)
-    from kincalc.ik.batch import branch_labels
     stages = dict.fromkeys(["read JSON records", "build poses (vectorised)", "ik_batch",
                             "limit flags + branch labels", "write JSON lines"], 0.0)
 
@@ -87,9 +86,9 @@ def main():
         full, Tq, _, _ = timed("build poses (vectorised)", batch._poses, r, units, parsed)
         B = timed("ik_batch", r.ik_batch, Tq)
         q = B.q[B.valid]
-        owner, slot = np.nonzero(B.valid)
-        within, q = timed("limit flags + branch labels", batch._within_limits, r, q)
-        labels = timed("limit flags + branch labels", branch_labels, r, B.family, q, slot, owner)
+        owner, _ = np.nonzero(B.valid)
+        within = timed("limit flags + branch labels", lambda: B.within[B.valid])
+        labels = timed("limit flags + branch labels", lambda: B.labels[B.valid].tolist())
         timed("write JSON lines", batch._solutions_json, np.round(q, 12), labels, within,
               owner, len(full))
     # the whole of the same work (chunks parsed, solved and written as the CLI does)

@@ -1,6 +1,6 @@
 """Single-pose IK latency (``robot.ik(T)``) and the batched general-6R solver, same run.
 
-    python benchmarks/ik_single.py [--poses 200] [--batch 1000]
+    python benchmarks/ik_single.py [--poses 200] [--batch 1000 10000]
                                    [--robots puma560 ur5 kuka_kr16 manocha_canny_6r bk_offset_wrist]
 
 For each robot (plus one seeded random general 6R built here) prints the median
@@ -9,8 +9,10 @@ within the limits by :func:`kincalc.ik.selftest.sample_configurations`), and its
 ratio to a reference measured in the same run: the median time of one
 ``numpy.linalg.eig`` of a random 24x24 matrix (the eigenproblem at the heart of
 the general-6R solver; it makes figures from different machines comparable).
-For the general 6R robots it also prints the time per pose of
-``solve_general_6r_batch`` on ``--batch`` poses (median of 3 runs).
+For the general 6R robots it also prints the median time of one call of
+``solve_general_6r_batch`` on a batch of one pose (``g6r 1``, over the same poses),
+and its time per pose on each ``--batch`` size (median of 3 runs), each with its ratio
+to the reference.
 
 Times are wall-clock (``time.perf_counter``) unless ``--cpu`` asks for the
 thread's CPU time (``time.thread_time``), steadier on a shared machine.
@@ -61,7 +63,7 @@ def median_time(fn, args_list, clock) -> float:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--poses", type=int, default=200)
-    ap.add_argument("--batch", type=int, default=1000)
+    ap.add_argument("--batch", type=int, nargs="+", default=[1000, 10000])
     ap.add_argument("--robots", nargs="+", default=DEFAULT_ROBOTS)
     ap.add_argument("--cpu", action="store_true", help="thread CPU time instead of wall time")
     args = ap.parse_args()
@@ -74,7 +76,8 @@ def main():
     print(f"reference: numpy.linalg.eig of a 24x24 matrix, median {ref * 1e3:.3f} ms "
           f"({'cpu' if args.cpu else 'wall'} time)")
     print(f"{'robot':18s} {'family':20s} {'ik ms':>8s} {'x eig':>6s} {'sols':>5s} "
-          f"{'batch ms/pose':>14s} {'x eig':>6s}")
+          f"{'g6r 1 ms':>9s} {'x eig':>6s}"
+          + "".join(f" {'N=' + str(n) + ' ms/pose':>16s} {'x eig':>6s}" for n in args.batch))
 
     robots = [kincalc.load_robot(n) for n in args.robots] + [random_general_6r()]
     for r in robots:
@@ -86,15 +89,18 @@ def main():
         sols = np.mean([len(r.ik(t).solutions) for t in T[:50]])
         line = f"{r.name:18s} {fam:20s} {t_ik * 1e3:8.3f} {t_ik / ref:6.1f} {sols:5.1f}"
         if fam == "general-6r" and solve_general_6r_batch is not None:
-            Tb = r.fk(sample_configurations(r, args.batch, np.random.default_rng(2)))
-            solve_general_6r_batch(r, Tb[:10])
-            tb = []
-            for _ in range(3):
-                t0 = clock()
-                solve_general_6r_batch(r, Tb)
-                tb.append((clock() - t0) / len(Tb))
-            b = statistics.median(tb)
-            line += f" {b * 1e3:14.3f} {b / ref:6.1f}"
+            t1 = median_time(lambda t: solve_general_6r_batch(r, t[None]), T, clock)
+            line += f" {t1 * 1e3:9.3f} {t1 / ref:6.1f}"
+            for n in args.batch:
+                Tb = r.fk(sample_configurations(r, n, np.random.default_rng(2)))
+                solve_general_6r_batch(r, Tb[:10])
+                tb = []
+                for _ in range(3):
+                    t0 = clock()
+                    solve_general_6r_batch(r, Tb)
+                    tb.append((clock() - t0) / len(Tb))
+                b = statistics.median(tb)
+                line += f" {b * 1e3:16.3f} {b / ref:6.2f}"
         print(line)
         sys.stdout.flush()
 

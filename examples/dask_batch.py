@@ -179,7 +179,7 @@ def run_job(robot, poses: int, chunk: int, seed: int = 0) -> dict:
 
 def workers_with_kincalc(client) -> dict:
     """``{worker address: kincalc version}``; raises on a worker without kincalc."""
-    return client.run(lambda: importlib.import_module("kincalc.ik.batch") and kincalc.__version__)
+    return client.run(lambda: importlib.import_module("kincalc.ik.engine") and kincalc.__version__)
 
 
 def main(argv=None) -> int:

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError, KincalcError, RobotFileError
+from .errors import InputError, KincalcError, RobotFileError, TargetMismatch
 from .limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
 from .results import _clean
 from .spatial import TCV_MAX_ROLL
@@ -486,28 +486,38 @@ class _SheetReader(_Reader):
         return M.astype(float)
 
     def pose_target(self, node):
-        """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (through ik's build_target)."""
+        """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
+        :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
         import yaml
 
-        from .cli.ik import build_target
+        from .ik import Target
+        from .ik.target import BadTarget, defect_text, target_form, targets_from, to_si
         f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
         if not f:
             self.fail(node, "'pose' is empty: give xyz with an orientation, T, tcv or q")
         kw = {}
         for key, vnode in f.items():
             if key == "q":
-                qs = self.joints(vnode, "'pose.q'")
-                kw["q"] = list(qs * np.where(self.robot_.is_revolute, self.units.a, self.units.l))
+                kw["q"] = self.joints(vnode, "'pose.q'")
             elif key in ("T", "matrix") and isinstance(vnode, yaml.SequenceNode) and vnode.value \
                     and isinstance(vnode.value[0], yaml.SequenceNode):
                 n = 4 if key == "T" else 3
-                kw[key] = tuple(self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel())
+                kw[key] = self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel()
             else:
-                kw[key] = tuple(self.vector(vnode, f"'pose.{key}'", POSE_FIELDS[key]))
+                kw[key] = self.vector(vnode, f"'pose.{key}'", POSE_FIELDS[key])
         try:
-            return build_target(self.robot_, self.units, **kw)
-        except KincalcError as exc:
-            self.fail(node, f"'pose': {sheet_words(str(exc))}")
+            form = target_form(kw)
+        except BadTarget as exc:
+            self.fail(node, f"'pose': {exc.words(lambda field: field)}")
+        if form == "q":
+            return Target(self.robot_.fk(kw["q"]), orientation=True)
+        values = None if form is None else to_si(form, np.asarray(kw[form], float)[None],
+                                                 self.units)
+        xyz = None if "xyz" not in kw else np.asarray(kw["xyz"], float)[None] / self.units.l
+        targets, defect = targets_from(form, values, xyz)
+        if defect[0] is not None:
+            self.fail(node, f"'pose': {defect_text(form, defect[0], form)}")
+        return Target.of(targets)
 
     # answers -------------------------------------------------------------------
     def answer(self, kind: str, node, item: Item):
@@ -715,6 +725,13 @@ class _SheetReader(_Reader):
 _OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
 
 
+#: how a sheet names the parts of an IK target (its ``pose`` keys), for the core's
+#: messages about them (:class:`kincalc.errors.TargetMismatch`)
+SHEET_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
+               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
+                              "or q)"}
+
+
 def sheet_words(message: str) -> str:
     """A message about command-line pose options, in the words of a sheet's ``pose`` keys
     (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
@@ -747,8 +764,9 @@ def grade(sheet: Sheet) -> Report:
             except SheetError:
                 raise
             except KincalcError as exc:   # e.g. a pose this robot cannot be asked for
-                raise SheetError(sheet.path, item.line,
-                                 f"item {quote(item.id)}: {sheet_words(str(exc))}") from None
+                text = exc.words(SHEET_WORDS) if isinstance(exc, TargetMismatch) \
+                    else sheet_words(str(exc))
+                raise SheetError(sheet.path, item.line, f"item {quote(item.id)}: {text}") from None
         r.line = item.line
         results.append(r)
     return Report(sheet=sheet, items=results)
@@ -770,7 +788,7 @@ def _qdisp(robot, q, units) -> np.ndarray:
 
 def _gaps(robot, qa, qb) -> np.ndarray:
     """Per-joint distance ``(n,)`` between joint vectors: angles modulo 2 pi (rad), m."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     d = np.asarray(qa, float) - np.asarray(qb, float)
     return np.where(robot.is_revolute, np.abs(wrap(d)), np.abs(d))
 
@@ -1113,7 +1131,7 @@ def _grade_reach(sheet: Sheet, item: Item) -> ItemResult:
 
 def _target_residual(robot, target, q) -> tuple[float, float | None]:
     """(position error (m), orientation error (rad) or None) of joints ``q`` for ``target``."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     from .spatial import rotation_error
     T = robot.fk(q)
     pe = float(np.linalg.norm(T[:3, 3] - target.T[:3, 3]))
@@ -1130,7 +1148,7 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 
 def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
-    from .ik.solve import _violations, solve
+    from .ik.solve import solve, violation_list
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     res = solve(robot, item.target, all_branches=True, units=units)
@@ -1171,12 +1189,12 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         elif hit is not None:
             viol = ", ".join(f"{_joint(robot, j)} beyond its {side} limit by "
                              f"{_fmt(amount * (units.a if rev[j] else units.l))}"
-                             for j, amount, side in (_violations(robot, q) or sols[hit].violations))
+                             for j, amount, side in (violation_list(robot, q) or sols[hit].violations))
             entry.update(status="wrong", note=f"reaches the target but is outside the joint "
                          f"limits ({viol}); the item counts only solutions within the limits",
                          **sol_dict(hit))
         elif reaches and not exhaustive:
-            if item.limits and _violations(robot, q):
+            if item.limits and violation_list(robot, q):
                 entry.update(status="wrong", note="reaches the target but is outside the "
                              "joint limits")
             else:
@@ -1374,7 +1392,7 @@ def _reference_table(robot, conv: str, fold_tool: bool):
 def _row_hint(robot, cand, row, units, tol) -> str | None:
     """Where the answer's table first differs from the robot's own table, if at or
     before ``row`` (DH tables are not unique, so this is a hint, not the verdict)."""
-    from .ik.screws import wrap
+    from .spatial import wrap
     ref = _reference_table(robot, cand.convention, np.allclose(cand.tool, np.eye(4)))
     if ref is None:
         return None

@@ -28,6 +28,21 @@ class UsageError(KincalcError):
     """A command line or API call that does not make sense (exit 2)."""
 
 
+class BadValue(UsageError):
+    """A request's value outside what kincalc takes (exit 2), as data: ``field`` the
+    parameter as the Python API names it (``samples``, ``seed``), ``need`` what it must
+    be (``"from 1000 to 5000000 (kincalc's limit)"``), ``value`` what was given.
+    :meth:`words` names the field as the caller names it (``--samples`` on the command
+    line)."""
+
+    def __init__(self, field: str, need: str, value):
+        self.field, self.need, self.value = field, need, value
+        super().__init__(self.words(lambda f: f))
+
+    def words(self, name) -> str:
+        return f"{name(self.field)} must be {self.need}, not {self.value!r}"
+
+
 class RobotNotFoundError(KincalcError):
     """Neither a bundled robot name nor a readable file."""
 
@@ -107,3 +122,44 @@ def require_extra(command: str, module: str, extra: str):
         return importlib.import_module(module)
     except ImportError:
         raise MissingExtra(command, module, extra) from None
+
+
+class TargetMismatch(UsageError):
+    """An IK target of a kind the robot cannot take (exit 2), as data; each edge words it
+    in its own vocabulary (:meth:`words`: command-line options, sheet keys, record
+    fields).
+
+    ``need``: ``"full orientation"`` (an approach alone for a robot that sets the whole
+    orientation), ``"orientation"`` (a position alone for a robot that controls its
+    orientation; ``approach_ok``: an approach direction would do), ``"not approach"`` (a
+    robot solved numerically, ``why``, given an approach direction), ``"tcv robot"`` (a
+    tool configuration vector for a robot without 3 or 4 joints and a revolute last one).
+    """
+
+    #: the core's own words: what a target gives, by field
+    VOCABULARY = {"approach": "an approach direction", "tcv": "a tool configuration vector",
+                  "orientation": "(an orientation in any form)", "prefix": ""}
+
+    def __init__(self, robot: str, need: str, controls: str = "", approach_ok: bool = False,
+                 why: str = ""):
+        self.robot, self.need, self.controls = robot, need, controls
+        self.approach_ok, self.why = approach_ok, why
+        super().__init__(self.words(self.VOCABULARY))
+
+    def words(self, w: dict) -> str:
+        """The message with the fields named as ``w`` names them: keys ``approach``,
+        ``tcv``, ``orientation`` (the ways to give one, in parentheses) and ``prefix``
+        (``"{approach}: "`` on the command line)."""
+        a = w["approach"]
+        if self.need == "full orientation":
+            return (f"{w['prefix'].format(field=a)}{self.robot} controls {self.controls}; "
+                    f"give a full orientation {w['orientation']}")
+        if self.need == "orientation":
+            return (f"{self.robot} controls {self.controls}: give an orientation too "
+                    f"{w['orientation']}" + (f" or an approach direction ({a})"
+                                             if self.approach_ok else ""))
+        if self.need == "not approach":
+            return (f"{w['prefix'].format(field=a)}{self.robot} is solved numerically "
+                    f"({self.why}), which needs a full orientation or the position alone")
+        return (f"{self.robot}: {w['tcv']} targets need a robot of 3 or 4 joints whose last "
+                "joint is revolute (the tool roll); give the pose another way")

@@ -227,11 +227,12 @@ class Robot:
     def ik_batch(self, T):
         """Every IK solution for each pose of ``T (N, 4, 4)``, vectorised over poses.
 
-        Returns :class:`~kincalc.ik.batch.BatchIK` with ``q (N, K, n)`` and the
-        mask ``valid (N, K)``; for the closed-form families (see
-        :mod:`kincalc.ik.batch`), otherwise raises ``UnsupportedRobot``.
+        Returns :class:`~kincalc.ik.engine.Solved`: ``q (N, K, n)``, the mask
+        ``valid (N, K)``, labels, limit and singularity flags of every solution; for
+        the closed-form families (see :mod:`kincalc.ik.families`), otherwise raises
+        :class:`~kincalc.ik.engine.UnsupportedRobot`. ``robot.ik`` is this for one pose.
         """
-        from .ik.batch import solve_batch
+        from .ik.engine import solve_batch
         return solve_batch(self, T)
 
     def link_transforms(self, q) -> np.ndarray:

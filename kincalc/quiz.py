@@ -429,7 +429,7 @@ def singular_configuration(robot, shown, rng, units):
     x = _newton_singular(robot, base)
     if x is None:
         return None
-    from .ik.screws import wrap
+    from .spatial import wrap
     x = np.where(robot.is_revolute, wrap(x), x)
     lo, hi = np.array([_joint_range(robot, i, units) for i in range(robot.dof)]).T
     scale = np.where(robot.is_revolute, units.a, units.l)
@@ -581,7 +581,7 @@ def _ik_ok(robot, result) -> bool:
         gap = np.minimum(np.abs(s.q - lo), np.abs(s.q - hi)) / scale
         if np.any(gap < IK_CLEARANCE):
             return False
-    from .ik.screws import wrap
+    from .spatial import wrap
     for a in range(len(inside)):
         for b in range(a):
             d = inside[a].q - inside[b].q

@@ -25,7 +25,7 @@ verdict                     meaning
 ``distance`` (m) is the distance from the target position to the nearest
 position the tool reaches within the limits: zero when the position is
 reachable. It is found by damped least squares
-(:func:`kincalc.workspace.descend`) from the sampled configurations nearest
+(:func:`kincalc.ik.nearest.descend`) from the sampled configurations nearest
 the target, so it is a local minimum: exact for the convex-ish sets of arms'
 workspaces, an upper bound in general. Whether the limits are to blame is
 decided by the same search with the limits removed.
@@ -33,20 +33,14 @@ decided by the same search with the limits removed.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
 
-from .ik.solve import _count_text, _len
+from .ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
+                         where_outside)
+from .ik.solve import count_text, length_suffix
 
-#: configurations sampled for the starts of the nearest-point search
-SEARCH_SAMPLES = 4096
-#: starts taken from the samples nearest the target
-SEARCH_STARTS = 8
-#: a position counts as reached when it is within this of the target (relative
-#: to the robot's characteristic length)
-POSITION_TOL = 1e-9
 
 
 @dataclass
@@ -92,51 +86,6 @@ class ReachResult:
         return out
 
 
-def _samples(robot, count: int, seed: int, limits=None) -> np.ndarray:
-    """``(count, n)`` seeded joints uniform within ``limits`` (default the robot's);
-    a bound that is infinite is replaced by a turn (revolute) or the robot's size
-    (prismatic) beyond the other bound or zero. For search starts and shape tests."""
-    lo, hi = (robot.limits if limits is None else np.asarray(limits, float)).T
-    span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
-    lo = np.where(np.isfinite(lo), lo, np.minimum(-span, hi - 2 * span))
-    hi = np.where(np.isfinite(hi), hi, np.maximum(span, lo + 2 * span))
-    return np.random.default_rng(seed).uniform(lo, hi, (count, robot.dof))
-
-
-def unlimited(robot) -> np.ndarray:
-    """``(n, 2)`` limits that hold no joint back (for :func:`nearest_position`)."""
-    return np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
-
-
-def nearest_position(robot, p, *, limits=None, seed: int = 0):
-    """The configuration whose tool point is nearest ``p (3,)`` (m, world), within
-    ``limits (n, 2)`` (default the robot's). Returns ``(q (n,), tool point (3,),
-    distance)``.
-
-    The last few answers are remembered: ``reach`` asks again for what the IK
-    reason already measured."""
-    key = (tuple(np.asarray(p, float).reshape(3)),
-           None if limits is None else tuple(np.asarray(limits, float).ravel()), seed)
-    q, point, dist = _nearest(robot, key)
-    return q.copy(), point.copy(), dist
-
-
-@functools.lru_cache(maxsize=32)
-def _nearest(robot, key):
-    from .workspace import descend
-    p, limits, seed = key
-    p = np.array(p)
-    if limits is not None:
-        limits = np.array(limits).reshape(robot.dof, 2)
-    Q = _samples(robot, SEARCH_SAMPLES, seed, limits)
-    P = robot.fk(Q)[:, :3, 3]
-    best = np.argsort(np.linalg.norm(P - p, axis=1))[:SEARCH_STARTS]
-    X, pe, _ = descend(robot, Q[best], np.broadcast_to(p, (len(best), 3)), iterations=400,
-                       limits=limits)
-    k = int(np.argmin(pe))
-    return X[k], robot.fk(X[k])[:3, 3], float(pe[k])
-
-
 def reach(robot, target, *, units=None) -> ReachResult:
     """Can ``robot`` reach ``target`` (a :class:`~kincalc.ik.Target`)? See the module
     docstring for the verdicts."""
@@ -160,9 +109,9 @@ def reach(robot, target, *, units=None) -> ReachResult:
             why = inside[0].singularity or "the Jacobian loses rank"
             every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
-                               reason=f"{_count_text(sols)}, {every} a singular "
+                               reason=f"{count_text(sols)}, {every} a singular "
                                       f"configuration: {why}; reachable, but not robustly")
-        return ReachResult(verdict="reachable", distance=0.0, reason=_count_text(sols),
+        return ReachResult(verdict="reachable", distance=0.0, reason=count_text(sols),
                            **common)
 
     p = np.asarray(target.T, float)[:3, 3]
@@ -209,11 +158,12 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     limits: blocked by the limits, or out of reach of the geometry, and where."""
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
-    Lu = _len(units)
+    Lu = length_suffix(units)
     fmt = lambda x: f"{x * units.l:.6g}{Lu}"  # noqa: E731 - a local formatter
     if dist_free <= POSITION_TOL * L:
-        from .ik.solve import _normalise, _violations
-        viol = _violations(robot, _normalise(robot, q_free))
+        from .ik.engine import normalise
+        from .ik.solve import violation_list
+        viol = violation_list(robot, normalise(robot, q_free))
         blocked = [_violation_dict(robot, v, units) for v in viol]
         what = ", ".join(_violation_text(robot, v, units) for v in viol)
         return ReachResult(
@@ -223,49 +173,11 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
                     f"beyond their limits (for example {what}); within the limits the "
                     f"nearest reachable point is {fmt(dist)} away"), **near, **common)
 
-    verdict, reason = _where_outside(robot, p, p_free, dist_free, fmt)
+    verdict, reason = where_outside(robot, p, p_free, dist_free, fmt)
     if dist > dist_free * (1 + 1e-6) + POSITION_TOL * L:
         reason += (f"; within the joint limits the nearest reachable point is {fmt(dist)} "
                    "away")
     return ReachResult(verdict=verdict, distance=dist, reason=reason, **near, **common)
-
-
-def _where_outside(robot, p, p_near, dist, fmt):
-    """Verdict and reason for a position out of reach even without joint limits,
-    ``p_near`` being the nearest reachable point, ``dist`` away.
-
-    Off the plane of a planar arm: outside the workspace. Otherwise the nearest
-    point says which side the target is on: farther from the base than it, and
-    roughly along the line from the base (within 60 deg), the target is beyond
-    the outer reach; nearer the base than it, inside the inner void; anything
-    else (a notch in the workspace) is outside the workspace."""
-    from .workspace import _frame_of
-    o = robot.base[:3, 3]
-    origin, basis = _frame_of(robot.fk(_samples(robot, 512, 1))[:, :3, 3], robot)
-    if basis.shape[1] < 3:
-        rel = p - p_near
-        off = float(np.linalg.norm(rel - basis @ (basis.T @ rel)))
-        if off > 1e-6 * dist:
-            kind = "plane" if basis.shape[1] == 2 else "line"
-            return "outside-workspace", (
-                f"outside the workspace: the tool moves in a {kind} and the target is "
-                f"{fmt(off)} off it; the nearest reachable point is {fmt(dist)} away")
-    d_target = float(np.linalg.norm(p - o))
-    d_near = float(np.linalg.norm(p_near - o))
-    radial = p_near - o
-    cos = float((p - p_near) @ radial / max(np.linalg.norm(radial) * dist, 1e-300))
-    if d_target > d_near and cos > 0.5:
-        return "beyond-outer-reach", (
-            f"beyond the outer reach by {fmt(dist)}: the target is {fmt(d_target)} from the "
-            f"base, the arm reaches {fmt(d_near)} from it in this direction")
-    if d_target < d_near:
-        where = ("" if d_target <= 1e-12 * max(robot.characteristic_length, 1e-12)
-                 else " in this direction")
-        return "inside-inner-void", (
-            f"inside the inner void by {fmt(dist)}: the target is {fmt(d_target)} from the "
-            f"base, the arm reaches no closer than {fmt(d_near)}{where}")
-    return "outside-workspace", (f"outside the workspace: the nearest reachable point is "
-                                 f"{fmt(dist)} away")
 
 
 def _violation_dict(robot, v, units) -> dict:
@@ -279,7 +191,7 @@ def _violation_dict(robot, v, units) -> dict:
 
 def _violation_text(robot, v, units) -> str:
     d = _violation_dict(robot, v, units)
-    unit = units.angle if robot.joints[v[0]].revolute else _len(units).strip()
+    unit = units.angle if robot.joints[v[0]].revolute else length_suffix(units).strip()
     return (f"{d['joint']} {d['by']:.4g} {unit} beyond its {d['side']} limit "
             f"{d['limit']:.4g} {unit}").replace("  ", " ")
 

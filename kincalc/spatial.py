@@ -42,6 +42,19 @@ __all__ = [
 ]
 
 
+#: one turn (rad)
+TURN = 2 * math.pi
+
+
+def wrap(x) -> np.ndarray:
+    """Angles ``x (...)`` (rad) wrapped into (-pi, pi], by rounding the number of turns
+    (a floating remainder is several times slower on large batches). The one angle
+    wrap of kincalc: subproblems, the IK engine and its post-processing all use it."""
+    x = np.asarray(x, float)
+    y = x - TURN * np.rint(x / TURN)
+    return np.where(y <= -math.pi, y + TURN, y)
+
+
 def _elementary(angle, i: int, j: int) -> np.ndarray:
     """Rotation by ``angle`` mixing axes i and j (the plane of rotation)."""
     angle = np.asarray(angle, dtype=float)

@@ -34,3 +34,19 @@ STRUCTURE_ANGLE_TOL = 1e-4
 #: the closed form's answers are then the robot's own, to rounding
 EXACT_POINT_TOL = 1e-11
 EXACT_ANGLE_TOL = 1e-12
+
+#: an IK candidate is a solution when FK reaches the target to ACCEPT_POSITION x the
+#: arm's size and, for the orientation the robot controls, ACCEPT_ORIENTATION rad;
+#: components a robot does not control (the orientation of a position-only arm) are
+#: checked to CHECK_ORIENTATION rad (at a double root the joints are only good to
+#: ~sqrt(eps))
+ACCEPT_POSITION = 1e-9
+ACCEPT_ORIENTATION = 1e-9
+CHECK_ORIENTATION = 1e-6
+
+#: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
+DUPLICATE = 1e-6
+
+#: a joint counts as within its limits up to this much beyond them (rad; times the
+#: arm's size for prismatic joints): rounding of a solution at its limit
+LIMIT_TOL = 1e-9

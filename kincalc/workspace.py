@@ -43,7 +43,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import UsageError
+from .errors import BadValue, UsageError
+from .ik.nearest import descend, motion_frame
 from .limits import MAX_ORIENTATIONS, MAX_SAMPLES
 
 #: mean samples per occupied grid cell the grid is sized for
@@ -98,98 +99,6 @@ def sample_tool_points(robot, rng, count: int, progress=None):
         if progress is not None:
             progress("sampling", stop, count)
     return Q, P
-
-
-# --- damped least squares, batched ------------------------------------------
-
-def _pose_error(P, R, p_goal, R_goal, L):
-    """Scaled error ``(B, 3 or 6)``: ``[(p* - p) / L, rotvec(R* R^T)]`` (world frame)."""
-    from .spatial import rotvec_from_matrix
-    e = (p_goal - P) / L
-    if R_goal is None:
-        return e
-    w = rotvec_from_matrix(R_goal @ np.swapaxes(R, -1, -2))
-    return np.concatenate([e, w], axis=-1)
-
-
-def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float = 1e-13,
-            limits=None):
-    """Damped least squares from each start towards its goal, batched over starts.
-
-    ``X0 (B, n)`` starts (rad / m); ``p_goal (B, 3)`` positions (m, world);
-    ``R_goal (B, 3, 3)`` orientations, or None for the position alone. Steps
-    are projected onto the joint limits. Returns ``(X (B, n), position error
-    (B,) m, orientation error (B,) rad or None)`` at the best configuration
-    found: a local minimum of the distance to the goal when it is out of reach.
-    ``limits (n, 2)`` replaces the robot's limits (infinite bounds allowed).
-    """
-    from .jacobian import _jacobian_and_pose
-    L = max(robot.characteristic_length, 1e-12)
-    lo0, hi0 = (robot.limits if limits is None else np.asarray(limits, float)).T
-    # a revolute joint whose range spans a full turn reaches every angle: it turns freely
-    # here and is wrapped back into its range at the end (a stop at +-180 deg must not
-    # trap the search on the wrong side)
-    turns = robot.is_revolute & (hi0 - lo0 >= 2 * np.pi - 1e-12)
-    lo, hi = np.where(turns, -np.inf, lo0), np.where(turns, np.inf, hi0)
-    col = np.where(robot.is_revolute, 1.0, L)      # x = q / col is scale-free
-    rows = 3 if R_goal is None else 6
-    X = np.array(X0, float)
-    B, n = X.shape
-    p_goal = np.broadcast_to(np.asarray(p_goal, float), (B, 3))
-    if R_goal is not None:
-        R_goal = np.broadcast_to(np.asarray(R_goal, float), (B, 3, 3))
-
-    def evaluate(Xs, idx):
-        J, T = _jacobian_and_pose(robot.chain, Xs)
-        e = _pose_error(T[:, :3, 3], T[:, :3, :3], p_goal[idx],
-                        None if R_goal is None else R_goal[idx], L)
-        J = J[:, :rows] * col
-        J[:, :3] /= L
-        return J, e
-
-    J, E = evaluate(X, np.arange(B))
-    err = np.einsum("bi,bi->b", E, E)
-    lam = np.full(B, 1e-3)
-    active = err > tol ** 2
-    eye = np.eye(n)
-    for _ in range(iterations):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            break
-        Ja, ea, Xa = J[idx], E[idx], X[idx]
-
-        def solve(Jm, e, damping):
-            JT = np.swapaxes(Jm, 1, 2)
-            A = JT @ Jm
-            A += (damping * (1.0 + np.trace(A, axis1=1, axis2=2) / n))[:, None, None] * eye
-            return np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
-        step = solve(Ja, ea, lam[idx])
-        # a joint on its limit that the step pushes outwards is held, and the step is
-        # solved again without it (clipping afterwards would shorten the step of the
-        # joints that can still move, and they would crawl)
-        held = ((Xa <= lo) & (step < 0)) | ((Xa >= hi) & (step > 0))
-        r = np.flatnonzero(held.any(axis=1))
-        if r.size:
-            free = ~held[r]
-            step[r] = solve(Ja[r] * free[:, None, :], ea[r], lam[idx[r]]) * free
-        moved = np.linalg.norm(step, axis=1)
-        step *= np.minimum(1.0, 0.5 / np.maximum(moved, 1e-300))[:, None]
-        Xn = np.clip(Xa + step * col, lo, hi)
-        Jn, En = evaluate(Xn, idx)
-        errn = np.einsum("bi,bi->b", En, En)
-        better = errn < err[idx]
-        ok = idx[better]
-        X[ok], J[ok], E[ok], err[ok] = Xn[better], Jn[better], En[better], errn[better]
-        lam[ok] = np.maximum(lam[ok] / 3.0, 1e-12)
-        lam[idx[~better]] *= 4.0
-        # stop where converged, or where the damping says no step helps any more
-        active[idx] = (err[idx] > tol ** 2) & (lam[idx] < 1e6) & ~(better & (moved < 1e-15))
-    if turns.any():
-        base = np.where(np.isfinite(lo0), lo0, -np.pi)[turns]
-        X[:, turns] = base + np.mod(X[:, turns] - base, 2 * np.pi)
-    pe = np.linalg.norm(E[:, :3], axis=1) * L
-    oe = None if R_goal is None else np.linalg.norm(E[:, 3:], axis=1)
-    return X, pe, oe
 
 
 # --- the reach envelope ------------------------------------------------------
@@ -251,23 +160,6 @@ def envelope(robot, Q, P, keep: int = 16) -> dict:
 
 # --- the grid ----------------------------------------------------------------
 
-def _frame_of(P, robot):
-    """``(origin (3,), basis (3, d))``: the affine span of the tool points ``P``.
-
-    d is 3 for a spatial arm, 2 for a planar one (world x, y when the plane is
-    horizontal), 1 for a line."""
-    c = P.mean(axis=0)
-    sub = P[:: max(1, len(P) // 20000)] - c
-    _, s, Vt = np.linalg.svd(sub, full_matrices=False)
-    L = max(robot.characteristic_length, 1e-12)
-    d = int(np.sum(s > 1e-9 * L * np.sqrt(len(sub))))
-    if d == 3:
-        return np.zeros(3), np.eye(3)
-    if d == 2 and abs(abs(Vt[2, 2]) - 1.0) < 1e-9:
-        return np.array([0.0, 0.0, c[2]]), np.eye(3)[:, :2]
-    return c, Vt[:max(d, 1)].T
-
-
 @dataclass
 class Grid:
     """Cells of edge ``h`` (m) over coordinates ``U = (P - origin) @ basis``."""
@@ -298,7 +190,7 @@ class Grid:
 
 
 def _make_grid(P, robot, per_cell=SAMPLES_PER_CELL) -> Grid:
-    origin, basis = _frame_of(P, robot)
+    origin, basis = motion_frame(P, robot)
     U = (P - origin) @ basis
     d = basis.shape[1]
     lo, hi = U.min(axis=0), U.max(axis=0)
@@ -367,7 +259,7 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
         T = np.zeros((M, 4, 4))
         T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = R_goal, targets, 1.0
         sol = robot.ik_batch(T)
-        return np.any(sol.valid & within_limits(robot, sol.q), axis=1)
+        return np.any(sol.valid & sol.within, axis=1)
     safe = np.maximum(cand, 0)
     cost = np.linalg.norm(P[safe] - targets[:, None, :], axis=2) / L
     if R_goal is not None:
@@ -392,25 +284,12 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
 
 def _batchable(robot) -> bool:
     """Does :meth:`Robot.ik_batch` cover this robot (a closed-form family)?"""
-    from .ik.solve import UnsupportedRobot
+    from .ik.engine import UnsupportedRobot
     try:
         robot.ik_batch(robot.fk(np.asarray(robot.home, float))[None])
     except UnsupportedRobot:
         return False
     return True
-
-
-def within_limits(robot, Q) -> np.ndarray:
-    """``(...)`` bool: do joints ``Q (..., n)`` lie within the limits, revolute joints
-    allowing any whole number of turns (so -170 deg passes a [0, 360] limit)?"""
-    lo, hi = robot.limits.T
-    Q = np.asarray(Q, float)
-    eps = 1e-12
-    turn = 2 * np.pi
-    rev = robot.is_revolute
-    shifted_ok = np.ceil((lo - eps - Q) / turn) <= np.floor((hi + eps - Q) / turn)
-    plain_ok = (Q >= lo - eps) & (Q <= hi + eps)
-    return np.all(np.where(rev, shifted_ok, plain_ok), axis=-1)
 
 
 # --- orientations ------------------------------------------------------------
@@ -562,7 +441,7 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
 
     Raises
     ------
-    UsageError
+    BadValue
         ``samples`` outside 1000 ... :data:`~kincalc.limits.MAX_SAMPLES` (every sample's
         joints and tool point are kept: the grid, the envelope and the starts of the
         boundary tests index them), a ``seed`` that is not a non-negative integer,
@@ -574,15 +453,14 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     from .results import Units
     units = units or Units(length=robot.length_unit)
     if not 1000 <= samples <= MAX_SAMPLES:
-        raise UsageError(f"--samples must be from 1000 to {MAX_SAMPLES} (kincalc's limit), "
-                         f"not {samples}")
+        raise BadValue("samples", f"from 1000 to {MAX_SAMPLES} (kincalc's limit)", samples)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UsageError(f"--seed must be a non-negative integer, not {seed!r}")
+        raise BadValue("seed", "a non-negative integer", seed)
     if orientations is not None and not 2 <= orientations <= MAX_ORIENTATIONS:
-        raise UsageError(f"--orientations must be from 2 to {MAX_ORIENTATIONS} (kincalc's "
-                         f"limit), not {orientations}")
+        raise BadValue("orientations", f"from 2 to {MAX_ORIENTATIONS} (kincalc's limit)",
+                       orientations)
     if not 0.0 < dexterity <= 1.0:
-        raise UsageError(f"--dexterity must be a fraction in (0, 1], not {dexterity}")
+        raise BadValue("dexterity", "a fraction in (0, 1]", dexterity)
     progress = progress or (lambda *a: None)
     rng = np.random.default_rng(seed)
     lo, hi = joint_ranges(robot)

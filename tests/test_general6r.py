@@ -9,6 +9,10 @@
   behaviour is that the degenerate elimination is avoided by another pivot
   joint and the robot's (up to) 8 solutions are returned; checked against
   kincalc's analytic family solvers and many-start Newton.
+* Batches (the only implementation; a single pose is a batch of one): FK round
+  trips of every slot over thousands of seeded random configurations, the
+  generating configuration among the answers, even counts, no duplicates, no
+  NaN, answers independent of the batch a pose comes in; edge cases.
 """
 
 import time
@@ -19,9 +23,10 @@ from randrobots import random_pose, random_robot
 
 from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
-from kincalc.ik.general6r import _robot_data, solve_general_6r
+from kincalc.ik.general6r import (BATCH_SLOTS, _log, _polish, _robot_data, _skew_trace,
+                                  solve_general_6r, solve_general_6r_batch)
 from kincalc.model import Joint, Robot
-from kincalc.spatial import rotvec_from_matrix
+from kincalc.spatial import matrix_from_axis_angle, rotation_error, rotvec_from_matrix
 
 D = np.deg2rad
 
@@ -182,21 +187,29 @@ def test_standard_form_with_the_pivot_at_pi():
         data = _robot_data(robot)
         q = rng.uniform(-np.pi, np.pi, 6)
         q[2] = wrap(np.pi - data.model.offset[2])
-        c = data.candidates(robot.fk(q), 0)
-        assert c is not None
+        _, _, c, degenerate, _ = data.raw(robot.fk(q)[None], 0)
+        assert not degenerate[0]
         assert distance(c, q).min() < 1e-6
 
 
-def test_polish_false_returns_the_raw_eigenproblem_candidates():
+def test_raw_eigenproblem_candidates_are_accurate_before_newton():
+    """The elimination itself (no Newton step): its candidates that place the tool to
+    1e-6 are the polished solutions, the generating configuration among them."""
     rng = np.random.default_rng(3)
-    robot = random_robot(rng, "poe", types=["revolute"] * 6)
-    q = rng.uniform(-np.pi, np.pi, 6)
-    T = robot.fk(q)
-    raw = solve_general_6r(robot, T, polish=False)
-    polished = solve_general_6r(robot, T)
-    assert distance(raw, q).min() < 1e-6
-    assert np.max(residual(robot, T, raw)) < 1e-6
-    assert len(raw) == len(polished)
+    for convention in ("dh", "mdh", "poe"):
+        robot = random_robot(rng, convention, types=["revolute"] * 6)
+        for _ in range(5):
+            q = rng.uniform(-np.pi, np.pi, 6)
+            T = robot.fk(q)
+            _, _, raw, degenerate, _ = _robot_data(robot).raw(T[None], 0)
+            assert not degenerate[0]
+            raw = wrap(raw[residual(robot, T, raw) < 1e-6])
+            distinct = [c for i, c in enumerate(raw)
+                        if i == 0 or distance(raw[:i], c).min() > 1e-6]
+            polished = solve_general_6r(robot, T)
+            assert distance(raw, q).min() < 1e-6
+            assert len(distinct) == len(polished)
+            assert all(distance(polished, c).min() < 1e-6 for c in distinct)
 
 
 def test_unreachable_pose_and_bad_input():
@@ -205,6 +218,7 @@ def test_unreachable_pose_and_bad_input():
     T = np.eye(4)
     T[:3, 3] = [50.0, 0.0, 0.0]                       # far outside a ~3 m robot
     assert solve_general_6r(robot, T).shape == (0, 6)
+    assert solve_general_6r(robot, np.full((4, 4), np.nan)).shape == (0, 6)
     with pytest.raises(ValueError):
         solve_general_6r(load_robot("stanford_arm"), np.eye(4))    # prismatic joint
     with pytest.raises(ValueError):
@@ -212,7 +226,7 @@ def test_unreachable_pose_and_bad_input():
     with pytest.raises(ValueError):
         solve_general_6r(load_robot("planar_3r"), np.eye(4))
     with pytest.raises(ValueError):
-        solve_general_6r(robot, np.full((4, 4), np.nan))
+        solve_general_6r(robot, np.eye(3))
 
 
 # --- the published 16-solution example --------------------------------------
@@ -320,7 +334,7 @@ def test_special_robots_return_their_solutions(name):
     data = _robot_data(robot)
     rng = np.random.default_rng(8)
     q = rng.uniform(-np.pi, np.pi, 6)
-    assert data.candidates(robot.fk(q), 0) is None        # the standard form degenerates
+    assert data.raw(robot.fk(q)[None], 0)[3][0]           # the standard form degenerates
     assert data.shifts[0] != 0
     counts = []
     for k in range(15):
@@ -341,21 +355,213 @@ def test_special_robots_return_their_solutions(name):
     assert counts.count(8) >= 3, counts
 
 
-def test_clustered_eigenvalues_of_wrist_flips():
+def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
     """With the pivot on joint 2 of a spherical-wrist arm, the two wrist flips share the
-    pivot angle (a double eigenvalue whose eigenvectors mix): both must come out."""
+    pivot angle (a double eigenvalue whose eigenvectors mix; clusters of four occur too):
+    the raw candidates, before any Newton step, must be within 1e-7 of the analytic
+    family solver's solutions (but for some near-singular poses), and after Newton
+    contain all of them."""
     from kincalc.ik import Target, solve
-    from kincalc.ik.general6r import _polish
+    from kincalc.ik import general6r
 
+    sizes = []
+    split = general6r._split_clusters
+
+    def spy(v, phi, keep, Sig):
+        # sizes of the runs of real candidates closer than CLUSTER_TOL (sorted angles)
+        key = np.sort(np.where(keep, phi.real, np.inf), axis=1)
+        for row in np.diff(key, axis=1) < general6r.CLUSTER_TOL:
+            runs = np.diff(np.flatnonzero(np.r_[True, ~row, True]))
+            sizes.extend(runs[runs > 1].tolist())
+        return split(v, phi, keep, Sig)
+
+    monkeypatch.setattr(general6r, "_split_clusters", spy)
     robot = load_robot("puma560")
     data = _robot_data(robot)
-    rng = np.random.default_rng(12)
-    for _ in range(8):
-        q = rng.uniform(-np.pi, np.pi, 6)
-        T = robot.fk(q)
-        c = data.candidates(T, 5)                        # cyclic shift 5: pivot joint 2
-        Q, res = _polish(robot, T, c, robot.characteristic_length)
-        S = wrap(Q[res < 1e-10])
+    rng = np.random.default_rng(18)
+    qs = rng.uniform(-np.pi, np.pi, (80, 6))
+    Ts = robot.fk(qs)
+    pose, _, c, degenerate, _ = data.raw(Ts, 5)        # cyclic shift 5: pivot joint 2
+    assert not degenerate.any()
+    assert sizes.count(2) >= 40 and max(sizes) >= 3, sizes   # pairs, and larger clusters
+    found = total = 0
+    for n, T in enumerate(Ts):
         analytic = wrap(np.array([s.q for s in solve(robot, Target(T)).solutions]).reshape(-1, 6))
         assert len(analytic) >= 2
+        found += sum(distance(c[pose == n], a).min() < 1e-7 for a in analytic)
+        total += len(analytic)
+        Q, res, _ = _polish(data.terms, np.repeat(T[None, :3] / data.scale, np.sum(pose == n), 0),
+                            c[pose == n])
+        S = wrap(Q[res < 1e-10])
         assert all(distance(S, a).min() < 1e-6 for a in analytic)
+    assert found >= 0.95 * total, (found, total)     # the rest: near-singular poses
+
+
+# --- batches -------------------------------------------------------------------
+
+def _general_robots(count, seed):
+    rng = np.random.default_rng(seed)
+    return [load_robot("manocha_canny_6r")] + [
+        random_robot(rng, types=["revolute"] * 6) for _ in range(count)]
+
+
+def _contains(A, q, tol=1e-6):
+    A = np.asarray(A).reshape(-1, 6)
+    return len(A) > 0 and float(np.min(np.max(np.abs(wrap(A - q)), axis=1))) < tol
+
+
+@pytest.mark.parametrize("robot", _general_robots(3, 12), ids=lambda r: r.name)
+def test_batch_round_trip_every_slot_is_a_solution(robot):
+    """1500 seeded random configurations per robot in one batch: every valid slot
+    reproduces its pose, the generating configuration is among them, counts are even
+    (a generic 6R), no duplicates, no NaN, valid slots first."""
+    rng = np.random.default_rng(6)
+    n = 1500
+    qs = rng.uniform(-np.pi, np.pi, (n, 6))
+    T = robot.fk(qs)
+    Q, ok = solve_general_6r_batch(robot, T)
+    assert Q.shape == (n, BATCH_SLOTS, 6) and ok.shape == (n, BATCH_SLOTS)
+    assert ok.dtype == bool
+    assert not np.any(np.isnan(Q))
+    found = np.array([_contains(Q[k][ok[k]], qs[k]) for k in range(n)])
+    assert found.mean() >= 0.998, np.flatnonzero(~found)
+    counts = ok.sum(axis=1)
+    assert np.mean(counts % 2 == 0) >= 0.99
+    assert counts.max() > 6
+    if robot.name == "manocha_canny_6r":
+        assert counts.max() == 16
+    k_idx = np.nonzero(ok)
+    Tq = robot.fk(Q[k_idx])
+    L = robot.characteristic_length
+    assert np.max(np.linalg.norm(Tq[:, :3, 3] - T[k_idx[0], :3, 3], axis=-1)) <= 1e-9 * L
+    assert np.max(rotation_error(Tq[:, :3, :3], T[k_idx[0], :3, :3])) <= 1e-9
+    assert np.all((Q > -np.pi) & (Q <= np.pi))
+    assert not np.any(~ok[:, :-1] & ok[:, 1:])
+    for k in range(n):
+        S = Q[k][ok[k]]
+        if len(S) > 1:
+            D = np.max(np.abs(wrap(S[:, None] - S[None])), axis=-1)
+            assert np.min(D[~np.eye(len(S), dtype=bool)]) >= 1e-6
+
+
+@pytest.mark.parametrize("name", ["manocha_canny_6r", "puma560"])
+def test_a_pose_gets_the_same_answers_in_any_batch(name):
+    """A pose's solutions do not depend on the other poses of its batch (per-pose shift
+    delta, clusters, pivots, Newton's stopping): in one batch, reversed, or alone."""
+    robot = load_robot(name)
+    rng = np.random.default_rng(21)
+    T = robot.fk(rng.uniform(-np.pi, np.pi, (40, 6)))
+    Q, ok = solve_general_6r_batch(robot, T)
+    Qr, okr = solve_general_6r_batch(robot, T[::-1])
+    for k in range(len(T)):
+        alone = solve_general_6r(robot, T[k])
+        for other in (Qr[len(T) - 1 - k][okr[len(T) - 1 - k]], alone):
+            assert len(other) == ok[k].sum()
+            assert all(_contains(other, q, 1e-9) for q in Q[k][ok[k]])
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5"])
+def test_batch_of_a_special_robot_gives_the_analytic_solutions(name):
+    """Robots whose pivot ranking does not start at joint 3 (per-pose models of another
+    pivot, vectorised): the analytic family solver's solutions, FK round trips."""
+    from kincalc.ik import Target, solve
+    robot = load_robot(name)
+    assert _robot_data(robot).shifts[0] != 0
+    rng = np.random.default_rng(8)
+    qs = rng.uniform(-np.pi, np.pi, (60, 6))
+    T = robot.fk(qs)
+    Q, ok = solve_general_6r_batch(robot, T)
+    assert np.max(residual(robot, T[0], Q[0][ok[0]])) < 1e-9
+    for k in range(len(T)):
+        S = Q[k][ok[k]]
+        assert np.max(residual(robot, T[k], S)) < 1e-9
+        assert _contains(S, qs[k])
+        analytic = wrap(np.array([s.q for s in solve(robot, Target(T[k])).solutions])
+                        .reshape(-1, 6))
+        assert len(S) == len(analytic), k
+        assert all(_contains(S, a) for a in analytic), k
+
+
+def test_poses_of_one_batch_on_different_pivots(monkeypatch):
+    """PUMA with the standard form ranked first: it degenerates for every pose, which
+    then goes on to the next pivot (shift 5) together; the answers stay the analytic
+    ones."""
+    from kincalc.ik import Target, solve
+    robot = load_robot("puma560")
+    data = _robot_data(robot)
+    monkeypatch.setattr(data, "shifts", [0, 5] + [k for k in data.shifts if k not in (0, 5)])
+    rng = np.random.default_rng(31)
+    qs = rng.uniform(-np.pi, np.pi, (30, 6))
+    T = robot.fk(qs)
+    Q, ok = solve_general_6r_batch(robot, T)
+    for k in range(len(T)):
+        S = Q[k][ok[k]]
+        analytic = wrap(np.array([s.q for s in solve(robot, Target(T[k])).solutions])
+                        .reshape(-1, 6))
+        assert len(S) == len(analytic) and _contains(S, qs[k])
+        assert all(_contains(S, a) for a in analytic)
+
+
+def test_last_resort_of_two_perturbed_models(monkeypatch):
+    """With no pivot left (forced here on a generic robot), every pose is solved on two
+    nearby generic robots and their candidates are polished on the real one: still FK
+    round trips, the generating configuration, no duplicates."""
+    rng = np.random.default_rng(32)
+    robot = random_robot(rng, "dh", types=["revolute"] * 6)
+    monkeypatch.setattr(_robot_data(robot), "shifts", [])
+    qs = rng.uniform(-np.pi, np.pi, (40, 6))
+    T = robot.fk(qs)
+    Q, ok = solve_general_6r_batch(robot, T)
+    assert np.mean([_contains(Q[k][ok[k]], qs[k]) for k in range(len(T))]) >= 0.95
+    for k in range(len(T)):
+        S = Q[k][ok[k]]
+        if len(S):
+            assert np.max(residual(robot, T[k], S)) < 1e-9
+        if len(S) > 1:
+            D = np.max(np.abs(wrap(S[:, None] - S[None])), axis=-1)
+            assert np.min(D[~np.eye(len(S), dtype=bool)]) >= 1e-6
+
+
+def test_batch_edge_cases():
+    robot = load_robot("manocha_canny_6r")
+    Q, ok = solve_general_6r_batch(robot, np.zeros((0, 4, 4)))
+    assert Q.shape == (0, BATCH_SLOTS, 6) and ok.shape == (0, BATCH_SLOTS)
+    T = robot.fk(np.array([[0.3, -0.2, 0.5, 1.0, -1.2, 0.4]] * 3))
+    T[1, 0, 0] = np.nan                                     # no solution, no crash
+    T[2, :3, 3] += 10 * robot.characteristic_length         # out of reach
+    Q, ok = solve_general_6r_batch(robot, T)
+    assert ok[0].any() and not ok[1].any() and not ok[2].any()
+    assert not np.any(np.isnan(Q))
+    Q, ok = solve_general_6r_batch(robot, T[1:2])           # nothing finite at all
+    assert not ok.any()
+    with pytest.raises(ValueError, match=r"\(N, 4, 4\)"):
+        solve_general_6r_batch(robot, T[0])
+    with pytest.raises(ValueError, match="6 revolute"):
+        solve_general_6r_batch(load_robot("stanford_arm"), T)
+
+
+def test_polish_returns_to_the_solutions_and_gives_up_far_away():
+    robot = load_robot("manocha_canny_6r")
+    data = _robot_data(robot)
+    T = robot.fk(np.array([0.3, -0.2, 0.5, 1.0, -1.2, 0.4]))
+    S = solve_general_6r(robot, T)
+    rng = np.random.default_rng(2)
+    start = S + rng.uniform(-1e-4, 1e-4, S.shape)
+    target = T[None, :3] / data.scale                     # rows 0-2, scaled translation
+    Q, res, moved = _polish(data.terms, np.repeat(target, len(S), 0), start)
+    assert moved.all()
+    assert np.all(res < 1e-12)
+    assert np.max(np.abs(wrap(Q - S))) < 1e-10
+    far = rng.uniform(-np.pi, np.pi, (200, 6))
+    Q, res, _ = _polish(data.terms, np.repeat(target, len(far), 0), far)
+    good = res < 1e-10
+    assert not good.all()                                   # most give up
+    assert all(_contains(S, q) for q in wrap(Q[good]))      # the rest found real ones
+
+
+def test_rotation_log_of_newton_matches_the_quaternion_route():
+    rng = np.random.default_rng(9)
+    axes = rng.normal(size=(400, 3))
+    angles = np.concatenate([rng.uniform(0, np.pi, 396), [0.0, 1e-9, np.pi - 1e-9, np.pi]])
+    R = matrix_from_axis_angle(axes, angles)
+    assert np.allclose(_log(*_skew_trace(R), R), rotvec_from_matrix(R), atol=1e-12)

@@ -11,7 +11,8 @@ from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.ik.families import classify
-from kincalc.ik.screws import Screws, wrap
+from kincalc.ik.screws import Screws
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.library import bundled_names
 from kincalc.model import Joint, Robot

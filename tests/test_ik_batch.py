@@ -1,13 +1,16 @@
-"""Batched IK (vectorised over poses) agrees with the per-pose solver."""
+"""Batched IK (``robot.ik_batch``, vectorised over poses): every solution reproduces
+its pose, the generating configuration is among them, and a pose asked alone
+(``robot.ik``, a batch of one) gets the same solutions with the same labels and flags."""
 
 import numpy as np
 import pytest
 
 from kincalc import load_robot
-from kincalc.ik.batch import solve_batch
-from kincalc.ik.screws import wrap
+from kincalc.ik.engine import UnsupportedRobot, solve_batch
+from kincalc.ik.families import plan
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
-from kincalc.ik.solve import UnsupportedRobot
+from kincalc.library import bundled_names
 
 ROBOTS = ["puma560", "ur5", "ur10e", "kuka_kr16", "fanuc_lrmate200id", "abb_irb120",
           "stanford_arm", "bk_6r", "bk_scara_euler", "kocaeli_kr16_lengths"]
@@ -49,22 +52,38 @@ def test_batch_unreachable_poses_have_no_solutions():
     assert solve_batch(r, T).counts.tolist() == [0] * 5
 
 
-@pytest.mark.parametrize("name", ["bk_offset_wrist", "adept_cobra600", "iiwa14"])
-def test_batch_refuses_families_without_a_batched_solver(name):
+@pytest.mark.parametrize("name", ["iiwa14", "panda"])
+def test_batch_refuses_robots_no_closed_form_covers(name):
+    """Seven joints: no closed form (the numerical solver's business, pose by pose)."""
     with pytest.raises(UnsupportedRobot):
         solve_batch(load_robot(name), np.eye(4)[None])
 
 
+@pytest.mark.parametrize("name", ["bk_offset_wrist", "adept_cobra600", "bk_rrp"])
+def test_every_closed_form_family_is_batched(name):
+    """The families the per-pose engine alone had (offset wrist, SCARA, position-only)
+    now come batched: round trips over a batch."""
+    r = load_robot(name)
+    Q = sample_configurations(r, 50, np.random.default_rng(4))
+    T = r.fk(Q)
+    B = solve_batch(r, T)
+    L = max(1.0, r.characteristic_length)
+    for i in range(len(Q)):
+        sols = B.q[i][B.valid[i]]
+        assert np.abs(r.fk(sols)[:, :3, 3] - T[i, :3, 3]).max() <= 1e-9 * L
+        d = np.abs(np.where(r.is_revolute, wrap(sols - Q[i]), sols - Q[i])).max(-1)
+        assert d.min() < 1e-6
+
+
 def test_general_6r_batch_equals_robot_ik_with_its_labels():
     """A general 6R (no closed form) through ik_batch: the same solutions as robot.ik
-    and, through branch_labels, the same 'q3:root k' labels, on the textbook robot and
+    and the same 'q3:root k' labels, on the textbook robot and
     random 6R robots (the generating configuration is always among them)."""
     import sys
     from pathlib import Path
     sys.path.insert(0, str(Path(__file__).parent))
     from randrobots import random_robot
 
-    from kincalc.ik.batch import branch_labels
     rng = np.random.default_rng(21)
     robots = [load_robot("manocha_canny_6r")] + [
         random_robot(rng, types=["revolute"] * 6) for _ in range(2)]
@@ -74,7 +93,7 @@ def test_general_6r_batch_equals_robot_ik_with_its_labels():
         B = solve_batch(r, T, chunk=25)
         assert B.family == "general-6r" and B.q.shape == (60, 16, 6)
         rows, slots = np.nonzero(B.valid)
-        labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
+        labels = B.labels[B.valid]
         for i in range(60):
             sols = B.q[i][B.valid[i]]
             assert np.abs(wrap(sols - Q[i])).max(-1).min() < 1e-6
@@ -183,64 +202,92 @@ def test_batch_keeps_both_wrist_solutions_near_the_singularity():
 
 def test_batch_of_no_poses_has_the_robots_slots():
     for name in ("puma560", "ur5"):
-        B = solve_batch(load_robot(name), np.zeros((0, 4, 4)))
-        assert B.q.shape == (0, 8, 6) and B.valid.shape == (0, 8)
-
-
-@pytest.mark.parametrize("name", ["puma560", "ur5", "kuka_kr16", "stanford_arm"])
-def test_batch_branch_labels_equal_the_per_pose_solvers(name):
-    """The vectorised labels against robot.ik's, solution by solution."""
-    from kincalc.ik.batch import branch_labels
-    r = load_robot(name)
-    T = r.fk(sample_configurations(r, 25, np.random.default_rng(9)))
-    B = solve_batch(r, T)
-    rows, slots = np.nonzero(B.valid)
-    labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
-    for k, (i, q) in enumerate(zip(rows, B.q[B.valid])):
-        ref = r.ik(T[i]).solutions
-        match = min(ref, key=lambda s: np.abs(wrap(np.asarray(s.q) - q)).max())
-        words = labels[k].split(" branch ")[0]
-        if name == "stanford_arm":      # robot.ik adds "q2:+ d3:root 2"; batch the slot
-            assert match.branch.startswith(words + " "), (i, labels[k], match.branch)
-        else:
-            assert labels[k] == match.branch, (i, labels[k], match.branch)
-
-
-def test_batch_resultant_path_at_the_stretched_elbow(monkeypatch):
-    """The resultant placement (arms with no closed form for joints 1-3) at the stretched
-    and folded elbow, where J^T J of its Newton polish is singular: numpy raised
-    LinAlgError for the whole batch. The offset-shoulder closed form is switched off so
-    that KUKA and ABB arms take that path; every pose must be answered exactly."""
-    from test_ik_batch_offset_shoulder import stretched_and_folded
-
-    import kincalc.ik.batch as batch
-    monkeypatch.setattr(batch, "_offset_shoulder", lambda *a, **k: None)
-    for name in ("kuka_kr16", "abb_irb6640"):
         r = load_robot(name)
-        for Qe in stretched_and_folded(r, sample_configurations(r, 30, np.random.default_rng(5))):
-            T = r.fk(Qe)
-            B = solve_batch(r, T)                      # raised LinAlgError
-            for i in range(len(T)):
-                sols = B.q[i][B.valid[i]]
-                assert np.allclose(r.fk(sols), T[i], atol=1e-9 * r.characteristic_length)
+        K = solve_batch(r, r.fk(r.home)[None]).q.shape[1]
+        B = solve_batch(r, np.zeros((0, 4, 4)))
+        assert B.q.shape == (0, K, 6) and B.valid.shape == (0, K) and K >= 8
 
 
-@pytest.mark.parametrize("name", ["puma560", "kuka_kr16", "ur5"])
-def test_batch_labels_name_the_free_joint_at_the_wrist_singularity(name):
-    """At q5 = 0 or 180 deg the batch's labels are robot.ik's, '(... free)' included."""
-    from kincalc.ik.batch import branch_labels
+def agree(r, T):
+    """``robot.ik`` of each pose against the batch: the same solutions, each with the same
+    label, limit flag and singular flag."""
+    B = solve_batch(r, T)
+    free = 0
+    for i in range(len(T)):
+        sols = r.ik(T[i]).solutions
+        assert len(sols) == B.counts[i], i
+        for s in sols:
+            d = np.abs(np.where(r.is_revolute, wrap(B.q[i] - s.q), B.q[i] - s.q)).max(-1)
+            k = int(np.argmin(np.where(B.valid[i], d, np.inf)))
+            assert d[k] < 1e-9, (i, s.branch)           # the same solution (to rounding)
+            assert B.labels[i, k] == s.branch, (i, B.labels[i, k], s.branch)
+            assert bool(B.within[i, k]) == s.within_limits, (i, s.branch)
+            assert bool(B.singular[i, k]) == s.singular, (i, s.branch)
+            free += "free)" in s.branch
+    return free
+
+
+@pytest.mark.parametrize("name", [n for n in bundled_names() if plan(load_robot(n))[1]])
+def test_ik_and_ik_batch_agree_on_every_label_and_flag(name):
+    """Every bundled robot with a closed form, at random poses and at the wrist
+    singularity (q5 = 0 or 180 deg) where it has one."""
+    r = load_robot(name)
+    rng = np.random.default_rng(9)
+    Q = sample_configurations(r, 25, rng)
+    if r.dof == 6:
+        Q[15:, 4] = rng.choice([0.0, np.pi], 10)
+    if not plan(r)[1].needs_orientation:
+        return agree_position(r, r.fk(Q))
+    agree(r, r.fk(Q))
+
+
+def agree_position(r, T):
+    from kincalc.ik.engine import solve_targets
+    from kincalc.ik.target import Targets
+    B = solve_targets(r, Targets(T, "position"))
+    for i in range(len(T)):
+        sols = r.ik(T[i], orientation=False).solutions
+        assert len(sols) == B.counts[i]
+        for s in sols:
+            d = np.abs(np.where(r.is_revolute, wrap(B.q[i] - s.q), B.q[i] - s.q)).max(-1)
+            k = int(np.argmin(np.where(B.valid[i], d, np.inf)))
+            assert d[k] < 1e-9 and B.labels[i, k] == s.branch
+
+
+@pytest.mark.parametrize("name", ["puma560", "kuka_kr16", "ur5", "stanford_arm"])
+def test_labels_name_the_free_joint_at_the_wrist_singularity(name):
+    """At q5 = 0 or 180 deg the continuum's representatives say which joint is free,
+    in the batch as alone."""
     r = load_robot(name)
     rng = np.random.default_rng(12)
     Q = sample_configurations(r, 30, rng)
     Q[:, 4] = rng.choice([0.0, np.pi], 30)
-    T = r.fk(Q)
-    B = solve_batch(r, T)
-    rows, slots = np.nonzero(B.valid)
-    labels = branch_labels(r, B.family, B.q[B.valid], slots, rows)
-    seen_free = 0
-    for i in range(len(Q)):
-        mine = sorted(labels[k].split(" branch ")[0] for k in np.flatnonzero(rows == i))
-        ref = sorted(s.branch for s in r.ik(T[i]).solutions)
-        assert mine == ref, (i, mine, ref)
-        seen_free += sum("free)" in x for x in mine)
-    assert seen_free >= 30                   # the generating continuum at least, every pose
+    assert agree(r, r.fk(Q)) >= 30          # the generating continuum at least, every pose
+
+
+def test_three_cones_placement_at_the_stretched_elbow(monkeypatch):
+    """The general placement of joints 1-3 (subproblem 5) at the stretched and folded
+    elbow, where the polish's J^T J is singular (numpy once raised LinAlgError for the
+    whole batch there). The offset-shoulder form is switched off so that KUKA and ABB
+    arms take that path; every pose must be answered exactly."""
+    from dataclasses import replace
+
+    from test_ik_batch_offset_shoulder import stretched_and_folded
+
+    import kincalc.ik.place as place
+    real = place._make_plan
+
+    def no_shoulder(S, joints, p0):
+        P = real(S, joints, p0)
+        return replace(P, mode="three cones") if P.mode == "shoulder" else P
+    monkeypatch.setattr(place, "_make_plan", no_shoulder)
+    for name in ("kuka_kr16", "abb_irb6640"):
+        r = load_robot(name)
+        plan.cache_clear()
+        for Qe in stretched_and_folded(r, sample_configurations(r, 30, np.random.default_rng(5))):
+            T = r.fk(Qe)
+            B = solve_batch(r, T)
+            for i in range(len(T)):
+                sols = B.q[i][B.valid[i]]
+                assert len(sols) and np.allclose(r.fk(sols), T[i], atol=1e-9 * r.characteristic_length)
+    plan.cache_clear()

@@ -1,12 +1,12 @@
 """Batched IK of arms with an offset shoulder: axes 1 and 2 skew (a shoulder offset
 a1 != 0), axes 2 and 3 parallel, a spherical wrist (KUKA, Fanuc, ABB IRB 6640).
 
-Their wrist centre is placed by the closed form of ``kincalc.ik.batch._offset_shoulder_cs``
-(subproblem 4 on joint 1, a planar 2R for joints 2 and 3). It is checked against values
-that do not come from it: the configuration that generated each pose, the robot's FK,
-and the per-pose solver ``robot.ik`` (a resultant in joint 3 and Gauss-Newton polishing);
-including poses at the placement's double roots (stretched and folded elbow, the wrist
-centre on the shoulder-singularity cylinder or on axis 1) and at the wrist singularity.
+Their wrist centre is placed by the offset-shoulder form of :mod:`kincalc.ik.place`
+(subproblem 4 on joint 1, subproblem 3 on joint 3, subproblem 1 on joint 2). It is
+checked against values that do not come from it: the configuration that generated each
+pose and the robot's FK, including poses at the placement's double roots (stretched and
+folded elbow, the wrist centre on the shoulder-singularity cylinder or on axis 1) and at
+the wrist singularity; and ``robot.ik`` (a batch of one) must agree with the batch.
 """
 
 import numpy as np
@@ -14,10 +14,9 @@ import pytest
 
 from kincalc import load_robot
 from kincalc.fk import chain_frames
-from kincalc.ik import batch
-from kincalc.ik.batch import solve_batch
+from kincalc.ik.engine import solve_batch
 from kincalc.ik.families import plan
-from kincalc.ik.screws import wrap
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
 from randrobots import random_pose
@@ -200,44 +199,25 @@ def assert_generators_found(robot, B, Q, joints=slice(None), tol=1e-6):
 
 @pytest.mark.parametrize("label,robot", ROBOTS, ids=IDS)
 def test_offset_shoulder_structure_is_recognised(label, robot):
-    """The robot-level test of the closed form finds these arms (from their screws)."""
+    """The robot-level plan of the placement finds these arms (from their screws)."""
+    from kincalc.ik.place import plan as placement
     from kincalc.structure import common_point
     S, family, _ = plan(robot)
     assert family.name == "spherical-wrist"
     c0 = common_point(S.point[3:], S.axis[3:], np.inf)
-    assert batch._offset_shoulder(S, [0, 1, 2], c0) is not None
+    assert placement(S, (0, 1, 2), tuple(c0)).mode == "shoulder"
 
 
-def test_closed_form_is_the_path_taken(monkeypatch):
-    """With the resultant's root finder disabled the offset-shoulder arms still solve
-    (through the closed form, which is called); arms whose axes 1 and 2 meet and 2 and 3
-    are parallel (PUMA, IRB 120) take it too (it is tried first: parallel axes 2 and 3 are
-    all it needs), and a prismatic joint 3 is not taken for this structure."""
-    calls = []
-    closed_form = batch._offset_shoulder_cs
-
-    def counting(*args, **kw):
-        calls.append(1)
-        return closed_form(*args, **kw)
-
-    def no_resultant(*args, **kw):
-        raise AssertionError("the degree-8 resultant was used")
-    monkeypatch.setattr(batch, "_generic_roots", no_resultant)
-    monkeypatch.setattr(batch, "_offset_shoulder_cs", counting)
-    for name in BUNDLED:
-        r = load_robot(name)
-        Q = sample_configurations(r, 50, np.random.default_rng(1))
-        B = solve_batch(r, r.fk(Q))
-        assert B.valid.any(axis=1).all()
-        assert B.q.shape[1] == 8                      # 2 (joint 1) x 2 (elbow) x 2 (wrist)
-    assert len(calls) == len(BUNDLED)
-    calls.clear()
-    for name in ("puma560", "abb_irb120"):            # axes 1 and 2 meet
-        r = load_robot(name)
-        solve_batch(r, r.fk(sample_configurations(r, 20, np.random.default_rng(1))))
-    assert len(calls) == 2
-    S, _, _ = plan(load_robot("stanford_arm"))
-    assert batch._offset_shoulder(S, [0, 1, 2], np.array([0.1, 0.2, 0.3])) is None
+def test_arms_whose_first_axes_meet_take_the_decoupled_form():
+    """PUMA and IRB 120 (axes 1 and 2 meet) place the wrist centre by the invariant free
+    of joint 2 (the distance from the meeting point); Stanford's prismatic joint 3 the
+    same way, with a quadratic."""
+    from kincalc.ik.place import plan as placement
+    from kincalc.structure import common_point
+    for name in ("puma560", "abb_irb120", "stanford_arm"):
+        S, _, _ = plan(load_robot(name))
+        c0 = common_point(S.point[3:], S.axis[3:], np.inf)
+        assert placement(S, (0, 1, 2), tuple(c0)).mode == "decoupled", name
 
 
 @pytest.mark.parametrize("label,robot", ROBOTS, ids=IDS)
@@ -330,8 +310,10 @@ def placements(robot, T):
     c0 = common_point(S.point[3:], S.axis[3:], np.inf)
     Minv = S.inverse_M()
     CT = T[:, :3, :3] @ (Minv[:3, :3] @ c0 + Minv[:3, 3]) + T[:, :3, 3]
-    c, s, _, ok = batch._place_point(S, [0, 1, 2], c0, CT, cs=True)
-    return np.moveaxis(np.arctan2(s, c), 0, -1), ok
+    from kincalc.ik.branches import Branches
+    from kincalc.ik.place import place
+    br = place(S, Branches.start(len(T), robot.dof), (0, 1, 2), c0, CT[:, None, :])
+    return br.q()[..., :3], br.ok
 
 
 @pytest.mark.parametrize("name", BUNDLED)

@@ -11,7 +11,7 @@ import pytest
 from kincalc import load_robot
 from kincalc.ik import Target, solve
 from kincalc.ik.numeric import solve_numeric
-from kincalc.ik.screws import wrap
+from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 
 

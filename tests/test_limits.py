@@ -73,8 +73,8 @@ def planar():
 @pytest.mark.parametrize("kw,words", [
     ({"samples": limits.MAX_SAMPLES + 1}, f"from 1000 to {limits.MAX_SAMPLES}"),
     ({"samples": 999}, "from 1000"),
-    ({"seed": -1}, "--seed must be a non-negative integer"),
-    ({"seed": 1.5}, "--seed must be a non-negative integer"),
+    ({"seed": -1}, "seed must be a non-negative integer"),
+    ({"seed": 1.5}, "seed must be a non-negative integer"),
     ({"orientations": limits.MAX_ORIENTATIONS + 1}, f"from 2 to {limits.MAX_ORIENTATIONS}"),
 ])
 def test_workspace_refuses_requests_beyond_the_limits(planar, kw, words):
@@ -96,7 +96,7 @@ def test_workspace_dexterity_chunks_change_no_number(planar, monkeypatch):
 @pytest.mark.parametrize("kw,words", [
     ({"trials": limits.MAX_TRIALS + 1}, f"from 1 to {limits.MAX_TRIALS}"),
     ({"trials": 0}, "from 1 to"),
-    ({"seed": -1}, "--seed must be a non-negative integer"),
+    ({"seed": -1}, "seed must be a non-negative integer"),
 ])
 def test_selftest_refuses_requests_beyond_the_limits(planar, kw, words):
     from kincalc.ik.selftest import run

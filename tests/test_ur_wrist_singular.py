@@ -32,7 +32,8 @@ from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.fk import chain_frames
 from kincalc.ik.families import classify
-from kincalc.ik.screws import Screws, wrap
+from kincalc.ik.screws import Screws
+from kincalc.spatial import wrap
 from kincalc.model import Joint, Robot
 
 UR = ["ur5", "ur10", "ur10e", "ur3", "ur5e", "ur16e", "ur20", "ur5_mdh", "ur5_poe"]

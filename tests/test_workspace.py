@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import kincalc.workspace as ws
+from kincalc.ik.engine import within_limits
 from kincalc.cli.main import main
 from kincalc.library import load
 
@@ -300,12 +301,12 @@ def test_within_limits_hand_cases(tmp_path):
     ]
     Q = np.array([q for q, _ in cases])
     want = np.array([ok for _, ok in cases])
-    got = ws.within_limits(r, Q)
+    got = within_limits(r, Q)
     assert got.shape == (len(cases),)
     assert (got == want).all(), [c for c, g in zip(cases, got) if g != c[1]]
     # batched over more leading axes, and one configuration alone
-    assert (ws.within_limits(r, Q.reshape(1, -1, 3)) == want).all()
-    assert bool(ws.within_limits(r, Q[3])) is False and bool(ws.within_limits(r, Q[4]))
+    assert (within_limits(r, Q.reshape(1, -1, 3)) == want).all()
+    assert bool(within_limits(r, Q[3])) is False and bool(within_limits(r, Q[4]))
 
 
 def test_wilson_against_hand_computed_intervals():

@@ -884,23 +884,6 @@ def _merge(records, errors):
     return out
 
 
-def _within_limits(robot, q):
-    """``(within (...,) bool, q)`` for ``q (..., n)`` in SI: a revolute value outside its
-    limits is moved by a whole turn when that brings it inside (as ``kincalc ik`` does;
-    the value in (-pi, pi] is kept when it is already inside)."""
-    import numpy as np
-    lo, hi = robot.limits[:, 0] - 1e-9, robot.limits[:, 1] + 1e-9
-    rev = robot.is_revolute
-    use = np.array(q, float)
-    done = np.zeros(use.shape, bool)
-    for shift in (0.0, 2 * np.pi, -2 * np.pi):
-        cand = q + np.where(rev, shift, 0.0)
-        fits = (cand >= lo) & (cand <= hi) & ~done
-        use = np.where(fits, cand, use)
-        done |= fits
-    return done.all(-1), use
-
-
 def _finite_rows(good, arrays, errors):
     """``(good, arrays)`` without the records whose results (row k of every array) are
     not all finite; those become error records. Inputs within MAX_MAGNITUDE give finite
@@ -927,7 +910,8 @@ def _fk_chunk(robot, units, parsed, frame):
     T[:, :3, 3] *= units.l
     rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
     good, (q, T, rpy) = _finite_rows(good, (q, T, rpy), errors)
-    within, _ = _within_limits(robot, q)
+    from ..ik.engine import within_limits
+    within = within_limits(robot, q)
     Tl, xyz, rpyl = _round(T), _round(T[:, :3, 3]), _round(rpy)
     recs = [{**_head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
              "within_limits": bool(within[k])} for k, (i, kw) in enumerate(good)]
@@ -963,12 +947,14 @@ def _jacobian_chunk(robot, units, parsed, frame):
 def _poses(robot, units, parsed):
     """Group records by how they are solved: ``(full [(index, kw)], T (m, 4, 4) SI,
     partial [(index, kw, Target)], error records)``. Full poses of the common forms are
-    converted in one vectorised step; the rest go through build_target one by one."""
+    built in one vectorised step per form (:func:`kincalc.ik.target.targets_from`); the
+    rest go through build_target one by one."""
     import numpy as np
 
-    from .. import spatial as sp
     from ..errors import KincalcError
-    from .ik import build_target
+    from ..ik.target import defect_text, targets_from, to_si
+    from .common import check_numbers
+    from .targets import _pose_values, build_target
     groups, partial, errors = {}, [], []
     full, Ts = [], []
     for i, kw, err in parsed:
@@ -980,7 +966,7 @@ def _poses(robot, units, parsed):
             try:
                 target = build_target(robot, units, **{k: v for k, v in kw.items() if k != "id"})
             except KincalcError as exc:
-                err = f"record {i + 1}: {exc}"
+                err = f"record {i + 1}: {_words(exc)}"
             else:
                 if target.orientation and target.tcv is None and target.approach is None:
                     full.append((i, kw))
@@ -989,56 +975,55 @@ def _poses(robot, units, parsed):
                     partial.append((i, kw, target))
                 continue
         errors.append((i, {**_head(i, kw), "error": err}))
-    A, Lf = 1.0 / units.a, 1.0 / units.l
     for form, items in groups.items():
         if form == {"q"}:
             q = np.array([kw["q"] for _, kw in items]) / np.where(robot.is_revolute, units.a,
                                                                   units.l)
             T = robot.fk(q)
-        elif form == {"T"}:
-            T = np.array([_pose_matrix(kw["T"]) for _, kw in items])
-            bad = _not_poses(T)
-            if bad.any():
-                from .ik import _check_pose
-                for k in np.flatnonzero(bad)[::-1]:
-                    i, kw = items[k]
-                    try:
-                        _check_pose(T[k], "T")
-                        msg = "T is not a rigid transform"
-                    except KincalcError as exc:
-                        msg = str(exc)
-                    errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {msg}"}))
-                keep = ~bad
-                items = [it for it, g in zip(items, keep) if g]
-                T = T[keep]
-            T[:, :3, 3] *= Lf
         else:
-            key = next(iter(form - {"xyz"}))
-            v = np.array([kw[key] for _, kw in items], float)
-            if key == "quat":
-                n = np.linalg.norm(v, axis=-1)
-                zero = n < 1e-12
-                for k in np.flatnonzero(zero):
-                    i, kw = items[k]
-                    errors.append((i, {**_head(i, kw), "error":
-                                       f"record {i + 1}: quat must not be the zero quaternion"}))
-                items = [it for it, z in zip(items, zero) if not z]
-                R = sp.matrix_from_quaternion(v[~zero] / n[~zero, None])
+            key = "T" if form == {"T"} else next(iter(form - {"xyz"}))
+            xyz = None
+            if key == "T":
+                v = np.array([_pose_matrix(kw["T"]).ravel() for _, kw in items])
             else:
-                make = {"rpy": sp.matrix_from_rpy, "euler_zyz": sp.matrix_from_euler_zyz,
-                        "euler_xyz": sp.matrix_from_euler_xyz}[key]
-                R = make(v * A)
-            T = np.zeros((len(items), 4, 4))
-            T[:, :3, :3] = R
-            T[:, :3, 3] = np.array([kw["xyz"] for _, kw in items], float).reshape(-1, 3) * Lf
-            T[:, 3, 3] = 1.0
+                v = np.array([kw[key] for _, kw in items], float)
+                xyz = np.array([kw["xyz"] for _, kw in items], float).reshape(-1, 3) / units.l
+            targets, defect = targets_from(key, to_si(key, v, units), xyz)
+            bad = ~np.isfinite(v).all(-1) | (defect != None)  # noqa: E711
+            for k in np.flatnonzero(bad):
+                i, kw = items[k]
+                try:
+                    if key == "T":           # a wrong count, or a number beyond the limits
+                        _pose_values(np.array(kw["T"], float), "T")
+                    else:
+                        check_numbers(v[k], key)
+                    msg = defect_text(key, defect[k], key)
+                except KincalcError as exc:
+                    msg = str(exc)
+                errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {msg}"}))
+            items = [it for it, b in zip(items, bad) if not b]
+            T = targets.T[~bad]
         full += items
         Ts.extend(T)
     T = np.array(Ts, float).reshape(-1, 4, 4)
     return full, T, partial, errors
 
 
+#: how a batch record names the parts of an IK target, for the core's messages about
+#: them (:class:`kincalc.errors.TargetMismatch`)
+RECORD_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
+                "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
+                               "or q)"}
+
+
+def _words(exc) -> str:
+    """A core error's message for a record, its fields named as records name them."""
+    from ..errors import TargetMismatch
+    return exc.words(RECORD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
+
+
 def _pose_matrix(flat):
+    """A record's ``T`` (16 or 12 numbers) as a 4x4 matrix, NaN for another count."""
     import numpy as np
     a = np.array(flat, float)
     if a.size == 16:
@@ -1048,22 +1033,13 @@ def _pose_matrix(flat):
     return np.full((4, 4), np.nan)
 
 
-def _not_poses(T):
-    """Which of ``T (m, 4, 4)`` are not rigid transforms (to 1e-6)."""
-    import numpy as np
-    R = T[:, :3, :3]
-    orth = np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3)).max(axis=(-1, -2)) <= 1e-6
-    return ~(orth & (np.linalg.det(R) > 0) & np.all(np.abs(T[:, 3] - [0, 0, 0, 1]) <= 1e-9,
-                                                    axis=-1) & np.isfinite(T).all(axis=(-1, -2)))
-
-
 def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     import numpy as np
 
     from ..ik import Target
-    from ..ik.batch import branch_labels
     from ..errors import KincalcError
-    from ..ik.solve import UnsupportedRobot, solve
+    from ..ik.engine import UnsupportedRobot
+    from ..ik.solve import solve
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
@@ -1076,9 +1052,9 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
     if B is not None:
         valid = B.valid & np.isfinite(B.q).all(axis=-1)         # (a NaN is no solution)
         q = B.q[valid]                                                     # (s, n)
-        within, q = _within_limits(robot, q)
-        owner, slot = np.nonzero(valid)
-        labels = branch_labels(robot, B.family, q, slot, owner)
+        within = B.within[valid]
+        owner, _ = np.nonzero(valid)
+        labels = B.labels[valid].tolist()
         counts = valid.sum(axis=1)
         # each pose's solutions: written as JSON in bulk, or as dicts for the CSV rows
         if fmt == "jsonl":
@@ -1095,7 +1071,7 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
         try:
             result = solve(robot, target)
         except KincalcError as exc:        # a question this robot cannot take: its record
-            errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {exc}"}))
+            errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"}))
             continue
         sols = [{"q": _round(np.asarray(s.q) * qdisp), "branch": s.branch,
                  "within_limits": not s.violations} for s in result.solutions
@@ -1112,7 +1088,7 @@ def _reach_chunk(robot, units, parsed, frame):
     from ..errors import KincalcError
     from ..reach import reach
     from ..results import _clean
-    from .ik import build_target
+    from .targets import build_target
     out, no = [], False
     for index, kw, error in parsed:
         head = _head(index, kw)
@@ -1121,7 +1097,7 @@ def _reach_chunk(robot, units, parsed, frame):
                 pose = {k: v for k, v in kw.items() if k != "id"}
                 result = reach(robot, build_target(robot, units, **pose), units=units)
             except KincalcError as exc:
-                error = f"record {index + 1}: {exc}"
+                error = f"record {index + 1}: {_words(exc)}"
         if error is not None:
             out.append({**head, "error": error})
             continue

@@ -6,10 +6,10 @@ from typing import Annotated, Optional, Tuple
 
 import typer
 
-from ..errors import InputError, UsageError
 from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt, JobsOpt,
-                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, check_numbers, display_units,
+                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units,
                      load_robot, output, output_target)
+from .targets import build_target
 
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
@@ -173,150 +173,6 @@ def _plot_solutions(robot, result, target, units, dpi):
               suptitle=f"{robot.name}: {len(sols)} IK solution{'s' if len(sols) != 1 else ''} "
                        f"for p = ({', '.join(f'{x:.4g}' for x in p)}){length}")
     return str(target.path)
-
-
-def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
-                 quat=None, axis_angle=None, matrix=None, approach=None, tcv=None, pose=None,
-                 from_q=None, T=None, q=None):
-    """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI).
-
-    ``T`` (a 4x4 matrix, or 16 or 12 numbers) and ``q`` (joint values) are the
-    batch-record forms of ``--pose`` and ``--from-q``."""
-    import numpy as np
-
-    from .. import spatial as sp
-    from ..ik import Target
-    orient = {"--rpy": rpy, "--euler-zyz": euler_zyz, "--euler-xyz": euler_xyz,
-              "--quat": quat, "--axis-angle": axis_angle, "--matrix": matrix,
-              "--approach": approach, "--tcv": tcv}
-    given = [k for k, v in orient.items() if v is not None]
-    whole = [k for k, v in (("--pose", pose), ("--from-q", from_q), ("T", T), ("q", q))
-             if v is not None]
-    for name, v in [("--xyz", xyz), *orient.items(), ("T", T)]:
-        if v is not None:
-            check_numbers(np.asarray(v, float).ravel(), name)
-    if len(given) > 1:
-        raise UsageError(f"give at most one orientation, not {' and '.join(given)}")
-    if whole and (given or xyz is not None):
-        raise UsageError(f"{whole[0]} gives the whole pose; do not combine it with "
-                         f"{(given + (['--xyz'] if xyz is not None else []))[0]}")
-    if len(whole) > 1:
-        raise UsageError(f"give either {whole[0]} or {whole[1]}, not both")
-    A = 1.0 / units.a   # rad per display angle unit
-    Lf = 1.0 / units.l  # m per display length unit
-    if from_q is not None or q is not None:
-        from .common import parse_joints
-        tokens = from_q.replace(",", " ").split() if from_q is not None else [str(x) for x in q]
-        qv = parse_joints(tokens, robot, units, option="--from-q" if q is None else "q")
-        return Target(robot.fk(qv), orientation=True)
-    if pose is not None or T is not None:
-        M = _read_pose(pose) if pose is not None else _check_pose(np.array(T, float), "T")
-        M = M.copy()
-        M[:3, 3] *= Lf
-        return Target(M, orientation=True)
-    if tcv is not None:
-        if xyz is not None:
-            raise UsageError("--tcv holds the position; do not give --xyz as well")
-        from ..spatial import transform_from_tcv
-        w = np.array(tcv, float)
-        if np.linalg.norm(w[3:]) < 1e-300:
-            raise InputError("--tcv: the approach part w4..w6 must not be zero")
-        p, approach, qn = transform_from_tcv(w)
-        T = np.eye(4)
-        T[:3, 3] = p * Lf
-        return Target(T, orientation=False, tcv=(approach, float(qn)))
-    if xyz is None:
-        raise UsageError("give the target position with --xyz X Y Z (or the whole pose with "
-                         "--pose or --from-q)")
-    T = np.eye(4)
-    T[:3, 3] = np.array(xyz, float) * Lf
-    if not given:
-        return Target(T, orientation=False)
-    if approach is not None:
-        a = np.array(approach, float)
-        if np.linalg.norm(a) < 1e-12:
-            raise InputError("--approach must not be the zero vector")
-        return Target(T, orientation=False, approach=a / np.linalg.norm(a))
-    if rpy is not None:
-        R = sp.matrix_from_rpy(np.array(rpy) * A)
-    elif euler_zyz is not None:
-        R = sp.matrix_from_euler_zyz(np.array(euler_zyz) * A)
-    elif euler_xyz is not None:
-        R = sp.matrix_from_euler_xyz(np.array(euler_xyz) * A)
-    elif quat is not None:
-        if np.linalg.norm(quat) < 1e-12:
-            raise InputError("--quat must not be the zero quaternion")
-        R = sp.matrix_from_quaternion(np.array(quat))
-    elif axis_angle is not None:
-        if np.linalg.norm(axis_angle[:3]) < 1e-12:
-            raise InputError("--axis-angle needs a non-zero axis")
-        R = sp.matrix_from_axis_angle(np.array(axis_angle[:3]), axis_angle[3] * A)
-    else:
-        R = np.array(matrix, float).reshape(3, 3)
-        _check_rotation(R, "--matrix")
-    T[:3, :3] = R
-    return Target(T, orientation=True)
-
-
-def _check_rotation(R, what):
-    import numpy as np
-    if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
-        raise InputError(f"{what} is not a rotation matrix (rows must be orthonormal with "
-                         "determinant +1, to 6 digits)")
-
-
-def _read_pose(src: str):
-    import json as _json
-
-    import numpy as np
-
-    from ..limits import TooLarge, os_error_text, read_bounded, size_text
-    what = f"--pose {src}"
-    try:
-        raw = read_bounded(src)
-    except TooLarge as exc:
-        raise InputError(f"{what}: larger than {size_text(exc.limit)}, kincalc's limit for "
-                         "a pose file (a 4x4 matrix is a few hundred bytes)") from None
-    except OSError as exc:
-        raise InputError(f"{what}: cannot read ({os_error_text(exc)})") from None
-    except ValueError:
-        raise InputError(f"{what}: cannot read (not a valid file name)") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError(f"{what}: not UTF-8 text; expected 16 numbers or JSON rows of a "
-                         "4x4 matrix") from None
-    try:
-        data = _json.loads(text)
-        if isinstance(data, dict):
-            data = data.get("T", data.get("target", {}).get("T") if isinstance(
-                data.get("target"), dict) else None)
-        M = np.array(data, dtype=float)
-    except (ValueError, TypeError, RecursionError):
-        try:
-            M = np.array(text.replace(",", " ").replace("[", " ").replace("]", " ").split(),
-                         dtype=float)
-        except ValueError:
-            raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
-                from None
-    return _check_pose(M, what)
-
-
-def _check_pose(M, what):
-    """``M`` (16 or 12 numbers, or a 4x4 matrix) as a 4x4 pose, re-orthonormalised."""
-    import numpy as np
-    if M.size == 12:
-        M = np.vstack([M.reshape(3, 4), [0, 0, 0, 1]])
-    if M.size != 16:
-        raise InputError(f"{what}: expected a 4x4 matrix (16 finite numbers), got {M.size}")
-    check_numbers(M.ravel(), what)
-    M = M.reshape(4, 4)
-    if not np.allclose(M[3], [0, 0, 0, 1]):
-        raise InputError(f"{what}: the last row must be 0 0 0 1")
-    _check_rotation(M[:3, :3], what)
-    u, _, vt = np.linalg.svd(M[:3, :3])
-    M[:3, :3] = u @ vt
-    return M
 
 
 def _tables(doc, robot, precision, explain):

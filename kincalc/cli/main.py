@@ -231,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
     except KincalcError as exc:
         if debug:
             raise
-        sys.stderr.write(f"kincalc: error: {_one_line(str(exc))}\n")
+        sys.stderr.write(f"kincalc: error: {_one_line(_words(exc))}\n")
         return exc.exit_status
     except BrokenPipeError:
         return _stdout_closed()
@@ -244,6 +244,23 @@ def main(argv: list[str] | None = None) -> int:
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
+
+
+#: how the command line names the parts of an IK target, for the core's messages about
+#: them (:class:`kincalc.errors.TargetMismatch`)
+TARGET_WORDS = {"approach": "--approach", "tcv": "--tcv", "prefix": "{field}: ",
+                "orientation": "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, "
+                               "--matrix, --tcv, --pose or --from-q)"}
+
+
+def _words(exc) -> str:
+    """The message of a core error, in the command line's words where it has fields."""
+    from ..errors import BadValue, TargetMismatch
+    if isinstance(exc, TargetMismatch):
+        return exc.words(TARGET_WORDS)
+    if isinstance(exc, BadValue):
+        return exc.words(lambda field: "--" + field.replace("_", "-"))
+    return str(exc)
 
 
 def _quiet_numeric_warnings(debug: bool) -> None:

@@ -8,7 +8,8 @@ import typer
 from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JsonOpt,
                      PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output)
 from .ik import (ApproachOpt, AxisAngleOpt, FromQOpt, MatrixOpt, PoseOpt, QuatOpt, RpyOpt,
-                 TcvOpt, XyzEOpt, XyzOpt, ZyzOpt, build_target)
+                 TcvOpt, XyzEOpt, XyzOpt, ZyzOpt)
+from .targets import build_target
 
 
 def reach(

@@ -52,11 +52,14 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
     T = np.broadcast_to(np.asarray(T, float), (len(q), 4, 4))
     L = max(robot.characteristic_length, 1e-12)
     col = np.where(robot.is_revolute, 1.0, L)       # prismatic columns in units of L
+    if approach is not None:
+        approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
     active = np.arange(len(q))
     for _ in range(iterations):
         if not len(active):
             break
-        A, e = _linearised(robot, q[active], T[active], L, mode, approach)
+        A, e = _linearised(robot, q[active], T[active], L, mode,
+                           None if approach is None else approach[active])
         big = np.abs(e).max(axis=-1) > CONVERGED
         active, A, e = active[big], A[big], e[big]
         if not len(active):

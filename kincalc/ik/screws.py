@@ -9,7 +9,7 @@ robot's base transform is already inside the axes and M).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,6 +28,43 @@ class Screws:
     #: (:func:`~kincalc.ik.families.idealised`) the size of the difference, since a
     #: target the true robot reaches is then reached only to about that much
     slack: float = 0.0
+    #: robot-level constants of the solvers, computed once (see :meth:`constant`)
+    cache: dict = field(default_factory=dict, compare=False, repr=False, init=False)
+
+    def constant(self, key, make):
+        """``make()``, computed once for these screws and ``key``: the robot-level
+        constants of a solver (a subproblem's fixed vectors, a placement's structure),
+        which every batch of poses would otherwise compute again."""
+        try:
+            return self.cache[key]
+        except KeyError:
+            value = self.cache[key] = make()
+            return value
+
+    def turn(self, i: int, c, s, v) -> np.ndarray:
+        """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
+        and sine ``c, s (...)``: ``v + s (k x v) + (1 - c) k x (k x v)`` (Rodrigues),
+        both cross products in one matrix product."""
+        v = np.asarray(v, float)
+        A = (v.reshape(-1, 3) @ self.crosses(i)).reshape(v.shape[:-1] + (6,))
+        c, s = np.asarray(c)[..., None], np.asarray(s)[..., None]
+        return v + s * A[..., :3] + (1.0 - c) * A[..., 3:]
+
+    def crosses(self, i: int) -> np.ndarray:
+        """``[[k]x^T, ([k]x^2)^T] (3, 6)``, contiguous, of joint i's axis ``k``: rows
+        ``v @ crosses = (k x v, k x (k x v))``; computed once per joint."""
+        def make():
+            k = self.axis[i]
+            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+            return np.ascontiguousarray(np.concatenate([K.T, (K @ K).T], axis=1))
+        return self.constant(("crosses", i), make)
+
+    def move(self, i: int, x, c, s, p) -> np.ndarray:
+        """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle
+        with cosine and sine ``c, s (...)``, or slid along it by ``x (...)``."""
+        if self.revolute[i]:
+            return self.point[i] + self.turn(i, c, s, p - self.point[i])
+        return p + np.asarray(x)[..., None] * self.axis[i]
 
     @staticmethod
     def of(robot) -> "Screws":
@@ -91,9 +128,3 @@ class Screws:
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
                       self.revolute[::-1].copy(), Mi, self.scale, self.slack)
-
-
-def wrap(x):
-    """Angles wrapped into (-pi, pi]."""
-    y = np.mod(np.asarray(x, float) + np.pi, 2 * np.pi) - np.pi
-    return np.where(y <= -np.pi, y + 2 * np.pi, y)

@@ -14,9 +14,9 @@ import time
 
 import numpy as np
 
-from ..errors import UsageError
+from ..errors import BadValue
 from ..limits import MAX_TRIALS
-from .screws import wrap
+from ..spatial import wrap
 
 #: configurations drawn (and FK'd) at a time: memory stays a few MB whatever ``trials``
 #: is, and the numbers are those of one draw of ``trials`` (a Generator fills arrays
@@ -39,7 +39,7 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
 
     Raises
     ------
-    UsageError
+    BadValue
         ``trials`` outside 1 ... :data:`~kincalc.limits.MAX_TRIALS`, or a ``seed``
         that is not a non-negative integer.
     """
@@ -47,10 +47,9 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
     from .solve import Target, solve
     if isinstance(trials, bool) or not isinstance(trials, (int, np.integer)) \
             or not 1 <= trials <= MAX_TRIALS:
-        raise UsageError(f"--trials must be from 1 to {MAX_TRIALS} (kincalc's limit), "
-                         f"not {trials!r}")
+        raise BadValue("trials", f"from 1 to {MAX_TRIALS} (kincalc's limit)", trials)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise UsageError(f"--seed must be a non-negative integer, not {seed!r}")
+        raise BadValue("seed", "a non-negative integer", seed)
     _, family, _ = plan(robot)
     # give the orientation only where the robot controls it (otherwise a position
     # target has the family's full solution set, as in the textbooks)

@@ -1,75 +1,74 @@
-"""Inverse kinematics: every solution, labelled, checked and explained.
+"""Inverse kinematics of one target: every solution, labelled, checked and explained.
 
-:func:`solve` recognises the robot's family from its joint axes
-(:func:`kincalc.ik.families.classify`), runs that family's solver, and turns
-the raw candidates into :class:`IKSolution` objects: joint values normalised
-into the limits (or (-pi, pi]), FK residuals, limit violations, singularity,
-and a branch label computed from the geometry of the solution.
-
-Branch labels (stable: computed from the solution, not from solver order):
-
-* ``shoulder left/right``: side of the wrist centre (or of the point where
-  axes 5 and 6 meet) relative to the plane spanned by axis 1 and the
-  common normal... precisely the sign of ``(P - o1) . (z1 x z2)``: right if
-  positive; for arms whose axes 1 and 2 are not parallel.
-* ``elbow up/down``: for parallel axes 2 and 3, whether the elbow (axis 3)
-  lies on the side of the shoulder-to-wrist line that axis 1 points to.
-* ``wrist flip/no-flip``: the sign of ``(z4 x z6) . z5`` at the solution.
-* otherwise ``<joint>:+`` / ``<joint>:-`` for each step with two roots, and
-  ``<joint>:root k`` for steps with more.
+:func:`solve` is the engine (:func:`kincalc.ik.engine.solve_targets`) run on a batch of
+one, turned into an :class:`IKResult`: the solutions (valid slots) with their labels,
+residuals, limit violations and singularity; why there is none when there is none
+(:func:`_reason`); and on request the branches that do not reach the target
+(``all_branches``: the candidates FK rejected, the textbook's cross combinations of
+the solutions' joint values, the steps that found no real root) and the intermediate
+quantities of each solution (``explain``). Robots no closed form covers are solved
+numerically (:mod:`kincalc.ik.numeric`).
 """
 
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..spatial import cross
+from ..errors import TargetMismatch
+from ..spatial import rotation_error
+from ..tolerances import ACCEPT_POSITION
+from .engine import TCV, Solved, UnsupportedRobot, solve_targets  # noqa: F401
+from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
+from ..spatial import wrap
+from .target import Targets
 
-from ..errors import KincalcError, UsageError
-from ..spatial import invert_transform, rotation_angle, rotation_error
-from .cache import per_robot
-from .families import SOLVERS, Candidate, plan
-from .position import DEAD_ENDS
-from .screws import Screws, wrap
-
-#: a solution is accepted when its FK misses the target by at most this much
-#: (relative to the robot's size) and this many radians.
-ACCEPT_POSITION = 1e-9
-ACCEPT_ORIENTATION = 1e-9
-#: components a robot does not control (the orientation of a position-only arm) are
-#: checked, not solved for: at a double root the joint values are only good to
-#: ~sqrt(eps), so the check allows this much (rad)
-CHECK_ORIENTATION = 1e-6
 #: --all-branches lists cross combinations only up to this many
 MAX_COMBINATIONS = 512
-
-
-class UnsupportedRobot(KincalcError):
-    exit_status = 2
 
 
 @dataclass(frozen=True)
 class Target:
     """What IK must reach: a pose ``T`` (4x4, world, SI).
 
-    ``orientation`` says whether the user gave an orientation; without one
-    only the position counts (for robots that do not control orientation).
+    ``orientation`` says whether the user gave an orientation; without one only the
+    position counts (for robots that do not control orientation). ``tcv``: a tool
+    configuration vector target, ``(approach (3,), last joint value q_n in rad)``; T then
+    holds the position only. ``approach (3,)``: a unit approach direction (the tool z
+    axis, world frame) to reach when no full orientation is given (five-joint arms).
     """
 
     T: np.ndarray
     orientation: bool = True
-    #: a tool-configuration-vector target: (approach (3,), last joint value q_n in rad);
-    #: T then holds the position only
     tcv: tuple | None = None
-    #: an approach direction (3,), unit, world frame: the tool z axis to reach when no
-    #: full orientation is given (five-joint arms); T then holds the position only
     approach: np.ndarray | None = None
 
+    @staticmethod
+    def of(targets: Targets, i: int = 0) -> "Target":
+        """Target ``i`` of a batch (the inverse of :meth:`targets`)."""
+        T = targets.T[i].copy()
+        if targets.kind == "tcv":
+            return Target(T, orientation=False,
+                          tcv=(targets.approach[i].copy(), float(targets.roll[i])))
+        if targets.kind == "approach":
+            return Target(T, orientation=False, approach=targets.approach[i].copy())
+        return Target(T, orientation=targets.kind == "pose")
 
-@dataclass
+    def targets(self) -> Targets:
+        """This target as a batch of one for the engine."""
+        T = np.asarray(self.T, float)[None]
+        if self.tcv is not None:
+            a, qn = self.tcv
+            return Targets(T, "tcv", approach=np.asarray(a, float)[None],
+                           roll=np.array([float(qn)]))
+        if self.approach is not None:
+            return Targets(T, "approach", approach=np.asarray(self.approach, float)[None])
+        return Targets(T, "pose" if self.orientation else "position")
+
+
+@dataclass(frozen=True)
 class IKSolution:
     q: np.ndarray
     branch: str
@@ -79,13 +78,13 @@ class IKSolution:
     violations: list          # (joint index, amount beyond the limit, 'lower'|'upper'), SI
     singular: bool
     singularity: str | None
-    continuum: object = None      # families.Continuum: the relation left free at a singularity
+    continuum: object = None      # the relation left free at a singularity (Continuum, ...)
     trace: list = field(default_factory=list)
     #: change from the --near configuration (n,), rad / m, when one was given
     change: np.ndarray | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class IKResult:
     robot: object
     target: Target
@@ -156,7 +155,6 @@ class IKResult:
             d["trace"] = [{"step": k, "value": self._unit(v, kind)} for k, v, kind in s.trace]
         return d
 
-
     def _unit(self, v, kind):
         from ..results import _clean
         u = self.units
@@ -172,110 +170,33 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
           units=None, near=None, numeric: bool = False) -> IKResult:
     """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`.
 
-    ``near (n,)`` (rad / m): the current joints; analytic solutions are then
-    ordered by their change from it, and the numerical solver starts there.
-    ``numeric=True`` (or a robot no analytic family covers) finds the one
-    solution nearest ``near`` numerically (:mod:`kincalc.ik.numeric`).
+    ``near (n,)`` (rad / m): the current joints; analytic solutions are then ordered by
+    their change from it, and the numerical solver starts there. ``numeric=True`` (or a
+    robot no analytic family covers) finds the one solution nearest ``near``
+    numerically (:mod:`kincalc.ik.numeric`).
     """
     from ..results import Units
     units = units or Units(length=robot.length_unit)
     S, family, why = plan(robot)
     if near is not None:
         near = np.asarray(near, float).reshape(robot.dof)
-    if target.tcv is not None:
-        return _solve_tcv(robot, S, target, units)
-    if family is None or numeric:
+    if target.tcv is None and (family is None or numeric):
         return _solve_numerical(robot, target, near, units,
-                                why if family is None else "asked for with --numeric")
-    five = family.name in APPROACH_FAMILIES
-    if target.approach is not None and family.needs_orientation and not five:
-        raise UsageError(f"--approach: {robot.name} controls {family.controls}; give a full "
-                         "orientation (--rpy, --quat, ...)")
-    if family.needs_orientation and not target.orientation and target.approach is None:
-        raise UsageError(f"{robot.name} controls {family.controls}: give an orientation too "
-                         "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, --matrix, "
-                         "--tcv, --pose or --from-q)" +
-                         (" or an approach direction (--approach)" if five else ""))
+                                why if family is None else "asked for")
+    # the steps record their intermediate quantities (explain) and their dead ends
+    # (all_branches) only when asked: a batch of poses records nothing
+    sv = solve_targets(robot, target.targets(), explain=explain or all_branches)
+    family = sv.spec
     T = np.asarray(target.T, float)
-    if target.approach is not None:
-        T = T.copy()
-        T[:3, :3] = _frame_with_z(target.approach)
-    solver = SOLVERS[family.solver]
-    dead_ends: list = []
-    token = DEAD_ENDS.set(dead_ends if all_branches else None)
-    try:
-        if family.name == "general-6r":
-            cands = solver(S, T, explain, robot=robot)
-        elif five:
-            cands = solver(S, T, explain, approach_only=target.approach is not None)
-        elif family.reverse:
-            cands = [_unreverse(c, robot.dof, explain)
-                     for c in solver(S.reversed(), invert_transform(T), explain)]
-        else:
-            cands = solver(S, T, explain)
-    finally:
-        DEAD_ENDS.reset(token)
-
-    Q = np.array([np.asarray(c.q, float) for c in cands]).reshape(len(cands), robot.dof)
-    method = family.description
-    if not family.exact:
-        cands, Q, method = _on_true_robot(robot, family, target, T, cands, Q, units)
-
-    scale = max(robot.characteristic_length, 1e-12)
-    accepted, rejected = [], []
-    # FK, frames, Jacobians, labels and residuals of every candidate at once (the
-    # per-candidate work is what a pose costs; the vectorised core does it in one pass)
-    C = _constants(robot)
-    Q = _normalise_rows(robot, Q, C)
-    frames, Tq = _frames_and_pose(robot, Q, C)
-    PE = np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)
-    OE = rotation_angle(np.swapaxes(T[:3, :3], -1, -2) @ Tq[:, :3, :3]) \
-        if target.orientation else None
-    if target.approach is not None:
-        z = Tq[:, :3, 2]
-        OE = np.arctan2(np.linalg.norm(cross(z, target.approach), axis=-1), z @ target.approach)
-    o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
-    ok_all = PE <= ACCEPT_POSITION * scale
-    if OE is not None:
-        ok_all &= OE <= o_tol
-    branches = _branch_labels(robot, family.name, cands, frames, C)
-    PE_l = PE.tolist()
-    OE_l = [None] * len(cands) if OE is None else OE.tolist()
-    for k, c in enumerate(cands):
-        q, pe, oe, branch = Q[k], PE_l[k], OE_l[k], branches[k]
-        if not ok_all[k]:
-            rejected.append({"q": q, "branch": branch, "position_error": pe,
-                             "orientation_error": oe,
-                             "reason": _miss_reason(pe, oe, units)})
-            continue
-        accepted.append((k, q, c, branch, pe, oe))
-    keep = _dedupe_rows(robot, Q[[a[0] for a in accepted]].reshape(-1, robot.dof), C)
-    accepted = [accepted[i] for i in keep]
-    rows = [a[0] for a in accepted]
-    singular = _singular_mask(robot, Q[rows].reshape(-1, robot.dof),
-                              J=_jacobian_from_frames(frames[rows], Tq[rows], C), c=C)
-
-    sols = []
-    violations = _violations_rows(Q[rows].reshape(-1, robot.dof), C)
-    for (_, q, c, branch, pe, oe), sing, viol in zip(accepted, singular.tolist(), violations):
-        desc = _singularity(robot, q)[1] if sing else None
-        if c.free:
-            sing = True
-            desc = (desc + "; " if desc else "") + "undetermined at this target: " + ", ".join(
-                robot.joints[i].name for i in c.free) + " (a representative value is shown)"
-        sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=oe,
-                               within_limits=not viol, violations=viol, singular=bool(sing),
-                               singularity=desc, continuum=c.continuum, trace=c.trace))
+    sols, rejected = _solutions(robot, sv, explain, units)
     sols.sort(key=lambda s: (not s.within_limits, s.branch))
     if near is not None:
-        for s_ in sols:
-            s_.q = _toward(robot, s_.q, near)
-            s_.change = s_.q - near
-        sols.sort(key=lambda s_: (not s_.within_limits, _scaled_norm(robot, s_.change)))
-
+        sols = [replace(s, q=q, change=q - near) for s in sols
+                for q in [_toward(robot, s.q, near)]]
+        sols.sort(key=lambda s: (not s.within_limits, _scaled_norm(robot, s.change)))
     reachable = any(s.within_limits for s in sols)
-    reason = _reason(robot, S, family, T, target, sols, rejected, units)
-    result_rejected = note = None
+    reason = _reason(robot, family, T, target, sols, rejected, units)
+    result_rejected = note = dead = None
     if all_branches:
         combos, note = _cross_combinations(robot, T, target, sols, units)
         result_rejected = []
@@ -283,60 +204,116 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
             if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
                                               r["q"] - o["q"])) < 1e-6) for o in result_rejected):
                 result_rejected.append(r)
-    return IKResult(robot=robot, target=target, family=family.name, method=method,
+        dead = _dead_ends(robot, sv, units)
+    return IKResult(robot=robot, target=target, family=family.name, method=sv.method,
                     controls=family.controls, solutions=sols, reachable=reachable,
                     reason=reason, rejected=result_rejected, units=units, note=note, near=near,
-                    dead_ends=[_dead_end_text(robot, d, units, family.reverse)
-                               for d in dead_ends] if all_branches else None)
+                    dead_ends=dead)
 
 
-def _on_true_robot(robot, family, target, T, cands, Q, units):
-    """``(candidates, Q, method text)`` for a robot that is only nearly of ``family``
-    (:func:`~kincalc.ik.families.classify`): the candidates of the nearest robot of the
-    family (``plan``'s screws), refined by Newton's method on the robot itself
-    (:mod:`kincalc.ik.refine`), and for six revolute joints joined by the general 6R
-    elimination's solutions, which need no structure (so a solution near a singularity
-    of the structured robot, where branches meet, is not lost). A continuum of the
-    structured robot is not one of the true robot: the refined candidates are ordinary
-    solutions, checked for singularity as any other."""
-    from dataclasses import replace
-
-    from .families import structure_defect
-    from .refine import refine
-    mode = "approach" if target.approach is not None else \
-        "pose" if family.needs_orientation else "position"
-    Q = refine(robot, Q, T, mode=mode, approach=target.approach)
-    cands = [replace(c, q=q, free=[], continuum=None) for c, q in zip(cands, Q)]
-    move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
-    method = (f"{family.description}; the axes have this structure only to within "
-              f"{move * units.l:.2g}{_len(units)} and {turn:.2g} rad, so it was solved for "
-              "the nearest robot that has it and every solution refined by Newton's method "
-              "on the robot as given")
-    if robot.dof == 6 and robot.is_revolute.all() and target.approach is None:
-        from .general6r import solve_general_6r
-        more = solve_general_6r(robot, T)
-        cands = cands + [Candidate(q=q) for q in more]
-        Q = np.vstack([Q, np.asarray(more, float).reshape(-1, 6)])
-        method += ", and joined with the general 6R elimination's solutions"
-    return cands, Q, method
+def _solutions(robot, sv: Solved, explain: bool, units):
+    """``(solutions, rejected candidates)`` of the engine's single target."""
+    oe_given = not np.isnan(sv.orientation_error[0]).all()
+    sols, rejected = [], []
+    names = [j.name for j in robot.joints]
+    for k in np.flatnonzero(sv.candidate[0]).tolist():
+        q = sv.q[0, k].copy()
+        pe = float(sv.position_error[0, k])
+        oe = float(sv.orientation_error[0, k]) if oe_given else None
+        if not sv.valid[0, k]:
+            if not _is_copy(robot, sv, k):
+                rejected.append({"q": q, "branch": sv.labels[0, k], "position_error": pe,
+                                 "orientation_error": oe, "reason": _miss_reason(pe, oe, units)})
+            continue
+        viol = _violation_list(sv.violation[0, k])
+        sing = bool(sv.singular[0, k])
+        desc = _singularity(robot, q)[1] if sing else None
+        free = np.flatnonzero(sv.free[0, k]).tolist()
+        if free:
+            desc = (desc + "; " if desc else "") + "undetermined at this target: " + ", ".join(
+                names[i] for i in free) + " (a representative value is shown)"
+        sols.append(IKSolution(q=q, branch=sv.labels[0, k], position_error=pe,
+                               orientation_error=oe, within_limits=not viol, violations=viol,
+                               singular=sing, singularity=desc,
+                               continuum=_continuum(robot, sv, k) if free else None,
+                               trace=_trace(sv, k) if explain else []))
+    return sols, rejected
 
 
-def _dead_end_text(robot, text: str, units, reverse: bool) -> str:
-    """A dead-end sentence with its ``{jI}`` joint and ``{aX}`` angle (rad) placeholders
-    written in the robot's joint names and the display unit."""
-    import re
+def _is_copy(robot, sv, k) -> bool:
+    """A valid-looking duplicate of an earlier valid slot (dropped by the engine)."""
+    earlier = sv.valid[0, :k]
+    if not earlier.any():
+        return False
+    d = np.abs(sv.q[0, :k][earlier] - sv.q[0, k])
+    d[:, robot.is_revolute] = np.abs(wrap(d[:, robot.is_revolute]))
+    return bool((d.max(-1) < 1e-6).any())
+
+
+def violation_list(robot, q) -> list:
+    """``(joint, amount, side)`` (SI) for each limit the configuration ``q (n,)`` breaks
+    (beyond :data:`~kincalc.tolerances.LIMIT_TOL`), sorted by joint."""
+    from .engine import violations
+    return _violation_list(violations(robot, np.asarray(q, float)))
+
+
+def _violation_list(v) -> list:
+    """``(joint, amount, side)`` for the nonzero entries of ``v (n,)`` (engine.violations)."""
+    return [(i, float(-x if x < 0 else x), "lower" if x < 0 else "upper")
+            for i, x in enumerate(v.tolist()) if x != 0.0]
+
+
+def _continuum(robot, sv: Solved, k: int):
+    """The relation a singular target leaves free in slot ``k``, as an object with
+    ``text`` (:class:`~kincalc.ik.families.Continuum`, ``ParallelContinuum``)."""
+    extra = sv.branches.extra
+    if "continuum" in extra and extra["continuum"][0, k, 0]:
+        _, i, j, sign, total = extra["continuum"][0, k].tolist()
+        return Continuum(int(i), int(j), int(sign), float(total))
+    if "parallel continuum" in extra and extra["parallel continuum"][0, k, 0]:
+        _, sigma, total = extra["parallel continuum"][0, k].tolist()
+        S = plan(robot)[0]
+        S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
+        h = S.axis[1]
+        s3, s4 = (1 if float(S.axis[i] @ h) > 0 else -1 for i in (2, 3))
+        c = ParallelContinuum((1, 2, 3, 5), (1, s3, s4, int(sigma)), 5, float(total))
+        if sv.spec.reverse:
+            c = replace(c.reversed(robot.dof), total=float(total))
+        return c
+    return None
+
+
+def _trace(sv: Solved, k: int) -> list:
+    """The intermediate quantities of slot ``k`` (``explain``), in the order noted."""
+    br = sv.branches
+    out = []
+    for note in br.notes:
+        slot = br.final_index(note.at)[k] if note.at < len(br.lineage) else k
+        value = note.value[0, slot] if note.value.ndim >= 2 else note.value
+        out.append((note.label, value.tolist() if isinstance(value, np.ndarray) else float(value),
+                    note.kind))
+    return out
+
+
+def _dead_ends(robot, sv: Solved, units) -> list:
+    """Sentences for the steps that found no real root (``all_branches``)."""
+    out = []
+    names = [j.name for j in robot.joints]
     n = robot.dof
-
-    def joint(m):
-        i = int(m.group(1))
-        return robot.joints[n - 1 - i if reverse else i].name
-
-    text = re.sub(r"\{j(\d+)\}", joint, text)
-    text = re.sub(r"\{a([-0-9.e+]+)\}",
-                  lambda m: f"{float(m.group(1)) * units.a:.4g} {units.angle}", text)
-    if reverse:
-        text = ("on the reversed chain (each joint turned the other way): " + text)
-    return text
+    for d in sv.branches.dead_ends:
+        where = np.flatnonzero(d.where[0])
+        for slot in where.tolist():
+            j = n - 1 - d.joint if sv.spec.reverse else d.joint
+            name = names[j]
+            phase = float(d.phase[0, slot]) * units.a
+            text = (f"{name}: cos({name} - {phase:.4g} {units.angle}) would have to be "
+                    f"{float(d.need[0, slot]):.4g}, outside [-1, 1]: no real angle, "
+                    f"{d.what} is out of reach on that branch")
+            if sv.spec.reverse:
+                text = "on the reversed chain (each joint turned the other way): " + text
+            if text not in out:
+                out.append(text)
+    return out
 
 
 def _toward(robot, q, near):
@@ -366,8 +343,8 @@ def default_start(robot) -> np.ndarray:
 def _solve_numerical(robot, target, near, units, why) -> IKResult:
     """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``."""
     if target.approach is not None:
-        raise UsageError(f"--approach: {robot.name} is solved numerically ({why}), which needs "
-                         "a full orientation or the position alone")
+        raise TargetMismatch(robot.name, "not approach", why=why)
+    from .engine import singular, violations
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near
     full = robot.generic_ranks[0]
@@ -382,9 +359,11 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
               "change from it; one solution, not every branch (" + why + ")")
     sols = []
     if res.converged:
+        from ..fk import chain_frames
         q = res.q
-        viol = _violations(robot, q)
-        sing = bool(_singular_mask(robot, q[None])[0])
+        viol = _violation_list(violations(robot, q))
+        F = chain_frames(robot.chain, q[None])
+        sing = bool(singular(robot, q[None], F, F[:, -1] @ robot.chain.fixed[-1])[0])
         desc = _singularity(robot, q)[1] if sing else None
         sols.append(IKSolution(q=q, branch="nearest the start" if near is not None else
                                "nearest home", position_error=res.position_error,
@@ -401,7 +380,7 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
         if far.startswith("out of reach"):
             reason = far
         else:
-            L = _len(units)
+            L = length_suffix(units)
             miss = f"position off by {res.position_error * units.l:.4g}{L}"
             if res.orientation_error is not None:
                 miss += f", orientation off by {res.orientation_error * units.a:.4g} {units.angle}"
@@ -416,225 +395,6 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                     units=units, near=near)
 
 
-#: the families that control the tool's approach direction but not the roll about it
-APPROACH_FAMILIES = ("position-approach", "pitch-roll")
-
-
-def _frame_with_z(a) -> np.ndarray:
-    """A rotation whose z axis is the unit vector ``a`` (x and y chosen)."""
-    z = np.asarray(a, float) / np.linalg.norm(a)
-    x = cross([0.0, 1.0, 0.0] if abs(z[1]) < 0.9 else [1.0, 0.0, 0.0], z)
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, cross(z, x), z])
-
-
-def _unreverse(c, n: int, explain: bool):
-    """A candidate of the reversed chain (see :meth:`Screws.reversed`) for the robot:
-    ``q = -q'[::-1]``, joint k of the reversed chain being joint n - 1 - k (0-based)."""
-    from .families import Candidate
-    trace = c.trace
-    if explain:
-        trace = [("chain reversed: the solver works on T^-1, joint k of the reversed "
-                  f"chain is joint {n + 1} - k turned the other way; values below are "
-                  "the reversed chain's", "", "none")] + list(trace)
-    return Candidate(q=-np.asarray(c.q, float)[::-1],
-                     signs={n - 1 - i: v for i, v in c.signs.items()},
-                     free=[n - 1 - i for i in c.free],
-                     continuum=None if c.continuum is None else c.continuum.reversed(n),
-                     trace=trace)
-
-
-def _solve_tcv(robot, S, target, units) -> IKResult:
-    """A TCV target w = [p; e^(qn/pi) r3] (Schilling 1990; the FER Zagreb homework):
-    the last joint's value comes from |w[3:]|, the other joints place the tool point,
-    and the approach vector r3 is checked."""
-    from .position import place_point
-    n = robot.dof
-    if not robot.joints[-1].revolute or n - 1 not in (2, 3):
-        raise UnsupportedRobot(
-            f"{robot.name}: --tcv targets need a robot of 3 or 4 joints whose last joint is "
-            "revolute (the tool roll); give the pose another way")
-    approach, qn = target.tcv
-    p = target.T[:3, 3]
-    tool0 = S.exp(n - 1, qn) @ S.M
-    scale = max(robot.characteristic_length, 1e-12)
-    sols, rejected = [], []
-    for ps in place_point(S, list(range(n - 1)), tool0[:3, 3], p):
-        q = _normalise(robot, np.concatenate([ps.x, [qn]]))
-        Tq = robot.fk(q)
-        pe = float(np.linalg.norm(Tq[:3, 3] - p))
-        ae = float(np.arccos(np.clip(Tq[:3, 2] @ approach, -1, 1)))
-        cand = type("C", (), {"signs": ps.signs, "free": ps.free})()
-        branch = branch_label(robot, S, "tcv", q, cand)
-        if pe > ACCEPT_POSITION * scale or ae > CHECK_ORIENTATION:
-            rejected.append((q, branch, pe, ae))
-            continue
-        viol = _violations(robot, q)
-        sing, desc = _singularity(robot, q)
-        sols.append(IKSolution(q=q, branch=branch, position_error=pe, orientation_error=ae,
-                               within_limits=not viol, violations=viol, singular=sing,
-                               singularity=desc))
-    reachable = any(s.within_limits for s in sols)
-    if sols:
-        reason = _count_text(sols)
-    elif rejected:
-        best = min(rejected, key=lambda r: r[3])
-        reason = (f"the position is reachable but the approach vector is not: the best "
-                  f"solution's approach is off by {best[3] * units.a:.4g} {units.angle}")
-    else:
-        reason = _out_of_reach(robot, target.T, units)
-    return IKResult(robot=robot, target=target, family="tcv",
-                    method=f"tool configuration vector: joint {n} from |w4..w6|, joints 1-{n - 1} "
-                           "place the tool point, the approach vector r3 is checked",
-                    controls="position, approach and roll", solutions=sols,
-                    reachable=reachable, reason=reason, units=units)
-
-
-def _violations(robot, q, c=None) -> list:
-    """``(joint index, amount beyond the limit, 'lower'|'upper')`` for each violated limit.
-    ``c``: the robot's :func:`_constants` when already at hand."""
-    c = c or _constants(robot)
-    q = np.asarray(q, float).tolist()
-    return sorted([(i, lo - x, "lower") for i, (x, lo) in enumerate(zip(q, c.lo_list))
-                   if x < lo - 1e-12] +
-                  [(i, x - hi, "upper") for i, (x, hi) in enumerate(zip(q, c.hi_list))
-                   if x > hi + 1e-12])
-
-
-def _violations_rows(Q, c) -> list:
-    """:func:`_violations` of each row of ``Q (k, n)``: the limits compared for all rows
-    at once, the lists built only for rows that violate one."""
-    low = Q < c.lo - 1e-12
-    high = Q > c.hi + 1e-12
-    bad = (low | high).any(axis=1)
-    return [_violations(None, q, c) if b else [] for q, b in zip(Q, bad.tolist())]
-
-
-def _count_text(sols) -> str:
-    n_in = sum(s.within_limits for s in sols)
-    return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
-
-
-@dataclass(frozen=True)
-class _Constants:
-    """Per-robot facts the post-processing of every pose needs (built once per robot)."""
-
-    revolute: np.ndarray      # (n,) bool
-    lo: np.ndarray            # (n,) lower limits, rad / m (-inf when unlimited)
-    hi: np.ndarray
-    lo_list: list             # the same as Python floats
-    hi_list: list
-    fixed: np.ndarray         # (n + 1, 4, 4) the chain's fixed transforms
-    offset: np.ndarray        # (n,) the chain's joint offsets
-
-
-@per_robot
-def _constants(robot) -> _Constants:
-    lo, hi = robot.limits.T
-    ch = robot.chain
-    arrays = [robot.is_revolute, lo.copy(), hi.copy(), np.array(ch.fixed, float),
-              np.array(ch.offset, float)]
-    for a in arrays:
-        a.setflags(write=False)            # shared by every call for this robot
-    rev, lo, hi, fixed, offset = arrays
-    return _Constants(rev, lo, hi, lo.tolist(), hi.tolist(), fixed, offset)
-
-
-def _normalise(robot, q):
-    """Revolute joints into (-pi, pi], or shifted by 2 pi into their limits."""
-    return _normalise_rows(robot, np.asarray(q, float)[None])[0]
-
-
-def _normalise_rows(robot, Q, c=None):
-    """:func:`_normalise` of each row of ``Q (k, n)`` (a new array)."""
-    c = c or _constants(robot)
-    Q = np.array(Q, float)
-    rev = c.revolute
-    if not rev.any() or len(Q) == 0:
-        return Q
-    x = wrap(Q[:, rev])
-    lo, hi = c.lo[rev] - 1e-12, c.hi[rev] + 1e-12
-    done = (lo <= x) & (x <= hi)
-    if not done.all():
-        for shift in (2 * np.pi, -2 * np.pi, 4 * np.pi, -4 * np.pi):
-            y = x + shift
-            fit = ~done & (lo <= y) & (y <= hi)
-            x = np.where(fit, y, x)
-            done |= fit
-    Q[:, rev] = x
-    return Q
-
-
-def _dedupe_rows(robot, Q, c=None) -> list:
-    """Indices of the rows of ``Q (k, n)`` to keep, in order: each row unless it is
-    within 1e-6 (wrapped for revolute joints) of an earlier kept one."""
-    if len(Q) < 2:
-        return list(range(len(Q)))
-    rev = (c or _constants(robot)).revolute
-    D = np.abs(Q[:, None, :] - Q[None, :, :])
-    # wrapped distance of revolute joints: the difference taken the short way round
-    Dr = np.mod(D[..., rev], 2 * np.pi)
-    D[..., rev] = np.minimum(Dr, 2 * np.pi - Dr)
-    close = np.all(D < 1e-6, axis=-1)
-    if not np.triu(close, 1).any():                 # no two rows alike: the common case
-        return list(range(len(Q)))
-    close = close.tolist()
-    kept = []
-    for i, row in enumerate(close):
-        if not any(row[j] for j in kept):
-            kept.append(i)
-    return kept
-
-
-def _frames_and_pose(robot, Q, c=None):
-    """``(frames (k, n, 4, 4), tool poses (k, 4, 4))`` of ``Q (k, n)``: the frames of
-    :func:`kincalc.fk.chain_frames` (just after each joint's motion) and the tool pose,
-    the last frame times the chain's last fixed transform."""
-    from ..fk import chain_frames
-    c = c or _constants(robot)
-    frames = chain_frames(robot.chain, Q)
-    return frames, frames[:, -1] @ c.fixed[-1]
-
-
-def _jacobian_from_frames(frames, Tq, c) -> np.ndarray:
-    """The base-frame geometric Jacobian ``(k, 6, n)`` from joint frames and tool poses
-    (the columns of :func:`kincalc.jacobian.jacobian_base`)."""
-    rev = c.revolute
-    k, n = frames.shape[:2]
-    J = np.zeros((k, 6, n))
-    z = frames[:, :, :3, 2]
-    lin = cross(z, Tq[:, None, :3, 3] - frames[:, :, :3, 3])
-    J[:, :3, :] = np.where(rev[:, None], lin, z).transpose(0, 2, 1)
-    J[:, 3:, :] = np.where(rev[:, None], z, 0.0).transpose(0, 2, 1)
-    return J
-
-
-def _singular_mask(robot, Q, J=None, c=None) -> np.ndarray:
-    """``(k,)`` bool: is each configuration singular (rank below the generic rank of J
-    or of its linear rows, on the length-normalised Jacobian, as jacobian_report)?
-    ``J`` (k, 6, n): the base-frame Jacobians at ``Q`` when already known."""
-    from ..tolerances import SINGULAR_TOL
-    if len(Q) == 0:
-        return np.zeros(0, bool)
-    J = robot.jacobian(Q) if J is None else J.copy()
-    L = robot.characteristic_length
-    J[:, :3, :] /= L
-    J[:, :, ~(c or _constants(robot)).revolute] *= L
-    full, full_pos = robot.generic_ranks
-
-    def rank(M):
-        sv = np.linalg.svd(M, compute_uv=False)
-        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
-    rJ = rank(J)
-    out = rJ < full
-    # rank 6 of J (6 x 6) gives rank 3 of its first three rows: their smallest singular
-    # value is at least J's (interlacing) and their threshold at most J's
-    rest = ~((rJ == 6) & (J.shape[1:] == (6, 6)) & (full_pos == 3))
-    if rest.any():
-        out[rest] |= rank(J[rest, :3, :]) < full_pos
-    return out
-
-
 def _singularity(robot, q):
     from ..analysis import jacobian_report
     rep = jacobian_report(robot, q)
@@ -643,22 +403,27 @@ def _singularity(robot, q):
     return True, "; ".join(rep.singularity.descriptions)
 
 
-def _len(units) -> str:
+def length_suffix(units) -> str:
     return "" if units.length == "unitless" else f" {units.length}"
 
 
 def _miss_reason(pe, oe, units):
     parts = []
     if pe > 0:
-        parts.append(f"position off by {pe * units.l:.4g}{_len(units)}")
+        parts.append(f"position off by {pe * units.l:.4g}{length_suffix(units)}")
     if oe:
         parts.append(f"orientation off by {oe * units.a:.4g} {units.angle}")
     return "does not reach the target: " + ", ".join(parts)
 
 
-def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
+def count_text(sols) -> str:
+    n_in = sum(s.within_limits for s in sols)
+    return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
+
+
+def _reason(robot, family, T, target, sols, rejected, units) -> str:
     if any(s.within_limits for s in sols):
-        return _count_text(sols)
+        return count_text(sols)
     if sols:
         worst = {}
         for s in sols:
@@ -666,7 +431,7 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
                 worst[i] = min(worst.get(i, np.inf), amount)
         what = ", ".join(
             f"{robot.joints[i].name} by {amount * (units.a if robot.joints[i].revolute else units.l):.4g}"
-            f"{' ' + units.angle if robot.joints[i].revolute else _len(units)}"
+            f"{' ' + units.angle if robot.joints[i].revolute else length_suffix(units)}"
             for i, amount in sorted(worst.items()))
         return f"blocked by joint limits: all {len(sols)} solutions violate a limit ({what})"
     if rejected:
@@ -674,6 +439,9 @@ def _reason(robot, S, family, T, target, sols, rejected, units) -> str:
         if not placed:
             best = min(rejected, key=lambda r: (r["position_error"], r["branch"]))
             return "no solution: " + best["reason"]
+        if family is TCV:
+            return (f"the position is reachable but the approach vector is not: the best "
+                    f"solution's approach is off by {_angle_text(placed[0]['orientation_error'], units)}")
         what = "approach direction" if target.approach is not None else "orientation"
         head = (f"the position is reachable but this {what} is not for a robot that controls "
                 f"{family.controls}: ")
@@ -710,8 +478,9 @@ def _placing(robot, rejected) -> list:
 
 def _reach_approach(robot, candidates, a) -> bool:
     """Whether every candidate's tool z axis is the approach ``a`` (unit, world)."""
+    from ..tolerances import ACCEPT_ORIENTATION
     z = robot.fk(np.array([c["q"] for c in candidates]))[:, :3, 2]
-    return bool(np.all(np.linalg.norm(cross(z, a), axis=-1) <= ACCEPT_ORIENTATION)
+    return bool(np.all(np.linalg.norm(np.cross(z, a), axis=-1) <= ACCEPT_ORIENTATION)
                 and np.all(z @ a > 0))
 
 
@@ -727,10 +496,10 @@ def _out_of_reach(robot, T, units) -> str:
     """Why nothing was found, from the nearest reachable position (see
     :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
-    from ..reach import POSITION_TOL, _where_outside, nearest_position, unlimited
+    from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
     p = np.asarray(T, float)[:3, 3]
     tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
-    L = _len(units)
+    L = length_suffix(units)
     _, _, dist = nearest_position(robot, p)
     if dist <= tol:
         return "no solution: the arm cannot place its tool at this pose"
@@ -738,7 +507,7 @@ def _out_of_reach(robot, T, units) -> str:
     if dist_free <= tol:
         return (f"out of reach within the joint limits: the nearest position reachable "
                 f"within them is {dist * units.l:.6g}{L} away")
-    _, reason = _where_outside(robot, p, p_free, dist_free,
+    _, reason = where_outside(robot, p, p_free, dist_free,
                                lambda x: f"{x * units.l:.6g}{L}")
     return "out of reach: " + reason
 
@@ -775,106 +544,3 @@ def _cross_combinations(robot, T, target, sols, units):
                     "position_error": pe, "orientation_error": oe,
                     "reason": _miss_reason(pe, oe, units)})
     return out, None
-
-
-def branch_label(robot, S: Screws, family: str, q, cand, F=None) -> str:
-    """Geometric branch label of solution ``q`` (see module docstring); ``F`` are its
-    joint frames (``chain_frames``) when already computed."""
-    from ..fk import chain_frames
-    if F is None:
-        F = chain_frames(robot.chain, np.asarray(q, float))
-    return _branch_labels(robot, family, [cand], np.asarray(F)[None])[0]
-
-
-def _branch_labels(robot, family: str, cands, F, c=None) -> list:
-    """:func:`branch_label` of every candidate at once; ``F (k, n, 4, 4)`` their joint
-    frames. The geometric words come from :func:`branch_geometry` for all candidates in
-    one pass; the +/- choices of the other steps are added per candidate."""
-    codes = branch_geometry(robot, family, F, c).tolist()
-    names = [j.name for j in robot.joints]
-    out = []
-    for row, cand in zip(codes, cands):
-        parts = [WORDS[w][x - 1] for w, x in enumerate(row) if x]
-        named = set().union(*(_NAMED[w] for w, x in enumerate(row) if x))
-        parts += [f"{names[j]}:{cand.signs[j]}" for j in sorted(cand.signs) if j not in named]
-        if cand.free:
-            parts.append("(" + ", ".join(names[j] for j in cand.free) + " free)")
-        out.append(" ".join(parts) if parts else "unique")
-    return out
-
-
-#: the geometric words of a branch label, for the codes 1 and 2 of :func:`branch_geometry`
-WORDS = (("shoulder right", "shoulder left"), ("elbow up", "elbow down"),
-         ("wrist no-flip", "wrist flip"))
-#: the joints whose +/- choice each word already names (shoulder 1, elbow 2 and 3, wrist 5)
-_NAMED = ({0}, {1, 2}, {4})
-
-
-def branch_geometry(robot, family: str, F, c=None) -> np.ndarray:
-    """The geometric words of the branch labels of solutions with joint frames
-    ``F (k, n, 4, 4)`` (:func:`kincalc.fk.chain_frames`, world frame): codes ``(k, 3)``
-    for (shoulder, elbow, wrist), each 0 where the word does not apply, else 1 or 2 for
-    the first or second word of :data:`WORDS` (see the module docstring for the rules).
-
-    The point P of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
-    meet on a UR arm) is fixed in the frame of the joint before those axes, so it is
-    carried from its coordinates there (:func:`_meeting_point_local`) instead of being
-    intersected anew for every solution. ``c``: the robot's :func:`_constants`.
-    """
-    F = np.asarray(F, float)
-    k = len(F)
-    codes = np.zeros((k, 3), np.int8)
-    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
-    if first is None or k == 0:
-        return codes
-    z, o = F[:, :, :3, 2], F[:, :, :3, 3]
-    rev = (c or _constants(robot)).revolute
-    local = _meeting_point_local(robot, first)
-    if local is not None:
-        P = (F[:, first - 1, :3, :3] @ local[:, None])[..., 0] + o[:, first - 1]
-        if rev[0]:
-            n01 = cross(z[:, 0], z[:, 1])
-            side = np.einsum("ij,ij->i", P - o[:, 0], n01)
-            codes[:, 0] = np.where(np.linalg.norm(n01, axis=-1) > 1e-6,
-                                   np.where(side >= 0, 1, 2), 0)
-        if robot.dof >= 3 and rev[1] and rev[2]:
-            # the elbow (axis 3) against the shoulder-to-target line, in the plane of the
-            # parallel axes 2 and 3; the target is P, or axis 4 for a UR arm
-            sh, el, h = o[:, 1], o[:, 2], z[:, 1]
-            tgt = P if family == "spherical-wrist" else o[:, 3]
-            line = tgt - sh
-            line = line - h * np.einsum("ij,ij->i", h, line)[:, None]
-            v = el - sh
-            v = v - h * np.einsum("ij,ij->i", h, v)[:, None]
-            ll = np.maximum(np.einsum("ij,ij->i", line, line), 1e-300)
-            perp = v - line * (np.einsum("ij,ij->i", v, line) / ll)[:, None]
-            up = np.einsum("ij,ij->i", perp, z[:, 0])
-            # the elbow on the line (stretched or folded): the turn sense decides
-            alt = np.einsum("ij,ij->i", cross(el - sh, tgt - el), h)
-            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
-            parallel = np.linalg.norm(cross(z[:, 1], z[:, 2]), axis=-1) < 1e-6
-            codes[:, 1] = np.where(parallel, np.where(up >= 0, 1, 2), 0)
-    w = np.einsum("ij,ij->i", cross(z[:, 3], z[:, 5]), z[:, 4])
-    codes[:, 2] = np.where(w >= 0, 1, 2)
-    return codes
-
-
-@per_robot
-def _meeting_point_local(robot, first: int):
-    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
-    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
-    only with the joints before them: the axes after it turn about lines through it), from
-    the robot at q = 0; None if those axes are all parallel. Cached per robot."""
-    from ..fk import chain_frames
-    F = chain_frames(robot.chain, np.zeros(robot.dof))
-    A, b = np.zeros((3, 3)), np.zeros(3)
-    for j in range(first, robot.dof):
-        Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
-        A += Pj
-        b += Pj @ F[j, :3, 3]
-    if np.linalg.svd(A, compute_uv=False)[-1] < 1e-6:
-        return None
-    P = np.linalg.solve(A, b)
-    local = F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
-    local.setflags(write=False)
-    return local

@@ -1,41 +1,55 @@
 """Subproblem 1: rotate a point about an axis onto another point.
 
-Find ``theta`` with ``R(k, theta) p1 = p2``. One solution when both points
-have the same height along ``k`` and the same distance from it; otherwise
-the least-squares angle (the one minimising ``|R p1 - p2|``) with
-``exact=False``. Ill-posed when ``p1`` (or ``p2``) lies on the axis: every
-angle is a solution; then ``theta = 0`` and ``free=True``.
+Find ``theta`` with ``R(k, theta) p1 = p2`` (Paden 1986; Murray, Li & Sastry 1994,
+sec. 3.3.2). With ``a = p1 - (k . p1) k`` the part of ``p1`` across the axis,
+``theta = atan2((k x p1) . p2, a . p2)``.
+
+Solutions: one when both points have the same height along ``k`` and the same
+distance from it; otherwise the least-squares angle (the one minimising
+``|R p1 - p2|``, given by the same formula) with ``exact`` False.
+
+Ill-posed: ``p1`` or ``p2`` on the axis (within ``tol`` of their size): every angle
+solves it (or none does); ``theta = 0`` and ``free`` True.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._small import cross3, norm3
+from .solutions import Solutions, angles, as_vectors, cross, dot, norm
 
 
-def sp1(p1, p2, k, tol: float = 1e-9):
-    """Return ``(theta, exact, free)``.
+def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
+    """Solve subproblem 1 for every problem of a batch.
 
     Parameters
     ----------
-    p1, p2 : array_like (3,)
-        Points (vectors from a point on the axis).
-    k : array_like (3,)
+    p1, p2 : array_like (..., 3)
+        The point to rotate and its target, as vectors from a point of the axis.
+    k : array_like (..., 3)
         Unit rotation axis.
     tol : float
-        Relative tolerance for "same height and radius" and "on the axis".
+        Relative tolerance (of ``max(|p1|, |p2|)``) of "same height and distance" and
+        "on the axis".
+
+    Returns
+    -------
+    Solutions
+        One slot: ``theta[0] (..., 1)``.
     """
-    p1, p2, k = (np.asarray(v, dtype=float) for v in (p1, p2, k))
-    kxp = cross3(k, p1)
-    # p1 projected on the plane of rotation, in the basis (-k x (k x p1), k x p1)
-    a = cross3(kxp, k)         # = p1 - (k.p1) k
-    x = a @ p2
-    y = kxp @ p2
-    scale = max(norm3(p1), norm3(p2), 1e-300)
-    r1, r2 = norm3(a), norm3(p2 - k * (k @ p2))
-    if r1 < tol * scale or r2 < tol * scale:
-        return 0.0, bool(abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale), True
-    theta = float(np.arctan2(y, x))
-    exact = abs(k @ p1 - k @ p2) < tol * scale and abs(r1 - r2) < tol * scale
-    return theta, bool(exact), False
+    p1, p2, k = as_vectors(p1, p2, k)
+    h1, h2 = dot(k, p1), dot(k, p2)
+    a = p1 - h1[..., None] * k                      # p1 across the axis
+    b = p2 - h2[..., None] * k                      # p2 across the axis
+    x, y = dot(a, b), dot(cross(k, a), b)
+    if tol > 0.0:
+        scale = np.maximum(np.maximum(norm(p1), norm(p2)), 1e-300)
+        r1, r2 = norm(a), norm(b)
+        free = (r1 < tol * scale) | (r2 < tol * scale)
+        exact = (np.abs(h1 - h2) < tol * scale) & (np.abs(r1 - r2) < tol * scale)
+    else:                   # no threshold: free only where a part across the axis is 0
+        free = (x == 0.0) & (y == 0.0)
+        exact = np.ones(free.shape, bool)
+    theta, c, s = angles(np.where(free, 1.0, x)[..., None], np.where(free, 0.0, y)[..., None])
+    one = np.ones(theta.shape, bool)
+    return Solutions((theta,), (c,), (s,), one, exact[..., None], free[..., None])

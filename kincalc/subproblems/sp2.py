@@ -1,30 +1,61 @@
 """Subproblem 2: two rotations about intersecting axes taking one point to another.
 
-Find ``(theta1, theta2)`` with ``R(k1, theta1) R(k2, theta2) p1 = p2`` for unit
-axes through the origin. Equivalent to ``R(k2, theta2) p1 = R(k1, -theta1) p2``:
-``theta2`` from subproblem 4 on the component along ``k1``
-(``k1 . R(k2, theta2) p1 = k1 . p2``), then ``theta1`` from subproblem 1.
-Up to two solutions; ``free`` when an angle is undetermined (a point on an axis).
+Find ``(theta1, theta2)`` with ``R(k1, theta1) R(k2, theta2) p1 = p2`` for unit axes
+through the origin (Paden 1986; Elias & Wen, IK-Geo, 2022). Equivalent to
+``R(k2, theta2) p1 = R(k1, -theta1) p2``: the component along ``k1`` gives
+``theta2`` by subproblem 4 (``k1 . R(k2, theta2) p1 = k1 . p2``), then ``theta1``
+turns ``R(k2, theta2) p1`` onto ``p2`` by subproblem 1.
+
+Both points are first scaled to unit length (as IK-Geo does), so that the answer
+depends only on their directions.
+
+Solutions: two, one (tangent), or, when ``|p1| != |p2|`` or the cone of ``k2`` does
+not reach the height of ``p2``, the least-squares pair with ``exact`` False: the one
+minimising ``|R1 R2 p1 - p2|``, i.e. turning the direction of ``p1`` as close to that
+of ``p2`` as the axes allow (both slots when the directions can be matched, else the
+nearest height along ``k1`` by subproblem 4's least squares, then subproblem 1's).
+
+Ill-posed (``free``): ``theta2`` undetermined (``p1`` on ``k2``, or ``k1`` along
+``k2``) or ``theta1`` undetermined (the rotated point on ``k1``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import matrix_from_unit_axis_angle as _rot
+from .solutions import Solutions, as_vectors, cross, dot, norm
 from .sp1 import sp1
 from .sp4 import sp4
 
 
-def sp2(p1, p2, k1, k2, tol: float = 1e-9):
-    """Return ``(solutions, exact, free)``; ``solutions`` a list of (theta1, theta2)."""
-    p1, p2, k1, k2 = (np.asarray(v, dtype=float) for v in (p1, p2, k1, k2))
-    t2s, exact4, free2 = sp4(k1, p1, k2, float(k1 @ p2))
-    out, exact, free = [], exact4, free2
-    for t2 in t2s:
-        q = _rot(k2, t2) @ p1
-        t1, ex1, fr1 = sp1(q, p2, k1, tol)
-        out.append((t1, t2))
-        exact = exact and ex1
-        free = free or fr1
-    return out, exact, free
+def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
+    """Solve subproblem 2 for every problem of a batch.
+
+    Parameters
+    ----------
+    p1, p2 : array_like (..., 3)
+        The point and its target, as vectors from the axes' common point.
+    k1, k2 : array_like (..., 3)
+        Unit rotation axes (``k1`` applied last).
+
+    Returns
+    -------
+    Solutions
+        Two slots; ``theta = (theta1 (..., 2), theta2 (..., 2))``.
+    """
+    p1, p2, k1, k2 = as_vectors(p1, p2, k1, k2)
+    n1, n2 = norm(p1), norm(p2)
+    same = np.abs(n1 - n2) <= tol * np.maximum(np.maximum(n1, n2), 1e-300)
+    # unit directions (a zero vector stays zero: free): without this scaling the
+    # answer for |p1| != |p2| matched heights, not directions, and was no minimum
+    p1 = p1 / np.where(n1 > 0.0, n1, 1.0)[..., None]
+    p2 = p2 / np.where(n2 > 0.0, n2, 1.0)[..., None]
+    second = sp4(k1, p1, k2, dot(k1, p2))
+    c2, s2 = second.c[0][..., None], second.s[0][..., None]              # (..., 2, 1)
+    v, kv = p1[..., None, :], cross(k2, p1)[..., None, :]
+    q = c2 * v + s2 * kv + (1.0 - c2) * dot(k2, p1)[..., None, None] * k2[..., None, :]
+    first = sp1(q, p2[..., None, :], k1[..., None, :], tol=tol)
+    t1, c1, s1 = (x[0][..., 0] for x in (first.theta, first.c, first.s))
+    return Solutions((t1, second.theta[0]), (c1, second.c[0]), (s1, second.s[0]), second.ok,
+                     second.exact & first.exact[..., 0] & same[..., None],
+                     second.free | first.free[..., 0])

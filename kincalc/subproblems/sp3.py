@@ -1,19 +1,51 @@
 """Subproblem 3: rotate a point about an axis to a given distance from another point.
 
-Find ``theta`` with ``|R(k, theta) p1 - p2| = d``. Reduces to subproblem 4:
-``|R p1 - p2|^2 = |p1|^2 + |p2|^2 - 2 p2 . R p1``, so
-``p2 . R p1 = (|p1|^2 + |p2|^2 - d^2) / 2``.
+Find ``theta`` with ``|R(k, theta) p1 - p2| = d`` (Paden 1986; Murray, Li & Sastry
+1994, sec. 3.3.2). Since ``|R p1 - p2|^2 = |p1|^2 + |p2|^2 - 2 p2 . R p1``, it is
+subproblem 4 with ``h = p2`` and ``p2 . R p1 = (|p1|^2 + |p2|^2 - d^2) / 2``: two
+solutions, one at the tangent (the circle touches the sphere), the least-squares
+angle (nearest or farthest point of the circle) when there is none, ill-posed when the
+circle's distance from ``p2`` does not change (``p1`` on the axis, or ``p2`` on it).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .solutions import Solutions, as_vectors, dot
 from .sp4 import sp4
 
 
-def sp3(p1, p2, k, d, tol: float = 1e-12):
-    """Return ``(thetas, exact, free)`` as :func:`~kincalc.subproblems.sp4.sp4`."""
-    p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
-    target = 0.5 * (p1 @ p1 + p2 @ p2 - d * d)
-    return sp4(p2, p1, k, target, tol)
+def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
+    """Solve subproblem 3 for every problem of a batch.
+
+    Parameters
+    ----------
+    p1, p2 : array_like (..., 3)
+        The point to rotate and the centre of the sphere, from a point of the axis.
+    k : array_like (..., 3)
+        Unit rotation axis.
+    d : array_like (...)
+        The distance to reach (same length unit; broadcast against the vectors'
+        leading shape).
+    scale : array_like (...), optional
+        The size of the squared lengths the inputs were computed from (default: their
+        own, ``(|p1|^2 + |p2|^2 + d^2) / 2``): a caller whose ``d`` comes from larger
+        quantities (a target far from the origin) passes their size, so that a tangent
+        within their rounding counts as one.
+
+    Returns
+    -------
+    Solutions
+        Two slots, as :func:`~kincalc.subproblems.sp4.sp4`.
+    """
+    p1, p2, k = as_vectors(p1, p2, k)
+    d = np.asarray(d, float)
+    # the target is a difference of squares: its rounding is that of its terms, which
+    # sets the tolerances (with the default, |p2| |p1|, a tangent between lengths of
+    # different sizes came out not exact or as two roots, and an exactly solvable
+    # problem with p2 = 0 not exact)
+    squares = dot(p1, p1) + dot(p2, p2)
+    own = 0.5 * (squares + d * d)
+    return sp4(p2, p1, k, 0.5 * (squares - d * d), tol=tol,
+               scale=own if scale is None else np.maximum(own, scale))

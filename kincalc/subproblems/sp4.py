@@ -1,41 +1,101 @@
 """Subproblem 4: a rotated vector's component along a direction.
 
-Find ``theta`` with ``h . R(k, theta) p = d``. Writing
-``h . R p = A cos(theta) + B sin(theta) + C`` the solutions are
-``theta = atan2(B, A) +- acos((d - C) / sqrt(A^2 + B^2))``: two, one (at the
-boundary) or none, in which case the least-squares angle
-(``atan2(B, A)`` or its opposite) is returned with ``exact=False``. Ill-posed
-when ``A = B = 0`` (``h`` parallel to ``k`` or ``p`` on the axis): every angle
-or none solves it; then ``free=True``.
+Find ``theta`` with ``h . R(k, theta) p = d`` (Elias & Wen, IK-Geo, 2022, subproblem
+4; Paden-Kahan's subproblem 3 reduces to it). By Rodrigues,
+``h . R p = A cos(theta) + B sin(theta) + C`` with ``A = h . (p - (k . p) k)``,
+``B = h . (k x p)``, ``C = (h . k)(k . p)``; with ``r = hypot(A, B)`` and
+``cos(delta) = (d - C) / r`` the solutions are ``theta = atan2(B, A) +- delta``.
+
+Solutions: two; one at the tangent, where both coincide (the pose is then singular:
+the value is only good to about sqrt(rounding) of the inputs, and values within
+rounding of the tangent are taken as the tangent itself, so that an exactly singular
+problem gets its double root to rounding and not two copies either side); none when
+``|d - C| > r``: then the least-squares angle (``atan2(B, A)``, or the opposite
+direction when ``d < C``) with ``exact`` False.
+
+Ill-posed: ``r = 0`` (``h`` along ``k``, or ``p`` on the axis): every angle solves it
+when ``C = d`` (``theta = 0``, ``free`` True, ``exact`` True) and none otherwise
+(``free`` True, ``exact`` False).
+
+The cosines and sines of the roots come from the algebra: ``cos(base +- delta)`` from
+``cos base = A / r``, ``sin base = B / r``, ``cos delta`` and ``sin delta = sqrt(1 -
+cos^2)``, no trigonometric call.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._small import cross3, norm3
+from .solutions import Solutions, as_vectors, cross, dot, norm, principal
+
+#: rounding of a cosine computed from lengths of size ``scale``, per unit of
+#: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
+ROUNDING = 64 * np.finfo(float).eps
 
 
-def sp4(h, p, k, d, tol: float = 1e-12):
-    """Return ``(thetas, exact, free)``; ``thetas`` a list of 0, 1 or 2 angles (rad)."""
-    h, p, k = (np.asarray(v, dtype=float) for v in (h, p, k))
-    kxp = cross3(k, p)
-    A = -(h @ cross3(k, kxp))  # h . (p - (k.p)k)
-    B = h @ kxp
-    C = (h @ k) * (k @ p)
-    r = np.hypot(A, B)
-    scale = max(norm3(h) * norm3(p), abs(d), 1e-300)
-    if r < tol * scale:
-        return [0.0], bool(abs(C - d) < 1e-9 * scale), True
-    base = np.arctan2(B, A)
-    # the slack absorbs rounding in d - C, which does not shrink with r (an
-    # absolute band on c would reject solvable inputs when r is small)
-    if abs(d - C) > r + tol * scale:
-        return [float(base if d > C else base + np.pi)], False, False
-    c = min(1.0, max(-1.0, (d - C) / r))
-    delta = np.arccos(c)
-    # tangent (c = +-1): one solution; at c = -1, base + pi and base - pi are
-    # the same angle
-    if delta < 1e-9 or delta > np.pi - 1e-9:
-        return [float(base + delta)], True, False
-    return [float(base + delta), float(base - delta)], True, False
+def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
+    """Solve subproblem 4 for every problem of a batch.
+
+    Parameters
+    ----------
+    h : array_like (..., 3)
+        The direction of the component (any length).
+    p : array_like (..., 3)
+        The vector rotated (from a point of the axis).
+    k : array_like (..., 3)
+        Unit rotation axis.
+    d : array_like (...)
+        The component to reach, in the unit of ``h . p`` (broadcast against the
+        vectors' leading shape: one geometry may take many ``d``).
+    tol : float
+        Relative tolerance (of ``scale``) of "``r`` is zero" and of how far beyond the
+        tangent a problem still counts as solved.
+    scale : array_like (...), optional
+        The size of the terms ``d`` was computed from, the unit of the tolerances;
+        default ``max(|h| |p|, |d|)``. A ``d`` obtained by cancellation (subproblem
+        3's law of cosines) carries the rounding of its terms, not of its value.
+
+    Returns
+    -------
+    Solutions
+        Two slots, ``theta[0] (..., 2)``: ``base + delta`` and ``base - delta``.
+    """
+    h, p, k = as_vectors(h, p, k)
+    d = np.asarray(d, float)      # broadcast with the vectors' leading shape by from_abc
+    kp = dot(k, p)
+    A = dot(h, p - kp[..., None] * k)
+    B = dot(h, cross(k, p))
+    C = dot(h, k) * kp
+    if scale is None:
+        scale = np.maximum(norm(h) * norm(p), np.abs(d))
+    return from_abc(A, B, C, d, scale, tol=tol)
+
+
+def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
+    """Subproblem 4 in its coefficients: ``A cos(theta) + B sin(theta) + C = d`` for
+    arrays ``(...)`` (broadcasting); ``scale`` the size of the terms, for tolerances.
+
+    For solvers that have the coefficients from constants of the robot (a height along
+    an axis, a law of cosines) rather than the vectors ``h``, ``p``, ``k``."""
+    A, B, C, d, scale = np.broadcast_arrays(*(np.asarray(v, float) for v in (A, B, C, d, scale)))
+    scale = np.maximum(scale, 1e-300)
+    r = np.sqrt(A * A + B * B)
+    free = r < tol * scale
+    rr = np.where(free, 1.0, r)
+    cb, sb = np.where(free, 1.0, A / rr), np.where(free, 0.0, B / rr)
+    cd = (d - C) / rr
+    # exactness from the cosine as computed, before the tangent band moves it to +-1
+    exact = np.where(free, np.abs(d - C) <= 1e-9 * scale, np.abs(cd) <= 1.0 + tol * scale / rr)
+    # a cosine within rounding of +-1 is the tangent: one (double) root (and beyond +-1
+    # the least-squares end, also +-1)
+    band = ROUNDING * scale / rr
+    cd = np.where(np.abs(cd) >= 1.0 - band, np.sign(cd), cd)
+    cd = np.where(free, 1.0, np.clip(cd, -1.0, 1.0))
+    sd = np.sqrt(1.0 - cd * cd)
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    theta = principal(np.arctan2(s, c))
+    two = exact & ~free & (sd > 0.0)
+    ok = np.stack([np.ones_like(two), two], axis=-1)
+    return Solutions((theta,), (c,), (s,), ok, np.stack([exact, exact], axis=-1),
+                     np.stack([free, free], axis=-1))

@@ -4,126 +4,98 @@ Find ``(theta1, theta2, theta3)`` with ::
 
     p0 + R(k1, theta1) p1 = R(k2, theta2) (p2 + R(k3, theta3) p3)
 
-for unit axes through the origin (Elias & Wen, "IK-Geo", arXiv:2211.05737,
-2022, subproblem 5). The left side runs over a circle C1 (axis ``k1``), the
-bracket on the right over a circle C3 (axis ``k3``). A point ``v1`` of C1
-and a point ``v3`` of C3 are related by a rotation about ``k2`` exactly when
-they have the same height along ``k2`` and the same distance from the
-origin. With ``v = c + A (cos theta, sin theta)`` both conditions are linear
-in ``(cos theta1, sin theta1, cos theta3, sin theta3)``:
+for unit axes through the origin (Elias & Wen, IK-Geo, arXiv:2211.05737, 2022,
+subproblem 5). The left side runs over a circle C1 (axis ``k1``), the bracket on the
+right over a circle C3 (axis ``k3``). A point ``v1`` of C1 and a point ``v3`` of C3
+are related by a rotation about ``k2`` exactly when they have the same height along
+``k2`` and the same distance from the origin; with ``v = c + A (cos t, sin t)`` both
+conditions are linear in ``(cos theta1, sin theta1, cos theta3, sin theta3)``:
+``k2 . v1 = k2 . v3`` and ``|v1|^2 = |v3|^2``, the two-ellipse problem of subproblem 6
+(up to four solutions). ``theta2`` then turns ``v3`` onto ``v1`` (subproblem 1). Unlike
+IK-Geo's formulation (a quartic in the height), this needs no assumption on the axes.
 
-    k2 . v1 = k2 . v3,        |v1|^2 = |v3|^2,
+No least-squares answer is defined: with no exact solution no slot is ``ok``.
 
-which is the two-ellipse problem of subproblem 6: a quartic, up to four
-solutions. ``theta2`` then follows from subproblem 1 (``R(k2, theta2) v3 =
-v1``). Unlike IK-Geo's own formulation (a quartic in the height), this one
-needs no assumption on the axes (``k1`` or ``k3`` may be parallel to ``k2``).
-
-No least-squares answer is defined: when there is no exact solution the
-list is empty and ``exact=False``.
-
-Ill-posed (``free=True``):
-
-* ``p1`` on the axis ``k1`` (C1 is a point: ``theta1`` is free), likewise
-  ``p3`` on ``k3``;
-* a circle coaxial with ``k2`` (``theta2`` and that circle's angle are
-  redundant);
-* both circles at constant height along ``k2`` (``k1 || k2`` and
-  ``k3 || k2``), or both at constant distance from the origin (``p0 || k1``
-  and ``p2 || k3``): one condition is void, a curve of solutions or none;
-* the meeting point on the axis ``k2`` (``theta2`` is free). This one is a
-  double root of the quartic: its angles come out to only about 1e-6 rad, and
-  a point within ``AXIS_TOL`` of the axis is reported free.
-
-Where the solutions form a curve, one point of it is returned.
+Ill-posed (``free``): ``p1`` on ``k1`` (C1 a point: ``theta1`` free), likewise ``p3``
+on ``k3``; a circle coaxial with ``k2``; both circles at constant height along ``k2``
+or at constant distance from the origin (a curve of solutions, or none); the meeting
+point on the axis ``k2`` (``theta2`` free; a double root of the quartic, found only to
+about 1e-6 rad, so a point within ``AXIS_TOL`` of the axis is reported free).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import cross
-
+from ..spatial import matrix_from_axis_angle
 from ..tolerances import GEOMETRY_TOL
-from ._unit_pair import _wrap, solve_unit_pair
+from . import unit_pair
+from .solutions import Solutions, as_vectors, cross, dot, norm
 from .sp1 import sp1
 
-#: relative distance from the axis k2 below which theta2 counts as free. A
-#: meeting point on that axis is a double root of the quartic, found only to
-#: about sqrt(machine eps); the same bound caps the loop's closing error.
+#: relative distance from the axis k2 below which theta2 counts as free; the same
+#: bound caps the loop's closing error (a double root is found to ~sqrt(eps))
 AXIS_TOL = 1e-6
 
 
-def _circle(offset, k, p):
-    """Centre ``c`` (3,) and basis ``A`` (3, 2) with ``offset + R(k, t) p = c + A (cos t, sin t)``.
-
-    The columns of ``A`` are orthogonal, both of length ``|k x p|``.
-    """
-    kp = k @ p
-    return offset + kp * k, np.column_stack([p - kp * k, cross(k, p)])
-
-
-def _rot(k, t):
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * (K @ K)
-
-
-def sp5(p0, p1, p2, p3, k1, k2, k3, tol: float = GEOMETRY_TOL):
-    """Solve subproblem 5 for all ``(theta1, theta2, theta3)``.
+def sp5(p0, p1, p2, p3, k1, k2, k3, *, tol: float = GEOMETRY_TOL) -> Solutions:
+    """Solve subproblem 5 for every problem of a batch.
 
     Parameters
     ----------
-    p0, p1, p2, p3 : array_like (3,)
+    p0, p1, p2, p3 : array_like (..., 3)
         Vectors of the loop ``p0 + R1 p1 = R2 (p2 + R3 p3)``, in one length unit.
-    k1, k2, k3 : array_like (3,)
+    k1, k2, k3 : array_like (..., 3)
         Unit rotation axes through the origin.
-    tol : float
-        Relative tolerance of the degeneracy tests (point on an axis, parallel
-        conditions), relative to the largest of ``|p0|, ..., |p3|``.
 
     Returns
     -------
-    solutions : list of tuple(float, float, float)
-        Up to four ``(theta1, theta2, theta3)`` in rad, each in (-pi, pi].
-    exact : bool
-        True when ``solutions`` is non-empty; False (with an empty list) when
-        there is no solution.
-    free : bool
-        True when the problem is ill-posed (see the module docstring).
-
-    References
-    ----------
-    A. Elias, J. Wen, "IK-Geo: Unified robot inverse kinematics using
-    subproblem decomposition", arXiv:2211.05737, 2022, sec. on subproblem 5.
+    Solutions
+        Four slots; ``theta = (theta1, theta2, theta3)``, each ``(..., 4)``.
     """
-    p0, p1, p2, p3, k1, k2, k3 = (np.asarray(v, dtype=float).reshape(3)
-                                  for v in (p0, p1, p2, p3, k1, k2, k3))
-    L = max(float(np.linalg.norm(v)) for v in (p0, p1, p2, p3))
-    if L == 0.0:
-        return [(0.0, 0.0, 0.0)], True, True
+    p0, p1, p2, p3, k1, k2, k3 = np.broadcast_arrays(*as_vectors(p0, p1, p2, p3, k1, k2, k3))
+    L = np.maximum(np.maximum(norm(p0), norm(p1)), np.maximum(norm(p2), norm(p3)))
+    Ls = np.maximum(L, 1e-300)
     c1, A1 = _circle(p0, k1, p1)
     c3, A3 = _circle(p2, k3, p3)
-    r1sq, r3sq = float(A1[:, 0] @ A1[:, 0]), float(A3[:, 0] @ A3[:, 0])
-    # heights along k2 agree; squared norms agree (divided by 2L to keep the
-    # two rows in one unit)
-    M = np.array([np.concatenate([A1.T @ k2, -(A3.T @ k2)]),
-                  np.concatenate([A1.T @ c1, -(A3.T @ c3)]) / L])
-    b = np.array([k2 @ (c3 - c1),
-                  (c3 @ c3 + r3sq - c1 @ c1 - r1sq) / (2 * L)])
-    pairs, _, free = solve_unit_pair(M, b, L, tol)
-    # a circle shrunk to a point: its angle does nothing
-    free = free or min(r1sq, r3sq) <= (tol * L) ** 2
+    r1sq, r3sq = dot(A1[..., 0], A1[..., 0]), dot(A3[..., 0], A3[..., 0])
+    # heights along k2 agree; squared norms agree (over 2L: both rows in one unit)
+    row1 = np.concatenate([np.einsum("...ij,...i->...j", A1, k2),
+                           -np.einsum("...ij,...i->...j", A3, k2)], -1)
+    row2 = np.concatenate([np.einsum("...ij,...i->...j", A1, c1),
+                           -np.einsum("...ij,...i->...j", A3, c3)], -1) / Ls[..., None]
+    M = np.stack([row1, row2], -2)
+    b = np.stack([dot(k2, c3 - c1), (dot(c3, c3) + r3sq - dot(c1, c1) - r1sq) / (2 * Ls)], -1)
+    pairs = unit_pair.solve(M, b, Ls, tol=tol)
+    t1, t3 = pairs.theta
+    e1 = np.stack([pairs.c[0], pairs.s[0]], -1)[..., None, :]              # (..., 4, 1, 2)
+    e3 = np.stack([pairs.c[1], pairs.s[1]], -1)[..., None, :]
+    v1 = c1[..., None, :] + (A1[..., None, :, :] * e1).sum(-1)             # (..., 4, 3)
+    v3 = c3[..., None, :] + (A3[..., None, :, :] * e3).sum(-1)
+    second = sp1(v3, v1, k2[..., None, :], tol=tol)
+    t2 = second.theta[0][..., 0]
+    loop = p0[..., None, :] + _turn(k1, t1, p1) - _turn(k2, t2, p2[..., None, :] + _turn(k3, t3, p3))
+    ok = pairs.ok & (norm(loop) <= AXIS_TOL * Ls[..., None])
+    near_axis = norm(v1 - dot(k2[..., None, :], v1)[..., None] * k2[..., None, :]) \
+        <= AXIS_TOL * Ls[..., None]
+    flat = (np.minimum(r1sq, r3sq) <= (tol * Ls) ** 2) | (L == 0.0)
+    free = pairs.free | second.free[..., 0] | near_axis | flat[..., None]
+    zero = L == 0.0
+    ok = np.where(zero[..., None], np.arange(4) == 0, ok)
+    thetas = tuple(np.where(ok, t, 0.0) for t in (t1, t2, t3))
+    return Solutions(thetas, tuple(np.cos(t) for t in thetas), tuple(np.sin(t) for t in thetas),
+                     ok, ok, free & ok | (free & ~ok.any(-1)[..., None]))
 
-    solutions = []
-    for t1, t3 in pairs:
-        v1 = c1 + A1 @ np.array([np.cos(t1), np.sin(t1)])
-        v3 = c3 + A3 @ np.array([np.cos(t3), np.sin(t3)])
-        t2, _, free2 = sp1(v3, v1, k2, tol)
-        residual = np.linalg.norm(p0 + _rot(k1, t1) @ p1
-                                  - _rot(k2, t2) @ (p2 + _rot(k3, t3) @ p3))
-        if residual > AXIS_TOL * L:
-            continue
-        near_axis = np.linalg.norm(v1 - (k2 @ v1) * k2) <= AXIS_TOL * L
-        free = bool(free or free2 or near_axis)
-        solutions.append((_wrap(t1), _wrap(t2), _wrap(t3)))
-    return solutions, bool(solutions), free
+
+def _circle(offset, k, p):
+    """Centre ``(..., 3)`` and basis ``(..., 3, 2)`` with ``offset + R(k, t) p = c + A
+    (cos t, sin t)``; the columns are orthogonal, of length ``|k x p|``."""
+    kp = dot(k, p)
+    return offset + kp[..., None] * k, np.stack([p - kp[..., None] * k, cross(k, p)], -1)
+
+
+def _turn(k, t, p):
+    """``R(k, t) p`` for axes ``k (..., 3)``, angles ``t (..., 4)``, ``p (..., [4,] 3)``."""
+    R = matrix_from_axis_angle(k[..., None, :], t)
+    p = np.broadcast_to(p if p.ndim == R.ndim - 1 else p[..., None, :], R.shape[:-1])
+    return np.einsum("...ij,...j->...i", R, p)

@@ -1,0 +1,235 @@
+"""The candidates of a family's closed form for a batch of poses, step by step.
+
+A closed form solves joints one step at a time, and a step with several roots (the
++/- of a subproblem 4, the roots of a quartic) splits every candidate into as many.
+:class:`Branches` holds the candidates of ``N`` poses in ``K`` slots, the same slots
+for every pose: the joints solved so far (value, cosine and sine, each ``(N, K)``),
+which slots are alive, which joints a singular target left free, the root each step
+took in each slot (the slot's signs, the words of its branch label), and, when asked
+for, the intermediate quantities of each step (``--explain``) and the steps that found
+no real root (``--all-branches``).
+
+A step's subproblem runs on all slots at once and returns ``k`` solutions per slot
+(:class:`~kincalc.subproblems.Solutions` of shape ``(N, K, k)``); :meth:`Branches.branch`
+makes the ``K k`` slots of the next step. Quantities a solver computed per slot before
+the step are carried over with :meth:`Branches.take`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Note:
+    """One intermediate quantity of a step, for ``--explain``: ``value (N, K_at, ...)``
+    at the slots of the step that made it (``at``: index into the lineage), SI, of
+    ``kind`` ("length", "angle", "none", "joint:I")."""
+
+    label: str
+    value: np.ndarray
+    kind: str
+    at: int
+
+
+@dataclass(frozen=True)
+class DeadEnd:
+    """A step that found no real root for some slots: ``joint`` (0-based), the equation
+    ``cos(joint - phase) = need`` it had to solve (``phase``, ``need (N, K_at)``; a
+    ``need`` beyond [-1, 1] is the reason), ``where (N, K_at)`` the slots it failed for,
+    ``what`` the quantity placed (a sentence fragment)."""
+
+    joint: int
+    phase: np.ndarray
+    need: np.ndarray
+    where: np.ndarray
+    what: str
+    at: int
+
+
+@dataclass(frozen=True)
+class Branches:
+    """Candidates of ``N`` poses in ``K`` slots (see the module docstring).
+
+    ``value``, ``cos``, ``sin``: joint (0-based) -> ``(N, K)`` (rad or m; cosine and
+    sine of revolute joints); ``ok (N, K)``; ``free``: joint -> ``(N, K)`` bool, the
+    joint undetermined at this target (a representative value is shown); ``signs``: per
+    slot, a tuple of ``(joint, label)`` for each step with more than one root;
+    ``parent (K,)``: the slot of the previous step each slot came from.
+    """
+
+    n: int
+    value: dict
+    cos: dict
+    sin: dict
+    ok: np.ndarray
+    free: dict
+    signs: tuple
+    parent: np.ndarray
+    explain: bool = False
+    lineage: tuple = ()
+    notes: tuple = ()
+    dead_ends: tuple = ()
+    extra: dict = field(default_factory=dict)
+
+    @staticmethod
+    def start(N: int, n: int, *, explain: bool = False, ok=None) -> "Branches":
+        """One slot per pose, nothing solved; ``ok (N,)`` marks poses to solve."""
+        alive = np.ones((N, 1), bool) if ok is None else np.asarray(ok, bool).reshape(N, 1)
+        return Branches(n=n, value={}, cos={}, sin={}, ok=alive, free={}, signs=((),),
+                        parent=np.zeros(1, int), explain=explain, lineage=(np.zeros(1, int),))
+
+    @property
+    def N(self) -> int:
+        return self.ok.shape[0]
+
+    @property
+    def K(self) -> int:
+        return self.ok.shape[1]
+
+    def take(self, x):
+        """``x (N, K_prev, ...)``, computed per slot before the last step, for the slots
+        after it."""
+        return x[:, self.parent]
+
+    def branch(self, joints, sols, labels=None, *, least_squares: bool = False) -> "Branches":
+        """The next step: ``sols`` (a subproblem's Solutions of shape ``(N, K, k)``)
+        gives ``joints`` (one joint per unknown of the subproblem, in its order; None
+        to skip an unknown). Every slot splits into ``k``; a slot lives on where its
+        root is ``ok`` and exact (``least_squares``: or the subproblem's least-squares
+        answer, for the reasons of a pose out of reach). ``labels``: the sign label of
+        each of the ``k`` roots, given to the first joint of the step (default ``+``/``-``
+        for two roots, ``root i`` for more, none for one)."""
+        k = sols.ok.shape[-1]
+        K = self.K
+        parent = np.repeat(np.arange(K), k)
+        flat = lambda a: np.asarray(a).reshape(self.N, K * k)  # noqa: E731
+        value, cos, sin = self._gather(parent)
+        free = {j: f[:, parent] for j, f in self.free.items()}
+        for j, t, c, s, fr in zip(joints, sols.theta, sols.c, sols.s, _per_unknown(sols)):
+            if j is None:
+                continue
+            value[j], cos[j], sin[j] = flat(t), flat(c), flat(s)
+            free[j] = free[j] | flat(fr) if j in free else flat(fr)
+        ok = self.ok[:, parent] & flat(sols.ok if least_squares else sols.ok & sols.exact)
+        if k == 1:                      # one root: nothing to tell apart
+            labels = (None,)
+        elif labels is None:
+            labels = ("+", "-") if k == 2 else tuple(f"root {i + 1}" for i in range(k))
+        first = next(j for j in joints if j is not None)
+        signs = tuple(self.signs[p] + (((first, labels[i % k]),) if labels[i % k] else ())
+                      for i, p in enumerate(parent.tolist()))
+        extra = {name: x[:, parent] for name, x in self.extra.items()}
+        return replace(self, value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
+                       parent=parent, extra=extra, lineage=self.lineage + (parent,) if self.explain else
+                       self.lineage)
+
+    def with_extra(self, name: str, value) -> "Branches":
+        """A per-slot quantity ``value (N, K, ...)`` the engine needs at the end (a
+        continuum's relation, ...), carried through later steps."""
+        extra = dict(self.extra)
+        extra[name] = np.asarray(value)
+        return replace(self, extra=extra)
+
+    def set(self, joint: int, value, c=None, s=None, ok=None, free=None) -> "Branches":
+        """A step with one root per slot: ``joint`` gets ``value (N, K)`` (and its
+        cosine and sine); ``ok (N, K)`` narrows the slots; ``free (N, K)`` replaces the
+        joint's free mask."""
+        v, cs, sn = self._gather(None)
+        v[joint] = value
+        if c is not None:
+            cs[joint], sn[joint] = c, s
+        fr = dict(self.free)
+        if free is not None:
+            fr[joint] = free
+        return replace(self, value=v, cos=cs, sin=sn, free=fr,
+                       ok=self.ok if ok is None else self.ok & ok,
+                       parent=np.arange(self.K))
+
+    def note(self, label: str, value, kind: str = "none") -> "Branches":
+        """Record an intermediate quantity ``value (N, K, ...)`` for ``--explain``."""
+        if not self.explain:
+            return self
+        return replace(self, notes=self.notes + (Note(label, np.asarray(value, float), kind,
+                                                      len(self.lineage) - 1),))
+
+    def dead_end(self, joint: int, phase, need, where, what: str) -> "Branches":
+        """Record the slots ``where (N, K)`` for which ``joint`` had no real root."""
+        if not self.explain or not np.any(where):
+            return self
+        return replace(self, dead_ends=self.dead_ends + (
+            DeadEnd(joint, np.broadcast_to(phase, where.shape), np.broadcast_to(need, where.shape),
+                    where, what, len(self.lineage) - 1),))
+
+    def reversed_chain(self) -> "Branches":
+        """The branches of a chain solved from the tool (:meth:`Screws.reversed
+        <kincalc.ik.screws.Screws.reversed>`) as the robot's own: joint k of the reversed
+        chain is joint n - 1 - k turned the other way (``q = -q'[::-1]``); signs, free
+        joints and a continuum's relation follow."""
+        n = self.n
+        m = lambda j: n - 1 - j  # noqa: E731
+        extra = dict(self.extra)
+        if "continuum" in extra:               # (mask, i, j, sign, total)
+            c = extra["continuum"].copy()
+            c[..., 1], c[..., 2], c[..., 4] = n - 1 - c[..., 1], n - 1 - c[..., 2], -c[..., 4]
+            extra["continuum"] = c
+        if "parallel continuum" in extra:      # (mask, sigma, total)
+            c = extra["parallel continuum"].copy()
+            c[..., 2] = -c[..., 2]
+            extra["parallel continuum"] = c
+        return replace(self, value={m(j): -v for j, v in self.value.items()},
+                       cos=dict((m(j), c) for j, c in self.cos.items()),
+                       sin={m(j): -v for j, v in self.sin.items()},
+                       free={m(j): f for j, f in self.free.items()},
+                       signs=tuple(tuple((m(j), lab) for j, lab in sg) for sg in self.signs),
+                       extra=extra)
+
+    def _gather(self, parent):
+        if parent is None:
+            return dict(self.value), dict(self.cos), dict(self.sin)
+        return ({j: v[:, parent] for j, v in self.value.items()},
+                {j: v[:, parent] for j, v in self.cos.items()},
+                {j: v[:, parent] for j, v in self.sin.items()})
+
+    def q(self) -> np.ndarray:
+        """``(N, K, n)`` joint values (0 where a joint was never set)."""
+        out = np.zeros((self.N, self.K, self.n))
+        for j, v in self.value.items():
+            out[:, :, j] = v
+        return out
+
+    def joint_major(self) -> tuple:
+        """``(c, s, x)``, each ``(n, N K)`` contiguous, joint by joint: the cosine and
+        sine of every revolute joint (1 and 0 for prismatic joints and joints never
+        set) and every joint's value (0 where never set), for the FK check, which walks
+        the chain joint-major."""
+        M = self.N * self.K
+        c, s, x = np.ones((self.n, M)), np.zeros((self.n, M)), np.zeros((self.n, M))
+        for j, v in self.cos.items():
+            c[j] = v.ravel()
+        for j, v in self.sin.items():
+            s[j] = v.ravel()
+        for j, v in self.value.items():
+            x[j] = v.ravel()
+        return c, s, x
+
+    def free_mask(self) -> np.ndarray:
+        """``(N, K, n)`` bool: joints left free in each slot."""
+        out = np.zeros((self.N, self.K, self.n), bool)
+        for j, f in self.free.items():
+            out[:, :, j] = f
+        return out
+
+    def final_index(self, at: int) -> np.ndarray:
+        """For each final slot, its slot at lineage step ``at`` (for notes, dead ends)."""
+        idx = np.arange(self.K)
+        for parent in reversed(self.lineage[at + 1:]):
+            idx = parent[idx]
+        return idx
+
+
+def _per_unknown(sols):
+    """``sols.free`` once per unknown of the subproblem (the mask is per slot)."""
+    return [sols.free] * len(sols.theta)

@@ -1,0 +1,390 @@
+"""The one IK engine: every closed-form family, for a batch of targets at once.
+
+:func:`solve_targets` recognises the robot's family (:func:`~kincalc.ik.families.plan`),
+runs its solver (:mod:`kincalc.ik.solvers`, on the reversed chain for a ``reversed-``
+family, with the general 6R elimination for six revolute joints of no other structure)
+over all targets, and checks and flags every candidate in one pass:
+
+1. FK of every candidate (the robot as given); a candidate is a solution when it
+   reaches the target: its position to ``ACCEPT_POSITION`` of the arm's size, the
+   components the family controls to ``ACCEPT_ORIENTATION`` rad, other components a
+   target gives to ``CHECK_ORIENTATION``;
+2. revolute joints moved by whole turns to the representative nearest their limits
+   (:func:`normalise`);
+3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first;
+4. limit violations, the singular test on the Jacobian, the branch labels
+   (:mod:`kincalc.ik.labels`).
+
+A single pose is a batch of one: ``robot.ik`` and ``robot.ik_batch``, the CLI's ``ik``,
+``ik --batch``, ``reach``, ``check`` and the rest answer through here, so a solution has
+the same label and flags wherever it is asked for.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+from ..errors import KincalcError, TargetMismatch
+from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE,
+                          LIMIT_TOL, SINGULAR_TOL)
+from .branches import Branches
+from .families import Family, plan
+from .labels import labels
+from ..spatial import wrap
+from .solvers import SOLVERS
+from .target import Targets
+
+
+class UnsupportedRobot(KincalcError):
+    """A robot (or a target kind) no closed form covers (exit status 2)."""
+
+    exit_status = 2
+
+
+@dataclass(frozen=True)
+class Solved:
+    """Every candidate of every target, checked (see the module docstring).
+
+    ``q (N, K, n)`` joint values (rad / m, normalised into the limits); ``candidate (N,
+    K)`` the family produced one in this slot; ``valid (N, K)`` it reaches the target
+    (and is not a copy of an earlier slot); ``position_error (N, K)`` (m) and
+    ``orientation_error (N, K)`` (rad; NaN where no orientation is checked);
+    ``violation (N, K, n)`` how far each joint is beyond its limits (negative below the
+    lower, positive above the upper, 0 within); ``within (N, K)``; ``free (N, K, n)``
+    joints the target leaves undetermined; ``signs``: each slot's +/- per step;
+    ``continuum (N, K, 5)`` (mask, first joint, second joint, sign, total) or None;
+    ``branches``: the solver's :class:`~kincalc.ik.branches.Branches` (its notes and
+    dead ends, with ``explain``; None for a batch solved in chunks).
+
+    :attr:`labels` (branch labels of the candidates) and :attr:`singular` (the singular
+    flag of the valid solutions) are computed when first asked for: a batch that only
+    needs the joint values does not pay for them.
+    """
+
+    family: str
+    spec: Family
+    method: str
+    robot: object
+    q: np.ndarray
+    candidate: np.ndarray
+    valid: np.ndarray
+    position_error: np.ndarray
+    orientation_error: np.ndarray
+    violation: np.ndarray
+    within: np.ndarray
+    free: np.ndarray
+    signs: tuple
+    continuum: np.ndarray | None
+    branches: Branches | None
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def counts(self) -> np.ndarray:
+        """Number of solutions of each target, ``(N,)``."""
+        return self.valid.sum(axis=1)
+
+    def _frames(self, mask):
+        """Joint frames and tool poses of the slots ``mask (N, K)``."""
+        from ..fk import chain_frames
+        Q = self.q[mask]
+        if not len(Q):
+            n = self.q.shape[-1]
+            return np.zeros((0, n, 4, 4)), np.zeros((0, 4, 4))
+        F = chain_frames(self.robot.chain, Q)
+        return F, F[:, -1] @ self.robot.chain.fixed[-1]
+
+    @property
+    def labels(self) -> np.ndarray:
+        """``(N, K)`` object array: the branch label of every candidate slot."""
+        if "labels" not in self.memo:
+            lab = np.empty(self.candidate.shape, object)
+            idx = np.nonzero(self.candidate)
+            if len(idx[0]):
+                from ..fk import frame_columns
+                F = frame_columns(self.robot.chain, self.q[self.candidate])
+                lab[idx] = labels(self.robot, self.spec.solver, F, self.signs, idx[1],
+                                  self.free[idx])
+            self.memo["labels"] = lab
+        return self.memo["labels"]
+
+    @property
+    def singular(self) -> np.ndarray:
+        """``(N, K)`` bool: valid solutions at a singular configuration (the Jacobian's
+        rank test of :func:`singular`, or a joint the target leaves free)."""
+        if "singular" not in self.memo:
+            sing = np.zeros(self.valid.shape, bool)
+            if self.valid.any():
+                F, tool = self._frames(self.valid)
+                sing[self.valid] = singular(self.robot, self.q[self.valid], F, tool)
+            self.memo["singular"] = sing | (self.valid & self.free.any(-1))
+        return self.memo["singular"]
+
+
+#: targets solved together (memory: a few kB per target and slot)
+CHUNK = 2048
+
+
+def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
+    """Every IK solution of ``robot`` for each pose of ``T (N, 4, 4)`` (world frame, SI),
+    solved ``chunk`` poses at a time: the :class:`Solved` of all of them (``branches``
+    is None when there was more than one chunk). Raises :class:`UnsupportedRobot` for a
+    robot no closed form covers."""
+    T = np.asarray(T, float)
+    if T.ndim == 2:
+        T = T[None]
+    if T.shape[1:] != (4, 4):
+        raise ValueError(f"expected poses of shape (N, 4, 4), got {T.shape}")
+    if len(T) <= chunk:
+        return solve_targets(robot, Targets(T))
+    first = solve_targets(robot, Targets(T[:chunk]))
+    names = [f.name for f in fields(Solved) if isinstance(getattr(first, f.name), np.ndarray)]
+    shape = {name: getattr(first, name) for name in names}
+    if first.continuum is None:
+        names.append("continuum")
+        shape["continuum"] = np.zeros(first.valid.shape + (5,))
+    out = {name: np.empty((len(T),) + a.shape[1:], a.dtype) for name, a in shape.items()}
+    for start in range(0, len(T), chunk):
+        part = first if start == 0 else solve_targets(robot, Targets(T[start:start + chunk]))
+        for name, a in out.items():
+            value = getattr(part, name)
+            a[start:start + chunk] = 0.0 if value is None else value
+    if not out["continuum"].any():
+        out["continuum"] = None
+    return replace(first, **out, branches=None, memo={})
+
+
+def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
+    """Every closed-form solution of ``robot`` for each target of ``targets``.
+
+    Raises :class:`UnsupportedRobot` when no family covers the robot (the numerical
+    solver's business) or the target's kind does not fit the family."""
+    S, family, why = plan(robot)
+    if targets.kind == "tcv":
+        family = TCV
+    elif family is None:
+        raise UnsupportedRobot(f"{robot.name}: no closed form ({why})")
+    check_kind(robot, family, targets)
+    N, n = len(targets), robot.dof
+    br = Branches.start(N, n, explain=explain)
+    if targets.kind == "tcv":
+        from .solvers import tcv
+        br = tcv(robot, S, targets, br)
+    elif family.name == "general-6r":
+        from .general6r import general_6r
+        br = general_6r(robot, targets, br)
+    elif family.reverse:
+        br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
+        br = br.reversed_chain()
+    else:
+        br = SOLVERS[family.solver](S, targets, br)
+    candidate = br.ok.copy()
+    method = family.description
+    if family.exact:
+        c, s, x = br.joint_major()
+    else:
+        from .nearly import on_true_robot
+        q, candidate, br, method = on_true_robot(robot, family, targets, br.q(), candidate,
+                                                 br)
+        x = np.ascontiguousarray(q.reshape(-1, n).T)
+        c, s = np.cos(x), np.sin(x)
+    return _check(robot, family, method, targets, (c, s, x), candidate, br)
+
+
+#: the pseudo-family of tool-configuration-vector targets (Schilling 1990): the last
+#: joint from the vector's length, the others placing the tool point
+TCV = Family("tcv", "tool configuration vector: the last joint from |w4..w6|, the others "
+             "place the tool point, the approach vector r3 is checked",
+             "position, approach and roll", False)
+
+
+def check_kind(robot, family: Family, targets: Targets) -> None:
+    """Refuse a target kind the family does not take (words for the edge to render)."""
+    from .families import APPROACH_FAMILIES
+    five = family.name in APPROACH_FAMILIES
+    if family is TCV:
+        return
+    if targets.kind == "approach" and not five:
+        raise TargetMismatch(robot.name, "full orientation", family.controls)
+    if family.needs_orientation and targets.kind == "position":
+        raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five)
+
+
+def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
+    """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
+    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`)."""
+    from ..fk import tool_from_cs
+    c, s, x = joints
+    N, K = candidate.shape
+    n = robot.dof
+    L = max(robot.characteristic_length, 1e-12)
+    cols, p = tool_from_cs(robot.chain, c, s, x)
+    T = targets.T
+    pe = _distance(p, np.repeat(T[:, :3, 3], K, axis=0).T)
+    oe = _orientation_error(targets, cols, K)
+    o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
+    reach = pe <= ACCEPT_POSITION * L
+    if oe is not None:
+        reach &= oe <= o_tol
+    with np.errstate(invalid="ignore"):            # dead slots may hold anything
+        valid = candidate & reach.reshape(N, K)
+    q = normalise(robot, np.where(candidate[..., None], x.T.reshape(N, K, n), 0.0))
+    valid &= ~duplicates(robot, q, valid, (c, s))
+    viol = violations(robot, q)
+    return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
+                  candidate=candidate, valid=valid,
+                  position_error=np.where(candidate, pe.reshape(N, K), 0.0),
+                  orientation_error=np.full((N, K), np.nan) if oe is None else
+                  np.where(candidate, oe.reshape(N, K), np.nan),
+                  violation=viol, within=~(viol != 0).any(-1), free=br.free_mask(),
+                  signs=br.signs, continuum=br.extra.get("continuum"), branches=br)
+
+
+def _distance(a, b):
+    """``|a - b|`` of structure-of-arrays points ``(3, M)``."""
+    d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
+    return np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
+def _orientation_error(targets: Targets, cols, K):
+    """Angle (rad) between each slot's orientation (rotation columns ``cols``, three
+    ``(3, M)``) and its target's, for the components the target gives: the whole
+    rotation (from ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate for small
+    angles), or the approach (tool z)."""
+    if targets.kind == "position":
+        return None
+    if targets.kind in ("approach", "tcv"):
+        a = np.repeat(targets.approach, K, axis=0).T
+        z = cols[2]
+        c = z[0] * a[0] + z[1] * a[1] + z[2] * a[2]
+        x = z[1] * a[2] - z[2] * a[1]
+        y = z[2] * a[0] - z[0] * a[2]
+        w = z[0] * a[1] - z[1] * a[0]
+        return np.arctan2(np.sqrt(x * x + y * y + w * w), c)
+    R = targets.T[:, :3, :3]
+    f2 = 0.0
+    for j in range(3):
+        d = cols[j] - np.repeat(R[:, :, j], K, axis=0).T
+        f2 = f2 + d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    return 2.0 * np.arcsin(np.minimum(np.sqrt(f2) / (2.0 * np.sqrt(2.0)), 1.0))
+
+
+def normalise(robot, Q) -> np.ndarray:
+    """``Q (..., n)`` with each revolute joint moved by whole turns to the value nearest
+    its limits: in (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn
+    that lies within them (the lowest, for limits wider than a turn), else the one
+    that misses them least. A new array; prismatic joints are kept."""
+    Q = np.array(Q, float)
+    if Q.size == 0:
+        return Q
+    turn = 2 * np.pi
+    for j in np.flatnonzero(robot.is_revolute).tolist():
+        lo, hi = robot.limits[j].tolist()
+        x = wrap(Q[..., j])
+        Q[..., j] = x
+        if lo - LIMIT_TOL <= -np.pi and hi + LIMIT_TOL >= np.pi:     # every x is inside
+            continue
+        inside = (x >= lo - LIMIT_TOL) & (x <= hi + LIMIT_TOL)
+        if inside.all():
+            continue
+        with np.errstate(invalid="ignore"):      # an infinite limit: x is inside
+            up = x + turn * np.ceil((lo - LIMIT_TOL - x) / turn)     # first turn above lo
+        up = np.where(np.isfinite(up), up, x)
+        below = up - turn
+        pick = np.where(up <= hi + LIMIT_TOL, up,
+                        np.where(_miss(below, lo, hi) <= _miss(up, lo, hi), below, up))
+        Q[..., j] = np.where(inside, x, pick)
+    return Q
+
+
+def within_limits(robot, Q) -> np.ndarray:
+    """``(...)`` bool: is each configuration ``Q (..., n)`` within the limits, revolute
+    joints allowing whole turns (-170 deg passes a [0, 360] limit)?"""
+    return ~(violations(robot, normalise(robot, Q)) != 0).any(-1)
+
+
+def _miss(x, lo, hi):
+    return np.maximum(np.maximum(lo - x, x - hi), 0.0)
+
+
+def violations(robot, q) -> np.ndarray:
+    """``(..., n)``: how far each joint of ``q`` is beyond its limits, beyond
+    ``LIMIT_TOL`` (rad, or times the arm's size for prismatic joints): negative below the
+    lower limit, positive above the upper, 0 within."""
+    lo, hi = robot.limits[:, 0], robot.limits[:, 1]
+    tol = np.where(robot.is_revolute, LIMIT_TOL, LIMIT_TOL * max(robot.characteristic_length,
+                                                                 1e-12))
+    below = np.where(q < lo - tol, q - lo, 0.0)
+    above = np.where(q > hi + tol, q - hi, 0.0)
+    return below + above
+
+
+def duplicates(robot, q, valid, cs=None) -> np.ndarray:
+    """``(N, K)``: valid slots whose every joint is within ``DUPLICATE`` (wrapped for
+    revolute joints) of an earlier valid slot that is kept; ``cs``: the joints' cosines
+    and sines, joint-major ``(n, N K)``, when known.
+
+    Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
+    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are
+    1-Lipschitz, so two slots within ``DUPLICATE`` in every joint have keys within
+    ``sum_k |w_k| DUPLICATE``, and only the pairs that pass are compared joint by joint
+    (distinct solutions almost never do)."""
+    N, K, n = q.shape
+    drop = np.zeros((N, K), bool)
+    if K < 2 or not valid.any():
+        return drop
+    rev = robot.is_revolute
+    x = q.reshape(-1, n).T
+    c, s = (np.cos(x), np.sin(x)) if cs is None else cs
+    w = 1.0 + 0.37 * np.arange(n)                              # generic, fixed weights
+    key = (np.where(rev, w, 0.0) @ c + np.where(rev, 0.61 * w, 0.0) @ s
+           + np.where(rev, 0.0, w) @ x).reshape(N, K)
+    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    # poses with two valid keys within reach: neighbours once each pose's keys are sorted
+    with np.errstate(invalid="ignore"):
+        ordered = np.sort(np.where(valid, key, np.nan), axis=1)      # NaN (invalid) last
+        suspect = (np.diff(ordered, axis=1) <= reach).any(1)
+    if not suspect.any():
+        return drop
+    poses = np.flatnonzero(suspect)
+    kv, ok = key[poses], valid[poses]
+    near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
+        & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
+    pose, j, i = np.nonzero(near)
+    pose = poses[pose]
+    d = q[pose, j] - q[pose, i]                                    # (pairs, n)
+    d[:, rev] = wrap(d[:, rev])
+    same = (np.abs(d) < DUPLICATE).all(-1)
+    pose, j, i = pose[same], j[same], i[same]
+    for slot in np.unique(j).tolist():          # ascending: a slot's verdict before later ones
+        at = j == slot
+        kept = ~drop[pose[at], i[at]]
+        drop[pose[at][kept], slot] = True
+    return drop
+
+
+def singular(robot, Q, F, tool) -> np.ndarray:
+    """``(m,)``: is each configuration singular (the rank of its Jacobian, lengths in
+    units of the arm's size, below the robot's generic rank, or that of its linear
+    rows)? ``F (m, n, 4, 4)`` the joint frames, ``tool (m, 4, 4)`` the tool poses."""
+    m, n = Q.shape
+    rev = robot.is_revolute
+    L = robot.characteristic_length
+    z = F[:, :, :3, 2]
+    lin = np.cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L
+    J = np.zeros((m, 6, n))
+    J[:, :3] = np.where(rev[:, None], lin, z).transpose(0, 2, 1)
+    J[:, 3:] = np.where(rev[:, None], z, 0.0).transpose(0, 2, 1)
+    J[:, :, ~rev] *= L
+    full, full_pos = robot.generic_ranks
+
+    def rank(M):
+        sv = np.linalg.svd(M, compute_uv=False)
+        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
+    rJ = rank(J)
+    out = rJ < full
+    rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
+    if rest.any():
+        out[rest] |= rank(J[rest, :3, :]) < full_pos
+    return out

@@ -1,0 +1,142 @@
+"""Branch labels: the words that name each solution's branch, the same in ``ik`` and
+``ik --batch``.
+
+A label is made of
+
+* the geometric words where the arm has them (:func:`branch_geometry`, from the
+  solution's joint frames): ``shoulder right/left`` (the side of the wrist point
+  relative to the plane of axes 1 and 2), ``elbow up/down`` (for parallel axes 2 and 3,
+  the elbow's side of the shoulder-to-wrist line), ``wrist no-flip/flip`` (the sign of
+  ``(z4 x z6) . z5``);
+* the +/- (or ``root k``) of every other step with more than one root, from the slot the
+  solution came from (:class:`~kincalc.ik.branches.Branches` gives each slot its
+  signs: one table per family, not a string per solution);
+* ``(<joint> free)`` for a joint a singular target leaves undetermined;
+* ``unique`` when there is nothing to tell.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cache import per_robot
+
+
+#: the geometric words of a branch label, for the codes 1 and 2 of :func:`branch_geometry`
+WORDS = (("shoulder right", "shoulder left"), ("elbow up", "elbow down"),
+         ("wrist no-flip", "wrist flip"))
+#: the joints whose +/- choice each word already names (shoulder 1, elbow 2 and 3, wrist 5)
+_NAMED = ({0}, {1, 2}, {4})
+
+
+def branch_geometry(robot, family: str, frames) -> np.ndarray:
+    """The geometric words of the branch labels of ``k`` solutions whose joint frames are
+    ``frames`` (:func:`kincalc.fk.frame_columns`: per joint its rotation's columns and
+    origin, each ``(3, k)``, world frame): codes ``(k, 3)`` for (shoulder, elbow, wrist),
+    each 0 where the word does not apply, else 1 or 2 for the first or second word of
+    :data:`WORDS` (see the module docstring for the rules).
+
+    The point P of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
+    meet on a UR arm) is fixed in the frame of the joint before those axes, so it is
+    carried from its coordinates there (:func:`_meeting_point_local`) instead of being
+    intersected anew for every solution.
+    """
+    k = frames[0][1].shape[1] if frames else 0
+    codes = np.zeros((k, 3), np.int8)
+    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
+    if first is None or k == 0:
+        return codes
+    z = [cols[2] for cols, _ in frames]
+    o = [p for _, p in frames]
+    rev = robot.is_revolute
+    local = _meeting_point_local(robot, first)
+    if local is not None:
+        cols = frames[first - 1][0]
+        P = cols[0] * local[0] + cols[1] * local[1] + cols[2] * local[2] + o[first - 1]
+        if rev[0]:
+            n01 = _cross(z[0], z[1])
+            side = _dot(P - o[0], n01)
+            codes[:, 0] = np.where(_dot(n01, n01) > 1e-12, np.where(side >= 0, 1, 2), 0)
+        if robot.dof >= 3 and rev[1] and rev[2]:
+            # the elbow (axis 3) against the shoulder-to-target line, in the plane of the
+            # parallel axes 2 and 3; the target is P, or axis 4 for a UR arm
+            sh, el, h = o[1], o[2], z[1]
+            tgt = P if family == "spherical-wrist" else o[3]
+            line = tgt - sh
+            line = line - h * _dot(h, line)
+            v = el - sh
+            v = v - h * _dot(h, v)
+            ll = np.maximum(_dot(line, line), 1e-300)
+            perp = v - line * (_dot(v, line) / ll)
+            up = _dot(perp, z[0])
+            # the elbow on the line (stretched or folded): the turn sense decides
+            alt = _dot(_cross(el - sh, tgt - el), h)
+            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
+            c12 = _cross(z[1], z[2])
+            parallel = _dot(c12, c12) < 1e-12
+            codes[:, 1] = np.where(parallel, np.where(up >= 0, 1, 2), 0)
+    w = _dot(_cross(z[3], z[5]), z[4])
+    codes[:, 2] = np.where(w >= 0, 1, 2)
+    return codes
+
+
+def _dot(a, b):
+    """``a . b`` of vectors stored as ``(3, k)`` columns."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    """``a x b`` of vectors stored as ``(3, k)`` columns."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
+@per_robot
+def _meeting_point_local(robot, first: int):
+    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
+    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
+    only with the joints before them: the axes after it turn about lines through it), from
+    the robot at q = 0; None if those axes are all parallel. Cached per robot."""
+    from ..fk import chain_frames
+    F = chain_frames(robot.chain, np.zeros(robot.dof))
+    A, b = np.zeros((3, 3)), np.zeros(3)
+    for j in range(first, robot.dof):
+        Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
+        A += Pj
+        b += Pj @ F[j, :3, 3]
+    if np.linalg.svd(A, compute_uv=False)[-1] < 1e-6:
+        return None
+    P = np.linalg.solve(A, b)
+    local = F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
+    local.setflags(write=False)
+    return local
+
+
+def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
+    """The label of each of ``s`` solutions, ``(s,)`` object: ``frames`` their joint
+    frames (:func:`kincalc.fk.frame_columns`), ``signs`` the family's sign table (per
+    slot, a tuple of ``(joint, label)`` for each step with more than one root), ``slot
+    (s,)`` the slot each came from, ``free (s, n)`` bool. A string is made once per
+    distinct combination of words, slot and free joints, not per solution."""
+    out = np.empty(len(slot), object)
+    if len(slot) == 0:
+        return out
+    codes = branch_geometry(robot, family, frames).astype(np.int64)
+    bits = np.asarray(free, bool) @ (1 << np.arange(robot.dof, dtype=np.int64))
+    code = ((codes @ np.array([9, 3, 1])) * len(signs) + slot) << robot.dof | bits
+    distinct, inverse = np.unique(code, return_inverse=True)
+    names = [j.name for j in robot.joints]
+    made = []
+    for c in distinct.tolist():
+        b, rest = c & ((1 << robot.dof) - 1), c >> robot.dof
+        k, sg = rest // len(signs), signs[rest % len(signs)]
+        words = (k // 9, k // 3 % 3, k % 3)
+        parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
+        named = set().union(*(_NAMED[w] for w, x in enumerate(words) if x))
+        parts += [f"{names[j]}:{lab}" for j, lab in sorted(sg) if j not in named]
+        if b:
+            parts.append("(" + ", ".join(names[j] for j in range(robot.dof) if b >> j & 1)
+                         + " free)")
+        made.append(" ".join(parts) if parts else "unique")
+    out[:] = np.array(made, object)[inverse.ravel()]
+    return out

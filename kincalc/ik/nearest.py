@@ -1,0 +1,211 @@
+"""The nearest position a robot's tool reaches to a given one, and why a position is
+out of reach: damped least squares from the sampled configurations nearest the target
+(:func:`descend`, :func:`nearest_position`), the same search with the limits removed
+(:func:`unlimited`), and the side of the workspace the target lies on
+(:func:`where_outside`).
+
+Below the IK engine, so that its "out of reach" reasons and :mod:`kincalc.reach` and
+:mod:`kincalc.workspace` share one search. Positions in m, world frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cache import per_robot
+
+#: configurations sampled for the starts of the nearest-point search
+SEARCH_SAMPLES = 4096
+#: starts taken from the samples nearest the target
+SEARCH_STARTS = 8
+#: a position counts as reached when it is within this of the target (relative
+#: to the robot's characteristic length)
+POSITION_TOL = 1e-9
+
+
+def _pose_error(P, R, p_goal, R_goal, L):
+    """Scaled error ``(B, 3 or 6)``: ``[(p* - p) / L, rotvec(R* R^T)]`` (world frame)."""
+    from ..spatial import rotvec_from_matrix
+    e = (p_goal - P) / L
+    if R_goal is None:
+        return e
+    w = rotvec_from_matrix(R_goal @ np.swapaxes(R, -1, -2))
+    return np.concatenate([e, w], axis=-1)
+
+
+def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float = 1e-13,
+            limits=None):
+    """Damped least squares from each start towards its goal, batched over starts.
+
+    ``X0 (B, n)`` starts (rad / m); ``p_goal (B, 3)`` positions (m, world);
+    ``R_goal (B, 3, 3)`` orientations, or None for the position alone. Steps
+    are projected onto the joint limits. Returns ``(X (B, n), position error
+    (B,) m, orientation error (B,) rad or None)`` at the best configuration
+    found: a local minimum of the distance to the goal when it is out of reach.
+    ``limits (n, 2)`` replaces the robot's limits (infinite bounds allowed).
+    """
+    from ..jacobian import _jacobian_and_pose
+    L = max(robot.characteristic_length, 1e-12)
+    lo0, hi0 = (robot.limits if limits is None else np.asarray(limits, float)).T
+    # a revolute joint whose range spans a full turn reaches every angle: it turns freely
+    # here and is wrapped back into its range at the end (a stop at +-180 deg must not
+    # trap the search on the wrong side)
+    turns = robot.is_revolute & (hi0 - lo0 >= 2 * np.pi - 1e-12)
+    lo, hi = np.where(turns, -np.inf, lo0), np.where(turns, np.inf, hi0)
+    col = np.where(robot.is_revolute, 1.0, L)      # x = q / col is scale-free
+    rows = 3 if R_goal is None else 6
+    X = np.array(X0, float)
+    B, n = X.shape
+    p_goal = np.broadcast_to(np.asarray(p_goal, float), (B, 3))
+    if R_goal is not None:
+        R_goal = np.broadcast_to(np.asarray(R_goal, float), (B, 3, 3))
+
+    def evaluate(Xs, idx):
+        J, T = _jacobian_and_pose(robot.chain, Xs)
+        e = _pose_error(T[:, :3, 3], T[:, :3, :3], p_goal[idx],
+                        None if R_goal is None else R_goal[idx], L)
+        J = J[:, :rows] * col
+        J[:, :3] /= L
+        return J, e
+
+    J, E = evaluate(X, np.arange(B))
+    err = np.einsum("bi,bi->b", E, E)
+    lam = np.full(B, 1e-3)
+    active = err > tol ** 2
+    eye = np.eye(n)
+    for _ in range(iterations):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        Ja, ea, Xa = J[idx], E[idx], X[idx]
+
+        def solve(Jm, e, damping):
+            JT = np.swapaxes(Jm, 1, 2)
+            A = JT @ Jm
+            A += (damping * (1.0 + np.trace(A, axis1=1, axis2=2) / n))[:, None, None] * eye
+            return np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
+        step = solve(Ja, ea, lam[idx])
+        # a joint on its limit that the step pushes outwards is held, and the step is
+        # solved again without it (clipping afterwards would shorten the step of the
+        # joints that can still move, and they would crawl)
+        held = ((Xa <= lo) & (step < 0)) | ((Xa >= hi) & (step > 0))
+        r = np.flatnonzero(held.any(axis=1))
+        if r.size:
+            free = ~held[r]
+            step[r] = solve(Ja[r] * free[:, None, :], ea[r], lam[idx[r]]) * free
+        moved = np.linalg.norm(step, axis=1)
+        step *= np.minimum(1.0, 0.5 / np.maximum(moved, 1e-300))[:, None]
+        Xn = np.clip(Xa + step * col, lo, hi)
+        Jn, En = evaluate(Xn, idx)
+        errn = np.einsum("bi,bi->b", En, En)
+        better = errn < err[idx]
+        ok = idx[better]
+        X[ok], J[ok], E[ok], err[ok] = Xn[better], Jn[better], En[better], errn[better]
+        lam[ok] = np.maximum(lam[ok] / 3.0, 1e-12)
+        lam[idx[~better]] *= 4.0
+        # stop where converged, or where the damping says no step helps any more
+        active[idx] = (err[idx] > tol ** 2) & (lam[idx] < 1e6) & ~(better & (moved < 1e-15))
+    if turns.any():
+        base = np.where(np.isfinite(lo0), lo0, -np.pi)[turns]
+        X[:, turns] = base + np.mod(X[:, turns] - base, 2 * np.pi)
+    pe = np.linalg.norm(E[:, :3], axis=1) * L
+    oe = None if R_goal is None else np.linalg.norm(E[:, 3:], axis=1)
+    return X, pe, oe
+
+
+def motion_frame(P, robot):
+    """``(origin (3,), basis (3, d))``: the affine span of the tool points ``P``.
+
+    d is 3 for a spatial arm, 2 for a planar one (world x, y when the plane is
+    horizontal), 1 for a line."""
+    c = P.mean(axis=0)
+    sub = P[:: max(1, len(P) // 20000)] - c
+    _, s, Vt = np.linalg.svd(sub, full_matrices=False)
+    L = max(robot.characteristic_length, 1e-12)
+    d = int(np.sum(s > 1e-9 * L * np.sqrt(len(sub))))
+    if d == 3:
+        return np.zeros(3), np.eye(3)
+    if d == 2 and abs(abs(Vt[2, 2]) - 1.0) < 1e-9:
+        return np.array([0.0, 0.0, c[2]]), np.eye(3)[:, :2]
+    return c, Vt[:max(d, 1)].T
+
+
+def samples(robot, count: int, seed: int, limits=None) -> np.ndarray:
+    """``(count, n)`` seeded joints uniform within ``limits`` (default the robot's);
+    a bound that is infinite is replaced by a turn (revolute) or the robot's size
+    (prismatic) beyond the other bound or zero. For search starts and shape tests."""
+    lo, hi = (robot.limits if limits is None else np.asarray(limits, float)).T
+    span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
+    lo = np.where(np.isfinite(lo), lo, np.minimum(-span, hi - 2 * span))
+    hi = np.where(np.isfinite(hi), hi, np.maximum(span, lo + 2 * span))
+    return np.random.default_rng(seed).uniform(lo, hi, (count, robot.dof))
+
+
+def unlimited(robot) -> np.ndarray:
+    """``(n, 2)`` limits that hold no joint back (for :func:`nearest_position`)."""
+    return np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
+
+
+def nearest_position(robot, p, *, limits=None, seed: int = 0):
+    """The configuration whose tool point is nearest ``p (3,)`` (m, world), within
+    ``limits (n, 2)`` (default the robot's). Returns ``(q (n,), tool point (3,),
+    distance)``.
+
+    The last few answers are remembered: ``reach`` asks again for what the IK
+    reason already measured."""
+    key = (tuple(np.asarray(p, float).reshape(3)),
+           None if limits is None else tuple(np.asarray(limits, float).ravel()), seed)
+    q, point, dist = _nearest(robot, key)
+    return q.copy(), point.copy(), dist
+
+
+@per_robot
+def _nearest(robot, key):
+    p, limits, seed = key
+    p = np.array(p)
+    if limits is not None:
+        limits = np.array(limits).reshape(robot.dof, 2)
+    Q = samples(robot, SEARCH_SAMPLES, seed, limits)
+    P = robot.fk(Q)[:, :3, 3]
+    best = np.argsort(np.linalg.norm(P - p, axis=1))[:SEARCH_STARTS]
+    X, pe, _ = descend(robot, Q[best], np.broadcast_to(p, (len(best), 3)), iterations=400,
+                       limits=limits)
+    k = int(np.argmin(pe))
+    return X[k], robot.fk(X[k])[:3, 3], float(pe[k])
+
+
+def where_outside(robot, p, p_near, dist, fmt):
+    """Verdict and reason for a position out of reach even without joint limits,
+    ``p_near`` being the nearest reachable point, ``dist`` away.
+
+    Off the plane of a planar arm: outside the workspace. Otherwise the nearest
+    point says which side the target is on: farther from the base than it, and
+    roughly along the line from the base (within 60 deg), the target is beyond
+    the outer reach; nearer the base than it, inside the inner void; anything
+    else (a notch in the workspace) is outside the workspace."""
+    o = robot.base[:3, 3]
+    origin, basis = motion_frame(robot.fk(samples(robot, 512, 1))[:, :3, 3], robot)
+    if basis.shape[1] < 3:
+        rel = p - p_near
+        off = float(np.linalg.norm(rel - basis @ (basis.T @ rel)))
+        if off > 1e-6 * dist:
+            kind = "plane" if basis.shape[1] == 2 else "line"
+            return "outside-workspace", (
+                f"outside the workspace: the tool moves in a {kind} and the target is "
+                f"{fmt(off)} off it; the nearest reachable point is {fmt(dist)} away")
+    d_target = float(np.linalg.norm(p - o))
+    d_near = float(np.linalg.norm(p_near - o))
+    radial = p_near - o
+    cos = float((p - p_near) @ radial / max(np.linalg.norm(radial) * dist, 1e-300))
+    if d_target > d_near and cos > 0.5:
+        return "beyond-outer-reach", (
+            f"beyond the outer reach by {fmt(dist)}: the target is {fmt(d_target)} from the "
+            f"base, the arm reaches {fmt(d_near)} from it in this direction")
+    if d_target < d_near:
+        where = ("" if d_target <= 1e-12 * max(robot.characteristic_length, 1e-12)
+                 else " in this direction")
+        return "inside-inner-void", (
+            f"inside the inner void by {fmt(dist)}: the target is {fmt(d_target)} from the "
+            f"base, the arm reaches no closer than {fmt(d_near)}{where}")
+    return "outside-workspace", (f"outside the workspace: the nearest reachable point is "
+                                 f"{fmt(dist)} away")

@@ -1,0 +1,55 @@
+"""Robots only nearly of their family: the family's closed form runs on the nearest
+robot that has its structure exactly (:func:`~kincalc.ik.families.idealised`), and its
+candidates are refined by Newton's method on the robot as given
+(:mod:`kincalc.ik.refine`); for six revolute joints the general 6R elimination's
+solutions, which need no structure, are joined in, so that none is lost where branches
+of the structured robot meet (a singular pose)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .refine import refine
+from ..spatial import wrap
+from .screws import Screws
+
+
+def on_true_robot(robot, family, targets, q, candidate, br):
+    """``(q, candidate, branches, method text)`` on the robot as given, for candidates
+    ``q (N, K, n)`` of the nearest robot of ``family``."""
+    from .families import plan, structure_defect
+    N, K, n = q.shape
+    mode = {"pose": "pose", "approach": "approach", "position": "position",
+            "tcv": "position"}[targets.kind]
+    if mode == "pose" and not family.needs_orientation:
+        mode = "position"
+    idx = np.nonzero(candidate)
+    if len(idx[0]):
+        q = q.copy()
+        q[idx] = refine(robot, q[idx], targets.T[idx[0]], mode=mode,
+                        approach=None if targets.approach is None else targets.approach[idx[0]])
+    free = {j: np.zeros_like(f) for j, f in br.free.items()}
+    extra = {k: v for k, v in br.extra.items() if "continuum" not in k}
+    br = replace(br, free=free, extra=extra)
+    move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
+    method = (f"{family.description}; the axes have this structure only to within "
+              f"{move:.2g} m and {turn:.2g} rad, so it was solved for the nearest robot "
+              "that has it and every solution refined by Newton's method on the robot as "
+              "given")
+    if robot.dof == 6 and robot.is_revolute.all() and targets.kind == "pose":
+        from .general6r import solve_general_6r_batch
+        Qg, okg = solve_general_6r_batch(robot, targets.T)
+        q = np.concatenate([q, Qg], axis=1)
+        candidate = np.concatenate([candidate, okg], axis=1)
+        G = Qg.shape[1]
+        br = replace(br, ok=candidate,
+                     signs=br.signs + tuple(() for _ in range(G)),
+                     free={j: np.concatenate([f, np.zeros((N, G), bool)], axis=1)
+                           for j, f in br.free.items()},
+                     extra={k: np.concatenate([v, np.zeros((N, G) + v.shape[2:])], axis=1)
+                            for k, v in br.extra.items()})
+        method += ", and joined with the general 6R elimination's solutions"
+    q = np.where(robot.is_revolute, wrap(q), q)
+    return q, candidate, br, method

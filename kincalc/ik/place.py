@@ -1,0 +1,463 @@
+"""Placing a point with two or three joints of any type (R or P): every solution, for
+a batch of targets at once.
+
+The point ``p0`` (world frame, q = 0) is moved by ``E_a(x_a) E_b(x_b) [E_c(x_c)]`` and
+must reach a target ``pt``. Joint a's motion leaves two quantities of a point unchanged
+(Pieper 1968; the Paden-Kahan invariants): for a revolute joint its height along the
+axis and its distance from a point ``o`` of it, for a prismatic one its two components
+across the axis. So the point ``f = E_b E_c p0`` before joint a must match ``pt`` in
+those two: two equations in ``x_b, x_c``. The structure of the robot decides how they
+are solved (:func:`plan`, once per robot), each way a short sequence of subproblems:
+
+* ``decoupled``: one invariant does not depend on ``x_b`` (axes a and b meet, with ``o``
+  their common point, or are parallel, or slide along one direction): that invariant
+  alone gives ``x_c`` (subproblem 4, or a quadratic for a prismatic c), the other then
+  ``x_b`` (subproblem 4 or a quadratic), and ``x_a`` follows (subproblem 1, or the
+  travel along the axis). The elbow arms (PUMA, Stanford, the textbook's RRP and RPR),
+  SCARAs and cylindrical arms.
+* ``shoulder``: revolute joints with axes b and c parallel and a not (an offset
+  shoulder: KUKA, ABB, Fanuc): the height along the parallel axes fixes ``x_a``
+  (subproblem 4), the law of cosines in their plane ``x_c`` (subproblem 3), and
+  ``x_b`` turns the elbow onto the target (subproblem 1).
+* ``three cones``: three revolute joints with no such structure: subproblem 5 gives
+  all three angles (up to four solutions).
+* ``resultant``: the remaining mixes with prismatic joints: eliminating ``x_b`` leaves
+  one equation in ``x_c`` of bounded degree, sampled and solved through a companion
+  matrix per target; then ``x_b`` and ``x_a`` by back-substitution, and Gauss-Newton
+  on the point equations.
+* two joints (``pair``): the invariant that depends on ``x_b`` the most gives ``x_b``
+  (both together when they fix its cosine and sine), then ``x_a``; the third equation
+  is left to the caller's check (two joints reach a surface).
+
+A joint a target leaves undetermined (the point on the axis) gets 0 and is marked free.
+Solutions are the roots of exact equations: a target out of reach gives none (the step
+that failed is recorded as a dead end for ``--all-branches``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..subproblems import sp1, sp3, sp5
+from ..subproblems.solutions import Solutions, angles, cross, dot
+from ..subproblems.sp4 import from_abc
+from .branches import Branches
+from .screws import Screws
+
+#: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
+TRIG_SAMPLES = 16
+#: polynomial degree bound of the resultant in a prismatic joint c's travel
+POLY_DEGREE = 8
+
+
+@dataclass(frozen=True)
+class Plan:
+    """How joints ``joints`` place ``p0`` (see the module docstring); robot-level."""
+
+    mode: str
+    joints: tuple
+    p0: np.ndarray
+    o: np.ndarray           # (3,) the origin of joint a's invariants
+    e: np.ndarray | None    # (2, 3) across a prismatic a's axis
+    k: int = 0              # decoupled: the invariant free of x_b; pair: the one to use
+    abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants)
+    both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
+
+
+def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
+    """``br`` with ``joints`` (2 or 3 indices, base to tip) solved so that they move
+    ``p0 (3,)`` (world frame, q = 0) to ``PT (N, K, 3)``, one target per slot (world
+    frame, m). Joints before ``joints[0]`` must be undone in ``PT`` already."""
+    P = plan(S, tuple(joints), tuple(np.asarray(p0, float)))
+    return {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
+            "resultant": _resultant, "pair": _pair}[P.mode](S, P, br, np.asarray(PT, float),
+                                                           what)
+
+
+def plan(S: Screws, joints: tuple, p0: tuple) -> Plan:
+    """The way ``joints`` place ``p0`` (cached on the screws)."""
+    return S.constant(("place", joints, p0), lambda: _make_plan(S, joints, np.array(p0)))
+
+
+def _make_plan(S: Screws, joints, p0) -> Plan:
+    a, b = joints[0], joints[1]
+    o = _reference_point(S, a, b)
+    e = None
+    if not S.revolute[a]:
+        w = S.axis[a]
+        e1 = np.cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
+        e1 /= np.linalg.norm(e1)
+        e = np.stack([e1, np.cross(w, e1)])
+    base = Plan("", tuple(joints), p0, o, e)
+    scale = S.scale + float(np.linalg.norm(p0))
+    # the invariants' coefficients in x_b over samples of x_c (or at p0 for two joints)
+    if len(joints) == 2:
+        g = p0[None]
+    else:
+        c = joints[2]
+        g = S.move_point(c, _samples(S, c), p0)
+    al, be, ga = _coefficients(S, base, g)                      # (2, m), with pt = 0
+    dep = np.maximum(np.abs(be), np.abs(ga)).max(-1) > 1e-9 * scale ** 2
+    if len(joints) == 2:
+        k = int(np.argmax(np.maximum(np.abs(be[:, 0]), np.abs(ga[:, 0]))))
+        D = be[0, 0] * ga[1, 0] - be[1, 0] * ga[0, 0]
+        both = bool(S.revolute[b] and dep.all()
+                    and abs(D) > 1e-9 * max(np.abs(be).max() * np.abs(ga).max(), 1e-300))
+        return Plan("pair", tuple(joints), p0, o, e, k=k, both=both)
+    c = joints[2]
+    if not dep.all():
+        k = int(np.flatnonzero(~dep)[0])
+        return Plan("decoupled", tuple(joints), p0, o, e, k=k, abc=_fit_c(S, c, al[k]))
+    if S.revolute[[a, b, c]].all():
+        h, kc = S.axis[b], S.axis[c]
+        if np.linalg.norm(np.cross(h, kc)) <= 1e-12 and \
+                np.linalg.norm(np.cross(S.axis[a], h)) > 1e-9:
+            return Plan("shoulder", tuple(joints), p0, o, e)
+        return Plan("three cones", tuple(joints), p0, o, e)
+    return Plan("resultant", tuple(joints), p0, o, e)
+
+
+def _samples(S: Screws, c: int) -> np.ndarray:
+    """Values of joint c at which the coefficients are sampled."""
+    if S.revolute[c]:
+        return 2 * np.pi * np.arange(TRIG_SAMPLES) / TRIG_SAMPLES
+    span = 4.0 * S.scale
+    n = 2 * POLY_DEGREE + 1
+    return span * np.cos(np.pi * (np.arange(n) + 0.5) / n)
+
+
+def _fit_c(S: Screws, c: int, values) -> tuple:
+    """An invariant free of x_b as a function of x_c, from its samples: ``(A, B, C)`` of
+    ``A cos + B sin + C`` (revolute c) or of ``A x^2 + B x + C`` (prismatic c)."""
+    x = _samples(S, c)
+    if S.revolute[c]:
+        F = np.fft.rfft(values) / len(values)
+        return 2 * F[1].real, -2 * F[1].imag, F[0].real
+    A, B, C = np.polyfit(x, values, 2)
+    return A, B, C
+
+
+def _reference_point(S: Screws, a: int, b: int) -> np.ndarray:
+    """The point of axis a nearest to axis b (a point of a when they are parallel):
+    distances measured from there do not depend on x_b when the axes meet."""
+    wa, pa, wb, pb = S.axis[a], S.point[a], S.axis[b], S.point[b]
+    n = np.cross(wa, wb)
+    nn = n @ n
+    if nn < 1e-18:
+        return pa
+    return pa + (np.cross(pb - pa, wb) @ n / nn) * wa
+
+
+# --- the invariants of joint a ---------------------------------------------------------
+
+def _invariants(S: Screws, P: Plan, f):
+    """The two invariants of joint a at points ``f (..., 3)``: ``(2, ...)``."""
+    a = P.joints[0]
+    if S.revolute[a]:
+        d = f - P.o
+        return np.stack([d @ S.axis[a], dot(d, d)])
+    return np.stack([f @ P.e[0], f @ P.e[1]])
+
+
+def _coefficients(S: Screws, P: Plan, g):
+    """``(alpha, beta, gamma)``, each ``(2, ...)``: the invariants of ``E_b(x_b) g`` for
+    points ``g (..., 3)`` as ``alpha + beta B1(x_b) + gamma B2(x_b)``, with ``(B1, B2)``
+    ``(cos, sin)`` for a revolute b and ``(x, x^2)`` for a prismatic one (from three
+    values of x_b: the invariants are at most quadratic in the point)."""
+    b = P.joints[1]
+    if S.revolute[b]:
+        v0, v1, v2 = (_invariants(S, P, S.move(b, None, c, s, g))
+                      for c, s in ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0)))
+        alpha = 0.5 * (v0 + v2)
+        return alpha, 0.5 * (v0 - v2), v1 - alpha
+    v0, v1, vm = (_invariants(S, P, g + x * S.axis[b]) for x in (0.0, 1.0, -1.0))
+    return v0, 0.5 * (v1 - vm), 0.5 * (v1 + vm) - v0
+
+
+def _targets(S: Screws, P: Plan, PT):
+    """The invariants of the targets, ``(N, K, 2)``."""
+    return np.moveaxis(_invariants(S, P, PT), 0, -1)
+
+
+# --- the steps ------------------------------------------------------------------------
+
+def _quadratic(A, B, C, scale) -> Solutions:
+    """The real roots of ``A x^2 + B x + C = 0`` per problem (arrays ``(...)``): two slots
+    in ascending order, or one when the equation is linear (``A`` ~ 0) for every problem
+    (a robot-level fact: a sliding joint along the invariant's direction)."""
+    A, B, C = np.broadcast_arrays(*(np.asarray(v, float) for v in (A, B, C)))
+    linear = np.abs(A) <= 1e-12 * np.maximum(np.abs(B), 1e-300)
+    if linear.all():
+        Bl = np.where(B == 0.0, 1.0, B)
+        x = (-C / Bl)[..., None]
+        ok = (B != 0.0)[..., None]
+        zero = np.zeros_like(x)
+        return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
+    disc = B * B - 4 * A * C
+    real = disc >= -1e-12 * np.maximum(B * B, scale ** 2)
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    Aq = np.where(linear, 1.0, A)
+    r1, r2 = (-B - sq) / (2 * Aq), (-B + sq) / (2 * Aq)
+    lo, hi = np.minimum(r1, r2), np.maximum(r1, r2)
+    Bl = np.where(B == 0.0, 1.0, B)
+    x = np.stack([np.where(linear, -C / Bl, lo), hi], -1)
+    ok = np.stack([np.where(linear, B != 0.0, real), ~linear & real & (sq > 0)], -1)
+    zero = np.zeros_like(x)
+    return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
+
+
+def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
+    """Decoupled: x_c from the invariant free of x_b (``t (N, K)``: the target's)."""
+    c = P.joints[2]
+    A, B, C = P.abc
+    scale = (S.scale + np.sqrt(np.abs(t))) ** 2
+    if S.revolute[c]:
+        sol = from_abc(A, B, C, t, scale)
+        br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
+                         ~sol.exact[..., 0] & br.ok, what)
+        return br.branch([c], sol)
+    return br.branch([c], _quadratic(A, B, C - t, scale), labels=("root 1", "root 2"))
+
+
+def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
+    """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``:
+    the target's value of it)."""
+    b = P.joints[1]
+    al, be, ga = (v[m] for v in _coefficients(S, P, g))
+    scale = (S.scale + np.sqrt(np.abs(t))) ** 2
+    if S.revolute[b]:
+        sol = from_abc(be, ga, al, t, scale)
+        br = br.dead_end(b, np.arctan2(ga, be), (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
+                         ~sol.exact[..., 0] & br.ok, what)
+        return br.branch([b], sol)
+    return br.branch([b], _quadratic(ga, be, al - t, scale), labels=("-", "+"))
+
+
+def _solve_a(S: Screws, P: Plan, br, g) -> Branches:
+    """x_a: turn (or slide) the point before joint a onto the targets ``g (N, K, 3)``."""
+    a = P.joints[0]
+    f = _point_before_a(S, P, br)
+    if S.revolute[a]:
+        sol = sp1(f - S.point[a], g - S.point[a], S.axis[a])
+        return br.set(a, sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0],
+                      free=sol.free[..., 0])
+    x = (g - f) @ S.axis[a]
+    return br.set(a, x, np.ones_like(x), np.zeros_like(x))
+
+
+def _point_before_a(S: Screws, P: Plan, br):
+    """``E_b(x_b) E_c(x_c) p0`` for every slot (N, K, 3)."""
+    f = np.broadcast_to(P.p0, (br.N, br.K, 3))
+    for j in reversed(P.joints[1:]):
+        f = S.move(j, br.value[j], br.cos.get(j, 1.0), br.sin.get(j, 0.0), f)
+    return f
+
+
+def _decoupled(S: Screws, P: Plan, br, PT, what) -> Branches:
+    """One invariant free of x_b: x_c from it, x_b from the other, then x_a."""
+    t = _targets(S, P, PT)
+    br = _solve_c(S, P, br, t[..., P.k], what)
+    PT, t = br.take(PT), br.take(t)
+    c = P.joints[2]
+    g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
+    br = _solve_b(S, P, br, g, t[..., 1 - P.k], 1 - P.k, what)
+    return _solve_a(S, P, br, br.take(PT))
+
+
+def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
+    """Offset shoulder: joint a (subproblem 4), c (subproblem 3), b (subproblem 1)."""
+    a, b, c = P.joints
+    w, h, kc = S.axis[a], S.axis[b], S.axis[c]
+    oa, ob, oc = S.point[a], S.point[b], S.point[c]
+    # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
+    first = _sp4_negated(h, PT - oa, w, h @ (P.p0 - oa), S.scale)
+    br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
+    br = br.branch([a], first)
+    # the target seen before joint a, in the plane normal to h
+    q = S.turn(a, br.cos[a], -br.sin[a], br.take(PT) - oa) + oa - ob
+    q = q - (q @ h)[..., None] * h
+    u = (oc - ob) - ((oc - ob) @ h) * h
+    v = (P.p0 - oc) - ((P.p0 - oc) @ h) * h
+    # joint c: |u + R(h, x_c) v| = |q| (law of cosines)
+    # q came from the target, rounded to its size: a stretched or folded elbow within
+    # that rounding is the double root itself
+    reach = (S.scale + np.sqrt(dot(br.take(PT) - oa, br.take(PT) - oa))) ** 2
+    third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach)
+    br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
+    br = br.branch([c], third)
+    q = br.take(q)
+    elbow = u + S.turn(c, br.cos[c], br.sin[c], v)
+    second = sp1(elbow, q, h)
+    return br.set(b, second.theta[0][..., 0], second.c[0][..., 0], second.s[0][..., 0],
+                  free=second.free[..., 0])
+
+
+def _sp4_negated(h, p, k, d, scale) -> Solutions:
+    """Subproblem 4 for ``h . R(k, -x) p = d``: the roots' angles negated."""
+    from ..subproblems import sp4
+    sol = sp4(h, p, k, d)
+    return Solutions((-sol.theta[0],), sol.c, (-sol.s[0],), sol.ok, sol.exact, sol.free)
+
+
+def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
+    """Three revolute joints: subproblem 5 on ``R_a^T (pt - o_a) = (o_b - o_a) +
+    R_b ((o_c - o_b) + R_c (p0 - o_c))``."""
+    a, b, c = P.joints
+    oa, ob, oc = S.point[a], S.point[b], S.point[c]
+    sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
+    sol = Solutions((-sol.theta[0], sol.theta[1], sol.theta[2]),
+                    sol.c, (-sol.s[0], sol.s[1], sol.s[2]), sol.ok, sol.exact, sol.free)
+    br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
+    return _polish(S, P, br, br.take(PT))
+
+
+def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
+    """Eliminate x_b: the resultant in x_c, sampled and solved per target; then x_b by
+    back-substitution, x_a, and Gauss-Newton."""
+    a, b, c = P.joints
+    al_s, be_s, ga_s = S.constant(("resultant samples", P.joints, tuple(P.p0)), lambda: _coefficients(
+        S, P, S.move_point(c, _samples(S, c), P.p0)))                       # (2, m)
+    t = _targets(S, P, PT)                                                 # (N, K, 2)
+    al = al_s[:, None, None, :] - np.moveaxis(t, -1, 0)[..., None]          # (2, N, K, m)
+    R = _eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
+                   np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300))
+    br = br.branch([c], _roots_in_c(S, c, R))
+    PT, t = br.take(PT), br.take(t)
+    g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
+    al, be, ga = _coefficients(S, P, g)
+    al = al - np.moveaxis(t, -1, 0)
+    if S.revolute[b]:
+        D = be[0] * ga[1] - be[1] * ga[0]
+        good = np.abs(D) > 1e-12 * np.maximum(np.abs(be).max(0) * np.abs(ga).max(0), 1e-300)
+        D = np.where(good, D, 1.0)
+        theta, cb, sb = angles((-al[0] * ga[1] + al[1] * ga[0]) / D,
+                               (-be[0] * al[1] + be[1] * al[0]) / D)
+        br = br.set(b, theta, cb, sb, ok=good)
+    else:
+        x, good = _common_root(al, be, ga)
+        br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
+    br = _solve_a(S, P, br, PT)
+    return _polish(S, P, br, PT)
+
+
+def _eliminate(revolute_b: bool, al, be, ga, linear):
+    """The resultant of the two invariants in x_b, on the samples ``(N, K, m)``;
+    ``linear (2,)``: which invariants are linear in a prismatic x_b (robot-level)."""
+    if revolute_b:
+        D = be[0] * ga[1] - be[1] * ga[0]
+        P = al[0] * ga[1] - al[1] * ga[0]
+        Q = be[0] * al[1] - be[1] * al[0]
+        return P * P + Q * Q - D * D
+    # two polynomials a x^2 + b x + c in x_b (a = gamma, b = beta, c = alpha); the
+    # Sylvester resultant vanishes identically when both are linear, so that case (and
+    # one linear, one quadratic) is written out
+    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
+    if linear.all():
+        return b1 * c2 - b2 * c1
+    if linear[0]:
+        return b1 * b1 * c2 - b1 * b2 * c1 + a2 * c1 * c1
+    if linear[1]:
+        return b2 * b2 * c1 - b2 * b1 * c2 + a1 * c2 * c2
+    return (a1 * c2 - a2 * c1) ** 2 - (a1 * b2 - a2 * b1) * (b1 * c2 - b2 * c1)
+
+
+def _common_root(al, be, ga):
+    """The common root of ``gamma_i x^2 + beta_i x + alpha_i`` (i = 0, 1) at a root of
+    their resultant: ``x = -(a1 c2 - a2 c1) / (a1 b2 - a2 b1)``, or of the linear one."""
+    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
+    den = a1 * b2 - a2 * b1
+    big = np.maximum(np.abs(b1) + np.abs(b2), 1e-300)
+    quad = np.abs(den) > 1e-12 * big * np.maximum(np.abs(a1) + np.abs(a2), 1e-300)
+    lin = np.where(np.abs(b1) >= np.abs(b2), -c1 / np.where(b1 == 0, 1.0, b1),
+                   -c2 / np.where(b2 == 0, 1.0, b2))
+    x = np.where(quad, -(a1 * c2 - a2 * c1) / np.where(quad, den, 1.0), lin)
+    return x, np.isfinite(x)
+
+
+def _roots_in_c(S: Screws, c: int, R) -> Solutions:
+    """The real roots of the resultant sampled at :func:`_samples`, ``R (N, K, m)``: up to
+    eight slots, ascending."""
+    from ..subproblems.roots import polynomial_roots
+    if S.revolute[c]:
+        F = np.fft.fft(R, axis=-1) / R.shape[-1]
+        K = 4
+        coeffs = np.stack([F[..., k % R.shape[-1]] for k in range(K, -K - 1, -1)], -1)
+        z = polynomial_roots(coeffs)
+        ok = np.isfinite(z) & (np.abs(np.abs(z) - 1.0) < 1e-3)
+        x = np.angle(np.where(ok, z, 1.0))
+    else:
+        span = 4.0 * S.scale
+        coeffs = R @ _poly_fit_matrix().T                                  # highest first
+        y = polynomial_roots(coeffs)
+        ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
+        x = span * np.where(ok, y.real, 0.0)
+    order = np.argsort(np.where(ok, x, np.inf), axis=-1)
+    x, ok = np.take_along_axis(x, order, -1), np.take_along_axis(ok, order, -1)
+    x = np.where(ok, x, 0.0)
+    return Solutions((x,), (np.cos(x),), (np.sin(x),), ok, ok, np.zeros_like(ok))
+
+
+def _poly_fit_matrix() -> np.ndarray:
+    """``(POLY_DEGREE + 1, samples)``: samples of a polynomial of that degree in
+    ``y = x / span`` at the Chebyshev points of :func:`_samples` -> its coefficients,
+    highest degree first."""
+    n = 2 * POLY_DEGREE + 1
+    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    V = np.vander(y, POLY_DEGREE + 1)                                      # highest first
+    return np.linalg.pinv(V)
+
+
+def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
+    """Two joints: x_b from the invariants, then x_a."""
+    t = _targets(S, P, PT)
+    g = np.broadcast_to(P.p0, PT.shape)
+    if P.both:          # both fix (cos x_b, sin x_b): the one solution of two equations
+        al, be, ga = _coefficients(S, P, g)
+        al = al - np.moveaxis(t, -1, 0)
+        D = be[0] * ga[1] - be[1] * ga[0]
+        theta, c, s = angles((-al[0] * ga[1] + al[1] * ga[0]) / D,
+                             (-be[0] * al[1] + be[1] * al[0]) / D)
+        br = br.set(P.joints[1], theta, c, s)
+    else:
+        br = _solve_b(S, P, br, g, t[..., P.k], P.k, what)
+    return _solve_a(S, P, br, br.take(PT))
+
+
+def _polish(S: Screws, P: Plan, br, PT, iters: int = 3) -> Branches:
+    """Gauss-Newton on the point equations of every slot (roots of a quartic or a
+    resultant are good to ~1e-10; three steps reach rounding). ``PT (N, K, 3)``."""
+    from ..spatial import matrix_from_axis_angle
+    joints = P.joints
+    X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
+    live = br.ok[..., None]
+    X = np.where(live, X, 0.0)
+    for _ in range(iters):
+        R = np.broadcast_to(np.eye(3), X.shape[:-1] + (3, 3))
+        t = np.zeros(X.shape[:-1] + (3,))
+        axes, pts = [], []
+        for i, j in enumerate(joints):
+            axes.append(np.einsum("...ij,j->...i", R, S.axis[j]))
+            pts.append(np.einsum("...ij,j->...i", R, S.point[j]) + t)
+            if S.revolute[j]:
+                Rj = matrix_from_axis_angle(S.axis[j], X[..., i])
+                t = t + np.einsum("...ij,...j->...i", R, S.point[j] - np.einsum(
+                    "...ij,j->...i", Rj, S.point[j]))
+                R = R @ Rj
+            else:
+                t = t + axes[-1] * X[..., i:i + 1]
+        p = np.einsum("...ij,j->...i", R, P.p0) + t
+        J = np.stack([cross(axes[i], p - pts[i]) if S.revolute[j] else axes[i]
+                      for i, j in enumerate(joints)], -1)                  # (N, K, 3, m)
+        Jt = np.swapaxes(J, -1, -2)
+        H = Jt @ J
+        # damped relative to H: at a singular configuration H is singular
+        lam = 1e-14 * np.trace(H, axis1=-2, axis2=-1)[..., None, None] + 1e-300
+        dx = np.linalg.solve(H + lam * np.eye(len(joints)), (Jt @ (PT - p)[..., None]))[..., 0]
+        X = X + np.where(live, dx, 0.0)
+    for i, j in enumerate(joints):
+        x = X[..., i]
+        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
+            br.set(j, x, np.ones_like(x), np.zeros_like(x))
+    return br

@@ -1,0 +1,328 @@
+"""The closed form of each family, for a batch of targets: short compositions of the
+point placement (:mod:`kincalc.ik.place`), the wrists (:mod:`kincalc.ik.wrists`) and
+the subproblems, in the manner of IK-Geo's solvers (Elias & Wen 2022).
+
+Each solver takes the family's screws ``S`` (world frame at q = 0, SI; see
+:mod:`kincalc.ik.screws`), the targets (:class:`~kincalc.ik.target.Targets`) and a
+:class:`~kincalc.ik.branches.Branches` with one slot per target, and returns the
+branches with every joint solved: candidates, which the engine checks by FK, labels
+and flags. ``R_t = R_T R_M^T`` below is the rotation of the product of exponentials
+(``T = E_1 ... E_n M``), and ``E_j^-1`` undoes joint j's motion.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..structure import common_point
+from ..subproblems import sp1, sp2, sp4
+from ..subproblems.cone import cone
+from ..subproblems.solutions import Solutions, dot
+from .branches import Branches
+from .place import place
+from .screws import Screws
+from .wrists import normal_to, parallel_wrist_q6, spherical, undo
+
+
+# --- pieces ------------------------------------------------------------------------
+
+def _minv(S: Screws) -> np.ndarray:
+    return S.constant("M^-1", S.inverse_M)
+
+
+def _rotation(S: Screws, T) -> np.ndarray:
+    """``R_t (N, 1, 3, 3)``: the rotation ``E_1 ... E_n`` must give."""
+    return (T[:, :3, :3] @ _minv(S)[:3, :3])[:, None]
+
+
+def _tool_point(S: Screws, T, p) -> np.ndarray:
+    """Where the point ``p`` (world frame at q = 0, moving with the tool) is at the
+    poses ``T (N, 4, 4)``: ``(N, 1, 3)``."""
+    Minv = _minv(S)
+    local = Minv[:3, :3] @ p + Minv[:3, 3]
+    return (T[:, :3, :3] @ local + T[:, :3, 3])[:, None, :]
+
+
+def _mv(R, v) -> np.ndarray:
+    """``R v`` for ``R (..., 3, 3)``, ``v (..., 3)`` or ``(3,)``."""
+    return (R @ np.asarray(v)[..., None])[..., 0]
+
+
+def _mtv(R, v) -> np.ndarray:
+    """``R^T v``."""
+    return (np.swapaxes(R, -1, -2) @ np.asarray(v)[..., None])[..., 0]
+
+
+def _back(S: Screws, br: Branches, j: int, x) -> np.ndarray:
+    """``E_j^-1 x`` for points ``x (N, K, 3)``: joint j's motion undone."""
+    if S.revolute[j]:
+        return S.point[j] + S.turn(j, br.cos[j], -br.sin[j], x - S.point[j])
+    return x - br.value[j][..., None] * S.axis[j]
+
+
+def _negated(sol: Solutions) -> Solutions:
+    """A subproblem's solutions for the opposite angle (it solved for ``R(k, -x)``)."""
+    return Solutions((-sol.theta[0],), sol.c, (-sol.s[0],), sol.ok, sol.exact, sol.free)
+
+
+def _one(sol: Solutions, i: int = 0):
+    """``(theta, c, s)`` of a one-slot subproblem's unknown ``i``, each ``(N, K)``."""
+    return sol.theta[i][..., 0], sol.c[i][..., 0], sol.s[i][..., 0]
+
+
+def _angle_about(h, e, Rv, tol=0.0):
+    """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
+    vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``."""
+    return _one(sp1(np.broadcast_to(e, Rv.shape), Rv - dot(Rv, h)[..., None] * h, h, tol=tol))
+
+
+# --- six joints --------------------------------------------------------------------
+
+def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
+    """Axes 4, 5, 6 meet at the wrist centre: joints 1-3 place it, the wrist turns."""
+    T = targets.T
+    c0 = S.constant("wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    ct = _tool_point(S, T, c0)
+    br = place(S, br, (0, 1, 2), c0, ct, what="the wrist centre")
+    br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct), "length")
+    Rt = _rotation(S, T)
+    e = S.constant("normal to axis 6", lambda: normal_to(S.axis[5]))
+    v = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(Rt, S.axis[5]), (br.N, br.K, 3)))
+    w = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(Rt, e), (br.N, br.K, 3)))
+    return spherical(S, br, (3, 4, 5), v, w, e)
+
+
+def three_parallel(S: Screws, targets, br: Branches) -> Branches:
+    """Axes 2, 3, 4 parallel (direction h), axes 5 and 6 meet (UR): joint 1 from the
+    height of the wrist point along h (subproblem 4), joint 5 from the component of axis
+    6 along h (the cone form of subproblem 4), joint 6 and the angle of joints 2-4 about h
+    (subproblem 1), then joints 2 and 3 place axis 4 (a planar two-link arm).
+
+    At the wrist singularity (axis 6 parallel to h, q5 = 0 or 180 deg) only the signed
+    sum ``q2 + s3 q3 + s4 q4 + sigma q6`` is fixed: joint 6 takes the representatives of
+    :func:`~kincalc.ik.wrists.parallel_wrist_q6` (one per arc of the continuum), marked
+    free, with the sum kept as the slot's continuum."""
+    T = targets.T
+    h, k1, k5, k6 = S.axis[1], S.axis[0], S.axis[4], S.axis[5]
+    o1 = S.point[0]
+    c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
+    ct = _tool_point(S, T, c56)
+    # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
+    br = br.branch([0], _negated(sp4(h, ct - o1, k1, h @ (c56 - o1))))
+    Rt = br.take(_rotation(S, T))                                         # (N, K, 3, 3)
+    # joint 5: h . R5 k6 = h . v, v = R1^T R_t k6 (axis 6 with joint 1 undone)
+    v = S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, k6))
+    br = br.branch([4], cone(h, k6, k5, v))
+    Rt, v = br.take(Rt), br.take(v)
+    aligned = br.free[4]
+    br = br.set(4, br.value[4], br.cos[4], br.sin[4], free=np.zeros_like(aligned))
+    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
+    # joint 6: R6 (R_t^T R1 h) = R5^T h (projected: both are small near the singularity)
+    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], np.broadcast_to(h, v.shape)))
+    b = S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(h, v.shape))
+    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
+                  tol=0.0))[0]
+    arcs, ok_arcs = _singular_q6(S, br, T, Rt, sigma, aligned)
+    q6 = np.stack([np.where(aligned, arcs[..., 0], t6), arcs[..., 1]], -1)
+    ok6 = np.stack([np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1]], -1)
+    free6 = np.stack([aligned, aligned], -1)
+    br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6, free6),
+                   labels=(None, "other arc"))
+    Rt, sigma = br.take(Rt), br.take(sigma)
+    # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
+    e = S.constant("normal to h", lambda: normal_to(h))
+    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4],
+                                                 np.broadcast_to(e, (br.N, br.K, 3))))
+    psi = _angle_about(h, e, S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, r)))[0]
+    # where joints 2, 3 put axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
+    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], (br.N, br.K, 3)))
+    p4 = _back(S, br, 0, _tool_point_of(S, T, _back(S, br, 5, p4)))
+    br = br.with_extra("psi", psi).with_extra("sigma", sigma)
+    br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
+    s3, s4 = (1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3))
+    psi, sigma = br.extra["psi"], br.extra["sigma"]
+    q4 = s4 * (psi - br.value[1] - s3 * br.value[2])
+    br = br.set(3, q4, np.cos(q4), np.sin(q4))
+    if br.free[5].any():
+        total = br.value[1] + s3 * br.value[2] + s4 * q4 + sigma * br.value[5]
+        br = br.with_extra("parallel continuum", np.stack(
+            [br.free[5].astype(float), sigma, total], -1))
+    return br
+
+
+def _tool_point_of(S: Screws, T, x) -> np.ndarray:
+    """``T M^-1 x`` for points ``x (N, K, 3)`` (world frame at q = 0 -> at the poses)."""
+    Minv = _minv(S)
+    local = x @ Minv[:3, :3].T + Minv[:3, 3]
+    return (T[:, None, :3, :3] @ local[..., None])[..., 0] + T[:, None, :3, 3]
+
+
+def _singular_q6(S: Screws, br: Branches, T, Rt, sigma, aligned):
+    """Joint 6's representatives at the wrist singularity, two arcs per slot:
+    ``(q6 (N, K, 2), ok (N, K, 2))`` (:func:`~kincalc.ik.wrists.parallel_wrist_q6`)."""
+    N, K = aligned.shape
+    if not aligned.any():
+        return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
+    h = S.axis[1]
+    # axis 6's point, and axis 4's point at q6 = 0, with joint 1 undone, across h
+    W = _back(S, br, 0, np.broadcast_to(_tool_point(S, T, S.point[5]), (N, K, 3)))
+    P0 = _back(S, br, 4, np.broadcast_to(S.point[3], (N, K, 3)))
+    P0 = _back(S, br, 0, _tool_point_of(S, T, P0))
+    perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
+    q6, ok, _ = parallel_wrist_q6(S, perp(W - S.point[1]), perp(P0 - W), sigma)
+    return q6, ok
+
+
+def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
+    """Joints 1-4 about or along one direction h (three revolute, one prismatic), axes 5
+    and 6 meet (the textbook's offset-wrist arm): rotations about parallel axes add up,
+    so joint 5 comes from the component of axis 6 along h (subproblem 4), joint 6 and the
+    sum of the revolute angles about h from subproblem 1; joints 1-3 then place axis 4's
+    point, and joint 4 closes the sum."""
+    T = targets.T
+    h, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
+    Rt = _rotation(S, T)
+    br = br.branch([4], sp4(h, k6, k5, dot(h, _mv(Rt, k6))[:, :, None].squeeze(-1)))
+    Rt = br.take(Rt.repeat(1, 1))
+    a = np.broadcast_to(_mtv(Rt, h), (br.N, br.K, 3))
+    b = S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(h, a.shape))
+    t6, c6, s6 = _one(sp1(a, b, k6))
+    br = br.set(5, t6, c6, s6)
+    e = S.constant("normal to h", lambda: normal_to(h))
+    r = S.turn(5, c6, -s6, S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(e, a.shape)))
+    psi = _angle_about(h, e, _mv(Rt, r))[0]
+    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], a.shape))
+    p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
+    br = br.with_extra("psi", psi)
+    br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
+    sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
+    partial = sum(sign[i] * br.value[i] for i in range(3) if S.revolute[i])
+    q4 = (br.extra["psi"] - partial) * sign[3]
+    return br.set(3, q4, np.cos(q4), np.sin(q4))
+
+
+# --- fewer joints ------------------------------------------------------------------
+
+def position_3(S: Screws, targets, br: Branches) -> Branches:
+    """Three joints place the tool point."""
+    return place(S, br, (0, 1, 2), S.M[:3, 3], targets.T[:, None, :3, 3], what="the tool")
+
+
+def position_2(S: Screws, targets, br: Branches) -> Branches:
+    """Two joints place the tool point (on the surface they sweep)."""
+    return place(S, br, (0, 1), S.M[:3, 3], targets.T[:, None, :3, 3], what="the tool")
+
+
+def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
+    """A point of the last axis placed by ``first`` joints, then the last joint's roll
+    about its axis from the orientation (subproblem 1)."""
+    n = S.n
+    T = targets.T
+    br = place(S, br, first, S.point[n - 1], _tool_point(S, T, S.point[n - 1]),
+               what=f"axis {n}")
+    Rt = _rotation(S, T)
+    k = S.axis[n - 1]
+    e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
+    return br.set(n - 1, *_angle_about(k, e, undo(S, br, first, np.broadcast_to(
+        _mv(Rt, e), (br.N, br.K, 3)))))
+
+
+def planar_3(S: Screws, targets, br: Branches) -> Branches:
+    """Three parallel revolute axes: a point of axis 3 by joints 1-2, joint 3 from the
+    orientation."""
+    return _last_axis_roll(S, targets, br, (0, 1))
+
+
+def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
+    """A point of axis 4 by joints 1-3 (SCARA, the R-R-P-R spherical arm), joint 4 from
+    the orientation."""
+    return _last_axis_roll(S, targets, br, (0, 1, 2))
+
+
+def position_approach(S: Screws, targets, br: Branches) -> Branches:
+    """Five joints, axes 4 and 5 meeting at ``c`` on the approach line: ``c = p - d a``
+    is placed by joints 1-3, then joints 4 and 5 turn the approach (subproblem 2)."""
+    T = targets.T
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    d = float((p0 - c0) @ a0)
+    a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
+    ct = (T[:, :3, 3] - d * a)[:, None, :]
+    br = place(S, br, (0, 1, 2), c0, ct, what="the point where axes 4 and 5 meet")
+    v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
+    return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
+                     least_squares=True)
+
+
+def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
+    """Five joints, axes 2-4 parallel and joint 5 rolling the tool about its approach:
+    joint 1 from the position (subproblem 4), the pitch sum from the approach
+    (subproblem 1), joints 2-3 planar, joint 5 from the orientation (any value, 0, for an
+    approach alone)."""
+    T = targets.T
+    h, k1 = S.axis[1], S.axis[0]
+    o1 = S.point[0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    pt = T[:, None, :3, 3]
+    a = (targets.approach if targets.kind == "approach" else T[:, :3, 2])[:, None, :]
+    br = br.branch([0], _negated(sp4(h, pt - o1, k1, h @ (p0 - o1))))
+    a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
+    p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
+    psi, cps, sps = _one(sp1(np.broadcast_to(a0, a1.shape), a1, h))
+    # where axis 4's point must go: p1 + R_h(psi) (p4 - p0)
+    d = S.point[3] - p0
+    ch, sh = cps[..., None], sps[..., None]
+    p4t = p1 + ch * d + sh * np.cross(h, d) + (1 - ch) * (d @ h) * h
+    br = br.with_extra("psi", psi)
+    br = place(S, br, (1, 2), S.point[3], p4t, what="axis 4")
+    sgn = [float(np.sign(S.axis[i] @ h)) for i in (1, 2, 3)]
+    q4 = (br.extra["psi"] - sgn[0] * br.value[1] - sgn[1] * br.value[2]) * sgn[2]
+    br = br.set(3, q4, np.cos(q4), np.sin(q4))
+    if targets.kind == "approach":        # the roll was not asked for: 0 stands for any
+        z = np.zeros_like(q4)
+        br = br.set(4, z, np.ones_like(z), z)
+        return replace_signs(br, 4, "any")
+    k5 = S.axis[4]
+    e = S.constant("normal to axis 5", lambda: normal_to(k5))
+    Rt = _rotation(S, T)
+    return br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
+        _mv(Rt, e), (br.N, br.K, 3)))))
+
+
+def replace_signs(br: Branches, joint: int, label: str) -> Branches:
+    """Every slot's label for ``joint`` set to ``label`` (a value the target leaves open)."""
+    from dataclasses import replace
+    return replace(br, signs=tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
+                                   for sg in br.signs))
+
+
+def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
+    """A tool configuration vector ``w = [p; e^(qn/pi) r3]`` (Schilling 1990; the FER
+    Zagreb homework) for one target: the last joint from ``|w4..w6|``, the other joints
+    place the tool point as the last joint turns it; the approach ``r3`` is checked by
+    the engine. (The point depends on the target's roll, so the engine gives this one
+    target at a time.)"""
+    from ..errors import TargetMismatch
+    n = S.n
+    if not S.revolute[n - 1] or n - 1 not in (2, 3):
+        raise TargetMismatch(robot.name, "tcv robot")
+    if br.N != 1:
+        raise ValueError("tcv: one target at a time")
+    qn = float(targets.roll[0])
+    p = S.move_point(n - 1, qn, S.M[:3, 3])
+    br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3], what="the tool")
+    q = np.full((br.N, br.K), qn)
+    return br.set(n - 1, q, np.cos(q), np.sin(q))
+
+
+SOLVERS = {
+    "spherical-wrist": spherical_wrist,
+    "three-parallel": three_parallel,
+    "parallel-four-wrist": parallel_four_wrist,
+    "position-3": position_3,
+    "position-2": position_2,
+    "planar-3": planar_3,
+    "point-plus-roll": point_plus_roll,
+    "position-approach": position_approach,
+    "pitch-roll": pitch_roll,
+}

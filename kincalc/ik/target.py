@@ -1,0 +1,243 @@
+"""What inverse kinematics must reach, for a batch of targets.
+
+A :class:`Targets` holds ``N`` targets of one kind, world frame, SI:
+
+* ``"pose"``: the whole pose ``T (N, 4, 4)``;
+* ``"position"``: the tool position only (``T[:, :3, 3]``; the rotation part is the
+  identity and means nothing) for robots that do not control the orientation;
+* ``"approach"``: the position and the approach direction, the tool z axis
+  (``approach (N, 3)``, unit), for five-joint arms that do not set the roll about it;
+* ``"tcv"``: a tool configuration vector (Schilling 1990): the position, the approach
+  and the last joint's value ``roll (N,)`` (rad).
+
+:func:`target_form` names the format of a request from the fields it gives (and
+refuses a combination that is not one target), :func:`targets_from` builds the targets
+of many requests of one format at once (RPY, Euler angles, quaternions, axis-angle,
+matrices, whole poses, approach directions, TCVs). The command line, the batch runner
+and the homework grader all go through these two; what is wrong is returned as data
+(:class:`BadTarget`, the ``defect`` codes) that each of them words with its own names
+for the fields.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import spatial as sp
+from ..errors import UsageError
+from ..spatial import invert_transform
+
+KINDS = ("pose", "position", "approach", "tcv")
+
+
+@dataclass(frozen=True)
+class Targets:
+    """``N`` IK targets of one ``kind`` (see the module docstring)."""
+
+    T: np.ndarray
+    kind: str = "pose"
+    approach: np.ndarray | None = None
+    roll: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, not {self.kind!r}")
+
+    def __len__(self) -> int:
+        return len(self.T)
+
+    @staticmethod
+    def poses(T) -> "Targets":
+        """Whole poses ``T (N, 4, 4)`` or one ``(4, 4)``."""
+        T = np.asarray(T, float)
+        return Targets(T.reshape(-1, 4, 4))
+
+    def inverted(self) -> "Targets":
+        """The inverse poses (for a chain solved from the tool: ``T^-1``)."""
+        return Targets(invert_transform(self.T), self.kind, self.approach, self.roll)
+
+    def take(self, index) -> "Targets":
+        """The targets at ``index`` (an index array or mask into the N)."""
+        pick = lambda x: None if x is None else x[index]  # noqa: E731
+        return Targets(self.T[index], self.kind, pick(self.approach), pick(self.roll))
+
+
+#: the fields of a target request and their number of values (``q``: one per joint,
+#: ``T``: 16, or 12 for the top three rows); lengths in m, angles in rad
+FIELDS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
+          "matrix": 9, "approach": 3, "tcv": 6, "T": 16, "q": 0}
+#: the fields that give an orientation (with ``xyz``, or holding the position: ``tcv``)
+ORIENTATIONS = ("rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix", "approach",
+                "tcv")
+#: the fields that give the whole pose on their own
+WHOLE = ("T", "q")
+
+
+class BadTarget(UsageError):
+    """A target request whose fields do not make one target (exit 2), as data.
+
+    ``problem``: ``"two orientations"``, ``"whole and part"`` (a whole pose with a
+    position or an orientation), ``"two wholes"``, ``"tcv and xyz"`` or ``"no position"``;
+    ``fields``: the fields at fault, in the order given. :meth:`words` names them as the
+    caller names them."""
+
+    def __init__(self, problem: str, *fields: str):
+        self.problem, self.fields = problem, fields
+        super().__init__(self.words(lambda f: f))
+
+    def words(self, name) -> str:
+        """The message, with each field ``f`` spelled ``name(f)``."""
+        f = [name(x) for x in self.fields]
+        if self.problem == "two orientations":
+            return f"give at most one orientation, not {' and '.join(f)}"
+        if self.problem == "whole and part":
+            return f"{f[0]} gives the whole pose; do not combine it with {f[1]}"
+        if self.problem == "two wholes":
+            return f"give either {f[0]} or {f[1]}, not both"
+        if self.problem == "tcv and xyz":
+            return f"{f[0]} holds the position; do not give {f[1]} as well"
+        return (f"give the target position with {name('xyz')} (or the whole pose with "
+                f"{' or '.join(name(w) for w in WHOLE)})")
+
+
+def target_form(given) -> str | None:
+    """The format of a request that gives the fields ``given`` (names of :data:`FIELDS`,
+    in the order given): one of :data:`ORIENTATIONS` or :data:`WHOLE`, or None for a
+    position alone. Raises :class:`BadTarget` for fields that do not make one target."""
+    given = [f for f in given if f in FIELDS]
+    orient = [f for f in given if f in ORIENTATIONS]
+    whole = [f for f in given if f in WHOLE]
+    if len(orient) > 1:
+        raise BadTarget("two orientations", *orient)
+    if whole and (orient or "xyz" in given):
+        raise BadTarget("whole and part", whole[0], (orient + ["xyz"])[0])
+    if len(whole) > 1:
+        raise BadTarget("two wholes", *whole[:2])
+    if whole:
+        return whole[0]
+    if orient == ["tcv"]:
+        if "xyz" in given:
+            raise BadTarget("tcv and xyz", "tcv", "xyz")
+        return "tcv"
+    if "xyz" not in given:
+        raise BadTarget("no position")
+    return orient[0] if orient else None
+
+
+#: what can be wrong with the values of one request (:func:`targets_from`'s ``defect``):
+#: ``zero`` (a zero quaternion, axis, approach or TCV approach part), ``not rotation``
+#: (a matrix that is not a rotation to 1e-6: rows orthonormal, determinant +1),
+#: ``last row`` (a pose whose last row is not 0 0 0 1, to 1e-9)
+DEFECTS = ("zero", "not rotation", "last row")
+#: a rotation's rows must be orthonormal to this (plus 1e-5 on the diagonal: matrices
+#: typed to 6 digits pass)
+ROTATION_TOL = 1e-6
+
+
+def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.ndarray]:
+    """The targets of ``N`` requests of one ``form`` (see :func:`target_form`; ``"q"``
+    is not built here: its pose is the robot's FK), vectorised.
+
+    ``values (N, k)``: the form's values (angles rad, lengths m; ``T`` 16 or 12 per
+    row, ``matrix`` 9, row-major); ``xyz (N, 3)``: the positions (m), for the forms that
+    do not hold one. Returns ``(targets, defect)``: ``defect (N,)`` object, None or one
+    of :data:`DEFECTS` per request; a request with a defect holds the identity pose.
+    Whole poses are re-orthonormalised (the nearest rotation, by SVD)."""
+    if form is not None:
+        values = np.asarray(values, float)
+        values = values.reshape(len(values), -1)
+    N = len(values) if form is not None else len(xyz)
+    T = np.zeros((N, 4, 4))
+    T[:] = np.eye(4)
+    if xyz is not None:
+        T[:, :3, 3] = np.asarray(xyz, float).reshape(N, 3)
+    defect = np.full(N, None, object)
+    if form is None:
+        return Targets(T, "position"), defect
+    if form == "T":
+        M = values if values.shape[1] == 16 else np.concatenate(
+            [values, np.tile([0.0, 0.0, 0.0, 1.0], (N, 1))], axis=1)
+        M = M.reshape(N, 4, 4)
+        defect[~(np.abs(M[:, 3] - [0.0, 0.0, 0.0, 1.0]) <= 1e-9).all(-1)] = "last row"
+        _rotations(M[:, :3, :3], defect)
+        good = defect == None  # noqa: E711
+        u, _, vt = np.linalg.svd(M[good, :3, :3])
+        T[good, :3, :3] = u @ vt
+        T[good, :3, 3] = M[good, :3, 3]
+        return Targets(T), defect
+    if form in ("approach", "tcv"):
+        v = values[:, 3:] if form == "tcv" else values
+        n = np.linalg.norm(v, axis=-1)
+        zero = ~(n > 1e-300 if form == "tcv" else n >= 1e-12)
+        defect[zero] = "zero"
+        n = np.where(zero, 1.0, n)
+        a = np.where(zero[:, None], [0.0, 0.0, 1.0], v / n[:, None])
+        if form == "approach":
+            return Targets(T, "approach", approach=a), defect
+        T[:, :3, 3] = values[:, :3]
+        return Targets(T, "tcv", approach=a, roll=np.pi * np.log(n)), defect
+    if form in ("quat", "axis_angle"):
+        v = values[:, :3] if form == "axis_angle" else values
+        zero = ~(np.linalg.norm(v, axis=-1) >= 1e-12)
+        defect[zero] = "zero"
+        if form == "quat":
+            R = sp.matrix_from_quaternion(np.where(zero[:, None], [1.0, 0, 0, 0], values))
+        else:
+            R = sp.matrix_from_axis_angle(np.where(zero[:, None], [0.0, 0, 1], v),
+                                          values[:, 3])
+    elif form == "matrix":
+        R = values.reshape(N, 3, 3)
+        _rotations(R, defect)
+    else:
+        make = {"rpy": sp.matrix_from_rpy, "euler_zyz": sp.matrix_from_euler_zyz,
+                "euler_xyz": sp.matrix_from_euler_xyz}[form]
+        R = make(values)
+    good = defect == None  # noqa: E711
+    T[good, :3, :3] = R[good]
+    return Targets(T), defect
+
+
+def defect_text(form: str, defect: str, what: str) -> str:
+    """What is wrong with a request's values (:data:`kincalc.ik.target.DEFECTS`), the
+    field named ``what``
+    (each caller names its fields: ``--quat``, ``quat``)."""
+    if defect == "not rotation":
+        return (f"{what} is not a rotation matrix (rows must be orthonormal with "
+                "determinant +1, to 6 digits)")
+    if defect == "last row":
+        return f"{what}: the last row must be 0 0 0 1"
+    return {"quat": f"{what} must not be the zero quaternion",
+            "axis_angle": f"{what} needs a non-zero axis",
+            "approach": f"{what} must not be the zero vector",
+            "tcv": f"{what}: the approach part w4..w6 must not be zero"}[form]
+
+
+def _rotations(R, defect) -> None:
+    """Mark ``defect`` "not rotation" where ``R (N, 3, 3)`` is not a rotation (to
+    :data:`ROTATION_TOL`) and no other defect is marked."""
+    with np.errstate(invalid="ignore"):
+        # |R R^T - I| <= 1e-6 + 1e-5 |I| entrywise (numpy's allclose)
+        orth = (np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3))
+                <= ROTATION_TOL + 1e-5 * np.eye(3)).all((-1, -2))
+        bad = ~(orth & (np.linalg.det(R) > 0))
+    defect[bad & (defect == None)] = "not rotation"  # noqa: E711
+
+
+def to_si(form: str | None, values, units):
+    """``values (N, k)`` of ``form`` in the user's units (:class:`kincalc.units.Units`)
+    converted to SI: angles of ``rpy``, ``euler_*`` and the angle of ``axis_angle``
+    from the display angle unit, the position of ``T`` and ``tcv`` from the display
+    length unit (a new array; other forms are unit-free)."""
+    v = np.array(values, float)
+    v = v.reshape(len(v), -1)
+    if form in ("rpy", "euler_zyz", "euler_xyz"):
+        v /= units.a
+    elif form == "axis_angle":
+        v[:, 3] /= units.a
+    elif form == "tcv":
+        v[:, :3] /= units.l
+    elif form == "T":
+        v[:, [3, 7, 11]] /= units.l
+    return v

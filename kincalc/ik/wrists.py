@@ -1,0 +1,131 @@
+"""Wrists: the last joints of an arm setting the orientation, for every slot at once.
+
+A spherical wrist is three revolute joints whose axes meet at one point (Pieper 1968):
+``R(k1, t1) R(k2, t2) R(k3, t3) = R_W``, the rotation left for it. Only two vectors of
+``R_W`` are needed: ``v = R_W k3`` (where the third axis must point) and ``w = R_W e``
+for a fixed ``e`` normal to ``k3``. The middle joint puts ``R(k2, t2) k3`` on the cone
+of ``v`` about ``k1`` (:func:`~kincalc.subproblems.cone.cone`, exact up to the
+singularity), the first turns it onto ``v`` (subproblem 1), the third turns ``e`` onto
+``(R1 R2)^T w`` (subproblem 1).
+
+At the singularity (``v`` on the line of ``k1``: the outer axes on one line) the first
+and third rotations are about one line and only ``t1 + sigma t3`` is fixed
+(``sigma = +-1`` as the axes point the same way or not): one representative per
+placement, ``t1 = 0``, the first joint marked free and the relation kept as the slot's
+continuum (``Branches.extra["continuum"]``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..subproblems import sp1
+from ..subproblems.cone import cone
+from ..subproblems.solutions import cross, dot
+from .branches import Branches
+from ..spatial import wrap
+from .screws import Screws
+
+
+def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
+    """``(R_j1 ... R_jm)^T x`` for vectors ``x (N, K, 3)``: the rotations of the solved
+    revolute ``joints`` (in chain order) undone."""
+    for j in joints:
+        if S.revolute[j]:
+            x = S.turn(j, br.cos[j], -br.sin[j], x)
+    return x
+
+
+def normal_to(k) -> np.ndarray:
+    """A fixed unit vector normal to the unit vector ``k`` (3,)."""
+    e = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+    return e / np.linalg.norm(e)
+
+
+def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
+    """``br`` with the wrist ``joints`` (three revolute, concurrent axes) solved for
+    ``v = R_W k3`` and ``w = R_W e`` (``(N, K, 3)``, world frame at q = 0; ``e (3,)``
+    normal to ``k3``). Two slots per placement (the middle joint's +/- roots); where
+    the orientation is out of the wrist's reach, its least-squares angle (for the
+    reasons of an unreachable pose)."""
+    j1, j2, j3 = joints
+    k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
+    middle = cone(k1, k3, k2, v)
+    br = br.branch([j2], middle, least_squares=True)
+    v, w = br.take(v), br.take(w)
+    aligned = br.free[j2]
+    br = br.set(j2, br.value[j2], br.cos[j2], br.sin[j2],
+                free=np.zeros_like(aligned))            # the free joint is the first
+    third = S.turn(j2, br.cos[j2], br.sin[j2], np.broadcast_to(k3, v.shape))   # R2 k3
+    # both projected on the plane normal to k1: next to the singularity their normal
+    # parts are tiny, and v's component along k1 times the rounding would swamp them
+    first = sp1(third, v - dot(v, k1)[..., None] * k1, k1, tol=0.0)
+    c1 = np.where(aligned, 1.0, first.c[0][..., 0])
+    s1 = np.where(aligned, 0.0, first.s[0][..., 0])
+    br = br.set(j1, np.arctan2(s1, c1), c1, s1, free=aligned)
+    z = S.turn(j2, br.cos[j2], -br.sin[j2], S.turn(j1, c1, -s1, w))
+    last = sp1(np.broadcast_to(e, z.shape), z - dot(z, k3)[..., None] * k3, k3, tol=0.0)
+    t3 = last.theta[0][..., 0]
+    br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
+    if aligned.any():
+        sigma = np.where(dot(k1, third) > 0, 1.0, -1.0)
+        br = br.with_extra("continuum", np.stack([
+            aligned.astype(float), np.full(aligned.shape, j1), np.full(aligned.shape, j3),
+            sigma, br.value[j1] + sigma * t3], -1))
+    return br
+
+
+def parallel_wrist_q6(S: Screws, a, b, sigma):
+    """Representative values of joint 6 at the wrist singularity of a three-parallel arm.
+
+    There joints 2, 3, 4 and 6 turn about parallel axes (direction ``h``). All
+    quantities here are projected on the plane normal to h, in the frame with joint 1
+    undone (world frame, m). Turning joint 6 by ``q6`` swings axis 4 about axis 6 by
+    ``-sigma q6``. Joints 2 and 3 (a planar two-link arm) must then reach axis 4. They
+    reach distances between ``|l2 - l3|`` and ``l2 + l3`` from axis 2, where ``l2`` is
+    the distance from axis 2 to axis 3 and ``l3`` the distance from axis 3 to axis 4.
+    So the continuum is made of one or two arcs of ``q6``.
+
+    Convention, per arc: ``q6 = 0`` when the arc holds it. Otherwise ``q6`` is the
+    value that puts axis 4 nearest the middle of the elbow's reach,
+    ``(|l2 - l3| + l2 + l3) / 2`` from axis 2. Of the two such values the one on the
+    side of ``q6 = 0`` is used. This value is inside the arc, away from the stretched
+    and folded elbow.
+
+    ``a (..., 3)``: from axis 2 to axis 6, normal to h. ``b (..., 3)``: from axis 6 to
+    axis 4 at ``q6 = 0``, normal to h. ``sigma (...)``: +1 when axis 6 points along h,
+    -1 when it points against it.
+
+    Returns ``q6 (..., 2)`` (rad, in (-pi, pi]), ``ok (..., 2)`` and ``phi (..., 2)``.
+    Slot 0 is the arc on the side of ``q6 = 0`` (or the only arc). Slot 1 is the other
+    arc, valid only when there are two. ``phi`` is the angle about h from ``a`` to axis
+    4's offset, whose sign tells the two arcs apart.
+    """
+    h = S.axis[1]
+    perp = lambda x: x - (x @ h) * h  # noqa: E731
+    l2 = float(np.linalg.norm(perp(S.point[2] - S.point[1])))
+    l3 = float(np.linalg.norm(perp(S.point[3] - S.point[2])))
+    lo_r, hi_r = abs(l2 - l3), l2 + l3
+    mid_r = 0.5 * (lo_r + hi_r)
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    sigma = np.asarray(sigma, float)
+    A2, B2 = (a * a).sum(-1), (b * b).sum(-1)
+    AB = np.sqrt(A2 * B2)
+    # axis 6 on axis 2 or axis 4 on axis 6: joint 6 does not move axis 4 relative to
+    # axis 2, so every q6 is equally good and q6 = 0 is used
+    flat = AB <= (1e-9 * max(S.scale, 1e-300)) ** 2
+    den = np.where(flat, 1.0, 2.0 * AB)
+    cos0 = 2.0 * (a * b).sum(-1) / den
+    sin0 = 2.0 * (cross(a, b) @ h) / den
+    c_out, c_in, c_mid = ((x * x - A2 - B2) / den for x in (hi_r, lo_r, mid_r))
+    hi, lo = np.minimum(c_out, 1.0), np.maximum(c_in, -1.0)
+    reach = flat | (lo <= hi + 1e-12)
+    two = ~flat & (c_out < 1.0) & (c_in > -1.0)
+    zero_in = flat | ((cos0 >= lo - 1e-12) & (cos0 <= hi + 1e-12))
+    phim = np.arccos(np.clip(c_mid, lo, np.maximum(lo, hi)))
+    side = np.where(sin0 >= 0, 1.0, -1.0)
+    phi0 = np.arctan2(sin0, cos0)
+    q6 = np.stack([np.where(zero_in, 0.0, sigma * (phi0 - side * phim)),
+                   sigma * (phi0 + side * phim)], axis=-1)
+    phi = np.stack([np.where(zero_in, phi0, side * phim), -side * phim], axis=-1)
+    return wrap(q6), np.stack([reach, reach & two], axis=-1), phi

@@ -1,0 +1,102 @@
+"""Subproblem 4 on unit vectors, exact next to its double root ("two cones").
+
+Find ``t`` with ``h . R(k, t) p = h . v`` for unit ``h``, ``p``, ``v``: the vector
+``R(k, t) p`` sweeps a cone about ``k``, and must lie on the cone about ``h`` through
+``v`` (the middle joint of a wrist: ``k`` its axis, ``p`` the third axis, ``v`` where the
+rotation asks the third axis to be, ``h`` the first axis). As subproblem 4,
+``C + r cos(t - b) = f`` with ``f = h . v``; the roots ``b +- delta``.
+
+Next to ``v = +-h`` (the wrist singularity) ``1 -+ f`` is the square of a small
+number, and ``arccos`` of a value near 1 is good only to sqrt(rounding), 1.5e-8 rad.
+Here ``1 - f`` and ``1 + f`` come from ``P = |h x v|`` (``P^2 / (1 +- f)`` on their own
+side), and the cone's reach of the lines ``+-h`` from the angles ``beta`` (from ``k``
+to ``h``) and ``gamma`` (from ``k`` to ``p``): ``top = 1 - cos(beta - gamma)`` and
+``bottom = 1 + cos(beta + gamma)`` as ``2 sin^2`` and ``2 cos^2`` of half angles. So
+``delta`` is exact to the rounding of ``P``, up to the singularity.
+
+Solutions: two; the least-squares angle when the cones do not meet (``exact`` False).
+
+Ill-posed (``free``): ``v`` within ``aligned_tol`` (sine) of the line of ``h`` while
+the cone of ``R(k, t) p`` holds that line (``top`` or ``bottom`` at most
+``aligned_tol^2 / 2``): the aligned value (``b`` for ``v`` along ``h``, ``b + pi``
+against it) in both slots, where the outer rotations about the one line are left free
+(a continuum: the caller names it). ``r = 0`` (``p`` or ``h`` along ``k``): as
+subproblem 4.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .solutions import Solutions, as_vectors, cross, dot, norm
+from .sp4 import from_abc
+
+#: the sine of the angle between ``v`` and the line of ``h`` below which a wrist counts
+#: as singular (its outer axes on one line): a representative of the continuum then
+#: misses the pose by at most about this (rad, and times the arm's size)
+ALIGNED_TOL = 1e-10
+
+
+def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
+    """Solve ``h . R(k, t) p = h . v`` for unit vectors (see the module docstring).
+
+    Parameters
+    ----------
+    h, p, k : array_like (..., 3)
+        Unit vectors: the fixed axis, the vector turned, the rotation axis.
+    v : array_like (..., 3)
+        Unit vector: where ``R(k, t) p`` must be, up to a rotation about ``h``.
+
+    Returns
+    -------
+    Solutions
+        Two slots, ``b + delta`` and ``b - delta`` (the same value where ``free``).
+    """
+    h, p, k, v = as_vectors(h, p, k, v)
+    beta = np.arctan2(norm(cross(k, h)), dot(k, h))
+    gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
+    kxp = cross(k, p)
+    A = -dot(h, cross(k, kxp))
+    B = dot(h, kxp)
+    r = np.sqrt(A * A + B * B)
+    f = dot(h, v)
+    degenerate = r <= 1e-12
+    if degenerate.all():
+        return from_abc(A, B, dot(h, k) * dot(k, p), f, 1.0)
+    rr = np.where(degenerate, 1.0, r)
+    cb, sb = A / rr, B / rr
+    top = 2.0 * np.sin(0.5 * (beta - gamma)) ** 2
+    bottom = 2.0 * np.cos(0.5 * (beta + gamma)) ** 2
+    P = norm(cross(h, v))
+    P2 = P * P
+    one_minus = np.where(f > 0, P2 / (1.0 + np.abs(f)), 1.0 - f)
+    one_plus = np.where(f < 0, P2 / (1.0 + np.abs(f)), 1.0 + f)
+    um = one_minus - top                  # r (1 - cos delta)
+    wm = one_plus - bottom                # r (1 + cos delta)
+    exact = (um >= -1e-9 * rr) & (wm >= -1e-9 * rr)
+    u, w = np.maximum(um, 0.0), np.maximum(wm, 0.0)
+    n = np.maximum(u + w, 1e-300)
+    cd, sd = (w - u) / n, 2.0 * np.sqrt(u * w) / n
+    gap = 0.5 * aligned_tol ** 2
+    aligned = (P <= aligned_tol) & np.where(f > 0, top <= gap, bottom <= gap)
+    cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
+    sd = np.where(aligned, 0.0, sd)
+    exact = exact | aligned
+    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
+    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    theta = np.arctan2(s, c)
+    # one root where the cones only touch (delta 0 or pi: both roots are one
+    # configuration), or a single aligned value; next to the singularity, where the cone
+    # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
+    touch = (sd <= 1e-9) & np.where(cd > 0, top > gap, bottom > gap)
+    two = exact & ~aligned & ~touch
+    ok = np.stack([np.ones_like(two), two], axis=-1)
+    sol = Solutions((theta,), (c,), (s,), ok, np.stack([exact, exact], -1),
+                    np.stack([aligned, aligned], -1))
+    if degenerate.any():
+        plain = from_abc(A, B, dot(h, k) * dot(k, p), f, 1.0)
+        pick = lambda x, y: np.where(degenerate[..., None], y, x)  # noqa: E731
+        sol = Solutions((pick(sol.theta[0], plain.theta[0]),), (pick(sol.c[0], plain.c[0]),),
+                        (pick(sol.s[0], plain.s[0]),), pick(sol.ok, plain.ok),
+                        pick(sol.exact, plain.exact), pick(sol.free, plain.free))
+    return sol

@@ -1,0 +1,33 @@
+"""Roots of many polynomials at once: the eigenvalues of a stack of companion matrices.
+
+Shared by the subproblems and the point placement whose last step is a polynomial (a
+quartic in ``e^(i phi)``, a resultant): one ``numpy.linalg.eigvals`` call for a whole
+batch instead of ``numpy.roots`` per problem.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def polynomial_roots(coeffs) -> np.ndarray:
+    """Complex roots ``(..., d)`` of polynomials with coefficients ``(..., d + 1)``,
+    highest degree first (as ``numpy.roots``).
+
+    Every polynomial keeps its degree ``d``: a vanishing leading coefficient (below
+    1e-13 of the largest) is replaced by that bound, which sends the roots of the
+    missing degrees far away (callers keep roots in a band they trust), so that one
+    companion shape serves the whole batch."""
+    coeffs = np.asarray(coeffs)
+    d = coeffs.shape[-1] - 1
+    # scaled to a largest coefficient of 1 first (the roots do not change): with
+    # coefficients of 0 or near 1e-300 (a curve, a point, axes along the coordinate
+    # axes) the bound would be subnormal, and complex division by it gave inf and NaN,
+    # on which eigvals raised for the whole batch
+    coeffs = coeffs / np.maximum(np.abs(coeffs).max(-1), 1e-300)[..., None]
+    lead = coeffs[..., 0]
+    lead = np.where(np.abs(lead) < 1e-13, 1e-13, lead)
+    comp = np.zeros(coeffs.shape[:-1] + (d, d), np.result_type(coeffs, float))
+    comp[..., 0, :] = -coeffs[..., 1:] / lead[..., None]
+    comp[..., np.arange(1, d), np.arange(d - 1)] = 1.0
+    return np.linalg.eigvals(comp)

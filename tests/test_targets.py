@@ -1,0 +1,120 @@
+"""kincalc.ik.target: one vectorised builder of IK targets for the command line, the
+batch runner and homework sheets, against hand-built rotations."""
+
+import numpy as np
+import pytest
+
+from kincalc.ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+from kincalc.results import Units
+
+
+def rx(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def ry(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def rz(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+RNG = np.random.default_rng(20261201)
+ANGLES = RNG.uniform(-np.pi, np.pi, (50, 3))
+XYZ = RNG.uniform(-1, 1, (50, 3))
+
+
+@pytest.mark.parametrize("form, make", [
+    ("rpy", lambda a: rz(a[2]) @ ry(a[1]) @ rx(a[0])),
+    ("euler_zyz", lambda a: rz(a[0]) @ ry(a[1]) @ rz(a[2])),
+    ("euler_xyz", lambda a: rx(a[0]) @ ry(a[1]) @ rz(a[2])),
+])
+def test_angle_forms_match_the_elementary_products(form, make):
+    targets, defect = targets_from(form, ANGLES, XYZ)
+    assert targets.kind == "pose" and (defect == None).all()  # noqa: E711
+    for a, p, T in zip(ANGLES, XYZ, targets.T):
+        assert np.allclose(T[:3, :3], make(a), atol=1e-14)
+        assert np.array_equal(T[:3, 3], p) and np.array_equal(T[3], [0, 0, 0, 1])
+
+
+def test_quaternion_and_axis_angle_of_the_same_rotation():
+    axis = RNG.normal(size=(50, 3))
+    angle = RNG.uniform(-np.pi, np.pi, 50)
+    u = axis / np.linalg.norm(axis, axis=1, keepdims=True)
+    quat = np.column_stack([np.cos(angle / 2), u * np.sin(angle / 2)[:, None]]) * 3.0
+    a, da = targets_from("axis_angle", np.column_stack([axis, angle]), XYZ)
+    q, dq = targets_from("quat", quat, XYZ)
+    assert (da == None).all() and (dq == None).all()  # noqa: E711
+    assert np.allclose(a.T, q.T, atol=1e-13)
+    # a rotation by angle about u keeps u and turns a perpendicular vector by angle
+    assert np.allclose(np.einsum("nij,nj->ni", a.T[:, :3, :3], u), u, atol=1e-13)
+
+
+def test_defects_are_per_request_and_leave_the_others_alone():
+    quat = np.array([[1.0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 2.0]])
+    targets, defect = targets_from("quat", quat, np.zeros((3, 3)))
+    assert defect.tolist() == [None, "zero", None]
+    assert np.allclose(targets.T[2, :3, :3], rz(np.pi), atol=1e-15)
+    M = np.tile(np.eye(3).ravel(), (3, 1))
+    M[1, 0] = 1.1                                          # not orthonormal
+    M[2] = (-np.eye(3)).ravel()                            # determinant -1
+    _, defect = targets_from("matrix", M, np.zeros((3, 3)))
+    assert defect.tolist() == [None, "not rotation", "not rotation"]
+    T = np.tile(np.eye(4).ravel(), (2, 1))
+    T[1, 12] = 1e-6
+    _, defect = targets_from("T", T)
+    assert defect.tolist() == [None, "last row"]
+    assert defect_text("quat", "zero", "--quat") == "--quat must not be the zero quaternion"
+
+
+def test_a_pose_is_reorthonormalised_to_the_nearest_rotation():
+    R = rz(0.3) @ rx(-1.2)
+    noisy = R + 1e-7 * RNG.normal(size=(3, 3))
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = noisy, [0.1, 0.2, 0.3]
+    targets, defect = targets_from("T", T.ravel()[None])
+    Rt = targets.T[0, :3, :3]
+    assert defect[0] is None and np.allclose(Rt @ Rt.T, np.eye(3), atol=1e-15)
+    assert np.abs(Rt - R).max() < 5e-7 and np.array_equal(targets.T[0, :3, 3], [0.1, 0.2, 0.3])
+    top = targets_from("T", T[:3].ravel()[None])[0]          # 12 numbers: the top rows
+    assert np.array_equal(top.T, targets.T)
+
+
+def test_tcv_gives_position_approach_and_roll():
+    w = np.array([[0.1, 0.2, 0.3, 0.0, 0.0, -np.exp(0.5 / np.pi)]])
+    targets, defect = targets_from("tcv", w)
+    assert targets.kind == "tcv" and defect[0] is None
+    assert np.allclose(targets.approach, [[0, 0, -1]]) and np.isclose(targets.roll[0], 0.5)
+    assert np.array_equal(targets.T[0, :3, 3], [0.1, 0.2, 0.3])
+    assert targets_from("tcv", np.zeros((1, 6)))[1][0] == "zero"
+
+
+def test_forms_and_the_combinations_that_are_not_one_target():
+    assert target_form(["xyz"]) is None
+    assert target_form(["xyz", "quat"]) == "quat" and target_form(["T"]) == "T"
+    assert target_form(["tcv"]) == "tcv" and target_form(["q"]) == "q"
+    for given, problem in [(["xyz", "rpy", "quat"], "two orientations"),
+                           (["T", "xyz"], "whole and part"), (["q", "rpy"], "whole and part"),
+                           (["T", "q"], "two wholes"), (["tcv", "xyz"], "tcv and xyz"),
+                           (["rpy"], "no position"), ([], "no position")]:
+        with pytest.raises(BadTarget) as e:
+            target_form(given)
+        assert e.value.problem == problem
+    with pytest.raises(BadTarget) as e:
+        target_form(["xyz", "euler_zyz", "axis_angle"])
+    assert e.value.words(lambda f: "--" + f.replace("_", "-")) == \
+        "give at most one orientation, not --euler-zyz and --axis-angle"
+
+
+def test_user_units_to_si():
+    units = Units(angle="deg", length="mm")
+    assert np.allclose(to_si("rpy", [[90.0, 0, -45]], units), [[np.pi / 2, 0, -np.pi / 4]])
+    assert np.allclose(to_si("axis_angle", [[0, 0, 2, 180]], units), [[0, 0, 2, np.pi]])
+    T = np.eye(4)
+    T[:3, 3] = [100, 200, 300]
+    assert np.allclose(to_si("T", T.ravel()[None], units).reshape(4, 4)[:3, 3], [.1, .2, .3])
+    assert np.allclose(to_si("tcv", [[100, 0, 0, 0, 0, 2]], units), [[.1, 0, 0, 0, 0, 2]])
