@@ -13,6 +13,13 @@ A step's subproblem runs on all slots at once and returns ``k`` solutions per sl
 (:class:`~kincalc.subproblems.Solutions` of shape ``(N, K, k)``); :meth:`Branches.branch`
 makes the ``K k`` slots of the next step. Quantities a solver computed per slot before
 the step are carried over with :meth:`Branches.take`.
+
+Slots that no pose of the batch keeps (the second arc of a wrist singularity, elbow roots
+a target out of reach has none of, ...) are dropped as they appear, so later steps work
+only on live slots; :meth:`Branches.expanded` puts the slots back in the family's fixed
+layout (``full``: each column's slot there, ``full_signs`` the layout's sign table) once
+the solver is done. With ``explain`` every slot is kept (notes and dead ends refer to
+them).
 """
 
 from __future__ import annotations
@@ -73,6 +80,8 @@ class Branches:
     notes: tuple = ()
     dead_ends: tuple = ()
     extra: dict = field(default_factory=dict)
+    full: np.ndarray | None = None
+    full_signs: tuple | None = None
 
     @staticmethod
     def start(N: int, n: int, *, explain: bool = False, ok=None) -> "Branches":
@@ -119,12 +128,61 @@ class Branches:
         elif labels is None:
             labels = ("+", "-") if k == 2 else tuple(f"root {i + 1}" for i in range(k))
         first = next(j for j in joints if j is not None)
-        signs = tuple(self.signs[p] + (((first, labels[i % k]),) if labels[i % k] else ())
-                      for i, p in enumerate(parent.tolist()))
+        step = lambda sg, r: sg + (((first, labels[r]),) if labels[r] else ())  # noqa: E731
+        signs = tuple(step(self.signs[p], i % k) for i, p in enumerate(parent.tolist()))
         extra = {name: x[:, parent] for name, x in self.extra.items()}
-        return replace(self, value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
-                       parent=parent, extra=extra, lineage=self.lineage + (parent,) if self.explain else
-                       self.lineage)
+        full, full_signs = self.full, self.full_signs
+        if full is not None:
+            full = np.repeat(full * k, k) + np.tile(np.arange(k), K)
+            full_signs = tuple(step(sg, r) for sg in full_signs for r in range(k))
+        out = replace(self, value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
+                      parent=parent, extra=extra, full=full, full_signs=full_signs,
+                      lineage=self.lineage + (parent,) if self.explain else self.lineage)
+        return out if self.explain else out._live()
+
+    def _live(self) -> "Branches":
+        """These branches without the slots no pose keeps (at least one slot stays)."""
+        live = self.ok.any(axis=0)
+        if live.all():
+            return self
+        if not live.any():
+            live[0] = True
+        cols = np.flatnonzero(live)
+        full = np.arange(self.K) if self.full is None else self.full
+        pick = lambda d: {j: v[:, cols] for j, v in d.items()}  # noqa: E731
+        return replace(self, value=pick(self.value), cos=pick(self.cos), sin=pick(self.sin),
+                       free=pick(self.free), ok=self.ok[:, cols],
+                       signs=tuple(self.signs[c] for c in cols.tolist()),
+                       parent=self.parent[cols], extra=pick(self.extra), full=full[cols],
+                       full_signs=self.signs if self.full is None else self.full_signs)
+
+    def expanded(self) -> "Branches":
+        """These branches in the family's full slot layout: the dropped slots back, dead
+        (joint values 0, cosines 1, sines 0)."""
+        if self.full is None:
+            return self
+        K, N, cols = len(self.full_signs), self.N, self.full
+
+        def put(d, fill):
+            out = {}
+            for j, v in d.items():
+                a = np.full((N, K) + v.shape[2:], fill, v.dtype)
+                a[:, cols] = v
+                out[j] = a
+            return out
+        return replace(self, value=put(self.value, 0.0), cos=put(self.cos, 1.0),
+                       sin=put(self.sin, 0.0), free=put(self.free, False),
+                       ok=put({0: self.ok}, False)[0], signs=self.full_signs,
+                       parent=np.arange(K), extra=put(self.extra, 0), full=None,
+                       full_signs=None)
+
+    def relabel(self, joint: int, label: str) -> "Branches":
+        """Every slot's sign for ``joint`` set to ``label`` (a value the target leaves
+        open)."""
+        new = lambda signs: tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)  # noqa: E731
+                                  for sg in signs)
+        return replace(self, signs=new(self.signs),
+                       full_signs=None if self.full_signs is None else new(self.full_signs))
 
     def with_extra(self, name: str, value) -> "Branches":
         """A per-slot quantity ``value (N, K, ...)`` the engine needs at the end (a

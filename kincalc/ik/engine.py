@@ -176,9 +176,10 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = general_6r(robot, targets, br)
     elif family.reverse:
         br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
-        br = br.reversed_chain()
+        br = br.expanded().reversed_chain()
     else:
         br = SOLVERS[family.solver](S, targets, br)
+    br = br.expanded()
     candidate = br.ok.copy()
     method = family.description
     if family.exact:

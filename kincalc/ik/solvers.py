@@ -281,19 +281,12 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     if targets.kind == "approach":        # the roll was not asked for: 0 stands for any
         z = np.zeros_like(q4)
         br = br.set(4, z, np.ones_like(z), z)
-        return replace_signs(br, 4, "any")
+        return br.relabel(4, "any")
     k5 = S.axis[4]
     e = S.constant("normal to axis 5", lambda: normal_to(k5))
     Rt = _rotation(S, T)
     return br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
         _mv(Rt, e), (br.N, br.K, 3)))))
-
-
-def replace_signs(br: Branches, joint: int, label: str) -> Branches:
-    """Every slot's label for ``joint`` set to ``label`` (a value the target leaves open)."""
-    from dataclasses import replace
-    return replace(br, signs=tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
-                                   for sg in br.signs))
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
