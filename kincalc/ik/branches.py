@@ -64,7 +64,9 @@ class Branches:
     sine of revolute joints); ``ok (N, K)``; ``free``: joint -> ``(N, K)`` bool, the
     joint undetermined at this target (a representative value is shown); ``signs``: per
     slot, a tuple of ``(joint, label)`` for each step with more than one root;
-    ``parent (K,)``: the slot of the previous step each slot came from.
+    ``parent (K,)``: the slot of the previous step each slot came from; ``full (K,)``
+    and ``full_signs``: once slots were dropped, each column's slot in the family's full
+    layout and that layout's sign table (None before; see :meth:`expanded`).
     """
 
     n: int
@@ -179,8 +181,9 @@ class Branches:
     def relabel(self, joint: int, label: str) -> "Branches":
         """Every slot's sign for ``joint`` set to ``label`` (a value the target leaves
         open)."""
-        new = lambda signs: tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)  # noqa: E731
-                                  for sg in signs)
+        def new(signs):
+            return tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
+                         for sg in signs)
         return replace(self, signs=new(self.signs),
                        full_signs=None if self.full_signs is None else new(self.full_signs))
 

@@ -317,8 +317,9 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Eliminate x_b: the resultant in x_c, sampled and solved per target; then x_b by
     back-substitution, x_a, and Gauss-Newton."""
     a, b, c = P.joints
-    al_s, be_s, ga_s = S.constant(("resultant samples", P.joints, tuple(P.p0)), lambda: _coefficients(
-        S, P, S.move_point(c, _samples(S, c), P.p0)))                       # (2, m)
+    al_s, be_s, ga_s = S.constant(                                         # (2, m)
+        ("resultant samples", P.joints, tuple(P.p0)),
+        lambda: _coefficients(S, P, S.move_point(c, _samples(S, c), P.p0)))
     t = _targets(S, P, PT)                                                 # (N, K, 2)
     al = al_s[:, None, None, :] - np.moveaxis(t, -1, 0)[..., None]          # (2, N, K, m)
     R = _eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
