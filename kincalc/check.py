@@ -927,16 +927,15 @@ _ANGLE_NAMES = {"rpy": "fixed X-Y-Z (roll, pitch, yaw)", "euler_zyz": "Z-Y-Z Eul
 
 
 def _rotation_from(kind: str, values, units) -> np.ndarray:
-    from . import spatial as sp
+    """The rotation ``(3, 3)`` of an orientation answer of ``kind`` in the sheet's units,
+    built by :mod:`kincalc.ik.target` as a pose's is; NaN for a degenerate answer (a zero
+    quaternion or axis)."""
+    from .ik.target import targets_from, to_si
     v = np.asarray(values, float)
     if kind == "matrix":
         return v
-    if kind == "quat":
-        return sp.matrix_from_quaternion(v / np.linalg.norm(v))
-    if kind == "axis_angle":
-        return sp.matrix_from_axis_angle(v[:3], v[3] / units.a)
-    return {"rpy": sp.matrix_from_rpy, "euler_zyz": sp.matrix_from_euler_zyz,
-            "euler_xyz": sp.matrix_from_euler_xyz}[kind](v / units.a)
+    targets, defect = targets_from(kind, to_si(kind, v.reshape(1, -1), units))
+    return np.full((3, 3), np.nan) if defect[0] is not None else targets.T[0, :3, :3]
 
 
 def _fk_errors(answer: dict, T: np.ndarray, units, q_last: float = 0.0) -> dict:

@@ -21,8 +21,10 @@ import numpy as np
 from .fk import CHUNK, _as_batch, _walk
 
 
-def _jacobian_and_pose(chain, q):
-    """``(J_base (..., 6, n), T (..., 4, 4))`` for ``q (..., n)``."""
+def jacobian_and_pose(chain, q):
+    """``(J_base (..., 6, n), T (..., 4, 4))`` for ``q (..., n)``: the world-frame
+    Jacobian of :func:`jacobian_base` and the tool pose, from one walk of the chain (for
+    Newton-type searches that need both)."""
     q, flat = _as_batch(chain, q)
     N, n = flat.shape
     J = np.zeros((N, 6, n))
@@ -56,7 +58,7 @@ def jacobian_base(chain, q) -> np.ndarray:
     Maps joint velocities (rad/s, m/s) to the linear velocity of the tool
     point and the angular velocity of the tool, both in the world frame.
     """
-    return _jacobian_and_pose(chain, q)[0]
+    return jacobian_and_pose(chain, q)[0]
 
 
 def jacobian_tool(chain, q) -> np.ndarray:
@@ -65,7 +67,7 @@ def jacobian_tool(chain, q) -> np.ndarray:
     Same velocities as :func:`jacobian_base`, with both parts rotated into the
     tool frame: ``J_tool = diag(R^T, R^T) J_base``.
     """
-    J, T = _jacobian_and_pose(chain, q)
+    J, T = jacobian_and_pose(chain, q)
     return rotate_jacobian(J, np.swapaxes(T[..., :3, :3], -1, -2))
 
 

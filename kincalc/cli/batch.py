@@ -954,7 +954,7 @@ def _poses(robot, units, parsed):
     from ..errors import KincalcError
     from ..ik.target import defect_text, targets_from, to_si
     from .common import check_numbers
-    from .targets import _pose_values, build_target
+    from .targets import pose_values, build_target
     groups, partial, errors = {}, [], []
     full, Ts = [], []
     for i, kw, err in parsed:
@@ -994,7 +994,7 @@ def _poses(robot, units, parsed):
                 i, kw = items[k]
                 try:
                     if key == "T":           # a wrong count, or a number beyond the limits
-                        _pose_values(np.array(kw["T"], float), "T")
+                        pose_values(np.array(kw["T"], float), "T")
                     else:
                         check_numbers(v[k], key)
                     msg = defect_text(key, defect[k], key)

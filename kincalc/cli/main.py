@@ -259,7 +259,8 @@ def _words(exc) -> str:
     if isinstance(exc, TargetMismatch):
         return exc.words(TARGET_WORDS)
     if isinstance(exc, BadValue):
-        return exc.words(lambda field: "--" + field.replace("_", "-"))
+        from .targets import option_name
+        return exc.words(option_name)
     return str(exc)
 
 

@@ -16,7 +16,8 @@ OPTION_NAMES = {"q": "--from-q", "T": "--pose"}
 
 
 def option_name(field: str) -> str:
-    """The command-line option of a target field (``euler_zyz`` -> ``--euler-zyz``)."""
+    """The command-line option of a request field (``euler_zyz`` -> ``--euler-zyz``,
+    ``q`` -> ``--from-q``)."""
     return OPTION_NAMES.get(field) or "--" + field.replace("_", "-")
 
 
@@ -50,7 +51,7 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
         qv = parse_joints(tokens, robot, units, option=name("q"))
         return Target(robot.fk(qv), orientation=True)
     if form == "T":
-        values = _read_pose(pose) if pose is not None else _pose_values(np.array(T, float), "T")
+        values = _read_pose(pose) if pose is not None else pose_values(np.array(T, float), "T")
         what = f"--pose {pose}" if pose is not None else "T"
     else:
         values = None if form is None else np.asarray(given[form], float).ravel()
@@ -63,8 +64,9 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     return Target.of(targets)
 
 
-def _pose_values(M, what):
-    """``M`` (16 or 12 numbers, or a 4x4 matrix) as 16 or 12 bounded numbers."""
+def pose_values(M, what):
+    """``M`` (16 or 12 numbers, or a 4x4 matrix) as 16 or 12 bounded numbers, the field
+    named ``what``; an InputError otherwise."""
     M = M.ravel()
     if M.size not in (12, 16):
         raise InputError(f"{what}: expected a 4x4 matrix (16 finite numbers), got {M.size}")
@@ -106,4 +108,4 @@ def _read_pose(src: str):
         except ValueError:
             raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
                 from None
-    return _pose_values(M, what)
+    return pose_values(M, what)

@@ -44,7 +44,7 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
     found: a local minimum of the distance to the goal when it is out of reach.
     ``limits (n, 2)`` replaces the robot's limits (infinite bounds allowed).
     """
-    from ..jacobian import _jacobian_and_pose
+    from ..jacobian import jacobian_and_pose
     L = max(robot.characteristic_length, 1e-12)
     lo0, hi0 = (robot.limits if limits is None else np.asarray(limits, float)).T
     # a revolute joint whose range spans a full turn reaches every angle: it turns freely
@@ -61,7 +61,7 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
         R_goal = np.broadcast_to(np.asarray(R_goal, float), (B, 3, 3))
 
     def evaluate(Xs, idx):
-        J, T = _jacobian_and_pose(robot.chain, Xs)
+        J, T = jacobian_and_pose(robot.chain, Xs)
         e = _pose_error(T[:, :3, 3], T[:, :3, :3], p_goal[idx],
                         None if R_goal is None else R_goal[idx], L)
         J = J[:, :rows] * col
