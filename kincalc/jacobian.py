@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fk import CHUNK, _as_batch, _walk
+from .fk import CHUNK, FEW, _as_batch, _walk, prefixes_few
 
 
 def jacobian_and_pose(chain, q):
@@ -27,6 +27,9 @@ def jacobian_and_pose(chain, q):
     Newton-type searches that need both)."""
     q, flat = _as_batch(chain, q)
     N, n = flat.shape
+    if N <= FEW:
+        J, T = _few(chain, flat)
+        return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
     J = np.zeros((N, 6, n))
     T = np.zeros((N, 4, 4))
     T[:, 3, 3] = 1.0
@@ -50,6 +53,23 @@ def jacobian_and_pose(chain, q):
             T[sl, :3, j] = cols[j].T
         T[sl, :3, 3] = pe.T
     return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
+
+
+def _few(chain, flat):
+    """:func:`jacobian_and_pose` of ``flat (N, n)`` from the stacked frames of
+    :func:`kincalc.fk.prefixes_few` (for a few configurations: ~25 numpy calls in all)."""
+    P = prefixes_few(chain, flat)
+    z = np.swapaxes(P[:, :-1, :3, 2], -1, -2)                    # (N, 3, n) joint axes
+    d = P[:, -1, :3, 3, None] - np.swapaxes(P[:, :-1, :3, 3], -1, -2)
+    lin = np.stack([z[:, 1] * d[:, 2] - z[:, 2] * d[:, 1],
+                    z[:, 2] * d[:, 0] - z[:, 0] * d[:, 2],
+                    z[:, 0] * d[:, 1] - z[:, 1] * d[:, 0]], axis=1)
+    rev = chain.revolute
+    if rev.all():
+        J = np.concatenate([lin, z], axis=1)
+    else:
+        J = np.concatenate([np.where(rev, lin, z), np.where(rev, z, 0.0)], axis=1)
+    return J, P[:, -1]
 
 
 def jacobian_base(chain, q) -> np.ndarray:

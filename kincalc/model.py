@@ -316,6 +316,22 @@ class Chain:
     def dof(self) -> int:
         return len(self.revolute)
 
+    @cached_property
+    def motion_basis(self) -> np.ndarray:
+        """``(n, 4, 16)``: joint i's motion ``J_i(x)`` (4x4, flattened) is
+        ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint,
+        ``Tz(x)`` for a prismatic one (x = q_i + c_i, rad or m)."""
+        rz = np.zeros((4, 4, 4))
+        rz[0, 0, 0] = rz[0, 1, 1] = 1.0                     # cos x
+        rz[1, 1, 0], rz[1, 0, 1] = 1.0, -1.0                # sin x
+        rz[3, 2, 2] = rz[3, 3, 3] = 1.0                     # 1
+        tz = np.zeros((4, 4, 4))
+        tz[2, 2, 3] = 1.0                                   # x
+        tz[3] = np.eye(4)                                   # 1
+        basis = np.where(self.revolute[:, None, None, None], rz, tz).reshape(-1, 4, 16)
+        basis.setflags(write=False)
+        return basis
+
     @staticmethod
     def from_robot(robot: Robot) -> "Chain":
         n = robot.dof

@@ -138,6 +138,13 @@ def matrix_from_rpy(rpy) -> np.ndarray:
     return rot_z(rpy[..., 2]) @ rot_y(rpy[..., 1]) @ rot_x(rpy[..., 0])
 
 
+def _turn_angle(y, x):
+    """``atan2(y, x)`` in (-pi, pi]: a zero ``y`` counts as +0, so a half turn is +pi
+    whichever sign the rounding gave the zero (the angle a table prints must not
+    flip between 180 and -180 with the last bit of a matrix entry)."""
+    return np.arctan2(y + 0.0, x)
+
+
 def rpy_from_matrix(R) -> np.ndarray:
     """Fixed X-Y-Z angles ``(roll, pitch, yaw) (..., 3)`` in rad of ``R (..., 3, 3)``.
 
@@ -152,9 +159,9 @@ def rpy_from_matrix(R) -> np.ndarray:
     # at lock the pitch is exactly +-pi/2: the tilt left in cp (< GIMBAL_TOL) has no
     # direction once roll is 0, and keeping it would double the round-trip error
     pitch = np.where(locked, np.copysign(np.pi / 2, pitch), pitch)
-    roll = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
-    yaw = np.where(locked, np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
-                   np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    roll = np.where(locked, 0.0, _turn_angle(R[..., 2, 1], R[..., 2, 2]))
+    yaw = np.where(locked, _turn_angle(-R[..., 0, 1], R[..., 1, 1]),
+                   _turn_angle(R[..., 1, 0], R[..., 0, 0]))
     return np.stack([roll, pitch, yaw], axis=-1)
 
 
@@ -176,11 +183,11 @@ def euler_zyz_from_matrix(R) -> np.ndarray:
     locked = sb < GIMBAL_TOL
     # at lock b is exactly 0 or pi (see rpy_from_matrix)
     b = np.where(locked, np.where(R[..., 2, 2] > 0, 0.0, np.pi), b)
-    a = np.where(locked, 0.0, np.arctan2(R[..., 1, 2], R[..., 0, 2]))
-    c_free = np.arctan2(R[..., 2, 1], -R[..., 2, 0])
+    a = np.where(locked, 0.0, _turn_angle(R[..., 1, 2], R[..., 0, 2]))
+    c_free = _turn_angle(R[..., 2, 1], -R[..., 2, 0])
     # b = 0: R = Rz(c); b = pi: R = Ry(pi) Rz(c) = [[-cc, sc, 0], [sc, cc, 0], ...]
-    c_locked = np.where(R[..., 2, 2] > 0, np.arctan2(R[..., 1, 0], R[..., 0, 0]),
-                        np.arctan2(R[..., 1, 0], R[..., 1, 1]))
+    c_locked = np.where(R[..., 2, 2] > 0, _turn_angle(R[..., 1, 0], R[..., 0, 0]),
+                        _turn_angle(R[..., 1, 0], R[..., 1, 1]))
     c = np.where(locked, c_locked, c_free)
     return np.stack([a, b, c], axis=-1)
 
@@ -201,9 +208,9 @@ def euler_xyz_from_matrix(R) -> np.ndarray:
     b = np.arctan2(R[..., 0, 2], cb)
     locked = cb < GIMBAL_TOL
     b = np.where(locked, np.copysign(np.pi / 2, b), b)       # see rpy_from_matrix
-    a = np.where(locked, 0.0, np.arctan2(-R[..., 1, 2], R[..., 2, 2]))
-    c = np.where(locked, np.arctan2(R[..., 1, 0], R[..., 1, 1]),
-                 np.arctan2(-R[..., 0, 1], R[..., 0, 0]))
+    a = np.where(locked, 0.0, _turn_angle(-R[..., 1, 2], R[..., 2, 2]))
+    c = np.where(locked, _turn_angle(R[..., 1, 0], R[..., 1, 1]),
+                 _turn_angle(-R[..., 0, 1], R[..., 0, 0]))
     return np.stack([a, b, c], axis=-1)
 
 

@@ -250,7 +250,7 @@ def test_chain_frames_few_and_many_configurations(name):
     """chain_frames multiplies stacked 4x4s for a few configurations and walks columns
     for many (the walk of fk): the two agree frame by frame, a single configuration is
     the batch's row, and the last frame times the chain's tool transform is fk."""
-    from kincalc.fk import _FEW, chain_frames
+    from kincalc.fk import FEW as _FEW, chain_frames
     r = load_robot(name)
     Q = np.random.default_rng(3).uniform(-2, 2, (_FEW + 8, r.dof))
     many = chain_frames(r.chain, Q)

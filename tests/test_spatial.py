@@ -180,3 +180,16 @@ def test_near_gimbal_lock_round_trip_is_within_the_lock_tolerance(to, back, angl
     R = getattr(sp, to)(angles)
     R2 = getattr(sp, to)(getattr(sp, back)(R))
     assert np.abs(R2 - R).max() < 1e-9
+
+
+@pytest.mark.parametrize("zero", [0.0, -0.0])
+def test_half_turns_read_as_plus_pi_whatever_the_sign_of_zero(zero):
+    """A half turn is +pi in every angle set: the sign a rounding leaves on a zero
+    entry must not flip a printed 180 to -180 (README's fk example at q3 = 180 deg)."""
+    from kincalc.spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
+    z = np.array([[-1.0, zero, 0.0], [zero, -1.0, zero], [0.0, zero, 1.0]])      # Rz(pi)
+    x = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, zero], [0.0, zero, -1.0]])       # Rx(pi)
+    assert rpy_from_matrix(z)[2] == np.pi and rpy_from_matrix(x)[0] == np.pi
+    assert euler_xyz_from_matrix(x)[0] == np.pi
+    assert euler_xyz_from_matrix(x @ z)[0] == np.pi and euler_xyz_from_matrix(x @ z)[2] == np.pi
+    assert euler_zyz_from_matrix(z)[2] == np.pi
