@@ -72,32 +72,6 @@ def _walk(chain, q, on_joint=None):
     return cols, p
 
 
-def tool_from_cs(chain, c, s, x):
-    """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic),
-    joint-major: ``c, s, x (n, M)``, joint offsets not applied (IK's solvers give joint
-    values without them; the chain's offsets are turned in here, without trigonometry).
-    Returns ``(cols, p)``: the rotation's columns, a list of three ``(3, M)``, and the
-    position ``(3, M)`` (structure of arrays, as :func:`forward_kinematics` walks it).
-
-    For checking IK candidates whose angles are known by their cosines and sines."""
-    M = c.shape[1]
-    F = chain.fixed
-    cols, p = _start(F[0], M)
-    for i in range(chain.dof):
-        off = float(chain.offset[i])
-        if chain.revolute[i]:
-            ci, si = c[i], s[i]
-            if off != 0.0:
-                co, so = np.cos(off), np.sin(off)
-                ci, si = ci * co - si * so, si * co + ci * so
-            c0, c1 = cols[0], cols[1]
-            cols = [c0 * ci + c1 * si, c1 * ci - c0 * si, cols[2]]
-        else:
-            p = p + cols[2] * (x[i] + off)
-        cols, p = _apply_fixed(cols, p, F[i + 1])
-    return cols, p
-
-
 def _as_batch(chain, q):
     q = np.asarray(q, dtype=float)
     if q.ndim == 0 or q.shape[-1] != chain.dof:
@@ -136,38 +110,83 @@ def forward_kinematics(chain, q) -> np.ndarray:
 
 
 #: up to this many configurations the chain is evaluated by multiplying stacked 4x4
-#: matrices (:func:`prefixes_few`: about n + 8 numpy calls, ~15 us for one configuration
+#: matrices (:func:`prefixes_few`: about n + 10 numpy calls, ~15 us for one configuration
 #: of a 6-joint arm); above it, by the column-wise walk (~10 numpy calls per joint, each
 #: on all configurations: four times faster for thousands). Both evaluate the same
 #: product F_0 J_1 F_1 ... J_n F_n; tests/test_fk.py checks them against each other.
 FEW = 32
 
 
-def _motions(chain, flat) -> np.ndarray:
-    """The joint motions ``J_i(q_i + c_i)`` of ``flat (N, n)``, shape ``(N, n, 4, 4)``, as
-    one product with :attr:`~kincalc.model.Chain.motion_basis`."""
+def _coefficients(chain, flat) -> np.ndarray:
+    """``(4, N, n)``: each joint's ``[cos x, sin x, x, 1]`` for ``flat (N, n)``, with
+    ``x = q_i + c_i`` (the coefficients of :attr:`~kincalc.model.Chain.motion_basis`)."""
     N, n = flat.shape
     coef = np.empty((4, N, n))
     x = np.add(flat, chain.offset, out=coef[2])
     np.cos(x, out=coef[0])
     np.sin(x, out=coef[1])
     coef[3] = 1.0
+    return coef
+
+
+def _motions(chain, coef) -> np.ndarray:
+    """The joint motions ``J_i`` of ``coef (4, N, n)`` (:func:`_coefficients`), shape
+    ``(N, n, 4, 4)``: one product with :attr:`~kincalc.model.Chain.motion_basis`."""
+    _, N, n = coef.shape
     return (coef.transpose(1, 2, 0)[..., None, :] @ chain.motion_basis).reshape(N, n, 4, 4)
 
 
-def prefixes_few(chain, flat, motions=None):
-    """``P (N, n + 1, 4, 4)`` for ``flat (N, n)`` by stacked 4x4 products, world frame:
-    ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so that ``P_{i-1}`` is the frame just
-    before joint i's motion (its z column joint i's axis, its origin on that axis) and
-    ``P_n`` the tool pose. For a few configurations (any ``N`` gives the right answer);
-    ``motions`` from :func:`_motions` when the caller has them."""
-    N, n = flat.shape
-    links = (_motions(chain, flat) if motions is None else motions) @ chain.fixed[1:]
+def prefixes_few(chain, flat):
+    """``P (N, n + 1, 4, 4)`` for joint values ``flat (N, n)`` (rad / m), by stacked 4x4
+    products, world frame: ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so
+    that ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
+    axis, its origin on that axis) and ``P_n`` the tool pose. For a few configurations
+    (any number gives the right answer)."""
+    return _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
+
+
+def _prefixes(chain, motions):
+    """:func:`prefixes_few` from the joint motions ``(N, n, 4, 4)`` of :func:`_motions`."""
+    N, n = motions.shape[:2]
+    links = motions @ chain.fixed[1:]
     P = np.empty((N, n + 1, 4, 4))
     P[:, 0] = chain.fixed[0]
     for i in range(n):
         np.matmul(P[:, i], links[:, i], out=P[:, i + 1])
     return P
+
+
+def tool_from_cs(chain, c, s, x):
+    """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic),
+    joint-major: ``c, s, x (n, M)``, joint offsets not applied (IK's solvers give joint
+    values without them; the chain's offsets are turned in here, without trigonometry).
+    Returns ``(cols, p)``: the rotation's columns, a list of three ``(3, M)``, and the
+    position ``(3, M)`` (structure of arrays, as :func:`forward_kinematics` walks it).
+
+    For checking IK candidates whose angles are known by their cosines and sines."""
+    M = c.shape[1]
+    co, so = chain.offset_cos_sin
+    if M <= FEW:
+        coef = np.empty((4, M, chain.dof))
+        coef[0] = (c * co[:, None] - s * so[:, None]).T
+        coef[1] = (s * co[:, None] + c * so[:, None]).T
+        coef[2] = x.T + chain.offset
+        coef[3] = 1.0
+        T = _prefixes(chain, _motions(chain, coef))[:, -1]
+        return [T[:, :3, j].T for j in range(3)], T[:, :3, 3].T
+    F = chain.fixed
+    cols, p = _start(F[0], M)
+    for i in range(chain.dof):
+        if chain.revolute[i]:
+            ci, si = c[i], s[i]
+            if chain.offset[i] != 0.0:
+                ci, si = ci * co[i] - si * so[i], si * co[i] + ci * so[i]
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * ci + c1 * si, c1 * ci - c0 * si, cols[2]]
+        else:
+            p = p + cols[2] * (x[i] + chain.offset[i])
+        cols, p = _apply_fixed(cols, p, F[i + 1])
+    return cols, p
 
 
 def frame_columns(chain, q) -> list:
@@ -176,6 +195,10 @@ def frame_columns(chain, q) -> list:
     (world frame; the z column is the joint's axis). For many configurations this is
     several times faster than the ``(M, n, 4, 4)`` stack, which it never builds."""
     q = np.asarray(q, dtype=float).reshape(-1, chain.dof)
+    if len(q) <= FEW:
+        frames = chain_frames(chain, q)
+        return [([frames[:, i, :3, j].T for j in range(3)], frames[:, i, :3, 3].T)
+                for i in range(chain.dof)]
     F = chain.fixed
     qq = q + chain.offset
     cols, p = _start(F[0], q.shape[0])
@@ -196,8 +219,8 @@ def chain_frames(chain, q) -> np.ndarray:
     q, flat = _as_batch(chain, q)
     N, n = flat.shape
     if N <= FEW:
-        motions = _motions(chain, flat)
-        frames = prefixes_few(chain, flat, motions)[:, :-1] @ motions
+        motions = _motions(chain, _coefficients(chain, flat))
+        frames = _prefixes(chain, motions)[:, :-1] @ motions
         return frames.reshape(q.shape[:-1] + (n, 4, 4))
     out = np.zeros((N, n, 4, 4))
     out[..., 3, 3] = 1.0

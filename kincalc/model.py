@@ -317,6 +317,12 @@ class Chain:
         return len(self.revolute)
 
     @cached_property
+    def offset_cos_sin(self) -> tuple:
+        """``(cos c_i, sin c_i)``, each ``(n,)``: the offsets' turn, for revolute joint
+        angles given by their cosines and sines (unused for prismatic joints)."""
+        return np.cos(self.offset), np.sin(self.offset)
+
+    @cached_property
     def motion_basis(self) -> np.ndarray:
         """``(n, 4, 16)``: joint i's motion ``J_i(x)`` (4x4, flattened) is
         ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint,

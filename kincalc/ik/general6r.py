@@ -87,11 +87,10 @@ a single pose is a batch of one).
 6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the
    *given* robot (``robot.chain``, so the DH model above only has to be
    close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame
-   geometric Jacobian, steps limited to 0.5 rad. FK, joint frames and
-   Jacobian of all candidates of all poses come from six stacked 4x4
-   products (:class:`_ChainTerms`), the rotation log from the skew part
-   below 90 degrees (at the first evaluation the skew part alone, which is
-   the log to rounding for the candidates already at 1e-13, most of them).
+   geometric Jacobian (:func:`kincalc.jacobian.jacobian_and_pose` on the
+   chain with lengths divided by L), steps limited to 0.5 rad
+   (:func:`kincalc.ik.newton.polish`), the rotation log from the skew part
+   below 90 degrees.
    Candidates whose final residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are
    dropped, the rest are wrapped to (-pi, pi] and merged (per pose) when
    within 1e-6 rad of a solution from an earlier slot (only needed when some
@@ -164,8 +163,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..jacobian import jacobian_and_pose
+from ..model import Chain
 from ..spatial import cross, invert_transform, rotvec_from_matrix, wrap
 from .cache import per_robot
+from .newton import polish
 
 __all__ = ["BATCH_SLOTS", "solve_general_6r", "solve_general_6r_batch"]
 
@@ -201,7 +203,6 @@ _LIMITS = np.array([_COND_GOOD, _RANK_BAD])
 _STEP_MAX = 0.5
 _NEWTON_ITERS = 10
 _GIVE_UP = {3: 1e-2, 6: 1e-6}      # after this many steps, drop candidates still above
-_QUARTER = np.array([0.0, np.pi / 2.0])     # cos(t - _QUARTER) = (cos t, sin t)
 # the two matrices inverted together per pose: A (12x12) and Q's R (8x8, padded with I)
 _INV_PAD = np.zeros((2, 12, 12))
 _INV_PAD[1, 8:, 8:] = np.eye(4)
@@ -245,7 +246,6 @@ _U_IDX = np.array([15, 2, 6, 10, 3, 7, 11])
 _LEVI_CIVITA = np.zeros((3, 3, 3))
 _LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0
 _LEVI_CIVITA[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
-_CROSS = _LEVI_CIVITA.transpose(1, 2, 0).reshape(9, 3)    # (a (x) b).ravel() @ _CROSS = a x b
 
 
 def _cubic_map(N12):
@@ -814,45 +814,6 @@ def _structure_residual(V):
 
 # --- per robot ------------------------------------------------------------------
 
-class _ChainTerms:
-    """``robot.chain`` of a 6R as constant arrays for :meth:`frames`, lengths divided by
-    ``L`` (so position errors and the Jacobian's linear rows come out scaled).
-
-    The chain is ``F_0 Rz(q_1 + o_1) F_1 ... Rz(q_6 + o_6) F_6``; each
-    ``Rz(t) F_i = cos(t) Kc_i + sin(t) Ks_i + K0_i`` (the first two rows of
-    ``F_i`` mixed, the last two kept), so all six links of all candidates come
-    from one product, and FK, the joint frames and the Jacobian from six
-    stacked matrix products (not a Python loop of small operations per joint).
-    """
-
-    def __init__(self, chain, L):
-        F = np.array(chain.fixed, float)
-        F[:, :3, 3] /= L
-        self.F0 = F[0, :3, :].copy()                      # (3, 4)
-        Fi = F[1:]
-        Kc, Ks = np.zeros((6, 4, 4)), np.zeros((6, 4, 4))
-        self.K0 = np.zeros((6, 4, 4))
-        Kc[:, :2] = Fi[:, :2]
-        Ks[:, 0], Ks[:, 1] = -Fi[:, 1], Fi[:, 0]
-        self.K0[:, 2:] = Fi[:, 2:]
-        self.Kcs = np.stack([Kc.reshape(6, 16), Ks.reshape(6, 16)], axis=1)  # (6, 2, 16)
-        # the chain's offsets, minus (0, pi/2) so that one cos gives (cos, sin)
-        self.shift = np.asarray(chain.offset, float)[:, None] - _QUARTER
-
-    def frames(self, Q):
-        """``(m, 6, 3, 4)``: rows 0-2 of ``F_0 A_1 ... A_i`` (scaled) for i = 1..6 at
-        ``Q (m, 6)``; the z column of entry i - 1 is joint i+1's axis and its last column
-        a point on it (i <= 5; joint 1's is ``F0``), entry 5 is the tool pose."""
-        m = len(Q)
-        cs = np.cos(Q[:, :, None] + self.shift)[:, :, None, :]           # (m, 6, 1, 2)
-        A = (cs @ self.Kcs).reshape(m, 6, 4, 4) + self.K0                  # (m, 6, 4, 4)
-        out = np.empty((m, 6, 3, 4))
-        np.matmul(self.F0, A[:, 0], out=out[:, 0])
-        for i in range(1, 6):
-            np.matmul(out[:, i - 1], A[:, i], out=out[:, i])
-        return out
-
-
 class _Robot6R:
     """Per-robot data: axes at q = 0, the shift-0 model, the chain for Newton, and the
     ranked pivot shifts.
@@ -869,7 +830,11 @@ class _Robot6R:
         self.dirs, self.pts = joint_axes(robot)
         self.T0 = robot.fk(np.zeros(6))
         self.L = float(robot.characteristic_length)
-        self.terms = _ChainTerms(robot.chain, self.L)
+        fixed = np.array(robot.chain.fixed)
+        fixed[:, :3, 3] /= self.L
+        #: the chain with lengths divided by L: Newton's position errors and the
+        #: Jacobian's linear rows come out scaled
+        self.chain = Chain(fixed, robot.chain.revolute, robot.chain.offset)
         self.scale = np.array([[1.0, 1.0, 1.0, self.L]])      # divides a pose's rows 0-2
         self.model = _Model.from_lines(self.dirs, self.pts, self.T0, self.L)
         self._perturbed = None
@@ -995,63 +960,29 @@ def _log(v, c2, R):
     return w
 
 
-def _polish(terms, T, Q, iters=_NEWTON_ITERS):
-    """Damped Newton on ``fk(q) = T``; returns ``(q (m, 6), residual (m,), moved (m,))``.
+def _polish(chain, T, Q, iters=_NEWTON_ITERS):
+    """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T``; returns ``(q (m, 6),
+    residual (m,), moved (m,))``.
 
-    ``T (m, 3, 4)`` is each candidate's target (rows 0-2, translation divided by the
-    chain's length scale), ``Q (m, 6)`` the starts; ``moved`` marks the candidates that
-    took a step. A candidate stops when its residual ``max(|dp| / L, |dw|)`` is at
-    rounding level (below 1e-13, or below ACCEPT_TOL / 100 and no longer halving), after
-    ``iters`` steps, or when it is still far after a few (``_GIVE_UP``: spurious
-    candidates from complex eigenvalues; the few that would wander into a solution after
-    many steps only find one that a good candidate already gave).
+    ``chain`` is the robot's with lengths divided by its length scale, ``T (m, 3, 4)``
+    each candidate's target (rows 0-2, translation scaled alike), ``Q (m, 6)`` the
+    starts; ``moved`` marks the candidates that took a step. A candidate stops when its
+    residual ``max(|dp| / L, |dw|)`` is at rounding level (below 1e-13, or below
+    ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or when it is still
+    far after a few (``_GIVE_UP``: spurious candidates from complex eigenvalues; the few
+    that would wander into a solution after many steps only find one that a good
+    candidate already gave).
     """
-    Q = np.array(Q, dtype=float)
-    idx = slice(None)
     tp, tR = T[:, :, 3], T[:, :, :3]
-    for it in range(iters + 1):
-        F = terms.frames(Q[idx])
-        ep = tp[idx] - F[:, 5, :, 3]
-        R = tR[idx] @ F[:, 5, :, :3].transpose(0, 2, 1)
+
+    def evaluate(q, rows):
+        J, F = jacobian_and_pose(chain, q)
+        ep = tp[rows] - F[:, :3, 3]
+        R = tR[rows] @ F[:, :3, :3].transpose(0, 2, 1)
         v, c2 = _skew_trace(R)
-        if it == 0:
-            # most candidates are solutions to rounding already: their rotation log is
-            # the skew part (half of v), and only the others need the exact error
-            res = _max(np.abs(np.concatenate([ep, 0.5 * v], axis=1)), axis=1)
-            moved = (res >= 1e-13) | (c2 <= 0.0)
-            if it == iters or not _nnz(moved):
-                break
-            idx = np.flatnonzero(moved)
-            F, ep, v, c2, R = F[idx], ep[idx], v[idx], c2[idx], R[idx]
-            e = np.concatenate([ep, _log(v, c2, R)], axis=1)
-            res[idx] = _max(np.abs(e), axis=1)
-        else:
-            e = np.concatenate([ep, _log(v, c2, R)], axis=1)
-            r = _max(np.abs(e), axis=1)
-            go = (r >= 1e-13) & ~((r < 1e-2 * ACCEPT_TOL) & (r > 0.5 * res[idx]))
-            res[idx] = r
-            if it in _GIVE_UP:
-                go &= r < _GIVE_UP[it]
-            if it == iters or not _nnz(go):
-                break
-            idx, F, e = idx[go], F[go], e[go]
-        # J^T (m, joint, 6): rows [z_i x (p_e - o_i), z_i] (scaled lengths)
-        zo = np.empty((len(F), 6, 3, 2))                  # joint axes and points on them
-        zo[:, 0] = terms.F0[:, 2:]
-        zo[:, 1:] = F[:, :5, :, 2:]
-        z = zo[..., 0]
-        lin = (z[..., :, None] * (F[:, 5, None, :, 3] - zo[..., 1])[..., None, :]).reshape(
-            -1, 6, 9) @ _CROSS
-        Jt = np.concatenate([lin, z], axis=2)
-        H = Jt @ Jt.transpose(0, 2, 1)
-        H[:, _DIAG6, _DIAG6] += 1e-14 * _sum(Jt * Jt, axis=(1, 2))[:, None] + 1e-300
-        dq = np.linalg.solve(H, Jt @ e[:, :, None])[:, :, 0]
-        n = np.maximum(_max(np.abs(dq), axis=1), 1e-300)
-        Q[idx] += dq * np.minimum(1.0, _STEP_MAX / n)[:, None]
-    return Q, res, moved
-
-
-_DIAG6 = np.arange(6)
+        return np.concatenate([ep, _log(v, c2, R)], axis=1), lambda keep: J[keep]
+    return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
+                  stall=1e-2 * ACCEPT_TOL, give_up=_GIVE_UP, max_step=_STEP_MAX)
 
 
 # --- public API -------------------------------------------------------------
@@ -1120,7 +1051,7 @@ def _solve_block(data, T, Q_out, ok):
         return
     pose, slot, cand, width = data.candidates(Tr)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
-    Qp, res, moved = _polish(data.terms, np.take(Tt, pose, axis=0), cand)
+    Qp, res, moved = _polish(data.chain, np.take(Tt, pose, axis=0), cand)
     acc = res < ACCEPT_TOL
     pose, Qp = pose[acc], wrap(Qp[acc])
     rank = np.arange(len(pose)) - np.searchsorted(pose, pose)     # in slot order

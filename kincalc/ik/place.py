@@ -44,6 +44,7 @@ from ..subproblems import sp1, sp3, sp5
 from ..subproblems.solutions import Solutions, angles, cross, dot
 from ..subproblems.sp4 import from_abc
 from .branches import Branches
+from .newton import polish
 from .screws import Screws
 
 #: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
@@ -427,36 +428,40 @@ def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
 
 
 def _polish(S: Screws, P: Plan, br, PT, iters: int = 3) -> Branches:
-    """Gauss-Newton on the point equations of every slot (roots of a quartic or a
-    resultant are good to ~1e-10; three steps reach rounding). ``PT (N, K, 3)``."""
+    """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
+    live slot: roots of a quartic or a resultant are good to ~1e-10, three steps reach
+    rounding. ``PT (N, K, 3)``."""
     from ..spatial import matrix_from_axis_angle
     joints = P.joints
+    live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
-    live = br.ok[..., None]
-    X = np.where(live, X, 0.0)
-    for _ in range(iters):
-        R = np.broadcast_to(np.eye(3), X.shape[:-1] + (3, 3))
-        t = np.zeros(X.shape[:-1] + (3,))
+    targets = PT[live]
+    scale = max(S.scale, 1e-300)
+
+    def evaluate(x, rows):
+        R = np.broadcast_to(np.eye(3), x.shape[:-1] + (3, 3))
+        t = np.zeros(x.shape[:-1] + (3,))
         axes, pts = [], []
         for i, j in enumerate(joints):
             axes.append(np.einsum("...ij,j->...i", R, S.axis[j]))
             pts.append(np.einsum("...ij,j->...i", R, S.point[j]) + t)
             if S.revolute[j]:
-                Rj = matrix_from_axis_angle(S.axis[j], X[..., i])
+                Rj = matrix_from_axis_angle(S.axis[j], x[..., i])
                 t = t + np.einsum("...ij,...j->...i", R, S.point[j] - np.einsum(
                     "...ij,j->...i", Rj, S.point[j]))
                 R = R @ Rj
             else:
-                t = t + axes[-1] * X[..., i:i + 1]
+                t = t + axes[-1] * x[..., i:i + 1]
         p = np.einsum("...ij,j->...i", R, P.p0) + t
-        J = np.stack([cross(axes[i], p - pts[i]) if S.revolute[j] else axes[i]
-                      for i, j in enumerate(joints)], -1)                  # (N, K, 3, m)
-        Jt = np.swapaxes(J, -1, -2)
-        H = Jt @ J
-        # damped relative to H: at a singular configuration H is singular
-        lam = 1e-14 * np.trace(H, axis1=-2, axis2=-1)[..., None, None] + 1e-300
-        dx = np.linalg.solve(H + lam * np.eye(len(joints)), (Jt @ (PT - p)[..., None]))[..., 0]
-        X = X + np.where(live, dx, 0.0)
+
+        def jacobian(keep):
+            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
+                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
+        return (targets[rows] - p) / scale, jacobian
+    # damped: at a stretched or folded elbow two roots meet and J is singular
+    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14)
+    X = np.where(live[..., None], X, 0.0)
+    X[live] = x
     for i, j in enumerate(joints):
         x = X[..., i]
         br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \

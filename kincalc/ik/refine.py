@@ -5,7 +5,8 @@ A calibrated model or a datasheet rounded to a few digits gives axes that meet o
 parallel to 1e-7 instead of exactly. The family's closed form then solves a robot a
 hair away from the true one, and its answers miss the target by about that much. Each
 such answer lies next to a solution of the true robot (of the same branch); a few
-Gauss-Newton steps from it reach that solution to rounding (quadratic convergence).
+Gauss-Newton steps from it (:func:`kincalc.ik.newton.polish`) reach that solution to
+rounding (quadratic convergence).
 A candidate that does not converge is left as it was, and the caller's FK check
 rejects it.
 """
@@ -14,7 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..jacobian import jacobian_and_pose
 from ..spatial import cross, rotvec_from_matrix
+from .newton import polish
 
 #: Newton steps at most; from 1e-7 off, three reach rounding
 ITERATIONS = 8
@@ -51,31 +54,22 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
     q = np.array(q, dtype=float).reshape(-1, robot.dof)
     T = np.broadcast_to(np.asarray(T, float), (len(q), 4, 4))
     L = max(robot.characteristic_length, 1e-12)
-    col = np.where(robot.is_revolute, 1.0, L)       # prismatic columns in units of L
+    col = np.where(robot.is_revolute, 1.0, L)       # prismatic joints in units of L
     if approach is not None:
         approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
-    active = np.arange(len(q))
-    for _ in range(iterations):
-        if not len(active):
-            break
-        A, e = _linearised(robot, q[active], T[active], L, mode,
-                           None if approach is None else approach[active])
-        big = np.abs(e).max(axis=-1) > CONVERGED
-        active, A, e = active[big], A[big], e[big]
-        if not len(active):
-            break
-        A = A * col
-        dx = np.linalg.lstsq(A[0], e[0], rcond=None)[0][None] if len(A) == 1 else \
-            (np.linalg.pinv(A) @ e[..., None])[..., 0]
-        q[active] += dx * col
-    return q
+
+    def evaluate(y, rows):
+        A, e = _linearised(robot, y * col, T[rows], L, mode,
+                           None if approach is None else approach[rows])
+        return e, lambda keep: A[keep] * col
+    y, _, moved = polish(evaluate, q / col, iterations=iterations, tol=CONVERGED)
+    return np.where(moved[:, None], y * col, q)
 
 
 def _linearised(robot, q, T, L, mode, approach):
     """``(A (m, r, n), e (m, r))``: the Jacobian rows of the equations and their
     residuals at ``q``, lengths divided by ``L``."""
-    Tq = robot.fk(q)
-    J = robot.jacobian(q)                                   # (m, 6, n) base frame
+    J, Tq = jacobian_and_pose(robot.chain, q)               # (m, 6, n) base frame
     ep = (T[:, :3, 3] - Tq[:, :3, 3]) / L
     Jv = J[:, :3] / L
     if mode == "position":

@@ -1,0 +1,98 @@
+"""The one Gauss-Newton polish (kincalc.ik.newton) and the solvers that finish with it."""
+
+import numpy as np
+import pytest
+
+import kincalc
+from kincalc.ik.newton import _step, polish
+from kincalc.ik.numeric import solve_numeric
+from kincalc.ik.general6r import solve_general_6r
+from kincalc.ik.selftest import sample_configurations
+
+
+def _linear(A, b):
+    def evaluate(x, rows):
+        return b[rows] - (A[rows] @ x[..., None])[..., 0], lambda keep: A[rows][keep]
+    return evaluate
+
+
+def test_undamped_step_is_the_least_squares_solution():
+    rng = np.random.default_rng(11)
+    A, b = rng.normal(size=(20, 6, 4)), rng.normal(size=(20, 6))
+    x, _, moved = polish(_linear(A, b), np.zeros((20, 4)), iterations=1, tol=0.0)
+    ref = np.array([np.linalg.lstsq(a, y, rcond=None)[0] for a, y in zip(A, b)])
+    assert moved.all() and np.allclose(x, ref, atol=1e-12)
+
+
+def test_undamped_step_of_a_rank_deficient_jacobian_is_the_minimum_norm_one():
+    rng = np.random.default_rng(12)
+    A = rng.normal(size=(6, 3)) @ rng.normal(size=(3, 5))          # rank 3
+    e = rng.normal(size=6)
+    assert np.allclose(_step(A[None], e[None], 0.0)[0], np.linalg.pinv(A) @ e, atol=1e-10)
+
+
+def test_damped_step_has_the_filter_factors_of_damped_least_squares():
+    """(J^T J + l I)^-1 J^T e == V diag(s / (s^2 + l)) U^T e, l = damping |J|_F^2."""
+    rng = np.random.default_rng(13)
+    J = rng.normal(size=(8, 6, 6)) * np.logspace(0, -9, 6)          # ill-conditioned
+    e = rng.normal(size=(8, 6))
+    damping = 1e-14
+    U, s, Vt = np.linalg.svd(J)
+    lam = damping * (s * s).sum(-1, keepdims=True)
+    ref = np.stack([Vt[m].T @ ((s[m] / (s[m] ** 2 + lam[m])) * (U[m].T @ e[m]))
+                    for m in range(len(J))])
+    got = _step(J, e, damping)
+    assert np.allclose(got, ref, rtol=1e-6, atol=1e-9 * np.abs(ref).max())
+
+
+def test_converges_quadratically_and_each_candidate_stops_on_its_own():
+    # x^2 = t for t in (2, 3, 0.25) from 1.0: Newton's square roots
+    t = np.array([2.0, 3.0, 0.25, 1.0])
+    seen = []
+
+    def evaluate(x, rows):
+        seen.append(len(rows))
+        return t[rows, None] - x * x, lambda keep: 2 * x[keep, :, None]
+    x, res, moved = polish(evaluate, np.ones((4, 1)), iterations=20, tol=1e-15)
+    assert np.allclose(x[:, 0], np.sqrt(t), rtol=0, atol=1e-15)
+    assert res.max() < 1e-15 and list(moved) == [True, True, True, False]
+    assert seen[0] == 4 and seen[1] == 3 and len(seen) <= 7        # quadratic: few steps
+
+
+def test_give_up_and_step_limit():
+    # x^2 = -1 has no real root: dropped after 2 steps; steps capped at 0.1
+    def evaluate(x, rows):
+        return -1.0 - x * x, lambda keep: 2 * x[keep, :, None]
+    x0 = np.array([[1.0], [0.5]])
+    x, res, moved = polish(evaluate, x0, iterations=50, tol=1e-15, give_up={2: 1e-3},
+                           max_step=0.1)
+    assert moved.all() and (res > 1e-3).all()
+    assert np.all(np.abs(x - x0) <= 2 * 0.1 + 1e-15)                # two capped steps
+
+
+def test_general_6r_keeps_every_solution_at_a_nearly_singular_pose():
+    """A nearly singular pose of the Manocha-Canny arm (the generating configuration's
+    smallest singular value is ~1e-6, its solutions come in pairs 1e-5 rad apart), where
+    the polish steps along a nearly singular direction: every solution the numerical
+    solver finds from 300 seeded starts is among the general 6R elimination's."""
+    r = kincalc.load_robot("manocha_canny_6r")
+    Q = sample_configurations(r, 2000, np.random.default_rng(1))
+    q_gen = Q[1599]
+    assert np.linalg.svd(r.jacobian(q_gen), compute_uv=False)[-1] < 1e-5
+    T = r.fk(q_gen)
+    found = solve_general_6r(r, T)
+    for q in found:
+        assert np.allclose(r.fk(q), T, atol=1e-9)
+    rng = np.random.default_rng(5)
+    reference = []
+    for _ in range(300):
+        res = solve_numeric(r.fk, T, rng.uniform(-np.pi, np.pi, 6), jacobian=r.jacobian,
+                            scale=r.characteristic_length, least_change=False, restarts=0)
+        if res.converged:
+            reference.append(res.q)
+    assert reference
+
+    def wrapped(a, b):
+        return np.abs(np.angle(np.exp(1j * (a - b)))).max(-1)
+    for q in reference:
+        assert wrapped(found, q).min() < 1e-5, f"missed {np.round(q, 4)}"
