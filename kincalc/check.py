@@ -1212,7 +1212,7 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         truth = (f"{robot.name} has no closed-form IK in kincalc: each set is checked by FK, "
                  "and sets you did not list cannot be named")
     elif not sols:
-        truth = f"the target is not reachable ({res.reason})"
+        truth = f"the target is not reachable ({res.reason_text})"
     else:
         truth = (f"the target has {len(required)} solution{'s' if len(required) != 1 else ''}"
                  + (" within the limits" if item.limits and len(required) != len(sols) else ""))

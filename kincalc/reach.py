@@ -39,7 +39,8 @@ import numpy as np
 
 from .ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
                          where_outside)
-from .ik.solve import count_text, length_suffix
+from .ik.reasons import OrientationOut
+from .words import count_text, length, length_suffix, reason_text
 
 
 
@@ -109,10 +110,10 @@ def reach(robot, target, *, units=None) -> ReachResult:
             why = inside[0].singularity or "the Jacobian loses rank"
             every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
-                               reason=f"{count_text(sols)}, {every} a singular "
+                               reason=f"{count_text(len(sols), len(inside))}, {every} a singular "
                                       f"configuration: {why}; reachable, but not robustly")
-        return ReachResult(verdict="reachable", distance=0.0, reason=count_text(sols),
-                           **common)
+        return ReachResult(verdict="reachable", distance=0.0,
+                           reason=count_text(len(sols), len(inside)), **common)
 
     p = np.asarray(target.T, float)[:3, 3]
     q_near, p_near, dist = nearest_position(robot, p)
@@ -124,10 +125,11 @@ def reach(robot, target, *, units=None) -> ReachResult:
 
     if dist <= POSITION_TOL * L:
         if res.family == "numerical":
-            return ReachResult(verdict="not-found", distance=0.0, reason=res.reason + (
+            return ReachResult(verdict="not-found", distance=0.0, reason=res.reason_text + (
                 "; the position itself is within reach"), **near, **common)
-        reason = res.reason
-        if not reason.startswith("the position is reachable"):
+        if isinstance(res.reason, OrientationOut):
+            reason = res.reason_text
+        else:
             reason = ("the position is reachable but this orientation is not: no "
                       "configuration within the limits takes the tool there with it")
         return ReachResult(verdict="orientation-unreachable", distance=0.0, reason=reason,
@@ -158,8 +160,6 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     limits: blocked by the limits, or out of reach of the geometry, and where."""
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
-    Lu = length_suffix(units)
-    fmt = lambda x: f"{x * units.l:.6g}{Lu}"  # noqa: E731 - a local formatter
     if dist_free <= POSITION_TOL * L:
         from .ik.engine import normalise
         from .ik.solve import violation_list
@@ -171,12 +171,13 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
                                                                  "violations": blocked}],
             reason=(f"blocked by joint limits: the position is reachable only with joints "
                     f"beyond their limits (for example {what}); within the limits the "
-                    f"nearest reachable point is {fmt(dist)} away"), **near, **common)
+                    f"nearest reachable point is {length(dist, units)} away"), **near, **common)
 
-    verdict, reason = where_outside(robot, p, p_free, dist_free, fmt)
+    outside = where_outside(robot, p, p_free, dist_free)
+    verdict, reason = outside.where, reason_text(outside, robot, units)
     if dist > dist_free * (1 + 1e-6) + POSITION_TOL * L:
-        reason += (f"; within the joint limits the nearest reachable point is {fmt(dist)} "
-                   "away")
+        reason += ("; within the joint limits the nearest reachable point is "
+                   f"{length(dist, units)} away")
     return ReachResult(verdict=verdict, distance=dist, reason=reason, **near, **common)
 
 

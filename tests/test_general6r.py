@@ -390,7 +390,7 @@ def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
         assert len(analytic) >= 2
         found += sum(distance(c[pose == n], a).min() < 1e-7 for a in analytic)
         total += len(analytic)
-        Q, res, _ = _polish(data.terms, np.repeat(T[None, :3] / data.scale, np.sum(pose == n), 0),
+        Q, res, _ = _polish(data.chain, np.repeat(T[None, :3] / data.scale, np.sum(pose == n), 0),
                             c[pose == n])
         S = wrap(Q[res < 1e-10])
         assert all(distance(S, a).min() < 1e-6 for a in analytic)

@@ -11,6 +11,7 @@ from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.ik.families import classify
+from kincalc.ik.reasons import OrientationOut, OutOfReach
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
@@ -228,7 +229,10 @@ def test_unreachable_target_says_why():
     T[:3, 3] = [2.0, 0, 0]
     res = r.ik(T)
     assert not res.reachable and res.solutions == []
-    assert "beyond the outer reach" in res.reason
+    # the reason is data (SI), worded at the edge
+    assert isinstance(res.reason, OutOfReach) and res.reason.outside.where == "beyond-outer-reach"
+    assert res.reason.outside.target == pytest.approx(np.linalg.norm(T[:3, 3] - r.base[:3, 3]))
+    assert "beyond the outer reach" in res.reason_text
 
 
 def test_wrist_singular_target_gives_a_representative_and_the_continuum():
@@ -437,7 +441,9 @@ def test_five_joint_arm_with_an_unreachable_roll_says_so():
     T[:3, :3] = T[:3, :3] @ rot_z(0.5)           # same approach, rolled by 0.5 rad
     res = solve(r, Target(T))
     assert not res.reachable and res.solutions == []
-    assert "orientation is not" in res.reason and "controls position and approach" in res.reason
+    assert isinstance(res.reason, OrientationOut) and len(res.reason.rolls) == 2
+    text = res.reason_text
+    assert "orientation is not" in text and "controls position and approach" in text
     # The reason quotes facts of the family's own solutions: every solution that reaches the
     # position and the approach, with the roll it leaves (measured here from FK's x axes).
     # The generating branch leaves the 0.5 rad itself; the other branch another roll. (The
@@ -448,8 +454,9 @@ def test_five_joint_arm_with_an_unreachable_roll_says_so():
     for s in placed:
         x = r.fk(s.q)[:3, 0]
         roll = abs(np.arctan2(np.cross(x, T[:3, 0]) @ T[:3, 2], x @ T[:3, 0]))
-        assert f"{np.rad2deg(roll):.4g} deg ({s.branch})" in res.reason
-    assert "off by 13.06 deg" in res.reason and "28.65 deg" in res.reason
+        assert (roll, s.branch) in [(pytest.approx(a, abs=1e-9), b) for a, b in res.reason.rolls]
+        assert f"{np.rad2deg(roll):.4g} deg ({s.branch})" in text
+    assert "off by 13.06 deg" in text and "28.65 deg" in text
 
 
 def test_the_closest_solution_of_a_reason_does_not_hang_on_rounding():
@@ -478,13 +485,15 @@ def test_all_branches_says_why_a_branch_has_no_real_angle():
     T[:3, 3] = w
     res = solve(r, Target(T), all_branches=True)
     assert not res.reachable and res.dead_ends
-    text = res.dead_ends[0]
+    d = res.dead_ends[0]                          # data, SI: the step and its equation
     value = (w @ w - a2 ** 2 - a3 ** 2 - d3 ** 2 - d4 ** 2) / (2 * a2 * np.hypot(a3, d4))
+    assert d.joint == 2 and d.need == pytest.approx(value, rel=1e-9) and abs(d.need) > 1
+    assert abs(wrap(d.phase + np.arctan2(d4, a3))) < 1e-9
+    text = res.to_dict()["dead_ends"][0]          # worded at the edge, in degrees
     m = re.search(r"cos\(q3 - (-?[0-9.]+) deg\) would have to be (-?[0-9.]+)", text)
     assert m, text
     assert float(m.group(2)) == pytest.approx(value, rel=1e-3)
-    phase = np.degrees(-np.arctan2(d4, a3))
-    assert abs(wrap(np.radians(float(m.group(1)) - phase))) < 1e-3
+    assert abs(wrap(np.radians(float(m.group(1))) - d.phase)) < 1e-3
     # without --all-branches nothing is collected
     assert solve(r, Target(T)).dead_ends is None
 

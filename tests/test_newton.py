@@ -1,7 +1,6 @@
 """The one Gauss-Newton polish (kincalc.ik.newton) and the solvers that finish with it."""
 
 import numpy as np
-import pytest
 
 import kincalc
 from kincalc.ik.newton import _step, polish

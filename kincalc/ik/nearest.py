@@ -174,38 +174,32 @@ def _nearest(robot, key):
     return X[k], robot.fk(X[k])[:3, 3], float(pe[k])
 
 
-def where_outside(robot, p, p_near, dist, fmt):
-    """Verdict and reason for a position out of reach even without joint limits,
-    ``p_near`` being the nearest reachable point, ``dist`` away.
+def where_outside(robot, p, p_near, dist):
+    """Where a position ``p`` out of reach even without joint limits lies
+    (:class:`~kincalc.ik.reasons.Outside`), ``p_near`` being the nearest reachable
+    point, ``dist`` away (world frame, m).
 
     Off the plane of a planar arm: outside the workspace. Otherwise the nearest
     point says which side the target is on: farther from the base than it, and
     roughly along the line from the base (within 60 deg), the target is beyond
     the outer reach; nearer the base than it, inside the inner void; anything
     else (a notch in the workspace) is outside the workspace."""
+    from .reasons import Outside
     o = robot.base[:3, 3]
     origin, basis = motion_frame(robot.fk(samples(robot, 512, 1))[:, :3, 3], robot)
     if basis.shape[1] < 3:
         rel = p - p_near
         off = float(np.linalg.norm(rel - basis @ (basis.T @ rel)))
         if off > 1e-6 * dist:
-            kind = "plane" if basis.shape[1] == 2 else "line"
-            return "outside-workspace", (
-                f"outside the workspace: the tool moves in a {kind} and the target is "
-                f"{fmt(off)} off it; the nearest reachable point is {fmt(dist)} away")
+            return Outside("outside-workspace", dist,
+                           motion="plane" if basis.shape[1] == 2 else "line", off=off)
     d_target = float(np.linalg.norm(p - o))
     d_near = float(np.linalg.norm(p_near - o))
     radial = p_near - o
     cos = float((p - p_near) @ radial / max(np.linalg.norm(radial) * dist, 1e-300))
     if d_target > d_near and cos > 0.5:
-        return "beyond-outer-reach", (
-            f"beyond the outer reach by {fmt(dist)}: the target is {fmt(d_target)} from the "
-            f"base, the arm reaches {fmt(d_near)} from it in this direction")
+        return Outside("beyond-outer-reach", dist, target=d_target, reach=d_near)
     if d_target < d_near:
-        where = ("" if d_target <= 1e-12 * max(robot.characteristic_length, 1e-12)
-                 else " in this direction")
-        return "inside-inner-void", (
-            f"inside the inner void by {fmt(dist)}: the target is {fmt(d_target)} from the "
-            f"base, the arm reaches no closer than {fmt(d_near)}{where}")
-    return "outside-workspace", (f"outside the workspace: the nearest reachable point is "
-                                 f"{fmt(dist)} away")
+        return Outside("inside-inner-void", dist, target=d_target, reach=d_near,
+                       along=d_target > 1e-12 * max(robot.characteristic_length, 1e-12))
+    return Outside("outside-workspace", dist)

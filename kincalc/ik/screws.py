@@ -43,21 +43,34 @@ class Screws:
 
     def turn(self, i: int, c, s, v) -> np.ndarray:
         """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
-        and sine ``c, s (...)``: ``v + s (k x v) + (1 - c) k x (k x v)`` (Rodrigues),
-        both cross products in one matrix product."""
-        v = np.asarray(v, float)
-        A = (v.reshape(-1, 3) @ self.crosses(i)).reshape(v.shape[:-1] + (6,))
-        c, s = np.asarray(c)[..., None], np.asarray(s)[..., None]
-        return v + s * A[..., :3] + (1.0 - c) * A[..., 3:]
+        and sine ``c, s (...)``: ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K``
+        the cross-product matrix of the axis), all three terms in one matrix product.
 
-    def crosses(self, i: int) -> np.ndarray:
-        """``[[k]x^T, ([k]x^2)^T] (3, 6)``, contiguous, of joint i's axis ``k``: rows
-        ``v @ crosses = (k x v, k x (k x v))``; computed once per joint."""
+        Computed on components (``(3, M)``: each operation runs along the batch, where
+        ``(M, 3)`` arrays broadcast against ``(M, 1)`` factors cost several times
+        more); the result is a ``(..., 3)`` view of that layout."""
+        v = np.asarray(v, float)
+        shape = np.broadcast_shapes(v.shape[:-1], np.shape(c), np.shape(s))
+        v = np.broadcast_to(v, shape + (3,)).reshape(-1, 3)
+        B = self.rodrigues(i) @ v.T                                      # (9, M)
+        out = B[3:6]
+        out *= np.broadcast_to(c, shape).reshape(-1)
+        out += B[0:3]
+        sk = B[6:9]
+        sk *= np.broadcast_to(s, shape).reshape(-1)
+        out += sk
+        return out.T.reshape(shape + (3,))
+
+    def rodrigues(self, i: int) -> np.ndarray:
+        """``[I + K^2; -K^2; K] (9, 3)``, contiguous, of joint i's axis ``k`` (``K`` its
+        cross-product matrix): ``rodrigues @ v`` stacks the three terms of
+        :meth:`turn`; computed once per joint."""
         def make():
             k = self.axis[i]
             K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-            return np.ascontiguousarray(np.concatenate([K.T, (K @ K).T], axis=1))
-        return self.constant(("crosses", i), make)
+            K2 = K @ K
+            return np.ascontiguousarray(np.concatenate([np.eye(3) + K2, -K2, K]))
+        return self.constant(("rodrigues", i), make)
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle

@@ -7,7 +7,8 @@ residuals, limit violations and singularity; why there is none when there is non
 (``all_branches``: the candidates FK rejected, the textbook's cross combinations of
 the solutions' joint values, the steps that found no real root) and the intermediate
 quantities of each solution (``explain``). Robots no closed form covers are solved
-numerically (:mod:`kincalc.ik.numeric`).
+numerically (:mod:`kincalc.ik.numeric`). The reasons are data (:mod:`kincalc.ik.reasons`,
+SI); :mod:`kincalc.words` words them in the user's units.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ from ..spatial import rotation_error
 from ..tolerances import ACCEPT_POSITION
 from .engine import TCV, Solved, UnsupportedRobot, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
+from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
+                      OrientationOut, OutOfReach)
 from ..spatial import wrap
 from .target import Targets
 
@@ -93,16 +96,25 @@ class IKResult:
     controls: str
     solutions: list
     reachable: bool
-    reason: str
+    #: why the answer is what it is (a dataclass of :mod:`kincalc.ik.reasons`, SI)
+    reason: object
+    #: with all_branches: dicts of q, branch, residuals and reason (a ``Missed``)
     rejected: list | None = None
     units: object = None
     note: str | None = None
     near: np.ndarray | None = None
-    #: with --all-branches: why each branch that found nothing found nothing
+    #: with all_branches: why each branch that found nothing found nothing (``NoRoot``)
     dead_ends: list | None = None
+
+    @property
+    def reason_text(self) -> str:
+        """:attr:`reason` in words, in the result's units."""
+        from ..words import reason_text
+        return reason_text(self.reason, self.robot, self.units)
 
     def to_dict(self) -> dict:
         from ..results import _clean, _header
+        from ..words import dead_end_texts, reason_text
         u = self.units
         out = _header("ik", self.robot, u)
         out["target"] = {"T": u.pose(self.target.T), "orientation_given": self.target.orientation}
@@ -110,7 +122,7 @@ class IKResult:
             out["target"]["approach"] = _clean(np.asarray(self.target.approach, float))
         out.update({
             "reachable": self.reachable,
-            "reason": self.reason,
+            "reason": self.reason_text,
             "method": {"family": self.family, "description": self.method,
                        "controls": self.controls},
             "count": len(self.solutions),
@@ -119,7 +131,8 @@ class IKResult:
         })
         if self.rejected is not None:
             out["rejected"] = [
-                {"q": u.joints(self.robot, r["q"]), "branch": r["branch"], "reason": r["reason"],
+                {"q": u.joints(self.robot, r["q"]), "branch": r["branch"],
+                 "reason": reason_text(r["reason"], self.robot, u),
                  "residual": {"position": _clean(r["position_error"] * u.l),
                               "orientation": None if r["orientation_error"] is None
                               else _clean(r["orientation_error"] * u.a)}}
@@ -127,7 +140,7 @@ class IKResult:
             if self.note:
                 out["rejected_note"] = self.note
         if self.dead_ends is not None:
-            out["dead_ends"] = self.dead_ends
+            out["dead_ends"] = dead_end_texts(self.dead_ends, self.robot, u)
         return out
 
     def _sol(self, s: IKSolution) -> dict:
@@ -188,30 +201,30 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     sv = solve_targets(robot, target.targets(), explain=explain or all_branches)
     family = sv.spec
     T = np.asarray(target.T, float)
-    sols, rejected = _solutions(robot, sv, explain, units)
+    sols, rejected = _solutions(robot, sv, explain)
     sols.sort(key=lambda s: (not s.within_limits, s.branch))
     if near is not None:
         sols = [replace(s, q=q, change=q - near) for s in sols
                 for q in [_toward(robot, s.q, near)]]
         sols.sort(key=lambda s: (not s.within_limits, _scaled_norm(robot, s.change)))
     reachable = any(s.within_limits for s in sols)
-    reason = _reason(robot, family, T, target, sols, rejected, units)
+    reason = _reason(robot, family, T, target, sols, rejected)
     result_rejected = note = dead = None
     if all_branches:
-        combos, note = _cross_combinations(robot, T, target, sols, units)
+        combos, note = _cross_combinations(robot, T, target, sols)
         result_rejected = []
         for r in rejected + combos:
             if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
                                               r["q"] - o["q"])) < 1e-6) for o in result_rejected):
                 result_rejected.append(r)
-        dead = _dead_ends(robot, sv, units)
+        dead = _dead_ends(robot, sv)
     return IKResult(robot=robot, target=target, family=family.name, method=sv.method,
                     controls=family.controls, solutions=sols, reachable=reachable,
                     reason=reason, rejected=result_rejected, units=units, note=note, near=near,
                     dead_ends=dead)
 
 
-def _solutions(robot, sv: Solved, explain: bool, units):
+def _solutions(robot, sv: Solved, explain: bool):
     """``(solutions, rejected candidates)`` of the engine's single target."""
     oe_given = not np.isnan(sv.orientation_error[0]).all()
     sols, rejected = [], []
@@ -223,7 +236,7 @@ def _solutions(robot, sv: Solved, explain: bool, units):
         if not sv.valid[0, k]:
             if not _is_copy(robot, sv, k):
                 rejected.append({"q": q, "branch": sv.labels[0, k], "position_error": pe,
-                                 "orientation_error": oe, "reason": _miss_reason(pe, oe, units)})
+                                 "orientation_error": oe, "reason": Missed(pe, oe)})
             continue
         viol = _violation_list(sv.violation[0, k])
         sing = bool(sv.singular[0, k])
@@ -295,24 +308,16 @@ def _trace(sv: Solved, k: int) -> list:
     return out
 
 
-def _dead_ends(robot, sv: Solved, units) -> list:
-    """Sentences for the steps that found no real root (``all_branches``)."""
+def _dead_ends(robot, sv: Solved) -> list:
+    """The steps that found no real root (``all_branches``), one :class:`NoRoot` per
+    slot and step, joints numbered on the robot."""
     out = []
-    names = [j.name for j in robot.joints]
     n = robot.dof
     for d in sv.branches.dead_ends:
-        where = np.flatnonzero(d.where[0])
-        for slot in where.tolist():
-            j = n - 1 - d.joint if sv.spec.reverse else d.joint
-            name = names[j]
-            phase = float(d.phase[0, slot]) * units.a
-            text = (f"{name}: cos({name} - {phase:.4g} {units.angle}) would have to be "
-                    f"{float(d.need[0, slot]):.4g}, outside [-1, 1]: no real angle, "
-                    f"{d.what} is out of reach on that branch")
-            if sv.spec.reverse:
-                text = "on the reversed chain (each joint turned the other way): " + text
-            if text not in out:
-                out.append(text)
+        for slot in np.flatnonzero(d.where[0]).tolist():
+            out.append(NoRoot(n - 1 - d.joint if sv.spec.reverse else d.joint,
+                              float(d.phase[0, slot]), float(d.need[0, slot]), d.what,
+                              reversed_chain=bool(sv.spec.reverse)))
     return out
 
 
@@ -371,24 +376,12 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                                within_limits=not viol, violations=viol, singular=sing,
                                singularity=desc,
                                change=None if near is None else q - near))
-        reason = "1 solution found numerically (the one with the least change from the start)"
-        if res.restarts:
-            reason += (f"; the start did not converge, restart {res.restarts} did: it may not be "
-                       "the nearest solution")
+        reason = NumericFound(res.restarts)
     else:
-        far = _out_of_reach(robot, T, units)
-        if far.startswith("out of reach"):
-            reason = far
-        else:
-            L = length_suffix(units)
-            miss = f"position off by {res.position_error * units.l:.4g}{L}"
-            if res.orientation_error is not None:
-                miss += f", orientation off by {res.orientation_error * units.a:.4g} {units.angle}"
-            reason = (f"no solution found numerically from the start and {RESTARTS} restarts; "
-                      f"the closest configuration found misses the target ({miss})")
-            if orientation and full < 6:
-                reason += (f": the robot controls only {full} of the 6 pose components, "
-                           "give the position alone")
+        reason = _out_of_reach(robot, T)
+        if not isinstance(reason, OutOfReach):
+            reason = NumericMissed(Missed(res.position_error, res.orientation_error), RESTARTS,
+                                   full if orientation and full < 6 else None)
     reachable = bool(sols) and sols[0].within_limits
     return IKResult(robot=robot, target=target, family="numerical", method=method,
                     controls=controls, solutions=sols, reachable=reachable, reason=reason,
@@ -403,60 +396,34 @@ def _singularity(robot, q):
     return True, "; ".join(rep.singularity.descriptions)
 
 
-def length_suffix(units) -> str:
-    return "" if units.length == "unitless" else f" {units.length}"
-
-
-def _miss_reason(pe, oe, units):
-    parts = []
-    if pe > 0:
-        parts.append(f"position off by {pe * units.l:.4g}{length_suffix(units)}")
-    if oe:
-        parts.append(f"orientation off by {oe * units.a:.4g} {units.angle}")
-    return "does not reach the target: " + ", ".join(parts)
-
-
-def count_text(sols) -> str:
-    n_in = sum(s.within_limits for s in sols)
-    return f"{len(sols)} solution{'s' if len(sols) != 1 else ''}, {n_in} within the joint limits"
-
-
-def _reason(robot, family, T, target, sols, rejected, units) -> str:
+def _reason(robot, family, T, target, sols, rejected):
+    """Why the answer is what it is (:mod:`kincalc.ik.reasons`)."""
     if any(s.within_limits for s in sols):
-        return count_text(sols)
+        return Found(len(sols), sum(s.within_limits for s in sols))
     if sols:
         worst = {}
         for s in sols:
             for i, amount, side in s.violations:
                 worst[i] = min(worst.get(i, np.inf), amount)
-        what = ", ".join(
-            f"{robot.joints[i].name} by {amount * (units.a if robot.joints[i].revolute else units.l):.4g}"
-            f"{' ' + units.angle if robot.joints[i].revolute else length_suffix(units)}"
-            for i, amount in sorted(worst.items()))
-        return f"blocked by joint limits: all {len(sols)} solutions violate a limit ({what})"
+        return Blocked(len(sols), tuple(sorted(worst.items())))
     if rejected:
         placed = _placing(robot, rejected)
         if not placed:
             best = min(rejected, key=lambda r: (r["position_error"], r["branch"]))
-            return "no solution: " + best["reason"]
+            return NoSolution(best["reason"])
         if family is TCV:
-            return (f"the position is reachable but the approach vector is not: the best "
-                    f"solution's approach is off by {_angle_text(placed[0]['orientation_error'], units)}")
+            return OrientationOut("approach vector",
+                                  closest=(placed[0]["branch"], placed[0]["orientation_error"]))
         what = "approach direction" if target.approach is not None else "orientation"
-        head = (f"the position is reachable but this {what} is not for a robot that controls "
-                f"{family.controls}: ")
         if family.name in APPROACH_FAMILIES and target.approach is None \
                 and _reach_approach(robot, placed, T[:3, 2]):
             # the five-joint solvers place the tool and its approach: what is left is the
             # roll about the approach, one value per solution of the family
-            rolls = ", ".join(f"{_angle_text(r['orientation_error'], units)} ({r['branch']})"
-                              for r in placed)
-            return (head + f"the {_count_words(len(placed))} that reach the position and "
-                    f"the approach leave the roll about it off by {rolls}")
-        best = placed[0]
-        return (head + f"the closest solution ({best['branch']}) is off by "
-                f"{_angle_text(best['orientation_error'], units)}")
-    return _out_of_reach(robot, T, units)
+            return OrientationOut(what, family.controls, rolls=tuple(
+                (r["orientation_error"], r["branch"]) for r in placed))
+        return OrientationOut(what, family.controls,
+                              closest=(placed[0]["branch"], placed[0]["orientation_error"]))
+    return _out_of_reach(robot, T)
 
 
 def _placing(robot, rejected) -> list:
@@ -484,35 +451,23 @@ def _reach_approach(robot, candidates, a) -> bool:
                 and np.all(z @ a > 0))
 
 
-def _angle_text(angle, units) -> str:
-    return f"{(angle or 0.0) * units.a:.4g} {units.angle}"
-
-
-def _count_words(n: int) -> str:
-    return "solution" if n == 1 else f"{n} solutions"
-
-
-def _out_of_reach(robot, T, units) -> str:
+def _out_of_reach(robot, T):
     """Why nothing was found, from the nearest reachable position (see
     :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
     from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
     p = np.asarray(T, float)[:3, 3]
     tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
-    L = length_suffix(units)
     _, _, dist = nearest_position(robot, p)
     if dist <= tol:
-        return "no solution: the arm cannot place its tool at this pose"
+        return NoSolution()
     _, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
     if dist_free <= tol:
-        return (f"out of reach within the joint limits: the nearest position reachable "
-                f"within them is {dist * units.l:.6g}{L} away")
-    _, reason = where_outside(robot, p, p_free, dist_free,
-                               lambda x: f"{x * units.l:.6g}{L}")
-    return "out of reach: " + reason
+        return OutOfReach(distance=dist)
+    return OutOfReach(where_outside(robot, p, p_free, dist_free))
 
 
-def _cross_combinations(robot, T, target, sols, units):
+def _cross_combinations(robot, T, target, sols):
     """Combinations of joint values taken independently, as a textbook's +/- choices
     are, that do not reach the target (Bingul & Kucuk, Example 4.2: zeta1, zeta4).
 
@@ -542,5 +497,5 @@ def _cross_combinations(robot, T, target, sols, units):
         oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
         out.append({"q": q, "branch": "combination of the solutions' values",
                     "position_error": pe, "orientation_error": oe,
-                    "reason": _miss_reason(pe, oe, units)})
+                    "reason": Missed(pe, oe)})
     return out, None

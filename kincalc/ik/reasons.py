@@ -1,0 +1,105 @@
+"""Why an IK target has the answer it has, as data: what the engine and the reach search
+found, in SI (m, rad), with joints by index. :mod:`kincalc.words` renders each in the
+user's units; nothing here is a sentence, and no command-line option is named.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Found:
+    """``count`` solutions, ``within`` of them within the joint limits."""
+    count: int
+    within: int
+
+
+@dataclass(frozen=True)
+class Blocked:
+    """Every one of ``count`` solutions breaks a limit; ``worst``: per joint that does,
+    ``(joint index, the least amount any solution is beyond it)``, m or rad."""
+    count: int
+    worst: tuple
+
+
+@dataclass(frozen=True)
+class Missed:
+    """A candidate that does not reach the target: its position error (m) and
+    orientation error (rad, None when no orientation was asked for)."""
+    position_error: float
+    orientation_error: float | None
+
+
+@dataclass(frozen=True)
+class NoSolution:
+    """No candidate reaches the target; ``best``: the closest one's miss, or None when
+    the arm reaches the position but cannot place its tool at this pose."""
+    best: Missed | None = None
+
+
+@dataclass(frozen=True)
+class OrientationOut:
+    """The position is reachable, the orientation (``what``: 'orientation', 'approach
+    direction', or 'approach vector' for a tool configuration vector) is not, for a robot
+    that controls ``controls``. ``rolls``: for a five-joint arm that reaches the position
+    and the approach, ``((roll error rad, branch), ...)`` of each solution; otherwise
+    ``closest``: ``(branch, orientation error rad)`` of the closest solution."""
+    what: str
+    controls: str = ""
+    rolls: tuple = ()
+    closest: tuple | None = None
+
+
+@dataclass(frozen=True)
+class Outside:
+    """Where a position out of reach of the geometry (limits ignored) lies, from the
+    nearest reachable point ``distance`` (m) away: ``where`` is 'beyond-outer-reach',
+    'inside-inner-void' or 'outside-workspace'. ``motion``: 'plane' or 'line' when the
+    tool moves in one and the target is ``off`` (m) off it; ``target`` and ``reach``
+    (m): the target's distance from the base and the arm's reach from it in that
+    direction; ``along`` False when the target is at the base itself."""
+    where: str
+    distance: float
+    motion: str | None = None
+    off: float = 0.0
+    target: float = 0.0
+    reach: float = 0.0
+    along: bool = True
+
+
+@dataclass(frozen=True)
+class OutOfReach:
+    """Out of reach: of the geometry (``outside``), or only within the joint limits
+    (``outside`` None; the nearest position reachable within them ``distance`` m away)."""
+    outside: Outside | None = None
+    distance: float = 0.0
+
+
+@dataclass(frozen=True)
+class NumericFound:
+    """One solution found numerically; ``restart`` > 0 when the start did not converge
+    and that seeded restart did."""
+    restart: int = 0
+
+
+@dataclass(frozen=True)
+class NumericMissed:
+    """No solution found numerically from the start and ``restarts`` restarts; the
+    closest configuration's miss, and ``controls`` (pose components the robot controls,
+    < 6 when an orientation was asked of a robot that cannot set it all, else None)."""
+    miss: Missed
+    restarts: int
+    controls: int | None = None
+
+
+@dataclass(frozen=True)
+class NoRoot:
+    """A step that found no real root (``all_branches``): joint ``joint`` would need
+    ``cos(q - phase) = need`` (phase rad) with ``|need| > 1``, so ``what`` is out of
+    reach on that branch; ``reversed_chain`` when solved on the reversed chain."""
+    joint: int
+    phase: float
+    need: float
+    what: str
+    reversed_chain: bool = False

@@ -1,0 +1,153 @@
+"""The sentences of IK and reach answers, from the reasons the core returns as data
+(:mod:`kincalc.ik.reasons`, SI), in the user's units (:class:`kincalc.results.Units`).
+The one place where an answer's "why" is worded."""
+
+from __future__ import annotations
+
+from functools import singledispatch
+
+from .ik.reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
+                         NumericMissed, OrientationOut, Outside, OutOfReach)
+
+
+def length_suffix(units) -> str:
+    """`` m`` (with its space), or nothing for a unitless robot."""
+    return "" if units.length == "unitless" else f" {units.length}"
+
+
+def length(x: float, units, digits: int = 6) -> str:
+    return f"{x * units.l:.{digits}g}{length_suffix(units)}"
+
+
+def angle(x: float | None, units) -> str:
+    return f"{(x or 0.0) * units.a:.4g} {units.angle}"
+
+
+def joint_amount(robot, i: int, amount: float, units) -> str:
+    """``amount`` (rad or m) of joint ``i`` in its unit, four significant digits."""
+    if robot.joints[i].revolute:
+        return f"{amount * units.a:.4g} {units.angle}"
+    return f"{amount * units.l:.4g}{length_suffix(units)}"
+
+
+def count_text(count: int, within: int) -> str:
+    return f"{count} solution{'s' if count != 1 else ''}, {within} within the joint limits"
+
+
+@singledispatch
+def reason_text(reason, robot, units) -> str:
+    """The sentence for ``reason`` (any dataclass of :mod:`kincalc.ik.reasons`)."""
+    raise TypeError(f"no words for {type(reason).__name__}")
+
+
+@reason_text.register
+def _(r: Found, robot, units) -> str:
+    return count_text(r.count, r.within)
+
+
+@reason_text.register
+def _(r: Blocked, robot, units) -> str:
+    what = ", ".join(f"{robot.joints[i].name} by {joint_amount(robot, i, amount, units)}"
+                     for i, amount in r.worst)
+    return f"blocked by joint limits: all {r.count} solutions violate a limit ({what})"
+
+
+@reason_text.register
+def _(r: Missed, robot, units) -> str:
+    parts = []
+    if r.position_error > 0:
+        parts.append(f"position off by {r.position_error * units.l:.4g}{length_suffix(units)}")
+    if r.orientation_error:
+        parts.append(f"orientation off by {r.orientation_error * units.a:.4g} {units.angle}")
+    return "does not reach the target: " + ", ".join(parts)
+
+
+@reason_text.register
+def _(r: NoSolution, robot, units) -> str:
+    if r.best is None:
+        return "no solution: the arm cannot place its tool at this pose"
+    return "no solution: " + reason_text(r.best, robot, units)
+
+
+@reason_text.register
+def _(r: OrientationOut, robot, units) -> str:
+    if r.what == "approach vector":
+        return (f"the position is reachable but the approach vector is not: the best "
+                f"solution's approach is off by {angle(r.closest[1], units)}")
+    head = (f"the position is reachable but this {r.what} is not for a robot that controls "
+            f"{r.controls}: ")
+    if r.rolls:
+        rolls = ", ".join(f"{angle(a, units)} ({branch})" for a, branch in r.rolls)
+        count = "solution" if len(r.rolls) == 1 else f"{len(r.rolls)} solutions"
+        return (head + f"the {count} that reach the position and the approach leave the "
+                f"roll about it off by {rolls}")
+    branch, error = r.closest
+    return head + f"the closest solution ({branch}) is off by {angle(error, units)}"
+
+
+@reason_text.register
+def _(r: Outside, robot, units) -> str:
+    d = length(r.distance, units)
+    if r.motion is not None:
+        return (f"outside the workspace: the tool moves in a {r.motion} and the target is "
+                f"{length(r.off, units)} off it; the nearest reachable point is {d} away")
+    if r.where == "beyond-outer-reach":
+        return (f"beyond the outer reach by {d}: the target is {length(r.target, units)} "
+                f"from the base, the arm reaches {length(r.reach, units)} from it in this "
+                "direction")
+    if r.where == "inside-inner-void":
+        return (f"inside the inner void by {d}: the target is {length(r.target, units)} "
+                f"from the base, the arm reaches no closer than {length(r.reach, units)}"
+                + (" in this direction" if r.along else ""))
+    return f"outside the workspace: the nearest reachable point is {d} away"
+
+
+@reason_text.register
+def _(r: OutOfReach, robot, units) -> str:
+    if r.outside is None:
+        return (f"out of reach within the joint limits: the nearest position reachable "
+                f"within them is {length(r.distance, units)} away")
+    return "out of reach: " + reason_text(r.outside, robot, units)
+
+
+@reason_text.register
+def _(r: NumericFound, robot, units) -> str:
+    text = "1 solution found numerically (the one with the least change from the start)"
+    if r.restart:
+        text += (f"; the start did not converge, restart {r.restart} did: it may not be the "
+                 "nearest solution")
+    return text
+
+
+@reason_text.register
+def _(r: NumericMissed, robot, units) -> str:
+    miss = f"position off by {r.miss.position_error * units.l:.4g}{length_suffix(units)}"
+    if r.miss.orientation_error is not None:
+        miss += f", orientation off by {r.miss.orientation_error * units.a:.4g} {units.angle}"
+    text = (f"no solution found numerically from the start and {r.restarts} restarts; the "
+            f"closest configuration found misses the target ({miss})")
+    if r.controls is not None:
+        text += (f": the robot controls only {r.controls} of the 6 pose components, give the "
+                 "position alone")
+    return text
+
+
+@reason_text.register
+def _(r: NoRoot, robot, units) -> str:
+    name = robot.joints[r.joint].name
+    text = (f"{name}: cos({name} - {r.phase * units.a:.4g} {units.angle}) would have to be "
+            f"{r.need:.4g}, outside [-1, 1]: no real angle, {r.what} is out of reach on that "
+            "branch")
+    if r.reversed_chain:
+        text = "on the reversed chain (each joint turned the other way): " + text
+    return text
+
+
+def dead_end_texts(dead_ends, robot, units) -> list:
+    """The sentences of ``dead_ends``, each once, in order."""
+    out = []
+    for d in dead_ends:
+        text = reason_text(d, robot, units)
+        if text not in out:
+            out.append(text)
+    return out
