@@ -16,7 +16,9 @@ from .results import FKResult, JacobianResult, Singularity, Units
 from .tolerances import SINGULAR_TOL
 
 
-def _check_q(robot, q) -> np.ndarray:
+def joint_vector(robot, q) -> np.ndarray:
+    """``q`` as one configuration ``(n,)`` of ``robot`` (rad / m); InputError when it has
+    the wrong length or a value that is not finite."""
     q = np.asarray(q, dtype=float)
     if q.shape != (robot.dof,):
         raise InputError(f"{robot.name} has {robot.dof} joints, got {q.size} joint values")
@@ -31,7 +33,7 @@ def fk_report(robot, q, units: Units = Units(), frames: bool = False) -> FKResul
     With ``frames`` the result also holds every link transform ``T_{i-1}^i``
     and every ``T_0^i`` of the robot's own convention.
     """
-    q = _check_q(robot, q)
+    q = joint_vector(robot, q)
     T = robot.fk(q)
     links = cumulative = None
     if frames:
@@ -58,7 +60,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     from .jacobian import analytic_jacobian, jacobian_base, rotate_jacobian
     from .spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
 
-    q = _check_q(robot, q)
+    q = joint_vector(robot, q)
     Jb = jacobian_base(robot.chain, q)
     T = robot.fk(q)
     J = Jb if frame == "base" else rotate_jacobian(Jb, T[:3, :3].T)

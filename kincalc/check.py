@@ -25,9 +25,9 @@ import numpy as np
 
 from .errors import InputError, KincalcError, RobotFileError, TargetMismatch
 from .limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
-from .results import _clean
+from .results import json_numbers
 from .spatial import TCV_MAX_ROLL
-from .robot_file import _compose, _line, _Reader
+from .robot_file import Reader, compose_yaml, node_line
 
 KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
 SHEET_KEYS = {"kincalc-sheet": False, "title": False, "student": False, "robot": True,
@@ -146,9 +146,9 @@ class Report:
         return all(r.passed for r in self.items)
 
     def to_dict(self) -> dict:
-        from .results import _header
+        from .results import json_header
         s = self.sheet
-        out = _header("check", s.robot, s.units)
+        out = json_header("check", s.robot, s.units)
         out.update({"sheet": s.path, "title": s.title, "student": s.student,
                     "tolerance": s.tolerance.to_dict(s.units),
                     "items": [r.to_dict() for r in self.items], "score": self.score})
@@ -171,7 +171,7 @@ def parse_sheet(text: str, file: str = "<sheet>", folder: str = ".", robots_dirs
     """Parse the YAML ``text`` of a sheet; a robot file it names must be in ``folder``
     (the sheet's) or in one of ``robots_dirs`` (see :func:`sheet_robot_path`)."""
     try:
-        root = _compose(text, file)
+        root = compose_yaml(text, file)
     except RobotFileError as exc:
         raise SheetError(file, exc.line, exc.detail) from None
     return _SheetReader(file, folder, robots_dirs).sheet(root)
@@ -230,11 +230,11 @@ def _within(path: str, roots) -> bool:
     return any(path == r or path.startswith(r.rstrip(os.sep) + os.sep) for r in roots)
 
 
-class _SheetReader(_Reader):
+class _SheetReader(Reader):
     """The robot file reader's checked numbers, lists and errors, for sheets."""
 
     def fail(self, node, message: str):
-        raise SheetError(self.file, _line(node) if node is not None else None,
+        raise SheetError(self.file, node_line(node) if node is not None else None,
                          (f"item {quote(self.item)}: " if self.item is not None else "")
                          + message)
 
@@ -289,15 +289,8 @@ class _SheetReader(_Reader):
         self.params = dict(self.length_params)
         self.sheet_params = {}
         if "parameters" in top:
-            import yaml
-            pnode = top["parameters"]
-            if not isinstance(pnode, yaml.MappingNode):
-                self.fail(pnode, "'parameters' must be a mapping of names to numbers")
-            for knode, vnode in pnode.value:
-                if not isinstance(knode, yaml.ScalarNode):
-                    self.fail(knode, "'parameters': keys must be plain names")
-                value = self.number(vnode, f"parameter {quote(knode.value)}")
-                self.sheet_params[knode.value] = value
+            for name, vnode in self.names(top["parameters"], "'parameters'"):
+                self.sheet_params[name] = self.number(vnode, f"parameter {quote(name)}")
         self.length_params.update(self.sheet_params)
         self.angle_params.update(self.sheet_params)
         self.params = dict(self.length_params)
@@ -327,17 +320,11 @@ class _SheetReader(_Reader):
         return self.text(top[key], f"'{key}'").strip() if key in top else ""
 
     def robot_ref(self, node):
-        import yaml
-
         from .library import bundled_names, library_dir
         from .robot_file import load_robot_file
-        if isinstance(node, yaml.MappingNode):
-            if not any(k.value == "name" for k, _ in node.value):
-                node.value.insert(0, (yaml.ScalarNode("tag:yaml.org,2002:str", "name",
-                                                      node.start_mark, node.start_mark),
-                                      yaml.ScalarNode("tag:yaml.org,2002:str", "sheet-robot",
-                                                      node.start_mark, node.start_mark)))
-            reader = _Reader(self.file)
+        if self.is_mapping(node):
+            self.put_first(node, "name", "sheet-robot")
+            reader = Reader(self.file)
             try:
                 return reader.robot(node)
             except RobotFileError as exc:      # the sheet's own text: quoted as for a sheet
@@ -392,14 +379,13 @@ class _SheetReader(_Reader):
 
     # items -------------------------------------------------------------------------
     def item_entry(self, node, sheet_tol: Tolerance) -> Item:
-        import yaml
-        if not isinstance(node, yaml.MappingNode):
+        if not self.is_mapping(node):
             self.fail(node, f"each item must be a mapping with 'id' and 'kind', not {self.kind(node)}")
-        raw = {k.value: v for k, v in node.value if isinstance(k, yaml.ScalarNode)}
-        if "id" in raw and isinstance(raw["id"], yaml.ScalarNode):
+        raw = self.plain_keys(node)
+        if "id" in raw and self.is_scalar(raw["id"]):
             self.item = str(raw["id"].value)
         kind = None
-        if "kind" in raw and isinstance(raw["kind"], yaml.ScalarNode):
+        if "kind" in raw and self.is_scalar(raw["kind"]):
             kind = raw["kind"].value
             if kind not in KINDS:
                 self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not "
@@ -414,7 +400,7 @@ class _SheetReader(_Reader):
         points = int(points) if float(points).is_integer() else points
         if points < 0:
             self.fail(f["points"], "'points' must not be negative")
-        item = Item(id=ident, kind=kind, line=_line(node), tol=tol, points=points,
+        item = Item(id=ident, kind=kind, line=node_line(node), tol=tol, points=points,
                     question=self.text(f["question"], "'question'") if "question" in f else None)
         robot = self.robot_
         if "q" in f:
@@ -448,7 +434,7 @@ class _SheetReader(_Reader):
         if "pose" in f:
             item.target = self.pose_target(f["pose"])
         if "answer" in f and not f["answer"].tag.endswith(":null"):
-            item.answer_line = _line(f["answer"])
+            item.answer_line = node_line(f["answer"])
             item.answer = self.answer(kind, f["answer"], item)
             if kind == "fk" and "tcv" in item.answer and abs(item.q[-1]) > TCV_MAX_ROLL:
                 # e^(q_n / pi) leaves the numbers a sheet can hold, and soon overflows
@@ -457,9 +443,8 @@ class _SheetReader(_Reader):
         return item
 
     def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:
-        import yaml
         robot = self.robot_
-        if allow_one and isinstance(node, yaml.ScalarNode):
+        if allow_one and self.is_scalar(node):
             return np.array([self.number(node, what)])   # scaled by the caller's joint
         items = self.sequence(node, what)
         if len(items) != robot.dof:
@@ -470,9 +455,8 @@ class _SheetReader(_Reader):
 
     def matrix(self, node, what: str, shapes) -> np.ndarray:
         """A list of rows of numbers with one of ``shapes`` (rows, cols; 0 = any)."""
-        import yaml
         rows = self.sequence(node, what)
-        if not rows or not all(isinstance(r, yaml.SequenceNode) for r in rows):
+        if not rows or not all(self.is_sequence(r) for r in rows):
             self.fail(node, f"{what} must be a list of rows (a matrix written as [[...], [...]])")
         M = np.array([[self.number(v, f"{what} row {i + 1}") for v in r.value]
                       for i, r in enumerate(rows)], dtype=object)
@@ -488,8 +472,6 @@ class _SheetReader(_Reader):
     def pose_target(self, node):
         """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
         :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
-        import yaml
-
         from .ik import Target
         from .ik.target import BadTarget, defect_text, target_form, targets_from, to_si
         f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
@@ -499,8 +481,8 @@ class _SheetReader(_Reader):
         for key, vnode in f.items():
             if key == "q":
                 kw["q"] = self.joints(vnode, "'pose.q'")
-            elif key in ("T", "matrix") and isinstance(vnode, yaml.SequenceNode) and vnode.value \
-                    and isinstance(vnode.value[0], yaml.SequenceNode):
+            elif key in ("T", "matrix") and self.is_sequence(vnode) and vnode.value \
+                    and self.is_sequence(vnode.value[0]):
                 n = 4 if key == "T" else 3
                 kw[key] = self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel()
             else:
@@ -521,10 +503,9 @@ class _SheetReader(_Reader):
 
     # answers -------------------------------------------------------------------
     def answer(self, kind: str, node, item: Item):
-        import yaml
         robot = self.robot_
         if kind in ("reach", "singular"):
-            if not isinstance(node, yaml.ScalarNode):
+            if not self.is_scalar(node):
                 self.fail(node, "'answer' must be yes or no")
             v = str(node.value).strip().lower()
             if v not in ("yes", "no", "true", "false", "y", "n"):
@@ -536,7 +517,7 @@ class _SheetReader(_Reader):
             return self.matrix(node, "'answer'", [(6, robot.dof), (3, robot.dof),
                                                   (2, robot.dof), (robot.dof, 6)])
         if kind == "fk":
-            if isinstance(node, yaml.SequenceNode):
+            if self.is_sequence(node):
                 return {"T": self.matrix(node, "'answer'", [(4, 4), (3, 4)])}
             keys = {"position": False, "xyz": False, "rpy": False, "euler_zyz": False,
                     "euler_xyz": False, "quat": False, "axis_angle": False, "matrix": False,
@@ -581,13 +562,13 @@ class _SheetReader(_Reader):
             return out
         if kind == "ik":
             sets = self.sequence(node, "'answer' (a list of solution sets)")
-            if sets and not isinstance(sets[0], yaml.SequenceNode):
+            if sets and not self.is_sequence(sets[0]):
                 sets = [node]                      # one set written as a flat list
             if len(sets) > MAX_IK_SETS:
                 self.fail(node, f"'answer' has {len(sets)} solution sets; an ik item takes at "
                                 f"most {MAX_IK_SETS} (kincalc's limit; a six-joint arm has at "
                                 f"most 16 solutions)")
-            return [(_line(s), self.joints(s, f"'answer' set {k + 1}"))
+            return [(node_line(s), self.joints(s, f"'answer' set {k + 1}"))
                     for k, s in enumerate(sets)]
         if kind == "dh":
             return self.dh_answer(node, item)
@@ -1165,7 +1146,7 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
 
     def sol_dict(k):
         s = sols[k]
-        return {"solution": k + 1, "solution_q": _clean(_qdisp(robot, s.q, units)),
+        return {"solution": k + 1, "solution_q": json_numbers(_qdisp(robot, s.q, units)),
                 "branch": s.branch,
                 "within_limits": s.within_limits, "singular": s.singular}
 
@@ -1173,7 +1154,7 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     for number, (line, q) in enumerate(item.answer, start=1):
         pe, oe = _target_residual(robot, item.target, q)
         worst = max(worst, pe * units.l)
-        entry = {"set": number, "line": line, "q": _clean(_qdisp(robot, q, units)),
+        entry = {"set": number, "line": line, "q": json_numbers(_qdisp(robot, q, units)),
                  "residual": {"position": pe * units.l,
                               "orientation": None if oe is None else oe * units.a}}
         hit = next((k for k in range(len(sols)) if close(q, sols[k].q)), None) \
@@ -1325,7 +1306,7 @@ def _grade_dh(sheet: Sheet, item: Item) -> ItemResult:
                 text += f" {'+' if off > 0 else '-'} {_fmt(abs(off))}"
             if text != ref:
                 used.append(f"your {ans['variables'][i]} = {text.replace(ref, 'robot ' + ref)}")
-        details.update(signs=_clean(signs), offsets=_clean(offsets * np.where(
+        details.update(signs=json_numbers(signs), offsets=json_numbers(offsets * np.where(
             robot.is_revolute, units.a, units.l)), variables=ans["variables"])
         frames = [w for w, on in (("base", kw["free_base"]), ("tool", kw["free_tool"])) if on]
         msg = (f"right: the table describes {robot.name} (same FK at {DH_SAMPLES} random "

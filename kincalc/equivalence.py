@@ -942,11 +942,11 @@ class CompareResult:
     arguments: tuple = ("", "")
 
     def to_dict(self) -> dict:
-        from .results import SCHEMA_VERSION, _clean, robot_summary
+        from .results import SCHEMA_VERSION, json_numbers, robot_summary
         m, u, ref = self.match, self.units, self.reference
 
         def value(x, scale):
-            return None if x is None or not math.isfinite(x) else _clean(x * scale)
+            return None if x is None or not math.isfinite(x) else json_numbers(x * scale)
 
         evaluated = m.worst_q.size == ref.dof
         return {
@@ -961,9 +961,9 @@ class CompareResult:
             "samples": self.samples,
             "seed": self.seed,
             "tolerance": self.tol,
-            "length_scale": _clean(m.length_scale * u.l),
-            "position_tolerance": _clean(self.tol * m.length_scale * u.l),
-            "orientation_tolerance": _clean(self.tol * u.a),
+            "length_scale": json_numbers(m.length_scale * u.l),
+            "position_tolerance": json_numbers(self.tol * m.length_scale * u.l),
+            "orientation_tolerance": json_numbers(self.tol * u.a),
             "same": m.same,
             "position_error": value(m.position_error, u.l),
             "orientation_error": value(m.orientation_error, u.a),

@@ -55,7 +55,7 @@ def _move(chain, i, cols, p, x):
     return cols, p + cols[2] * x
 
 
-def _walk(chain, q, on_joint=None):
+def walk(chain, q, on_joint=None):
     """Run the chain over ``q (N, n)``; return the final ``(cols, p)``.
 
     ``on_joint(i, cols, p)`` is called with the frame just before joint i's
@@ -72,7 +72,7 @@ def _walk(chain, q, on_joint=None):
     return cols, p
 
 
-def _as_batch(chain, q):
+def joint_batch(chain, q):
     q = np.asarray(q, dtype=float)
     if q.ndim == 0 or q.shape[-1] != chain.dof:
         raise ValueError(f"expected joint values of shape (..., {chain.dof}), got {q.shape}")
@@ -94,7 +94,7 @@ def forward_kinematics(chain, q) -> np.ndarray:
     ndarray (..., 4, 4)
         Pose of the tool frame in the world frame.
     """
-    q, flat = _as_batch(chain, q)
+    q, flat = joint_batch(chain, q)
     N = flat.shape[0]
     if N <= FEW:
         return prefixes_few(chain, flat)[:, -1].reshape(q.shape[:-1] + (4, 4))
@@ -102,7 +102,7 @@ def forward_kinematics(chain, q) -> np.ndarray:
     out[:, 3, 3] = 1.0
     for start in range(0, N, CHUNK):
         sl = slice(start, min(start + CHUNK, N))
-        cols, p = _walk(chain, flat[sl])
+        cols, p = walk(chain, flat[sl])
         for j in range(3):
             out[sl, :3, j] = cols[j].T
         out[sl, :3, 3] = p.T
@@ -216,7 +216,7 @@ def chain_frames(chain, q) -> np.ndarray:
     Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)``; its z axis is joint i's
     axis and it moves with link i.
     """
-    q, flat = _as_batch(chain, q)
+    q, flat = joint_batch(chain, q)
     N, n = flat.shape
     if N <= FEW:
         motions = _motions(chain, _coefficients(chain, flat))

@@ -18,14 +18,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fk import CHUNK, FEW, _as_batch, _walk, prefixes_few
+from .fk import CHUNK, FEW, joint_batch, walk, prefixes_few
 
 
 def jacobian_and_pose(chain, q):
     """``(J_base (..., 6, n), T (..., 4, 4))`` for ``q (..., n)``: the world-frame
     Jacobian of :func:`jacobian_base` and the tool pose, from one walk of the chain (for
     Newton-type searches that need both)."""
-    q, flat = _as_batch(chain, q)
+    q, flat = joint_batch(chain, q)
     N, n = flat.shape
     if N <= FEW:
         J, T = _few(chain, flat)
@@ -41,7 +41,7 @@ def jacobian_and_pose(chain, q):
             axes.append(cols[2])
             points.append(p)
 
-        cols, pe = _walk(chain, flat[sl], on_joint=record)
+        cols, pe = walk(chain, flat[sl], on_joint=record)
         for i in range(n):
             z = axes[i]
             if chain.revolute[i]:

@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .analysis import _check_q
+from .analysis import joint_vector
 from .errors import InputError, MissingExtra, require_extra  # noqa: F401 (MissingExtra: kincalc.plot.MissingExtra)
 from .limits import quote
 from .outputs import as_target, check_target, replacing
@@ -113,7 +113,7 @@ def joint_points(robot, q) -> np.ndarray:
     prismatic joint's point is that origin before the joint's travel, where
     the sliding link leaves the previous one.
     """
-    q = _check_q(robot, q)
+    q = joint_vector(robot, q)
     frames = _frames(robot, q)
     travel = np.where(robot.is_revolute, 0.0, q + robot.chain.offset)
     return frames[:, :3, 3] - frames[:, :3, 2] * travel[:, None]
@@ -137,7 +137,7 @@ def arm_points(robot, q) -> ArmPoints:
         position ``robot.fk(q)[:3, 3]``; ``tool (4, 4)`` ``T_world_tool``;
         ``base (4, 4)`` ``T_world_0``.
     """
-    q = _check_q(robot, q)
+    q = joint_vector(robot, q)
     frames = _frames(robot, q)
     starts = joint_points(robot, q)
     tool = robot.fk(q)

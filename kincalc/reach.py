@@ -66,22 +66,22 @@ class ReachResult:
         return self.verdict in ("reachable", "reachable-singular")
 
     def to_dict(self) -> dict:
-        from .results import _clean, _header
+        from .results import json_numbers, json_header
         u = self.units
-        out = _header("reach", self.robot, u)
+        out = json_header("reach", self.robot, u)
         out["target"] = {"T": u.pose(self.target.T),
                          "orientation_given": bool(self.target.orientation)}
         out.update({
             "reachable": self.reachable,
             "verdict": self.verdict,
             "reason": self.reason,
-            "distance": None if self.distance is None else _clean(self.distance * u.l),
+            "distance": None if self.distance is None else json_numbers(self.distance * u.l),
             "solutions": self.solutions,
             "solutions_within_limits": self.within_limits,
             "method": self.method,
             "nearest": None if self.nearest_q is None else {
                 "q": u.joints(self.robot, self.nearest_q),
-                "position": _clean(self.nearest_position * u.l)},
+                "position": json_numbers(self.nearest_position * u.l)},
             "blocked": self.blocked,
         })
         return out
@@ -182,12 +182,12 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
 
 
 def _violation_dict(robot, v, units) -> dict:
-    from .results import _clean
+    from .results import json_numbers
     i, amount, side = v
     j = robot.joints[i]
     f = units.a if j.revolute else units.l
     limit = robot.limits[i][0 if side == "lower" else 1]
-    return {"joint": j.name, "side": side, "by": _clean(amount * f), "limit": _clean(limit * f)}
+    return {"joint": j.name, "side": side, "by": json_numbers(amount * f), "limit": json_numbers(limit * f)}
 
 
 def _violation_text(robot, v, units) -> str:

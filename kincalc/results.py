@@ -41,18 +41,18 @@ class Units:
         """Joint values in display units (angle for revolute, length for prismatic)."""
         q = np.asarray(q, dtype=float)
         scale = np.where(robot.is_revolute, self.a, self.l)
-        return _clean(q * scale)
+        return json_numbers(q * scale)
 
     def pose(self, T) -> list:
         T = np.array(T, dtype=float)
         T[..., :3, 3] *= self.l
-        return _clean(T)
+        return json_numbers(T)
 
     def to_dict(self) -> dict:
         return {"angle": self.angle, "length": self.length}
 
 
-def _clean(x):
+def json_numbers(x):
     """Nested lists of floats, rounded to 12 decimals (so 29.999999999999996 deg
     entered as 30 reads back as 30.0) and with -0.0 turned into 0.0."""
     arr = np.round(np.asarray(x, dtype=float), 12) + 0.0
@@ -69,7 +69,7 @@ def robot_summary(robot) -> dict:
     }
 
 
-def _header(command: str, robot, units: Units) -> dict:
+def json_header(command: str, robot, units: Units) -> dict:
     return {
         "kincalc": SCHEMA_VERSION,
         "command": command,
@@ -83,13 +83,13 @@ def orientation_dict(R, units: Units) -> dict:
     from . import spatial as sp
     axis, angle = sp.axis_angle_from_matrix(R)
     return {
-        "matrix": _clean(R),
-        "rpy": _clean(sp.rpy_from_matrix(R) * units.a),
-        "euler_zyz": _clean(sp.euler_zyz_from_matrix(R) * units.a),
-        "euler_xyz": _clean(sp.euler_xyz_from_matrix(R) * units.a),
-        "quaternion": _clean(sp.quaternion_from_matrix(R)),
-        "axis_angle": {"axis": _clean(axis), "angle": _clean(float(angle) * units.a)},
-        "rotation_vector": _clean(axis * angle * units.a),
+        "matrix": json_numbers(R),
+        "rpy": json_numbers(sp.rpy_from_matrix(R) * units.a),
+        "euler_zyz": json_numbers(sp.euler_zyz_from_matrix(R) * units.a),
+        "euler_xyz": json_numbers(sp.euler_xyz_from_matrix(R) * units.a),
+        "quaternion": json_numbers(sp.quaternion_from_matrix(R)),
+        "axis_angle": {"axis": json_numbers(axis), "angle": json_numbers(float(angle) * units.a)},
+        "rotation_vector": json_numbers(axis * angle * units.a),
     }
 
 
@@ -118,15 +118,15 @@ class FKResult:
             return None
         w = tcv_from_transform(self.T, self.q[-1])
         w[:3] *= self.units.l
-        return _clean(w)
+        return json_numbers(w)
 
     def to_dict(self) -> dict:
         u = self.units
-        out = _header("fk", self.robot, u)
+        out = json_header("fk", self.robot, u)
         out.update({
             "q": u.joints(self.robot, self.q),
             "T": u.pose(self.T),
-            "position": _clean(self.T[:3, 3] * u.l),
+            "position": json_numbers(self.T[:3, 3] * u.l),
             "orientation": orientation_dict(self.T[:3, :3], u),
             "tcv": self.tcv(),
         })
@@ -194,7 +194,7 @@ class JacobianResult:
         scale = np.where(self.robot.is_revolute, self.units.l, 1.0)
         J[:3, :] *= scale
         # angular rows of prismatic columns are zero; revolute ones are rad/rad
-        return _clean(J)
+        return json_numbers(J)
 
     def to_dict(self) -> dict:
         u = self.units
@@ -205,13 +205,13 @@ class JacobianResult:
         sv = np.linalg.svd(Jv, compute_uv=False)[: self.generic_position_rank]
         sn = self.sigma_normalised
         cond = float("inf") if self.singular or sn[-1] <= 0 else float(sn[0] / sn[-1])
-        out = _header("jacobian", self.robot, u)
+        out = json_header("jacobian", self.robot, u)
         out.update({
             "q": u.joints(self.robot, self.q),
             "frame": self.frame,
             "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
             "J": Jd,
-            "singular_values": _clean(s),
+            "singular_values": json_numbers(s),
             "rank": self.rank,
             "manipulability": float(np.prod(s[: self.generic_rank])),
             "position_manipulability": float(np.prod(sv)),
@@ -225,8 +225,8 @@ class JacobianResult:
             out["singularity"] = {
                 "kinds": list(sg.kinds),
                 "descriptions": list(sg.descriptions),
-                "null_space": None if sg.null_space is None else _clean(sg.null_space),
-                "lost_motion": None if sg.lost_motion is None else _clean(sg.lost_motion),
+                "null_space": None if sg.null_space is None else json_numbers(sg.null_space),
+                "lost_motion": None if sg.lost_motion is None else json_numbers(sg.lost_motion),
             }
         if self.analytic is not None:
             kind, JA = self.analytic

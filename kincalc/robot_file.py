@@ -90,13 +90,15 @@ def read_text(path, shown: str, what: str, error=RobotFileError,
 
 def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
     """Parse the YAML ``text`` of a robot file; ``file`` names it in errors."""
-    root = _compose(text, file)
-    return _Reader(file).robot(root)
+    root = compose_yaml(text, file)
+    return Reader(file).robot(root)
 
 
 # --- YAML with line numbers ----------------------------------------------
 
-def _compose(text: str, file: str):
+def compose_yaml(text: str, file: str):
+    """The node tree of the YAML ``text`` (plain tags only, see :func:`_plain_tags`), for
+    :class:`Reader`; a RobotFileError naming ``file`` and the line for invalid YAML."""
     import yaml
     loader_cls = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     try:
@@ -136,7 +138,7 @@ def _plain_tags(root, file: str):
         seen.add(id(node))
         if node.tag not in PLAIN_TAGS:
             tag = node.tag.replace("tag:yaml.org,2002:", "!!")
-            raise RobotFileError(file, _line(node), f"the tag {quote(tag)} is not allowed "
+            raise RobotFileError(file, node_line(node), f"the tag {quote(tag)} is not allowed "
                                  "(kincalc reads plain YAML: text, numbers, lists, mappings)")
         if isinstance(node, yaml.SequenceNode):
             todo.extend(node.value)
@@ -169,12 +171,16 @@ def _one_line(text: str) -> str:
     return " ".join(text.split())
 
 
-def _line(node) -> int:
+def node_line(node) -> int:
+    """The 1-based line where ``node`` starts."""
     return node.start_mark.line + 1
 
 
-class _Reader:
-    """Walks the node tree, converting and validating as it goes."""
+class Reader:
+    """Walks the node tree, converting and validating as it goes: the one YAML reader
+    with line numbers. Robot files use it as it is; homework sheets
+    (:mod:`kincalc.check`) subclass it. Callers see nodes only through its methods (no
+    other module imports yaml)."""
 
     def __init__(self, file: str):
         self.file = file
@@ -186,7 +192,7 @@ class _Reader:
 
     # errors --------------------------------------------------------------
     def fail(self, node, message: str):
-        line = _line(node) if node is not None else None
+        line = node_line(node) if node is not None else None
         raise RobotFileError(self.file, line, message, self.joint, self.joint_name)
 
     # node kinds ----------------------------------------------------------
@@ -212,6 +218,49 @@ class _Reader:
                 self.fail(node, f"{key!r} is missing"
                           + ("" if what in ("the robot file", "the joint") else f" in {what}"))
         return out
+
+    @staticmethod
+    def is_mapping(node) -> bool:
+        import yaml
+        return isinstance(node, yaml.MappingNode)
+
+    @staticmethod
+    def is_scalar(node) -> bool:
+        import yaml
+        return isinstance(node, yaml.ScalarNode)
+
+    @staticmethod
+    def is_sequence(node) -> bool:
+        import yaml
+        return isinstance(node, yaml.SequenceNode)
+
+    @staticmethod
+    def plain_keys(node) -> dict:
+        """``{key: value node}`` of a mapping node's plain-text keys (others skipped, the
+        last of repeated keys kept), without validation: for a first look at a mapping
+        whose checks depend on one of its entries."""
+        return {k.value: v for k, v in node.value if Reader.is_scalar(k)}
+
+    def names(self, node, what: str):
+        """``(name, value node)`` of each entry of a mapping of plain names, in order (an
+        entry whose key is not a plain name fails when it is reached)."""
+        if not self.is_mapping(node):
+            self.fail(node, f"{what} must be a mapping of names to numbers")
+        for knode, vnode in node.value:
+            if not self.is_scalar(knode):
+                self.fail(knode, f"{what}: keys must be plain names")
+            yield knode.value, vnode
+
+    @staticmethod
+    def put_first(node, key: str, value: str) -> None:
+        """Give the mapping ``node`` the text entry ``key: value`` first, unless it has
+        ``key`` (for a default the reader should treat as written)."""
+        import yaml
+        if any(k.value == key for k, _ in node.value):
+            return
+        mark = node.start_mark
+        node.value.insert(0, (yaml.ScalarNode("tag:yaml.org,2002:str", key, mark, mark),
+                              yaml.ScalarNode("tag:yaml.org,2002:str", value, mark, mark)))
 
     @staticmethod
     def kind(node) -> str:

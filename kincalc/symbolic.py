@@ -231,9 +231,9 @@ class SymbolicJacobian:
 
 
 def _doc_start(command: str, res) -> dict:
-    from .results import Units, _header
+    from .results import Units, json_header
     n = res.notation
-    out = _header(command, res.robot, Units(angle="rad", length=res.length_unit))
+    out = json_header(command, res.robot, Units(angle="rad", length=res.length_unit))
     out["symbolic"] = True
     out["numeric_lengths"] = res.numeric_lengths
     out["joints"] = [{"name": j.name, "type": j.type, "symbol": str(s)}

@@ -352,11 +352,11 @@ class Workspace:
     units: object = None
 
     def to_dict(self) -> dict:
-        from .results import _clean, _header
+        from .results import json_numbers, json_header
         u = self.units
         l, a = u.l, u.a
         e = self.envelope
-        out = _header("workspace", self.robot, u)
+        out = json_header("workspace", self.robot, u)
         vol_unit = {3: "volume", 2: "area", 1: "length"}[self.dim]
         out.update({
             "samples": self.samples,
@@ -364,26 +364,26 @@ class Workspace:
             "joint_ranges": [list(pair) for pair in zip(u.joints(self.robot, self.ranges[0]),
                                                         u.joints(self.robot, self.ranges[1]))],
             "envelope": {
-                "min_distance": _clean(e["min_distance"] * l),
-                "max_distance": _clean(e["max_distance"] * l),
-                "z_min": _clean(e["z_min"] * l),
-                "z_max": _clean(e["z_max"] * l),
+                "min_distance": json_numbers(e["min_distance"] * l),
+                "max_distance": json_numbers(e["max_distance"] * l),
+                "z_min": json_numbers(e["z_min"] * l),
+                "z_max": json_numbers(e["z_max"] * l),
                 "at": {k: u.joints(self.robot, e[k + "_q"])
                        for k in ("min_distance", "max_distance", "z_min", "z_max")},
                 "from": "base frame origin; z in the world frame",
             },
             "dimension": self.dim,
             "measure": vol_unit,
-            "volume": _clean(self.volume * l ** self.dim),
-            "volume_ci95": _clean(np.array(self.volume_ci) * l ** self.dim),
+            "volume": json_numbers(self.volume * l ** self.dim),
+            "volume_ci95": json_numbers(np.array(self.volume_ci) * l ** self.dim),
             "volume_unit": (u.length if self.dim == 1 or u.length == "unitless"
                             else f"{u.length}^{self.dim}"),
-            "grid": {k: (_clean(v * l) if k == "cell" else v) for k, v in self.grid.items()},
-            "dexterous": {k: (_clean(np.asarray(v) * l ** self.dim)
+            "grid": {k: (json_numbers(v * l) if k == "cell" else v) for k, v in self.grid.items()},
+            "dexterous": {k: (json_numbers(np.asarray(v) * l ** self.dim)
                               if k in ("volume", "volume_ci95") and v is not None else
-                              _clean(v) if isinstance(v, float) else v)
+                              json_numbers(v) if isinstance(v, float) else v)
                           for k, v in self.dexterous.items()},
-            "manipulability": {k: _clean(v) if isinstance(v, float) else v
+            "manipulability": {k: json_numbers(v) if isinstance(v, float) else v
                                for k, v in self.manipulability.items()},
         })
         return out

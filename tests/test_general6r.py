@@ -548,12 +548,12 @@ def test_polish_returns_to_the_solutions_and_gives_up_far_away():
     rng = np.random.default_rng(2)
     start = S + rng.uniform(-1e-4, 1e-4, S.shape)
     target = T[None, :3] / data.scale                     # rows 0-2, scaled translation
-    Q, res, moved = _polish(data.terms, np.repeat(target, len(S), 0), start)
+    Q, res, moved = _polish(data.chain, np.repeat(target, len(S), 0), start)
     assert moved.all()
     assert np.all(res < 1e-12)
     assert np.max(np.abs(wrap(Q - S))) < 1e-10
     far = rng.uniform(-np.pi, np.pi, (200, 6))
-    Q, res, _ = _polish(data.terms, np.repeat(target, len(far), 0), far)
+    Q, res, _ = _polish(data.chain, np.repeat(target, len(far), 0), far)
     good = res < 1e-10
     assert not good.all()                                   # most give up
     assert all(_contains(S, q) for q in wrap(Q[good]))      # the rest found real ones

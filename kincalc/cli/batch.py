@@ -846,7 +846,7 @@ def _solutions_json(ql, labels, within, owner, count) -> list:
 
 
 def _round(a):
-    """Arrays as nested lists rounded to 12 decimals, -0.0 as 0.0 (as results._clean)."""
+    """Arrays as nested lists rounded to 12 decimals, -0.0 as 0.0 (as results.json_numbers)."""
     import numpy as np
     return (np.round(a, 12) + 0.0).tolist()
 
@@ -1087,7 +1087,7 @@ def _reach_chunk(robot, units, parsed, frame):
 
     from ..errors import KincalcError
     from ..reach import reach
-    from ..results import _clean
+    from ..results import json_numbers
     from .targets import build_target
     out, no = [], False
     for index, kw, error in parsed:
@@ -1108,7 +1108,7 @@ def _reach_chunk(robot, units, parsed, frame):
         no |= not result.reachable
         out.append({**head, "reachable": result.reachable, "verdict": result.verdict,
                     "distance": None if result.distance is None else
-                    _clean(result.distance * units.l),
+                    json_numbers(result.distance * units.l),
                     "solutions": result.solutions,
                     "solutions_within_limits": result.within_limits,
                     "reason": result.reason})

@@ -113,13 +113,13 @@ class IKResult:
         return reason_text(self.reason, self.robot, self.units)
 
     def to_dict(self) -> dict:
-        from ..results import _clean, _header
+        from ..results import json_numbers, json_header
         from ..words import dead_end_texts, reason_text
         u = self.units
-        out = _header("ik", self.robot, u)
+        out = json_header("ik", self.robot, u)
         out["target"] = {"T": u.pose(self.target.T), "orientation_given": self.target.orientation}
         if self.target.approach is not None:
-            out["target"]["approach"] = _clean(np.asarray(self.target.approach, float))
+            out["target"]["approach"] = json_numbers(np.asarray(self.target.approach, float))
         out.update({
             "reachable": self.reachable,
             "reason": self.reason_text,
@@ -133,9 +133,9 @@ class IKResult:
             out["rejected"] = [
                 {"q": u.joints(self.robot, r["q"]), "branch": r["branch"],
                  "reason": reason_text(r["reason"], self.robot, u),
-                 "residual": {"position": _clean(r["position_error"] * u.l),
+                 "residual": {"position": json_numbers(r["position_error"] * u.l),
                               "orientation": None if r["orientation_error"] is None
-                              else _clean(r["orientation_error"] * u.a)}}
+                              else json_numbers(r["orientation_error"] * u.a)}}
                 for r in self.rejected]
             if self.note:
                 out["rejected_note"] = self.note
@@ -144,18 +144,18 @@ class IKResult:
         return out
 
     def _sol(self, s: IKSolution) -> dict:
-        from ..results import _clean
+        from ..results import json_numbers
         u = self.units
         names = [j.name for j in self.robot.joints]
         d = {
             "q": u.joints(self.robot, s.q),
             "branch": s.branch,
-            "residual": {"position": _clean(s.position_error * u.l),
+            "residual": {"position": json_numbers(s.position_error * u.l),
                          "orientation": None if s.orientation_error is None
-                         else _clean(s.orientation_error * u.a)},
+                         else json_numbers(s.orientation_error * u.a)},
             "within_limits": s.within_limits,
             "violations": [{"joint": names[i], "side": side,
-                            "by": _clean(amount * (u.a if self.robot.joints[i].revolute else u.l))}
+                            "by": json_numbers(amount * (u.a if self.robot.joints[i].revolute else u.l))}
                            for i, amount, side in s.violations],
             "singular": s.singular,
             "singularity": s.singularity,
@@ -169,14 +169,14 @@ class IKResult:
         return d
 
     def _unit(self, v, kind):
-        from ..results import _clean
+        from ..results import json_numbers
         u = self.units
         if kind.startswith("joint:"):
             kind = "angle" if self.robot.joints[int(kind[6:])].revolute else "length"
         f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
         if isinstance(v, str):
             return v
-        return _clean(np.asarray(v, float) * (1.0 if f is None else f))
+        return json_numbers(np.asarray(v, float) * (1.0 if f is None else f))
 
 
 def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
