@@ -27,7 +27,7 @@ Python API
 >>> J = robot.jacobian([[0.1] * 6] * 10)      # (10, 6, 6): batched
 """
 
-__version__ = "0.1.0"
+from .version import __version__  # noqa: E402
 
 __all__ = ["load_robot", "parse_robot_text", "Robot", "Joint", "KincalcError",
            "fk_report", "jacobian_report", "__version__"]

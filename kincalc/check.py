@@ -1129,6 +1129,7 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     from .ik.solve import solve, violation_list
+    from .words import reason_text
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     res = solve(robot, item.target, all_branches=True, units=units)
@@ -1193,7 +1194,7 @@ def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         truth = (f"{robot.name} has no closed-form IK in kincalc: each set is checked by FK, "
                  "and sets you did not list cannot be named")
     elif not sols:
-        truth = f"the target is not reachable ({res.reason_text})"
+        truth = f"the target is not reachable ({reason_text(res.reason, robot, units)})"
     else:
         truth = (f"the target has {len(required)} solution{'s' if len(required) != 1 else ''}"
                  + (" within the limits" if item.limits and len(required) != len(sols) else ""))

@@ -216,10 +216,11 @@ class Robot:
     def ik(self, T, orientation: bool = True, **options):
         """Every inverse-kinematics solution for the tool pose ``T`` (4, 4), SI, world frame.
 
-        Returns the :class:`~kincalc.ik.IKResult` the CLI renders; its
-        ``solutions`` each carry ``q`` (rad / m), ``branch``, FK residuals, limit
-        violations and singularity. ``orientation=False`` asks for the position
-        only (for robots that do not control orientation).
+        Returns an :class:`~kincalc.ik.IKResult` (:func:`kincalc.results.ik_document`
+        renders it); its ``solutions`` each carry ``q`` (rad / m), ``branch``, FK
+        residuals, limit violations, the singular flag and the joints the target leaves
+        undetermined, and ``reason`` says why, as data. ``orientation=False`` asks for the
+        position only (for robots that do not control orientation).
         """
         from .ik import Target, solve
         return solve(self, Target(np.asarray(T, float), orientation), **options)

@@ -40,7 +40,7 @@ import numpy as np
 from .ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
                          where_outside)
 from .ik.reasons import OrientationOut
-from .words import count_text, length, length_suffix, reason_text
+from .words import count_text, length, length_suffix, reason_text, singularity_text
 
 
 
@@ -107,7 +107,7 @@ def reach(robot, target, *, units=None) -> ReachResult:
 
     if inside:
         if all(s.singular for s in inside):
-            why = inside[0].singularity or "the Jacobian loses rank"
+            why = singularity_text(robot, inside[0]) or "the Jacobian loses rank"
             every = "at" if len(inside) == 1 else "every one of them at"
             return ReachResult(verdict="reachable-singular", distance=0.0, **common,
                                reason=f"{count_text(len(sols), len(inside))}, {every} a singular "
@@ -125,10 +125,10 @@ def reach(robot, target, *, units=None) -> ReachResult:
 
     if dist <= POSITION_TOL * L:
         if res.family == "numerical":
-            return ReachResult(verdict="not-found", distance=0.0, reason=res.reason_text + (
+            return ReachResult(verdict="not-found", distance=0.0, reason=reason_text(res.reason, robot, units) + (
                 "; the position itself is within reach"), **near, **common)
         if isinstance(res.reason, OrientationOut):
-            reason = res.reason_text
+            reason = reason_text(res.reason, robot, units)
         else:
             reason = ("the position is reachable but this orientation is not: no "
                       "configuration within the limits takes the tool there with it")

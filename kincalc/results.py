@@ -236,3 +236,75 @@ class JacobianResult:
                 "error": self.analytic_error,
             }
         return out
+
+
+def ik_document(result) -> dict:
+    """The JSON document of an IK answer (:class:`~kincalc.ik.solve.IKResult`), in its
+    units (the robot file's when it has none): what ``kincalc ik --json`` prints and the
+    tables show."""
+    from .words import dead_end_texts, reason_text
+    robot = result.robot
+    u = result.units or Units(length=robot.length_unit)
+    out = json_header("ik", robot, u)
+    out["target"] = {"T": u.pose(result.target.T),
+                     "orientation_given": result.target.orientation}
+    if result.target.approach is not None:
+        out["target"]["approach"] = json_numbers(np.asarray(result.target.approach, float))
+    out.update({
+        "reachable": result.reachable,
+        "reason": reason_text(result.reason, robot, u),
+        "method": {"family": result.family, "description": result.method,
+                   "controls": result.controls},
+        "count": len(result.solutions),
+        "near": None if result.near is None else u.joints(robot, result.near),
+        "solutions": [_ik_solution(robot, s, u) for s in result.solutions],
+    })
+    if result.rejected is not None:
+        out["rejected"] = [
+            {"q": u.joints(robot, r["q"]), "branch": r["branch"],
+             "reason": reason_text(r["reason"], robot, u),
+             "residual": {"position": json_numbers(r["position_error"] * u.l),
+                          "orientation": None if r["orientation_error"] is None
+                          else json_numbers(r["orientation_error"] * u.a)}}
+            for r in result.rejected]
+        if result.note:
+            out["rejected_note"] = result.note
+    if result.dead_ends is not None:
+        out["dead_ends"] = dead_end_texts(result.dead_ends, robot, u)
+    return out
+
+
+def _ik_solution(robot, s, u: Units) -> dict:
+    from .words import singularity_text
+    names = [j.name for j in robot.joints]
+    d = {
+        "q": u.joints(robot, s.q),
+        "branch": s.branch,
+        "residual": {"position": json_numbers(s.position_error * u.l),
+                     "orientation": None if s.orientation_error is None
+                     else json_numbers(s.orientation_error * u.a)},
+        "within_limits": s.within_limits,
+        "violations": [{"joint": names[i], "side": side,
+                        "by": json_numbers(amount * (u.a if robot.joints[i].revolute else u.l))}
+                       for i, amount, side in s.violations],
+        "singular": s.singular,
+        "singularity": singularity_text(robot, s),
+        "continuum": None if s.continuum is None else s.continuum.text(names, u.angle, u.a),
+    }
+    if s.change is not None:
+        d["change_from_near"] = u.joints(robot, s.change)
+    if s.trace:
+        d["trace"] = [{"step": k, "value": _trace_value(robot, v, kind, u)}
+                      for k, v, kind in s.trace]
+    return d
+
+
+def _trace_value(robot, v, kind: str, u: Units):
+    """An intermediate quantity of ``--explain`` in display units (``kind``: length,
+    length2, angle, joint:i, or anything else for a pure number)."""
+    if isinstance(v, str):
+        return v
+    if kind.startswith("joint:"):
+        kind = "angle" if robot.joints[int(kind[6:])].revolute else "length"
+    f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
+    return json_numbers(np.asarray(v, float) * (1.0 if f is None else f))

@@ -151,3 +151,20 @@ def dead_end_texts(dead_ends, robot, units) -> list:
         if text not in out:
             out.append(text)
     return out
+
+
+def singularity_text(robot, solution) -> str | None:
+    """What makes an IK solution singular (:class:`~kincalc.ik.solve.IKSolution`): the
+    Jacobian's singularity at its joints (:func:`kincalc.analysis.jacobian_report`) and the
+    joints the target leaves undetermined; None when it is not singular."""
+    parts = []
+    if solution.singular:
+        from .analysis import jacobian_report
+        rep = jacobian_report(robot, solution.q)
+        if rep.singularity is not None:
+            parts.append("; ".join(rep.singularity.descriptions))
+    if solution.free:
+        parts.append("undetermined at this target: "
+                     + ", ".join(robot.joints[i].name for i in solution.free)
+                     + " (a representative value is shown)")
+    return "; ".join(parts) or None

@@ -12,6 +12,7 @@ from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.ik.families import classify
 from kincalc.ik.reasons import OrientationOut, OutOfReach
+from kincalc.results import ik_document
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
@@ -232,7 +233,7 @@ def test_unreachable_target_says_why():
     # the reason is data (SI), worded at the edge
     assert isinstance(res.reason, OutOfReach) and res.reason.outside.where == "beyond-outer-reach"
     assert res.reason.outside.target == pytest.approx(np.linalg.norm(T[:3, 3] - r.base[:3, 3]))
-    assert "beyond the outer reach" in res.reason_text
+    assert "beyond the outer reach" in ik_document(res)["reason"]
 
 
 def test_wrist_singular_target_gives_a_representative_and_the_continuum():
@@ -442,7 +443,7 @@ def test_five_joint_arm_with_an_unreachable_roll_says_so():
     res = solve(r, Target(T))
     assert not res.reachable and res.solutions == []
     assert isinstance(res.reason, OrientationOut) and len(res.reason.rolls) == 2
-    text = res.reason_text
+    text = ik_document(res)["reason"]
     assert "orientation is not" in text and "controls position and approach" in text
     # The reason quotes facts of the family's own solutions: every solution that reaches the
     # position and the approach, with the roll it leaves (measured here from FK's x axes).
@@ -489,7 +490,7 @@ def test_all_branches_says_why_a_branch_has_no_real_angle():
     value = (w @ w - a2 ** 2 - a3 ** 2 - d3 ** 2 - d4 ** 2) / (2 * a2 * np.hypot(a3, d4))
     assert d.joint == 2 and d.need == pytest.approx(value, rel=1e-9) and abs(d.need) > 1
     assert abs(wrap(d.phase + np.arctan2(d4, a3))) < 1e-9
-    text = res.to_dict()["dead_ends"][0]          # worded at the edge, in degrees
+    text = ik_document(res)["dead_ends"][0]          # worded at the edge, in degrees
     m = re.search(r"cos\(q3 - (-?[0-9.]+) deg\) would have to be (-?[0-9.]+)", text)
     assert m, text
     assert float(m.group(2)) == pytest.approx(value, rel=1e-3)

@@ -38,7 +38,7 @@ def perturbed(robot: Robot, rng, size: float) -> Robot:
 def assert_complete(robot, q, T, res, approach=False):
     L = max(1.0, robot.characteristic_length)
     assert res.reachable or not any(s.within_limits for s in res.solutions)
-    assert res.solutions, (robot.name, res.family, res.reason_text)
+    assert res.solutions, (robot.name, res.family, res.reason)
     for s in res.solutions:
         Tq = robot.fk(s.q)
         assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) <= 1e-9 * L, res.method
@@ -46,7 +46,7 @@ def assert_complete(robot, q, T, res, approach=False):
             assert np.abs(Tq[:3, :3] - T[:3, :3]).max() <= 1e-9, res.method
     if not approach:
         assert any(close(s.q, q, robot, 1e-6 * L) for s in res.solutions), \
-            (robot.name, res.family, res.reason_text)
+            (robot.name, res.family, res.reason)
 
 
 @pytest.mark.parametrize("size", SIZES)

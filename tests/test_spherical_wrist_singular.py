@@ -31,6 +31,7 @@ from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.library import bundled_names
 from kincalc.model import Joint, Robot
+from kincalc.words import singularity_text
 
 WRIST = (3, 4, 5)                # 0-based joints of the wrist (forward chains)
 REVERSED_WRIST = (0, 1, 2)       # ... and of a reversed chain (the wrist is at the base)
@@ -211,7 +212,7 @@ def check_singular_pose(r, q, T, sols, wrist=WRIST):
             continue
         free = [x for x in outer if f"({x} free)" in s.branch]
         assert s.singular and len(free) == 1, s.branch
-        assert free[0] in s.singularity
+        assert [r.joints[i].name for i in s.free] == free and free[0] in singularity_text(r, s)
         c = s.continuum
         assert c is not None and {c.i, c.j} == {wrist[0], wrist[2]}
         assert abs(wrap(s.q[c.i] + c.sign * s.q[c.j] - c.total)) < 1e-9

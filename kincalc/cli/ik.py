@@ -144,7 +144,8 @@ def ik(
         q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
     result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
                    near=q_near, numeric=numeric)
-    doc = result.to_dict()
+    from ..results import ik_document
+    doc = ik_document(result)
     if plot_to is not None:
         doc["plot"] = _plot_solutions(rob, result, plot_to, units, dpi)
     output(doc, json, _tables, rob, precision, explain)

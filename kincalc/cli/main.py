@@ -14,7 +14,7 @@ import click
 import typer
 from typer.core import TyperGroup
 
-from .. import __version__
+from ..version import __version__
 
 from .common import NUMERIC_ARGS
 

@@ -56,7 +56,7 @@ def quiz(
     """
     import sys
 
-    from .. import __version__
+    from ..version import __version__
     from ..quiz import KINDS, make_sheet, sheet_yaml, skipped
     kinds = [k.strip() for k in items.split(",") if k.strip()]
     if not kinds:

@@ -80,7 +80,8 @@ class IKSolution:
     within_limits: bool
     violations: list          # (joint index, amount beyond the limit, 'lower'|'upper'), SI
     singular: bool
-    singularity: str | None
+    #: joints the target leaves undetermined (indices; a representative value is shown)
+    free: tuple = ()
     continuum: object = None      # the relation left free at a singularity (Continuum, ...)
     trace: list = field(default_factory=list)
     #: change from the --near configuration (n,), rad / m, when one was given
@@ -105,78 +106,7 @@ class IKResult:
     near: np.ndarray | None = None
     #: with all_branches: why each branch that found nothing found nothing (``NoRoot``)
     dead_ends: list | None = None
-
-    @property
-    def reason_text(self) -> str:
-        """:attr:`reason` in words, in the result's units."""
-        from ..words import reason_text
-        return reason_text(self.reason, self.robot, self.units)
-
-    def to_dict(self) -> dict:
-        from ..results import json_numbers, json_header
-        from ..words import dead_end_texts, reason_text
-        u = self.units
-        out = json_header("ik", self.robot, u)
-        out["target"] = {"T": u.pose(self.target.T), "orientation_given": self.target.orientation}
-        if self.target.approach is not None:
-            out["target"]["approach"] = json_numbers(np.asarray(self.target.approach, float))
-        out.update({
-            "reachable": self.reachable,
-            "reason": self.reason_text,
-            "method": {"family": self.family, "description": self.method,
-                       "controls": self.controls},
-            "count": len(self.solutions),
-            "near": None if self.near is None else u.joints(self.robot, self.near),
-            "solutions": [self._sol(s) for s in self.solutions],
-        })
-        if self.rejected is not None:
-            out["rejected"] = [
-                {"q": u.joints(self.robot, r["q"]), "branch": r["branch"],
-                 "reason": reason_text(r["reason"], self.robot, u),
-                 "residual": {"position": json_numbers(r["position_error"] * u.l),
-                              "orientation": None if r["orientation_error"] is None
-                              else json_numbers(r["orientation_error"] * u.a)}}
-                for r in self.rejected]
-            if self.note:
-                out["rejected_note"] = self.note
-        if self.dead_ends is not None:
-            out["dead_ends"] = dead_end_texts(self.dead_ends, self.robot, u)
-        return out
-
-    def _sol(self, s: IKSolution) -> dict:
-        from ..results import json_numbers
-        u = self.units
-        names = [j.name for j in self.robot.joints]
-        d = {
-            "q": u.joints(self.robot, s.q),
-            "branch": s.branch,
-            "residual": {"position": json_numbers(s.position_error * u.l),
-                         "orientation": None if s.orientation_error is None
-                         else json_numbers(s.orientation_error * u.a)},
-            "within_limits": s.within_limits,
-            "violations": [{"joint": names[i], "side": side,
-                            "by": json_numbers(amount * (u.a if self.robot.joints[i].revolute else u.l))}
-                           for i, amount, side in s.violations],
-            "singular": s.singular,
-            "singularity": s.singularity,
-            "continuum": None if s.continuum is None else s.continuum.text(
-                names, u.angle, u.a),
-        }
-        if s.change is not None:
-            d["change_from_near"] = u.joints(self.robot, s.change)
-        if s.trace:
-            d["trace"] = [{"step": k, "value": self._unit(v, kind)} for k, v, kind in s.trace]
-        return d
-
-    def _unit(self, v, kind):
-        from ..results import json_numbers
-        u = self.units
-        if kind.startswith("joint:"):
-            kind = "angle" if self.robot.joints[int(kind[6:])].revolute else "length"
-        f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
-        if isinstance(v, str):
-            return v
-        return json_numbers(np.asarray(v, float) * (1.0 if f is None else f))
+    # rendered by kincalc.results.ik_document (JSON and tables) and kincalc.words
 
 
 def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
@@ -188,8 +118,6 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     robot no analytic family covers) finds the one solution nearest ``near``
     numerically (:mod:`kincalc.ik.numeric`).
     """
-    from ..results import Units
-    units = units or Units(length=robot.length_unit)
     S, family, why = plan(robot)
     if near is not None:
         near = np.asarray(near, float).reshape(robot.dof)
@@ -228,7 +156,6 @@ def _solutions(robot, sv: Solved, explain: bool):
     """``(solutions, rejected candidates)`` of the engine's single target."""
     oe_given = not np.isnan(sv.orientation_error[0]).all()
     sols, rejected = [], []
-    names = [j.name for j in robot.joints]
     for k in np.flatnonzero(sv.candidate[0]).tolist():
         q = sv.q[0, k].copy()
         pe = float(sv.position_error[0, k])
@@ -239,15 +166,10 @@ def _solutions(robot, sv: Solved, explain: bool):
                                  "orientation_error": oe, "reason": Missed(pe, oe)})
             continue
         viol = _violation_list(sv.violation[0, k])
-        sing = bool(sv.singular[0, k])
-        desc = _singularity(robot, q)[1] if sing else None
-        free = np.flatnonzero(sv.free[0, k]).tolist()
-        if free:
-            desc = (desc + "; " if desc else "") + "undetermined at this target: " + ", ".join(
-                names[i] for i in free) + " (a representative value is shown)"
+        free = tuple(np.flatnonzero(sv.free[0, k]).tolist())
         sols.append(IKSolution(q=q, branch=sv.labels[0, k], position_error=pe,
                                orientation_error=oe, within_limits=not viol, violations=viol,
-                               singular=sing, singularity=desc,
+                               singular=bool(sv.singular[0, k]), free=free,
                                continuum=_continuum(robot, sv, k) if free else None,
                                trace=_trace(sv, k) if explain else []))
     return sols, rejected
@@ -369,12 +291,10 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
         viol = _violation_list(violations(robot, q))
         F = chain_frames(robot.chain, q[None])
         sing = bool(singular(robot, q[None], F, F[:, -1] @ robot.chain.fixed[-1])[0])
-        desc = _singularity(robot, q)[1] if sing else None
         sols.append(IKSolution(q=q, branch="nearest the start" if near is not None else
                                "nearest home", position_error=res.position_error,
                                orientation_error=res.orientation_error,
                                within_limits=not viol, violations=viol, singular=sing,
-                               singularity=desc,
                                change=None if near is None else q - near))
         reason = NumericFound(res.restarts)
     else:
@@ -386,14 +306,6 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
     return IKResult(robot=robot, target=target, family="numerical", method=method,
                     controls=controls, solutions=sols, reachable=reachable, reason=reason,
                     units=units, near=near)
-
-
-def _singularity(robot, q):
-    from ..analysis import jacobian_report
-    rep = jacobian_report(robot, q)
-    if rep.singularity is None:
-        return False, None
-    return True, "; ".join(rep.singularity.descriptions)
 
 
 def _reason(robot, family, T, target, sols, rejected):

@@ -1,0 +1,206 @@
+"""The house plan: which room of kincalc does what, and what each may import.
+
+Rooms are layers, bottom up; a module imports only from its own layer or below, at
+module level or inside a function alike (an import hidden in a function is still an
+edge of the graph). The rules, each a test below:
+
+1. no upward import (``LAYERS``), except the edges listed in ``NOT_YET``, which are
+   the known ones still to be taken down (the list may only shrink: an entry that no
+   longer occurs fails the test, so it is deleted when its edge is);
+2. no import of another kincalc module's underscore name;
+3. typer, rich and click only in ``kincalc.cli``;
+4. yaml only in the one YAML reader, ``kincalc.robot_file``;
+5. matplotlib and sympy never at module level (optional extras, imported where used).
+
+Read with ``ast``: nothing is imported to check it.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "kincalc"
+
+#: the layers, bottom up: (name, what lives there, module prefixes)
+LAYERS = [
+    ("base", "the version, exceptions, named tolerances, units, input limits",
+     ["kincalc.version", "kincalc.errors", "kincalc.tolerances", "kincalc.units",
+      "kincalc.limits"]),
+    ("geometry", "rotations and rigid transforms", ["kincalc.spatial"]),
+    ("model", "the robot and its chain, as data", ["kincalc.model"]),
+    ("evaluation", "forward kinematics, Jacobians, the axes' structure",
+     ["kincalc.fk", "kincalc.jacobian", "kincalc.structure"]),
+    ("conventions", "dh / mdh / poe, the robot-file reader and writer, the library",
+     ["kincalc.conventions", "kincalc.robot_file", "kincalc.robot_writer",
+      "kincalc.library"]),
+    ("subproblems", "Paden-Kahan subproblems 1-6, batched", ["kincalc.subproblems"]),
+    ("ik", "the one IK engine", ["kincalc.ik"]),
+    ("analysis", "reports and their words, reach, workspace, compare, formulas, plots, "
+                 "output files",
+     ["kincalc.analysis", "kincalc.results", "kincalc.words", "kincalc.reach",
+      "kincalc.workspace", "kincalc.equivalence", "kincalc.symbolic", "kincalc.plot",
+      "kincalc.outputs"]),
+    ("homework", "sheets, grading, quizzes", ["kincalc.check", "kincalc.quiz"]),
+    ("cli", "the command line", ["kincalc.cli"]),
+    ("front door", "the package's lazy facade and `python -m kincalc`",
+     ["kincalc", "kincalc.__main__"]),
+]
+
+#: upward edges still to be taken down: (importer, imported) -> why it is there today
+NOT_YET = {
+    ("kincalc.model", "kincalc.fk"): "Robot.fk and Robot.chain's users (the Python API's "
+                                     "front door on the data class)",
+    ("kincalc.model", "kincalc.jacobian"): "Robot.jacobian, Robot.generic_ranks",
+    ("kincalc.model", "kincalc.ik"): "Robot.ik (Target)",
+    ("kincalc.model", "kincalc.ik.solve"): "Robot.ik",
+    ("kincalc.model", "kincalc.ik.engine"): "Robot.ik_batch",
+}
+
+EXTERNAL_ROOMS = {"typer": "kincalc.cli", "rich": "kincalc.cli", "click": "kincalc.cli",
+                  "yaml": "kincalc.robot_file"}
+NEVER_AT_MODULE_LEVEL = {"matplotlib", "sympy"}
+
+
+def _modules():
+    out = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+MODULES = _modules()
+
+
+def _layer(module: str) -> int:
+    best, length = None, -1
+    for i, (_, _, prefixes) in enumerate(LAYERS):
+        for p in prefixes:
+            if (module == p or module.startswith(p + ".")) and len(p) > length:
+                best, length = i, len(p)
+    assert best is not None, f"{module} is in no layer of the house plan"
+    return best
+
+
+def _resolve(name: str) -> str | None:
+    """The kincalc module ``name`` names (a name inside a module resolves to the module)."""
+    while name:
+        if name in MODULES:
+            return name
+        name = name.rpartition(".")[0]
+    return None
+
+
+def _imports(module: str):
+    """``(imported module or external top-level name, names taken, line, at module
+    level)`` of every import statement of ``module``."""
+    path = MODULES[module]
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    top_level = {id(n) for n in tree.body}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name, [], node.lineno, id(node) in top_level
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            names = [a.name for a in node.names]
+            # "from . import x" imports the module x when there is one
+            subs = [f"{target}.{n}" for n in names if f"{target}.{n}" in MODULES]
+            if subs:
+                for s in subs:
+                    yield s, [], node.lineno, id(node) in top_level
+                names = [n for n in names if f"{target}.{n}" not in MODULES]
+                if not names:
+                    continue
+            yield target, names, node.lineno, id(node) in top_level
+
+
+def _shown(path: Path) -> str:
+    try:
+        return str(path.relative_to(PACKAGE.parent))
+    except ValueError:
+        return str(path)
+
+
+def _edges():
+    for module in MODULES:
+        for target, names, line, top in _imports(module):
+            yield module, target, names, line, top
+
+
+def test_every_module_has_a_room():
+    for module in MODULES:
+        _layer(module)
+
+
+def test_no_module_imports_upward():
+    found, upward = set(), []
+    for module, target, _, line, _ in _edges():
+        imported = _resolve(target) if target.startswith("kincalc") else None
+        if imported is None or _layer(imported) <= _layer(module):
+            continue
+        if (module, imported) in NOT_YET:
+            found.add((module, imported))
+            continue
+        upward.append(f"{_shown(MODULES[module])}:{line}: {module} "
+                      f"({LAYERS[_layer(module)][0]}) imports {imported} "
+                      f"({LAYERS[_layer(imported)][0]})")
+    assert not upward, "imports upward:\n" + "\n".join(upward)
+    gone = set(NOT_YET) - found
+    assert not gone, f"taken down, delete from NOT_YET: {sorted(gone)}"
+
+
+def test_no_underscore_names_across_modules():
+    bad = []
+    for module, target, names, line, _ in _edges():
+        imported = _resolve(target) if target.startswith("kincalc") else None
+        if imported is None or imported == module:
+            continue
+        private = [n for n in names if n.startswith("_") and not n.startswith("__")]
+        if imported != target:              # "import kincalc.x._y" or "from .x._y import"
+            private += [p for p in target[len(imported) + 1:].split(".") if p.startswith("_")]
+        if private:
+            bad.append(f"{module}:{line} takes {', '.join(private)} from {imported}")
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("library", sorted(EXTERNAL_ROOMS))
+def test_external_libraries_stay_in_their_room(library):
+    room = EXTERNAL_ROOMS[library]
+    bad = [f"{module}:{line}" for module, target, _, line, _ in _edges()
+           if target.split(".")[0] == library
+           and not (module == room or module.startswith(room + "."))]
+    assert not bad, f"{library} outside {room}: {bad}"
+
+
+@pytest.mark.parametrize("library", sorted(NEVER_AT_MODULE_LEVEL))
+def test_optional_extras_are_imported_where_used(library):
+    bad = [f"{module}:{line}" for module, target, _, line, top in _edges()
+           if top and target.split(".")[0] == library]
+    assert not bad, f"{library} imported at module level: {bad}"
+
+
+def test_the_version_is_the_projects():
+    import re
+    project = (PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8")
+    wanted = re.search(r'^version = "([^"]+)"', project, re.M).group(1)
+    assert f'__version__ = "{wanted}"' in (PACKAGE / "version.py").read_text(encoding="utf-8")
+
+
+def test_the_plan_catches_an_upward_import(tmp_path, monkeypatch):
+    """The checker itself: a module of the geometry layer importing the engine is found."""
+    fake = PACKAGE / "spatial.py"
+    source = fake.read_text(encoding="utf-8") + "\n\ndef _probe():\n    from .ik import engine\n"
+    probe = tmp_path / "spatial.py"
+    probe.write_text(source, encoding="utf-8")
+    monkeypatch.setitem(MODULES, "kincalc.spatial", probe)
+    with pytest.raises(AssertionError, match="kincalc.spatial .geometry. imports "
+                                             "kincalc.ik.engine .ik."):
+        test_no_module_imports_upward()
