@@ -49,15 +49,18 @@ class Screws:
         Computed on components (``(3, M)``: each operation runs along the batch, where
         ``(M, 3)`` arrays broadcast against ``(M, 1)`` factors cost several times
         more); the result is a ``(..., 3)`` view of that layout."""
-        v = np.asarray(v, float)
-        shape = np.broadcast_shapes(v.shape[:-1], np.shape(c), np.shape(s))
-        v = np.broadcast_to(v, shape + (3,)).reshape(-1, 3)
-        B = self.rodrigues(i) @ v.T                                      # (9, M)
+        v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
+        shape = v.shape[:-1]
+        if c.shape != shape or s.shape != shape:
+            shape = np.broadcast_shapes(shape, c.shape, s.shape)
+            v = np.broadcast_to(v, shape + (3,))
+            c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
+        B = self.rodrigues(i) @ v.reshape(-1, 3).T                       # (9, M)
         out = B[3:6]
-        out *= np.broadcast_to(c, shape).reshape(-1)
+        out *= c.reshape(-1)
         out += B[0:3]
         sk = B[6:9]
-        sk *= np.broadcast_to(s, shape).reshape(-1)
+        sk *= s.reshape(-1)
         out += sk
         return out.T.reshape(shape + (3,))
 
