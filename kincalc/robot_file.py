@@ -179,7 +179,7 @@ def node_line(node) -> int:
 class Reader:
     """Walks the node tree, converting and validating as it goes: the one YAML reader
     with line numbers. Robot files use it as it is; homework sheets
-    (:mod:`kincalc.check`) subclass it. Callers see nodes only through its methods (no
+    (:mod:`kincalc.homework.sheet`) subclass it. Callers see nodes only through its methods (no
     other module imports yaml)."""
 
     def __init__(self, file: str):

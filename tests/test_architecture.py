@@ -41,7 +41,7 @@ LAYERS = [
      ["kincalc.analysis", "kincalc.results", "kincalc.words", "kincalc.reach",
       "kincalc.workspace", "kincalc.equivalence", "kincalc.symbolic", "kincalc.plot",
       "kincalc.outputs"]),
-    ("homework", "sheets, grading, quizzes", ["kincalc.check", "kincalc.quiz"]),
+    ("homework", "sheets, grading, quizzes", ["kincalc.homework"]),
     ("cli", "the command line", ["kincalc.cli"]),
     ("front door", "the package's lazy facade and `python -m kincalc`",
      ["kincalc", "kincalc.__main__"]),

@@ -32,7 +32,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from kincalc.check import SheetError, grade, load_sheet, parse_sheet
+from kincalc.homework import SheetError, grade, load_sheet, parse_sheet
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -915,7 +915,7 @@ def test_default_tolerances_reported_and_used(tmp_path):
     # on a radian sheet the default angle tolerance is 0.1 deg in rad
     rad = parse_sheet(sheet_text(fk_item("{xyz: [12.9904, 2.5, 0]}", q="[0.5236, -1.0472]"),
                                  head="units: {angle: rad}\n"), "hw.yaml", ".")
-    from kincalc.check import Report
+    from kincalc.homework import Report
     t = Report(rad, []).to_dict()["tolerance"]
     assert t["angle"] == pytest.approx(math.radians(0.1), rel=0.05)
 
@@ -1314,7 +1314,7 @@ def test_redundant_arm_ik_sets_are_checked_by_fk_and_none_called_missed():
 # ---------------------------------------------------------------------------
 # Sheets are untrusted input (issue 14): the robot: rule, limits, quotes cut
 
-from kincalc.check import sheet_robot_path  # noqa: E402
+from kincalc.homework import sheet_robot_path  # noqa: E402
 from kincalc.errors import InputError  # noqa: E402
 from kincalc.limits import MAX_FILE_BYTES, MAX_IK_SETS, MAX_QUOTE, MAX_SHEET_ITEMS  # noqa: E402
 

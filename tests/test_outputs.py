@@ -281,14 +281,14 @@ def test_writer_checks_before_any_work(folder, monkeypatch):
     """A refused file costs nothing: workspace does not sample, convert does not
     convert, quiz does not draw."""
     import kincalc.conventions
-    import kincalc.quiz
+    import kincalc.homework.quiz
     import kincalc.workspace
 
     def boom(*a, **k):
         raise AssertionError("work done before the output was checked")
     monkeypatch.setattr(kincalc.workspace, "analyse", boom)
     monkeypatch.setattr(kincalc.conventions, "convert", boom)
-    monkeypatch.setattr(kincalc.quiz, "make_sheet", boom)
+    monkeypatch.setattr(kincalc.homework.quiz, "make_sheet", boom)
     for argv, _ in WRITERS[2:]:
         status, _, err = run(_argv(argv, _existing(argv)), folder)
         assert status == 2 and "the file exists" in err, err

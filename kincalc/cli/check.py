@@ -44,7 +44,7 @@ def check(
     """
     import os
 
-    from ..check import grade, load_sheet
+    from ..homework import grade, load_sheet
     from ..errors import InputError, KincalcError
     dirs = list(robots_dir or [])
     for d in dirs:

@@ -57,7 +57,7 @@ def quiz(
     import sys
 
     from ..version import __version__
-    from ..quiz import KINDS, make_sheet, sheet_yaml, skipped
+    from ..homework.quiz import KINDS, make_sheet, sheet_yaml, skipped
     kinds = [k.strip() for k in items.split(",") if k.strip()]
     if not kinds:
         raise InputError(f"--items: give at least one kind ({', '.join(KINDS)})")

@@ -43,7 +43,7 @@ import re
 
 import numpy as np
 
-from .errors import InputError, KincalcError
+from ..errors import InputError, KincalcError
 
 #: every kind of exercise, in the order of the sheet format's specification
 KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
@@ -81,7 +81,7 @@ def skipped(robot, kinds) -> list[tuple[str, str]]:
             out.append(("dh", f"{robot.name} is defined by a product of exponentials, so it "
                               "has no DH table of its own"))
         if kind == "ik":
-            from .ik.families import plan
+            from ..ik.families import plan
             _, family, why = plan(robot)
             if family is None:
                 out.append(("ik", f"kincalc has no closed-form IK for {robot.name} ({why}), so "
@@ -116,7 +116,7 @@ def make_sheet(robot, seed: int, kinds=DEFAULT_KINDS, *, answers: bool = False,
     QuizError
         When no exercise of a kind could be drawn in :data:`ATTEMPTS` tries.
     """
-    from .results import Units
+    from ..results import Units
     unknown = [k for k in kinds if k not in KINDS]
     if unknown:
         raise InputError(f"unknown exercise kind {unknown[0]!r} (choose from "
@@ -399,7 +399,7 @@ def singular_configuration(robot, shown, rng, units):
     joint gets there, :func:`_newton_singular` moves them all. Returns
     ``(written values, q in rad / m)``.
     """
-    from .tolerances import SINGULAR_TOL
+    from ..tolerances import SINGULAR_TOL
     base = _si(robot, shown, units)
     for i in rng.permutation(robot.dof):
         i = int(i)
@@ -429,7 +429,7 @@ def singular_configuration(robot, shown, rng, units):
     x = _newton_singular(robot, base)
     if x is None:
         return None
-    from .spatial import wrap
+    from ..spatial import wrap
     x = np.where(robot.is_revolute, wrap(x), x)
     lo, hi = np.array([_joint_range(robot, i, units) for i in range(robot.dof)]).T
     scale = np.where(robot.is_revolute, units.a, units.l)
@@ -478,8 +478,8 @@ def _newton_singular(robot, q, iterations: int = 60):
 def _item_singular(robot, rng, units) -> dict:
     """Singular (half of the time, when one is found) or clearly regular joints; the
     answer is ``jacobian_report``'s verdict at the written values."""
-    from .analysis import jacobian_report
-    from .tolerances import SINGULAR_TOL
+    from ..analysis import jacobian_report
+    from ..tolerances import SINGULAR_TOL
     want = bool(rng.integers(2))
     for _ in range(2):
         for _ in range(ATTEMPTS // 3 if want else ATTEMPTS):
@@ -507,7 +507,7 @@ def _item_singular(robot, rng, units) -> dict:
 # --- poses -------------------------------------------------------------------------------
 
 def _uses_orientation(robot) -> bool:
-    from .ik.families import plan
+    from ..ik.families import plan
     family = plan(robot)[1]
     if family is None:
         return robot.generic_ranks[0] >= 6
@@ -516,7 +516,7 @@ def _uses_orientation(robot) -> bool:
 
 def _written_pose(xyz, rpy, units):
     """``(pose mapping, T (4, 4) in SI)`` for written ``xyz`` and ``rpy`` (or None)."""
-    from .spatial import matrix_from_rpy
+    from ..spatial import matrix_from_rpy
     T = np.eye(4)
     T[:3, 3] = np.asarray(xyz, float) / units.l
     pose = {"xyz": list(xyz)}
@@ -535,8 +535,8 @@ def pose_forms(robot, T, units):
     orientation a rounded rpy would take out of reach). Robots that do not control
     the orientation get the position only.
     """
-    from .ik import Target
-    from .spatial import rpy_from_matrix
+    from ..ik import Target
+    from ..spatial import rpy_from_matrix
     orient = _uses_orientation(robot)
     L = robot.characteristic_length * units.l
     dec = min(6, max(0, 4 - round(math.log10(L)))) if L > 0 else 4
@@ -581,7 +581,7 @@ def _ik_ok(robot, result) -> bool:
         gap = np.minimum(np.abs(s.q - lo), np.abs(s.q - hi)) / scale
         if np.any(gap < IK_CLEARANCE):
             return False
-    from .spatial import wrap
+    from ..spatial import wrap
     for a in range(len(inside)):
         for b in range(a):
             d = inside[a].q - inside[b].q
@@ -594,7 +594,7 @@ def _ik_ok(robot, result) -> bool:
 def _item_ik(robot, rng, units) -> dict:
     """A reachable pose (FK of random joints, written rounded); the answer is every IK
     solution within the limits of the pose as written."""
-    from .ik import solve
+    from ..ik import solve
     for _ in range(ATTEMPTS):
         _, q = random_joints(robot, rng, units)
         for pose, _, target in pose_forms(robot, robot.fk(q), units):
@@ -629,7 +629,7 @@ def _beyond(robot, p, rng, samples) -> np.ndarray | None:
 def _item_reach(robot, rng, units) -> dict:
     """Half of the time a reachable pose, otherwise one just beyond the reach along
     the ray from the base; the answer is :func:`kincalc.reach.reach`'s verdict."""
-    from .reach import reach
+    from ..reach import reach
     want = bool(rng.integers(2))
     samples = None
     L = robot.characteristic_length
@@ -686,7 +686,7 @@ def _scalar(v) -> str:
             exponent = exponent if exponent[0] in "+-" else "+" + exponent
             text = f"{mantissa}e{exponent}"
         return text
-    from .robot_writer import yaml_string
+    from ..robot_writer import yaml_string
     return yaml_string(str(v), plain_ok=True)
 
 

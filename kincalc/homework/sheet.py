@@ -1,0 +1,679 @@
+"""Homework sheets: the format, read and validated (``kincalc check``).
+
+A sheet (YAML; the format is in the README, "kincalc check", and in ``man kincalc-check``)
+names a robot and lists items, each an exercise with the student's answer.
+:func:`load_sheet` reads and validates the whole sheet first: an invalid sheet is a
+:class:`SheetError` naming file and line (exit status 2) before anything is graded.
+Sheet values are converted to SI (m, rad) on reading, with the sheet's units (by default
+the robot file's). The YAML is read by :class:`kincalc.robot_file.Reader`, the one YAML
+reader with line numbers.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, RobotFileError
+from ..limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
+from ..robot_file import Reader, compose_yaml, node_line
+from ..spatial import TCV_MAX_ROLL
+
+KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
+SHEET_KEYS = {"kincalc-sheet": False, "title": False, "student": False, "robot": True,
+              "units": False, "tolerance": False, "parameters": False, "seed": False,
+              "items": True}
+ITEM_KEYS = {"id": True, "kind": True, "answer": False, "tolerance": False, "points": False,
+             "question": False}
+KIND_KEYS = {
+    "dh": {"tool": False, "base": False},
+    "link": {"link": True, "q": True},
+    "fk": {"q": True},
+    "ik": {"pose": True, "limits": False},
+    "jacobian": {"q": True, "frame": False},
+    "reach": {"pose": True},
+    "singular": {"q": True},
+}
+TOLERANCE_KEYS = {"position": False, "angle": False, "matrix": False}
+POSE_FIELDS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
+               "matrix": 9, "approach": 3, "tcv": 6, "T": 16, "q": 0}
+#: default tolerances: angles (deg) and rotation-matrix entries; positions are
+#: DEFAULT_POSITION x the arm's size
+DEFAULT_ANGLE_DEG = 0.1
+DEFAULT_MATRIX = 2e-3
+DEFAULT_POSITION = 1e-3
+#: answers within HINT_FACTOR x the tolerance of a slip's result are said to fit it
+HINT_FACTOR = 3.0
+#: an ik set whose every value is within MIX_FACTOR x the tolerance of some solution's
+#: value, but not all of one solution's, is said to mix branches
+MIX_FACTOR = 20.0
+#: random configurations on which a dh answer's FK must agree with the robot's
+DH_SAMPLES = 200
+
+
+class SheetError(RobotFileError):
+    """An invalid sheet: ``file:line: message`` (exit status 2)."""
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """Grading tolerances in SI: ``position`` (m), ``angle`` (rad), ``matrix`` (unitless)."""
+
+    position: float
+    angle: float
+    matrix: float
+
+    def to_dict(self, units) -> dict:
+        return {"position": self.position * units.l, "angle": self.angle * units.a,
+                "matrix": self.matrix}
+
+
+@dataclass
+class Item:
+    """One exercise of a sheet, parsed; values SI."""
+
+    id: str
+    kind: str
+    line: int
+    tol: Tolerance
+    points: float
+    question: str | None = None
+    q: np.ndarray | None = None          # (n,) joints for link/fk/jacobian/singular
+    link: int | None = None              # 1-based, for link
+    frame: str = "base"                  # for jacobian
+    target: object = None                # kincalc.ik.Target for ik/reach
+    limits: bool = True                  # ik: only solutions within the limits are required
+    tool: str = "compare"                # dh: compare | ignore
+    base: str = "compare"
+    answer: object = None                # kind-specific, parsed; None = not answered
+    answer_line: int | None = None
+
+
+@dataclass
+class Sheet:
+    path: str
+    robot: object
+    units: object                        # kincalc.results.Units: the sheet's units
+    tolerance: Tolerance
+    items: list
+    title: str = ""
+    student: str = ""
+
+
+# --- reading a sheet -----------------------------------------------------------------
+
+def load_sheet(path: str, robots_dirs=()) -> Sheet:
+    """Read and validate the sheet at ``path`` (at most
+    :data:`~kincalc.limits.MAX_FILE_BYTES`); raise :class:`SheetError` if invalid.
+    ``robots_dirs``: folders besides the sheet's own that its ``robot:`` may name a file
+    in (see :func:`sheet_robot_path`)."""
+    from ..robot_file import read_text
+    text = read_text(path, path, "a sheet", SheetError)
+    return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)), robots_dirs)
+
+
+def parse_sheet(text: str, file: str = "<sheet>", folder: str = ".", robots_dirs=()) -> Sheet:
+    """Parse the YAML ``text`` of a sheet; a robot file it names must be in ``folder``
+    (the sheet's) or in one of ``robots_dirs`` (see :func:`sheet_robot_path`)."""
+    try:
+        root = compose_yaml(text, file)
+    except RobotFileError as exc:
+        raise SheetError(file, exc.line, exc.detail) from None
+    return _SheetReader(file, folder, robots_dirs).sheet(root)
+
+
+def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
+    """The robot file a sheet's ``robot: NAME`` means, under the one rule for sheets.
+
+    A sheet is untrusted input (a student writes it, a grader runs it), so it may name
+    only a file inside ``folder`` (the sheet's own) or inside one of ``robots_dirs``
+    (folders the grader allows, ``--robots-dir``). A relative ``name`` is looked up in
+    each of ``robots_dirs``, in order, then in ``folder`` (the grader's robots come
+    first); an absolute one is taken as it is. A candidate counts only when its real
+    path (symbolic links followed) lies inside one of those folders, and that is
+    decided before anything is asked of the file system about the candidate itself,
+    so an absolute path, a ``..`` or a symbolic link leading out is refused (as
+    "outside", when no candidate inside is a file) without telling whether such a
+    file exists. No file is opened here.
+
+    Raises
+    ------
+    InputError
+        The name leads out of the allowed folders, or names no regular file there.
+        The message starts "robot 'NAME'" (NAME cut to :data:`~kincalc.limits.MAX_QUOTE`).
+    """
+    q = quote(name)
+    if not name or "\0" in name:
+        raise InputError(f"robot {q} is not a file name")
+    bases = [*robots_dirs, folder]
+    roots = [os.path.realpath(b) for b in bases]
+    candidates = [name] if os.path.isabs(name) else [os.path.join(b, name) for b in bases]
+    inside = [c for c in candidates if _within(os.path.realpath(c), roots)]
+    for c in inside:
+        if os.path.isfile(c):
+            return c
+    if len(inside) < len(candidates):
+        allowed = "the sheet's folder or a --robots-dir folder" if robots_dirs else \
+            "the sheet's folder"
+        raise InputError(f"robot {q} is outside {allowed}: a sheet's robot is a bundled robot, "
+                         f"an inline robot or a file in {allowed} (no absolute path, no '..', "
+                         "no symbolic link leading out)"
+                         + ("" if robots_dirs else
+                            "; a grader can allow another folder with --robots-dir DIR"))
+    import difflib
+
+    from ..library import bundled_names
+    close = difflib.get_close_matches(name, bundled_names(), n=1)
+    where = "in the sheet's folder" + (" or a --robots-dir folder" if robots_dirs else "")
+    raise InputError(f"robot {q} is neither a bundled robot nor a file {where}"
+                     + (f" (did you mean {close[0]!r}?)" if close else
+                        " (see 'kincalc robots list')"))
+
+
+def _within(path: str, roots) -> bool:
+    """Whether the real path ``path`` is one of the real paths ``roots`` or inside one."""
+    return any(path == r or path.startswith(r.rstrip(os.sep) + os.sep) for r in roots)
+
+
+class _SheetReader(Reader):
+    """The robot file reader's checked numbers, lists and errors, for sheets."""
+
+    def fail(self, node, message: str):
+        raise SheetError(self.file, node_line(node) if node is not None else None,
+                         (f"item {quote(self.item)}: " if self.item is not None else "")
+                         + message)
+
+    def __init__(self, file: str, folder: str, robots_dirs=()):
+        super().__init__(file)
+        self.folder = folder
+        self.robots_dirs = tuple(robots_dirs)
+        self.item: str | None = None
+
+    # the sheet ---------------------------------------------------------------------
+    def sheet(self, root) -> Sheet:
+        from ..results import Units
+        top = self.mapping(root, "the sheet", SHEET_KEYS)
+        if "kincalc-sheet" in top:
+            version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")
+            if version.strip() != "1":
+                self.fail(top["kincalc-sheet"], f"this kincalc reads sheet format 1, not "
+                                                f"{quote(version)}")
+        robot = self.robot_ref(top["robot"])
+        self.robot_ = robot
+        units = {}
+        if "units" in top:
+            from ..units import ANGLE_UNITS, LENGTH_UNITS
+            u = self.mapping(top["units"], "'units'", {"angle": False, "length": False})
+            if "angle" in u:
+                units["angle"] = self.text(u["angle"], "'units.angle'")
+                if units["angle"] not in ANGLE_UNITS:
+                    self.fail(u["angle"], f"'units.angle' must be deg or rad, not "
+                                          f"{quote(units['angle'])}")
+            if "length" in u:
+                units["length"] = self.text(u["length"], "'units.length'")
+                if units["length"] not in LENGTH_UNITS:
+                    self.fail(u["length"], f"'units.length' must be one of "
+                                           f"{', '.join(LENGTH_UNITS)}, not "
+                                           f"{quote(units['length'])}")
+                if (units["length"] == "unitless") != (robot.length_unit == "unitless"):
+                    self.fail(u["length"], f"robot {quote(robot.name)} is "
+                              + ("unitless" if robot.length_unit == "unitless" else
+                                 f"in {robot.length_unit}")
+                              + f"; 'units.length: {units['length']}' does not apply")
+        self.units = Units(angle=units.get("angle", robot.angle_unit),
+                           length=units.get("length", robot.length_unit))
+        self.A = 1.0 / self.units.a      # rad per sheet angle unit
+        self.L = 1.0 / self.units.l      # m per sheet length unit
+        # the robot's parameters are in the robot file's units; on the sheet they mean the
+        # same lengths (angles) in the sheet's units
+        from ..units import angle_factor, length_factor
+        lf = length_factor(robot.length_unit) / length_factor(self.units.length)
+        af = angle_factor(robot.angle_unit) / angle_factor(self.units.angle)
+        self.length_params = {k: v * lf for k, v in robot.parameters}
+        self.angle_params = {k: v * af for k, v in robot.parameters}
+        self.params = dict(self.length_params)
+        self.sheet_params = {}
+        if "parameters" in top:
+            for name, vnode in self.names(top["parameters"], "'parameters'"):
+                self.sheet_params[name] = self.number(vnode, f"parameter {quote(name)}")
+        self.length_params.update(self.sheet_params)
+        self.angle_params.update(self.sheet_params)
+        self.params = dict(self.length_params)
+        default = Tolerance(
+            position=_round1(DEFAULT_POSITION * robot.characteristic_length * self.units.l) * self.L,
+            angle=math.radians(DEFAULT_ANGLE_DEG), matrix=DEFAULT_MATRIX)
+        tol = self.tolerance(top["tolerance"], default) if "tolerance" in top else default
+        inodes = self.sequence(top["items"], "'items'")
+        if not inodes:
+            self.fail(top["items"], "'items' is empty")
+        if len(inodes) > MAX_SHEET_ITEMS:
+            self.fail(top["items"], f"'items' has {len(inodes)} items; a sheet holds at most "
+                                    f"{MAX_SHEET_ITEMS} (kincalc's limit)")
+        items, seen = [], {}
+        for node in inodes:
+            item = self.item_entry(node, tol)
+            if item.id in seen:
+                self.fail(node, f"id {quote(item.id)} is already used by the item on line "
+                                f"{seen[item.id]}")
+            seen[item.id] = item.line
+            items.append(item)
+            self.item = None
+        return Sheet(path=self.file, robot=robot, units=self.units, tolerance=tol, items=items,
+                     title=self.opt_text(top, "title"), student=self.opt_text(top, "student"))
+
+    def opt_text(self, top, key) -> str:
+        return self.text(top[key], f"'{key}'").strip() if key in top else ""
+
+    def robot_ref(self, node):
+        from ..library import bundled_names, library_dir
+        from ..robot_file import load_robot_file
+        if self.is_mapping(node):
+            self.put_first(node, "name", "sheet-robot")
+            reader = Reader(self.file)
+            try:
+                return reader.robot(node)
+            except RobotFileError as exc:      # the sheet's own text: quoted as for a sheet
+                where = self.file if exc.line is None else f"{self.file}:{exc.line}"
+                raise SheetError(self.file, exc.line, "robot: " + str(exc)[len(where) + 2:]) \
+                    from None
+        name = self.text(node, "'robot'").strip()
+        if "/" not in name and "\\" not in name and not name.endswith((".yaml", ".yml")) \
+                and name in bundled_names():
+            return load_robot_file(library_dir() / f"{name}.yaml", display_name=name)
+        try:
+            path = sheet_robot_path(name, self.folder, self.robots_dirs)
+        except InputError as exc:
+            self.fail(node, str(exc))
+        return self.robot_file(node, name, path)
+
+    def robot_file(self, node, name: str, path: str):
+        """The robot file at ``path`` that ``robot: NAME`` named. Its content is never
+        quoted: the sheet's author may not own it (another student's sheet in the same
+        folder, a grader's file), so a problem in it is reported by its line only."""
+        from ..robot_file import parse_robot_text, read_text
+        q = quote(name)
+        try:
+            text = read_text(path, name, "a robot file")
+        except RobotFileError as exc:
+            if exc.line is None:        # about the file (size, a folder, unreadable)
+                self.fail(node, f"robot {q}: {exc.detail}")
+            text = None
+            line = exc.line
+        if text is not None:
+            try:
+                robot = parse_robot_text(text, name)
+            except RobotFileError as exc:
+                line = exc.line
+            else:
+                object.__setattr__(robot, "path", str(path))
+                return robot
+        at = f" (the first problem is on its line {line})" if line is not None else ""
+        self.fail(node, f"robot {q} is not a valid robot file{at}; 'kincalc robots validate' "
+                        "on it says what is wrong")
+
+    def tolerance(self, node, base: Tolerance) -> Tolerance:
+        t = self.mapping(node, "'tolerance'", TOLERANCE_KEYS)
+        out = {"position": base.position, "angle": base.angle, "matrix": base.matrix}
+        scale = {"position": self.L, "angle": self.A, "matrix": 1.0}
+        for key, vnode in t.items():
+            v = self.number(vnode, f"'tolerance.{key}'")
+            if v <= 0:
+                self.fail(vnode, f"'tolerance.{key}' must be positive")
+            out[key] = v * scale[key]
+        return Tolerance(**out)
+
+    # items -------------------------------------------------------------------------
+    def item_entry(self, node, sheet_tol: Tolerance) -> Item:
+        if not self.is_mapping(node):
+            self.fail(node, f"each item must be a mapping with 'id' and 'kind', not {self.kind(node)}")
+        raw = self.plain_keys(node)
+        if "id" in raw and self.is_scalar(raw["id"]):
+            self.item = str(raw["id"].value)
+        kind = None
+        if "kind" in raw and self.is_scalar(raw["kind"]):
+            kind = raw["kind"].value
+            if kind not in KINDS:
+                self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not "
+                                       f"{quote(kind)}")
+        keys = dict(ITEM_KEYS, **KIND_KEYS.get(kind, {}))
+        f = self.mapping(node, "the item", keys)
+        ident = self.text(f["id"], "'id'").strip()
+        if not ident:
+            self.fail(f["id"], "'id' must not be empty")
+        tol = self.tolerance(f["tolerance"], sheet_tol) if "tolerance" in f else sheet_tol
+        points = self.number(f["points"], "'points'") if "points" in f else 1
+        points = int(points) if float(points).is_integer() else points
+        if points < 0:
+            self.fail(f["points"], "'points' must not be negative")
+        item = Item(id=ident, kind=kind, line=node_line(node), tol=tol, points=points,
+                    question=self.text(f["question"], "'question'") if "question" in f else None)
+        robot = self.robot_
+        if "q" in f:
+            item.q = self.joints(f["q"], "'q'", allow_one=kind == "link")
+        if kind == "link":
+            k = self.number(f["link"], "'link'")
+            if k != int(k) or not 1 <= k <= robot.dof:
+                self.fail(f["link"], f"'link' must be a joint number 1..{robot.dof}, not "
+                                     f"{cut(f['link'].value)}")
+            item.link = int(k)
+            if item.q.shape == (1,):          # just q_i: the other joints do not matter
+                q = np.zeros(robot.dof)
+                q[item.link - 1] = item.q[0] * (self.A if robot.is_revolute[item.link - 1]
+                                                else self.L)
+                item.q = q
+        if kind == "jacobian" and "frame" in f:
+            item.frame = self.text(f["frame"], "'frame'").strip()
+            if item.frame not in ("base", "tool"):
+                self.fail(f["frame"], f"'frame' must be base or tool, not {quote(item.frame)}")
+        for key in ("tool", "base"):
+            if key in f:
+                v = self.text(f[key], f"'{key}'").strip()
+                if v not in ("compare", "ignore"):
+                    self.fail(f[key], f"'{key}' must be compare or ignore, not {quote(v)}")
+                setattr(item, key, v)
+        if kind == "ik" and "limits" in f:
+            v = self.text(f["limits"], "'limits'").strip()
+            if v not in ("respect", "ignore"):
+                self.fail(f["limits"], f"'limits' must be respect or ignore, not {quote(v)}")
+            item.limits = v == "respect"
+        if "pose" in f:
+            item.target = self.pose_target(f["pose"])
+        if "answer" in f and not f["answer"].tag.endswith(":null"):
+            item.answer_line = node_line(f["answer"])
+            item.answer = self.answer(kind, f["answer"], item)
+            if kind == "fk" and "tcv" in item.answer and abs(item.q[-1]) > TCV_MAX_ROLL:
+                # e^(q_n / pi) leaves the numbers a sheet can hold, and soon overflows
+                self.fail(f["q"], f"'answer.tcv': the tool configuration vector is given only "
+                                  f"for a last joint within {TCV_MAX_ROLL:.1f} rad (ten turns)")
+        return item
+
+    def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:
+        robot = self.robot_
+        if allow_one and self.is_scalar(node):
+            return np.array([self.number(node, what)])   # scaled by the caller's joint
+        items = self.sequence(node, what)
+        if len(items) != robot.dof:
+            self.fail(node, f"{what} has {len(items)} values but {robot.name} has {robot.dof} "
+                            f"joints ({', '.join(j.name for j in robot.joints)})")
+        values = np.array([self.number(v, f"{what}[{k}]") for k, v in enumerate(items)])
+        return values * np.where(robot.is_revolute, self.A, self.L)
+
+    def matrix(self, node, what: str, shapes) -> np.ndarray:
+        """A list of rows of numbers with one of ``shapes`` (rows, cols; 0 = any)."""
+        rows = self.sequence(node, what)
+        if not rows or not all(self.is_sequence(r) for r in rows):
+            self.fail(node, f"{what} must be a list of rows (a matrix written as [[...], [...]])")
+        M = np.array([[self.number(v, f"{what} row {i + 1}") for v in r.value]
+                      for i, r in enumerate(rows)], dtype=object)
+        widths = {len(r.value) for r in rows}
+        if len(widths) != 1:
+            self.fail(node, f"{what}: the rows have different lengths")
+        shape = (len(rows), widths.pop())
+        if not any(all(want in (0, got) for want, got in zip(s, shape)) for s in shapes):
+            want = " or ".join(dict.fromkeys(f"{r}x{c}".replace("0", "n") for r, c in shapes))
+            self.fail(node, f"{what} must be {want}, not {shape[0]}x{shape[1]}")
+        return M.astype(float)
+
+    def pose_target(self, node):
+        """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
+        :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
+        from ..ik import Target
+        from ..ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+        f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
+        if not f:
+            self.fail(node, "'pose' is empty: give xyz with an orientation, T, tcv or q")
+        kw = {}
+        for key, vnode in f.items():
+            if key == "q":
+                kw["q"] = self.joints(vnode, "'pose.q'")
+            elif key in ("T", "matrix") and self.is_sequence(vnode) and vnode.value \
+                    and self.is_sequence(vnode.value[0]):
+                n = 4 if key == "T" else 3
+                kw[key] = self.matrix(vnode, f"'pose.{key}'", [(n, n)]).ravel()
+            else:
+                kw[key] = self.vector(vnode, f"'pose.{key}'", POSE_FIELDS[key])
+        try:
+            form = target_form(kw)
+        except BadTarget as exc:
+            self.fail(node, f"'pose': {exc.words(lambda field: field)}")
+        if form == "q":
+            return Target(self.robot_.fk(kw["q"]), orientation=True)
+        values = None if form is None else to_si(form, np.asarray(kw[form], float)[None],
+                                                 self.units)
+        xyz = None if "xyz" not in kw else np.asarray(kw["xyz"], float)[None] / self.units.l
+        targets, defect = targets_from(form, values, xyz)
+        if defect[0] is not None:
+            self.fail(node, f"'pose': {defect_text(form, defect[0], form)}")
+        return Target.of(targets)
+
+    # answers -------------------------------------------------------------------
+    def answer(self, kind: str, node, item: Item):
+        robot = self.robot_
+        if kind in ("reach", "singular"):
+            if not self.is_scalar(node):
+                self.fail(node, "'answer' must be yes or no")
+            v = str(node.value).strip().lower()
+            if v not in ("yes", "no", "true", "false", "y", "n"):
+                self.fail(node, f"'answer' must be yes or no, not {quote(node.value)}")
+            return v in ("yes", "true", "y")
+        if kind == "link":
+            return self.matrix(node, "'answer'", [(4, 4), (3, 4)])
+        if kind == "jacobian":
+            return self.matrix(node, "'answer'", [(6, robot.dof), (3, robot.dof),
+                                                  (2, robot.dof), (robot.dof, 6)])
+        if kind == "fk":
+            if self.is_sequence(node):
+                return {"T": self.matrix(node, "'answer'", [(4, 4), (3, 4)])}
+            keys = {"position": False, "xyz": False, "rpy": False, "euler_zyz": False,
+                    "euler_xyz": False, "quat": False, "axis_angle": False, "matrix": False,
+                    "T": False, "tcv": False}
+            f = self.mapping(node, "'answer'", keys)
+            out = {}
+            given = [k for k in keys if k in f]
+            if "position" in f and "xyz" in f:
+                self.fail(node, "'answer': give 'position' or 'xyz', not both")
+            if "T" in f and len(given) > 1:
+                self.fail(node, f"'answer': T is the whole pose; do not add "
+                                f"{next(k for k in given if k != 'T')!r}")
+            if "tcv" in f and len(given) > 1:
+                self.fail(node, f"'answer': tcv holds position and approach; do not add "
+                                f"{next(k for k in given if k != 'tcv')!r}")
+            if "T" in f:
+                out["T"] = self.matrix(f["T"], "'answer.T'", [(4, 4), (3, 4)])
+            if "tcv" in f:
+                if not robot.joints[-1].revolute:
+                    self.fail(f["tcv"], "'answer.tcv': the tool configuration vector needs a "
+                                        "revolute last joint")
+                out["tcv"] = self.vector(f["tcv"], "'answer.tcv'", 6)
+            for key in ("position", "xyz"):
+                if key in f:
+                    out["position"] = self.vector(f[key], f"'answer.{key}'", 3)
+            orient = [k for k in ("rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix")
+                      if k in f]
+            if len(orient) > 1:
+                self.fail(node, f"'answer': give one orientation, not {' and '.join(orient)}")
+            if orient:
+                k = orient[0]
+                if k == "matrix":
+                    out["matrix"] = self.matrix(f[k], "'answer.matrix'", [(3, 3)])
+                else:
+                    out[k] = self.vector(f[k], f"'answer.{k}'", 4 if k in ("quat", "axis_angle") else 3)
+                    if k == "quat" and np.linalg.norm(out[k]) < 1e-9:
+                        self.fail(f[k], "'answer.quat' must not be the zero quaternion")
+                    if k == "axis_angle" and np.linalg.norm(out[k][:3]) < 1e-9:
+                        self.fail(f[k], "'answer.axis_angle' needs a non-zero axis")
+            if not out:
+                self.fail(node, "'answer' is empty: give T, or position and an orientation")
+            return out
+        if kind == "ik":
+            sets = self.sequence(node, "'answer' (a list of solution sets)")
+            if sets and not self.is_sequence(sets[0]):
+                sets = [node]                      # one set written as a flat list
+            if len(sets) > MAX_IK_SETS:
+                self.fail(node, f"'answer' has {len(sets)} solution sets; an ik item takes at "
+                                f"most {MAX_IK_SETS} (kincalc's limit; a six-joint arm has at "
+                                f"most 16 solutions)")
+            return [(node_line(s), self.joints(s, f"'answer' set {k + 1}"))
+                    for k, s in enumerate(sets)]
+        if kind == "dh":
+            return self.dh_answer(node, item)
+        raise AssertionError(kind)
+
+    def dh_answer(self, node, item: Item):
+        """The student's DH table as a robot, with how each row names its variable."""
+        from ..model import Joint, Robot
+        f = self.mapping(node, "'answer'", {"convention": True, "table": False, "columns": False,
+                                            "joints": False, "base": False, "tool": False,
+                                            "name": False})
+        conv = self.text(f["convention"], "'answer.convention'").strip()
+        if conv not in ("dh", "mdh"):
+            self.fail(f["convention"], f"'answer.convention' must be dh or mdh, not "
+                                       f"{quote(conv)}")
+        if ("table" in f) == ("joints" in f):
+            self.fail(node, "'answer' needs either 'table' (rows of cells) or 'joints' (mappings)")
+        joints, signs, variables = [], [], []
+        if "table" in f:
+            columns = ["theta", "d", "a", "alpha"] if conv == "dh" else ["alpha", "a", "d", "theta"]
+            if "columns" in f:
+                cnodes = self.sequence(f["columns"], "'answer.columns'", 4)
+                alias = {"θ": "theta", "α": "alpha", "th": "theta"}
+                columns = [alias.get(c.value.strip(), c.value.strip()) for c in cnodes]
+                if sorted(columns) != ["a", "alpha", "d", "theta"]:
+                    self.fail(f["columns"], "'answer.columns' must name theta, d, a and alpha "
+                                            "once each")
+            rows = self.sequence(f["table"], "'answer.table'")
+            for k, rnode in enumerate(rows, start=1):
+                cells = self.sequence(rnode, f"'answer.table' row {k}", 4)
+                j, s, var = self.dh_row(dict(zip(columns, cells)), k, rnode)
+                if var in variables:
+                    self.fail(rnode, f"row {k}: the joint variable {var} is already row "
+                                     f"{variables.index(var) + 1}'s; each row has its own")
+                joints.append(j)
+                signs.append(s)
+                variables.append(var)
+        else:
+            for k, jnode in enumerate(self.sequence(f["joints"], "'answer.joints'"), start=1):
+                jf = self.mapping(jnode, f"'answer.joints' entry {k}",
+                                  {"name": False, "type": True, "alpha": True, "a": True,
+                                   "d": True, "theta": True})
+                jtype = self.text(jf["type"], "'type'").strip()
+                if jtype not in ("revolute", "prismatic"):
+                    self.fail(jf["type"], f"'type' must be revolute or prismatic, not "
+                                          f"{quote(jtype)}")
+                name = self.text(jf["name"], "'name'").strip() if "name" in jf else f"q{k}"
+                joints.append(Joint(
+                    name=name, type=jtype, alpha=self.angle(jf["alpha"], "'alpha'"),
+                    a=self.number(jf["a"], "'a'") * self.L, d=self.number(jf["d"], "'d'") * self.L,
+                    theta=self.angle(jf["theta"], "'theta'")))
+                signs.append(1.0)
+                variables.append(name)
+        if not joints:
+            self.fail(node, "'answer' has no rows")
+        base = self.pose(f["base"], "'answer.base'") if "base" in f else np.eye(4)
+        tool = self.pose(f["tool"], "'answer.tool'") if "tool" in f else np.eye(4)
+        robot = Robot(name="answer", convention=conv, joints=tuple(joints), base=base, tool=tool,
+                      length_unit=self.robot_.length_unit, angle_unit=self.robot_.angle_unit)
+        return {"robot": robot, "signs": np.array(signs), "variables": variables,
+                "table_given": "table" in f}
+
+    def angle(self, node, what: str) -> float:
+        """An angle (rad) whose parameter names mean angles in the sheet's unit."""
+        self.params = dict(self.angle_params)
+        try:
+            return self.number(node, what) * self.A
+        finally:
+            self.params = dict(self.length_params)
+
+    def dh_row(self, cells: dict, k: int, rnode):
+        """One compact row: (Joint, sign of the variable, the variable's name)."""
+        from ..model import Joint
+        found = {}
+        for col, cnode in cells.items():
+            names = self._names(cnode)
+            unknown = sorted(n for n in names if n not in self.params and n != "pi")
+            if len(unknown) > 1:
+                self.fail(cnode, f"row {k}, {col}: {' and '.join(unknown)} are not parameters "
+                                 "(a cell holds at most one joint variable)")
+            if unknown:
+                found[col] = unknown[0]
+        if len(found) != 1 or next(iter(found)) not in ("theta", "d"):
+            where = ("no cell" if not found else
+                     f"{len(found)} cells ({', '.join(found)})" if len(found) > 1 else
+                     f"the {next(iter(found))} cell")
+            self.fail(rnode, f"row {k}: the joint variable (a name that is not a parameter) must "
+                             f"appear in exactly one cell, theta or d; found it in {where}")
+        col, var = next(iter(found.items()))
+        values = {}
+        for c, cnode in cells.items():
+            scale = self.A if c in ("theta", "alpha") else self.L
+            self.params = dict(self.angle_params if c in ("theta", "alpha") else self.length_params)
+            if c != col:
+                values[c] = self.number(cnode, f"row {k}, {c}") * scale
+                continue
+            saved = dict(self.params)
+            try:
+                self.params[var] = 0.0
+                c0 = self.number(cnode, f"row {k}, {c}")
+                self.params[var] = 1.0
+                c1 = self.number(cnode, f"row {k}, {c}")
+            finally:
+                self.params = saved
+            sign = c1 - c0
+            if abs(abs(sign) - 1.0) > 1e-9 or abs(self._at(cnode, var, 7.0) - (c0 + 7 * sign)) > 1e-9:
+                self.fail(cnode, f"row {k}, {c}: the joint variable {var} must appear as {var} or "
+                                 f"-{var} plus a constant, not {quote(cnode.value)}")
+            values[c] = c0 * scale
+        self.params = dict(self.length_params)
+        joint = Joint(name=var, type="revolute" if col == "theta" else "prismatic",
+                      alpha=values["alpha"], a=values["a"], d=values["d"], theta=values["theta"])
+        return joint, float(np.sign(sign)), var
+
+    def _at(self, cnode, var, value):
+        saved = dict(self.params)
+        try:
+            self.params[var] = value
+            return self.number(cnode, "cell")
+        finally:
+            self.params = saved
+
+    @staticmethod
+    def _names(cnode) -> set:
+        import ast
+        if not hasattr(cnode, "value") or not isinstance(cnode.value, str):
+            return set()
+        try:
+            tree = ast.parse(cnode.value.strip(), mode="eval")
+        except (SyntaxError, ValueError):
+            return set()
+        return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+
+
+_OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
+
+
+#: how a sheet names the parts of an IK target (its ``pose`` keys), for the core's
+#: messages about them (:class:`kincalc.errors.TargetMismatch`)
+SHEET_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
+               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
+                              "or q)"}
+
+
+def sheet_words(message: str) -> str:
+    """A message about command-line pose options, in the words of a sheet's ``pose`` keys
+    (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
+    import re
+    message = re.sub(r" X Y Z", "", message)
+    return re.sub(r"--[a-z][a-z-]*",
+                  lambda m: _OPTION_KEYS.get(m.group(0), m.group(0)[2:].replace("-", "_")),
+                  message)
+
+
+def _round1(x: float) -> float:
+    """``x`` rounded to one significant digit (tolerances read better that way)."""
+    if x <= 0 or not math.isfinite(x):
+        return x
+    e = math.floor(math.log10(x))
+    return round(x, -e)
