@@ -4,7 +4,7 @@ Conventions used everywhere in kincalc
 --------------------------------------
 * Units: inside the core, metres and radians. Robot files and the CLI use the
   user's units (``units:`` block, ``--deg/--rad``, ``--unit``); conversion
-  happens only in :mod:`kincalc.robot_file`, :mod:`kincalc.results` and
+  happens only in :mod:`kincalc.conventions.reader`, :mod:`kincalc.results` and
   :mod:`kincalc.cli`. Unitless textbook robots carry their numbers as-is.
 * Frames: ``T_a_b`` is the pose of frame b in frame a (it maps b coordinates
   to a coordinates). ``fk`` returns ``T_world_tool = base · T_0^n · tool``.
@@ -36,10 +36,10 @@ __all__ = ["load_robot", "parse_robot_text", "Robot", "Joint", "KincalcError",
 def __getattr__(name):
     # Lazy: importing kincalc (for the CLI's --help) must not import numpy.
     if name == "load_robot":
-        from .library import load
+        from .conventions.library import load
         return load
     if name == "parse_robot_text":
-        from .robot_file import parse_robot_text
+        from .conventions.reader import parse_robot_text
         return parse_robot_text
     if name in ("Robot", "Joint"):
         from . import model

@@ -9,7 +9,7 @@ edge of the graph). The rules, each a test below:
    longer occurs fails the test, so it is deleted when its edge is);
 2. no import of another kincalc module's underscore name;
 3. typer, rich and click only in ``kincalc.cli``;
-4. yaml only in the one YAML reader, ``kincalc.robot_file``;
+4. yaml only in the one YAML reader, ``kincalc.conventions.reader``;
 5. matplotlib and sympy never at module level (optional extras, imported where used).
 
 Read with ``ast``: nothing is imported to check it.
@@ -32,8 +32,8 @@ LAYERS = [
     ("evaluation", "forward kinematics, Jacobians, the axes' structure",
      ["kincalc.fk", "kincalc.jacobian", "kincalc.structure"]),
     ("conventions", "dh / mdh / poe, the robot-file reader and writer, the library",
-     ["kincalc.conventions", "kincalc.robot_file", "kincalc.robot_writer",
-      "kincalc.library"]),
+     ["kincalc.conventions", "kincalc.conventions.reader", "kincalc.conventions.writer",
+      "kincalc.conventions.library"]),
     ("subproblems", "Paden-Kahan subproblems 1-6, batched", ["kincalc.subproblems"]),
     ("ik", "the one IK engine", ["kincalc.ik"]),
     ("analysis", "reports and their words, reach, workspace, compare, formulas, plots, "
@@ -58,7 +58,7 @@ NOT_YET = {
 }
 
 EXTERNAL_ROOMS = {"typer": "kincalc.cli", "rich": "kincalc.cli", "click": "kincalc.cli",
-                  "yaml": "kincalc.robot_file"}
+                  "yaml": "kincalc.conventions.reader"}
 NEVER_AT_MODULE_LEVEL = {"matplotlib", "sympy"}
 
 

@@ -137,7 +137,7 @@ ROT_Z90 = "[[0, -1, 0, 10], [1, 0, 0, 20], [0, 0, 1, 30], [0, 0, 0, 1]]"
 
 @pytest.mark.parametrize("key", ["base", "tool"])
 def test_bare_matrix_is_the_matrix_form(key):
-    from kincalc.robot_file import parse_robot_text
+    from kincalc.conventions.reader import parse_robot_text
     bare = parse_robot_text(ARM + f"{key}: {ROT_Z90}\n", "bare.yaml")
     keyed = parse_robot_text(ARM + f"{key}: {{matrix: {ROT_Z90}}}\n", "keyed.yaml")
     block = parse_robot_text(ARM + f"{key}:\n" + "".join(

@@ -17,10 +17,10 @@ from kincalc.cli.main import main
 from kincalc.conventions import convert
 from kincalc.equivalence import match
 from kincalc.errors import InputError
-from kincalc.library import bundled_names, load
+from kincalc.conventions.library import bundled_names, load
 from kincalc.model import Joint, Robot
-from kincalc.robot_file import parse_robot_text
-from kincalc.robot_writer import dump_robot, num
+from kincalc.conventions.reader import parse_robot_text
+from kincalc.conventions.writer import dump_robot, num
 
 ROBOTS = bundled_names()
 CONVENTIONS = ["dh", "mdh", "poe"]

@@ -17,7 +17,7 @@ import pytest
 
 import kincalc
 from kincalc.ik.selftest import sample_configurations
-from kincalc.library import bundled_names, library_dir
+from kincalc.conventions.library import bundled_names, library_dir
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "dask_batch.py"
 

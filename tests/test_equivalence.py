@@ -22,10 +22,10 @@ from randrobots import random_pose, random_robot
 
 from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
 from kincalc.equivalence import describe, match
-from kincalc.library import load
+from kincalc.conventions.library import load
 from kincalc.model import Joint, Robot
 from kincalc.results import Units
-from kincalc.robot_file import parse_robot_text
+from kincalc.conventions.reader import parse_robot_text
 from kincalc.spatial import matrix_from_axis_angle, transform
 
 

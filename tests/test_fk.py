@@ -241,7 +241,7 @@ def test_fk_does_not_modify_input():
 
 
 def _names():
-    from kincalc.library import bundled_names
+    from kincalc.conventions.library import bundled_names
     return bundled_names()
 
 

@@ -16,7 +16,7 @@ from kincalc.results import ik_document
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
-from kincalc.library import bundled_names
+from kincalc.conventions.library import bundled_names
 from kincalc.model import Joint, Robot
 
 D = np.deg2rad

@@ -10,7 +10,7 @@ from kincalc.ik.engine import UnsupportedRobot, solve_batch
 from kincalc.ik.families import plan
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
-from kincalc.library import bundled_names
+from kincalc.conventions.library import bundled_names
 
 ROBOTS = ["puma560", "ur5", "ur10e", "kuka_kr16", "fanuc_lrmate200id", "abb_irb120",
           "stanford_arm", "bk_6r", "bk_scara_euler", "kocaeli_kr16_lengths"]

@@ -9,7 +9,7 @@ from randrobots import random_robot
 
 from kincalc import jacobian_report, load_robot
 from kincalc.jacobian import analytic_jacobian
-from kincalc.library import bundled_names
+from kincalc.conventions.library import bundled_names
 from kincalc.spatial import (adjoint, euler_xyz_from_matrix, euler_zyz_from_matrix,
                              invert_transform, log_transform, rpy_from_matrix, skew)
 

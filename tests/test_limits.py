@@ -66,7 +66,7 @@ def test_cut_and_quote():
 
 @pytest.fixture(scope="module")
 def planar():
-    from kincalc.library import load
+    from kincalc.conventions.library import load
     return load("planar_3r")
 
 

@@ -22,7 +22,7 @@ import pytest
 import yaml
 
 from kincalc.cli.main import main
-from kincalc.library import load
+from kincalc.conventions.library import load
 from kincalc.homework.quiz import DEFAULT_KINDS, make_sheet, sheet_yaml
 
 #: bundled robots the sheets are drawn for: 6R (DH, MDH, POE), a planar RR,

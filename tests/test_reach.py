@@ -19,7 +19,7 @@ import pytest
 
 from kincalc.cli.main import main
 from kincalc.ik import Target
-from kincalc.library import load
+from kincalc.conventions.library import load
 from kincalc.reach import reach
 
 L1, L2 = 0.7, 0.4

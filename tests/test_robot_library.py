@@ -9,7 +9,7 @@ import yaml
 
 from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
-from kincalc.library import bundled_names, library_dir
+from kincalc.conventions.library import bundled_names, library_dir
 
 REPO_ROBOTS = Path(__file__).parents[1] / "robots"
 FACTS = Path(__file__).parent / "golden" / "robot_facts.yaml"
@@ -85,9 +85,10 @@ def test_golden_fk_facts(fact):
 
 # --- names and files the system cannot hold or kincalc will not read (issue 14) -------
 
-from kincalc import limits, robot_file  # noqa: E402
+from kincalc import limits  # noqa: E402
+from kincalc.conventions import reader as robot_file  # noqa: E402
 from kincalc.errors import RobotFileError, RobotNotFoundError  # noqa: E402
-from kincalc.library import load, resolve  # noqa: E402
+from kincalc.conventions.library import load, resolve  # noqa: E402
 
 
 @pytest.mark.parametrize("name", ["a" * 300, "a" * 5000, "a\0b", "pum\0a560"])

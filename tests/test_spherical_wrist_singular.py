@@ -29,7 +29,7 @@ from kincalc.ik.families import classify
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
-from kincalc.library import bundled_names
+from kincalc.conventions.library import bundled_names
 from kincalc.model import Joint, Robot
 from kincalc.words import singularity_text
 

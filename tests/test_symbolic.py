@@ -24,8 +24,8 @@ sympy = pytest.importorskip("sympy")
 
 import kincalc  # noqa: E402
 from kincalc.cli.main import main  # noqa: E402
-from kincalc.library import bundled_names  # noqa: E402
-from kincalc.robot_file import parse_robot_text  # noqa: E402
+from kincalc.conventions.library import bundled_names  # noqa: E402
+from kincalc.conventions.reader import parse_robot_text  # noqa: E402
 from kincalc.symbolic import require_sympy, symbolic_fk, symbolic_jacobian  # noqa: E402
 from kincalc.units import LENGTH_UNITS  # noqa: E402
 

@@ -14,7 +14,7 @@ import pytest
 import kincalc.workspace as ws
 from kincalc.ik.engine import within_limits
 from kincalc.cli.main import main
-from kincalc.library import load
+from kincalc.conventions.library import load
 
 PI = math.pi
 L1, L2 = 0.7, 0.4

@@ -42,7 +42,7 @@ class RobotName(FileName):
         if "/" not in incomplete:
             from click.shell_completion import CompletionItem
 
-            from ..library import bundled_names
+            from ..conventions.library import bundled_names
             names = [n for n in bundled_names() if n.startswith(incomplete)]
             if names:
                 return [CompletionItem(n) for n in names]
@@ -192,7 +192,7 @@ def output_target(path: str, option: str, force: bool, robot: str | None = None,
 def robot_file(robot: str) -> str | None:
     """The file a ROBOT argument names (a bundled robot's too), or None if none."""
     from ..errors import KincalcError
-    from ..library import resolve
+    from ..conventions.library import resolve
     try:
         return str(resolve(robot)[0])
     except KincalcError:
@@ -200,7 +200,7 @@ def robot_file(robot: str) -> str | None:
 
 
 def load_robot(name: str):
-    from ..library import load
+    from ..conventions.library import load
     return load(name)
 
 

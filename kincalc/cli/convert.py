@@ -41,7 +41,7 @@ def convert(
     from ..conventions import convert as _convert
     from ..errors import UsageError
     from ..model import CONVENTIONS
-    from ..robot_writer import dump_robot
+    from ..conventions.writer import dump_robot
     if to not in CONVENTIONS:
         raise UsageError(f"--to must be one of {', '.join(CONVENTIONS)}, not {to!r}")
     target = _check_target(output_file, force, robot)

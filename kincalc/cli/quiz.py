@@ -116,7 +116,7 @@ def _robot_ref(robot: str, output: str | None) -> str:
     path relative to the sheet's folder (the current one for standard output)."""
     import os
 
-    from ..library import library_dir, resolve
+    from ..conventions.library import library_dir, resolve
     path, _ = resolve(robot)
     if path.resolve().parent == library_dir().resolve():
         return path.stem

@@ -23,8 +23,8 @@ def structure_code(robot) -> str:
 def list_(json: JsonOpt = False, debug: DebugOpt = False):
     """List every bundled robot: name, joints, convention and title."""
     from ..errors import KincalcError
-    from ..library import bundled_names, library_dir
-    from ..robot_file import load_robot_file
+    from ..conventions.library import bundled_names, library_dir
+    from ..conventions.reader import load_robot_file
     entries = []
     for name in bundled_names():
         try:
@@ -128,7 +128,7 @@ def _show_tables(doc, rob, u, precision):
             ("file units", f"{rob.length_unit}, {rob.angle_unit}"),
             ("shown in", f"{u.length}, {u.angle}"),
             ("source", rob.source or "-")]
-    from ..library import library_dir
+    from ..conventions.library import library_dir
     if rob.path and Path(rob.path).resolve().parent != library_dir().resolve():
         meta.append(("file", rob.path))
     c.print(kv_table(meta))
@@ -184,8 +184,8 @@ def validate(
     import sys
 
     from ..errors import KincalcError
-    from ..library import resolve
-    from ..robot_file import load_robot_file
+    from ..conventions.library import resolve
+    from ..conventions.reader import load_robot_file
     report, bad = [], 0
     for f in files:
         try:

@@ -686,7 +686,7 @@ def _scalar(v) -> str:
             exponent = exponent if exponent[0] in "+-" else "+" + exponent
             text = f"{mantissa}e{exponent}"
         return text
-    from ..robot_writer import yaml_string
+    from ..conventions.writer import yaml_string
     return yaml_string(str(v), plain_ok=True)
 
 

@@ -5,7 +5,7 @@ names a robot and lists items, each an exercise with the student's answer.
 :func:`load_sheet` reads and validates the whole sheet first: an invalid sheet is a
 :class:`SheetError` naming file and line (exit status 2) before anything is graded.
 Sheet values are converted to SI (m, rad) on reading, with the sheet's units (by default
-the robot file's). The YAML is read by :class:`kincalc.robot_file.Reader`, the one YAML
+the robot file's). The YAML is read by :class:`kincalc.conventions.reader.Reader`, the one YAML
 reader with line numbers.
 """
 
@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import InputError, RobotFileError
 from ..limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
-from ..robot_file import Reader, compose_yaml, node_line
+from ..conventions.reader import Reader, compose_yaml, node_line
 from ..spatial import TCV_MAX_ROLL
 
 KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
@@ -110,7 +110,7 @@ def load_sheet(path: str, robots_dirs=()) -> Sheet:
     :data:`~kincalc.limits.MAX_FILE_BYTES`); raise :class:`SheetError` if invalid.
     ``robots_dirs``: folders besides the sheet's own that its ``robot:`` may name a file
     in (see :func:`sheet_robot_path`)."""
-    from ..robot_file import read_text
+    from ..conventions.reader import read_text
     text = read_text(path, path, "a sheet", SheetError)
     return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)), robots_dirs)
 
@@ -165,7 +165,7 @@ def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
                             "; a grader can allow another folder with --robots-dir DIR"))
     import difflib
 
-    from ..library import bundled_names
+    from ..conventions.library import bundled_names
     close = difflib.get_close_matches(name, bundled_names(), n=1)
     where = "in the sheet's folder" + (" or a --robots-dir folder" if robots_dirs else "")
     raise InputError(f"robot {q} is neither a bundled robot nor a file {where}"
@@ -268,8 +268,8 @@ class _SheetReader(Reader):
         return self.text(top[key], f"'{key}'").strip() if key in top else ""
 
     def robot_ref(self, node):
-        from ..library import bundled_names, library_dir
-        from ..robot_file import load_robot_file
+        from ..conventions.library import bundled_names, library_dir
+        from ..conventions.reader import load_robot_file
         if self.is_mapping(node):
             self.put_first(node, "name", "sheet-robot")
             reader = Reader(self.file)
@@ -293,7 +293,7 @@ class _SheetReader(Reader):
         """The robot file at ``path`` that ``robot: NAME`` named. Its content is never
         quoted: the sheet's author may not own it (another student's sheet in the same
         folder, a grader's file), so a problem in it is reported by its line only."""
-        from ..robot_file import parse_robot_text, read_text
+        from ..conventions.reader import parse_robot_text, read_text
         q = quote(name)
         try:
             text = read_text(path, name, "a robot file")

@@ -12,7 +12,7 @@ import difflib
 import os
 from pathlib import Path
 
-from .errors import RobotNotFoundError
+from ..errors import RobotNotFoundError
 
 
 def library_dir() -> Path:
@@ -25,14 +25,14 @@ def library_dir() -> Path:
     env = os.environ.get("KINCALC_ROBOTS")
     if env:
         if not Path(env).is_dir():
-            from .errors import InputError
+            from ..errors import InputError
             raise InputError(f"KINCALC_ROBOTS={env!r} is not a folder")
         return Path(env)
-    here = Path(__file__).resolve().parent
-    packaged = here / "robots"
+    package = Path(__file__).resolve().parent.parent       # kincalc/
+    packaged = package / "robots"                           # in a wheel
     if packaged.is_dir():
         return packaged
-    return here.parent / "robots"
+    return package.parent / "robots"                        # in a source tree
 
 
 def bundled_names() -> list[str]:
@@ -64,6 +64,6 @@ def resolve(robot: str) -> tuple[Path, str]:
 
 def load(robot: str):
     """Load a bundled robot by name, or a robot file by path (see :func:`resolve`)."""
-    from .robot_file import load_robot_file
+    from .reader import load_robot_file
     path, shown = resolve(robot)
     return load_robot_file(path, display_name=str(path) if path.parent == library_dir() else shown)

@@ -25,9 +25,9 @@ import dataclasses
 
 import numpy as np
 
-from .errors import InputError
-from .model import CONVENTIONS, Joint, Robot
-from .spatial import invert_transform, rot_x, transform
+from ..errors import InputError
+from ..model import CONVENTIONS, Joint, Robot
+from ..spatial import invert_transform, rot_x, transform
 
 #: how each convention is named in messages and in a converted file's source
 CONVENTION_NAMES = {"dh": "standard DH (dh)", "mdh": "modified DH (mdh)",
@@ -121,7 +121,7 @@ def _ordered(entries) -> tuple:
 
 def to_poe(robot: Robot) -> Robot:
     """Any ``robot`` as a product-of-exponentials robot with identical FK."""
-    from .fk import chain_frames
+    from ..fk import chain_frames
     q0 = np.zeros(robot.dof)
     inv_base = invert_transform(robot.base)
     frames = inv_base @ chain_frames(robot.chain, q0)   # joint frames in frame 0

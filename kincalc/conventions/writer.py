@@ -1,5 +1,5 @@
 """:class:`~kincalc.model.Robot` -> robot file text (the YAML that
-:mod:`kincalc.robot_file` reads).
+:mod:`kincalc.conventions.reader` reads).
 
 The file is written in the robot's own units (``length_unit``, ``angle_unit``)
 with the keys in the order of the bundled files: name, title, source,
@@ -17,7 +17,7 @@ a 4x4 ``matrix``; an identity base or tool is left out (a poe robot always
 has its ``tool``). ``home`` is written unless it is all zeros. Comments of
 the original file are not kept (the Robot does not hold them).
 
-This module writes YAML by hand: only :mod:`kincalc.robot_file` imports yaml.
+This module writes YAML by hand: only :mod:`kincalc.conventions.reader` imports yaml.
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import re
 
 import numpy as np
 
-from .spatial import matrix_from_rpy, rpy_from_matrix
-from .units import ANGLE_UNITS, LENGTH_UNITS
+from ..spatial import matrix_from_rpy, rpy_from_matrix
+from ..units import ANGLE_UNITS, LENGTH_UNITS
 
 #: a number this close (relative) to an integer is written as the integer
 CLEAN_TOL = 1e-12
@@ -52,10 +52,10 @@ def dump_robot(robot) -> str:
     Returns
     -------
     str
-        ``robot_file.parse_robot_text`` of it gives a robot with the same
+        ``reader.parse_robot_text`` of it gives a robot with the same
         joints, base, tool, limits and home (to 1e-12 relative).
     """
-    from .robot_file import parse_robot_text
+    from .reader import parse_robot_text
     numeric: set[tuple[int, str]] = set()
     for _ in range(2):
         text = _text(robot, numeric)

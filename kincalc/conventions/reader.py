@@ -19,13 +19,13 @@ import re
 
 import numpy as np
 
-from .errors import RobotFileError
+from ..errors import RobotFileError
 # MAX_MAGNITUDE stays importable from here (robot_file.MAX_MAGNITUDE), as it was defined here
-from .limits import (MAX_EXPRESSION, MAX_FILE_BYTES, MAX_MAGNITUDE, TooLarge, cut, os_error_text,
+from ..limits import (MAX_EXPRESSION, MAX_FILE_BYTES, MAX_MAGNITUDE, TooLarge, cut, os_error_text,
                      quote, read_bounded, size_text)
-from .model import CONVENTIONS, JOINT_TYPES, Joint, Robot
-from .spatial import matrix_from_rpy, transform
-from .units import ANGLE_UNITS, LENGTH_UNITS
+from ..model import CONVENTIONS, JOINT_TYPES, Joint, Robot
+from ..spatial import matrix_from_rpy, transform
+from ..units import ANGLE_UNITS, LENGTH_UNITS
 
 TOP_KEYS = {
     "name": True, "convention": True, "units": True, "joints": True,
