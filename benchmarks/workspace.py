@@ -2,7 +2,7 @@
 
     python benchmarks/workspace.py [--n 1000000] [--robot puma560] [--repeat 5]
 
-Measures :func:`kincalc.workspace.sample_tool_points` (uniform joints within
+Measures :func:`kincalc.analysis.workspace.sample_tool_points` (uniform joints within
 the limits, then the tool point of each through the vectorised FK: the
 sampling stage of ``kincalc workspace``) against two references in the same
 run: the same sampling with a batched numpy DH product written directly
@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 import kincalc  # noqa: E402
 from fk_batch import best_of as median_time  # noqa: E402  (the same median timer)
 from fk_batch import naive_fk  # noqa: E402
-from kincalc import workspace  # noqa: E402
+from kincalc.analysis import workspace  # noqa: E402
 
 
 def numpy_points(robot, rng, n):

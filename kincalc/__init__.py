@@ -4,7 +4,7 @@ Conventions used everywhere in kincalc
 --------------------------------------
 * Units: inside the core, metres and radians. Robot files and the CLI use the
   user's units (``units:`` block, ``--deg/--rad``, ``--unit``); conversion
-  happens only in :mod:`kincalc.conventions.reader`, :mod:`kincalc.results` and
+  happens only in :mod:`kincalc.conventions.reader`, :mod:`kincalc.analysis.results` and
   :mod:`kincalc.cli`. Unitless textbook robots carry their numbers as-is.
 * Frames: ``T_a_b`` is the pose of frame b in frame a (it maps b coordinates
   to a coordinates). ``fk`` returns ``T_world_tool = base · T_0^n · tool``.

@@ -216,7 +216,7 @@ class Robot:
     def ik(self, T, orientation: bool = True, **options):
         """Every inverse-kinematics solution for the tool pose ``T`` (4, 4), SI, world frame.
 
-        Returns an :class:`~kincalc.ik.IKResult` (:func:`kincalc.results.ik_document`
+        Returns an :class:`~kincalc.ik.IKResult` (:func:`kincalc.analysis.results.ik_document`
         renders it); its ``solutions`` each carry ``q`` (rad / m), ``branch``, FK
         residuals, limit violations, the singular flag and the joints the target leaves
         undetermined, and ``reason`` says why, as data. ``orientation=False`` asks for the

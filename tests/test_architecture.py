@@ -24,9 +24,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "kincalc"
 
 #: the layers, bottom up: (name, what lives there, module prefixes)
 LAYERS = [
-    ("base", "the version, exceptions, named tolerances, units, input limits",
-     ["kincalc.version", "kincalc.errors", "kincalc.tolerances", "kincalc.units",
-      "kincalc.limits"]),
+    ("base", "the version, exceptions, named tolerances, units, input limits, safe output "
+             "files", ["kincalc.version", "kincalc.errors", "kincalc.tolerances",
+                       "kincalc.units", "kincalc.limits", "kincalc.outputs"]),
     ("geometry", "rotations and rigid transforms", ["kincalc.spatial"]),
     ("model", "the robot and its chain, as data", ["kincalc.model"]),
     ("evaluation", "forward kinematics, Jacobians, the axes' structure",
@@ -38,8 +38,8 @@ LAYERS = [
     ("ik", "the one IK engine", ["kincalc.ik"]),
     ("analysis", "reports and their words, reach, workspace, compare, formulas, plots, "
                  "output files",
-     ["kincalc.analysis", "kincalc.results", "kincalc.words", "kincalc.reach",
-      "kincalc.workspace", "kincalc.equivalence", "kincalc.symbolic", "kincalc.plot",
+     ["kincalc.analysis", "kincalc.analysis.results", "kincalc.analysis.words", "kincalc.analysis.reach",
+      "kincalc.analysis.workspace", "kincalc.analysis.compare", "kincalc.analysis.symbolic", "kincalc.analysis.plot",
       "kincalc.outputs"]),
     ("homework", "sheets, grading, quizzes", ["kincalc.homework"]),
     ("cli", "the command line", ["kincalc.cli"]),

@@ -12,15 +12,11 @@ as a second oracle that an IK solution reproduces its target.
 Grading is exercised in-process (``parse_sheet`` + ``grade``); exit statuses,
 stderr and ``--json`` through ``python -m kincalc`` in a subprocess, which
 works from an editable or a regular install alike.
-
-The ``dh`` kind needs kincalc/equivalence.py; its tests are skipped while that
-module does not exist.
 """
 
 from __future__ import annotations
 
 import glob
-import importlib.util
 import json
 import math
 import os
@@ -36,10 +32,6 @@ from kincalc.homework import SheetError, grade, load_sheet, parse_sheet
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-
-needs_equivalence = pytest.mark.skipif(
-    importlib.util.find_spec("kincalc.equivalence") is None,
-    reason="kincalc/equivalence.py (DH table equivalence) is not written yet")
 
 # ---------------------------------------------------------------------------
 # Independent kinematics (textbook formulas; angles in radians)
@@ -252,7 +244,6 @@ def test_oracles_agree_with_the_book():
 # ---------------------------------------------------------------------------
 # dh
 
-@needs_equivalence
 def test_dh_right_standard_table():
     r = one("""\
         - id: t
@@ -262,7 +253,6 @@ def test_dh_right_standard_table():
     assert r.passed, r.message
 
 
-@needs_equivalence
 def test_dh_right_mapping_form():
     r = one("""\
         - id: t
@@ -276,7 +266,6 @@ def test_dh_right_mapping_form():
     assert r.passed, r.message
 
 
-@needs_equivalence
 def test_dh_right_up_to_an_offset_names_it():
     # theta1 = q1 + 90: the same arm with joint 1's zero turned by 90 deg
     r = one("""\
@@ -290,7 +279,6 @@ def test_dh_right_up_to_an_offset_names_it():
     assert "q2 =" not in r.message, r.message                   # joint 2 unchanged
 
 
-@needs_equivalence
 def test_dh_right_up_to_a_sign_names_it():
     # theta2 = -q2: joint 2 counted the other way round
     r = one("""\
@@ -303,7 +291,6 @@ def test_dh_right_up_to_a_sign_names_it():
     assert "q1 =" not in r.message, r.message
 
 
-@needs_equivalence
 def test_dh_right_up_to_sign_and_offset():
     # theta1 = 90 - q1: q1 = 90 - theta1
     r = one("""\
@@ -315,7 +302,6 @@ def test_dh_right_up_to_sign_and_offset():
     assert re.search(r"q1 = -(robot )?theta1 \+ 90\b|q1 = 90 - theta1\b", r.message), r.message
 
 
-@needs_equivalence
 def test_dh_tool_ignore_grades_the_axes_only():
     # a2 = 6 moves only the end frame of a standard-DH RR table (joint axes: z0 at the
     # origin, z1 at distance a1 = 10): with 'tool: ignore' the table is right
@@ -335,7 +321,6 @@ def test_dh_tool_ignore_grades_the_axes_only():
     assert not r.passed, r.message
 
 
-@needs_equivalence
 def test_dh_wrong_a_in_row_1_names_row_1():
     r = one("""\
         - id: t
@@ -348,7 +333,6 @@ def test_dh_wrong_a_in_row_1_names_row_1():
     assert r.hint is None or "row 2" not in r.hint, r.hint
 
 
-@needs_equivalence
 def test_dh_wrong_a_in_row_2_names_row_2():
     # Row 1 (a = l1) puts joint 2's axis right; row 2's a = 6 instead of l2 = 5
     # makes the arm 1 unit too long past joint 2: row 2 is the first wrong row.
@@ -366,7 +350,6 @@ def test_dh_wrong_a_in_row_2_names_row_2():
     assert not (r.hint and re.search(r"row 2: .*\ba = 0\b", r.hint)), r.hint
 
 
-@needs_equivalence
 def test_dh_modified_table_wrong_a_names_its_row():
     # Craig: row 2 is (alpha1, a1, d2, theta2) and places joint 2's axis; a1 = 12, not l1 = 10
     r = one("""\
@@ -381,7 +364,6 @@ def test_dh_modified_table_wrong_a_names_its_row():
     assert "row 2" in r.message, r.message
 
 
-@needs_equivalence
 def test_dh_modified_table_labelled_standard_gets_the_hint():
     # Craig's table of bk_rr (alpha, a, d, theta) with the tool Tx(l2), but
     # labelled 'dh': as standard DH it is Rz(q1) Rz(q2) Tx(l1) Tx(l2) — wrong.
@@ -1167,31 +1149,24 @@ def test_robot_file_next_to_the_sheet(tmp_path):
 # shipped examples
 
 EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.yaml")))
-HAVE_EQUIVALENCE = importlib.util.find_spec("kincalc.equivalence") is not None
 
 
 def example(name):
     path = os.path.join(ROOT, "examples", name)
-    if not os.path.isfile(path):
-        pytest.skip(f"examples/{name} is not shipped")
+    assert os.path.isfile(path), f"examples/{name} is shipped"
     return load_sheet(path)
 
 
-def grade_gradable(sheet):
-    """Grade the sheet; without kincalc/equivalence.py, leave its dh items out."""
-    if not HAVE_EQUIVALENCE:
-        sheet.items = [i for i in sheet.items if i.kind != "dh"]
-    return grade(sheet)
+def test_examples_are_shipped():
+    assert EXAMPLES, "examples/*.yaml"
 
 
-@pytest.mark.skipif(not EXAMPLES, reason="no examples/*.yaml shipped yet")
 @pytest.mark.parametrize("path", EXAMPLES, ids=[os.path.basename(p) for p in EXAMPLES])
 def test_shipped_examples_load_and_grade(path):
     sheet = load_sheet(path)
     assert sheet.items
-    n = len([i for i in sheet.items if HAVE_EQUIVALENCE or i.kind != "dh"])
-    rep = grade_gradable(sheet)
-    assert len(rep.items) == n
+    rep = grade(sheet)
+    assert len(rep.items) == len(sheet.items)
     doc = rep.to_dict()
     json.dumps(doc)                                    # serialisable
 
@@ -1257,11 +1232,9 @@ def test_example_homework_fer_rrpr_sheet():
     sv = np.linalg.svd(J0, compute_uv=False)
     assert sv[-1] / sv[0] < 1e-6
     # item 7: the tool stays within q3 + d4 <= 0.7 of (0, 0, d1 = 0.5); (0, 0, 1.5) is 1.0 away
-    rep = grade_gradable(sheet)
+    rep = grade(sheet)
     verdict = {r.id: r.passed for r in rep.items}
     expect = {"1": True, "2": False, "3": True, "4": False, "5": True, "6": False, "7": True}
-    if not HAVE_EQUIVALENCE:
-        del expect["1"]
     assert verdict == expect, [(r.id, r.message, r.hint) for r in rep.items]
     r2 = next(r for r in rep.items if r.id == "2")
     assert r2.hint and "transpose" in r2.hint.lower(), r2.hint

@@ -228,7 +228,7 @@ def test_no_color_env(capsys, monkeypatch):
 
 
 def test_internal_errors_exit_3(capsys, monkeypatch):
-    import kincalc.analysis as an
+    import kincalc.analysis.reports as an
 
     def boom(*a, **k):
         raise RuntimeError("synthetic failure")

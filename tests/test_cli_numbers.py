@@ -108,7 +108,7 @@ def test_fk_tcv_of_a_last_joint_turned_beyond_ten_turns_is_null():
     # e^(q_n/pi) is 1e9 at 65 rad and infinite from 2229 rad: the JSON said "Infinity"
     # (an internal error) and the table "nan nan inf"
     from kincalc import load_robot
-    from kincalc.results import FKResult, Units
+    from kincalc.analysis.results import FKResult, Units
     from kincalc.spatial import TCV_MAX_ROLL
     robot = load_robot("planar_3r")
     assert TCV_MAX_ROLL == pytest.approx(np.pi * np.log(MAX_MAGNITUDE))
@@ -126,7 +126,7 @@ def test_fk_tcv_of_a_last_joint_turned_beyond_ten_turns_is_null():
 def test_numpy_warnings_never_reach_stderr_but_show_with_debug(tmp_path):
     """The backstop in main(): a computation that overflows (here a patched core
     function) prints no RuntimeWarning on the user's stderr; --debug shows it."""
-    code = ("import sys, numpy as np, kincalc.analysis as a\n"
+    code = ("import sys, numpy as np, kincalc.analysis.reports as a\n"
             "orig = a.fk_report\n"
             "def noisy(*args, **kw):\n"
             "    np.float64(1e308) * 10\n"

@@ -15,7 +15,7 @@ import pytest
 
 from kincalc.cli.main import main
 from kincalc.conventions import convert
-from kincalc.equivalence import match
+from kincalc.analysis.compare import match
 from kincalc.errors import InputError
 from kincalc.conventions.library import bundled_names, load
 from kincalc.model import Joint, Robot

@@ -1,4 +1,4 @@
-"""kincalc.equivalence.match against constructed truths.
+"""kincalc.analysis.compare.match against constructed truths.
 
 Candidates with known offsets and sign changes are built here, without the
 engine's screw code: from the reference's joint axes and points at q = 0
@@ -21,10 +21,10 @@ import pytest
 from randrobots import random_pose, random_robot
 
 from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
-from kincalc.equivalence import describe, match
+from kincalc.analysis.compare import describe, match
 from kincalc.conventions.library import load
 from kincalc.model import Joint, Robot
-from kincalc.results import Units
+from kincalc.analysis.results import Units
 from kincalc.conventions.reader import parse_robot_text
 from kincalc.spatial import matrix_from_axis_angle, transform
 

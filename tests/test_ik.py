@@ -12,7 +12,7 @@ from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.ik.families import classify
 from kincalc.ik.reasons import OrientationOut, OutOfReach
-from kincalc.results import ik_document
+from kincalc.analysis.results import ik_document
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations

@@ -78,13 +78,13 @@ def planar():
     ({"orientations": limits.MAX_ORIENTATIONS + 1}, f"from 2 to {limits.MAX_ORIENTATIONS}"),
 ])
 def test_workspace_refuses_requests_beyond_the_limits(planar, kw, words):
-    from kincalc.workspace import analyse
+    from kincalc.analysis.workspace import analyse
     with pytest.raises(UsageError, match=re.escape(words)):
         analyse(planar, **{"samples": 2000, **kw})
 
 
 def test_workspace_dexterity_chunks_change_no_number(planar, monkeypatch):
-    from kincalc import workspace
+    from kincalc.analysis import workspace
     whole = workspace.analyse(planar, 3000, 4).to_dict()
     monkeypatch.setattr(workspace, "PAIR_CHUNK", 900)   # 37 points a chunk: ~10, one ragged
     chunked = workspace.analyse(planar, 3000, 4).to_dict()

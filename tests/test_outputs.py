@@ -282,11 +282,11 @@ def test_writer_checks_before_any_work(folder, monkeypatch):
     convert, quiz does not draw."""
     import kincalc.conventions
     import kincalc.homework.quiz
-    import kincalc.workspace
+    import kincalc.analysis.workspace
 
     def boom(*a, **k):
         raise AssertionError("work done before the output was checked")
-    monkeypatch.setattr(kincalc.workspace, "analyse", boom)
+    monkeypatch.setattr(kincalc.analysis.workspace, "analyse", boom)
     monkeypatch.setattr(kincalc.conventions, "convert", boom)
     monkeypatch.setattr(kincalc.homework.quiz, "make_sheet", boom)
     for argv, _ in WRITERS[2:]:

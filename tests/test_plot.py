@@ -19,11 +19,11 @@ import pytest
 
 import kincalc
 from kincalc.errors import InputError
-from kincalc.results import Units
+from kincalc.analysis.results import Units
 
 pytest.importorskip("matplotlib")
 
-from kincalc import plot  # noqa: E402
+from kincalc.analysis import plot  # noqa: E402
 from kincalc.cli.main import main  # noqa: E402
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -170,10 +170,10 @@ def test_require_matplotlib_without_matplotlib(monkeypatch):
 
 
 def test_importing_kincalc_plot_does_not_import_matplotlib():
-    code = ("import sys, kincalc.plot, kincalc.cli.plot; "
+    code = ("import sys, kincalc.analysis.plot, kincalc.cli.plot; "
             "sys.exit('matplotlib' in sys.modules)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
-    assert r.returncode == 0, r.stderr or "importing kincalc.plot imported matplotlib"
+    assert r.returncode == 0, r.stderr or "importing kincalc.analysis.plot imported matplotlib"
 
 
 # --- 2D or 3D ----------------------------------------------------------------------

@@ -500,7 +500,6 @@ def test_bad_options_exit_2(capsys, argv, message):
 @pytest.mark.parametrize("name", ["puma560", "bk_rr", "bk_scara_euler", "ur5", "bk_rrp",
                                   "ur5_poe"])
 def test_check_grades_the_key_full_and_the_blank_sheet_failed(capsys, tmp_path, name):
-    pytest.importorskip("kincalc.homework")
     key, blank = tmp_path / "key.yaml", tmp_path / "blank.yaml"
     assert run(capsys, "quiz", name, "--seed", 11, "--answers", "-o", key)[0] == 0
     assert run(capsys, "quiz", name, "--seed", 11, "-o", blank)[0] == 0

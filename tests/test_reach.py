@@ -20,7 +20,7 @@ import pytest
 from kincalc.cli.main import main
 from kincalc.ik import Target
 from kincalc.conventions.library import load
-from kincalc.reach import reach
+from kincalc.analysis.reach import reach
 
 L1, L2 = 0.7, 0.4
 R_OUT, R_IN = L1 + L2, abs(L1 - L2)          # 1.1, 0.3 m

@@ -31,7 +31,7 @@ from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations
 from kincalc.conventions.library import bundled_names
 from kincalc.model import Joint, Robot
-from kincalc.words import singularity_text
+from kincalc.analysis.words import singularity_text
 
 WRIST = (3, 4, 5)                # 0-based joints of the wrist (forward chains)
 REVERSED_WRIST = (0, 1, 2)       # ... and of a reversed chain (the wrist is at the base)

@@ -26,7 +26,7 @@ import kincalc  # noqa: E402
 from kincalc.cli.main import main  # noqa: E402
 from kincalc.conventions.library import bundled_names  # noqa: E402
 from kincalc.conventions.reader import parse_robot_text  # noqa: E402
-from kincalc.symbolic import require_sympy, symbolic_fk, symbolic_jacobian  # noqa: E402
+from kincalc.analysis.symbolic import require_sympy, symbolic_fk, symbolic_jacobian  # noqa: E402
 from kincalc.units import LENGTH_UNITS  # noqa: E402
 
 #: the 6- and 7-joint robots whose tool-frame Jacobian is checked too (the
@@ -183,7 +183,7 @@ def test_numeric_lengths_in_another_unit():
 # --- the simplifier ----------------------------------------------------------------
 
 def _collapse(e):
-    from kincalc.symbolic import _collapse as collapse
+    from kincalc.analysis.symbolic import _collapse as collapse
     return collapse(sympy.expand(e), sympy)
 
 
@@ -213,7 +213,7 @@ def test_collapse_pythagoras_and_what_it_leaves_alone():
 # --- the forms ---------------------------------------------------------------
 
 def _strings(M):
-    from kincalc.symbolic import expr_str
+    from kincalc.analysis.symbolic import expr_str
     return [[expr_str(M[r, c]) for c in range(M.shape[1])] for r in range(M.shape[0])]
 
 
@@ -222,7 +222,7 @@ def _strings(M):
 def test_printed_strings_are_the_matrices(name):
     """What is printed (reordered, factored, decimals) reads back as the same
     function of the symbols, the abbreviations taken as free symbols."""
-    from kincalc.symbolic import expr_str
+    from kincalc.analysis.symbolic import expr_str
     robot = kincalc.load_robot(name)
     rng = np.random.default_rng(5)
     fk, jac = symbolic_fk(robot), symbolic_jacobian(robot)
@@ -468,7 +468,7 @@ def test_without_sympy(capsys, monkeypatch, argv, command):
 
 
 def test_require_sympy_without_sympy(monkeypatch):
-    from kincalc.plot import MissingExtra
+    from kincalc.analysis.plot import MissingExtra
     monkeypatch.setitem(sys.modules, "sympy", None)
     with pytest.raises(MissingExtra) as err:
         require_sympy("kincalc fk --symbolic")
@@ -477,7 +477,7 @@ def test_require_sympy_without_sympy(monkeypatch):
 
 def test_sympy_is_imported_lazily():
     code = ("import sys, contextlib, io\n"
-            "import kincalc.symbolic, kincalc.cli.fk, kincalc.cli.jacobian\n"
+            "import kincalc.analysis.symbolic, kincalc.cli.fk, kincalc.cli.jacobian\n"
             "from kincalc.cli.main import main\n"
             "with contextlib.redirect_stdout(io.StringIO()): main(['fk', 'bk_rr', '30', '40'])\n"
             "print('sympy' in sys.modules)")

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from kincalc.ik.target import BadTarget, defect_text, target_form, targets_from, to_si
-from kincalc.results import Units
+from kincalc.analysis.results import Units
 
 
 def rx(a):

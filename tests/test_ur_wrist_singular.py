@@ -35,7 +35,7 @@ from kincalc.ik.families import classify
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.model import Joint, Robot
-from kincalc.words import singularity_text
+from kincalc.analysis.words import singularity_text
 
 UR = ["ur5", "ur10", "ur10e", "ur3", "ur5e", "ur16e", "ur20", "ur5_mdh", "ur5_poe"]
 

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-import kincalc.workspace as ws
+import kincalc.analysis.workspace as ws
 from kincalc.ik.engine import within_limits
 from kincalc.cli.main import main
 from kincalc.conventions.library import load

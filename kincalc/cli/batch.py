@@ -1086,8 +1086,8 @@ def _reach_chunk(robot, units, parsed, frame):
     import math
 
     from ..errors import KincalcError
-    from ..reach import reach
-    from ..results import json_numbers
+    from ..analysis.reach import reach
+    from ..analysis.results import json_numbers
     from .targets import build_target
     out, no = [], False
     for index, kw, error in parsed:

@@ -92,8 +92,8 @@ JobsOpt = Annotated[int, typer.Option(
 
 
 def display_units(robot, deg: bool, unit: str | None):
-    """The :class:`~kincalc.results.Units` chosen by ``--deg/--rad`` and ``--unit``."""
-    from ..results import Units
+    """The :class:`~kincalc.analysis.results.Units` chosen by ``--deg/--rad`` and ``--unit``."""
+    from ..analysis.results import Units
     from ..units import LENGTH_UNITS
     if unit is not None:
         if unit not in LENGTH_UNITS or unit == "unitless":

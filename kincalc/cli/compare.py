@@ -55,7 +55,7 @@ def compare(
     make them agree; otherwise the first joint whose axis cannot be made to
     match, and why. Exit status 0 same, 1 different, 2 bad input.
     """
-    from ..equivalence import compare as _compare
+    from ..analysis.compare import compare as _compare
     a, b = load_robot(robot_a), load_robot(robot_b)
     units = display_units(a, deg, unit)
     result = _compare(a, b, units, arguments=(robot_a, robot_b), samples=samples, seed=seed,

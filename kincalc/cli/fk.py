@@ -65,14 +65,14 @@ def fk(
     if symbolic or latex or numeric_lengths:
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)
-        from ..symbolic import symbolic_fk
+        from ..analysis.symbolic import symbolic_fk
         require_sympy_for("fk", symbolic, latex)
         rob = load_robot(robot)
         display_units(rob, deg, unit)
         result = symbolic_fk(rob, numeric_lengths=numeric_lengths, length_unit=unit)
         symbolic_output(result, json, latex)
         return
-    from ..analysis import fk_report
+    from ..analysis.reports import fk_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)

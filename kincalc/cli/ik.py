@@ -120,7 +120,7 @@ def ik(
     from ..ik import solve
     plot_to = None
     if plot is not None and batch is None:
-        from ..plot import check_output, require_matplotlib
+        from ..analysis.plot import check_output, require_matplotlib
         plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose)])
         check_output(plot_to)
         require_matplotlib("kincalc ik --plot")
@@ -144,7 +144,7 @@ def ik(
         q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
     result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
                    near=q_near, numeric=numeric)
-    from ..results import ik_document
+    from ..analysis.results import ik_document
     doc = ik_document(result)
     if plot_to is not None:
         doc["plot"] = _plot_solutions(rob, result, plot_to, units, dpi)
@@ -161,7 +161,7 @@ def _plot_solutions(robot, result, target, units, dpi):
 
     import numpy as np
 
-    from ..plot import config_title, draw_arms
+    from ..analysis.plot import config_title, draw_arms
     sols = result.solutions
     if not sols:
         sys.stderr.write(f"kincalc: no solution to draw; {target.shown} not written\n")

@@ -81,7 +81,7 @@ def jacobian(
         symbolic_check(symbolic, latex, numeric_lengths, q)
         if analytic is not None:
             raise UsageError("--analytic is not available with --symbolic")
-        from ..symbolic import symbolic_jacobian
+        from ..analysis.symbolic import symbolic_jacobian
         require_sympy_for("jacobian", symbolic, latex)
         rob = load_robot(robot)
         display_units(rob, deg, unit)
@@ -89,7 +89,7 @@ def jacobian(
                                    length_unit=unit)
         symbolic_output(result, json, latex)
         return
-    from ..analysis import jacobian_report
+    from ..analysis.reports import jacobian_report
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)

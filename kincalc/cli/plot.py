@@ -41,7 +41,7 @@ def plot(
     prismatic in the length unit; negative values need no '--'. Without Q the
     robot's home configuration is used.
     """
-    from ..plot import check_output, config_title, draw_arms, require_matplotlib
+    from ..analysis.plot import check_output, config_title, draw_arms, require_matplotlib
     target = output_target(output, "-o", force, robot)
     check_output(target)
     require_matplotlib("kincalc plot")

@@ -47,7 +47,7 @@ def reach(
     ROBOT is a bundled robot's name or a path to a robot YAML file. The pose
     options are those of 'kincalc ik'.
     """
-    from ..reach import reach as _reach
+    from ..analysis.reach import reach as _reach
     rob = load_robot(robot)
     units = display_units(rob, deg, unit)
     if fmt not in ("jsonl", "csv"):

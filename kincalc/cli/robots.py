@@ -36,7 +36,7 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
                         "convention": r.convention, "units": r.length_unit,
                         "title": r.title})
     if json:
-        from ..results import SCHEMA_VERSION
+        from ..analysis.results import SCHEMA_VERSION
         from .render import emit_json
         emit_json({"kincalc": SCHEMA_VERSION, "command": "robots list",
                    "library": str(library_dir()), "robots": entries})
@@ -69,7 +69,7 @@ def show(
     debug: DebugOpt = False,
 ):
     """Show a robot: its DH (or POE) table as a textbook prints it, limits, base, tool, source."""
-    from ..results import SCHEMA_VERSION, robot_summary
+    from ..analysis.results import SCHEMA_VERSION, robot_summary
     from .common import display_units, load_robot
     rob = load_robot(robot)
     u = display_units(rob, deg, unit)
@@ -199,7 +199,7 @@ def validate(
             bad += 1
             report.append({"file": f, "valid": False, "error": str(exc)})
     if json:
-        from ..results import SCHEMA_VERSION
+        from ..analysis.results import SCHEMA_VERSION
         from .render import emit_json
         emit_json({"kincalc": SCHEMA_VERSION, "command": "robots validate", "files": report})
     else:

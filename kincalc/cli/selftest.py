@@ -27,7 +27,7 @@ def selftest(
     """
     from ..ik.families import plan
     from ..ik.selftest import run
-    from ..results import SCHEMA_VERSION, Units, robot_summary
+    from ..analysis.results import SCHEMA_VERSION, Units, robot_summary
     rob = load_robot(robot)
     _, fam, why = plan(rob)
     name, description = (fam.name, fam.description) if fam else (

@@ -16,7 +16,7 @@ def symbolic_check(symbolic: bool, latex: bool, numeric_lengths: bool, q) -> Non
 def require_sympy_for(command: str, symbolic: bool, latex: bool) -> None:
     """sympy, or the one-line error naming ``kincalc COMMAND --symbolic`` (or ``--latex``
     when only that was given)."""
-    from ..symbolic import require_sympy
+    from ..analysis.symbolic import require_sympy
     require_sympy(f"kincalc {command} {'--symbolic' if symbolic or not latex else '--latex'}")
 
 
@@ -40,7 +40,7 @@ _POSE_NAMES = (("r11", "r12", "r13", "px"), ("r21", "r22", "r23", "py"),
 def _symbolic_tables(result) -> None:
     from rich.markup import escape
 
-    from ..symbolic import ROWS, expr_text, unicode_name
+    from ..analysis.symbolic import ROWS, expr_text, unicode_name
     from .render import console
     c = console()
     robot, n = result.robot, result.notation

@@ -55,10 +55,10 @@ def workspace(
 
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
-    from ..workspace import analyse
+    from ..analysis.workspace import analyse
     plot_to = None
     if plot is not None:            # before the sampling: a refused file costs nothing
-        from ..plot import check_output, require_matplotlib
+        from ..analysis.plot import check_output, require_matplotlib
         plot_to = output_target(plot, "--plot", force, robot)
         check_output(plot_to)
         require_matplotlib("kincalc workspace --plot")
@@ -75,7 +75,7 @@ def workspace(
                          f"{plot} not written\n")
         plot = None
     if plot is not None:
-        from ..plot import draw_sections
+        from ..analysis.plot import draw_sections
         unit = "" if units.length == "unitless" else f" ({units.length})"
         secs = [dict(s, extent=tuple(x * units.l for x in s["extent"]),
                      xlabel=s["xlabel"] + unit, ylabel=s["ylabel"] + unit,

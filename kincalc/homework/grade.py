@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import KincalcError, TargetMismatch
 from ..limits import quote
-from ..results import json_numbers
+from ..analysis.results import json_numbers
 from .sheet import (DH_SAMPLES, HINT_FACTOR, MIX_FACTOR, SHEET_WORDS, Item, Sheet, SheetError,
                     Tolerance, sheet_words)
 from .slips import (FULL_TRANSPOSE, MATRIX_SLIPS, compare_T, display_q, first_slip, fmt,
@@ -55,7 +55,7 @@ class Report:
         return all(r.passed for r in self.items)
 
     def to_dict(self) -> dict:
-        from ..results import json_header
+        from ..analysis.results import json_header
         s = self.sheet
         out = json_header("check", s.robot, s.units)
         out.update({"sheet": s.path, "title": s.title, "student": s.student,
@@ -239,7 +239,7 @@ def _angle_set_slip(answer: dict, T, tol, units) -> str | None:
 # jacobian ----------------------------------------------------------------------------
 
 def _grade_jacobian(sheet: Sheet, item: Item) -> ItemResult:
-    from ..analysis import jacobian_report
+    from ..analysis.reports import jacobian_report
     robot, units, tol = sheet.robot, sheet.units, item.tol
     n = robot.dof
     A = item.answer
@@ -315,7 +315,7 @@ def _yes(b: bool) -> str:
 
 
 def _grade_singular(sheet: Sheet, item: Item) -> ItemResult:
-    from ..analysis import jacobian_report
+    from ..analysis.reports import jacobian_report
     rep = jacobian_report(sheet.robot, item.q, sheet.units)
     truth = rep.singular
     why = ("; ".join(rep.singularity.descriptions) if truth else
@@ -330,7 +330,7 @@ def _grade_singular(sheet: Sheet, item: Item) -> ItemResult:
 
 
 def _grade_reach(sheet: Sheet, item: Item) -> ItemResult:
-    from ..reach import reach
+    from ..analysis.reach import reach
     r = reach(sheet.robot, item.target, units=sheet.units)
     passed = item.answer == r.reachable
     details = {"expected": r.reachable, "verdict": r.verdict,
@@ -363,7 +363,7 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 def _grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     from ..ik.solve import solve, violation_list
-    from ..words import reason_text
+    from ..analysis.words import reason_text
     robot, units, tol = sheet.robot, sheet.units, item.tol
     rev = robot.is_revolute
     res = solve(robot, item.target, all_branches=True, units=units)
@@ -512,7 +512,7 @@ def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
 def _grade_dh(sheet: Sheet, item: Item) -> ItemResult:
     import dataclasses
 
-    from ..equivalence import match
+    from ..analysis.compare import match
     robot, units, tol = sheet.robot, sheet.units, item.tol
     ans = item.answer
     cand = ans["robot"]

@@ -19,7 +19,7 @@ ik          every IK solution within the limits for a reachable pose, written
             as xyz + rpy rounded to a few decimals (:func:`kincalc.ik.solve`)
 jacobian    the geometric Jacobian, base frame, rows vx vy vz wx wy wz
 reach       yes/no for a reachable pose or one just beyond the reach
-            (:func:`kincalc.reach.reach`)
+            (:func:`kincalc.analysis.reach.reach`)
 singular    yes/no for a singular or a clearly regular configuration (the rank
             test of :func:`kincalc.analysis.jacobian_report`)
 ==========  ================================================================
@@ -116,7 +116,7 @@ def make_sheet(robot, seed: int, kinds=DEFAULT_KINDS, *, answers: bool = False,
     QuizError
         When no exercise of a kind could be drawn in :data:`ATTEMPTS` tries.
     """
-    from ..results import Units
+    from ..analysis.results import Units
     unknown = [k for k in kinds if k not in KINDS]
     if unknown:
         raise InputError(f"unknown exercise kind {unknown[0]!r} (choose from "
@@ -478,7 +478,7 @@ def _newton_singular(robot, q, iterations: int = 60):
 def _item_singular(robot, rng, units) -> dict:
     """Singular (half of the time, when one is found) or clearly regular joints; the
     answer is ``jacobian_report``'s verdict at the written values."""
-    from ..analysis import jacobian_report
+    from ..analysis.reports import jacobian_report
     from ..tolerances import SINGULAR_TOL
     want = bool(rng.integers(2))
     for _ in range(2):
@@ -628,8 +628,8 @@ def _beyond(robot, p, rng, samples) -> np.ndarray | None:
 
 def _item_reach(robot, rng, units) -> dict:
     """Half of the time a reachable pose, otherwise one just beyond the reach along
-    the ray from the base; the answer is :func:`kincalc.reach.reach`'s verdict."""
-    from ..reach import reach
+    the ray from the base; the answer is :func:`kincalc.analysis.reach.reach`'s verdict."""
+    from ..analysis.reach import reach
     want = bool(rng.integers(2))
     samples = None
     L = robot.characteristic_length

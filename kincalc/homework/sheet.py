@@ -96,7 +96,7 @@ class Item:
 class Sheet:
     path: str
     robot: object
-    units: object                        # kincalc.results.Units: the sheet's units
+    units: object                        # kincalc.analysis.results.Units: the sheet's units
     tolerance: Tolerance
     items: list
     title: str = ""
@@ -194,7 +194,7 @@ class _SheetReader(Reader):
 
     # the sheet ---------------------------------------------------------------------
     def sheet(self, root) -> Sheet:
-        from ..results import Units
+        from ..analysis.results import Units
         top = self.mapping(root, "the sheet", SHEET_KEYS)
         if "kincalc-sheet" in top:
             version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")

@@ -4,8 +4,8 @@ out of reach: damped least squares from the sampled configurations nearest the t
 (:func:`unlimited`), and the side of the workspace the target lies on
 (:func:`where_outside`).
 
-Below the IK engine, so that its "out of reach" reasons and :mod:`kincalc.reach` and
-:mod:`kincalc.workspace` share one search. Positions in m, world frame.
+Below the IK engine, so that its "out of reach" reasons and :mod:`kincalc.analysis.reach` and
+:mod:`kincalc.analysis.workspace` share one search. Positions in m, world frame.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Why an IK target has the answer it has, as data: what the engine and the reach search
-found, in SI (m, rad), with joints by index. :mod:`kincalc.words` renders each in the
+found, in SI (m, rad), with joints by index. :mod:`kincalc.analysis.words` renders each in the
 user's units; nothing here is a sentence, and no command-line option is named.
 """
 

@@ -8,7 +8,7 @@ residuals, limit violations and singularity; why there is none when there is non
 the solutions' joint values, the steps that found no real root) and the intermediate
 quantities of each solution (``explain``). Robots no closed form covers are solved
 numerically (:mod:`kincalc.ik.numeric`). The reasons are data (:mod:`kincalc.ik.reasons`,
-SI); :mod:`kincalc.words` words them in the user's units.
+SI); :mod:`kincalc.analysis.words` words them in the user's units.
 """
 
 from __future__ import annotations
@@ -106,7 +106,7 @@ class IKResult:
     near: np.ndarray | None = None
     #: with all_branches: why each branch that found nothing found nothing (``NoRoot``)
     dead_ends: list | None = None
-    # rendered by kincalc.results.ik_document (JSON and tables) and kincalc.words
+    # rendered by kincalc.analysis.results.ik_document (JSON and tables) and kincalc.analysis.words
 
 
 def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
@@ -365,7 +365,7 @@ def _reach_approach(robot, candidates, a) -> bool:
 
 def _out_of_reach(robot, T):
     """Why nothing was found, from the nearest reachable position (see
-    :mod:`kincalc.reach`): out of reach of the geometry and where, out of reach
+    :mod:`kincalc.analysis.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
     from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
     p = np.asarray(T, float)[:3, 3]

@@ -43,9 +43,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import BadValue, UsageError
-from .ik.nearest import descend, motion_frame
-from .limits import MAX_ORIENTATIONS, MAX_SAMPLES
+from ..errors import BadValue, UsageError
+from ..ik.nearest import descend, motion_frame
+from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
 
 #: mean samples per occupied grid cell the grid is sized for
 SAMPLES_PER_CELL = 24
@@ -263,7 +263,7 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
     safe = np.maximum(cand, 0)
     cost = np.linalg.norm(P[safe] - targets[:, None, :], axis=2) / L
     if R_goal is not None:
-        from .spatial import rotation_error
+        from ..spatial import rotation_error
         cost = cost + rotation_error(Rc, R_goal[:, None])
     cost[cand < 0] = np.inf
     order = np.argsort(cost, axis=1)
@@ -284,7 +284,7 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
 
 def _batchable(robot) -> bool:
     """Does :meth:`Robot.ik_batch` cover this robot (a closed-form family)?"""
-    from .ik.engine import UnsupportedRobot
+    from ..ik.engine import UnsupportedRobot
     try:
         robot.ik_batch(robot.fk(np.asarray(robot.home, float))[None])
     except UnsupportedRobot:
@@ -298,7 +298,7 @@ def super_fibonacci(count: int) -> np.ndarray:
     """``(count, 3, 3)`` near-uniform rotations: Alexa's super-Fibonacci spiral
     (M. Alexa, "Super-Fibonacci spirals: fast, low-discrepancy sampling of SO(3)",
     CVPR 2022; constants phi = sqrt(2), psi = 1.533751168755204288118041)."""
-    from .spatial import matrix_from_quaternion
+    from ..spatial import matrix_from_quaternion
     s = np.arange(count) + 0.5
     t = s / count
     r, R = np.sqrt(t), np.sqrt(1.0 - t)
@@ -392,7 +392,7 @@ class Workspace:
 def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     """Per-sample Yoshikawa measure ``(N,)`` (as ``kincalc jacobian`` reports it, in
     display units) and statistics including the normalised condition number."""
-    from .tolerances import SINGULAR_TOL
+    from ..tolerances import SINGULAR_TOL
     J = robot.jacobian(Q)
     n = robot.dof
     full, _ = robot.generic_ranks
@@ -541,7 +541,7 @@ def _dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volu
         about = f"{count} near-uniform orientations (super-Fibonacci spiral)"
     else:
         count = count or ORIENTATIONS_1D
-        from .spatial import matrix_from_axis_angle
+        from ..spatial import matrix_from_axis_angle
         R0 = robot.fk(Q[0])[:3, :3]
         angles = 2 * np.pi * np.arange(count) / count
         Rset = matrix_from_axis_angle(np.broadcast_to(extra, (count, 3)), angles) @ R0

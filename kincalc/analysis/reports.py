@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .spatial import cross
+from ..spatial import cross
 
-from .errors import InputError
+from ..errors import InputError
 from .results import FKResult, JacobianResult, Singularity, Units
-from .tolerances import SINGULAR_TOL
+from ..tolerances import SINGULAR_TOL
 
 
 def joint_vector(robot, q) -> np.ndarray:
@@ -57,8 +57,8 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     analytic : {'rpy', 'zyz', 'xyz'} or None
         Also compute the analytic Jacobian for this angle set.
     """
-    from .jacobian import analytic_jacobian, jacobian_base, rotate_jacobian
-    from .spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
+    from ..jacobian import analytic_jacobian, jacobian_base, rotate_jacobian
+    from ..spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
 
     q = joint_vector(robot, q)
     Jb = jacobian_base(robot.chain, q)
@@ -84,7 +84,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                    "xyz": euler_xyz_from_matrix}[analytic]
         angles = extract(T[:3, :3])
         try:
-            from .jacobian import rate_matrix_condition
+            from ..jacobian import rate_matrix_condition
             if rate_matrix_condition(angles, analytic) < 1e-9:
                 raise np.linalg.LinAlgError
             result_analytic = (analytic, analytic_jacobian(Jb, angles, analytic))
@@ -101,7 +101,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
 
 def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
     """Name the singularity from the axes' geometry where the structure allows."""
-    from .structure import (joint_axes, parallel, point_line_distance,
+    from ..structure import (joint_axes, parallel, point_line_distance,
                             spherical_wrist, wrist_centre)
 
     n = robot.dof

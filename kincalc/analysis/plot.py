@@ -15,7 +15,7 @@ whatever the user's matplotlibrc says, SVG ids are salted with a fixed
 string and no date is written into SVG or PDF files.
 
 Geometry comes in SI (m, rad) and is drawn in the display length unit of a
-:class:`~kincalc.results.Units`.
+:class:`~kincalc.analysis.results.Units`.
 """
 
 from __future__ import annotations
@@ -28,10 +28,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .analysis import joint_vector
-from .errors import InputError, MissingExtra, require_extra  # noqa: F401 (MissingExtra: kincalc.plot.MissingExtra)
-from .limits import quote
-from .outputs import as_target, check_target, replacing
+from .reports import joint_vector
+from ..errors import InputError, MissingExtra, require_extra  # noqa: F401 (MissingExtra: kincalc.analysis.plot.MissingExtra)
+from ..limits import quote
+from ..outputs import as_target, check_target, replacing
 
 #: Output formats, by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -173,7 +173,7 @@ def _append(pts, p, L, force=False):
 
 
 def _frames(robot, q) -> np.ndarray:
-    from .fk import chain_frames
+    from ..fk import chain_frames
     return chain_frames(robot.chain, q)
 
 

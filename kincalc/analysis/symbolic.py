@@ -61,7 +61,7 @@ import re
 from dataclasses import dataclass
 from fractions import Fraction
 
-from .errors import InputError
+from ..errors import InputError
 
 #: significant digits kept when a floating-point length or matrix entry is
 #: turned into an exact decimal (robot files rarely carry more than 6).
@@ -83,7 +83,7 @@ def require_sympy(command: str):
     ``command`` is what the user ran, as it should read in the message:
     ``"kincalc fk --symbolic"``.
     """
-    from .errors import require_extra
+    from ..errors import require_extra
     return require_extra(command, "sympy", "symbolic")
 
 
@@ -330,7 +330,7 @@ class _Builder:
     """Turns a Robot into exact sympy matrices and simplifies their products."""
 
     def __init__(self, robot, numeric_lengths: bool, length_unit: str | None, command: str):
-        from .units import LENGTH_UNITS
+        from ..units import LENGTH_UNITS
         sp = self.sp = require_sympy(command)
         self.robot = robot
         self.numeric = numeric_lengths
@@ -512,7 +512,7 @@ class _Builder:
         if self.robot.convention != "poe":
             before, motion, after = self.dh_parts(i)
             return (before * motion * after).applyfunc(self.simplify)
-        from .model import axis_frame
+        from ..model import axis_frame
         robot = self.robot
 
         def frame(k):

@@ -1,12 +1,12 @@
 """The sentences of IK and reach answers, from the reasons the core returns as data
-(:mod:`kincalc.ik.reasons`, SI), in the user's units (:class:`kincalc.results.Units`).
+(:mod:`kincalc.ik.reasons`, SI), in the user's units (:class:`kincalc.analysis.results.Units`).
 The one place where an answer's "why" is worded."""
 
 from __future__ import annotations
 
 from functools import singledispatch
 
-from .ik.reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
+from ..ik.reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
                          NumericMissed, OrientationOut, Outside, OutOfReach)
 
 
@@ -159,7 +159,7 @@ def singularity_text(robot, solution) -> str | None:
     joints the target leaves undetermined; None when it is not singular."""
     parts = []
     if solution.singular:
-        from .analysis import jacobian_report
+        from .reports import jacobian_report
         rep = jacobian_report(robot, solution.q)
         if rep.singularity is not None:
             parts.append("; ".join(rep.singularity.descriptions))

@@ -37,9 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
+from ..ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
                          where_outside)
-from .ik.reasons import OrientationOut
+from ..ik.reasons import OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 
 
@@ -90,8 +90,8 @@ class ReachResult:
 def reach(robot, target, *, units=None) -> ReachResult:
     """Can ``robot`` reach ``target`` (a :class:`~kincalc.ik.Target`)? See the module
     docstring for the verdicts."""
-    from .ik import solve
-    from .ik.families import plan
+    from ..ik import solve
+    from ..ik.families import plan
     from .results import Units
     units = units or Units(length=robot.length_unit)
     L = max(robot.characteristic_length, 1e-12)
@@ -161,8 +161,8 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
     if dist_free <= POSITION_TOL * L:
-        from .ik.engine import normalise
-        from .ik.solve import violation_list
+        from ..ik.engine import normalise
+        from ..ik.solve import violation_list
         viol = violation_list(robot, normalise(robot, q_free))
         blocked = [_violation_dict(robot, v, units) for v in viol]
         what = ", ".join(_violation_text(robot, v, units) for v in viol)

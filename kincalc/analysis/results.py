@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .units import angle_factor, length_factor
+from ..units import angle_factor, length_factor
 
 SCHEMA_VERSION = "1.0"
 
@@ -80,7 +80,7 @@ def json_header(command: str, robot, units: Units) -> dict:
 
 def orientation_dict(R, units: Units) -> dict:
     """Every orientation format of PRODUCT.md for ``R (3, 3)``, angles in display units."""
-    from . import spatial as sp
+    from .. import spatial as sp
     axis, angle = sp.axis_angle_from_matrix(R)
     return {
         "matrix": json_numbers(R),
@@ -113,7 +113,7 @@ class FKResult:
         """Tool configuration vector, or ``None`` when the last joint is prismatic or
         turned beyond :data:`~kincalc.spatial.TCV_MAX_ROLL` (ten turns: e^(q_n/pi) would
         be beyond kincalc's number limit, and from 2229 rad on infinite)."""
-        from .spatial import TCV_MAX_ROLL, tcv_from_transform
+        from ..spatial import TCV_MAX_ROLL, tcv_from_transform
         if not self.robot.joints[-1].revolute or abs(self.q[-1]) > TCV_MAX_ROLL:
             return None
         w = tcv_from_transform(self.T, self.q[-1])
@@ -185,7 +185,7 @@ class JacobianResult:
     def _base_J(self) -> np.ndarray:
         if self.frame == "base":
             return self.J
-        from .jacobian import rotate_jacobian
+        from ..jacobian import rotate_jacobian
         return rotate_jacobian(self.J, self.robot.fk(self.q)[:3, :3])
 
     def _display_J(self, J) -> list:

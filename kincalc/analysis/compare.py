@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .spatial import cross, invert_transform, skew
+from ..spatial import cross, invert_transform, skew
 
 #: a linearised equation whose singular value is below this (relative) does
 #: not determine the offsets along that direction.
@@ -283,7 +283,7 @@ def _world_screws(robot):
     """Unit screws ``(n, 6)`` ordered ``(v, w)`` in the world frame at q = 0, and
     the tool pose ``M = FK(0)`` (4, 4). Revolute: ``w`` the axis, ``v = p x w``;
     prismatic: ``w = 0``, ``v`` the direction."""
-    from .fk import chain_frames
+    from ..fk import chain_frames
     q0 = np.zeros(robot.dof)
     frames = chain_frames(robot.chain, q0)
     z, p = frames[:, :3, 2], frames[:, :3, 3]
@@ -887,7 +887,7 @@ def _join(items):
 
 
 def describe(m: Match, reference, units, precision: int = 4) -> list[str]:
-    """Readable lines about ``m`` in display ``units`` (a :class:`~kincalc.results.Units`).
+    """Readable lines about ``m`` in display ``units`` (a :class:`~kincalc.analysis.results.Units`).
 
     The first line is the reason; then, for each joint with an offset or a
     sign change, where the candidate's zero lies in the reference's joint
@@ -910,7 +910,7 @@ def describe(m: Match, reference, units, precision: int = 4) -> list[str]:
         if c != 0:
             bits.append(f"candidate zero is at reference {j.name} = {value}")
         lines.append(f"joint {i + 1} ({j.name}): " + ", ".join(bits))
-    from .spatial import rpy_from_matrix
+    from ..spatial import rpy_from_matrix
     for word, T in (("base", m.base), ("tool", m.tool)):
         if T is None:
             continue
