@@ -163,3 +163,9 @@ class TargetMismatch(UsageError):
                     f"({self.why}), which needs a full orientation or the position alone")
         return (f"{self.robot}: {w['tcv']} targets need a robot of 3 or 4 joints whose last "
                 "joint is revolute (the tool roll); give the pose another way")
+
+
+class UnsupportedRobot(KincalcError):
+    """A robot (or a target kind) no closed form covers (exit status 2)."""
+
+    exit_status = 2

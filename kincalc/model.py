@@ -231,7 +231,7 @@ class Robot:
         Returns :class:`~kincalc.ik.engine.Solved`: ``q (N, K, n)``, the mask
         ``valid (N, K)``, labels, limit and singularity flags of every solution; for
         the closed-form families (see :mod:`kincalc.ik.families`), otherwise raises
-        :class:`~kincalc.ik.engine.UnsupportedRobot`. ``robot.ik`` is this for one pose.
+        :class:`~kincalc.errors.UnsupportedRobot`. ``robot.ik`` is this for one pose.
         """
         from .ik.engine import solve_batch
         return solve_batch(self, T)

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from kincalc import load_robot
-from kincalc.ik.engine import UnsupportedRobot, solve_batch
+from kincalc.errors import UnsupportedRobot
+from kincalc.ik.engine import solve_batch
 from kincalc.ik.families import plan
 from kincalc.spatial import wrap
 from kincalc.ik.selftest import sample_configurations

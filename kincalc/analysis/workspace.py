@@ -284,7 +284,7 @@ def _reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fa
 
 def _batchable(robot) -> bool:
     """Does :meth:`Robot.ik_batch` cover this robot (a closed-form family)?"""
-    from ..ik.engine import UnsupportedRobot
+    from ..errors import UnsupportedRobot
     try:
         robot.ik_batch(robot.fk(np.asarray(robot.home, float))[None])
     except UnsupportedRobot:

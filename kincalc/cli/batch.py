@@ -1038,7 +1038,7 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
 
     from ..ik import Target
     from ..errors import KincalcError
-    from ..ik.engine import UnsupportedRobot
+    from ..errors import UnsupportedRobot
     from ..ik.solve import solve
     full, T, partial, errors = _poses(robot, units, parsed)
     qdisp = np.where(robot.is_revolute, units.a, units.l)

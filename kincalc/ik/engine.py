@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from ..errors import KincalcError, TargetMismatch
+from ..errors import TargetMismatch, UnsupportedRobot
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE,
                           LIMIT_TOL, SINGULAR_TOL)
 from .branches import Branches
@@ -35,12 +35,6 @@ from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
 from .target import Targets
-
-
-class UnsupportedRobot(KincalcError):
-    """A robot (or a target kind) no closed form covers (exit status 2)."""
-
-    exit_status = 2
 
 
 @dataclass(frozen=True)

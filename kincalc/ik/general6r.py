@@ -1099,7 +1099,7 @@ def general_6r(robot, targets, br):
     (:func:`solve_general_6r_batch`), ordered by joint 3 then joint 1, one slot each,
     labelled by their rank (``root k`` of joint 3). ``targets`` must be whole poses."""
     from dataclasses import replace as _replace
-    from .engine import UnsupportedRobot
+    from ..errors import UnsupportedRobot
     if targets.kind != "pose":
         raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
     Q, ok = solve_general_6r_batch(robot, targets.T)

@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import TargetMismatch
 from ..spatial import rotation_error
 from ..tolerances import ACCEPT_POSITION
-from .engine import TCV, Solved, UnsupportedRobot, solve_targets  # noqa: F401
+from .engine import TCV, Solved, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
