@@ -24,7 +24,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
-from kincalc.cli import batch  # noqa: E402
+from kincalc.cli.batch import chunks, formats, records, runner  # noqa: E402
 from kincalc.ik.selftest import sample_configurations  # noqa: E402
 from kincalc.spatial import rpy_from_matrix  # noqa: E402
 
@@ -80,22 +80,22 @@ def main():
         return out
 
     # the stages chunk by chunk, as the CLI runs them (the sizes and caches matter)
-    for k in range(0, len(lines), batch.CHUNK_LINES):
-        chunk = lines[k:k + batch.CHUNK_LINES]
-        parsed = timed("read JSON records", batch._parse, None, r, k, chunk)
-        full, Tq, _, _ = timed("build poses (vectorised)", batch._poses, r, units, parsed)
+    for k in range(0, len(lines), runner.CHUNK_LINES):
+        chunk = lines[k:k + runner.CHUNK_LINES]
+        parsed = timed("read JSON records", records.parse_records, None, r, k, chunk)
+        full, Tq, _, _ = timed("build poses (vectorised)", chunks._poses, r, units, parsed)
         B = timed("ik_batch", r.ik_batch, Tq)
         q = B.q[B.valid]
         owner, _ = np.nonzero(B.valid)
         within = timed("limit flags + branch labels", lambda: B.within[B.valid])
         labels = timed("limit flags + branch labels", lambda: B.labels[B.valid].tolist())
-        timed("write JSON lines", batch._solutions_json, np.round(q, 12), labels, within,
+        timed("write JSON lines", formats.solutions_json, np.round(q, 12), labels, within,
               owner, len(full))
     # the whole of the same work (chunks parsed, solved and written as the CLI does)
     t0 = time.perf_counter()
-    for k in range(0, len(lines), batch.CHUNK_LINES):
-        batch.process_chunk("ik", r, units, None, "jsonl", "base",
-                            (k, lines[k:k + batch.CHUNK_LINES]))
+    for k in range(0, len(lines), runner.CHUNK_LINES):
+        chunks.process_chunk("ik", r, units, None, "jsonl", "base",
+                            (k, lines[k:k + runner.CHUNK_LINES]))
     whole = time.perf_counter() - t0
     stages["the rest (records, output lines)"] = whole - sum(stages.values())
     print(f"\nstages of one run, in-process ({whole:.2f} s, {args.poses / whole:.0f} poses/s):")

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from kincalc import load_robot
-from kincalc.cli import batch as batch_mod
+from kincalc.cli.batch import records, runner
 from kincalc.cli.main import main
 from kincalc.ik.selftest import sample_configurations
 
@@ -211,7 +211,7 @@ def test_batch_refuses_other_inputs(tmp_path, capsys):
 
 
 def test_jobs_keep_the_order_and_the_answers(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr(batch_mod, "CHUNK_LINES", 64)
+    monkeypatch.setattr(runner, "CHUNK_LINES", 64)
     r = load_robot("ur5")
     T = r.fk(sample_configurations(r, 500, np.random.default_rng(6)))
     rows = [{"T": t.tolist()} for t in T]
@@ -359,11 +359,11 @@ class _Zeros(_Bytes):
 
     def read(self):
         self.reads += 1
-        return bytes(batch_mod.READ_BYTES)
+        return bytes(runner.READ_BYTES)
 
 
 def _records(source, size=2048, input_format="auto"):
-    header, chunks = batch_mod._chunked(source, size, input_format)
+    header, chunks = runner._chunked(source, size, input_format)
     return header, [line for (start, lines), _ in chunks for line in lines]
 
 
@@ -398,7 +398,7 @@ def test_the_input_format_rule(data, src, input_format, header):
 def test_an_unreadable_csv_header_is_every_records_error():
     header, lines = _records(_Bytes(b"x,\xff,z\n1,2,3\n4,5,6\n"), input_format="csv")
     assert "not UTF-8" in header and len(lines) == 2
-    parsed = batch_mod._parse(header, load_robot("puma560"), 0, lines)
+    parsed = records.parse_records(header, load_robot("puma560"), 0, lines)
     assert [e for _, _, e in parsed] == [f"record {i}: {header}" for i in (1, 2)]
 
 
@@ -410,7 +410,7 @@ def test_blank_lines_crlf_and_the_byte_order_mark():
                                     b'{"q": [2]}\n\xef\xbb\xbf{"q": [3]}'))
     assert header is None
     assert lines == [b'{"q": [1]}\r', b'{"q": [2]}', b'\xef\xbb\xbf{"q": [3]}']
-    parsed = batch_mod._parse(None, load_robot("bk_rr"), 0, lines)
+    parsed = records.parse_records(None, load_robot("bk_rr"), 0, lines)
     assert parsed[0][1] == {"q": (1.0,)} and parsed[1][1] == {"q": (2.0,)}
     assert "byte order mark" in parsed[2][2]
 
@@ -419,12 +419,12 @@ def test_an_over_long_line_is_its_records_error_and_reading_goes_on():
     """A line beyond MAX_RECORD_BYTES is one record (None, its error), read in bounded
     pieces and skipped to its newline; the next line is the next record, even when the
     long line is blank."""
-    long = b"{" + b" " * (3 * batch_mod.READ_BYTES) + b"}"
+    long = b"{" + b" " * (3 * runner.READ_BYTES) + b"}"
     source = _Bytes(b'{"q": [1]}\n' + long[:1000], long[1000:70000], long[70000:] + b"\n{}\n",
                     b" " * (MAX_RECORD_BYTES + 1) + b"\n", b" " * MAX_RECORD_BYTES + b"\n[]")
     header, lines = _records(source)
     assert lines == [b'{"q": [1]}', None, b"{}", None, b"[]"]
-    parsed = batch_mod._parse(None, load_robot("bk_rr"), 0, lines)
+    parsed = records.parse_records(None, load_robot("bk_rr"), 0, lines)
     assert parsed[1][2] == "record 2: longer than 64 KiB, kincalc's limit for a --batch line"
 
 
@@ -434,15 +434,15 @@ def test_an_endless_line_ends_the_input_after_a_bounded_read():
     source = _Zeros()
     header, lines = _records(source)
     assert header is None and lines == [None] and source.stopped == 1
-    assert source.reads * batch_mod.READ_BYTES <= MAX_BATCH_SKIP_BYTES + 3 * batch_mod.READ_BYTES
+    assert source.reads * runner.READ_BYTES <= MAX_BATCH_SKIP_BYTES + 3 * runner.READ_BYTES
 
 
 def test_a_chunk_is_what_has_arrived_from_a_pipe():
     """With nothing more ready, the lines so far are a chunk of their own, flagged so that
     their answers are written before the reader waits (with --jobs N too)."""
-    header, chunks = batch_mod._chunked(_Bytes(b"{}\n{}\n", b"{}\n", ready=False), 2048)
+    header, chunks = runner._chunked(_Bytes(b"{}\n{}\n", b"{}\n", ready=False), 2048)
     assert list(chunks) == [((0, [b"{}", b"{}"]), True), ((2, [b"{}"]), True)]
-    header, chunks = batch_mod._chunked(_Bytes(b"{}\n" * 5, ready=True), 2)
+    header, chunks = runner._chunked(_Bytes(b"{}\n" * 5, ready=True), 2)
     assert [(c[0], len(c[1]), f) for c, f in chunks] == [(0, 2, False), (2, 2, False),
                                                           (4, 1, True)]
 
@@ -470,7 +470,7 @@ def test_a_chunk_is_what_has_arrived_from_a_pipe():
     (b'{"' + b"k" * 1000 + b'": 1}', "unknown field 'kkkkkkkk"),
 ])
 def test_json_records_that_are_their_own_error(line, error):
-    (i, kw, err), = batch_mod._parse(None, load_robot("puma560"), 4, [line])
+    (i, kw, err), = records.parse_records(None, load_robot("puma560"), 4, [line])
     assert kw is None and err.startswith(f"record 5: {error}"), err
     assert len(err) < 300
 
@@ -478,7 +478,7 @@ def test_json_records_that_are_their_own_error(line, error):
 def test_json_records_at_the_limits_are_read():
     rows = [b'{"q": [1e9, -1e9, 999999999.5, 0, -0.0, 5e-324], "id": "a:b"}',
             b'{"q": [1, 2, 3, 4, 5, 6], "id": 1e300}', b'{"q": [0, 0, 0, 0, 0, 0], "id": null}']
-    parsed = batch_mod._parse(None, load_robot("puma560"), 0, rows)
+    parsed = records.parse_records(None, load_robot("puma560"), 0, rows)
     assert [e for _, _, e in parsed] == [None] * 3
     assert parsed[0][1] == {"q": (1e9, -1e9, 999999999.5, 0.0, -0.0, 5e-324), "id": "a:b"}
 
@@ -499,7 +499,7 @@ def test_csv_cells_that_are_their_records_error(cells, error):
     """A NaN or inf cell lost the whole fk/jacobian run (a JSON ValueError, an SVD that
     did not converge) and gave ik an 'unreachable'; 'true' was read as 1."""
     header = tuple(f"q{k}" for k in range(1, 7))
-    (i, kw, err), = batch_mod._parse(header, load_robot("puma560"), 0, [cells.encode()])
+    (i, kw, err), = records.parse_records(header, load_robot("puma560"), 0, [cells.encode()])
     assert err == f"record 1: {error}" or err.startswith(f"record 1: {error}"), err
 
 
@@ -507,7 +507,7 @@ def test_csv_headers_that_cannot_be_used():
     robot = load_robot("puma560")
     for header, error in [(("x", "y", "z", "x"), "column 'x' appears twice"),
                           (("x", "y", "w"), "unknown column 'x'")]:
-        (_, _, err), = batch_mod._parse(header, robot, 0, [b"1,2,3"])
+        (_, _, err), = records.parse_records(header, robot, 0, [b"1,2,3"])
         assert err.startswith(f"record 1: {error}"), err
 
 

@@ -31,7 +31,7 @@ from hypothesis import strategies as st
 
 from cli_contract import (assert_batch_csv, assert_contract, json_documents,
                           output_format, run_cli)
-from kincalc.cli import batch
+from kincalc.cli.batch import runner
 from kincalc.limits import MAX_RECORD_BYTES
 
 SEEDED = dict(derandomize=True, database=None, deadline=None,
@@ -214,9 +214,9 @@ def check_run(argv, data, *, name="-", input_format="auto", sizes=(2048, 1 << 16
     argv = [str(a) for a in argv]
     chunk, read = sizes
     with warnings.catch_warnings(record=True) as caught, \
-            mock.patch.object(batch, "CHUNK_LINES", chunk), \
-            mock.patch.object(batch, "REACH_CHUNK_LINES", chunk), \
-            mock.patch.object(batch, "READ_BYTES", read):
+            mock.patch.object(runner, "CHUNK_LINES", chunk), \
+            mock.patch.object(runner, "REACH_CHUNK_LINES", chunk), \
+            mock.patch.object(runner, "READ_BYTES", read):
         warnings.simplefilter("always")
         status, out, err = run_cli(argv, stdin=data)
     records = input_records(data, input_format, name)

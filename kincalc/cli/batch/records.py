@@ -1,0 +1,279 @@
+"""Batch records: one line of bytes to pose keywords, or the reason it cannot be used
+(JSON lines and CSV; see :mod:`kincalc.cli.batch` for what a record is)."""
+
+from __future__ import annotations
+
+import math
+
+from ...limits import MAX_MAGNITUDE, MAX_RECORD_BYTES, quote, size_text
+
+#: pose keys of a JSON record and the number of values each takes
+POSE_KEYS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
+             "matrix": 9, "approach": 3, "tcv": 6}
+#: CSV column groups and the pose key they fill
+CSV_GROUPS = {("x", "y", "z"): "xyz", ("roll", "pitch", "yaw"): "rpy",
+              ("qw", "qx", "qy", "qz"): "quat", ("ax", "ay", "az"): "approach"}
+#: the input formats of --input-format
+INPUT_FORMATS = ("auto", "jsonl", "csv")
+#: file name endings that decide the input format when --input-format is auto
+FORMAT_OF_SUFFIX = {".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv"}
+#: the first line of a JSON lines input that would otherwise pass for a CSV header
+_JSON_WORDS = {"null", "true", "false", "NaN", "Infinity"}
+BOM = b"\xef\xbb\xbf"
+
+
+class RecordError(ValueError):
+    """A batch record that cannot be used; the message names what is wrong."""
+
+
+# --- records: one line of bytes -> pose keywords, or the reason it cannot be used ---------
+
+def parse_records(header, robot, start: int, lines) -> list:
+    """``[(index, keywords or None, error or None)]`` of one chunk of lines (bytes, or
+    None for a line over the length limit), the first being record ``start``. ``header``
+    is None for JSON lines, the column names for CSV, or the reason the CSV header cannot
+    be used."""
+    out = []
+    if header is None:
+        for i, line in enumerate(lines, start):
+            try:
+                out.append((i, _json_record(_text(line)), None))
+            except RecordError as exc:
+                out.append((i, None, f"record {i + 1}: {exc}"))
+        return out
+    if isinstance(header, str):
+        reason, layout = header, None
+    else:
+        layout, reason = _csv_layout(header, robot)
+    for i, line in enumerate(lines, start):
+        try:
+            if layout is None:
+                raise RecordError(reason)
+            out.append((i, _csv_record(header, layout, _text(line)), None))
+        except RecordError as exc:
+            out.append((i, None, f"record {i + 1}: {exc}"))
+    return out
+
+
+def _text(line) -> str:
+    """A record's line as text, without the whitespace around it."""
+    if line is None:
+        raise RecordError(f"longer than {size_text(MAX_RECORD_BYTES)}, kincalc's limit for a "
+                          "--batch line")
+    if b"\0" in line:
+        raise RecordError("holds a NUL byte, so it is not a line of text")
+    line = line.strip()
+    try:
+        return line.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RecordError(f"not UTF-8 text (byte {line[exc.start]:#04x} at position "
+                          f"{exc.start + 1})") from None
+
+
+def _json_record(text: str) -> dict:
+    """The pose keywords of one JSON lines record."""
+    global _DECODER
+    if _DECODER is None:
+        import json
+        _DECODER = (json.JSONDecoder(parse_constant=_not_finite),
+                    json.JSONDecoder(parse_constant=_not_finite, object_pairs_hook=_unique_fields))
+    if text.startswith("\ufeff"):
+        raise RecordError("starts with a byte order mark (only the input's first line may)")
+    try:
+        rec = _DECODER[0].decode(text)
+        # a field given twice: the decoder keeps the last; every key is followed by a
+        # colon, so a record with no more colons than keys has none twice
+        if type(rec) is dict and text.count(":") > len(rec):
+            _DECODER[1].decode(text)
+    except RecursionError:
+        raise RecordError("not JSON (nested too deeply)") from None
+    except RecordError:
+        raise
+    except ValueError as exc:
+        # a JSONDecodeError has .msg; int() refusing a number of thousands of digits not
+        raise RecordError(f"not JSON ({getattr(exc, 'msg', 'a number too long to read')})") \
+            from None
+    if type(rec) is not dict:
+        raise RecordError(f"expected a JSON object ({{...}}), not {_json_kind(rec)}")
+    return _pose_keywords(rec)
+
+
+_DECODER = None
+
+
+def _not_finite(word):
+    """The JSON decoders' hook for NaN, Infinity and -Infinity (not JSON, but Python's
+    json module reads them)."""
+    raise RecordError(f"{word} is not a finite number (JSON has no NaN or Infinity)")
+
+
+def _unique_fields(pairs) -> dict:
+    out = dict(pairs)
+    if len(out) != len(pairs):
+        seen = set()
+        twice = next(k for k, _ in pairs if k in seen or seen.add(k))
+        raise RecordError(f"field {quote(twice)} is given twice")
+    return out
+
+
+def _json_kind(value) -> str:
+    """How a JSON value reads in a message: null, true, an array, a string, ..."""
+    if value is None or isinstance(value, bool):
+        return "null" if value is None else str(value).lower()
+    return {list: "an array", dict: "an object", str: "a string"}.get(type(value), "a number")
+
+
+def _numbers(value, count: int, key: str) -> tuple:
+    """The floats of the JSON array of field ``key``: ``count`` numbers (any number for
+    0), each finite and within MAX_MAGNITUDE."""
+    if type(value) is not list or (count and len(value) != count):
+        raise RecordError(f"{key}: expected {count or 'a list of'} numbers")
+    if not _NUMBER_TYPES.issuperset(map(type, value)):     # true, "1", [...], null
+        bad = next(v for v in value if type(v) not in _NUMBER_TYPES)
+        raise RecordError(f"{key}: {_json_kind(bad)} is not a number")
+    try:
+        out = tuple(map(float, value))
+    except OverflowError:                               # an integer beyond any float
+        k = next(k for k, v in enumerate(value) if abs(v) > MAX_MAGNITUDE)
+        raise RecordError(f"{key}: value {k + 1} is beyond {_LIMIT}, {_WHY}") from None
+    if not _within_range(out):
+        _range_error(out, lambda k: f"{key}: value {k + 1}")
+    return out
+
+
+def _within_range(values) -> bool:
+    """Whether every value is within MAX_MAGNITUDE (so finite: an overflow to infinity
+    is caught, and no value is NaN, which neither a JSON number nor a decimal CSV cell can
+    be; the JSON words NaN and Infinity are refused by the parser). Two C calls: this runs
+    for every array of every record."""
+    return not values or (min(values) >= -MAX_MAGNITUDE and max(values) <= MAX_MAGNITUDE)
+
+
+def _range_error(values, name):
+    """Raise the RecordError for the first value that is not finite or too large;
+    ``name(k)`` names value k in the message."""
+    for k, x in enumerate(values):
+        if not math.isfinite(x):
+            raise RecordError(f"{name(k)} is not a finite number")
+        if abs(x) > MAX_MAGNITUDE:
+            raise RecordError(f"{name(k)} ({x:.6g}) is beyond {_LIMIT}, {_WHY}")
+
+
+_NUMBER_TYPES = frozenset({int, float})
+#: MAX_MAGNITUDE as the messages write it (1e9), and why it is there
+_LIMIT = f"{MAX_MAGNITUDE:.0e}".replace("e+0", "e").replace("e+", "e")
+_WHY = "kincalc's limit for the magnitude of a number"
+#: the fields of a JSON record, with the count of numbers of each (0: any)
+_FIELDS = {**POSE_KEYS, "T": 0, "q": 0}
+_KNOWN = frozenset(_FIELDS) | {"id"}
+
+
+def _pose_keywords(rec: dict) -> dict:
+    if not _KNOWN.issuperset(rec):
+        unknown = next(k for k in rec if k not in _FIELDS and k != "id")
+        raise RecordError(f"unknown field {quote(unknown)} (pose fields: "
+                          f"{', '.join(_FIELDS)})")
+    out = {}
+    for key, value in rec.items():
+        if key == "id":
+            if isinstance(value, (list, dict)) or (type(value) is float and
+                                                    not math.isfinite(value)):
+                raise RecordError("id must be a string, a finite number, true, false or null")
+        elif key == "T":
+            if type(value) is list and value and type(value[0]) is list:
+                value = [x for row in value for x in (row if type(row) is list else [row])]
+            value = _numbers(value, 0, "T")
+        else:
+            value = _numbers(value, _FIELDS[key], key)
+        out[key] = value
+    if len(out) == ("id" in out):
+        raise RecordError("no pose (give xyz and an orientation, T or q)")
+    return out
+
+
+def _csv_layout(header, robot):
+    """``(layout, None)``: the pose keys a CSV record fills and the column of each of their
+    values, ``[(key, [column, ...])]``; or ``(None, reason)`` when the header cannot be
+    used (a column twice, or one that is not a pose or joint column)."""
+    seen = set()
+    for h in header:
+        if h in seen:
+            return None, f"column {quote(h)} appears twice in the CSV header"
+        seen.add(h)
+    where = {h: k for k, h in enumerate(header)}
+    layout, used = [], set()
+    for cols, key in CSV_GROUPS.items():
+        if all(c in where for c in cols):
+            layout.append((key, [where[c] for c in cols]))
+            used |= set(cols)
+    names = [j.name for j in robot.joints]
+    if all(n in where for n in names):
+        layout.append(("q", [where[n] for n in names]))
+        used |= set(names)
+    extra = [h for h in header if h not in used]
+    if extra:
+        return None, (f"unknown column {quote(extra[0])} (columns: x,y,z with roll,pitch,yaw "
+                      f"or qw,qx,qy,qz or ax,ay,az; or the joints {','.join(names)})")
+    return layout, None
+
+
+def _csv_patterns():
+    import re
+    # a line of plain numbers (digits, signs, points, exponents) needs no cell-by-cell look
+    plain = re.compile(r"[0-9eE+\-.,\s]*", re.ASCII)
+    number = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
+    header = re.compile(r"[A-Za-z_][\w.\-]*(?:[ \t]*,[ \t]*[A-Za-z_][\w.\-]*)*", re.ASCII)
+    return plain, number, header
+
+
+_PLAIN = _NUMBER = _HEADER = None
+
+
+def _csv_record(header, layout, text: str) -> dict:
+    """The pose keywords of one CSV line: decimal numbers, one per column."""
+    global _PLAIN, _NUMBER
+    if _PLAIN is None:
+        _PLAIN, _NUMBER, _ = _csv_patterns()
+    cells = text.split(",")
+    if len(cells) != len(header):
+        raise RecordError(f"{len(cells)} values for {len(header)} columns")
+    values = None
+    if _PLAIN.fullmatch(text):
+        try:
+            values = list(map(float, cells))
+        except ValueError:
+            pass
+    if values is None:                  # find the cell that is not a number, and say so
+        for h, c in zip(header, cells):
+            c = c.strip()
+            if not _NUMBER.fullmatch(c):
+                raise RecordError(f"column {quote(h)}: " + (
+                    "empty cell" if not c else f"{quote(c)} is not a number"))
+        values = list(map(float, cells))
+    if not _within_range(values):
+        _range_error(values, lambda k: f"column {quote(header[k])}")
+    return {key: tuple(values[k] for k in cols) for key, cols in layout}
+
+
+def read_header(line, forced: bool):
+    """The column names of a CSV header line. With ``forced`` (--input-format csv, or a
+    name ending in .csv), the reason when the line cannot be read; otherwise None when it
+    is not a header (then the input is JSON lines)."""
+    global _HEADER
+    if _HEADER is None:
+        _, _, _HEADER = _csv_patterns()
+    try:
+        text = _text(line)
+    except RecordError as exc:
+        return f"the CSV header (the first line) cannot be used: {exc}" if forced else None
+    if not forced and (text in _JSON_WORDS or not _HEADER.fullmatch(text)):
+        return None
+    return tuple(c.strip() for c in text.split(","))
+
+
+def csv_cell(value):
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return value
