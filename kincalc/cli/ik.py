@@ -2,55 +2,15 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Optional, Tuple
+from typing import Annotated, Optional
 
 import typer
 
 from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt, JobsOpt,
                      JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units,
                      load_robot, output, output_target)
-from .targets import build_target
+from .targets import PoseOptions, with_pose_options
 
-F3 = Tuple[float, float, float]
-F4 = Tuple[float, float, float, float]
-
-XyzOpt = Annotated[Optional[F3], typer.Option("--xyz", metavar="X Y Z", show_default=False,
-                                              help="Target position, in the length unit.")]
-RpyOpt = Annotated[Optional[F3], typer.Option(
-    "--rpy", metavar="R P Y", show_default=False,
-    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).")]
-ZyzOpt = Annotated[Optional[F3], typer.Option(
-    "--euler-zyz", metavar="A B C", show_default=False,
-    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).")]
-XyzEOpt = Annotated[Optional[F3], typer.Option(
-    "--euler-xyz", metavar="A B C", show_default=False,
-    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).")]
-QuatOpt = Annotated[Optional[F4], typer.Option(
-    "--quat", metavar="W X Y Z", show_default=False,
-    help="Orientation as a quaternion (w, x, y, z); normalised.")]
-AxisAngleOpt = Annotated[Optional[F4], typer.Option(
-    "--axis-angle", metavar="X Y Z ANGLE", show_default=False,
-    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).")]
-MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, float, float,
-                                     float]], typer.Option(
-    "--matrix", metavar="R11 ... R33", show_default=False,
-    help="Orientation as a rotation matrix, 9 numbers row by row.")]
-ApproachOpt = Annotated[Optional[F3], typer.Option(
-    "--approach", metavar="AX AY AZ", show_default=False,
-    help="Only the approach direction (the tool z axis, world frame; normalised), for "
-         "five-joint arms that set it but not the roll about it.")]
-TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
-    "--tcv", metavar="W1 ... W6", show_default=False,
-    help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
-         "the last joint's angle in one (robots whose last joint rolls the tool).")]
-PoseOpt = Annotated[Optional[str], typer.Option(
-    "--pose", metavar="FILE", show_default=False, click_type=FileName(),
-    help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "
-         "or JSON (a list of rows, or an object with a 'T' field).")]
-FromQOpt = Annotated[Optional[str], typer.Option(
-    "--from-q", metavar="'Q1 Q2 ...'", show_default=False,
-    help="Target the pose FK gives for these joint values (one quoted argument, "
-         "space- or comma-separated).")]
 AllBranchesOpt = Annotated[bool, typer.Option(
     "--all-branches", help="Also list the branch combinations that do not reach the target, "
                            "and why.")]
@@ -76,19 +36,10 @@ ExplainOpt = Annotated[bool, typer.Option(
     "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
 
 
+@with_pose_options
 def ik(
     robot: RobotArg,
-    xyz: XyzOpt = None,
-    rpy: RpyOpt = None,
-    euler_zyz: ZyzOpt = None,
-    euler_xyz: XyzEOpt = None,
-    quat: QuatOpt = None,
-    axis_angle: AxisAngleOpt = None,
-    matrix: MatrixOpt = None,
-    approach: ApproachOpt = None,
-    tcv: TcvOpt = None,
-    pose: PoseOpt = None,
-    from_q: FromQOpt = None,
+    pose_options: PoseOptions,
     all_branches: AllBranchesOpt = False,
     explain: ExplainOpt = False,
     near: NearOpt = None,
@@ -121,7 +72,7 @@ def ik(
     plot_to = None
     if plot is not None and batch is None:
         from ..analysis.plot import check_output, require_matplotlib
-        plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose)])
+        plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose_options.pose)])
         check_output(plot_to)
         require_matplotlib("kincalc ik --plot")
     rob = load_robot(robot)
@@ -129,15 +80,11 @@ def ik(
     if batch is not None:
         from .batch import run_command
         run_command("ik", rob, units, batch, fmt, jobs,
-                    given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
-                           tcv, pose, from_q],
+                    given=pose_options.given(),
                     refused={"--all-branches": all_branches, "--explain": explain,
                              "--near": near, "--numeric": numeric, "--plot": plot},
                     input_format=input_format)
-    target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
-                          euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
-                          matrix=matrix, approach=approach, tcv=tcv, pose=pose,
-                          from_q=from_q)
+    target = pose_options.target(rob, units)
     q_near = None
     if near is not None:
         from .common import parse_joints

@@ -7,24 +7,13 @@ import typer
 
 from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JsonOpt,
                      PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output)
-from .ik import (ApproachOpt, AxisAngleOpt, FromQOpt, MatrixOpt, PoseOpt, QuatOpt, RpyOpt,
-                 TcvOpt, XyzEOpt, XyzOpt, ZyzOpt)
-from .targets import build_target
+from .targets import PoseOptions, with_pose_options
 
 
+@with_pose_options
 def reach(
     robot: RobotArg,
-    xyz: XyzOpt = None,
-    rpy: RpyOpt = None,
-    euler_zyz: ZyzOpt = None,
-    euler_xyz: XyzEOpt = None,
-    quat: QuatOpt = None,
-    axis_angle: AxisAngleOpt = None,
-    matrix: MatrixOpt = None,
-    approach: ApproachOpt = None,
-    tcv: TcvOpt = None,
-    pose: PoseOpt = None,
-    from_q: FromQOpt = None,
+    pose_options: PoseOptions,
     batch: BatchOpt = None,
     fmt: FormatOpt = "jsonl",
     input_format: InputFormatOpt = "auto",
@@ -56,12 +45,9 @@ def reach(
     if batch is not None:
         from .batch import run_command
         run_command("reach", rob, units, batch, fmt, jobs,
-                    given=[xyz, rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, approach,
-                           tcv, pose, from_q],
+                    given=pose_options.given(),
                     input_format=input_format)
-    target = build_target(rob, units, xyz=xyz, rpy=rpy, euler_zyz=euler_zyz,
-                          euler_xyz=euler_xyz, quat=quat, axis_angle=axis_angle,
-                          matrix=matrix, approach=approach, tcv=tcv, pose=pose, from_q=from_q)
+    target = pose_options.target(rob, units)
     result = _reach(rob, target, units=units)
     output(result.to_dict(), json, _tables, rob, precision)
     if not result.reachable:

@@ -8,8 +8,116 @@ batch record's (``rpy``), and reads ``--pose`` files.
 
 from __future__ import annotations
 
+import functools
+import inspect
+import typing
+from dataclasses import asdict, dataclass
+from typing import Annotated, Optional, Tuple
+
+import typer
+
 from ..errors import InputError, UsageError
-from .common import check_numbers
+from .common import FileName, check_numbers
+
+# --- the pose options, declared once for every command that takes a target -----------
+
+F3 = Tuple[float, float, float]
+F4 = Tuple[float, float, float, float]
+
+XyzOpt = Annotated[Optional[F3], typer.Option("--xyz", metavar="X Y Z", show_default=False,
+                                              help="Target position, in the length unit.")]
+RpyOpt = Annotated[Optional[F3], typer.Option(
+    "--rpy", metavar="R P Y", show_default=False,
+    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).")]
+ZyzOpt = Annotated[Optional[F3], typer.Option(
+    "--euler-zyz", metavar="A B C", show_default=False,
+    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).")]
+XyzEOpt = Annotated[Optional[F3], typer.Option(
+    "--euler-xyz", metavar="A B C", show_default=False,
+    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).")]
+QuatOpt = Annotated[Optional[F4], typer.Option(
+    "--quat", metavar="W X Y Z", show_default=False,
+    help="Orientation as a quaternion (w, x, y, z); normalised.")]
+AxisAngleOpt = Annotated[Optional[F4], typer.Option(
+    "--axis-angle", metavar="X Y Z ANGLE", show_default=False,
+    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).")]
+MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, float, float,
+                                     float]], typer.Option(
+    "--matrix", metavar="R11 ... R33", show_default=False,
+    help="Orientation as a rotation matrix, 9 numbers row by row.")]
+ApproachOpt = Annotated[Optional[F3], typer.Option(
+    "--approach", metavar="AX AY AZ", show_default=False,
+    help="Only the approach direction (the tool z axis, world frame; normalised), for "
+         "five-joint arms that set it but not the roll about it.")]
+TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
+    "--tcv", metavar="W1 ... W6", show_default=False,
+    help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
+         "the last joint's angle in one (robots whose last joint rolls the tool).")]
+PoseOpt = Annotated[Optional[str], typer.Option(
+    "--pose", metavar="FILE", show_default=False, click_type=FileName(),
+    help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "
+         "or JSON (a list of rows, or an object with a 'T' field).")]
+FromQOpt = Annotated[Optional[str], typer.Option(
+    "--from-q", metavar="'Q1 Q2 ...'", show_default=False,
+    help="Target the pose FK gives for these joint values (one quoted argument, "
+         "space- or comma-separated).")]
+
+#: the pose options in --help order: (parameter name, its typer annotation)
+POSE_OPTIONS = (("xyz", XyzOpt), ("rpy", RpyOpt), ("euler_zyz", ZyzOpt),
+                ("euler_xyz", XyzEOpt), ("quat", QuatOpt), ("axis_angle", AxisAngleOpt),
+                ("matrix", MatrixOpt), ("approach", ApproachOpt), ("tcv", TcvOpt),
+                ("pose", PoseOpt), ("from_q", FromQOpt))
+
+
+@dataclass(frozen=True)
+class PoseOptions:
+    """The pose options of one command line, as given (user units; None when absent)."""
+
+    xyz: tuple | None = None
+    rpy: tuple | None = None
+    euler_zyz: tuple | None = None
+    euler_xyz: tuple | None = None
+    quat: tuple | None = None
+    axis_angle: tuple | None = None
+    matrix: tuple | None = None
+    approach: tuple | None = None
+    tcv: tuple | None = None
+    pose: str | None = None
+    from_q: str | None = None
+
+    def given(self) -> list:
+        """Every option's value, in --help order (for refusing them next to --batch)."""
+        return [getattr(self, name) for name, _ in POSE_OPTIONS]
+
+    def target(self, robot, units):
+        """The :class:`~kincalc.ik.Target` they ask for (SI), by :func:`build_target`."""
+        return build_target(robot, units, **asdict(self))
+
+
+def with_pose_options(command):
+    """A typer command whose ``pose_options: PoseOptions`` parameter stands for the eleven
+    pose options (``--xyz`` .. ``--from-q``, in that place of its signature, so --help
+    lists them as before); the command receives them as one :class:`PoseOptions`."""
+    hints = typing.get_type_hints(command, include_extras=True)
+    params = []
+    for p in inspect.signature(command).parameters.values():
+        if p.name == "pose_options":
+            params += [inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                                         default=None, annotation=annotation)
+                       for name, annotation in POSE_OPTIONS]
+        else:
+            params.append(p.replace(annotation=hints.get(p.name, p.annotation)))
+
+    @functools.wraps(command)
+    def wrapper(*args, **kwargs):
+        values = {name: kwargs.pop(name, None) for name, _ in POSE_OPTIONS}
+        return command(*args, pose_options=PoseOptions(**values), **kwargs)
+    wrapper.__signature__ = inspect.Signature(params)
+    wrapper.__annotations__ = {p.name: p.annotation for p in params}
+    return wrapper
+
+
+# --- targets from them -----------------------------------------------------------------
 
 #: how the command line names the fields of a target request
 OPTION_NAMES = {"q": "--from-q", "T": "--pose"}
