@@ -86,7 +86,7 @@ def test_workspace_refuses_requests_beyond_the_limits(planar, kw, words):
 def test_workspace_dexterity_chunks_change_no_number(planar, monkeypatch):
     from kincalc.analysis import workspace
     whole = workspace.analyse(planar, 3000, 4).to_dict()
-    monkeypatch.setattr(workspace, "PAIR_CHUNK", 900)   # 37 points a chunk: ~10, one ragged
+    monkeypatch.setattr(workspace.dexterity, "PAIR_CHUNK", 900)   # 37 points a chunk: ~10, one ragged
     chunked = workspace.analyse(planar, 3000, 4).to_dict()
     for d in (whole, chunked):
         d.pop("timings", None)

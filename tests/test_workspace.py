@@ -200,7 +200,7 @@ def test_bundled_puma_reach_where_the_limits_do_not_bind():
     ("p3_disc", 0.24 * PI, 1.44 * PI),
 ])
 def test_planar_3r_dexterous_area(arms, monkeypatch, name, dexterous, reachable):
-    monkeypatch.setattr(ws, "DEXTERITY_POINTS", 800)
+    monkeypatch.setattr(ws.dexterity, "DEXTERITY_POINTS", 800)
     w = ws.analyse(load(arms[name]), 50_000, 0)
     check_area(w, reachable)
     d = w.dexterous

@@ -1,0 +1,183 @@
+"""The reachable volume: the grid of sampled tool points, the band's hit-or-miss
+membership tests and the Wilson interval; see :mod:`kincalc.analysis.workspace`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...ik.nearest import descend, motion_frame
+
+#: mean samples per occupied grid cell the grid is sized for
+SAMPLES_PER_CELL = 24
+#: hit-or-miss points in the boundary band (volume) and test points (dexterity)
+BAND_POINTS = 3000
+#: a point counts as reached when damped least squares gets within this of it
+#: (relative to the robot's characteristic length; rad for orientation)
+REACHED = 1e-7
+#: z for 95 % two-sided intervals
+Z95 = 1.959963984540054
+
+
+# --- the grid ----------------------------------------------------------------
+
+@dataclass
+class Grid:
+    """Cells of edge ``h`` (m) over coordinates ``U = (P - origin) @ basis``."""
+
+    origin: np.ndarray
+    basis: np.ndarray
+    lo: np.ndarray
+    h: float
+    shape: tuple
+
+    @property
+    def dim(self) -> int:
+        return self.basis.shape[1]
+
+    def coords(self, P):
+        return (P - self.origin) @ self.basis
+
+    def cell(self, P) -> np.ndarray:
+        """``(N, d)`` integer cell indices of points ``P (N, 3)``."""
+        return np.floor((self.coords(P) - self.lo) / self.h).astype(np.int64)
+
+    def flat(self, idx) -> np.ndarray:
+        return np.ravel_multi_index(tuple(np.asarray(idx).T), self.shape, mode="clip")
+
+    def point(self, idx, frac) -> np.ndarray:
+        """World points at fractional positions ``frac (N, d)`` in cells ``idx (N, d)``."""
+        return self.origin + (self.lo + (idx + frac) * self.h) @ self.basis.T
+
+
+def make_grid(P, robot, per_cell=SAMPLES_PER_CELL) -> Grid:
+    origin, basis = motion_frame(P, robot)
+    U = (P - origin) @ basis
+    d = basis.shape[1]
+    lo, hi = U.min(axis=0), U.max(axis=0)
+    extent = np.maximum(hi - lo, 1e-9 * max(robot.characteristic_length, 1e-12))
+    h = float((np.prod(extent) * per_cell / len(P)) ** (1.0 / d))
+    for _ in range(2):   # resize for the occupied fraction, which is not known up front
+        shape = tuple(int(x) for x in np.ceil(extent / h) + 3)
+        g = Grid(origin, basis, lo - h, h, shape)
+        occupied = np.unique(g.flat(g.cell(P))).size
+        h *= (per_cell * occupied / len(P)) ** (1.0 / d)
+    shape = tuple(int(x) for x in np.ceil(extent / h) + 3)
+    return Grid(origin, basis, lo - h, h, shape)
+
+
+def neighbourhood(mask, fn):
+    """Reduce ``mask`` over each cell's 3^d neighbourhood with ``fn`` (all or any)."""
+    d = mask.ndim
+    out = mask.copy()
+    padded = np.pad(mask, 1, constant_values=False)
+    for off in np.ndindex(*(3,) * d):
+        view = padded[tuple(slice(o, o + s) for o, s in zip(off, mask.shape))]
+        out = fn(out, view)
+    return out
+
+
+def wilson(k: int, m: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion ``k / m``."""
+    if m == 0:
+        return 0.0, 1.0
+    p = k / m
+    den = 1 + z * z / m
+    mid = (p + z * z / (2 * m)) / den
+    half = z * np.sqrt(p * (1 - p) / m + z * z / (4 * m * m)) / den
+    return max(0.0, mid - half), min(1.0, mid + half)
+
+
+def starts(grid, order, sorted_cells, targets, per_cell=3):
+    """Indices into the samples of candidate starts near each target point:
+    up to ``per_cell`` samples from each cell of the target's 3^d neighbourhood.
+
+    Returns ``(M, K)`` sample indices, -1 where a neighbour cell is empty."""
+    tc = grid.cell(targets)
+    cand = []
+    for off in np.ndindex(*(3,) * grid.dim):
+        c = grid.flat(np.clip(tc + np.array(off) - 1, 0, np.array(grid.shape) - 1))
+        first = np.searchsorted(sorted_cells, c, side="left")
+        last = np.searchsorted(sorted_cells, c, side="right")
+        for k in range(per_cell):
+            j = first + k
+            ok = j < last
+            cand.append(np.where(ok, order[np.minimum(j, len(order) - 1)], -1))
+    return np.stack(cand, axis=1)
+
+
+def reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=False):
+    """``(M,)`` bool: does the robot reach each target (position, and orientation
+    ``R_goal (M, 3, 3)`` if given)? ``cand (M, K)`` are candidate starts (sample
+    indices, -1 for none), ``Rc (M, K, 3, 3)`` their orientations when ``R_goal``
+    is given. Starts from the nearest candidate (in position, plus orientation);
+    the next candidates only where the first failed. ``exact``: poses go through
+    :meth:`Robot.ik_batch` instead (see :func:`_batchable`)."""
+    M = len(targets)
+    L = max(robot.characteristic_length, 1e-12)
+    if R_goal is not None and exact:
+        # the closed form is exact: no start to choose, no branch to miss
+        T = np.zeros((M, 4, 4))
+        T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = R_goal, targets, 1.0
+        sol = robot.ik_batch(T)
+        return np.any(sol.valid & sol.within, axis=1)
+    safe = np.maximum(cand, 0)
+    cost = np.linalg.norm(P[safe] - targets[:, None, :], axis=2) / L
+    if R_goal is not None:
+        from ...spatial import rotation_error
+        cost = cost + rotation_error(Rc, R_goal[:, None])
+    cost[cand < 0] = np.inf
+    order = np.argsort(cost, axis=1)
+    hit = np.zeros(M, bool)
+    for t in range(min(tries, cand.shape[1])):
+        todo = np.flatnonzero(~hit & np.isfinite(cost[np.arange(M), order[:, t]]))
+        if todo.size == 0:
+            break
+        start = Q[safe[todo, order[todo, t]]]
+        _, pe, oe = descend(robot, start, targets[todo],
+                            None if R_goal is None else R_goal[todo])
+        ok = pe <= REACHED * L
+        if oe is not None:
+            ok &= oe <= REACHED
+        hit[todo[ok]] = True
+    return hit
+
+
+def section_grids(grid, P, w, robot, env) -> list:
+    """XY and XZ sections (one for a planar arm): per-cell mean manipulability of the
+    samples in a slab one cell thick, NaN where no sample falls."""
+    out = []
+    U = grid.coords(P)
+    idx = np.floor((U - grid.lo) / grid.h).astype(int)
+    d = grid.dim
+
+    def image(ax_u, ax_v, keep):
+        H, W = grid.shape[ax_v], grid.shape[ax_u]
+        total = np.zeros(H * W)
+        count = np.zeros(H * W)
+        flat = idx[keep, ax_v] * W + idx[keep, ax_u]
+        np.add.at(total, flat, w[keep])
+        np.add.at(count, flat, 1)
+        img = np.where(count > 0, total / np.maximum(count, 1), np.nan).reshape(H, W)
+        ext = (grid.lo[ax_u], grid.lo[ax_u] + W * grid.h, grid.lo[ax_v], grid.lo[ax_v] + H * grid.h)
+        return img, ext
+
+    if d == 3:
+        # the XY section through the widest layer, the XZ section through the base origin
+        layers = np.bincount(idx[:, 2], minlength=grid.shape[2])
+        kz = int(np.argmax(layers))
+        img, ext = image(0, 1, idx[:, 2] == kz)
+        zc = grid.lo[2] + (kz + 0.5) * grid.h
+        out.append({"title": f"XY section at z = {zc:.4g} m", "xlabel": "x", "ylabel": "y",
+                    "extent": ext, "grid": img, "name": "XY", "across": "z", "level": zc})
+        ky = int(np.floor((robot.base[1, 3] - grid.lo[1]) / grid.h))
+        img, ext = image(0, 2, idx[:, 1] == ky)
+        yc = grid.lo[1] + (ky + 0.5) * grid.h
+        out.append({"title": f"XZ section at y = {yc:.4g} m", "xlabel": "x", "ylabel": "z",
+                    "extent": ext, "grid": img, "name": "XZ", "across": "y", "level": yc})
+    elif d == 2:
+        img, ext = image(0, 1, np.ones(len(P), bool))
+        out.append({"title": "the plane of motion", "xlabel": "u" if grid.basis[2].any() else "x",
+                    "ylabel": "v" if grid.basis[2].any() else "y", "extent": ext, "grid": img})
+    return out
