@@ -188,6 +188,21 @@ def test_batch_chunks_do_not_change_the_answer():
     assert np.allclose(np.where(a.valid[..., None], a.q, 0), np.where(b.valid[..., None], b.q, 0))
 
 
+def test_batch_chunks_keep_a_continuum_that_only_a_later_chunk_has():
+    """Wrist-singular poses (q5 = 0: only q4 + q6 is fixed) in the last chunk only: the
+    chunked batch carries the same continuum relations as one chunk of everything."""
+    r = load_robot("puma560")
+    Q = sample_configurations(r, 60, np.random.default_rng(4))
+    Q[50:, 4] = 0.0
+    T = r.fk(Q)
+    a, b = solve_batch(r, T), solve_batch(r, T, chunk=25)
+    assert a.continuum is not None and b.continuum is not None
+    flag = a.continuum[..., 0] != 0                     # column 0: the slot has one
+    assert not flag[:50].any() and flag[50:].any()
+    assert np.array_equal(a.valid, b.valid) and np.array_equal(flag, b.continuum[..., 0] != 0)
+    assert np.allclose(a.continuum[flag], b.continuum[flag])
+
+
 def test_batch_keeps_both_wrist_solutions_near_the_singularity():
     """q5 = 2.3e-5 rad: the wrist's two solutions differ clearly (by pi in q4); a
     degenerate-angle threshold above the rounding floor once set q4 = 0 for them and

@@ -133,20 +133,20 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
     if len(T) <= chunk:
         return solve_targets(robot, Targets(T))
     first = solve_targets(robot, Targets(T[:chunk]))
-    names = [f.name for f in fields(Solved) if isinstance(getattr(first, f.name), np.ndarray)]
-    shape = {name: getattr(first, name) for name in names}
-    if first.continuum is None:
-        names.append("continuum")
-        shape["continuum"] = np.zeros(first.valid.shape + (5,))
-    out = {name: np.empty((len(T),) + a.shape[1:], a.dtype) for name, a in shape.items()}
+    names = [f.name for f in fields(Solved) if f.name != "continuum"
+             and isinstance(getattr(first, f.name), np.ndarray)]
+    out = {name: np.empty((len(T),) + getattr(first, name).shape[1:],
+                          getattr(first, name).dtype) for name in names}
+    continuum = None           # (N, K, 5), made when a chunk has a singular continuum
     for start in range(0, len(T), chunk):
         part = first if start == 0 else solve_targets(robot, Targets(T[start:start + chunk]))
         for name, a in out.items():
-            value = getattr(part, name)
-            a[start:start + chunk] = 0.0 if value is None else value
-    if not out["continuum"].any():
-        out["continuum"] = None
-    return replace(first, **out, branches=None, memo={})
+            a[start:start + chunk] = getattr(part, name)
+        if part.continuum is not None:
+            if continuum is None:
+                continuum = np.zeros((len(T),) + part.continuum.shape[1:])
+            continuum[start:start + chunk] = part.continuum
+    return replace(first, **out, continuum=continuum, branches=None, memo={})
 
 
 def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
