@@ -6,8 +6,14 @@ and a position, each of shape ``(3, N)``. A joint rotation mixes two
 columns, a joint translation shifts the position along the z column, and a
 constant ``F_i`` is applied as a sparse linear combination that skips its
 zero entries and does not multiply by +-1 (DH links are mostly permutations
-and sign flips). Poses are processed in cache-sized chunks. Units: rad and
-m (or the robot's own unit for unitless robots).
+and sign flips). Poses are processed in cache-sized chunks.
+
+For a few configurations (up to :data:`FEW`: a single ``robot.fk(q)``, an IK call's
+candidates) the same product is taken as stacked 4x4 matrices instead: all joint
+motions from one product of ``[cos x, sin x, x, 1]`` with the chain's
+:attr:`~kincalc.model.Chain.motion_basis`, then one matrix product per joint
+(:func:`prefixes_few`). That costs a fixed ~n + 10 numpy calls where the walk costs
+~10 per joint. Units: rad and m (or the robot's own unit for unitless robots).
 """
 
 from __future__ import annotations
@@ -17,6 +23,13 @@ import numpy as np
 #: poses per chunk: large enough to amortise Python overhead, small enough
 #: for the working set (~30 arrays of CHUNK doubles) to stay in cache.
 CHUNK = 8192
+
+#: up to this many configurations the chain is evaluated by multiplying stacked 4x4
+#: matrices (:func:`prefixes_few`: about n + 10 numpy calls, ~15 us for one configuration
+#: of a 6-joint arm); above it, by the column-wise walk (~10 numpy calls per joint, each
+#: on all configurations: four times faster for thousands). Both evaluate the same
+#: product F_0 J_1 F_1 ... J_n F_n; tests/test_fk.py checks them against each other.
+FEW = 32
 
 
 def _combine(cols, coeffs):
@@ -107,14 +120,6 @@ def forward_kinematics(chain, q) -> np.ndarray:
             out[sl, :3, j] = cols[j].T
         out[sl, :3, 3] = p.T
     return out.reshape(q.shape[:-1] + (4, 4))
-
-
-#: up to this many configurations the chain is evaluated by multiplying stacked 4x4
-#: matrices (:func:`prefixes_few`: about n + 10 numpy calls, ~15 us for one configuration
-#: of a 6-joint arm); above it, by the column-wise walk (~10 numpy calls per joint, each
-#: on all configurations: four times faster for thousands). Both evaluate the same
-#: product F_0 J_1 F_1 ... J_n F_n; tests/test_fk.py checks them against each other.
-FEW = 32
 
 
 def _coefficients(chain, flat) -> np.ndarray:

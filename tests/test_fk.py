@@ -258,3 +258,28 @@ def test_chain_frames_few_and_many_configurations(name):
     assert np.allclose(few, many, atol=1e-14)
     assert np.allclose(chain_frames(r.chain, Q[0]), many[0], atol=1e-14)
     assert np.allclose(few[:, -1] @ r.chain.fixed[-1], r.fk(Q), atol=1e-13)
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford_arm", "bk_rrp", "ur5_poe", "puma560_mdh"])
+def test_stacked_and_walked_evaluations_agree(name):
+    """FK, the Jacobian, the FK check from cosines and sines, and the frames' columns,
+    each for FEW configurations (stacked 4x4 products) and FEW + 8 (the column walk):
+    the same numbers, on revolute and prismatic joints in every convention."""
+    from kincalc.fk import FEW, frame_columns, tool_from_cs
+    r = load_robot(name)
+    Q = np.random.default_rng(5).uniform(-2, 2, (FEW + 8, r.dof))
+    few, many = slice(0, FEW), slice(0, FEW + 8)
+    assert np.allclose(r.fk(Q[few]), r.fk(Q[many])[few], atol=1e-14)
+    assert np.allclose(r.jacobian(Q[few]), r.jacobian(Q[many])[few], atol=1e-13)
+    x = Q.T.copy()                                  # joint-major, offsets not applied
+    c, s = np.cos(x), np.sin(x)
+    for part in (few, many):
+        cols, p = tool_from_cs(r.chain, c[:, part], s[:, part], x[:, part])
+        T = r.fk(Q[part])
+        assert np.allclose(p.T, T[:, :3, 3], atol=1e-13)
+        for j in range(3):
+            assert np.allclose(cols[j].T, T[:, :3, j], atol=1e-14)
+    a, b = frame_columns(r.chain, Q[few]), frame_columns(r.chain, Q[many])
+    for (ca, pa), (cb, pb) in zip(a, b):
+        assert np.allclose(pa, pb[:, few], atol=1e-13)
+        assert all(np.allclose(u, v[:, few], atol=1e-14) for u, v in zip(ca, cb))
