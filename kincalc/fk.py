@@ -221,12 +221,20 @@ def chain_frames(chain, q) -> np.ndarray:
     Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)``; its z axis is joint i's
     axis and it moves with link i.
     """
+    return frames_and_tool(chain, q)[0]
+
+
+def frames_and_tool(chain, q):
+    """``(frames (..., n, 4, 4), tool (..., 4, 4))`` for ``q (..., n)``: the frames of
+    :func:`chain_frames` and the tool pose ``T_world_tool``, from one evaluation."""
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
+    lead = q.shape[:-1]
     if N <= FEW:
         motions = _motions(chain, _coefficients(chain, flat))
-        frames = _prefixes(chain, motions)[:, :-1] @ motions
-        return frames.reshape(q.shape[:-1] + (n, 4, 4))
+        P = _prefixes(chain, motions)
+        frames = P[:, :-1] @ motions
+        return frames.reshape(lead + (n, 4, 4)), P[:, -1].reshape(lead + (4, 4))
     out = np.zeros((N, n, 4, 4))
     out[..., 3, 3] = 1.0
     F = chain.fixed
@@ -238,4 +246,9 @@ def chain_frames(chain, q) -> np.ndarray:
             out[:, i, :3, j] = cols[j].T
         out[:, i, :3, 3] = p.T
         cols, p = _apply_fixed(cols, p, F[i + 1])
-    return out.reshape(q.shape[:-1] + (n, 4, 4))
+    tool = np.zeros((N, 4, 4))
+    tool[:, 3, 3] = 1.0
+    for j in range(3):
+        tool[:, :3, j] = cols[j].T
+    tool[:, :3, 3] = p.T
+    return out.reshape(lead + (n, 4, 4)), tool.reshape(lead + (4, 4))

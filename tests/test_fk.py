@@ -265,7 +265,7 @@ def test_stacked_and_walked_evaluations_agree(name):
     """FK, the Jacobian, the FK check from cosines and sines, and the frames' columns,
     each for FEW configurations (stacked 4x4 products) and FEW + 8 (the column walk):
     the same numbers, on revolute and prismatic joints in every convention."""
-    from kincalc.fk import FEW, frame_columns, tool_from_cs
+    from kincalc.fk import FEW, chain_frames, frame_columns, frames_and_tool, tool_from_cs
     r = load_robot(name)
     Q = np.random.default_rng(5).uniform(-2, 2, (FEW + 8, r.dof))
     few, many = slice(0, FEW), slice(0, FEW + 8)
@@ -279,6 +279,10 @@ def test_stacked_and_walked_evaluations_agree(name):
         assert np.allclose(p.T, T[:, :3, 3], atol=1e-13)
         for j in range(3):
             assert np.allclose(cols[j].T, T[:, :3, j], atol=1e-14)
+    for part in (few, many):
+        F, T = frames_and_tool(r.chain, Q[part])
+        assert np.allclose(T, r.fk(Q[part]), atol=1e-14)
+        assert np.allclose(F, chain_frames(r.chain, Q[part]), atol=1e-14)
     a, b = frame_columns(r.chain, Q[few]), frame_columns(r.chain, Q[many])
     for (ca, pa), (cb, pb) in zip(a, b):
         assert np.allclose(pa, pb[:, few], atol=1e-13)

@@ -81,13 +81,12 @@ class Solved:
 
     def _frames(self, mask):
         """Joint frames and tool poses of the slots ``mask (N, K)``."""
-        from ..fk import chain_frames
+        from ..fk import frames_and_tool
         Q = self.q[mask]
         if not len(Q):
             n = self.q.shape[-1]
             return np.zeros((0, n, 4, 4)), np.zeros((0, 4, 4))
-        F = chain_frames(self.robot.chain, Q)
-        return F, F[:, -1] @ self.robot.chain.fixed[-1]
+        return frames_and_tool(self.robot.chain, Q)
 
     @property
     def labels(self) -> np.ndarray:

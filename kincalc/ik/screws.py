@@ -84,10 +84,10 @@ class Screws:
 
     @staticmethod
     def of(robot) -> "Screws":
-        from ..fk import chain_frames
-        F = chain_frames(robot.chain, np.zeros(robot.dof))
-        return Screws(F[:, :3, 2].copy(), F[:, :3, 3].copy(), robot.is_revolute.copy(),
-                      robot.fk(np.zeros(robot.dof)), robot.characteristic_length)
+        from ..fk import frames_and_tool
+        F, M = frames_and_tool(robot.chain, np.zeros(robot.dof))
+        return Screws(F[:, :3, 2].copy(), F[:, :3, 3].copy(), robot.is_revolute.copy(), M,
+                      robot.characteristic_length)
 
     @property
     def n(self) -> int:

@@ -286,11 +286,10 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
               "change from it; one solution, not every branch (" + why + ")")
     sols = []
     if res.converged:
-        from ..fk import chain_frames
+        from ..fk import frames_and_tool
         q = res.q
         viol = _violation_list(violations(robot, q))
-        F = chain_frames(robot.chain, q[None])
-        sing = bool(singular(robot, q[None], F, F[:, -1] @ robot.chain.fixed[-1])[0])
+        sing = bool(singular(robot, q[None], *frames_and_tool(robot.chain, q[None]))[0])
         sols.append(IKSolution(q=q, branch="nearest the start" if near is not None else
                                "nearest home", position_error=res.position_error,
                                orientation_error=res.orientation_error,
