@@ -163,18 +163,39 @@ def _invariants(S: Screws, P: Plan, f):
 
 
 def _coefficients(S: Screws, P: Plan, g):
-    """``(alpha, beta, gamma)``, each ``(2, ...)``: the invariants of ``E_b(x_b) g`` for
+    """``(alpha, beta, gamma)``, each ``(2, ...)``: the invariants of ``f = E_b(x_b) g`` for
     points ``g (..., 3)`` as ``alpha + beta B1(x_b) + gamma B2(x_b)``, with ``(B1, B2)``
-    ``(cos, sin)`` for a revolute b and ``(x, x^2)`` for a prismatic one (from three
-    values of x_b: the invariants are at most quadratic in the point)."""
-    b = P.joints[1]
+    ``(cos, sin)`` for a revolute b and ``(x, x^2)`` for a prismatic one.
+
+    A revolute b moves g on a circle, ``f = m + cos(x_b) e1 + sin(x_b) e2`` (``m`` its
+    centre on axis b, ``e1`` g's offset from it, ``e2 = k_b x e1``, as long as ``e1`` and
+    normal to it); a prismatic b along its axis, ``f = g + x_b k_b``. The invariants are
+    linear in f (heights, components) or ``|f - o|^2``, which on the circle is
+    ``|m - o|^2 + |e1|^2 + 2 cos(x_b) (m - o) . e1 + 2 sin(x_b) (m - o) . e2``."""
+    a, b = P.joints[0], P.joints[1]
+    k = S.axis[b]
     if S.revolute[b]:
-        v0, v1, v2 = (_invariants(S, P, S.move(b, None, c, s, g))
-                      for c, s in ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0)))
-        alpha = 0.5 * (v0 + v2)
-        return alpha, 0.5 * (v0 - v2), v1 - alpha
-    v0, v1, vm = (_invariants(S, P, g + x * S.axis[b]) for x in (0.0, 1.0, -1.0))
-    return v0, 0.5 * (v1 - vm), 0.5 * (v1 + vm) - v0
+        u = g - S.point[b]
+        h = (u @ k)[..., None]
+        m, e1, e2 = S.point[b] + h * k, u - h * k, cross(k, u)
+    else:
+        m, e1, e2 = g, k, None
+    shape = (2,) + np.shape(g)[:-1]
+    al, be, ga = np.empty(shape), np.empty(shape), np.empty(shape)
+    if S.revolute[a]:
+        m = m - P.o
+        lines = (S.axis[a],)
+        al[1] = dot(m, m)
+        if S.revolute[b]:
+            al[1] += dot(e1, e1)
+            be[1], ga[1] = 2.0 * dot(m, e1), 2.0 * dot(m, e2)
+        else:
+            be[1], ga[1] = 2.0 * (m @ k), 1.0
+    else:
+        lines = P.e
+    for i, n in enumerate(lines):
+        al[i], be[i], ga[i] = m @ n, e1 @ n, 0.0 if e2 is None else e2 @ n
+    return al, be, ga
 
 
 def _targets(S: Screws, P: Plan, PT):

@@ -26,15 +26,46 @@ subproblem 4.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm
+from .solutions import Solutions, as_vectors, cross, dot, norm, pair
 from .sp4 import from_abc
 
 #: the sine of the angle between ``v`` and the line of ``h`` below which a wrist counts
 #: as singular (its outer axes on one line): a representative of the continuum then
 #: misses the pose by at most about this (rad, and times the arm's size)
 ALIGNED_TOL = 1e-10
+
+
+def _constants(h, p, k) -> tuple:
+    """What depends on ``h, p, k`` alone: the coefficients ``A cos t + B sin t + C`` of
+    ``h . R(k, t) p``, ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0), the cone's reach
+    ``top`` and ``bottom`` of the lines ``+-h`` (module docstring), and ``r = 0``."""
+    beta = np.arctan2(norm(cross(k, h)), dot(k, h))
+    gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
+    kxp = cross(k, p)
+    A = -dot(h, cross(k, kxp))
+    B = dot(h, kxp)
+    r = np.sqrt(A * A + B * B)
+    degenerate = r <= 1e-12
+    top = 2.0 * np.sin(0.5 * (beta - gamma)) ** 2
+    bottom = 2.0 * np.cos(0.5 * (beta + gamma)) ** 2
+    return A, B, dot(h, k) * dot(k, p), np.where(degenerate, 1.0, r), top, bottom, degenerate
+
+
+@lru_cache(maxsize=256)
+def _constants_of_axes(h: bytes, p: bytes, k: bytes) -> tuple:
+    """:func:`_constants` of three fixed vectors (a wrist's axes: the same for every pose
+    of a robot), given by their bytes."""
+    return _constants(*(np.frombuffer(x) for x in (h, p, k)))
+
+
+def _fixed(h, p, k) -> tuple:
+    if h.shape == p.shape == k.shape == (3,):
+        return _constants_of_axes(h.tobytes(), p.tobytes(), k.tobytes())
+    return _constants(h, p, k)
 
 
 def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
@@ -53,20 +84,11 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
         Two slots, ``b + delta`` and ``b - delta`` (the same value where ``free``).
     """
     h, p, k, v = as_vectors(h, p, k, v)
-    beta = np.arctan2(norm(cross(k, h)), dot(k, h))
-    gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
-    kxp = cross(k, p)
-    A = -dot(h, cross(k, kxp))
-    B = dot(h, kxp)
-    r = np.sqrt(A * A + B * B)
+    A, B, C, rr, top, bottom, degenerate = _fixed(h, p, k)
     f = dot(h, v)
-    degenerate = r <= 1e-12
     if degenerate.all():
-        return from_abc(A, B, dot(h, k) * dot(k, p), f, 1.0)
-    rr = np.where(degenerate, 1.0, r)
+        return from_abc(A, B, C, f, 1.0)
     cb, sb = A / rr, B / rr
-    top = 2.0 * np.sin(0.5 * (beta - gamma)) ** 2
-    bottom = 2.0 * np.cos(0.5 * (beta + gamma)) ** 2
     P = norm(cross(h, v))
     P2 = P * P
     one_minus = np.where(f > 0, P2 / (1.0 + np.abs(f)), 1.0 - f)
@@ -82,19 +104,18 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
     cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
     sd = np.where(aligned, 0.0, sd)
     exact = exact | aligned
-    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
-    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    c = pair(cb * cd - sb * sd, cb * cd + sb * sd)
+    s = pair(sb * cd + cb * sd, sb * cd - cb * sd)
     theta = np.arctan2(s, c)
     # one root where the cones only touch (delta 0 or pi: both roots are one
     # configuration), or a single aligned value; next to the singularity, where the cone
     # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
     touch = (sd <= 1e-9) & np.where(cd > 0, top > gap, bottom > gap)
     two = exact & ~aligned & ~touch
-    ok = np.stack([np.ones_like(two), two], axis=-1)
-    sol = Solutions((theta,), (c,), (s,), ok, np.stack([exact, exact], -1),
-                    np.stack([aligned, aligned], -1))
+    sol = Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
+                    pair(aligned, aligned))
     if degenerate.any():
-        plain = from_abc(A, B, dot(h, k) * dot(k, p), f, 1.0)
+        plain = from_abc(A, B, C, f, 1.0)
         pick = lambda x, y: np.where(degenerate[..., None], y, x)  # noqa: E731
         sol = Solutions((pick(sol.theta[0], plain.theta[0]),), (pick(sol.c[0], plain.c[0]),),
                         (pick(sol.s[0], plain.s[0]),), pick(sol.ok, plain.ok),

@@ -64,6 +64,16 @@ def angles(c, s) -> tuple:
     return principal(np.arctan2(sn, cn)), cn, sn
 
 
+def pair(a, b) -> np.ndarray:
+    """``np.stack([a, b], -1)`` for two arrays that broadcast together: the two slots of a
+    subproblem's roots (written into one new array; ``np.stack`` costs several times as
+    much on the small batches of a single pose)."""
+    out = np.empty(np.broadcast(a, b).shape + (2,), np.result_type(a, b))
+    out[..., 0] = a
+    out[..., 1] = b
+    return out
+
+
 def dot(a, b) -> np.ndarray:
     """``a . b`` over the last axis of ``(..., 3)`` arrays (broadcasting), by components
     (``(a * b).sum(-1)`` is six times slower on large batches)."""
@@ -77,7 +87,7 @@ def cross(a, b) -> np.ndarray:
     b = np.asarray(b, float)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out = np.empty(np.broadcast(a, b).shape)
     np.multiply(a1, b2, out=out[..., 0])
     out[..., 0] -= a2 * b1
     np.multiply(a2, b0, out=out[..., 1])
@@ -99,10 +109,10 @@ def as_vectors(*vs):
     for a in arrays:
         if a.shape[-1:] != (3,):
             raise ValueError(f"expected vectors of shape (..., 3), got {a.shape}")
-    np.broadcast_shapes(*(a.shape for a in arrays))
+    np.broadcast(*arrays)               # raises when the leading shapes do not broadcast
     return arrays
 
 
 def batch_shape(*arrays) -> tuple:
     """The leading shape of the batch the vectors ``(..., 3)`` broadcast to."""
-    return np.broadcast_shapes(*(a.shape for a in arrays))[:-1]
+    return np.broadcast(*arrays).shape[:-1]

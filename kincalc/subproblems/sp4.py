@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, principal
+from .solutions import Solutions, as_vectors, cross, dot, norm, pair, principal
 
 #: rounding of a cosine computed from lengths of size ``scale``, per unit of
 #: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
@@ -77,7 +77,7 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
 
     For solvers that have the coefficients from constants of the robot (a height along
     an axis, a law of cosines) rather than the vectors ``h``, ``p``, ``k``."""
-    A, B, C, d, scale = np.broadcast_arrays(*(np.asarray(v, float) for v in (A, B, C, d, scale)))
+    A, B, C, d = (np.asarray(v, float) for v in (A, B, C, d))
     scale = np.maximum(scale, 1e-300)
     r = np.sqrt(A * A + B * B)
     free = r < tol * scale
@@ -92,10 +92,9 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
     cd = np.where(np.abs(cd) >= 1.0 - band, np.sign(cd), cd)
     cd = np.where(free, 1.0, np.clip(cd, -1.0, 1.0))
     sd = np.sqrt(1.0 - cd * cd)
-    c = np.stack([cb * cd - sb * sd, cb * cd + sb * sd], axis=-1)
-    s = np.stack([sb * cd + cb * sd, sb * cd - cb * sd], axis=-1)
+    c = pair(cb * cd - sb * sd, cb * cd + sb * sd)
+    s = pair(sb * cd + cb * sd, sb * cd - cb * sd)
     theta = principal(np.arctan2(s, c))
     two = exact & ~free & (sd > 0.0)
-    ok = np.stack([np.ones_like(two), two], axis=-1)
-    return Solutions((theta,), (c,), (s,), ok, np.stack([exact, exact], axis=-1),
-                     np.stack([free, free], axis=-1))
+    return Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
+                     pair(free, free))
