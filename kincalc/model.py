@@ -131,21 +131,35 @@ class Robot:
     def joint_types(self) -> list[str]:
         return [j.type for j in self.joints]
 
-    @property
+    @cached_property
     def is_revolute(self) -> np.ndarray:
-        """Boolean mask ``(n,)``: True for revolute joints."""
-        return np.array([j.revolute for j in self.joints], dtype=bool)
+        """Boolean mask ``(n,)``: True for revolute joints (read-only)."""
+        out = np.array([j.revolute for j in self.joints], dtype=bool)
+        out.setflags(write=False)
+        return out
 
-    @property
+    @cached_property
     def limits(self) -> np.ndarray:
-        """Joint limits ``(n, 2)`` in rad / m; ``-inf, inf`` for unlimited joints."""
+        """Joint limits ``(n, 2)`` in rad / m; ``-inf, inf`` for unlimited joints
+        (read-only)."""
         out = np.empty((self.dof, 2))
         for i, j in enumerate(self.joints):
             out[i] = j.limits if j.limits is not None else (-np.inf, np.inf)
+        out.setflags(write=False)
         return out
 
     def __hash__(self):
-        return hash((self.name, self.convention, self.joints))
+        # computed once: the per-robot caches of the solvers hash the robot on every call
+        try:
+            return self.__dict__["_hash"]
+        except KeyError:
+            value = self.__dict__["_hash"] = hash((self.name, self.convention, self.joints))
+            return value
+
+    def __getstate__(self):
+        # string hashes differ between processes: a pickled robot (a batch's worker)
+        # computes its hash again
+        return {k: v for k, v in self.__dict__.items() if k != "_hash"}
 
     def __eq__(self, other):
         if not isinstance(other, Robot):

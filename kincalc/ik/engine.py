@@ -34,6 +34,7 @@ from .families import Family, plan
 from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
+from ..subproblems.solutions import cross
 from .target import Targets
 
 
@@ -270,25 +271,22 @@ def normalise(robot, Q) -> np.ndarray:
     that lies within them (the lowest, for limits wider than a turn), else the one
     that misses them least. A new array; prismatic joints are kept."""
     Q = np.array(Q, float)
-    if Q.size == 0:
+    rev = robot.is_revolute
+    if Q.size == 0 or not rev.any():
         return Q
-    turn = 2 * np.pi
-    for j in np.flatnonzero(robot.is_revolute).tolist():
-        lo, hi = robot.limits[j].tolist()
-        x = wrap(Q[..., j])
-        Q[..., j] = x
-        if lo - LIMIT_TOL <= -np.pi and hi + LIMIT_TOL >= np.pi:     # every x is inside
-            continue
-        inside = (x >= lo - LIMIT_TOL) & (x <= hi + LIMIT_TOL)
-        if inside.all():
-            continue
-        with np.errstate(invalid="ignore"):      # an infinite limit: x is inside
-            up = x + turn * np.ceil((lo - LIMIT_TOL - x) / turn)     # first turn above lo
+    turn, tol = 2 * np.pi, LIMIT_TOL
+    lo, hi = robot.limits[rev].T
+    x = wrap(Q[..., rev])
+    inside = ((lo - tol <= -np.pi) & (hi + tol >= np.pi)) | ((x >= lo - tol) & (x <= hi + tol))
+    if not inside.all():
+        with np.errstate(invalid="ignore"):          # an infinite limit: x is inside
+            up = x + turn * np.ceil((lo - tol - x) / turn)     # the first turn above lo
         up = np.where(np.isfinite(up), up, x)
         below = up - turn
-        pick = np.where(up <= hi + LIMIT_TOL, up,
+        pick = np.where(up <= hi + tol, up,
                         np.where(_miss(below, lo, hi) <= _miss(up, lo, hi), below, up))
-        Q[..., j] = np.where(inside, x, pick)
+        x = np.where(inside, x, pick)
+    Q[..., rev] = x
     return Q
 
 
@@ -363,14 +361,14 @@ def singular(robot, Q, F, tool) -> np.ndarray:
     units of the arm's size, below the robot's generic rank, or that of its linear
     rows)? ``F (m, n, 4, 4)`` the joint frames, ``tool (m, 4, 4)`` the tool poses."""
     m, n = Q.shape
-    rev = robot.is_revolute
+    rev = robot.is_revolute[:, None]
     L = robot.characteristic_length
     z = F[:, :, :3, 2]
-    lin = np.cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L
-    J = np.zeros((m, 6, n))
-    J[:, :3] = np.where(rev[:, None], lin, z).transpose(0, 2, 1)
-    J[:, 3:] = np.where(rev[:, None], z, 0.0).transpose(0, 2, 1)
-    J[:, :, ~rev] *= L
+    lin = cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L
+    # the transposed Jacobian (m, n, 6), joint by joint: it has the same singular values
+    J = np.empty((m, n, 6))
+    J[..., :3] = np.where(rev, lin, z * L)
+    J[..., 3:] = np.where(rev, z, 0.0)
     full, full_pos = robot.generic_ranks
 
     def rank(M):
@@ -380,5 +378,5 @@ def singular(robot, Q, F, tool) -> np.ndarray:
     out = rJ < full
     rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
     if rest.any():
-        out[rest] |= rank(J[rest, :3, :]) < full_pos
+        out[rest] |= rank(J[rest, :, :3]) < full_pos
     return out

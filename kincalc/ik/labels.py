@@ -50,14 +50,14 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
     o = [p for _, p in frames]
     rev = robot.is_revolute
     local = _meeting_point_local(robot, first)
+    skew_01, parallel_12 = _axis_pairs(robot)
     if local is not None:
         cols = frames[first - 1][0]
         P = cols[0] * local[0] + cols[1] * local[1] + cols[2] * local[2] + o[first - 1]
-        if rev[0]:
-            n01 = _cross(z[0], z[1])
-            side = _dot(P - o[0], n01)
-            codes[:, 0] = np.where(_dot(n01, n01) > 1e-12, np.where(side >= 0, 1, 2), 0)
-        if robot.dof >= 3 and rev[1] and rev[2]:
+        if rev[0] and skew_01:
+            side = _dot(P - o[0], _cross(z[0], z[1]))
+            codes[:, 0] = np.where(side >= 0, 1, 2)
+        if robot.dof >= 3 and rev[1] and rev[2] and parallel_12:
             # the elbow (axis 3) against the shoulder-to-target line, in the plane of the
             # parallel axes 2 and 3; the target is P, or axis 4 for a UR arm
             sh, el, h = o[1], o[2], z[1]
@@ -72,9 +72,7 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
             # the elbow on the line (stretched or folded): the turn sense decides
             alt = _dot(_cross(el - sh, tgt - el), h)
             up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
-            c12 = _cross(z[1], z[2])
-            parallel = _dot(c12, c12) < 1e-12
-            codes[:, 1] = np.where(parallel, np.where(up >= 0, 1, 2), 0)
+            codes[:, 1] = np.where(up >= 0, 1, 2)
     w = _dot(_cross(z[3], z[5]), z[4])
     codes[:, 2] = np.where(w >= 0, 1, 2)
     return codes
@@ -82,13 +80,25 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
 
 def _dot(a, b):
     """``a . b`` of vectors stored as ``(3, k)`` columns."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    return (a * b).sum(0)
 
 
 def _cross(a, b):
     """``a x b`` of vectors stored as ``(3, k)`` columns."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
+
+
+@per_robot
+def _axis_pairs(robot) -> tuple:
+    """``(axes 1 and 2 not parallel, axes 2 and 3 parallel)``: facts of the robot (a joint
+    turns the axes after it together, so the angle between two consecutive axes is the
+    same in every configuration), from q = 0. Cached per robot."""
+    from ..fk import chain_frames
+    z = chain_frames(robot.chain, np.zeros(robot.dof))[:, :3, 2]
+    sin2 = lambda a, b: float(np.sum(np.cross(a, b) ** 2))  # noqa: E731
+    return (sin2(z[0], z[1]) > 1e-12,
+            robot.dof >= 3 and sin2(z[1], z[2]) < 1e-12)
 
 
 @per_robot
@@ -117,7 +127,7 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     frames (:func:`kincalc.fk.frame_columns`), ``signs`` the family's sign table (per
     slot, a tuple of ``(joint, label)`` for each step with more than one root), ``slot
     (s,)`` the slot each came from, ``free (s, n)`` bool. A string is made once per
-    distinct combination of words, slot and free joints, not per solution."""
+    robot and distinct combination of words, signs and free joints, not per solution."""
     out = np.empty(len(slot), object)
     if len(slot) == 0:
         return out
@@ -125,18 +135,33 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     bits = np.asarray(free, bool) @ (1 << np.arange(robot.dof, dtype=np.int64))
     code = ((codes @ np.array([9, 3, 1])) * len(signs) + slot) << robot.dof | bits
     distinct, inverse = np.unique(code, return_inverse=True)
-    names = [j.name for j in robot.joints]
+    texts = _texts(robot)
     made = []
     for c in distinct.tolist():
         b, rest = c & ((1 << robot.dof) - 1), c >> robot.dof
         k, sg = rest // len(signs), signs[rest % len(signs)]
-        words = (k // 9, k // 3 % 3, k % 3)
-        parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
-        named = set().union(*(_NAMED[w] for w, x in enumerate(words) if x))
-        parts += [f"{names[j]}:{lab}" for j, lab in sorted(sg) if j not in named]
-        if b:
-            parts.append("(" + ", ".join(names[j] for j in range(robot.dof) if b >> j & 1)
-                         + " free)")
-        made.append(" ".join(parts) if parts else "unique")
+        key = (k, sg, b)
+        if key not in texts:
+            texts[key] = _text(robot, (k // 9, k // 3 % 3, k % 3), sg, b)
+        made.append(texts[key])
     out[:] = np.array(made, object)[inverse.ravel()]
     return out
+
+
+@per_robot
+def _texts(robot) -> dict:
+    """The labels made so far for ``robot``: (geometric code, signs, free bits) -> text."""
+    return {}
+
+
+def _text(robot, words, signs, free_bits) -> str:
+    """One label: the geometric ``words`` (codes of :data:`WORDS`), the ``signs`` of the
+    steps they do not name, the free joints (bit j: joint j)."""
+    names = [j.name for j in robot.joints]
+    parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
+    named = set().union(*(_NAMED[w] for w, x in enumerate(words) if x))
+    parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs) if j not in named]
+    if free_bits:
+        parts.append("(" + ", ".join(names[j] for j in range(robot.dof) if free_bits >> j & 1)
+                     + " free)")
+    return " ".join(parts) if parts else "unique"

@@ -155,22 +155,33 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
 def _solutions(robot, sv: Solved, explain: bool):
     """``(solutions, rejected candidates)`` of the engine's single target."""
     oe_given = not np.isnan(sv.orientation_error[0]).all()
+    slots = np.flatnonzero(sv.candidate[0])
+    if not len(slots):
+        return [], []
+    q = sv.q[0, slots]
+    pe = sv.position_error[0, slots].tolist()
+    oe = sv.orientation_error[0, slots].tolist() if oe_given else [None] * len(slots)
+    valid = sv.valid[0, slots].tolist()
+    branch = sv.labels[0, slots].tolist()
+    if any(valid):
+        singular = sv.singular[0, slots].tolist()
+        free = sv.free[0, slots]
+        free_any = free.any(-1).tolist()
+        violation = sv.violation[0, slots]
+        broken = (violation != 0).any(-1).tolist()
     sols, rejected = [], []
-    for k in np.flatnonzero(sv.candidate[0]).tolist():
-        q = sv.q[0, k].copy()
-        pe = float(sv.position_error[0, k])
-        oe = float(sv.orientation_error[0, k]) if oe_given else None
-        if not sv.valid[0, k]:
+    for i, k in enumerate(slots.tolist()):
+        if not valid[i]:
             if not _is_copy(robot, sv, k):
-                rejected.append({"q": q, "branch": sv.labels[0, k], "position_error": pe,
-                                 "orientation_error": oe, "reason": Missed(pe, oe)})
+                rejected.append({"q": q[i], "branch": branch[i], "position_error": pe[i],
+                                 "orientation_error": oe[i], "reason": Missed(pe[i], oe[i])})
             continue
-        viol = _violation_list(sv.violation[0, k])
-        free = tuple(np.flatnonzero(sv.free[0, k]).tolist())
-        sols.append(IKSolution(q=q, branch=sv.labels[0, k], position_error=pe,
-                               orientation_error=oe, within_limits=not viol, violations=viol,
-                               singular=bool(sv.singular[0, k]), free=free,
-                               continuum=_continuum(robot, sv, k) if free else None,
+        viol = _violation_list(violation[i]) if broken[i] else []
+        joints = tuple(np.flatnonzero(free[i]).tolist()) if free_any[i] else ()
+        sols.append(IKSolution(q=q[i], branch=branch[i], position_error=pe[i],
+                               orientation_error=oe[i], within_limits=not viol, violations=viol,
+                               singular=singular[i], free=joints,
+                               continuum=_continuum(robot, sv, k) if joints else None,
                                trace=_trace(sv, k) if explain else []))
     return sols, rejected
 
