@@ -30,6 +30,7 @@ from ..errors import TargetMismatch, UnsupportedRobot
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE,
                           LIMIT_TOL, SINGULAR_TOL)
 from .branches import Branches
+from .cache import per_robot
 from .families import Family, plan
 from .labels import labels
 from ..spatial import wrap
@@ -304,12 +305,20 @@ def violations(robot, q) -> np.ndarray:
     """``(..., n)``: how far each joint of ``q`` is beyond its limits, beyond
     ``LIMIT_TOL`` (rad, or times the arm's size for prismatic joints): negative below the
     lower limit, positive above the upper, 0 within."""
+    lo, hi, lo_band, hi_band = _limit_bands(robot)
+    below = np.where(q < lo_band, q - lo, 0.0)
+    above = np.where(q > hi_band, q - hi, 0.0)
+    return below + above
+
+
+@per_robot
+def _limit_bands(robot) -> tuple:
+    """``(lo, hi, lo - tol, hi + tol)``, each ``(n,)``: the limits and the limits widened by
+    ``LIMIT_TOL`` (rad, or times the arm's size for prismatic joints). Cached per robot."""
     lo, hi = robot.limits[:, 0], robot.limits[:, 1]
     tol = np.where(robot.is_revolute, LIMIT_TOL, LIMIT_TOL * max(robot.characteristic_length,
                                                                  1e-12))
-    below = np.where(q < lo - tol, q - lo, 0.0)
-    above = np.where(q > hi + tol, q - hi, 0.0)
-    return below + above
+    return lo, hi, lo - tol, hi + tol
 
 
 def duplicates(robot, q, valid, cs=None) -> np.ndarray:
@@ -329,10 +338,8 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     rev = robot.is_revolute
     x = q.reshape(-1, n).T
     c, s = (np.cos(x), np.sin(x)) if cs is None else cs
-    w = 1.0 + 0.37 * np.arange(n)                              # generic, fixed weights
-    key = (np.where(rev, w, 0.0) @ c + np.where(rev, 0.61 * w, 0.0) @ s
-           + np.where(rev, 0.0, w) @ x).reshape(N, K)
-    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    w_cos, w_sin, w_x, reach = _duplicate_key(robot)
+    key = (w_cos @ c + w_sin @ s + w_x @ x).reshape(N, K)
     # poses with two valid keys within reach: neighbours once each pose's keys are sorted
     with np.errstate(invalid="ignore"):
         ordered = np.sort(np.where(valid, key, np.nan), axis=1)      # NaN (invalid) last
@@ -354,6 +361,16 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
         kept = ~drop[pose[at], i[at]]
         drop[pose[at][kept], slot] = True
     return drop
+
+
+@per_robot
+def _duplicate_key(robot) -> tuple:
+    """The weights of :func:`duplicates`' screening key (of the cosines, sines and values)
+    and how far apart the keys of two duplicates can be. Cached per robot."""
+    rev = robot.is_revolute
+    w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
+    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    return np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0), np.where(rev, 0.0, w), reach
 
 
 def singular(robot, Q, F, tool) -> np.ndarray:

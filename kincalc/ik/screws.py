@@ -43,7 +43,8 @@ class Screws:
 
     def turn(self, i: int, c, s, v) -> np.ndarray:
         """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
-        and sine ``c, s (...)``: ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K``
+        and sine ``c, s (...)`` (or of a leading part of v's shape, one angle for the
+        vectors behind it; or anything that broadcasts): ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K``
         the cross-product matrix of the axis), all three terms in one matrix product.
 
         Computed on components (``(3, M)``: each operation runs along the batch, where
@@ -51,16 +52,21 @@ class Screws:
         more); the result is a ``(..., 3)`` view of that layout."""
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
         shape = v.shape[:-1]
-        if c.shape != shape or s.shape != shape:
+        if c.shape == s.shape and shape[:c.ndim] == c.shape:
+            c, s = c.reshape(-1), s.reshape(-1)
+            if c.size and v.size != 3 * c.size:       # several vectors per angle
+                per = v.size // (3 * c.size)
+                c, s = np.repeat(c, per), np.repeat(s, per)
+        else:
             shape = np.broadcast_shapes(shape, c.shape, s.shape)
             v = np.broadcast_to(v, shape + (3,))
-            c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
+            c, s = np.broadcast_to(c, shape).reshape(-1), np.broadcast_to(s, shape).reshape(-1)
         B = self.rodrigues(i) @ v.reshape(-1, 3).T                       # (9, M)
         out = B[3:6]
-        out *= c.reshape(-1)
+        out *= c
         out += B[0:3]
         sk = B[6:9]
-        sk *= s.reshape(-1)
+        sk *= s
         out += sk
         return out.T.reshape(shape + (3,))
 

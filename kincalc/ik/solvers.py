@@ -87,9 +87,11 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct), "length")
     Rt = _rotation(S, T)
     e = S.constant("normal to axis 6", lambda: normal_to(S.axis[5]))
-    v = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(Rt, S.axis[5]), (br.N, br.K, 3)))
-    w = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(Rt, e), (br.N, br.K, 3)))
-    return spherical(S, br, (3, 4, 5), v, w, e)
+    ke = S.constant("axis 6 and its normal", lambda: np.stack([S.axis[5], e], -1))   # (3, 2)
+    vw = np.empty((br.N, br.K, 2, 3))
+    vw[...] = np.swapaxes(Rt @ ke, -1, -2)                     # R_t k6, R_t e of every slot
+    vw = undo(S, br, (0, 1, 2), vw)
+    return spherical(S, br, (3, 4, 5), vw[..., 0, :], vw[..., 1, :], e)
 
 
 def three_parallel(S: Screws, targets, br: Branches) -> Branches:

@@ -28,8 +28,8 @@ from .screws import Screws
 
 
 def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
-    """``(R_j1 ... R_jm)^T x`` for vectors ``x (N, K, 3)``: the rotations of the solved
-    revolute ``joints`` (in chain order) undone."""
+    """``(R_j1 ... R_jm)^T x`` for vectors ``x (N, K, ..., 3)`` (one or more per slot):
+    the rotations of the solved revolute ``joints`` (in chain order) undone."""
     for j in joints:
         if S.revolute[j]:
             x = S.turn(j, br.cos[j], -br.sin[j], x)
