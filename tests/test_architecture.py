@@ -36,7 +36,8 @@ LAYERS = [
       "kincalc.conventions.library"]),
     ("subproblems", "Paden-Kahan subproblems 1-6, batched", ["kincalc.subproblems"]),
     ("ik", "the one IK engine", ["kincalc.ik"]),
-    ("analysis", "reports and their words, reach, workspace, compare, formulas, plots, "
+    ("analysis", "reports and their words, reach, workspace, compare (screws, the branch "
+                 "search, the match and its words), formulas, plots, "
                  "output files",
      ["kincalc.analysis", "kincalc.analysis.results", "kincalc.analysis.words", "kincalc.analysis.reach",
       "kincalc.analysis.workspace", "kincalc.analysis.compare", "kincalc.analysis.symbolic", "kincalc.analysis.plot",
