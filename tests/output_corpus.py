@@ -60,7 +60,12 @@ def corpus() -> list[list[str]]:
             ["convert", "puma560", "--to", "mdh"],
             ["convert", "ur5", "--to", "poe"],
             ["workspace", "planar_3r", "--samples", "2000", "--seed", "1", "--json"],
-            ["quiz", "puma560", "--seed", "3"]]
+            ["quiz", "puma560", "--seed", "3"],
+            ["fk", "puma560", "--symbolic"],
+            ["fk", "stanford_arm", "--latex"],
+            ["fk", "ur5_poe", "--symbolic", "--json"],
+            ["jacobian", "puma560", "--symbolic"],
+            ["jacobian", "bk_rrp", "--latex"]]
     for sheet in sorted(EXAMPLES.glob("*.yaml")):
         text = sheet.read_text(errors="replace")
         if "answers" in text or "answer" in text:

@@ -183,7 +183,7 @@ def test_numeric_lengths_in_another_unit():
 # --- the simplifier ----------------------------------------------------------------
 
 def _collapse(e):
-    from kincalc.analysis.symbolic import _collapse as collapse
+    from kincalc.analysis.symbolic.simplify import collapse
     return collapse(sympy.expand(e), sympy)
 
 
