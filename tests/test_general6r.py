@@ -23,8 +23,9 @@ from randrobots import random_pose, random_robot
 
 from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
-from kincalc.ik.general6r import (BATCH_SLOTS, _log, _polish, _robot_data, _skew_trace,
-                                  solve_general_6r, solve_general_6r_batch)
+from kincalc.ik.general6r import BATCH_SLOTS, solve_general_6r, solve_general_6r_batch
+from kincalc.ik.general6r.polish import polish_candidates, rotation_log, skew_trace
+from kincalc.ik.general6r.robot import robot_data
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_axis_angle, rotation_error, rotvec_from_matrix
 
@@ -137,7 +138,7 @@ def test_dh_model_of_the_axes_reproduces_fk(convention):
     rng = np.random.default_rng(11)
     for _ in range(10):
         robot = random_robot(rng, convention, types=["revolute"] * 6)
-        model = _robot_data(robot).model
+        model = robot_data(robot).model
         q = rng.uniform(-np.pi, np.pi, (20, 6))
         assert np.allclose(model.fk_dh(q), robot.fk(q), atol=1e-12)
     # parallel and intersecting consecutive axes
@@ -146,7 +147,7 @@ def test_dh_model_of_the_axes_reproduces_fk(convention):
                      for i, (al, a, d) in enumerate([(0, 0.3, 0), (0, 0.2, 0.1), (np.pi / 2, 0, 0),
                                                      (0, 0, 0.2), (np.pi / 2, 0.1, 0), (0, 0, 0)])])
     for robot in (load_robot("ur5"), load_robot("puma560"), load_robot("ur5_poe"), special):
-        model = _robot_data(robot).model
+        model = robot_data(robot).model
         q = rng.uniform(-np.pi, np.pi, (20, 6))
         assert np.allclose(model.fk_dh(q), robot.fk(q), atol=1e-12)
 
@@ -169,7 +170,7 @@ def test_pivot_and_eigenvector_angles_at_pi():
     rng = np.random.default_rng(9)
     for _ in range(10):
         robot = random_robot(rng, "dh", types=["revolute"] * 6)
-        model = _robot_data(robot).model
+        model = robot_data(robot).model
         for joints in ([2], [3], [4], [2, 3, 4]):
             q = rng.uniform(-np.pi, np.pi, 6)
             q[joints] = wrap(np.pi - model.offset[joints])       # DH theta = pi exactly
@@ -184,7 +185,7 @@ def test_standard_form_with_the_pivot_at_pi():
     rng = np.random.default_rng(10)
     for _ in range(10):
         robot = random_robot(rng, "dh", types=["revolute"] * 6)
-        data = _robot_data(robot)
+        data = robot_data(robot)
         q = rng.uniform(-np.pi, np.pi, 6)
         q[2] = wrap(np.pi - data.model.offset[2])
         _, _, c, degenerate, _ = data.raw(robot.fk(q)[None], 0)
@@ -201,7 +202,7 @@ def test_raw_eigenproblem_candidates_are_accurate_before_newton():
         for _ in range(5):
             q = rng.uniform(-np.pi, np.pi, 6)
             T = robot.fk(q)
-            _, _, raw, degenerate, _ = _robot_data(robot).raw(T[None], 0)
+            _, _, raw, degenerate, _ = robot_data(robot).raw(T[None], 0)
             assert not degenerate[0]
             raw = wrap(raw[residual(robot, T, raw) < 1e-6])
             distinct = [c for i, c in enumerate(raw)
@@ -331,7 +332,7 @@ def test_special_robots_return_their_solutions(name):
     from kincalc.ik import Target, solve
 
     robot = load_robot(name)
-    data = _robot_data(robot)
+    data = robot_data(robot)
     rng = np.random.default_rng(8)
     q = rng.uniform(-np.pi, np.pi, 6)
     assert data.raw(robot.fk(q)[None], 0)[3][0]           # the standard form degenerates
@@ -362,22 +363,22 @@ def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
     family solver's solutions (but for some near-singular poses), and after Newton
     contain all of them."""
     from kincalc.ik import Target, solve
-    from kincalc.ik import general6r
+    from kincalc.ik.general6r import common, elimination
 
     sizes = []
-    split = general6r._split_clusters
+    split = elimination.split_clusters
 
     def spy(v, phi, keep, Sig):
         # sizes of the runs of real candidates closer than CLUSTER_TOL (sorted angles)
         key = np.sort(np.where(keep, phi.real, np.inf), axis=1)
-        for row in np.diff(key, axis=1) < general6r.CLUSTER_TOL:
+        for row in np.diff(key, axis=1) < common.CLUSTER_TOL:
             runs = np.diff(np.flatnonzero(np.r_[True, ~row, True]))
             sizes.extend(runs[runs > 1].tolist())
         return split(v, phi, keep, Sig)
 
-    monkeypatch.setattr(general6r, "_split_clusters", spy)
+    monkeypatch.setattr(elimination, "split_clusters", spy)
     robot = load_robot("puma560")
-    data = _robot_data(robot)
+    data = robot_data(robot)
     rng = np.random.default_rng(18)
     qs = rng.uniform(-np.pi, np.pi, (80, 6))
     Ts = robot.fk(qs)
@@ -390,7 +391,7 @@ def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
         assert len(analytic) >= 2
         found += sum(distance(c[pose == n], a).min() < 1e-7 for a in analytic)
         total += len(analytic)
-        Q, res, _ = _polish(data.chain, np.repeat(T[None, :3] / data.scale, np.sum(pose == n), 0),
+        Q, res, _ = polish_candidates(data.chain, np.repeat(T[None, :3] / data.scale, np.sum(pose == n), 0),
                             c[pose == n])
         S = wrap(Q[res < 1e-10])
         assert all(distance(S, a).min() < 1e-6 for a in analytic)
@@ -466,7 +467,7 @@ def test_batch_of_a_special_robot_gives_the_analytic_solutions(name):
     pivot, vectorised): the analytic family solver's solutions, FK round trips."""
     from kincalc.ik import Target, solve
     robot = load_robot(name)
-    assert _robot_data(robot).shifts[0] != 0
+    assert robot_data(robot).shifts[0] != 0
     rng = np.random.default_rng(8)
     qs = rng.uniform(-np.pi, np.pi, (60, 6))
     T = robot.fk(qs)
@@ -488,7 +489,7 @@ def test_poses_of_one_batch_on_different_pivots(monkeypatch):
     ones."""
     from kincalc.ik import Target, solve
     robot = load_robot("puma560")
-    data = _robot_data(robot)
+    data = robot_data(robot)
     monkeypatch.setattr(data, "shifts", [0, 5] + [k for k in data.shifts if k not in (0, 5)])
     rng = np.random.default_rng(31)
     qs = rng.uniform(-np.pi, np.pi, (30, 6))
@@ -508,7 +509,7 @@ def test_last_resort_of_two_perturbed_models(monkeypatch):
     round trips, the generating configuration, no duplicates."""
     rng = np.random.default_rng(32)
     robot = random_robot(rng, "dh", types=["revolute"] * 6)
-    monkeypatch.setattr(_robot_data(robot), "shifts", [])
+    monkeypatch.setattr(robot_data(robot), "shifts", [])
     qs = rng.uniform(-np.pi, np.pi, (40, 6))
     T = robot.fk(qs)
     Q, ok = solve_general_6r_batch(robot, T)
@@ -542,18 +543,18 @@ def test_batch_edge_cases():
 
 def test_polish_returns_to_the_solutions_and_gives_up_far_away():
     robot = load_robot("manocha_canny_6r")
-    data = _robot_data(robot)
+    data = robot_data(robot)
     T = robot.fk(np.array([0.3, -0.2, 0.5, 1.0, -1.2, 0.4]))
     S = solve_general_6r(robot, T)
     rng = np.random.default_rng(2)
     start = S + rng.uniform(-1e-4, 1e-4, S.shape)
     target = T[None, :3] / data.scale                     # rows 0-2, scaled translation
-    Q, res, moved = _polish(data.chain, np.repeat(target, len(S), 0), start)
+    Q, res, moved = polish_candidates(data.chain, np.repeat(target, len(S), 0), start)
     assert moved.all()
     assert np.all(res < 1e-12)
     assert np.max(np.abs(wrap(Q - S))) < 1e-10
     far = rng.uniform(-np.pi, np.pi, (200, 6))
-    Q, res, _ = _polish(data.chain, np.repeat(target, len(far), 0), far)
+    Q, res, _ = polish_candidates(data.chain, np.repeat(target, len(far), 0), far)
     good = res < 1e-10
     assert not good.all()                                   # most give up
     assert all(_contains(S, q) for q in wrap(Q[good]))      # the rest found real ones
@@ -564,4 +565,4 @@ def test_rotation_log_of_newton_matches_the_quaternion_route():
     axes = rng.normal(size=(400, 3))
     angles = np.concatenate([rng.uniform(0, np.pi, 396), [0.0, 1e-9, np.pi - 1e-9, np.pi]])
     R = matrix_from_axis_angle(axes, angles)
-    assert np.allclose(_log(*_skew_trace(R), R), rotvec_from_matrix(R), atol=1e-12)
+    assert np.allclose(rotation_log(*skew_trace(R), R), rotvec_from_matrix(R), atol=1e-12)

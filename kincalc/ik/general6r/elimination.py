@@ -1,0 +1,299 @@
+"""The elimination for a batch of poses (steps 3 to 5 of :mod:`kincalc.ik.general6r`):
+the 12x12 matrix polynomial, its eigenproblem, and the candidate angles read from
+the eigenvectors, with near-double roots split into clusters."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .common import (CLUSTER_TOL, COND_BAD, COND_GOOD, DELTAS, IMAG_TOL, INV_PAD, LIMITS,
+                     SIGMA_MAPS, nnz, reduce_all, reduce_max, reduce_min, reduce_sum)
+
+
+# --- the elimination, for a batch of poses -----------------------------------
+
+def _inv_cond(A):
+    """``(A^-1, |A|_F |A^-1|_F)`` of ``A (..., n, n)``; an exactly singular ``A`` gets a
+    zero inverse and an infinite estimate (numpy's inv raises for the whole batch)."""
+    try:
+        Ai = np.linalg.inv(A)
+    except np.linalg.LinAlgError:
+        Uu, s, Vt = np.linalg.svd(A)
+        si = np.where(s > 0.0, 1.0 / np.where(s > 0.0, s, 1.0), 0.0)
+        Ai = np.swapaxes(Vt, -1, -2) @ (np.swapaxes(Uu, -1, -2) * si[..., None])
+        return Ai, np.where(s[..., -1] > 0.0, _frobenius_cond(A, Ai), np.inf)
+    return Ai, _frobenius_cond(A, Ai)
+
+
+def _frobenius_cond(A, Ai):
+    return np.sqrt(reduce_sum(A * A, axis=(-2, -1)) * reduce_sum(Ai * Ai, axis=(-2, -1)))
+
+
+def _sigma(S, k):
+    """``[C | B | A] (M, 12, 36)`` of ``Sigma(y)`` for shift delta number ``k`` from the
+    scaled rows ``S (M, 6, 27)`` of the eliminated system."""
+    return (S @ SIGMA_MAPS[k]).reshape(-1, 6, 2, 36).transpose(0, 2, 1, 3).reshape(-1, 12, 36)
+
+
+def eliminate(model, T):
+    """Raw candidates of the model's standard form (pivot: its joint 3) for ``T (M, 4, 4)``.
+
+    Returns ``(pose (C,), slot (C,), q (C, 6), degenerate (M,), width)``: candidate
+    joint values (the model's joints, rad, not wrapped), sorted by pose, with the index
+    of their pose and their eigenvalue slot (``< width``: 16, or 32 when a pose has a
+    cluster, whose extra vectors take slots 16-31); ``degenerate`` marks the poses where
+    the elimination does not apply (``Q`` loses rank, an equation vanishes, or ``A`` is
+    singular for every shift delta). ``model`` is one model for all poses or one per
+    pose (leading dimension M).
+    """
+    M = len(T)
+    with np.errstate(all="ignore"):
+        W = model.left @ T @ model.right                 # A_1 .. A_5 Rz(theta_6), scaled
+        Rc = model.right_side(W)                          # (M, 9, 14)
+        Qf, Rq = np.linalg.qr(Rc[:, 1:, :].transpose(0, 2, 1), mode="complete")
+        # Qf^T (P - constant): rows 0-7 give X2 (through Q's R), rows 8-13 (N) eliminate it
+        QT = Qf.transpose(0, 2, 1)
+        G = QT @ model.P27                                # (M, 14, 27)
+        G[:, :, 0] -= (QT @ Rc[:, 0, :, None])[:, :, 0]
+        S = G[:, 8:, :]
+        scale = np.sqrt(reduce_sum(S * S, axis=2))
+        ok = reduce_min(scale, axis=1) > 1e-12 * reduce_max(scale, axis=1)
+        S = S / np.maximum(scale, 1e-300)[:, :, None]
+        Sig = _sigma(S, 0)
+        # one inversion for A (shift delta 0) and Q's R
+        mats = INV_PAD[None].repeat(M, axis=0)
+        mats[:, 0] = Sig[:, :, 24:]
+        mats[:, 1, :8, :8] = Rq[:, :8, :8]
+        inv, cond = _inv_cond(mats)
+        lim = cond < LIMITS                              # A taken at once; R of full rank
+        ok &= lim[:, 1]
+        Ai, best = inv[:, 0], cond[:, 0]
+        # the shift delta per pose: the first with cond(A) < COND_GOOD, else the best
+        delta = 0.0
+        redo = ok & ~lim[:, 0]
+        if nnz(redo):
+            delta = np.zeros(M)
+            redo = np.flatnonzero(redo)
+            for k in range(1, len(DELTAS)):
+                Sk = _sigma(S[redo], k)
+                Aik, ck = _inv_cond(Sk[:, :, 24:])
+                take = ck < best[redo]
+                rows = redo[take]
+                Sig[rows], Ai[rows], best[rows], delta[rows] = (Sk[take], Aik[take], ck[take],
+                                                                DELTAS[k])
+                redo = redo[~(ck < COND_GOOD)]
+                if len(redo) == 0:
+                    break
+            ok &= best <= COND_BAD
+            delta = delta[:, None]
+        # the deflated companion matrix D and the block E (step 4)
+        DE = model.K - model.UWb @ (Ai @ (Sig[:, :, :24] @ model.U))    # (M, 24, 16)
+        all_ok = nnz(ok) == M
+        if not all_ok:
+            DE[~ok] = 0.0
+        try:
+            lam, yv = np.linalg.eig(DE[:, :16])
+        except np.linalg.LinAlgError:                     # non-finite entries: degenerate
+            ok &= reduce_all(np.isfinite(DE), axis=(1, 2))
+            all_ok = False
+            DE[~ok] = 0.0
+            lam, yv = np.linalg.eig(DE[:, :16])
+        lam = lam.astype(complex)
+        yv = yv.astype(complex)
+        # the companion matrix's eigenvectors U y + Wo (lam + Mo) E y / (1 + lam^2)
+        c = 1.0 / (1.0 + lam * lam)
+        Ey = (DE[:, 16:] @ yv.view(float)).view(complex)  # (M, 8, 16), real BLAS products
+        x = (model.UWW @ np.concatenate([yv, Ey * (lam * c)[:, None, :], Ey * c[:, None, :]],
+                                        axis=1).view(float)).view(complex)       # (M, 24, 16)
+        v = np.where((np.abs(lam) > 1.0)[:, None, :], x[:, 12:], x[:, :12])   # (M, 12, 16)
+        phi = 2.0 * np.arctan(lam)
+        keep = np.abs(phi.imag) < IMAG_TOL
+        if not all_ok:
+            keep &= ok[:, None]
+        keep, extra = split_clusters(v, phi, keep, Sig)
+        pose, slot = np.nonzero(keep)
+        vs, th3 = v[pose, :, slot], phi.real[pose, slot]
+        width = 16
+        if extra is not None:                             # clusters: extra slots 16-31
+            rows, v2, phi2, keep2 = extra
+            p2, s2 = np.nonzero(keep2)
+            order = np.lexsort((np.r_[slot, s2 + 16], np.r_[pose, rows[p2]]))
+            pose, slot = np.r_[pose, rows[p2]][order], np.r_[slot, s2 + 16][order]
+            vs = np.concatenate([vs, v2[p2, :, s2]])[order]
+            th3 = np.r_[th3, phi2.real[p2, s2]][order]
+            width = 32
+        if isinstance(delta, np.ndarray):
+            th3 = th3 + delta[pose, 0]
+        q = _candidate_angles(model, pose, vs, th3, inv[:, 1, :8, :8], G[:, :8], W)
+        fin = np.isfinite(reduce_sum(q, axis=1))
+    if nnz(fin) < len(fin):
+        pose, slot, q = pose[fin], slot[fin], q[fin]
+    return pose, slot, q, ~ok, width
+
+
+def _candidate_angles(model, pose, v, th3, Ri, G8, W):
+    """Joint values ``(C, 6)`` (the model's joints, rad) of candidates of poses
+    ``pose (C,)``.
+
+    ``v (C, 12)`` are the monomial vectors (any complex phase), ``th3 (C,)`` the pivot
+    angles. theta_4, theta_5 from the vectors (:func:`_ratio_angles`); theta_1, theta_2
+    from ``Q X2 = P X1``: ``X2 = Ri G8 Y`` with ``Ri (M, 8, 8)`` the inverse of Q's R,
+    ``G8 (M, 8, 27)`` the first rows of ``Qf^T P`` and ``Y`` the 27 products of
+    (1, cos, sin) of theta_3..5; theta_6 from ``Rz(theta_6) = (R1 .. R5)^T W``
+    (``W (M, 4, 4)``, its first column), with ``R1 R2`` linear in ``(1, X2)`` and
+    ``R3 R4 R5`` in ``Y``.
+    """
+    C, M = len(pose), len(W)
+    th345 = np.concatenate([th3[:, None], _ratio_angles(v)], axis=1)       # (C, 3)
+    b = np.cos(th345[..., None] * _TRIG_MUL - _TRIG_SUB)  # (1, cos, sin): (C, 3, 3)
+    Y = ((b[:, 0, :, None] * b[:, 1, None, :]).reshape(C, 9, 1) * b[:, 2, None, :]).reshape(C, 27)
+    Gw = (W[:, None, :3, 0] @ model.C12w).reshape(M, 9, 3)   # R12_k^T w0, k = i1 * 3 + i2
+    # per pose, 27 -> (s1, s2, c1, c2) of X2 (the products (i1, i2) != (0, 0), flattened
+    # i1 * 3 + i2 - 1) and sum_k X2_k R12_k^T w0
+    L7 = np.concatenate([np.take(Ri, _X2_SEL, axis=1), Gw[:, 1:].transpose(0, 2, 1) @ Ri], axis=1)
+    X = (Y[:, None, :] @ np.take((L7 @ G8).transpose(0, 2, 1), pose, axis=0))[:, 0]   # (C, 7)
+    if model.C35.ndim == 2:
+        R35 = Y @ model.C35
+    else:                                                 # one model per pose
+        R35 = (Y[:, None, :] @ np.take(model.C35, pose, axis=0))[:, 0]
+    u = ((X[:, None, 4:] + np.take(Gw[:, None, 0], pose, axis=0)) @ R35.reshape(C, 3, 3))[:, 0]
+    # u = (R35^T R12^T w0)^T
+    offset = model.offset if model.offset.ndim == 1 else np.take(model.offset, pose, axis=0)
+    return np.concatenate([np.arctan2(X[:, :2], X[:, 2:4]), th345,
+                           np.arctan2(u[:, 1:2], u[:, 0:1])], axis=1) - offset
+
+
+_X2_SEL = np.array([5, 1, 2, 0])
+_TRIG_MUL = np.array([0.0, 1.0, 1.0])
+_TRIG_SUB = np.array([0.0, 0.0, np.pi / 2.0])
+
+
+# index sets of the monomials x4^j x5^k (flattened j * 3 + k) for the shift operators
+_J4, _J5 = np.divmod(np.arange(12), 3)
+_LO4, _HI4 = np.flatnonzero(_J4 < 3), np.flatnonzero(_J4 > 0)
+_LO5, _HI5 = np.flatnonzero(_J5 < 2), np.flatnonzero(_J5 > 0)
+_TAU = np.tan(0.3)
+
+
+def _ratio_maps():
+    """``(AB (102,), SUM (6, 51))``: rows of a gather whose two halves' product, summed by
+    ``SUM``, gives ``sum lo hi``, ``sum lo^2``, ``sum hi^2`` over the pairs
+    (x4^j x5^k, x4^(j+1) x5^k) (9 of them) and (x4^j x5^k, x4^j x5^(k+1)) (8), in the
+    order cr4, cr5, lo4, lo5, hi4, hi5."""
+    lo, hi = np.r_[_LO4, _LO5], np.r_[_HI4, _HI5]
+    SUM = np.zeros((6, 51))
+    for q, (a, b) in enumerate(((0, 9), (9, 17))):
+        for k in range(3):
+            SUM[2 * k + q, 17 * k + a:17 * k + b] = 1.0
+    return np.r_[lo, lo, hi, hi, lo, hi], SUM
+
+
+_RATIO_AB, _RATIO_SUM = _ratio_maps()
+
+
+def _ratio_angles(v):
+    """``(theta_4, theta_5) (n, 2)`` with x = tan(theta / 2) from monomial vectors
+    ``v (n, 12)`` (complex, entries x4^j x5^k at j * 3 + k, any common phase):
+    least-squares ratios of consecutive entries (``x = sum lo hi / sum lo^2`` over the
+    pairs (x4^j x5^k, x4^(j+1) x5^k), resp. (.., x4^j x5^(k+1)), with the real forms
+    ``Re(conj(a) b)``), inverted when |x| > 1."""
+    g = np.take(np.ascontiguousarray(v, dtype=complex).view(float).reshape(-1, 12, 2), _RATIO_AB,
+                axis=1)
+    f = reduce_sum(_RATIO_SUM @ (g[:, :51] * g[:, 51:]), axis=2)   # cr4, cr5, lo4, lo5, hi4, hi5
+    cr, dlo, dhi = f[:, 0:2], f[:, 2:4], f[:, 4:6]
+    return 2.0 * np.where(dlo >= dhi, np.arctan2(cr, dlo), np.arctan2(dhi, cr))
+
+
+def split_clusters(v, phi, keep, Sig):
+    """Better vectors for clustered eigenvalues, all clusters of all poses at once.
+
+    ``v (M, 12, n)`` (vectors), ``phi (M, n)`` (angles), ``keep (M, n)`` (real
+    candidates), ``Sig (M, 12, 36)`` (``[C | B | A]`` of each pose). Returns
+    ``(keep, extra)``: ``keep`` updated for the clusters' own vectors, and ``extra`` None
+    (no cluster: the common case) or ``(rows (P,), v2 (P, 12, n), phi2 (P, n), keep2
+    (P, n))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
+    vector that goes with own slot j.
+
+    Solutions that share the pivot angle (e.g. the two wrist flips of a
+    spherical wrist when the pivot is an arm joint) give a multiple
+    eigenvalue, often defective in the companion form: it splits by up to
+    ~sqrt(eps) and eig's vectors are arbitrary mixtures, or nearly parallel.
+    The mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so
+    each cluster of m eigenvalues (real parts of the angles within
+    CLUSTER_TOL of the next; this includes a conjugate pair with a small
+    imaginary part, which is how a near-double real root often comes out)
+    gets the mean angle and, as its space, the m smallest right singular
+    vectors ``N`` of ``Sigma`` there. In that space the true vectors ``v = N c``
+    are those of monomials, so ``c`` is a common eigenvector of the shift
+    operators "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply by
+    x5"; these m x m operators come from least squares on the Moebius-shifted
+    form ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a
+    fixed combination of the two is diagonalised. The cluster's own
+    eigenvectors compete (they are right when its eigenvalues are distinct
+    roots that merely lie close): of the 2m vectors, those within 1e-3 of a
+    monomial vector are kept, and at least the m closest. The subspace vectors
+    get the mean angle.
+    """
+    M, n = phi.shape
+    key = np.where(keep, phi.real, np.inf)
+    sk = np.sort(key, axis=1)
+    if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
+        return keep, None                                # no cluster (the common case)
+    order = np.argsort(key, axis=1)
+    close = np.diff(np.take_along_axis(key, order, axis=1), axis=1) < CLUSTER_TOL
+    # runs of close neighbours in sorted order: group id per sorted position
+    gid = np.concatenate([np.zeros((M, 1), int), np.cumsum(~close, axis=1)], axis=1)
+    flat = (np.arange(M)[:, None] * n + gid).ravel()
+    size = np.bincount(flat, minlength=M * n)
+    start = np.concatenate([np.ones((M, 1), bool), ~close], axis=1)     # a run begins here
+    run = size[flat].reshape(M, n)
+    rows = np.flatnonzero(np.logical_or.reduce(start & (run >= 2), axis=1))
+    at = np.zeros(M, int)
+    at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
+    v2 = np.zeros((len(rows), 12, n), complex)
+    v2[:, 0] = 1.0
+    phi2 = np.zeros((len(rows), n), complex)
+    keep2 = np.zeros((len(rows), n), bool)
+    for k in np.unique(run[start & (run >= 2)]):
+        pg, j0 = np.nonzero(start & (run == k))
+        members = order[pg[:, None], j0[:, None] + np.arange(k)]       # (p, k) slots
+        mean = np.mean(phi.real[pg[:, None], members], axis=1)
+        y = np.tan(mean / 2.0)
+        small = (np.abs(y) <= 1.0)[:, None, None]
+        with np.errstate(all="ignore"):
+            w = np.where(small[:, 0, 0], 0.0, 1.0 / y)[:, None, None]
+        yy = np.where(small[:, 0, 0], y, 0.0)[:, None, None]
+        Sp = Sig[pg]
+        Cm, Bm, Am = Sp[:, :, :12], Sp[:, :, 12:24], Sp[:, :, 24:]
+        S = np.where(small, (Am * yy + Bm) * yy + Cm, Am + (Bm + Cm * w) * w)
+        Nsub = np.swapaxes(np.linalg.svd(S)[2][:, -k:, :], -1, -2)     # (p, 12, k)
+        Mop = np.zeros((len(pg), k, k))
+        for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
+            lhs = Nsub[:, lo] + _TAU * Nsub[:, hi]
+            rhs = Nsub[:, hi] - _TAU * Nsub[:, lo]
+            Mop = Mop + wgt * (np.linalg.pinv(lhs, rcond=np.finfo(float).eps * len(lo)) @ rhs)
+        sub = Nsub @ np.linalg.eig(Mop)[1]                              # (p, 12, k)
+        own = np.take_along_axis(v[pg], members[:, None, :], axis=2)    # (p, 12, k)
+        both = np.concatenate([own, sub], axis=2)                       # (p, 12, 2k)
+        res = _structure_residual(np.swapaxes(both, 1, 2).reshape(-1, 12)).reshape(-1, 2 * k)
+        rank = np.argsort(np.argsort(res, axis=1, kind="stable"), axis=1, kind="stable")
+        kept = (res < 1e-3) | (rank < k)
+        keep[pg[:, None], members] = kept[:, :k]
+        pgk = at[pg][:, None]
+        v2[pgk, :, members] = np.swapaxes(sub, 1, 2)
+        phi2[pgk, members] = mean[:, None]
+        keep2[pgk, members] = kept[:, k:]
+    return keep, (rows, v2, phi2, keep2)
+
+
+def _structure_residual(V):
+    """Sine of the angle between each row of ``V (n, 12)`` and the nearest monomial vector."""
+    R = (V / V[np.arange(len(V)), np.argmax(np.abs(V), axis=1)][:, None]).real
+    h = _ratio_angles(R) / 2.0                                          # (n, 2)
+    c, s = np.cos(h), np.sin(h)
+    # x4^j x5^k times cos^3(h4) cos^2(h5): bounded also at x = infinity
+    m4 = np.stack([c[:, 0] ** (3 - j) * s[:, 0] ** j for j in range(4)], axis=-1)
+    m5 = np.stack([c[:, 1] ** (2 - j) * s[:, 1] ** j for j in range(3)], axis=-1)
+    W = (m4[:, :, None] * m5[:, None, :]).reshape(-1, 12)
+    cos = np.abs(np.sum(R * W, axis=1)) / (np.linalg.norm(R, axis=1) * np.linalg.norm(W, axis=1))
+    return np.sqrt(np.maximum(0.0, 1.0 - cos * cos))

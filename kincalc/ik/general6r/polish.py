@@ -1,0 +1,58 @@
+"""Newton polishing of the general-6R candidates on the real robot (step 6 of
+:mod:`kincalc.ik.general6r`), with the pose residual as a rotation vector."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...jacobian import jacobian_and_pose
+from ...spatial import rotvec_from_matrix
+from ..newton import polish
+from .common import ACCEPT_TOL, GIVE_UP, NEWTON_ITERS, STEP_MAX, nnz, reduce_sum
+
+
+# --- Newton polishing on the real robot -----------------------------------
+
+_ROT_IDX = np.array([7, 2, 3, 5, 6, 1, 0, 4, 8])   # R21 R02 R10, R12 R20 R01, R00 R11 R22
+
+
+def skew_trace(R):
+    """``(v, c2)`` of rotations ``R (m, 3, 3)``: ``v = 2 sin(angle) axis`` (the skew part,
+    doubled) and ``c2 = 2 cos(angle)``."""
+    g = np.take(R.reshape(-1, 9), _ROT_IDX, axis=1)
+    return g[:, :3] - g[:, 3:6], reduce_sum(g[:, 6:], axis=1) - 1.0
+
+
+def rotation_log(v, c2, R):
+    """Rotation vectors ``(m, 3)`` from :func:`skew_trace` ``(v, c2)`` of ``R (m, 3, 3)``."""
+    sn = np.sqrt(reduce_sum(v * v, axis=1))
+    w = v * (np.arctan2(sn, c2) / np.maximum(sn, 1e-300))[:, None]
+    far = c2 < 0.0
+    if nnz(far):
+        w[far] = rotvec_from_matrix(R[far])
+    return w
+
+
+def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
+    """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T``; returns ``(q (m, 6),
+    residual (m,), moved (m,))``.
+
+    ``chain`` is the robot's with lengths divided by its length scale, ``T (m, 3, 4)``
+    each candidate's target (rows 0-2, translation scaled alike), ``Q (m, 6)`` the
+    starts; ``moved`` marks the candidates that took a step. A candidate stops when its
+    residual ``max(|dp| / L, |dw|)`` is at rounding level (below 1e-13, or below
+    ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or when it is still
+    far after a few (``GIVE_UP``: spurious candidates from complex eigenvalues; the few
+    that would wander into a solution after many steps only find one that a good
+    candidate already gave).
+    """
+    tp, tR = T[:, :, 3], T[:, :, :3]
+
+    def evaluate(q, rows):
+        J, F = jacobian_and_pose(chain, q)
+        ep = tp[rows] - F[:, :3, 3]
+        R = tR[rows] @ F[:, :3, :3].transpose(0, 2, 1)
+        v, c2 = skew_trace(R)
+        return np.concatenate([ep, rotation_log(v, c2, R)], axis=1), lambda keep: J[keep]
+    return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
+                  stall=1e-2 * ACCEPT_TOL, give_up=GIVE_UP, max_step=STEP_MAX)

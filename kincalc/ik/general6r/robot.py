@@ -1,0 +1,139 @@
+"""Per-robot data of the general-6R solver: the axes at q = 0, the model of each cyclic
+shift and their ranking as pivots, the chain for Newton (cached for 64 robots)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...model import Chain
+from ...spatial import invert_transform, wrap
+from ..cache import per_robot
+from .common import PERTURB
+from .elimination import eliminate
+from .model import Model
+
+
+# --- per robot ------------------------------------------------------------------
+
+class _Robot6R:
+    """Per-robot data: axes at q = 0, the shift-0 model, the chain for Newton, and the
+    ranked pivot shifts.
+
+    Raises ValueError if the robot does not have exactly 6 revolute joints.
+    """
+
+    def __init__(self, robot):
+        from ...structure import joint_axes
+        if robot.dof != 6 or not all([j.revolute for j in robot.joints]):
+            raise ValueError("the general 6R solver needs a robot with exactly 6 revolute "
+                             "joints, got " + "".join("R" if j.revolute else "P"
+                                                      for j in robot.joints))
+        self.dirs, self.pts = joint_axes(robot)
+        self.T0 = robot.fk(np.zeros(6))
+        self.L = float(robot.characteristic_length)
+        fixed = np.array(robot.chain.fixed)
+        fixed[:, :3, 3] /= self.L
+        #: the chain with lengths divided by L: Newton's position errors and the
+        #: Jacobian's linear rows come out scaled
+        self.chain = Chain(fixed, robot.chain.revolute, robot.chain.offset)
+        self.scale = np.array([[1.0, 1.0, 1.0, self.L]])      # divides a pose's rows 0-2
+        self.model = Model.from_lines(self.dirs, self.pts, self.T0, self.L)
+        self._perturbed = None
+        self.shifts = self._rank_shifts(robot)
+
+    def _rank_shifts(self, robot):
+        """Pivot choices (cyclic shifts) ordered by the raw accuracy they reach on probe poses.
+
+        The probe poses are FK of seeded random configurations; a shift's score is
+        its worst distance from the generating configuration to the nearest raw
+        (unpolished) candidate. Shift 0 (pivot joint 3, the per-robot precomputed
+        form) is kept first when it recovers every probe to 1e-8 rad. Otherwise
+        shifts accurate to 1e-8 come first, fewest candidates first, then the
+        rest by accuracy.
+        """
+        qs = np.random.default_rng(6).uniform(-np.pi, np.pi, (3, 6))
+        Ts = robot.fk(qs)
+        keys = []
+        for k in range(6):
+            pose, _, cand, bad, _ = self.raw(Ts, k)
+            worst = np.inf
+            if not bad.any() and np.all(np.bincount(pose, minlength=3) > 0):
+                dist = np.max(np.abs(wrap(cand - qs[pose])), axis=1)
+                near = np.full(3, np.inf)
+                np.minimum.at(near, pose, dist)
+                worst = float(near.max())
+            if k == 0 and worst < 1e-8:
+                return list(range(6))
+            # accurate shifts first, among them the one with fewer candidates (less Newton work)
+            keys.append((worst >= 1e-8, worst if worst >= 1e-8 else len(pose), k))
+        return [k for *_, k in sorted(keys)]
+
+    @property
+    def perturbed(self):
+        """Nearby generic models (one per PERTURB size), built on first use."""
+        if self._perturbed is None:
+            self._perturbed = [self.model.perturbed(size) for size in PERTURB]
+        return self._perturbed
+
+    def shifted_model(self, T, shift):
+        """``(model, order)``: the 6Rs of the cyclic shift ``shift`` for poses ``T (M, 4, 4)``
+        (one model per pose; their target is the identity) and their joints' indices in
+        the original order."""
+        G = self.T0 @ invert_transform(T)                 # (M, 4, 4)
+        order = np.r_[shift:6, 0:shift]
+        moved = order < shift
+        R, t = G[:, None, :3, :3], G[:, None, :3, 3]
+        dirs = np.where(moved[:, None], (R @ self.dirs[order][..., None])[..., 0],
+                        self.dirs[order])
+        pts = np.where(moved[:, None], (R @ self.pts[order][..., None])[..., 0] + t,
+                       self.pts[order])
+        return Model.from_lines(dirs, pts, G, self.L), order
+
+    def raw(self, T, shift):
+        """Raw candidates with the pivot of cyclic shift ``shift`` for ``T (M, 4, 4)``:
+        ``(pose (C,), slot (C,), q (C, 6) in the robot's joint order, degenerate (M,),
+        width)`` (see :func:`eliminate`).
+
+        The pivot is joint ``(shift + 2) % 6 + 1`` (1-based): 3 for shift 0, 2 for shift 5.
+        ``A_1 ... A_6 = T'`` is rotated into ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I``:
+        a 6R chain whose joints are k+1..6, 1..k, with the pose folded into the
+        link between joints 6 and 1, and the target the identity.
+        """
+        if shift == 0:
+            return eliminate(self.model, T)
+        model, order = self.shifted_model(T, shift)
+        pose, slot, c, bad, width = eliminate(model, np.broadcast_to(np.eye(4), T.shape))
+        out = np.empty_like(c)
+        out[:, order] = c
+        return pose, slot, out, bad, width
+
+    def candidates(self, T):
+        """Raw candidates for ``T (M, 4, 4)``: each pose with the first ranked shift that
+        does not degenerate, else with both perturbed models (the second one's slots after
+        the first's). Returns ``(pose (C,), slot (C,), q (C, 6), width)`` sorted by pose
+        (then slot), ``slot < width``."""
+        todo = np.arange(len(T))
+        pieces = []
+        for shift in self.shifts:
+            pose, slot, q, bad, width = self.raw(T[todo] if len(pieces) else T, shift)
+            pieces.append((todo[pose] if pieces else pose, slot, q, width))
+            todo = todo[bad]
+            if len(todo) == 0:
+                break
+        else:
+            offset = 0
+            for model in self.perturbed:
+                pose, slot, q, _, width = eliminate(model, T[todo])
+                pieces.append((todo[pose], slot + offset, q, offset + width))
+                offset += width
+        if len(pieces) == 1:
+            return pieces[0]
+        pose = np.concatenate([p[0] for p in pieces])
+        order = np.lexsort((np.concatenate([p[1] for p in pieces]), pose))
+        return (pose[order], np.concatenate([p[1] for p in pieces])[order],
+                np.concatenate([p[2] for p in pieces])[order], max(p[3] for p in pieces))
+
+
+@per_robot
+def robot_data(robot):
+    return _Robot6R(robot)

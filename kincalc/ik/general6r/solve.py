@@ -1,0 +1,142 @@
+"""The general-6R solver's public API: every real solution of a batch of poses, and
+the engine's step."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...spatial import wrap
+from .common import ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, nnz, reduce_all, reduce_max
+from .polish import polish_candidates
+from .robot import robot_data
+
+
+# --- public API -------------------------------------------------------------
+
+def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
+    """All real IK solutions of a 6R robot (any geometry) for a batch of poses.
+
+    Parameters
+    ----------
+    robot : Robot
+        Six revolute joints; no structure needed (see the module docstring for robots
+        with special structure).
+    T : array_like (N, 4, 4)
+        Tool poses ``T_world_tool`` (SI, world frame). A single pose is ``T[None]``.
+
+    Returns
+    -------
+    Q : ndarray (N, BATCH_SLOTS, 6)
+        Joint values (rad, wrapped to (-pi, pi]); 0 in unused slots.
+    ok : ndarray (N, BATCH_SLOTS) bool
+        The valid slots, first in each row: each reproduces its pose by FK to 1e-10
+        relative to ``robot.characteristic_length`` (position) and 1e-10 rad, after
+        Newton polishing on ``robot.chain``; duplicates within MERGE_TOL are merged. A
+        pose outside the workspace, a non-finite pose, or (not reached by any robot of
+        the library) a pose where every pivot and the last resort degenerate, gets none.
+
+    Raises
+    ------
+    ValueError
+        If ``robot`` does not have exactly 6 revolute joints, or ``T`` is not (N, 4, 4).
+
+    Notes
+    -----
+    Every step (model, elimination, eigenproblems, clusters, other pivots, Newton)
+    runs on all poses together; see the module docstring for the method.
+    """
+    if robot.dof != 6 or not all([j.revolute for j in robot.joints]):
+        raise ValueError("solve_general_6r_batch needs a robot with exactly 6 revolute "
+                         "joints, got " + "".join("R" if j.revolute else "P"
+                                                  for j in robot.joints))
+    T = np.asarray(T, dtype=float)
+    if T.ndim != 3 or T.shape[1:] != (4, 4):
+        raise ValueError(f"T must be an (N, 4, 4) array of transforms, got shape {T.shape}")
+    N = len(T)
+    Q = np.zeros((N, BATCH_SLOTS, 6))
+    ok = np.zeros((N, BATCH_SLOTS), bool)
+    data = robot_data(robot)
+    for lo in range(0, N, _BLOCK):       # blocks of poses: their arrays stay in cache
+        _solve_block(data, T[lo:lo + _BLOCK], Q[lo:lo + _BLOCK], ok[lo:lo + _BLOCK])
+    return Q, ok
+
+
+#: poses solved together (larger batches go in blocks of this many)
+_BLOCK = 512
+
+
+def _solve_block(data, T, Q_out, ok):
+    """:func:`solve_general_6r_batch` for poses ``T (N, 4, 4)``, into ``Q_out (N, K, 6)``
+    and ``ok (N, K)`` (zero on entry)."""
+    N, K = len(T), Q_out.shape[1]
+    finite = reduce_all(np.isfinite(T), axis=(1, 2))
+    rows = None if nnz(finite) == N else np.flatnonzero(finite)
+    Tr = T if rows is None else T[rows]
+    M = len(Tr)
+    if M == 0:
+        return
+    pose, slot, cand, width = data.candidates(Tr)
+    Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
+    Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
+    acc = res < ACCEPT_TOL
+    pose, Qp = pose[acc], wrap(Qp[acc])
+    rank = np.arange(len(pose)) - np.searchsorted(pose, pose)     # in slot order
+    if width > 16 or nnz(moved):
+        # duplicates: a solution within MERGE_TOL of one in an earlier slot of its pose
+        # (raw candidates from distinct eigenvalue slots that did not move are farther
+        # apart than CLUSTER_TOL unless they are a cluster's)
+        S = int(reduce_max(rank)) + 1
+        Qd = np.zeros((M, S, 6))
+        good = np.zeros((M, S), bool)
+        Qd[pose, rank] = Qp
+        good[pose, rank] = True
+        d = np.abs(Qd[:, :, None] - Qd[:, None])
+        near = reduce_all((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL), axis=3)
+        dup = np.logical_or.reduce(near & _EARLIER[:S, :S] & good[:, None, :], axis=2)
+        if nnz(dup):
+            new = ~dup[pose, rank]
+            pose, Qp = pose[new], Qp[new]
+            rank = np.arange(len(pose)) - np.searchsorted(pose, pose)
+    # valid slots first, in slot order, at most K
+    if len(rank) and reduce_max(rank) >= K:
+        first = rank < K
+        pose, rank, Qp = pose[first], rank[first], Qp[first]
+    if rows is not None:
+        pose = rows[pose]
+    Q_out[pose, rank] = Qp
+    ok[pose, rank] = True
+
+
+# [i, j]: slot j comes before slot i (a pose has at most 64 candidates: 2 x 32 in the last resort)
+_EARLIER = np.tri(4 * BATCH_SLOTS, k=-1, dtype=bool)
+
+
+def solve_general_6r(robot, T) -> np.ndarray:
+    """All real solutions ``(k, 6)`` (rad, wrapped to (-pi, pi], k <= 16) of
+    ``robot.fk(q) == T`` for one pose ``T (4, 4)`` (SI, world frame): the valid rows of
+    :func:`solve_general_6r_batch` for the batch ``T[None]`` (same accuracy, merging
+    and ValueErrors; a non-finite or unreachable pose gives ``(0, 6)``)."""
+    Q, ok = solve_general_6r_batch(robot, np.asarray(T, dtype=float)[None])
+    return Q[0][ok[0]]
+
+
+def general_6r(robot, targets, br):
+    """The branches of a general 6R robot: the elimination's solutions of every pose
+    (:func:`solve_general_6r_batch`), ordered by joint 3 then joint 1, one slot each,
+    labelled by their rank (``root k`` of joint 3). ``targets`` must be whole poses."""
+    from dataclasses import replace as _replace
+    from ...errors import UnsupportedRobot
+    if targets.kind != "pose":
+        raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
+    Q, ok = solve_general_6r_batch(robot, targets.T)
+    key3 = np.where(ok, Q[..., 2], np.inf)
+    key1 = np.where(ok, Q[..., 0], np.inf)
+    order = np.lexsort((key1, key3), axis=-1)
+    Q = np.take_along_axis(Q, order[..., None], axis=1)
+    ok = np.take_along_axis(ok, order, axis=1)
+    K = Q.shape[1]
+    out = _replace(br, ok=ok & br.ok[:, :1], parent=np.zeros(K, int),
+                   signs=tuple(((2, f"root {k + 1}"),) for k in range(K)))
+    for j in range(6):
+        out = out.set(j, Q[..., j], np.cos(Q[..., j]), np.sin(Q[..., j]))
+    return out
