@@ -4,6 +4,7 @@ a link transform, forward kinematics and the Jacobian."""
 from __future__ import annotations
 
 import re
+
 import numpy as np
 
 from .numbers import (joint_text, length_word, lengths_in, nice_number, number,

@@ -5,6 +5,7 @@ three decimals of length), poses and matrices rounded to what is written."""
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from .rules import SIGNIFICANT

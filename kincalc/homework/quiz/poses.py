@@ -5,6 +5,7 @@ one just beyond the reach)."""
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from ...errors import KincalcError

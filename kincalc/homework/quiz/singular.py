@@ -5,6 +5,7 @@ singular value) or clearly regular."""
 from __future__ import annotations
 
 import functools
+
 import numpy as np
 
 from .numbers import joint_grid, joint_range, joint_text, random_joints, si_values, typed_value
