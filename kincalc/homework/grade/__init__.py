@@ -9,4 +9,4 @@ from __future__ import annotations
 from .common import ItemResult, Report
 from .grading import grade
 
-__all__ = ['ItemResult', 'Report', 'grade']
+__all__ = ["ItemResult", "Report", "grade"]

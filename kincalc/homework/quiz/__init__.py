@@ -45,4 +45,6 @@ from .rules import DEFAULT_KINDS, KINDS, QuizError
 from .singular import scaled_sigma, singular_configuration
 from .writing import sheet_yaml
 
-__all__ = ['DEFAULT_KINDS', 'KINDS', 'QuizError', 'make_sheet', 'pose_forms', 'random_joints', 'scaled_sigma', 'sheet_yaml', 'singular_configuration', 'skipped', 'variable_names']
+__all__ = ["DEFAULT_KINDS", "KINDS", "QuizError", "make_sheet", "pose_forms",
+           "random_joints", "scaled_sigma", "sheet_yaml", "singular_configuration",
+           "skipped", "variable_names"]

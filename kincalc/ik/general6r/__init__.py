@@ -164,4 +164,4 @@ from __future__ import annotations
 from .common import BATCH_SLOTS
 from .solve import general_6r, solve_general_6r, solve_general_6r_batch
 
-__all__ = ['BATCH_SLOTS', 'general_6r', 'solve_general_6r', 'solve_general_6r_batch']
+__all__ = ["BATCH_SLOTS", "general_6r", "solve_general_6r", "solve_general_6r_batch"]

@@ -1,0 +1,33 @@
+"""Drawings of arms and workspace sections, written to PNG, SVG or PDF.
+
+matplotlib is the optional extra ``plot`` (``pip install 'kincalc[plot]'``)
+and is imported inside the functions that draw, never at module import. No
+pyplot: figures are :class:`matplotlib.figure.Figure` objects saved through
+their own canvas, so no GUI backend is ever selected and no global figure
+state is kept.
+
+Sizes are predictable: every panel is ``PANEL_INCHES`` square, at most
+``MAX_COLUMNS`` panels a row, and files are saved without tight bounding
+boxes, so ``k`` panels in ``c`` columns and ``r`` rows at ``dpi`` give a
+``5c·dpi x 5r·dpi`` pixel PNG (``360c x 360r`` points for SVG and PDF).
+Identical input gives identical bytes: matplotlib's default style is used
+whatever the user's matplotlibrc says, SVG ids are salted with a fixed
+string and no date is written into SVG or PDF files.
+
+Geometry comes in SI (m, rad) and is drawn in the display length unit of a
+:class:`~kincalc.analysis.results.Units`.
+"""
+
+from __future__ import annotations
+
+from ...errors import MissingExtra  # noqa: F401 (kincalc.analysis.plot.MissingExtra)
+from .arms import draw_arms
+from .files import check_output
+from .geometry import arm_points, config_title, drawing_plane, joint_points
+from .sections import draw_sections
+from .style import (ArmPoints, Drawing, FORMATS, MAX_COLUMNS, PANEL_INCHES, PLANAR_TOL,
+                    TRIAD_FRACTION, require_matplotlib)
+
+__all__ = ["ArmPoints", "Drawing", "FORMATS", "MAX_COLUMNS", "PANEL_INCHES", "PLANAR_TOL",
+           "TRIAD_FRACTION", "arm_points", "check_output", "config_title", "draw_arms",
+           "draw_sections", "drawing_plane", "joint_points", "require_matplotlib"]
