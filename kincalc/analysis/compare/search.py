@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...spatial import invert_transform
-from .screws import adjoint, align, bracket, exp_screw, hat, line_miss, perpendiculars, world_screws
+from .screws import (adjoint, align, bracket, exp_screw, hat, line_miss, perpendiculars,
+                     world_screws)
 
 #: a linearised equation whose singular value is below this (relative) does
 #: not determine the offsets along that direction.

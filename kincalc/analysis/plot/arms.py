@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .files import (check_output, default_style, fit_title, new_figure, panel_grid, save_figure, title_inches)
+from .files import (check_output, default_style, fit_title, new_figure, panel_grid,
+                    save_figure, title_inches)
 from .geometry import arm_points, drawing_plane, joint_points
 from .style import (Drawing, JOINT_FACE, LINK_COLOUR, TICK_STEPS, TRIAD_COLOURS,
                     TRIAD_FRACTION, require_matplotlib)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .files import (check_output, default_style, fit_title, new_figure, panel_grid, save_figure, title_inches)
+from .files import (check_output, default_style, fit_title, new_figure, panel_grid,
+                    save_figure, title_inches)
 from .style import Drawing, TICK_STEPS, require_matplotlib
 
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 import ast
 
 from ...errors import InputError
-
 from .results import Notation, SymbolicFK, SymbolicJacobian
 from .simplify import Abbreviations, collapse, nest
 from .symbols import exact, exact_angle, exact_unit, joint_symbols, require_sympy

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 from .printing import expr_str, latex_legend, latex_matrix, latex_printer
 
 ROWS = ("vx", "vy", "vz", "wx", "wy", "wz")

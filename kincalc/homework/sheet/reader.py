@@ -1,106 +1,22 @@
-"""Homework sheets: the format, read and validated (``kincalc check``).
-
-A sheet (YAML; the format is in the README, "kincalc check", and in ``man kincalc-check``)
-names a robot and lists items, each an exercise with the student's answer.
-:func:`load_sheet` reads and validates the whole sheet first: an invalid sheet is a
-:class:`SheetError` naming file and line (exit status 2) before anything is graded.
-Sheet values are converted to SI (m, rad) on reading, with the sheet's units (by default
-the robot file's). The YAML is read by :class:`kincalc.conventions.reader.Reader`, the one YAML
-reader with line numbers.
-"""
+"""Reading a sheet for :mod:`kincalc.homework.sheet`: the file, the robot it names (never
+outside the sheet's folder or the robot library), its items and their answers, each
+checked with a line number."""
 
 from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, RobotFileError
-from ..limits import MAX_IK_SETS, MAX_SHEET_ITEMS, cut, quote
-from ..conventions.reader import Reader, compose_yaml, node_line
-from ..spatial import TCV_MAX_ROLL
-
-KINDS = ("dh", "link", "fk", "ik", "jacobian", "reach", "singular")
-SHEET_KEYS = {"kincalc-sheet": False, "title": False, "student": False, "robot": True,
-              "units": False, "tolerance": False, "parameters": False, "seed": False,
-              "items": True}
-ITEM_KEYS = {"id": True, "kind": True, "answer": False, "tolerance": False, "points": False,
-             "question": False}
-KIND_KEYS = {
-    "dh": {"tool": False, "base": False},
-    "link": {"link": True, "q": True},
-    "fk": {"q": True},
-    "ik": {"pose": True, "limits": False},
-    "jacobian": {"q": True, "frame": False},
-    "reach": {"pose": True},
-    "singular": {"q": True},
-}
-TOLERANCE_KEYS = {"position": False, "angle": False, "matrix": False}
-POSE_FIELDS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
-               "matrix": 9, "approach": 3, "tcv": 6, "T": 16, "q": 0}
-#: default tolerances: angles (deg) and rotation-matrix entries; positions are
-#: DEFAULT_POSITION x the arm's size
-DEFAULT_ANGLE_DEG = 0.1
-DEFAULT_MATRIX = 2e-3
-DEFAULT_POSITION = 1e-3
-#: answers within HINT_FACTOR x the tolerance of a slip's result are said to fit it
-HINT_FACTOR = 3.0
-#: an ik set whose every value is within MIX_FACTOR x the tolerance of some solution's
-#: value, but not all of one solution's, is said to mix branches
-MIX_FACTOR = 20.0
-#: random configurations on which a dh answer's FK must agree with the robot's
-DH_SAMPLES = 200
-
-
-class SheetError(RobotFileError):
-    """An invalid sheet: ``file:line: message`` (exit status 2)."""
-
-
-@dataclass(frozen=True)
-class Tolerance:
-    """Grading tolerances in SI: ``position`` (m), ``angle`` (rad), ``matrix`` (unitless)."""
-
-    position: float
-    angle: float
-    matrix: float
-
-    def to_dict(self, units) -> dict:
-        return {"position": self.position * units.l, "angle": self.angle * units.a,
-                "matrix": self.matrix}
-
-
-@dataclass
-class Item:
-    """One exercise of a sheet, parsed; values SI."""
-
-    id: str
-    kind: str
-    line: int
-    tol: Tolerance
-    points: float
-    question: str | None = None
-    q: np.ndarray | None = None          # (n,) joints for link/fk/jacobian/singular
-    link: int | None = None              # 1-based, for link
-    frame: str = "base"                  # for jacobian
-    target: object = None                # kincalc.ik.Target for ik/reach
-    limits: bool = True                  # ik: only solutions within the limits are required
-    tool: str = "compare"                # dh: compare | ignore
-    base: str = "compare"
-    answer: object = None                # kind-specific, parsed; None = not answered
-    answer_line: int | None = None
-
-
-@dataclass
-class Sheet:
-    path: str
-    robot: object
-    units: object                        # kincalc.analysis.results.Units: the sheet's units
-    tolerance: Tolerance
-    items: list
-    title: str = ""
-    student: str = ""
+from ...conventions.reader import Reader, compose_yaml, node_line
+from ...errors import InputError, RobotFileError
+from ...limits import MAX_SHEET_ITEMS, cut, quote
+from ...spatial import TCV_MAX_ROLL
+from .answers import AnswerReader
+from .format import (DEFAULT_ANGLE_DEG, DEFAULT_MATRIX, DEFAULT_POSITION, ITEM_KEYS, Item,
+                     KINDS, KIND_KEYS, POSE_FIELDS, SHEET_KEYS, Sheet, SheetError,
+                     TOLERANCE_KEYS, Tolerance, round1)
 
 
 # --- reading a sheet -----------------------------------------------------------------
@@ -110,7 +26,7 @@ def load_sheet(path: str, robots_dirs=()) -> Sheet:
     :data:`~kincalc.limits.MAX_FILE_BYTES`); raise :class:`SheetError` if invalid.
     ``robots_dirs``: folders besides the sheet's own that its ``robot:`` may name a file
     in (see :func:`sheet_robot_path`)."""
-    from ..conventions.reader import read_text
+    from ...conventions.reader import read_text
     text = read_text(path, path, "a sheet", SheetError)
     return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)), robots_dirs)
 
@@ -165,7 +81,7 @@ def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
                             "; a grader can allow another folder with --robots-dir DIR"))
     import difflib
 
-    from ..conventions.library import bundled_names
+    from ...conventions.library import bundled_names
     close = difflib.get_close_matches(name, bundled_names(), n=1)
     where = "in the sheet's folder" + (" or a --robots-dir folder" if robots_dirs else "")
     raise InputError(f"robot {q} is neither a bundled robot nor a file {where}"
@@ -178,7 +94,7 @@ def _within(path: str, roots) -> bool:
     return any(path == r or path.startswith(r.rstrip(os.sep) + os.sep) for r in roots)
 
 
-class _SheetReader(Reader):
+class _SheetReader(AnswerReader, Reader):
     """The robot file reader's checked numbers, lists and errors, for sheets."""
 
     def fail(self, node, message: str):
@@ -194,7 +110,7 @@ class _SheetReader(Reader):
 
     # the sheet ---------------------------------------------------------------------
     def sheet(self, root) -> Sheet:
-        from ..analysis.results import Units
+        from ...analysis.results import Units
         top = self.mapping(root, "the sheet", SHEET_KEYS)
         if "kincalc-sheet" in top:
             version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")
@@ -205,7 +121,7 @@ class _SheetReader(Reader):
         self.robot_ = robot
         units = {}
         if "units" in top:
-            from ..units import ANGLE_UNITS, LENGTH_UNITS
+            from ...units import ANGLE_UNITS, LENGTH_UNITS
             u = self.mapping(top["units"], "'units'", {"angle": False, "length": False})
             if "angle" in u:
                 units["angle"] = self.text(u["angle"], "'units.angle'")
@@ -229,7 +145,7 @@ class _SheetReader(Reader):
         self.L = 1.0 / self.units.l      # m per sheet length unit
         # the robot's parameters are in the robot file's units; on the sheet they mean the
         # same lengths (angles) in the sheet's units
-        from ..units import angle_factor, length_factor
+        from ...units import angle_factor, length_factor
         lf = length_factor(robot.length_unit) / length_factor(self.units.length)
         af = angle_factor(robot.angle_unit) / angle_factor(self.units.angle)
         self.length_params = {k: v * lf for k, v in robot.parameters}
@@ -243,7 +159,7 @@ class _SheetReader(Reader):
         self.angle_params.update(self.sheet_params)
         self.params = dict(self.length_params)
         default = Tolerance(
-            position=_round1(DEFAULT_POSITION * robot.characteristic_length * self.units.l) * self.L,
+            position=round1(DEFAULT_POSITION * robot.characteristic_length * self.units.l) * self.L,
             angle=math.radians(DEFAULT_ANGLE_DEG), matrix=DEFAULT_MATRIX)
         tol = self.tolerance(top["tolerance"], default) if "tolerance" in top else default
         inodes = self.sequence(top["items"], "'items'")
@@ -268,8 +184,8 @@ class _SheetReader(Reader):
         return self.text(top[key], f"'{key}'").strip() if key in top else ""
 
     def robot_ref(self, node):
-        from ..conventions.library import bundled_names, library_dir
-        from ..conventions.reader import load_robot_file
+        from ...conventions.library import bundled_names, library_dir
+        from ...conventions.reader import load_robot_file
         if self.is_mapping(node):
             self.put_first(node, "name", "sheet-robot")
             reader = Reader(self.file)
@@ -293,7 +209,7 @@ class _SheetReader(Reader):
         """The robot file at ``path`` that ``robot: NAME`` named. Its content is never
         quoted: the sheet's author may not own it (another student's sheet in the same
         folder, a grader's file), so a problem in it is reported by its line only."""
-        from ..conventions.reader import parse_robot_text, read_text
+        from ...conventions.reader import parse_robot_text, read_text
         q = quote(name)
         try:
             text = read_text(path, name, "a robot file")
@@ -420,8 +336,8 @@ class _SheetReader(Reader):
     def pose_target(self, node):
         """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
         :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
-        from ..ik import Target
-        from ..ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+        from ...ik import Target
+        from ...ik.target import BadTarget, defect_text, target_form, targets_from, to_si
         f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
         if not f:
             self.fail(node, "'pose' is empty: give xyz with an orientation, T, tcv or q")
@@ -448,232 +364,3 @@ class _SheetReader(Reader):
         if defect[0] is not None:
             self.fail(node, f"'pose': {defect_text(form, defect[0], form)}")
         return Target.of(targets)
-
-    # answers -------------------------------------------------------------------
-    def answer(self, kind: str, node, item: Item):
-        robot = self.robot_
-        if kind in ("reach", "singular"):
-            if not self.is_scalar(node):
-                self.fail(node, "'answer' must be yes or no")
-            v = str(node.value).strip().lower()
-            if v not in ("yes", "no", "true", "false", "y", "n"):
-                self.fail(node, f"'answer' must be yes or no, not {quote(node.value)}")
-            return v in ("yes", "true", "y")
-        if kind == "link":
-            return self.matrix(node, "'answer'", [(4, 4), (3, 4)])
-        if kind == "jacobian":
-            return self.matrix(node, "'answer'", [(6, robot.dof), (3, robot.dof),
-                                                  (2, robot.dof), (robot.dof, 6)])
-        if kind == "fk":
-            if self.is_sequence(node):
-                return {"T": self.matrix(node, "'answer'", [(4, 4), (3, 4)])}
-            keys = {"position": False, "xyz": False, "rpy": False, "euler_zyz": False,
-                    "euler_xyz": False, "quat": False, "axis_angle": False, "matrix": False,
-                    "T": False, "tcv": False}
-            f = self.mapping(node, "'answer'", keys)
-            out = {}
-            given = [k for k in keys if k in f]
-            if "position" in f and "xyz" in f:
-                self.fail(node, "'answer': give 'position' or 'xyz', not both")
-            if "T" in f and len(given) > 1:
-                self.fail(node, f"'answer': T is the whole pose; do not add "
-                                f"{next(k for k in given if k != 'T')!r}")
-            if "tcv" in f and len(given) > 1:
-                self.fail(node, f"'answer': tcv holds position and approach; do not add "
-                                f"{next(k for k in given if k != 'tcv')!r}")
-            if "T" in f:
-                out["T"] = self.matrix(f["T"], "'answer.T'", [(4, 4), (3, 4)])
-            if "tcv" in f:
-                if not robot.joints[-1].revolute:
-                    self.fail(f["tcv"], "'answer.tcv': the tool configuration vector needs a "
-                                        "revolute last joint")
-                out["tcv"] = self.vector(f["tcv"], "'answer.tcv'", 6)
-            for key in ("position", "xyz"):
-                if key in f:
-                    out["position"] = self.vector(f[key], f"'answer.{key}'", 3)
-            orient = [k for k in ("rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix")
-                      if k in f]
-            if len(orient) > 1:
-                self.fail(node, f"'answer': give one orientation, not {' and '.join(orient)}")
-            if orient:
-                k = orient[0]
-                if k == "matrix":
-                    out["matrix"] = self.matrix(f[k], "'answer.matrix'", [(3, 3)])
-                else:
-                    out[k] = self.vector(f[k], f"'answer.{k}'", 4 if k in ("quat", "axis_angle") else 3)
-                    if k == "quat" and np.linalg.norm(out[k]) < 1e-9:
-                        self.fail(f[k], "'answer.quat' must not be the zero quaternion")
-                    if k == "axis_angle" and np.linalg.norm(out[k][:3]) < 1e-9:
-                        self.fail(f[k], "'answer.axis_angle' needs a non-zero axis")
-            if not out:
-                self.fail(node, "'answer' is empty: give T, or position and an orientation")
-            return out
-        if kind == "ik":
-            sets = self.sequence(node, "'answer' (a list of solution sets)")
-            if sets and not self.is_sequence(sets[0]):
-                sets = [node]                      # one set written as a flat list
-            if len(sets) > MAX_IK_SETS:
-                self.fail(node, f"'answer' has {len(sets)} solution sets; an ik item takes at "
-                                f"most {MAX_IK_SETS} (kincalc's limit; a six-joint arm has at "
-                                f"most 16 solutions)")
-            return [(node_line(s), self.joints(s, f"'answer' set {k + 1}"))
-                    for k, s in enumerate(sets)]
-        if kind == "dh":
-            return self.dh_answer(node, item)
-        raise AssertionError(kind)
-
-    def dh_answer(self, node, item: Item):
-        """The student's DH table as a robot, with how each row names its variable."""
-        from ..model import Joint, Robot
-        f = self.mapping(node, "'answer'", {"convention": True, "table": False, "columns": False,
-                                            "joints": False, "base": False, "tool": False,
-                                            "name": False})
-        conv = self.text(f["convention"], "'answer.convention'").strip()
-        if conv not in ("dh", "mdh"):
-            self.fail(f["convention"], f"'answer.convention' must be dh or mdh, not "
-                                       f"{quote(conv)}")
-        if ("table" in f) == ("joints" in f):
-            self.fail(node, "'answer' needs either 'table' (rows of cells) or 'joints' (mappings)")
-        joints, signs, variables = [], [], []
-        if "table" in f:
-            columns = ["theta", "d", "a", "alpha"] if conv == "dh" else ["alpha", "a", "d", "theta"]
-            if "columns" in f:
-                cnodes = self.sequence(f["columns"], "'answer.columns'", 4)
-                alias = {"θ": "theta", "α": "alpha", "th": "theta"}
-                columns = [alias.get(c.value.strip(), c.value.strip()) for c in cnodes]
-                if sorted(columns) != ["a", "alpha", "d", "theta"]:
-                    self.fail(f["columns"], "'answer.columns' must name theta, d, a and alpha "
-                                            "once each")
-            rows = self.sequence(f["table"], "'answer.table'")
-            for k, rnode in enumerate(rows, start=1):
-                cells = self.sequence(rnode, f"'answer.table' row {k}", 4)
-                j, s, var = self.dh_row(dict(zip(columns, cells)), k, rnode)
-                if var in variables:
-                    self.fail(rnode, f"row {k}: the joint variable {var} is already row "
-                                     f"{variables.index(var) + 1}'s; each row has its own")
-                joints.append(j)
-                signs.append(s)
-                variables.append(var)
-        else:
-            for k, jnode in enumerate(self.sequence(f["joints"], "'answer.joints'"), start=1):
-                jf = self.mapping(jnode, f"'answer.joints' entry {k}",
-                                  {"name": False, "type": True, "alpha": True, "a": True,
-                                   "d": True, "theta": True})
-                jtype = self.text(jf["type"], "'type'").strip()
-                if jtype not in ("revolute", "prismatic"):
-                    self.fail(jf["type"], f"'type' must be revolute or prismatic, not "
-                                          f"{quote(jtype)}")
-                name = self.text(jf["name"], "'name'").strip() if "name" in jf else f"q{k}"
-                joints.append(Joint(
-                    name=name, type=jtype, alpha=self.angle(jf["alpha"], "'alpha'"),
-                    a=self.number(jf["a"], "'a'") * self.L, d=self.number(jf["d"], "'d'") * self.L,
-                    theta=self.angle(jf["theta"], "'theta'")))
-                signs.append(1.0)
-                variables.append(name)
-        if not joints:
-            self.fail(node, "'answer' has no rows")
-        base = self.pose(f["base"], "'answer.base'") if "base" in f else np.eye(4)
-        tool = self.pose(f["tool"], "'answer.tool'") if "tool" in f else np.eye(4)
-        robot = Robot(name="answer", convention=conv, joints=tuple(joints), base=base, tool=tool,
-                      length_unit=self.robot_.length_unit, angle_unit=self.robot_.angle_unit)
-        return {"robot": robot, "signs": np.array(signs), "variables": variables,
-                "table_given": "table" in f}
-
-    def angle(self, node, what: str) -> float:
-        """An angle (rad) whose parameter names mean angles in the sheet's unit."""
-        self.params = dict(self.angle_params)
-        try:
-            return self.number(node, what) * self.A
-        finally:
-            self.params = dict(self.length_params)
-
-    def dh_row(self, cells: dict, k: int, rnode):
-        """One compact row: (Joint, sign of the variable, the variable's name)."""
-        from ..model import Joint
-        found = {}
-        for col, cnode in cells.items():
-            names = self._names(cnode)
-            unknown = sorted(n for n in names if n not in self.params and n != "pi")
-            if len(unknown) > 1:
-                self.fail(cnode, f"row {k}, {col}: {' and '.join(unknown)} are not parameters "
-                                 "(a cell holds at most one joint variable)")
-            if unknown:
-                found[col] = unknown[0]
-        if len(found) != 1 or next(iter(found)) not in ("theta", "d"):
-            where = ("no cell" if not found else
-                     f"{len(found)} cells ({', '.join(found)})" if len(found) > 1 else
-                     f"the {next(iter(found))} cell")
-            self.fail(rnode, f"row {k}: the joint variable (a name that is not a parameter) must "
-                             f"appear in exactly one cell, theta or d; found it in {where}")
-        col, var = next(iter(found.items()))
-        values = {}
-        for c, cnode in cells.items():
-            scale = self.A if c in ("theta", "alpha") else self.L
-            self.params = dict(self.angle_params if c in ("theta", "alpha") else self.length_params)
-            if c != col:
-                values[c] = self.number(cnode, f"row {k}, {c}") * scale
-                continue
-            saved = dict(self.params)
-            try:
-                self.params[var] = 0.0
-                c0 = self.number(cnode, f"row {k}, {c}")
-                self.params[var] = 1.0
-                c1 = self.number(cnode, f"row {k}, {c}")
-            finally:
-                self.params = saved
-            sign = c1 - c0
-            if abs(abs(sign) - 1.0) > 1e-9 or abs(self._at(cnode, var, 7.0) - (c0 + 7 * sign)) > 1e-9:
-                self.fail(cnode, f"row {k}, {c}: the joint variable {var} must appear as {var} or "
-                                 f"-{var} plus a constant, not {quote(cnode.value)}")
-            values[c] = c0 * scale
-        self.params = dict(self.length_params)
-        joint = Joint(name=var, type="revolute" if col == "theta" else "prismatic",
-                      alpha=values["alpha"], a=values["a"], d=values["d"], theta=values["theta"])
-        return joint, float(np.sign(sign)), var
-
-    def _at(self, cnode, var, value):
-        saved = dict(self.params)
-        try:
-            self.params[var] = value
-            return self.number(cnode, "cell")
-        finally:
-            self.params = saved
-
-    @staticmethod
-    def _names(cnode) -> set:
-        import ast
-        if not hasattr(cnode, "value") or not isinstance(cnode.value, str):
-            return set()
-        try:
-            tree = ast.parse(cnode.value.strip(), mode="eval")
-        except (SyntaxError, ValueError):
-            return set()
-        return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
-
-
-_OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
-
-
-#: how a sheet names the parts of an IK target (its ``pose`` keys), for the core's
-#: messages about them (:class:`kincalc.errors.TargetMismatch`)
-SHEET_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
-               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
-                              "or q)"}
-
-
-def sheet_words(message: str) -> str:
-    """A message about command-line pose options, in the words of a sheet's ``pose`` keys
-    (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
-    import re
-    message = re.sub(r" X Y Z", "", message)
-    return re.sub(r"--[a-z][a-z-]*",
-                  lambda m: _OPTION_KEYS.get(m.group(0), m.group(0)[2:].replace("-", "_")),
-                  message)
-
-
-def _round1(x: float) -> float:
-    """``x`` rounded to one significant digit (tolerances read better that way)."""
-    if x <= 0 or not math.isfinite(x):
-        return x
-    e = math.floor(math.log10(x))
-    return round(x, -e)
