@@ -109,6 +109,165 @@ def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float
     return J
 
 
+class _Problem:
+    """One problem of :func:`solve_numeric`: the target, the joints' scaling (``q = s x``,
+    x in rad or in units of ``scale``) and limits, and the steps that solve it
+    (Levenberg-Marquardt onto the target, then least change in the task's null space)."""
+
+    def __init__(self, fk, T, q0, jacobian, limits, revolute, scale, orientation,
+                 least_change, max_iter):
+        self.fk, self.scale = fk, scale
+        self.least_change, self.max_iter = least_change, max_iter
+        self.T = np.asarray(T, float)
+        self.q0 = np.asarray(q0, float).ravel()
+        self.n = n = len(self.q0)
+        self.revolute = np.ones(n, bool) if revolute is None else np.asarray(revolute, bool)
+        lim = np.tile([-np.inf, np.inf], (n, 1)) if limits is None else np.asarray(limits, float)
+        self.lo, self.hi = lim[:, 0], lim[:, 1]
+        self.s = np.where(self.revolute, 1.0, scale)               # q = s * x
+        self.rows = slice(0, 6) if orientation else slice(0, 3)
+        self.jac = jacobian or (lambda q: finite_difference_jacobian(fk, q, self.revolute, scale))
+
+    def error(self, q):
+        """Scaled pose error; inf where ``self.fk`` refuses ``q`` (a mechanism that cannot
+        be assembled there raises ValueError): such a step is rejected."""
+        try:
+            Tq = np.asarray(self.fk(q), float)
+        except (ValueError, ArithmeticError):
+            return np.full(6, np.inf)[self.rows]
+        e = np.empty(6)
+        e[:3] = (self.T[:3, 3] - Tq[:3, 3]) / self.scale
+        e[3:] = rotvec_from_matrix(self.T[:3, :3] @ Tq[:3, :3].T)
+        return e[self.rows]
+
+    def scaled_jacobian(self, q):
+        try:
+            J = np.asarray(self.jac(q), float).copy()
+        except (ValueError, ArithmeticError):   # a difference left the mechanism
+            J = finite_difference_jacobian(self.fk, q, self.revolute, self.scale)
+        J[:3] /= self.scale
+        return J[self.rows] * self.s
+
+    def held(self, q, dx):
+        """Joints at a limit that the step ``dx`` would push further out."""
+        return ((q <= self.lo + 1e-12) & (dx < 0)) | ((q >= self.hi - 1e-12) & (dx > 0))
+
+    def project(self, q):
+        return np.clip(q, self.lo, self.hi)
+
+    def lm(self, q, iters, fixed=None):
+        """Levenberg-Marquardt onto the target, ``fixed`` joints kept where they are;
+        returns (q, |e|, iterations used)."""
+        e = self.error(q)
+        E = float(np.linalg.norm(e))
+        lam = 1e-3
+        k = 0
+        while k < iters and E > STOP:
+            k += 1
+            J = self.scaled_jacobian(q)
+            free = np.ones(self.n, bool) if fixed is None else ~fixed
+            for _ in range(2):
+                Jf = J[:, free]
+                A = Jf @ Jf.T + lam ** 2 * np.eye(len(e))
+                dxf = Jf.T @ np.linalg.lstsq(A, e, rcond=None)[0]
+                dx = np.zeros(self.n)
+                dx[free] = dxf
+                block = self.held(q, dx) & free
+                if not block.any():
+                    break
+                free &= ~block
+                dx[~free] = 0.0
+            norm = float(np.linalg.norm(dx))
+            if norm > MAX_STEP:                       # a trust region: linearisation holds
+                dx *= MAX_STEP / norm
+            q_new = self.project(q + self.s * dx)
+            e_new = self.error(q_new)
+            E_new = float(np.linalg.norm(e_new))
+            if E_new < E:
+                stalled = E <= TOL and E_new > 0.25 * E      # at the rounding floor
+                q, e, E = q_new, e_new, E_new
+                lam = max(lam / 10, 1e-12)
+                if stalled:
+                    break
+            else:
+                lam *= 10
+                if lam > 1e8 or E <= TOL:
+                    break
+        return q, E, k
+
+    def null_step(self, q, x0, free):
+        """The step towards x0 in the null space of the task, moving ``free`` joints only
+        (joints at a limit that it would push outward are taken out and it is redone)."""
+        J = self.scaled_jacobian(q)
+        dz = x0 - q / self.s
+        free = free.copy()
+        for _ in range(self.n):
+            Jf = J[:, free]
+            step = np.zeros(self.n)
+            step[free] = dz[free] - np.linalg.pinv(Jf, rcond=1e-10) @ (Jf @ dz[free])
+            block = self.held(q, step) & free
+            if not block.any():
+                break
+            free &= ~block
+        return step, free
+
+    def nearest(self, q, x0):
+        """Least change: null-space steps towards x0, each followed by LM back on. A joint
+        a step would carry past its limit stops exactly on it and stays there (pinned)
+        while the first-order condition asks it to; then it is released."""
+        used = 0
+        gain = 1.0
+        pinned = np.zeros(self.n, bool)
+        for _ in range(200):
+            step, free = self.null_step(q, x0, ~pinned)
+            pinned |= ~free
+            if np.linalg.norm(step) < 1e-10:
+                # converged for this pinned set: release a joint the step would move inward
+                release = False
+                for j in np.flatnonzero(pinned):
+                    trial, _ = self.null_step(q, x0, ~pinned | (np.arange(self.n) == j))
+                    if not self.held(q, trial)[j] and abs(trial[j]) > 1e-10:
+                        pinned[j] = False
+                        release = True
+                if not release:
+                    break
+                continue
+            dx = gain * step
+            with np.errstate(divide="ignore", invalid="ignore"):
+                room = np.where(dx > 0, (self.hi - q) / self.s / dx,
+                                np.where(dx < 0, (self.lo - q) / self.s / dx, np.inf))
+            t = float(np.min(room, initial=np.inf))
+            q_new = q + self.s * min(t, 1.0) * dx
+            hit = None
+            if t < 1.0:
+                hit = int(np.argmin(room))
+                q_new[hit] = self.lo[hit] if dx[hit] < 0 else self.hi[hit]
+            mask = pinned.copy()
+            if hit is not None:
+                mask[hit] = True
+            q_try, E_try, k = self.lm(self.project(q_new), 50, mask)
+            used += k
+            closer = np.linalg.norm(q_try / self.s - x0) < np.linalg.norm(q / self.s - x0) - 1e-15
+            if E_try <= TOL and closer:
+                q = q_try
+                pinned = mask
+                gain = min(1.0, gain * 2)
+            else:
+                gain /= 2
+                if gain < 1e-3:
+                    break
+        return q, used
+
+    def attempt(self, start):
+        if not np.isfinite(self.error(self.project(start))).all():
+            return self.project(start), np.inf, 0          # self.fk refuses the start: skip it
+        q, E, k = self.lm(self.project(start), self.max_iter)
+        if E <= TOL and self.least_change:
+            q, extra = self.nearest(q, self.q0 / self.s)
+            k += extra
+        return q, float(np.linalg.norm(self.error(q))), k
+
+
 def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limits=None,
                   revolute=None, scale: float = 1.0, orientation: bool = True,
                   least_change: bool = True, restarts: int = RESTARTS,
@@ -123,162 +282,17 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     the position only. When the target cannot be reached, the returned
     solution is the least-squares best found, with ``converged`` False.
     """
-    T = np.asarray(T, float)
-    q0 = np.asarray(q0, float).ravel()
-    n = len(q0)
-    revolute = np.ones(n, bool) if revolute is None else np.asarray(revolute, bool)
-    lim = np.tile([-np.inf, np.inf], (n, 1)) if limits is None else np.asarray(limits, float)
-    lo, hi = lim[:, 0], lim[:, 1]
-    s = np.where(revolute, 1.0, scale)               # q = s * x
-    rows = slice(0, 6) if orientation else slice(0, 3)
-    jac = jacobian or (lambda q: finite_difference_jacobian(fk, q, revolute, scale))
-
-    def error(q):
-        """Scaled pose error; inf where ``fk`` refuses ``q`` (a mechanism that cannot
-        be assembled there raises ValueError): such a step is rejected."""
-        try:
-            Tq = np.asarray(fk(q), float)
-        except (ValueError, ArithmeticError):
-            return np.full(6, np.inf)[rows]
-        e = np.empty(6)
-        e[:3] = (T[:3, 3] - Tq[:3, 3]) / scale
-        e[3:] = rotvec_from_matrix(T[:3, :3] @ Tq[:3, :3].T)
-        return e[rows]
-
-    def scaled_jacobian(q):
-        try:
-            J = np.asarray(jac(q), float).copy()
-        except (ValueError, ArithmeticError):   # a difference left the mechanism
-            J = finite_difference_jacobian(fk, q, revolute, scale)
-        J[:3] /= scale
-        return J[rows] * s
-
-    def held(q, dx):
-        """Joints at a limit that the step ``dx`` would push further out."""
-        return ((q <= lo + 1e-12) & (dx < 0)) | ((q >= hi - 1e-12) & (dx > 0))
-
-    def project(q):
-        return np.clip(q, lo, hi)
-
-    def lm(q, iters, fixed=None):
-        """Levenberg-Marquardt onto the target, ``fixed`` joints kept where they are;
-        returns (q, |e|, iterations used)."""
-        e = error(q)
-        E = float(np.linalg.norm(e))
-        lam = 1e-3
-        k = 0
-        while k < iters and E > STOP:
-            k += 1
-            J = scaled_jacobian(q)
-            free = np.ones(n, bool) if fixed is None else ~fixed
-            for _ in range(2):
-                Jf = J[:, free]
-                A = Jf @ Jf.T + lam ** 2 * np.eye(len(e))
-                dxf = Jf.T @ np.linalg.lstsq(A, e, rcond=None)[0]
-                dx = np.zeros(n)
-                dx[free] = dxf
-                block = held(q, dx) & free
-                if not block.any():
-                    break
-                free &= ~block
-                dx[~free] = 0.0
-            norm = float(np.linalg.norm(dx))
-            if norm > MAX_STEP:                       # a trust region: linearisation holds
-                dx *= MAX_STEP / norm
-            q_new = project(q + s * dx)
-            e_new = error(q_new)
-            E_new = float(np.linalg.norm(e_new))
-            if E_new < E:
-                stalled = E <= TOL and E_new > 0.25 * E      # at the rounding floor
-                q, e, E = q_new, e_new, E_new
-                lam = max(lam / 10, 1e-12)
-                if stalled:
-                    break
-            else:
-                lam *= 10
-                if lam > 1e8 or E <= TOL:
-                    break
-        return q, E, k
-
-    def null_step(q, x0, free):
-        """The step towards x0 in the null space of the task, moving ``free`` joints only
-        (joints at a limit that it would push outward are taken out and it is redone)."""
-        J = scaled_jacobian(q)
-        dz = x0 - q / s
-        free = free.copy()
-        for _ in range(n):
-            Jf = J[:, free]
-            step = np.zeros(n)
-            step[free] = dz[free] - np.linalg.pinv(Jf, rcond=1e-10) @ (Jf @ dz[free])
-            block = held(q, step) & free
-            if not block.any():
-                break
-            free &= ~block
-        return step, free
-
-    def nearest(q, x0):
-        """Least change: null-space steps towards x0, each followed by LM back on. A joint
-        a step would carry past its limit stops exactly on it and stays there (pinned)
-        while the first-order condition asks it to; then it is released."""
-        used = 0
-        gain = 1.0
-        pinned = np.zeros(n, bool)
-        for _ in range(200):
-            step, free = null_step(q, x0, ~pinned)
-            pinned |= ~free
-            if np.linalg.norm(step) < 1e-10:
-                # converged for this pinned set: release a joint the step would move inward
-                release = False
-                for j in np.flatnonzero(pinned):
-                    trial, _ = null_step(q, x0, ~pinned | (np.arange(n) == j))
-                    if not held(q, trial)[j] and abs(trial[j]) > 1e-10:
-                        pinned[j] = False
-                        release = True
-                if not release:
-                    break
-                continue
-            dx = gain * step
-            with np.errstate(divide="ignore", invalid="ignore"):
-                room = np.where(dx > 0, (hi - q) / s / dx, np.where(dx < 0, (lo - q) / s / dx,
-                                                                    np.inf))
-            t = float(np.min(room, initial=np.inf))
-            q_new = q + s * min(t, 1.0) * dx
-            hit = None
-            if t < 1.0:
-                hit = int(np.argmin(room))
-                q_new[hit] = lo[hit] if dx[hit] < 0 else hi[hit]
-            mask = pinned.copy()
-            if hit is not None:
-                mask[hit] = True
-            q_try, E_try, k = lm(project(q_new), 50, mask)
-            used += k
-            if E_try <= TOL and np.linalg.norm(q_try / s - x0) < np.linalg.norm(q / s - x0) - 1e-15:
-                q = q_try
-                pinned = mask
-                gain = min(1.0, gain * 2)
-            else:
-                gain /= 2
-                if gain < 1e-3:
-                    break
-        return q, used
-
-    def attempt(start):
-        if not np.isfinite(error(project(start))).all():
-            return project(start), np.inf, 0          # fk refuses the start: skip it
-        q, E, k = lm(project(start), max_iter)
-        if E <= TOL and least_change:
-            q, extra = nearest(q, q0 / s)
-            k += extra
-        return q, float(np.linalg.norm(error(q))), k
-
+    P = _Problem(fk, T, q0, jacobian, limits, revolute, scale, orientation, least_change,
+                 max_iter)
+    T, q0, lo, hi, s, n = P.T, P.q0, P.lo, P.hi, P.s, P.n
     rng = np.random.default_rng(seed)
-    box_lo = np.where(np.isfinite(lo), lo, np.where(revolute, -np.pi, -scale))
-    box_hi = np.where(np.isfinite(hi), hi, np.where(revolute, np.pi, scale))
+    box_lo = np.where(np.isfinite(lo), lo, np.where(P.revolute, -np.pi, -scale))
+    box_hi = np.where(np.isfinite(hi), hi, np.where(P.revolute, np.pi, scale))
     best = None
     tried = 0
     for r in range(restarts + 1):
-        start = project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
-        q, E, k = attempt(start)
+        start = P.project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
+        q, E, k = P.attempt(start)
         tried = r
         cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start, E)
         if best is None or cand[:2] < best[:2]:
