@@ -43,7 +43,6 @@ from ..ik.reasons import OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 
 
-
 @dataclass
 class ReachResult:
     """Verdict of :func:`reach`; SI values (m, rad), world frame."""

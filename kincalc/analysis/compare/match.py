@@ -148,7 +148,7 @@ def match(reference, candidate, *, allow_offsets: bool = False, free_base: bool 
                        f"{jr.type} in the reference")
 
     solutions, failure = Solver(reference, candidate, allow_offsets, free_base, free_tool,
-                                 L, tol).run()
+                                L, tol).run()
     q = _samples(reference, samples, seed, L)
     if solutions is not None:
         for sol in solutions:   # best first; the first that FK confirms is the answer

@@ -88,7 +88,7 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     with default_style(mpl):
         fig = new_figure(cols, rows, dpi)
         fit_title(fig.suptitle("", fontsize=11),
-             suptitle if suptitle is not None else _robot_title(robot), title_inches(cols))
+                  suptitle if suptitle is not None else _robot_title(robot), title_inches(cols))
         for k, (arm, start, title) in enumerate(zip(arms, starts, titles)):
             if plane is None:
                 # our zorder (links, joints, triads) rather than mplot3d's depth sort,

@@ -20,6 +20,7 @@ ANGLE_TOL = 1e-9
 #: are taken as those exact values.
 UNIT_TOL = 1e-12
 
+
 def require_sympy(command: str):
     """Import and return sympy, or raise ``MissingExtra`` naming ``command``.
 

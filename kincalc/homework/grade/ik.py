@@ -116,7 +116,7 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     notes = [f"set {s['set']}: {s['note']}" for s in wrong]
     if missed:
         notes.append("missed: " + "; ".join(f"{fmt_q(m['solution_q'])} ({m['branch']})"
-                                          for m in missed))
+                                            for m in missed))
     hint = "; ".join(notes) or None
     details = {"sets": sets, "missed": missed, "solutions": len(sols), "required": len(required),
                "method": res.method}

@@ -144,7 +144,8 @@ def f14(l, p):
 
 # the reductions without the Python layer of the ndarray methods (per-call overhead
 # matters at a batch of one)
-reduce_sum, reduce_max, reduce_min, reduce_all = np.add.reduce, np.maximum.reduce, np.minimum.reduce, np.logical_and.reduce
+reduce_sum, reduce_max = np.add.reduce, np.maximum.reduce
+reduce_min, reduce_all = np.minimum.reduce, np.logical_and.reduce
 nnz = np.count_nonzero
 
 

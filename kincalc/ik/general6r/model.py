@@ -205,7 +205,7 @@ class Model:
         rng = np.random.default_rng(20240611)
         dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * size
         return Model(self.B, self.E, self.L, self.offset, self.d + dd, self.a + da,
-                      self.alpha + dal)
+                     self.alpha + dal)
 
     def fk_dh(self, q):
         """FK ``(..., 4, 4)`` (SI) of the DH model at ``q (..., 6)``, for checks."""
