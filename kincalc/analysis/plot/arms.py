@@ -70,20 +70,7 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     starts = [joint_points(robot, q) for q in Q]
     triad = TRIAD_FRACTION * robot.characteristic_length
     plane = drawing_plane(robot, Q)
-    # everything drawn, for the common limits
-    drawn = [a.points for a in arms]
-    for a in arms:
-        for T in (a.base, a.tool):
-            drawn.append(T[:3, 3] + triad * T[:3, :3].T)
-    drawn = np.concatenate(drawn) * scale
-    if plane is not None:
-        u, v, names = plane
-        drawn = drawn @ np.stack([u, v], axis=1)
-    lo, hi = drawn.min(axis=0), drawn.max(axis=0)
-    centre = (lo + hi) / 2
-    half = max(float(np.max(hi - lo)) / 2, triad * scale) * 1.12   # room for labels
-
-    from matplotlib.ticker import MaxNLocator
+    centre, half = _extent(arms, triad, scale, plane)
     cols, rows = panel_grid(len(Q))
     with default_style(mpl):
         fig = new_figure(cols, rows, dpi)
@@ -95,32 +82,60 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
                 # which hides triads and joints behind thick links
                 ax = fig.add_subplot(rows, cols, k + 1, projection="3d", computed_zorder=False)
                 _draw_3d(ax, robot, arm, start, triad, scale)
-                ax.set_proj_type("ortho")
-                ax.set_box_aspect((1, 1, 1))
-                ax.set_xlim(centre[0] - half, centre[0] + half)
-                ax.set_ylim(centre[1] - half, centre[1] + half)
-                ax.set_zlim(centre[2] - half, centre[2] + half)
-                ax.set_xlabel(f"x{unit_label}")
-                ax.set_ylabel(f"y{unit_label}")
-                ax.set_zlabel(f"z{unit_label}")
-                for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
-                    axis.set_major_locator(MaxNLocator(4, steps=TICK_STEPS))
-                ax.tick_params(labelsize="small")   # 3D corners crowd tick labels
+                _frame_3d(ax, centre, half, unit_label)
             else:
                 ax = fig.add_subplot(rows, cols, k + 1)
                 _draw_2d(ax, robot, arm, start, triad, scale, plane)
-                ax.set_aspect("equal")
-                ax.set_xlim(centre[0] - half, centre[0] + half)
-                ax.set_ylim(centre[1] - half, centre[1] + half)
-                ax.set_xlabel(f"{names[0]}{unit_label}")
-                ax.set_ylabel(f"{names[1]}{unit_label}")
-                ax.xaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
-                ax.yaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
-                ax.grid(True, color="0.9")
-                ax.set_axisbelow(True)
+                _frame_2d(ax, centre, half, [f"{n}{unit_label}" for n in plane[2]])
             fit_title(ax.set_title("", fontsize="medium"), title, title_inches(1))
         projections = ["3d" if ax.name == "3d" else "2d" for ax in fig.axes]
         return save_figure(fig, path, fmt, dpi, projections)
+
+
+def _extent(arms, triad, scale, plane):
+    """The common limits of every panel, in display units: ``(centre, half width)`` of
+    the square (cube) around everything drawn, triads included, with room for labels;
+    in the plane's coordinates for a planar arm."""
+    drawn = [a.points for a in arms]
+    for a in arms:
+        for T in (a.base, a.tool):
+            drawn.append(T[:3, 3] + triad * T[:3, :3].T)
+    drawn = np.concatenate(drawn) * scale
+    if plane is not None:
+        u, v, _ = plane
+        drawn = drawn @ np.stack([u, v], axis=1)
+    lo, hi = drawn.min(axis=0), drawn.max(axis=0)
+    return (lo + hi) / 2, max(float(np.max(hi - lo)) / 2, triad * scale) * 1.12
+
+
+def _frame_3d(ax, centre, half, unit_label):
+    """Orthographic, equal-scaled 3D axes around ``centre``, labelled, with round ticks."""
+    from matplotlib.ticker import MaxNLocator
+    ax.set_proj_type("ortho")
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_xlabel(f"x{unit_label}")
+    ax.set_ylabel(f"y{unit_label}")
+    ax.set_zlabel(f"z{unit_label}")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(4, steps=TICK_STEPS))
+    ax.tick_params(labelsize="small")   # 3D corners crowd tick labels
+
+
+def _frame_2d(ax, centre, half, labels):
+    """Equal-scaled 2D axes around ``centre``, ``labels`` on them, round ticks, a grid."""
+    from matplotlib.ticker import MaxNLocator
+    ax.set_aspect("equal")
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.xaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
+    ax.yaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
+    ax.grid(True, color="0.9")
+    ax.set_axisbelow(True)
 
 
 def _robot_title(robot) -> str:
