@@ -47,8 +47,7 @@ from ...errors import BadValue
 from ...limits import MAX_ORIENTATIONS, MAX_SAMPLES
 from .dexterity import dexterous, super_fibonacci
 from .sampling import envelope, joint_ranges, sample_tool_points
-from .volume import (BAND_POINTS, SAMPLES_PER_CELL, make_grid, neighbourhood, reached,
-                     section_grids, starts, wilson)
+from .volume import estimate_volume, section_grids, wilson
 
 __all__ = ["Workspace", "analyse", "envelope", "joint_ranges", "sample_tool_points",
            "super_fibonacci", "wilson"]
@@ -203,43 +202,15 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     env = envelope(robot, Q, P)
     times["envelope"] = time.perf_counter() - t0
 
-    # --- volume ------------------------------------------------------------
     t0 = time.perf_counter()
-    grid = make_grid(P, robot)
-    cells = grid.flat(grid.cell(P))
-    order = np.argsort(cells, kind="stable")
-    sorted_cells = cells[order]
-    occupied = np.zeros(grid.shape, bool)
-    occupied.flat[np.unique(cells)] = True
-    inside = neighbourhood(occupied, np.logical_and)
-    near = neighbourhood(occupied, np.logical_or)
-    band = near & ~inside
-    band_idx = np.argwhere(band)
-    m = BAND_POINTS
-    pick = band_idx[rng.integers(0, len(band_idx), m)]
-    targets = grid.point(pick, rng.uniform(size=(m, grid.dim)))
-    cand = starts(grid, order, sorted_cells, targets)
-    progress("volume", 0, 1)
-    hit = reached(robot, Q, P, cand, targets)
-    progress("volume", 1, 1)
-    cell_v = grid.h ** grid.dim
-    n_in, n_band = int(inside.sum()), int(band.sum())
-    k = int(hit.sum())
-    f_lo, f_hi = wilson(k, m)
-    volume = cell_v * (n_in + n_band * k / m)
-    volume_ci = (cell_v * (n_in + n_band * f_lo), cell_v * (n_in + n_band * f_hi))
+    vol = estimate_volume(robot, rng, Q, P, progress)
     times["volume"] = time.perf_counter() - t0
-    grid_info = {"cell": grid.h, "cells_inside": n_in, "cells_band": n_band,
-                 "band_points": m, "band_points_inside": k,
-                 "method": "grid of cells sized for about "
-                           f"{SAMPLES_PER_CELL} samples each; inside cells counted whole, "
-                           "the boundary band by hit-or-miss with damped least squares; "
-                           "95 % Wilson interval"}
+    grid, volume, volume_ci = vol.grid, vol.volume, vol.volume_ci
 
     # --- dexterity -----------------------------------------------------------
     t0 = time.perf_counter()
-    dex = dexterous(robot, rng, grid, Q, P, order, sorted_cells, inside | band,
-                     volume, volume_ci, dexterity, orientations, units, progress)
+    dex = dexterous(robot, rng, grid, Q, P, vol.order, vol.sorted_cells, vol.reachable,
+                    volume, volume_ci, dexterity, orientations, units, progress)
     times["dexterous"] = time.perf_counter() - t0
 
     # --- manipulability --------------------------------------------------------
@@ -250,6 +221,6 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
 
     secs = section_grids(grid, P[: len(sub)], w, robot, env) if sections else []
     return Workspace(robot=robot, samples=samples, seed=seed, ranges=(lo, hi), envelope=env,
-                     dim=grid.dim, volume=volume, volume_ci=volume_ci, grid=grid_info,
+                     dim=grid.dim, volume=volume, volume_ci=volume_ci, grid=vol.info,
                      dexterous=dex, manipulability=manip, sections=secs, timings=times,
                      units=units)

@@ -144,6 +144,59 @@ def reached(robot, Q, P, cand, targets, R_goal=None, Rc=None, tries=3, exact=Fal
     return hit
 
 
+@dataclass(frozen=True)
+class Volume:
+    """The volume estimate of :func:`estimate_volume` (m^3, or m^2 for a planar arm) with
+    its 95 % interval, the grid it was counted on, the samples sorted by cell (``order``,
+    ``sorted_cells``: for the starts of later searches), the cells inside or on the
+    boundary band (``reachable``, the grid's shape), and the method's figures (``info``)."""
+
+    volume: float
+    volume_ci: tuple
+    grid: Grid
+    order: np.ndarray
+    sorted_cells: np.ndarray
+    reachable: np.ndarray
+    info: dict
+
+
+def estimate_volume(robot, rng, Q, P, progress) -> Volume:
+    """The reachable volume from the samples ``Q (N, n)`` and their tool points ``P (N,
+    d)``: cells holding samples with all neighbours occupied count whole; the band of
+    cells around them by hit-or-miss of ``BAND_POINTS`` random points, each searched from
+    the nearest samples with damped least squares (:func:`reached`)."""
+    grid = make_grid(P, robot)
+    cells = grid.flat(grid.cell(P))
+    order = np.argsort(cells, kind="stable")
+    sorted_cells = cells[order]
+    occupied = np.zeros(grid.shape, bool)
+    occupied.flat[np.unique(cells)] = True
+    inside = neighbourhood(occupied, np.logical_and)
+    near = neighbourhood(occupied, np.logical_or)
+    band = near & ~inside
+    band_idx = np.argwhere(band)
+    m = BAND_POINTS
+    pick = band_idx[rng.integers(0, len(band_idx), m)]
+    targets = grid.point(pick, rng.uniform(size=(m, grid.dim)))
+    cand = starts(grid, order, sorted_cells, targets)
+    progress("volume", 0, 1)
+    hit = reached(robot, Q, P, cand, targets)
+    progress("volume", 1, 1)
+    cell_v = grid.h ** grid.dim
+    n_in, n_band = int(inside.sum()), int(band.sum())
+    k = int(hit.sum())
+    f_lo, f_hi = wilson(k, m)
+    info = {"cell": grid.h, "cells_inside": n_in, "cells_band": n_band,
+            "band_points": m, "band_points_inside": k,
+            "method": "grid of cells sized for about "
+                      f"{SAMPLES_PER_CELL} samples each; inside cells counted whole, "
+                      "the boundary band by hit-or-miss with damped least squares; "
+                      "95 % Wilson interval"}
+    return Volume(cell_v * (n_in + n_band * k / m),
+                  (cell_v * (n_in + n_band * f_lo), cell_v * (n_in + n_band * f_hi)),
+                  grid, order, sorted_cells, inside | band, info)
+
+
 def section_grids(grid, P, w, robot, env) -> list:
     """XY and XZ sections (one for a planar arm): per-cell mean manipulability of the
     samples in a slab one cell thick, NaN where no sample falls."""
