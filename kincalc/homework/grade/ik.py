@@ -30,10 +30,11 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
 
 
 def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
-    from ...ik.solve import solve, violation_list
-    from ...analysis.words import reason_text
-    robot, units, tol = sheet.robot, sheet.units, item.tol
-    rev = robot.is_revolute
+    """Every answered joint set checked by FK and matched to the solutions the item requires
+    (within the limits unless the item says otherwise); the required ones not listed are
+    missed."""
+    from ...ik.solve import solve
+    robot, units = sheet.robot, sheet.units
     res = solve(robot, item.target, all_branches=True, units=units)
     sols = res.solutions
     required = [k for k, s in enumerate(sols) if s.within_limits or not item.limits]
@@ -42,17 +43,29 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     exhaustive = res.family != "numerical"
     if not exhaustive and item.answer:
         required = []
+    sets, matched, worst = _judge_sets(sheet, item, res, required, exhaustive)
+    missed = [_solution_entry(robot, sols[k], k, units) for k in required if k not in matched]
+    passed, msg, hint = _summary(sheet, item, res, required, exhaustive, sets, missed)
+    details = {"sets": sets, "missed": missed, "solutions": len(sols), "required": len(required),
+               "method": res.method}
+    return ItemResult(item.id, "ik", passed, item.points, worst if sets else None, msg, hint,
+                      details)
+
+
+def _solution_entry(robot, s, k: int, units) -> dict:
+    """Solution ``k`` (0-based) of the engine's as the report shows it."""
+    return {"solution": k + 1, "solution_q": json_numbers(display_q(robot, s.q, units)),
+            "branch": s.branch, "within_limits": s.within_limits, "singular": s.singular}
+
+
+def _judge_sets(sheet, item, res, required, exhaustive):
+    """One entry per answered set (its residuals, status and note, and the solution it
+    is), the solutions matched (index -> set number), and the worst position residual."""
+    from ...ik.solve import violation_list
+    robot, units, tol = sheet.robot, sheet.units, item.tol
+    rev = robot.is_revolute
+    sols = res.solutions
     jtol = np.where(rev, tol.angle, tol.position)
-
-    def close(qa, qb):
-        return bool(np.all(gaps(robot, qa, qb) <= jtol))
-
-    def sol_dict(k):
-        s = sols[k]
-        return {"solution": k + 1, "solution_q": json_numbers(display_q(robot, s.q, units)),
-                "branch": s.branch,
-                "within_limits": s.within_limits, "singular": s.singular}
-
     sets, matched, worst = [], {}, 0.0
     for number, (line, q) in enumerate(item.answer, start=1):
         pe, oe = _target_residual(robot, item.target, q)
@@ -60,22 +73,23 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
         entry = {"set": number, "line": line, "q": json_numbers(display_q(robot, q, units)),
                  "residual": {"position": pe * units.l,
                               "orientation": None if oe is None else oe * units.a}}
-        hit = next((k for k in range(len(sols)) if close(q, sols[k].q)), None) \
-            if exhaustive else None
+        hit = next((k for k in range(len(sols))
+                    if np.all(gaps(robot, q, sols[k].q) <= jtol)), None) if exhaustive else None
         reaches = pe <= tol.position and (oe is None or oe <= tol.angle)
         if hit is not None and hit in matched:
             entry.update(status="duplicate", note=f"the same solution as set {matched[hit]}",
-                         **sol_dict(hit))
+                         **_solution_entry(robot, sols[hit], hit, units))
         elif hit is not None and hit in required:
             matched[hit] = number
-            entry.update(status="correct", **sol_dict(hit))
+            entry.update(status="correct", **_solution_entry(robot, sols[hit], hit, units))
         elif hit is not None:
             viol = ", ".join(f"{joint_label(robot, j)} beyond its {side} limit by "
                              f"{fmt(amount * (units.a if rev[j] else units.l))}"
-                             for j, amount, side in (violation_list(robot, q) or sols[hit].violations))
+                             for j, amount, side
+                             in (violation_list(robot, q) or sols[hit].violations))
             entry.update(status="wrong", note=f"reaches the target but is outside the joint "
                          f"limits ({viol}); the item counts only solutions within the limits",
-                         **sol_dict(hit))
+                         **_solution_entry(robot, sols[hit], hit, units))
         elif reaches and not exhaustive:
             if item.limits and violation_list(robot, q):
                 entry.update(status="wrong", note="reaches the target but is outside the "
@@ -86,9 +100,16 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
             entry.update(status="correct", note="reaches the target (not one of the isolated "
                          "solutions: the target is at a singularity or your set is equivalent)")
         else:
-            entry.update(status="wrong", note=_ik_wrong_note(sheet, item, q, pe, oe, res, required))
+            entry.update(status="wrong",
+                         note=_ik_wrong_note(sheet, item, q, pe, oe, res, required))
         sets.append(entry)
-    missed = [sol_dict(k) for k in required if k not in matched]
+    return sets, matched, worst
+
+
+def _summary(sheet, item, res, required, exhaustive, sets, missed):
+    """``(passed, message, hint)`` of an ik item from its judged sets."""
+    from ...analysis.words import reason_text
+    robot, units, sols = sheet.robot, sheet.units, res.solutions
     wrong = [s for s in sets if s["status"] == "wrong"]
     right = [s for s in sets if s["status"] == "correct"]
     passed = not wrong and not missed
@@ -117,11 +138,7 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     if missed:
         notes.append("missed: " + "; ".join(f"{fmt_q(m['solution_q'])} ({m['branch']})"
                                             for m in missed))
-    hint = "; ".join(notes) or None
-    details = {"sets": sets, "missed": missed, "solutions": len(sols), "required": len(required),
-               "method": res.method}
-    return ItemResult(item.id, "ik", passed, item.points, worst if sets else None, msg, hint,
-                      details)
+    return passed, msg, "; ".join(notes) or None
 
 
 def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
