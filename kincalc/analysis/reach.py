@@ -43,7 +43,7 @@ from ..ik.reasons import OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 
 
-@dataclass
+@dataclass(frozen=True)
 class ReachResult:
     """Verdict of :func:`reach`; SI values (m, rad), world frame."""
 

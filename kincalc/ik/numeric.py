@@ -55,7 +55,7 @@ MAX_STEP = 0.5
 RESTARTS = 30
 
 
-@dataclass
+@dataclass(frozen=True)
 class NumericIK:
     """One numerical IK solution.
 

@@ -60,7 +60,7 @@ CONDITION_SAMPLES = 50_000
 
 # --- the analysis --------------------------------------------------------------
 
-@dataclass
+@dataclass(frozen=True)
 class Workspace:
     """Result of :func:`analyse`; SI values (m, m^d, rad), world frame."""
 

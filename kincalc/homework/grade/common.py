@@ -11,7 +11,7 @@ from ..sheet import Sheet
 from ..slips import fmt
 
 
-@dataclass
+@dataclass(frozen=True)
 class ItemResult:
     id: str
     kind: str
@@ -29,7 +29,7 @@ class ItemResult:
                 "line": self.line, "details": self.details}
 
 
-@dataclass
+@dataclass(frozen=True)
 class Report:
     sheet: Sheet
     items: list

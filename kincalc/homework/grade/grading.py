@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ...errors import KincalcError, TargetMismatch
 from ...limits import quote
 from ..sheet import SHEET_WORDS, Sheet, SheetError, sheet_words
@@ -31,8 +33,7 @@ def grade(sheet: Sheet) -> Report:
                 text = exc.words(SHEET_WORDS) if isinstance(exc, TargetMismatch) \
                     else sheet_words(str(exc))
                 raise SheetError(sheet.path, item.line, f"item {quote(item.id)}: {text}") from None
-        r.line = item.line
-        results.append(r)
+        results.append(replace(r, line=item.line))
     return Report(sheet=sheet, items=results)
 
 
