@@ -210,15 +210,47 @@ class Robot:
     # --- kinematics (delegating to the numeric core) ----------------------
 
     def fk(self, q) -> np.ndarray:
-        """Tool pose ``T_world_tool (..., 4, 4)`` for joints ``q (..., n)`` (rad / m)."""
+        """Forward kinematics: the tool pose for joint values.
+
+        Parameters
+        ----------
+        q : array_like (..., n)
+            Joint values, rad (revolute) / m (prismatic); any leading batch shape.
+
+        Returns
+        -------
+        ndarray (..., 4, 4)
+            ``T_world_tool = base @ T_0^n(q) @ tool``, lengths in m.
+
+        Raises
+        ------
+        ValueError
+            ``q``'s last axis is not ``n`` long.
+        """
         from .fk import forward_kinematics
         return forward_kinematics(self.chain, q)
 
     def jacobian(self, q, frame: str = "base") -> np.ndarray:
-        """Geometric Jacobian ``(..., 6, n)``, rows (vx vy vz wx wy wz).
+        """The geometric Jacobian: tool-point velocity and angular velocity per joint rate.
 
-        ``frame='base'``: velocities of the tool point in the world frame;
-        ``frame='tool'``: the same velocities expressed in the tool frame.
+        Parameters
+        ----------
+        q : array_like (..., n)
+            Joint values, rad / m.
+        frame : {'base', 'tool'}
+            ``'base'``: velocities of the tool point in the world frame; ``'tool'``:
+            the same velocities expressed in the tool frame.
+
+        Returns
+        -------
+        ndarray (..., 6, n)
+            Rows ``vx vy vz wx wy wz``; a revolute column is ``[z_i x (p - o_i); z_i]``
+            (m/rad and rad/rad), a prismatic one ``[z_i; 0]``.
+
+        Raises
+        ------
+        ValueError
+            An unknown ``frame``, or ``q`` of the wrong length.
         """
         from .jacobian import jacobian_base, jacobian_tool
         if frame == "base":
@@ -228,35 +260,80 @@ class Robot:
         raise ValueError(f"frame must be 'base' or 'tool', not {frame!r}")
 
     def ik(self, T, orientation: bool = True, **options):
-        """Every inverse-kinematics solution for the tool pose ``T`` (4, 4), SI, world frame.
+        """Inverse kinematics: every solution for one tool pose, each labelled and flagged.
 
-        Returns an :class:`~kincalc.ik.IKResult` (:func:`kincalc.analysis.results.ik_document`
-        renders it); its ``solutions`` each carry ``q`` (rad / m), ``branch``, FK
-        residuals, limit violations, the singular flag and the joints the target leaves
-        undetermined, and ``reason`` says why, as data. ``orientation=False`` asks for the
-        position only (for robots that do not control orientation).
+        Parameters
+        ----------
+        T : array_like (4, 4)
+            The target ``T_world_tool``, lengths in m.
+        orientation : bool
+            False: reach the position only (robots that do not control orientation).
+        **options
+            Those of :func:`kincalc.ik.solve`: ``all_branches``, ``explain``, ``near``
+            (the current joints ``(n,)``, rad / m), ``numeric``.
+
+        Returns
+        -------
+        IKResult
+            :class:`~kincalc.ik.IKResult`: ``solutions``, each with ``q (n,)`` (rad / m),
+            ``branch``, FK residuals (m, rad), limit ``violations``, ``singular`` and the
+            joints the target leaves ``free``; ``reason`` says why, as data
+            (:mod:`kincalc.ik.reasons`). :func:`kincalc.analysis.results.ik_document`
+            renders it.
+
+        Raises
+        ------
+        TargetMismatch
+            The target's kind does not fit the robot (an orientation for a robot that sets
+            none, ...).
         """
         from .ik import Target, solve
         return solve(self, Target(np.asarray(T, float), orientation), **options)
 
     def ik_batch(self, T):
-        """Every IK solution for each pose of ``T (N, 4, 4)``, vectorised over poses.
+        """Every IK solution for each of many poses, vectorised over the poses.
 
-        Returns :class:`~kincalc.ik.engine.Solved`: ``q (N, K, n)``, the mask
-        ``valid (N, K)``, labels, limit and singularity flags of every solution; for
-        the closed-form families (see :mod:`kincalc.ik.families`), otherwise raises
-        :class:`~kincalc.errors.UnsupportedRobot`. ``robot.ik`` is this for one pose.
+        Parameters
+        ----------
+        T : array_like (N, 4, 4) or (4, 4)
+            Targets ``T_world_tool``, lengths in m.
+
+        Returns
+        -------
+        Solved
+            :class:`~kincalc.ik.engine.Solved`: ``q (N, K, n)`` (rad / m), ``valid (N,
+            K)`` (a solution in that slot), ``labels``, ``within (N, K)``, ``singular (N,
+            K)``, FK residuals. ``robot.ik`` is the same engine for one pose.
+
+        Raises
+        ------
+        UnsupportedRobot
+            No closed form covers the robot (:mod:`kincalc.ik.families`); ``robot.ik``
+            then answers numerically.
         """
         from .ik.engine import solve_batch
         return solve_batch(self, T)
 
     def link_transforms(self, q) -> np.ndarray:
-        """The convention's link transforms ``T_{i-1}^i``, shape ``(..., n, 4, 4)``.
+        """The convention's link transforms ``T_{i-1}^i``.
 
-        Frames are the DH (or modified DH) link frames of the robot file, with
-        frame 0 the robot's base frame (before ``base`` is applied). For poe
-        robots, frame i sits on joint i's axis (z along the axis) and moves
-        with link i.
+        Parameters
+        ----------
+        q : array_like (..., n)
+            Joint values, rad / m.
+
+        Returns
+        -------
+        ndarray (..., n, 4, 4)
+            The pose of link frame i in link frame i - 1 (m): the DH (or modified DH) link
+            frames of the robot file, frame 0 the robot's base frame before ``base`` is
+            applied. For poe robots, frame i sits on joint i's axis (z along it) and moves
+            with link i.
+
+        Raises
+        ------
+        ValueError
+            ``q`` of the wrong length.
         """
         q = np.asarray(q, dtype=float)
         if q.shape[-1:] != (self.dof,):

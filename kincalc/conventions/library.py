@@ -63,7 +63,26 @@ def resolve(robot: str) -> tuple[Path, str]:
 
 
 def load(robot: str):
-    """Load a bundled robot by name, or a robot file by path (see :func:`resolve`)."""
+    """Load a bundled robot by name, or a robot file by path (``kincalc.load_robot``).
+
+    Parameters
+    ----------
+    robot : str
+        A bundled robot's name (``kincalc robots list``) or a path to a robot YAML file
+        (see :func:`resolve` for which is which).
+
+    Returns
+    -------
+    Robot
+        The robot, SI inside: lengths in m, angles in rad, whatever the file's units.
+
+    Raises
+    ------
+    RobotNotFoundError
+        No bundled robot and no file of that name (the message suggests close names).
+    RobotFileError
+        The file is not a valid robot file (the message names the file, line and field).
+    """
     from .reader import load_robot_file
     path, shown = resolve(robot)
     return load_robot_file(path, display_name=str(path) if path.parent == library_dir() else shown)
