@@ -201,9 +201,7 @@ def frame_columns(chain, q) -> list:
     several times faster than the ``(M, n, 4, 4)`` stack, which it never builds."""
     q = np.asarray(q, dtype=float).reshape(-1, chain.dof)
     if len(q) <= FEW:
-        frames = chain_frames(chain, q)
-        return [([frames[:, i, :3, j].T for j in range(3)], frames[:, i, :3, 3].T)
-                for i in range(chain.dof)]
+        return columns_of(chain_frames(chain, q))
     F = chain.fixed
     qq = q + chain.offset
     cols, p = _start(F[0], q.shape[0])
@@ -213,6 +211,13 @@ def frame_columns(chain, q) -> list:
         out.append((cols, p))
         cols, p = _apply_fixed(cols, p, F[i + 1])
     return out
+
+
+def columns_of(frames) -> list:
+    """Stacked frames ``(M, n, 4, 4)`` as the structure of arrays of :func:`frame_columns`
+    (views into ``frames``)."""
+    return [([frames[:, i, :3, j].T for j in range(3)], frames[:, i, :3, 3].T)
+            for i in range(frames.shape[1])]
 
 
 def chain_frames(chain, q) -> np.ndarray:

@@ -24,7 +24,7 @@ them).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -85,6 +85,13 @@ class Branches:
     full: np.ndarray | None = None
     full_signs: tuple | None = None
 
+    def _with(self, **changes) -> "Branches":
+        """A copy with ``changes`` (``dataclasses.replace`` without its per-field checks:
+        a closed form takes a few steps per pose, and a single pose pays for each)."""
+        new = object.__new__(Branches)
+        new.__dict__.update(self.__dict__, **changes)
+        return new
+
     @staticmethod
     def start(N: int, n: int, *, explain: bool = False, ok=None) -> "Branches":
         """One slot per pose, nothing solved; ``ok (N,)`` marks poses to solve."""
@@ -137,7 +144,7 @@ class Branches:
         if full is not None:
             full = np.repeat(full * k, k) + np.tile(np.arange(k), K)
             full_signs = tuple(step(sg, r) for sg in full_signs for r in range(k))
-        out = replace(self, value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
+        out = self._with(value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
                       parent=parent, extra=extra, full=full, full_signs=full_signs,
                       lineage=self.lineage + (parent,) if self.explain else self.lineage)
         return out if self.explain else out._live()
@@ -152,7 +159,7 @@ class Branches:
         cols = np.flatnonzero(live)
         full = np.arange(self.K) if self.full is None else self.full
         pick = lambda d: {j: v[:, cols] for j, v in d.items()}  # noqa: E731
-        return replace(self, value=pick(self.value), cos=pick(self.cos), sin=pick(self.sin),
+        return self._with(value=pick(self.value), cos=pick(self.cos), sin=pick(self.sin),
                        free=pick(self.free), ok=self.ok[:, cols],
                        signs=tuple(self.signs[c] for c in cols.tolist()),
                        parent=self.parent[cols], extra=pick(self.extra), full=full[cols],
@@ -172,7 +179,7 @@ class Branches:
                 a[:, cols] = v
                 out[j] = a
             return out
-        return replace(self, value=put(self.value, 0.0), cos=put(self.cos, 1.0),
+        return self._with(value=put(self.value, 0.0), cos=put(self.cos, 1.0),
                        sin=put(self.sin, 0.0), free=put(self.free, False),
                        ok=put({0: self.ok}, False)[0], signs=self.full_signs,
                        parent=np.arange(K), extra=put(self.extra, 0), full=None,
@@ -184,7 +191,7 @@ class Branches:
         def new(signs):
             return tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
                          for sg in signs)
-        return replace(self, signs=new(self.signs),
+        return self._with(signs=new(self.signs),
                        full_signs=None if self.full_signs is None else new(self.full_signs))
 
     def with_extra(self, name: str, value) -> "Branches":
@@ -192,7 +199,7 @@ class Branches:
         continuum's relation, ...), carried through later steps."""
         extra = dict(self.extra)
         extra[name] = np.asarray(value)
-        return replace(self, extra=extra)
+        return self._with(extra=extra)
 
     def set(self, joint: int, value, c=None, s=None, ok=None, free=None) -> "Branches":
         """A step with one root per slot: ``joint`` gets ``value (N, K)`` (and its
@@ -205,7 +212,7 @@ class Branches:
         fr = dict(self.free)
         if free is not None:
             fr[joint] = free
-        return replace(self, value=v, cos=cs, sin=sn, free=fr,
+        return self._with(value=v, cos=cs, sin=sn, free=fr,
                        ok=self.ok if ok is None else self.ok & ok,
                        parent=np.arange(self.K))
 
@@ -213,14 +220,14 @@ class Branches:
         """Record an intermediate quantity ``value (N, K, ...)`` for ``--explain``."""
         if not self.explain:
             return self
-        return replace(self, notes=self.notes + (Note(label, np.asarray(value, float), kind,
+        return self._with(notes=self.notes + (Note(label, np.asarray(value, float), kind,
                                                       len(self.lineage) - 1),))
 
     def dead_end(self, joint: int, phase, need, where, what: str) -> "Branches":
         """Record the slots ``where (N, K)`` for which ``joint`` had no real root."""
         if not self.explain or not np.any(where):
             return self
-        return replace(self, dead_ends=self.dead_ends + (
+        return self._with(dead_ends=self.dead_ends + (
             DeadEnd(joint, np.broadcast_to(phase, where.shape), np.broadcast_to(need, where.shape),
                     where, what, len(self.lineage) - 1),))
 
@@ -240,7 +247,7 @@ class Branches:
             c = extra["parallel continuum"].copy()
             c[..., 2] = -c[..., 2]
             extra["parallel continuum"] = c
-        return replace(self, value={m(j): -v for j, v in self.value.items()},
+        return self._with(value={m(j): -v for j, v in self.value.items()},
                        cos=dict((m(j), c) for j, c in self.cos.items()),
                        sin={m(j): -v for j, v in self.sin.items()},
                        free={m(j): f for j, f in self.free.items()},

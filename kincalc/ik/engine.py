@@ -82,8 +82,18 @@ class Solved:
         return self.valid.sum(axis=1)
 
     def _frames(self, mask):
-        """Joint frames and tool poses of the slots ``mask (N, K)``."""
-        from ..fk import frames_and_tool
+        """Joint frames and tool poses of the slots ``mask (N, K)`` (within the candidates).
+
+        A few candidates (a single pose) are evaluated once, all together, for both the
+        labels and the singular flags; a large batch evaluates what each asks for."""
+        from ..fk import FEW, frames_and_tool
+        count = int(np.count_nonzero(self.candidate))
+        if 0 < count <= FEW:
+            if "frames" not in self.memo:
+                self.memo["frames"] = frames_and_tool(self.robot.chain, self.q[self.candidate])
+            F, tool = self.memo["frames"]
+            pick = mask[self.candidate]
+            return F[pick], tool[pick]
         Q = self.q[mask]
         if not len(Q):
             n = self.q.shape[-1]
@@ -97,9 +107,10 @@ class Solved:
             lab = np.empty(self.candidate.shape, object)
             idx = np.nonzero(self.candidate)
             if len(idx[0]):
-                from ..fk import frame_columns
-                F = frame_columns(self.robot.chain, self.q[self.candidate])
-                lab[idx] = labels(self.robot, self.spec.solver, F, self.signs, idx[1],
+                from ..fk import FEW, columns_of, frame_columns
+                cols = (columns_of(self._frames(self.candidate)[0]) if len(idx[0]) <= FEW
+                        else frame_columns(self.robot.chain, self.q[self.candidate]))
+                lab[idx] = labels(self.robot, self.spec.solver, cols, self.signs, idx[1],
                                   self.free[idx])
             self.memo["labels"] = lab
         return self.memo["labels"]
