@@ -205,3 +205,36 @@ def test_the_plan_catches_an_upward_import(tmp_path, monkeypatch):
     with pytest.raises(AssertionError, match="kincalc.spatial .geometry. imports "
                                              "kincalc.ik.engine .ik."):
         test_no_module_imports_upward()
+
+
+def graph_summary() -> str:
+    """Modules and lines per layer, and the import edges between layers (``python
+    tests/test_architecture.py``): the house as it stands."""
+    import collections
+    modules, lines = collections.Counter(), collections.Counter()
+    for name, path in MODULES.items():
+        layer = _layer(name)
+        modules[layer] += 1
+        lines[layer] += len(path.read_text(encoding="utf-8").splitlines())
+    edges = collections.Counter()
+    for importer, target, _, _, _ in _edges():
+        imported = _resolve(target) if target.startswith("kincalc") else None
+        if imported is None:
+            continue                                  # an external library
+        a, b = _layer(importer), _layer(imported)
+        if a != b:
+            edges[(a, b)] += 1
+    out = [f"{'layer':12s} {'modules':>7s} {'lines':>6s}  imports from (edges)"]
+    for i, (name, _, _) in enumerate(LAYERS):
+        below = ", ".join(f"{LAYERS[b][0]} {n}" for (a, b), n in sorted(edges.items()) if a == i)
+        out.append(f"{name:12s} {modules[i]:7d} {lines[i]:6d}  {below}")
+    big = sorted(((len(p.read_text(encoding='utf-8').splitlines()), n)
+                  for n, p in MODULES.items()), reverse=True)[:5]
+    out.append("largest modules: " + ", ".join(f"{n} {k}" for k, n in big))
+    upward = sorted((LAYERS[a][0], LAYERS[b][0]) for (a, b) in edges if b > a)
+    out.append(f"upward edges: {len(upward)} ({', '.join(f'{a} -> {b}' for a, b in upward)})")
+    return "\n".join(out)
+
+
+if __name__ == "__main__":
+    print(graph_summary())
