@@ -17,90 +17,93 @@ def collapse(expr, sp):
     """
     if not expr.is_Add:
         return expr
-    cos, sin = sp.cos, sp.sin
-    key_of = sp.default_sort_key
     terms: dict = {}
-
-    def add(term):
-        c, m = term.as_coeff_Mul()
-        trig, rest = [], []
-        for f in sp.Mul.make_args(m):
-            base, e = f.as_base_exp()
-            if isinstance(base, (cos, sin)) and e.is_Integer and e > 0:
-                trig.extend([base] * int(e))
-            else:
-                rest.append(f)
-        key = (tuple(sorted(trig, key=key_of)), sp.Mul(*rest))
-        value = terms.get(key, 0) + c
-        if value == 0:
-            terms.pop(key, None)
-        else:
-            terms[key] = value
-
     for t in sp.Add.make_args(expr):
-        add(t)
-
-    def without(trig, i, j):
-        return [f for k, f in enumerate(trig) if k not in (i, j)]
-
-    swap = {cos: sin, sin: cos}
-
-    def partner(trig, i, j):
-        """The factors that pair with ``trig[i]·trig[j]`` in an angle-sum identity."""
-        f, g = trig[i], trig[j]
-        return [swap[type(f)](f.args[0]), swap[type(g)](g.args[0])]
-
-    def merged(f, g, c1, c2):
-        """``c1·f·g + c2·F·G`` (F, G the partners of f, g) as one term, or None."""
-        a, b = f.args[0], g.args[0]
-        kinds = (type(f), type(g))
-        if a == b:
-            if kinds == (cos, cos) and c1 == c2:         # c (cos² a + sin² a) = c
-                return c1
-            return None
-        if kinds[0] is kinds[1]:                         # cc·Ca·Cb + ss·Sa·Sb
-            cc, ss = (c1, c2) if kinds[0] is cos else (c2, c1)
-            if ss == -cc:
-                return cc * cos(a + b)
-            if ss == cc:
-                return cc * cos(a - b)
-            return None
-        sc, cs = (c1, c2) if kinds[0] is sin else (c2, c1)   # sc·Sa·Cb + cs·Ca·Sb
-        if cs == sc:
-            return sc * sin(a + b)
-        if cs == -sc:
-            return sc * sin(a - b)
-        return None
-
-    changed = True
-    while changed:
-        changed = False
-        for key in list(terms):
-            if key not in terms:
-                continue
-            trig, rest = key
-            c1 = terms[key]
-            done = False
-            for i in range(len(trig)):
-                for j in range(i + 1, len(trig)):
-                    if trig[i] == trig[j] and not isinstance(trig[i], cos):
-                        continue   # sin² is reached from cos²
-                    F, G = partner(trig, i, j)
-                    others = without(trig, i, j)
-                    pkey = (tuple(sorted(others + [F, G], key=key_of)), rest)
-                    if pkey == key or pkey not in terms:
-                        continue
-                    new = merged(trig[i], trig[j], c1, terms[pkey])
-                    if new is None:
-                        continue
-                    del terms[key]
-                    del terms[pkey]
-                    add(sp.Mul(new, *others, rest))
-                    done = changed = True
-                    break
-                if done:
-                    break
+        _add_term(terms, t, sp)
+    while _merge_pass(terms, sp):
+        pass
     return sp.Add(*[c * sp.Mul(*trig) * rest for (trig, rest), c in terms.items()])
+
+
+def _add_term(terms: dict, term, sp) -> None:
+    """Add ``term`` to ``terms``: (sorted sine/cosine factors, the other factors) ->
+    numeric coefficient; a coefficient that cancels to 0 removes its key."""
+    c, m = term.as_coeff_Mul()
+    trig, rest = [], []
+    for f in sp.Mul.make_args(m):
+        base, e = f.as_base_exp()
+        if isinstance(base, (sp.cos, sp.sin)) and e.is_Integer and e > 0:
+            trig.extend([base] * int(e))
+        else:
+            rest.append(f)
+    key = (tuple(sorted(trig, key=sp.default_sort_key)), sp.Mul(*rest))
+    value = terms.get(key, 0) + c
+    if value == 0:
+        terms.pop(key, None)
+    else:
+        terms[key] = value
+
+
+def _merge_pass(terms: dict, sp) -> bool:
+    """One pass over the terms: each term still there is joined with the first term an
+    angle-sum identity pairs it with; whether any was."""
+    changed = False
+    for key in list(terms):
+        if key in terms and _merge_at(terms, key, sp):
+            changed = True
+    return changed
+
+
+def _merge_at(terms: dict, key, sp) -> bool:
+    """Join the term ``key`` with the first partner term found; whether there was one."""
+    trig, rest = key
+    for i in range(len(trig)):
+        for j in range(i + 1, len(trig)):
+            if trig[i] == trig[j] and not isinstance(trig[i], sp.cos):
+                continue   # sin² is reached from cos²
+            others = [f for k, f in enumerate(trig) if k not in (i, j)]
+            pkey = (tuple(sorted(others + _partners(trig[i], trig[j], sp),
+                                 key=sp.default_sort_key)), rest)
+            if pkey == key or pkey not in terms:
+                continue
+            new = _merged(trig[i], trig[j], terms[key], terms[pkey], sp)
+            if new is None:
+                continue
+            del terms[key]
+            del terms[pkey]
+            _add_term(terms, sp.Mul(new, *others, rest), sp)
+            return True
+    return False
+
+
+def _partners(f, g, sp) -> list:
+    """The factors that pair with ``f·g`` in an angle-sum identity (cos <-> sin)."""
+    swap = {sp.cos: sp.sin, sp.sin: sp.cos}
+    return [swap[type(f)](f.args[0]), swap[type(g)](g.args[0])]
+
+
+def _merged(f, g, c1, c2, sp):
+    """``c1·f·g + c2·F·G`` (F, G the partners of f, g) as one term, or None."""
+    cos, sin = sp.cos, sp.sin
+    a, b = f.args[0], g.args[0]
+    kinds = (type(f), type(g))
+    if a == b:
+        if kinds == (cos, cos) and c1 == c2:         # c (cos² a + sin² a) = c
+            return c1
+        return None
+    if kinds[0] is kinds[1]:                         # cc·Ca·Cb + ss·Sa·Sb
+        cc, ss = (c1, c2) if kinds[0] is cos else (c2, c1)
+        if ss == -cc:
+            return cc * cos(a + b)
+        if ss == cc:
+            return cc * cos(a - b)
+        return None
+    sc, cs = (c1, c2) if kinds[0] is sin else (c2, c1)   # sc·Sa·Cb + cs·Ca·Sb
+    if cs == sc:
+        return sc * sin(a + b)
+    if cs == -sc:
+        return sc * sin(a - b)
+    return None
 
 
 class Abbreviations:
