@@ -369,7 +369,6 @@ class Reader:
 
     # the robot -----------------------------------------------------------
     def robot(self, root) -> Robot:
-        import yaml
         top = self.mapping(root, "the robot file", TOP_KEYS)
         name = self.text(top["name"], "'name'")
         if not name.strip():
@@ -395,51 +394,16 @@ class Reader:
         self.A = ANGLE_UNITS[angle_unit]
 
         if "parameters" in top:
-            pnode = top["parameters"]
-            if not isinstance(pnode, yaml.MappingNode):
-                self.fail(pnode, "'parameters' must be a mapping of names to numbers")
-            for knode, vnode in pnode.value:
-                if not isinstance(knode, yaml.ScalarNode):
-                    self.fail(knode, "'parameters': keys must be plain names")
-                pname = knode.value
-                if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", pname) or pname == "pi":
-                    self.fail(knode, f"parameter name {quote(pname)} must be an identifier "
-                                     "other than 'pi'")
-                if pname in self.params:
-                    self.fail(knode, f"parameter {quote(pname)} is given twice")
-                self.params[pname] = self.number(vnode, f"parameter {quote(pname)}")
+            self.read_parameters(top["parameters"])
 
-        jnodes = self.sequence(top["joints"], "'joints'")
-        if not jnodes:
-            self.fail(top["joints"], "'joints' is empty; a robot needs at least one joint")
-        joints = []
-        seen: dict[str, int] = {}
-        for k, jnode in enumerate(jnodes, start=1):
-            self.joint, self.joint_name = k, None
-            joint = self.joint_entry(jnode, convention)
-            if joint.name in seen:
-                self.fail(jnode, f"name {quote(joint.name)} is already used by joint "
-                                 f"{seen[joint.name]}")
-            seen[joint.name] = k
-            joints.append(joint)
-        self.joint, self.joint_name = None, None
+        joints = self.joint_list(top["joints"], convention)
 
         base = self.pose(top["base"], "'base'") if "base" in top else np.eye(4)
         if convention == "poe" and "tool" not in top:
             self.fail(root, "'tool' is missing: a poe robot needs the tool pose at q = 0 (M)")
         tool = self.pose(top["tool"], "'tool'") if "tool" in top else np.eye(4)
 
-        home = None
-        if "home" in top:
-            hnode = top["home"]
-            items = self.sequence(hnode, "'home'")
-            if len(items) != len(joints):
-                self.fail(hnode, f"'home' has {len(items)} values but the robot has {len(joints)} joints")
-            home = np.empty(len(joints))
-            for k, (v, j) in enumerate(zip(items, joints)):
-                home[k] = self.number(v, f"'home'[{k}]") * (self.A if j.revolute else self.L)
-                if j.limits is not None and not (j.limits[0] - 1e-12 <= home[k] <= j.limits[1] + 1e-12):
-                    self.fail(v, f"'home' value for joint {k + 1} ({j.name}) is outside its limits")
+        home = self.home_values(top["home"], joints) if "home" in top else None
 
         def opt_text(key):
             return self.text(top[key], f"'{key}'").strip() if key in top else ""
@@ -451,6 +415,53 @@ class Reader:
             parameters=tuple(self.params.items()),
             expressions=tuple(self.exprs) if convention != "poe" else (),
         )
+
+    def read_parameters(self, pnode) -> None:
+        """The file's ``parameters`` (name -> number, in the file's units) into
+        ``self.params``, for the expressions of the joints' entries."""
+        import yaml
+        if not isinstance(pnode, yaml.MappingNode):
+            self.fail(pnode, "'parameters' must be a mapping of names to numbers")
+        for knode, vnode in pnode.value:
+            if not isinstance(knode, yaml.ScalarNode):
+                self.fail(knode, "'parameters': keys must be plain names")
+            pname = knode.value
+            if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", pname) or pname == "pi":
+                self.fail(knode, f"parameter name {quote(pname)} must be an identifier "
+                                 "other than 'pi'")
+            if pname in self.params:
+                self.fail(knode, f"parameter {quote(pname)} is given twice")
+            self.params[pname] = self.number(vnode, f"parameter {quote(pname)}")
+
+    def joint_list(self, node, convention: str) -> list:
+        """The ``joints`` entries, in order, each with a name no other joint has."""
+        jnodes = self.sequence(node, "'joints'")
+        if not jnodes:
+            self.fail(node, "'joints' is empty; a robot needs at least one joint")
+        joints = []
+        seen: dict[str, int] = {}
+        for k, jnode in enumerate(jnodes, start=1):
+            self.joint, self.joint_name = k, None
+            joint = self.joint_entry(jnode, convention)
+            if joint.name in seen:
+                self.fail(jnode, f"name {quote(joint.name)} is already used by joint "
+                                 f"{seen[joint.name]}")
+            seen[joint.name] = k
+            joints.append(joint)
+        self.joint, self.joint_name = None, None
+        return joints
+
+    def home_values(self, hnode, joints) -> np.ndarray:
+        """The ``home`` joint values (SI), one per joint, each within its limits."""
+        items = self.sequence(hnode, "'home'")
+        if len(items) != len(joints):
+            self.fail(hnode, f"'home' has {len(items)} values but the robot has {len(joints)} joints")
+        home = np.empty(len(joints))
+        for k, (v, j) in enumerate(zip(items, joints)):
+            home[k] = self.number(v, f"'home'[{k}]") * (self.A if j.revolute else self.L)
+            if j.limits is not None and not (j.limits[0] - 1e-12 <= home[k] <= j.limits[1] + 1e-12):
+                self.fail(v, f"'home' value for joint {k + 1} ({j.name}) is outside its limits")
+        return home
 
     def joint_entry(self, node, convention: str) -> Joint:
         import yaml
