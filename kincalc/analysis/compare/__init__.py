@@ -41,6 +41,11 @@ comparison (world frames must agree); ``free_base`` aligns joint 1's axis
 and solves for the rest of the base like an offset, and absorbs joint 1's
 offset into it. ``free_tool`` drops the tool condition and absorbs the last
 joint's offset. Joint limits and names are not compared.
+
+The modules: :mod:`~.screws` (screws, exponentials, adjoint, bracket, axis distances),
+:mod:`~.search` (the branch search), :mod:`~.match` (:class:`Match` and the FK check),
+:mod:`~.words` (the reason line and the readable lines), :mod:`~.report` (the command's
+result and JSON). They use fk, spatial and :mod:`kincalc.analysis.results`.
 """
 
 from .match import Match, match

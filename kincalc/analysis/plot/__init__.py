@@ -16,6 +16,12 @@ string and no date is written into SVG or PDF files.
 
 Geometry comes in SI (m, rad) and is drawn in the display length unit of a
 :class:`~kincalc.analysis.results.Units`.
+
+The modules: :mod:`~.style` (formats, sizes, colours, :class:`Drawing`, :class:`ArmPoints`),
+:mod:`~.geometry` (what an arm's drawing shows, in SI), :mod:`~.files` (figures, titles,
+saving), :mod:`~.arms` and :mod:`~.sections` (the two kinds of drawing). They use fk,
+:mod:`kincalc.outputs` and :mod:`kincalc.analysis.reports`; matplotlib only inside
+functions.
 """
 
 from __future__ import annotations

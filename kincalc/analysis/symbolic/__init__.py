@@ -50,6 +50,12 @@ that they stay multilinear too. No general ``sympy.simplify`` is run: a
 textbook abbreviations ``C1 = cos θ1``, ``S12 = sin(θ1 + θ2)``,
 ``C2m3 = cos(θ2 - θ3)`` and common factors are pulled out greedily
 (``C1·(a2·C2 + a3·C23) - d3·S1``).
+
+The modules: :mod:`~.building` (the derivations), :mod:`~.simplify` (angle sums,
+abbreviations), :mod:`~.printing` (text, Unicode, LaTeX), :mod:`~.results` (the notation,
+the symbolic FK and Jacobian and their documents) and :mod:`~.symbols` (sympy on demand,
+exact numbers, joint symbols). They use the model, units, errors and
+:mod:`kincalc.analysis.results`; sympy only inside functions.
 """
 
 from .building import symbolic_fk, symbolic_jacobian

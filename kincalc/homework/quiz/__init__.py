@@ -33,6 +33,12 @@ within a half turn of zero). Answers carry ten significant digits.
 
 Each kind draws from its own generator, seeded by ``(seed, kind, k)`` for the
 k-th item of that kind, so leaving a kind out does not change the others.
+
+The modules: :mod:`~.rules` (kinds, digits, margins, :class:`QuizError`),
+:mod:`~.numbers` (values a student can type), :mod:`~.items` (dh, link, fk, jacobian),
+:mod:`~.singular` (the singular-configuration search), :mod:`~.poses` (ik and reach),
+:mod:`~.writing` (the sheet's YAML) and :mod:`~.make` (one exercise per kind). They use
+the IK engine, the analysis room and spatial.
 """
 
 from __future__ import annotations

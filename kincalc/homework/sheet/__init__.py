@@ -7,6 +7,11 @@ names a robot and lists items, each an exercise with the student's answer.
 Sheet values are converted to SI (m, rad) on reading, with the sheet's units (by default
 the robot file's). The YAML is read by :class:`kincalc.conventions.reader.Reader`, the one YAML
 reader with line numbers.
+
+The modules: :mod:`~.format` (keys, tolerances, :class:`Sheet`, :class:`Item`, the
+sheet's words), :mod:`~.reader` (the file, its robot, its items) and :mod:`~.answers`
+(each kind's answer). They use the one YAML reader (:mod:`kincalc.conventions.reader`),
+the IK targets and spatial.
 """
 
 from __future__ import annotations

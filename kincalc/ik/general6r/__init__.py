@@ -157,6 +157,13 @@ Limitations
   ABB arms: a model per pose) about 10-15 for one pose and 1.1-3.7 per pose in
   batches; plus a one-off 5-30 ms per robot for the model and the pivot ranking
   (cached for 64 robots).
+
+The modules: :mod:`~.common` (tolerances, robot-independent tables, vectorised
+helpers), :mod:`~.model` (the robot as scaled standard DH and the left side of the
+elimination), :mod:`~.elimination` (steps 3 to 5 for a batch of poses), :mod:`~.robot`
+(per-robot data and the pivots), :mod:`~.polish` (step 6) and :mod:`~.solve` (the public
+API and the engine's step). They use the model's chain, jacobian, spatial and the
+engine's per-robot cache and Newton polish.
 """
 
 from __future__ import annotations
