@@ -46,66 +46,9 @@ def eliminate(model, T):
     singular for every shift delta). ``model`` is one model for all poses or one per
     pose (leading dimension M).
     """
-    M = len(T)
     with np.errstate(all="ignore"):
-        W = model.left @ T @ model.right                 # A_1 .. A_5 Rz(theta_6), scaled
-        Rc = model.right_side(W)                          # (M, 9, 14)
-        Qf, Rq = np.linalg.qr(Rc[:, 1:, :].transpose(0, 2, 1), mode="complete")
-        # Qf^T (P - constant): rows 0-7 give X2 (through Q's R), rows 8-13 (N) eliminate it
-        QT = Qf.transpose(0, 2, 1)
-        G = QT @ model.P27                                # (M, 14, 27)
-        G[:, :, 0] -= (QT @ Rc[:, 0, :, None])[:, :, 0]
-        S = G[:, 8:, :]
-        scale = np.sqrt(reduce_sum(S * S, axis=2))
-        ok = reduce_min(scale, axis=1) > 1e-12 * reduce_max(scale, axis=1)
-        S = S / np.maximum(scale, 1e-300)[:, :, None]
-        Sig = _sigma(S, 0)
-        # one inversion for A (shift delta 0) and Q's R
-        mats = INV_PAD[None].repeat(M, axis=0)
-        mats[:, 0] = Sig[:, :, 24:]
-        mats[:, 1, :8, :8] = Rq[:, :8, :8]
-        inv, cond = _inv_cond(mats)
-        lim = cond < LIMITS                              # A taken at once; R of full rank
-        ok &= lim[:, 1]
-        Ai, best = inv[:, 0], cond[:, 0]
-        # the shift delta per pose: the first with cond(A) < COND_GOOD, else the best
-        delta = 0.0
-        redo = ok & ~lim[:, 0]
-        if nnz(redo):
-            delta = np.zeros(M)
-            redo = np.flatnonzero(redo)
-            for k in range(1, len(DELTAS)):
-                Sk = _sigma(S[redo], k)
-                Aik, ck = _inv_cond(Sk[:, :, 24:])
-                take = ck < best[redo]
-                rows = redo[take]
-                Sig[rows], Ai[rows], best[rows], delta[rows] = (Sk[take], Aik[take], ck[take],
-                                                                DELTAS[k])
-                redo = redo[~(ck < COND_GOOD)]
-                if len(redo) == 0:
-                    break
-            ok &= best <= COND_BAD
-            delta = delta[:, None]
-        # the deflated companion matrix D and the block E (step 4)
-        DE = model.K - model.UWb @ (Ai @ (Sig[:, :, :24] @ model.U))    # (M, 24, 16)
-        all_ok = nnz(ok) == M
-        if not all_ok:
-            DE[~ok] = 0.0
-        try:
-            lam, yv = np.linalg.eig(DE[:, :16])
-        except np.linalg.LinAlgError:                     # non-finite entries: degenerate
-            ok &= reduce_all(np.isfinite(DE), axis=(1, 2))
-            all_ok = False
-            DE[~ok] = 0.0
-            lam, yv = np.linalg.eig(DE[:, :16])
-        lam = lam.astype(complex)
-        yv = yv.astype(complex)
-        # the companion matrix's eigenvectors U y + Wo (lam + Mo) E y / (1 + lam^2)
-        c = 1.0 / (1.0 + lam * lam)
-        Ey = (DE[:, 16:] @ yv.view(float)).view(complex)  # (M, 8, 16), real BLAS products
-        x = (model.UWW @ np.concatenate([yv, Ey * (lam * c)[:, None, :], Ey * c[:, None, :]],
-                                        axis=1).view(float)).view(complex)       # (M, 24, 16)
-        v = np.where((np.abs(lam) > 1.0)[:, None, :], x[:, 12:], x[:, :12])   # (M, 12, 16)
+        W, G, Sig, Ai, Ri, ok, delta = _matrix_polynomial(model, T)
+        lam, v, ok, all_ok = _eigenvectors(model, Sig, Ai, ok)
         phi = 2.0 * np.arctan(lam)
         keep = np.abs(phi.imag) < IMAG_TOL
         if not all_ok:
@@ -124,11 +67,86 @@ def eliminate(model, T):
             width = 32
         if isinstance(delta, np.ndarray):
             th3 = th3 + delta[pose, 0]
-        q = _candidate_angles(model, pose, vs, th3, inv[:, 1, :8, :8], G[:, :8], W)
+        q = _candidate_angles(model, pose, vs, th3, Ri, G[:, :8], W)
         fin = np.isfinite(reduce_sum(q, axis=1))
     if nnz(fin) < len(fin):
         pose, slot, q = pose[fin], slot[fin], q[fin]
     return pose, slot, q, ~ok, width
+
+
+def _matrix_polynomial(model, T):
+    """Steps 2 and 3 for the poses ``T (M, 4, 4)``: the scaled target ``W``, ``G`` (the
+    right side's equations turned by Q's orthonormal basis, (M, 14, 27)), the 12x12 matrix
+    polynomial ``Sig`` at each pose's shift delta, the inverse of its leading coefficient
+    ``Ai`` and of Q's R factor ``Ri``, the poses where the elimination applies ``ok``, and
+    the shifts ``delta`` (0.0, or ``(M, 1)`` when a pose needed one)."""
+    M = len(T)
+    W = model.left @ T @ model.right                 # A_1 .. A_5 Rz(theta_6), scaled
+    Rc = model.right_side(W)                          # (M, 9, 14)
+    Qf, Rq = np.linalg.qr(Rc[:, 1:, :].transpose(0, 2, 1), mode="complete")
+    # Qf^T (P - constant): rows 0-7 give X2 (through Q's R), rows 8-13 (N) eliminate it
+    QT = Qf.transpose(0, 2, 1)
+    G = QT @ model.P27                                # (M, 14, 27)
+    G[:, :, 0] -= (QT @ Rc[:, 0, :, None])[:, :, 0]
+    S = G[:, 8:, :]
+    scale = np.sqrt(reduce_sum(S * S, axis=2))
+    ok = reduce_min(scale, axis=1) > 1e-12 * reduce_max(scale, axis=1)
+    S = S / np.maximum(scale, 1e-300)[:, :, None]
+    Sig = _sigma(S, 0)
+    # one inversion for A (shift delta 0) and Q's R
+    mats = INV_PAD[None].repeat(M, axis=0)
+    mats[:, 0] = Sig[:, :, 24:]
+    mats[:, 1, :8, :8] = Rq[:, :8, :8]
+    inv, cond = _inv_cond(mats)
+    lim = cond < LIMITS                              # A taken at once; R of full rank
+    ok &= lim[:, 1]
+    Ai, best = inv[:, 0], cond[:, 0]
+    # the shift delta per pose: the first with cond(A) < COND_GOOD, else the best
+    delta = 0.0
+    redo = ok & ~lim[:, 0]
+    if nnz(redo):
+        delta = np.zeros(M)
+        redo = np.flatnonzero(redo)
+        for k in range(1, len(DELTAS)):
+            Sk = _sigma(S[redo], k)
+            Aik, ck = _inv_cond(Sk[:, :, 24:])
+            take = ck < best[redo]
+            rows = redo[take]
+            Sig[rows], Ai[rows], best[rows], delta[rows] = (Sk[take], Aik[take], ck[take],
+                                                            DELTAS[k])
+            redo = redo[~(ck < COND_GOOD)]
+            if len(redo) == 0:
+                break
+        ok &= best <= COND_BAD
+        delta = delta[:, None]
+    return W, G, Sig, Ai, inv[:, 1, :8, :8], ok, delta
+
+
+def _eigenvectors(model, Sig, Ai, ok):
+    """Step 4: the 16 eigenvalues ``lam (M, 16)`` of the deflated companion matrix and
+    the matching null vectors ``v (M, 12, 16)`` of the matrix polynomial; ``ok`` narrowed
+    to the poses with finite matrices, and whether every pose is ok."""
+    M = len(Sig)
+    DE = model.K - model.UWb @ (Ai @ (Sig[:, :, :24] @ model.U))    # (M, 24, 16)
+    all_ok = nnz(ok) == M
+    if not all_ok:
+        DE[~ok] = 0.0
+    try:
+        lam, yv = np.linalg.eig(DE[:, :16])
+    except np.linalg.LinAlgError:                     # non-finite entries: degenerate
+        ok &= reduce_all(np.isfinite(DE), axis=(1, 2))
+        all_ok = False
+        DE[~ok] = 0.0
+        lam, yv = np.linalg.eig(DE[:, :16])
+    lam = lam.astype(complex)
+    yv = yv.astype(complex)
+    # the companion matrix's eigenvectors U y + Wo (lam + Mo) E y / (1 + lam^2)
+    c = 1.0 / (1.0 + lam * lam)
+    Ey = (DE[:, 16:] @ yv.view(float)).view(complex)  # (M, 8, 16), real BLAS products
+    x = (model.UWW @ np.concatenate([yv, Ey * (lam * c)[:, None, :], Ey * c[:, None, :]],
+                                    axis=1).view(float)).view(complex)       # (M, 24, 16)
+    v = np.where((np.abs(lam) > 1.0)[:, None, :], x[:, 12:], x[:, :12])   # (M, 12, 16)
+    return lam, v, ok, all_ok
 
 
 def _candidate_angles(model, pose, v, th3, Ri, G8, W):
