@@ -185,10 +185,10 @@ class _SheetReader(AnswerReader, Reader):
 
     def robot_ref(self, node):
         from ...conventions.library import bundled_names, library_dir
-        from ...conventions.reader import load_robot_file
+        from ...conventions.reader import RobotReader, load_robot_file
         if self.is_mapping(node):
             self.put_first(node, "name", "sheet-robot")
-            reader = Reader(self.file)
+            reader = RobotReader(self.file)
             try:
                 return reader.robot(node)
             except RobotFileError as exc:      # the sheet's own text: quoted as for a sheet

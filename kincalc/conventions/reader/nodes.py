@@ -1,13 +1,7 @@
-"""Robot files (YAML) -> :class:`~kincalc.model.Robot`, with file:line errors.
-
-This is the only module that imports yaml. The format is described in the
-README ("Robot files") and in kincalc(5)-style detail in ``man/kincalc.1``.
-Every problem is reported as a :class:`~kincalc.errors.RobotFileError` naming
-the file, the line and the field, for example::
-
-    arm.yaml:12: joint 3 (q3): 'alpha' is missing
-
-Values are converted to SI (m, rad) here and nowhere else.
+"""The one YAML reader with line numbers: YAML text composed into nodes (plain tags
+only, errors with their line), and :class:`Reader`, which walks the nodes converting and
+validating values (numbers, expressions over parameters, vectors, poses) with
+``file:line`` errors. Robot files and homework sheets both read through it.
 """
 
 from __future__ import annotations
@@ -15,86 +9,13 @@ from __future__ import annotations
 import ast
 import difflib
 import math
-import re
 
 import numpy as np
 
-from ..errors import RobotFileError
-# MAX_MAGNITUDE stays importable from here (robot_file.MAX_MAGNITUDE), as it was defined here
-from ..limits import (MAX_EXPRESSION, MAX_FILE_BYTES, MAX_MAGNITUDE, TooLarge, cut, os_error_text,
-                     quote, read_bounded, size_text)
-from ..model import CONVENTIONS, JOINT_TYPES, Joint, Robot
-from ..spatial import matrix_from_rpy, transform
-from ..units import ANGLE_UNITS, LENGTH_UNITS
+from ...errors import RobotFileError
+from ...limits import MAX_EXPRESSION, MAX_MAGNITUDE, cut, quote
+from ...spatial import matrix_from_rpy, transform
 
-TOP_KEYS = {
-    "name": True, "convention": True, "units": True, "joints": True,
-    "title": False, "source": False, "notes": False, "parameters": False,
-    "base": False, "tool": False, "home": False,
-}
-DH_JOINT_KEYS = {"name": True, "type": True, "alpha": True, "a": True, "d": True,
-                 "theta": True, "limits": False}
-POE_JOINT_KEYS = {"name": True, "type": True, "axis": True, "point": True, "limits": False}
-POSE_KEYS = {"xyz", "rpy", "matrix"}
-NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
-
-
-def load_robot_file(path, display_name: str | None = None) -> Robot:
-    """Read and validate a robot file.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The YAML file.
-    display_name : str, optional
-        How to name the file in messages (defaults to ``str(path)``).
-
-    Raises
-    ------
-    RobotFileError
-        Unreadable file, YAML syntax error, or any invalid field.
-    """
-    shown = display_name or str(path)
-    robot = parse_robot_text(read_text(path, shown, "a robot file"), shown)
-    object.__setattr__(robot, "path", str(path))
-    return robot
-
-
-def read_text(path, shown: str, what: str, error=RobotFileError,
-              limit: int = MAX_FILE_BYTES) -> str:
-    """The UTF-8 text of ``path``, at most ``limit`` bytes of it (read through
-    :func:`kincalc.limits.read_bounded`, so an endless device is refused, not read);
-    any failure is an ``error(shown, line, message)`` (``what`` names the kind of file,
-    e.g. "a robot file"). Only a failure to decode has a line: every other message is
-    about the file, never its content."""
-    try:
-        data = read_bounded(path, limit)
-    except TooLarge:
-        raise error(shown, None, f"the file is larger than {size_text(limit)}, kincalc's "
-                                 f"limit for {what}") from None
-    except IsADirectoryError:
-        raise error(shown, None, f"is a directory, not {what}") from None
-    except OSError as exc:
-        reason = os_error_text(exc)
-        raise error(shown, None, reason if reason == "no such file" else
-                    f"cannot read: {reason}") from None
-    except ValueError:                       # a NUL character in the name
-        raise error(shown, None, "cannot read: not a valid file name") from None
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        raise error(shown, line, f"not UTF-8 text (byte 0x{data[exc.start]:02x} "
-                                 "cannot be decoded; save the file as UTF-8)") from None
-
-
-def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
-    """Parse the YAML ``text`` of a robot file; ``file`` names it in errors."""
-    root = compose_yaml(text, file)
-    return Reader(file).robot(root)
-
-
-# --- YAML with line numbers ----------------------------------------------
 
 def compose_yaml(text: str, file: str):
     """The node tree of the YAML ``text`` (plain tags only, see :func:`_plain_tags`), for
@@ -176,11 +97,15 @@ def node_line(node) -> int:
     return node.start_mark.line + 1
 
 
+#: the ways to write a pose (a base, a tool): position, roll-pitch-yaw, a matrix
+POSE_KEYS = {"xyz", "rpy", "matrix"}
+
+
 class Reader:
     """Walks the node tree, converting and validating as it goes: the one YAML reader
-    with line numbers. Robot files use it as it is; homework sheets
-    (:mod:`kincalc.homework.sheet`) subclass it. Callers see nodes only through its methods (no
-    other module imports yaml)."""
+    with line numbers. The robot-file reader (:class:`~.robot_file.RobotReader`) and the
+    homework sheets' (:mod:`kincalc.homework.sheet`) subclass it. Callers see nodes only
+    through its methods (no module outside this package imports yaml)."""
 
     def __init__(self, file: str):
         self.file = file
@@ -368,145 +293,6 @@ class Reader:
         return np.array([self.number(v, f"{what}[{k}]") for k, v in enumerate(items)])
 
     # the robot -----------------------------------------------------------
-    def robot(self, root) -> Robot:
-        top = self.mapping(root, "the robot file", TOP_KEYS)
-        name = self.text(top["name"], "'name'")
-        if not name.strip():
-            self.fail(top["name"], "'name' must not be empty")
-        if not NAME_RE.match(name):
-            self.fail(top["name"], f"'name' {quote(name)} must start with a letter (A-Z, a-z) and "
-                                   "contain only such letters, digits, '_', '-' and '.'")
-        convention = self.text(top["convention"], "'convention'")
-        if convention not in CONVENTIONS:
-            self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "
-                                         "(dh = standard, mdh = modified/Craig), not "
-                                         f"{quote(convention)}")
-        units = self.mapping(top["units"], "'units'", {"length": True, "angle": True})
-        length_unit = self.text(units["length"], "'units.length'")
-        if length_unit not in LENGTH_UNITS:
-            self.fail(units["length"], f"'units.length' must be one of {', '.join(LENGTH_UNITS)}, "
-                                       f"not {quote(length_unit)}")
-        angle_unit = self.text(units["angle"], "'units.angle'")
-        if angle_unit not in ANGLE_UNITS:
-            self.fail(units["angle"], f"'units.angle' must be one of {', '.join(ANGLE_UNITS)}, "
-                                      f"not {quote(angle_unit)}")
-        self.L = LENGTH_UNITS[length_unit]
-        self.A = ANGLE_UNITS[angle_unit]
-
-        if "parameters" in top:
-            self.read_parameters(top["parameters"])
-
-        joints = self.joint_list(top["joints"], convention)
-
-        base = self.pose(top["base"], "'base'") if "base" in top else np.eye(4)
-        if convention == "poe" and "tool" not in top:
-            self.fail(root, "'tool' is missing: a poe robot needs the tool pose at q = 0 (M)")
-        tool = self.pose(top["tool"], "'tool'") if "tool" in top else np.eye(4)
-
-        home = self.home_values(top["home"], joints) if "home" in top else None
-
-        def opt_text(key):
-            return self.text(top[key], f"'{key}'").strip() if key in top else ""
-
-        return Robot(
-            name=name, convention=convention, joints=tuple(joints), base=base, tool=tool,
-            home=home, title=opt_text("title"), source=opt_text("source"),
-            notes=opt_text("notes"), length_unit=length_unit, angle_unit=angle_unit,
-            parameters=tuple(self.params.items()),
-            expressions=tuple(self.exprs) if convention != "poe" else (),
-        )
-
-    def read_parameters(self, pnode) -> None:
-        """The file's ``parameters`` (name -> number, in the file's units) into
-        ``self.params``, for the expressions of the joints' entries."""
-        import yaml
-        if not isinstance(pnode, yaml.MappingNode):
-            self.fail(pnode, "'parameters' must be a mapping of names to numbers")
-        for knode, vnode in pnode.value:
-            if not isinstance(knode, yaml.ScalarNode):
-                self.fail(knode, "'parameters': keys must be plain names")
-            pname = knode.value
-            if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", pname) or pname == "pi":
-                self.fail(knode, f"parameter name {quote(pname)} must be an identifier "
-                                 "other than 'pi'")
-            if pname in self.params:
-                self.fail(knode, f"parameter {quote(pname)} is given twice")
-            self.params[pname] = self.number(vnode, f"parameter {quote(pname)}")
-
-    def joint_list(self, node, convention: str) -> list:
-        """The ``joints`` entries, in order, each with a name no other joint has."""
-        jnodes = self.sequence(node, "'joints'")
-        if not jnodes:
-            self.fail(node, "'joints' is empty; a robot needs at least one joint")
-        joints = []
-        seen: dict[str, int] = {}
-        for k, jnode in enumerate(jnodes, start=1):
-            self.joint, self.joint_name = k, None
-            joint = self.joint_entry(jnode, convention)
-            if joint.name in seen:
-                self.fail(jnode, f"name {quote(joint.name)} is already used by joint "
-                                 f"{seen[joint.name]}")
-            seen[joint.name] = k
-            joints.append(joint)
-        self.joint, self.joint_name = None, None
-        return joints
-
-    def home_values(self, hnode, joints) -> np.ndarray:
-        """The ``home`` joint values (SI), one per joint, each within its limits."""
-        items = self.sequence(hnode, "'home'")
-        if len(items) != len(joints):
-            self.fail(hnode, f"'home' has {len(items)} values but the robot has {len(joints)} joints")
-        home = np.empty(len(joints))
-        for k, (v, j) in enumerate(zip(items, joints)):
-            home[k] = self.number(v, f"'home'[{k}]") * (self.A if j.revolute else self.L)
-            if j.limits is not None and not (j.limits[0] - 1e-12 <= home[k] <= j.limits[1] + 1e-12):
-                self.fail(v, f"'home' value for joint {k + 1} ({j.name}) is outside its limits")
-        return home
-
-    def joint_entry(self, node, convention: str) -> Joint:
-        import yaml
-        keys = POE_JOINT_KEYS if convention == "poe" else DH_JOINT_KEYS
-        if isinstance(node, yaml.MappingNode):
-            for knode, vnode in node.value:
-                if knode.value == "name" and isinstance(vnode, yaml.ScalarNode):
-                    self.joint_name = cut(vnode.value)
-        fields = self.mapping(node, "the joint", keys)
-        name = self.text(fields["name"], "'name'")
-        if not name.strip():
-            self.fail(fields["name"], "'name' must not be empty")
-        jtype = self.text(fields["type"], "'type'")
-        if jtype not in JOINT_TYPES:
-            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {quote(jtype)}")
-        revolute = jtype == "revolute"
-        limits = None
-        if "limits" in fields:
-            lo, hi = self.vector(fields["limits"], "'limits'", 2) * (self.A if revolute else self.L)
-            if lo > hi:
-                self.fail(fields["limits"], "'limits' must be [lower, upper] with lower <= upper")
-            limits = (float(lo), float(hi))
-        if convention == "poe":
-            axis = self.vector(fields["axis"], "'axis'", 3)
-            norm = float(np.linalg.norm(axis))
-            if norm < 1e-9:
-                self.fail(fields["axis"], "'axis' must not be the zero vector")
-            if abs(norm - 1.0) > 1e-6:
-                self.fail(fields["axis"], f"'axis' must be a unit vector (its norm is {norm:.6g})")
-            point = self.vector(fields["point"], "'point'", 3) * self.L
-            return Joint(name=name, type=jtype, axis=tuple(axis / norm), point=tuple(point),
-                         limits=limits)
-        self.exprs.append(tuple(
-            (key, fields[key].value.strip()) for key in ("alpha", "a", "d", "theta")
-            if isinstance(fields[key], yaml.ScalarNode)
-            and fields[key].tag.rsplit(":", 1)[-1] not in ("int", "float")))
-        return Joint(
-            name=name, type=jtype,
-            alpha=self.number(fields["alpha"], "'alpha'") * self.A,
-            a=self.number(fields["a"], "'a'") * self.L,
-            d=self.number(fields["d"], "'d'") * self.L,
-            theta=self.number(fields["theta"], "'theta'") * self.A,
-            limits=limits,
-        )
-
     def pose(self, node, what: str) -> np.ndarray:
         """``base`` or ``tool``: ``{xyz, rpy}``, ``{matrix: [4 rows]}`` or the 4x4 matrix
         itself (a list of 4 rows, as PRODUCT.md allows)."""
