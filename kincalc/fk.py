@@ -28,7 +28,7 @@ CHUNK = 8192
 #: matrices (:func:`prefixes_few`: about n + 10 numpy calls, ~15 us for one configuration
 #: of a 6-joint arm); above it, by the column-wise walk (~10 numpy calls per joint, each
 #: on all configurations: four times faster for thousands). Both evaluate the same
-#: product F_0 J_1 F_1 ... J_n F_n; tests/test_fk.py checks them against each other.
+#: product F_0 J_1 F_1 ... J_n F_n; tests/evaluation/test_fk.py checks them against each other.
 FEW = 32
 
 

@@ -1,9 +1,9 @@
-import sys
-from pathlib import Path
+"""Shared by every test: the helper modules beside this file (``randrobots``,
+``subproblem_checks``, ``yaml_fuzz``, ``cli_contract``) are importable by name, since pytest
+puts this conftest's folder on the import path; and hypothesis draws the same examples on
+every run."""
 
 from hypothesis import settings
-
-sys.path.insert(0, str(Path(__file__).parent))
 
 # Every hypothesis test draws the same examples on every run and machine (issue 14: a
 # seeded test must draw the same cases every time); no example database on disk.

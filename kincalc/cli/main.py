@@ -24,7 +24,7 @@ _HELP = {"help_option_names": ["-h", "--help"]}
 #: its function or ``app`` for a group, context settings, the short help). A command's
 #: module is imported only when that command runs (or shows its own help), so start-up
 #: pays for one command, not twelve. The short help is the first sentence of the
-#: command's docstring; tests/test_cli.py checks that the two agree.
+#: command's docstring; tests/cli/test_cli.py checks that the two agree.
 COMMANDS = {
     "fk": ("fk", "fk", NUMERIC_ARGS,
            "Forward kinematics: the tool pose for joint values Q."),

@@ -20,7 +20,7 @@ from kincalc import outputs
 from kincalc.errors import InputError
 from kincalc.outputs import Target, check_target, replacing, write_text
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def mode(path) -> int:

@@ -11,8 +11,8 @@ from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
 from kincalc.conventions.library import bundled_names, library_dir
 
-REPO_ROBOTS = Path(__file__).parents[1] / "robots"
-FACTS = Path(__file__).parent / "golden" / "robot_facts.yaml"
+REPO_ROBOTS = Path(__file__).parents[2] / "robots"
+FACTS = Path(__file__).parents[1] / "golden" / "robot_facts.yaml"
 NAMES = sorted(p.stem for p in REPO_ROBOTS.glob("*.yaml"))
 
 

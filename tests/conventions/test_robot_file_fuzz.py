@@ -35,7 +35,7 @@ from cli_contract import assert_contract, json_documents, run_cli, snapshot
 from kincalc.limits import MAX_FILE_BYTES
 from yaml_fuzz import ODD_VALUES, bomb, mutate, padded
 
-ROBOTS = Path(__file__).parents[1] / "robots"
+ROBOTS = Path(__file__).parents[2] / "robots"
 SEEDS = {p.stem: p.read_text(encoding="utf-8") for p in sorted(ROBOTS.glob("*.yaml"))}
 SECRET = "KINCALC-SECRET-ROBOT-5f3e1a"
 #: the stderr line of a rejected file is this long at most, plus the command line's

@@ -21,7 +21,7 @@ import pytest
 from cli_contract import run_cli
 from kincalc.cli.render import num
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 EXAMPLES = ROOT / "examples"
 P = 4  # the default --precision
 

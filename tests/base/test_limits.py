@@ -3,7 +3,7 @@
 The constants are the one source of the numbers (issue 14); README's "Limits" section
 is the user's copy, checked here row by row. The request limits (workspace samples
 and orientations, selftest trials, seeds) are checked at the core functions, under the
-CLI's own range checks (tests/test_bad_input.py has the command lines), and the chunks
+CLI's own range checks (tests/cli/test_bad_input.py has the command lines), and the chunks
 that keep memory bounded are checked to change no number.
 """
 
@@ -18,7 +18,7 @@ import pytest
 from kincalc import limits
 from kincalc.errors import UsageError
 
-README = Path(__file__).parents[1] / "README.md"
+README = Path(__file__).parents[2] / "README.md"
 
 
 def constants() -> dict:

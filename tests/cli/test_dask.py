@@ -19,7 +19,7 @@ import kincalc
 from kincalc.ik.selftest import sample_configurations
 from kincalc.conventions.library import bundled_names, library_dir
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "dask_batch.py"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "dask_batch.py"
 
 
 def _generating_found(robot, Q, q, valid, tol=1e-6):

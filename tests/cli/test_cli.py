@@ -12,7 +12,7 @@ import pytest
 
 from kincalc.cli.main import main
 
-ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, "robots")
+ROBOTS = os.path.join(os.path.dirname(__file__), os.pardir, os.pardir, "robots")
 
 
 def run(capsys, *argv):

@@ -27,7 +27,7 @@ from kincalc.analysis import plot  # noqa: E402
 from kincalc.cli.main import main  # noqa: E402
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 
 
 def png_size(path) -> tuple[int, int]:

@@ -80,9 +80,6 @@ def test_general_6r_batch_equals_robot_ik_with_its_labels():
     """A general 6R (no closed form) through ik_batch: the same solutions as robot.ik
     and the same 'q3:root k' labels, on the textbook robot and
     random 6R robots (the generating configuration is always among them)."""
-    import sys
-    from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).parent))
     from randrobots import random_robot
 
     rng = np.random.default_rng(21)

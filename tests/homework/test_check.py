@@ -30,7 +30,7 @@ import pytest
 
 from kincalc.homework import SheetError, grade, load_sheet, parse_sheet
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOT = os.path.dirname(HERE)
 
 # ---------------------------------------------------------------------------

@@ -35,7 +35,7 @@ from hypothesis import strategies as st
 
 from cli_contract import assert_contract, run_cli
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # --- the working folder --------------------------------------------------------------
 

@@ -37,7 +37,7 @@ from cli_contract import assert_contract, json_documents, run_cli, snapshot
 from kincalc.limits import MAX_SHEET_ITEMS
 from yaml_fuzz import mutate
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 SECRET = "KINCALC-SECRET-SHEET-9c41d7"
 #: the stderr line of a rejected sheet is this long at most, plus the command line's
 MAX_ERROR = 700

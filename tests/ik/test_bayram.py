@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-_PATH = Path(__file__).resolve().parents[1] / "examples" / "bayram_vgt.py"
+_PATH = Path(__file__).resolve().parents[2] / "examples" / "bayram_vgt.py"
 _spec = importlib.util.spec_from_file_location("bayram_vgt", _PATH)
 bay = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(bay)

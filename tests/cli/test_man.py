@@ -23,7 +23,7 @@ import pytest
 from kincalc import __version__
 from kincalc.cli.main import main
 
-MAN = Path(__file__).parents[1] / "man"
+MAN = Path(__file__).parents[2] / "man"
 
 #: Every command path, and the page that documents it. A new command makes
 #: test_every_command_has_a_page fail until it is added here (with a page).
