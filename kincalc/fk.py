@@ -195,10 +195,24 @@ def tool_from_cs(chain, c, s, x):
 
 
 def frame_columns(chain, q) -> list:
-    """The frames of :func:`chain_frames` for ``q (M, n)`` as structure of arrays: per
-    joint ``(cols, p)``, its rotation's three columns and its origin, each ``(3, M)``
-    (world frame; the z column is the joint's axis). For many configurations this is
-    several times faster than the ``(M, n, 4, 4)`` stack, which it never builds."""
+    """The frames of :func:`chain_frames` as a structure of arrays.
+
+    For many configurations this is several times faster than the ``(M, n, 4, 4)``
+    stack, which it never builds.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (M, n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    list of n tuples ``(cols, p)``
+        Per joint, its frame's rotation columns ``cols`` (three arrays ``(3, M)``; the
+        z column is the joint's axis) and origin ``p (3, M)``, world frame, m.
+    """
     q = np.asarray(q, dtype=float).reshape(-1, chain.dof)
     if len(q) <= FEW:
         return columns_of(chain_frames(chain, q))
@@ -221,17 +235,41 @@ def columns_of(frames) -> list:
 
 
 def chain_frames(chain, q) -> np.ndarray:
-    """World poses ``(..., n, 4, 4)`` of the frames just after each joint's motion.
+    """World poses of the frames just after each joint's motion.
 
-    Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)``; its z axis is joint i's
-    axis and it moves with link i.
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    ndarray (..., n, 4, 4)
+        Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)`` in the world frame (m): its z axis
+        is joint i's axis and it moves with link i.
     """
     return frames_and_tool(chain, q)[0]
 
 
 def frames_and_tool(chain, q):
-    """``(frames (..., n, 4, 4), tool (..., 4, 4))`` for ``q (..., n)``: the frames of
-    :func:`chain_frames` and the tool pose ``T_world_tool``, from one evaluation."""
+    """The joint frames and the tool pose from one evaluation of the chain.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    frames : ndarray (..., n, 4, 4)
+        The frames of :func:`chain_frames` (world frame, m).
+    tool : ndarray (..., 4, 4)
+        ``T_world_tool``, as :func:`forward_kinematics` gives it.
+    """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
     lead = q.shape[:-1]

@@ -22,9 +22,23 @@ from .fk import CHUNK, FEW, joint_batch, walk, prefixes_few
 
 
 def jacobian_and_pose(chain, q):
-    """``(J_base (..., 6, n), T (..., 4, 4))`` for ``q (..., n)``: the world-frame
-    Jacobian of :func:`jacobian_base` and the tool pose, from one walk of the chain (for
-    Newton-type searches that need both)."""
+    """The world-frame Jacobian and the tool pose from one walk of the chain (for
+    Newton-type searches, which need both).
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    J : ndarray (..., 6, n)
+        :func:`jacobian_base`.
+    T : ndarray (..., 4, 4)
+        ``T_world_tool`` (m).
+    """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
     if N <= FEW:
@@ -73,19 +87,40 @@ def _few(chain, flat):
 
 
 def jacobian_base(chain, q) -> np.ndarray:
-    """Geometric Jacobian ``(..., 6, n)`` in the world (base) frame.
+    """The geometric Jacobian in the world (base) frame.
 
-    Maps joint velocities (rad/s, m/s) to the linear velocity of the tool
-    point and the angular velocity of the tool, both in the world frame.
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    ndarray (..., 6, n)
+        Rows ``vx vy vz wx wy wz``: joint rates (rad/s, m/s) to the linear velocity of the
+        tool point (m/s) and the angular velocity of the tool (rad/s), both in the world
+        frame (Siciliano et al. 2009, eq. 3.30).
     """
     return jacobian_and_pose(chain, q)[0]
 
 
 def jacobian_tool(chain, q) -> np.ndarray:
-    """Geometric Jacobian ``(..., 6, n)`` expressed in the tool frame.
+    """The geometric Jacobian expressed in the tool frame.
 
-    Same velocities as :func:`jacobian_base`, with both parts rotated into the
-    tool frame: ``J_tool = diag(R^T, R^T) J_base``.
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    ndarray (..., 6, n)
+        The velocities of :func:`jacobian_base` with both parts rotated into the tool
+        frame: ``J_tool = diag(R^T, R^T) J_base``, ``R`` the tool's rotation.
     """
     J, T = jacobian_and_pose(chain, q)
     return rotate_jacobian(J, np.swapaxes(T[..., :3, :3], -1, -2))
@@ -134,12 +169,27 @@ def angular_rate_matrix(angles, kind: str) -> np.ndarray:
 
 
 def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
-    """Analytic Jacobian ``(..., 6, n)``: rows (vx, vy, vz, d/dt of the 3 angles).
+    """The analytic Jacobian: the rates of an angle set instead of the angular velocity.
 
-    ``J_A = diag(I, E(phi)^-1) J`` with ``J`` the base-frame geometric
-    Jacobian and ``phi`` the tool orientation's angles of set ``kind``
-    ('rpy', 'zyz' or 'xyz'). Raises ``numpy.linalg.LinAlgError`` at the
-    set's representation singularity (gimbal lock).
+    Parameters
+    ----------
+    J : array_like (..., 6, n)
+        The base-frame geometric Jacobian (:func:`jacobian_base`).
+    angles : array_like (..., 3)
+        The tool orientation's angles of the set ``kind`` (rad).
+    kind : {'rpy', 'zyz', 'xyz'}
+        The angle set (:data:`ANGLE_SETS`).
+
+    Returns
+    -------
+    ndarray (..., 6, n)
+        ``J_A = diag(I, E(phi)^-1) J``: rows ``vx vy vz`` and the time derivatives of the
+        three angles.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        At the set's representation singularity (gimbal lock).
     """
     E = angular_rate_matrix(angles, kind)
     out = np.array(J, dtype=float, copy=True)
