@@ -1,7 +1,7 @@
 """Symbolic link transforms, forward kinematics and Jacobians (sympy).
 
 sympy is the optional extra ``symbolic`` (``pip install 'kincalc[symbolic]'``)
-and is imported only inside the functions of this module that need it, never
+and is imported only inside the functions of this package that need it, never
 at import time: :func:`require_sympy` imports it or raises
 :class:`~kincalc.errors.MissingExtra`.
 

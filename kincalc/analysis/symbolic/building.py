@@ -231,7 +231,7 @@ class _Builder:
         return w, p
 
     def poe_exp(self, i: int):
-        """``exp([S_i] q_i)`` (Rodrigues; module docstring)."""
+        """``exp([S_i] q_i)`` (Rodrigues; package docstring)."""
         sp = self.sp
         w, p = self.poe_axis(i)
         q = self.q[i]

@@ -46,7 +46,7 @@ class SymbolicFK:
     ----------
     robot : Robot
     links : tuple of sympy.Matrix (4, 4)
-        ``T_{i-1}^i`` for i = 1..n, in the robot's convention (see module docstring).
+        ``T_{i-1}^i`` for i = 1..n, in the robot's convention (see the package docstring).
     base, tool : sympy.Matrix (4, 4) or None
         The robot's base (``T_world_0``) and tool (dh/mdh: ``T_n_tool``; poe:
         ``M``) transforms, ``None`` when they are the identity.

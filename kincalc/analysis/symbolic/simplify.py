@@ -8,7 +8,7 @@ import re
 
 
 def collapse(expr, sp):
-    """Collapse sums of angles in an expanded sum of products (module docstring).
+    """Collapse sums of angles in an expanded sum of products (package docstring).
 
     Terms are keyed by their sine/cosine factors (with multiplicity) and the
     rest of their non-numeric factors; two terms whose keys differ by the

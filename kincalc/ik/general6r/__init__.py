@@ -36,7 +36,7 @@ a single pose is a batch of one).
    robot for the left side; on the right, ``l`` and ``p`` at each grid point
    of (theta_1, theta_2) are linear in ``u = (1, l_T, p_T)`` of the target, so
    the fit is a cubic in u whose 84 x 126 coefficients are also computed once
-   per robot (:func:`_cubic_map`), leaving one product per pose. This gives
+   per robot (:func:`~.common.cubic_map`), leaving one product per pose. This gives
    ``P(theta_3) X1 = Q X2`` with ``X1`` the nine products
    of (1, c4, s4) and (1, c5, s5), ``X2`` the eight non-constant products of
    (1, c1, s1) and (1, c2, s2), ``P`` 14x9 linear in (1, c3, s3), ``Q`` 14x8.
@@ -55,7 +55,7 @@ a single pose is a batch of one).
    ``numpy.linalg.eig`` solves the remaining 16x16 block, whose eigenvalues
    are the 16 roots; the eigenvectors of the companion matrix follow from the
    block triangular form (``(lambda - M)^-1`` with ``M^2 = -I``; see
-   :meth:`_Model._deflation`). ``A`` and the R factor of ``Q`` are inverted
+   :meth:`~.model.Model._deflation`). ``A`` and the R factor of ``Q`` are inverted
    together (one batched ``inv``); a condition estimate of R above 1e9 marks
    ``Q`` as rank deficient.
    *Degenerate leading matrix / x3 = infinity (theta_3 = pi):* numpy has no
@@ -68,7 +68,7 @@ a single pose is a batch of one).
    infinity. Eigenvalues whose angle ``2 atan(y)`` has an imaginary part
    below 0.05 rad count as real candidates (near-double real roots come out
    as complex pairs).
-5. **Back-substitution** (:func:`_candidate_angles`, for the real candidates
+5. **Back-substitution** (:func:`~.elimination._candidate_angles`, for the real candidates
    only). ``x4``, ``x5`` come from the eigenvector (least-squares ratios of
    consecutive entries, inverted ratios when |x| > 1, so theta = pi is fine);
    ``(c1, s1, c2, s2)`` from ``Q X2 = P X1`` (least squares through the same
@@ -81,7 +81,7 @@ a single pose is a batch of one).
    second set of vectors: at their mean, the monomial vectors are recovered
    from the null space of ``Sigma`` as common eigenvectors of the "multiply
    by x4" and "multiply by x5" shift operators; the vectors closest to
-   monomial structure are kept (see :func:`split_clusters`; all clusters of
+   monomial structure are kept (see :func:`~.elimination.split_clusters`; all clusters of
    one size are treated together, their extra vectors take slots 16-31 of
    their pose).
 6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the

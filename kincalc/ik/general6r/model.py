@@ -14,7 +14,7 @@ from .common import (CUBIC_IDX, GRID, H2, PARALLEL_TOL, U_IDX, VINV2, VINV3, cub
 # --- the robot as standard DH ----------------------------------------------
 
 def _dh_frames(dirs, pts, L):
-    """World poses ``(..., 7, 4, 4)`` of DH frames 0..6 at q = 0 (see module docstring)
+    """World poses ``(..., 7, 4, 4)`` of DH frames 0..6 at q = 0 (see the package docstring)
     of the axes ``pts + t dirs`` (``(..., 6, 3)`` each; the leading dimensions are
     independent robots, e.g. one per pose of a cyclically shifted problem)."""
     z = [dirs[..., i, :] for i in range(6)] + [dirs[..., 5, :]]  # z_i = axis i+1; z_6 = axis 6

@@ -19,7 +19,7 @@ def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     robot : Robot
-        Six revolute joints; no structure needed (see the module docstring for robots
+        Six revolute joints; no structure needed (see the package docstring for robots
         with special structure).
     T : array_like (N, 4, 4)
         Tool poses ``T_world_tool`` (SI, world frame). A single pose is ``T[None]``.
@@ -43,7 +43,7 @@ def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
     Notes
     -----
     Every step (model, elimination, eigenproblems, clusters, other pivots, Newton)
-    runs on all poses together; see the module docstring for the method.
+    runs on all poses together; see the package docstring for the method.
     """
     if robot.dof != 6 or not all([j.revolute for j in robot.joints]):
         raise ValueError("solve_general_6r_batch needs a robot with exactly 6 revolute "
