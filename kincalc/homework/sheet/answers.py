@@ -8,14 +8,13 @@ import numpy as np
 
 from ...conventions.reader import node_line
 from ...limits import MAX_IK_SETS, quote
-from .format import Item
 
 
 class AnswerReader:
     """The answers of a sheet's items (a mixin of the sheet reader, whose checked numbers,
     lists, ``fail``, ``robot_`` and ``units`` it uses)."""
 
-    def answer(self, kind: str, node, item: Item):
+    def answer(self, kind: str, node):
         robot = self.robot_
         if kind in ("reach", "singular"):
             if not self.is_scalar(node):
@@ -84,10 +83,10 @@ class AnswerReader:
             return [(node_line(s), self.joints(s, f"'answer' set {k + 1}"))
                     for k, s in enumerate(sets)]
         if kind == "dh":
-            return self.dh_answer(node, item)
+            return self.dh_answer(node)
         raise AssertionError(kind)
 
-    def dh_answer(self, node, item: Item):
+    def dh_answer(self, node):
         """The student's DH table as a robot, with how each row names its variable."""
         from ...model import Joint, Robot
         f = self.mapping(node, "'answer'", {"convention": True, "table": False, "columns": False,

@@ -61,7 +61,7 @@ class Tolerance:
                 "matrix": self.matrix}
 
 
-@dataclass
+@dataclass(frozen=True)
 class Item:
     """One exercise of a sheet, parsed; values SI."""
 
@@ -82,7 +82,7 @@ class Item:
     answer_line: int | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class Sheet:
     path: str
     robot: object

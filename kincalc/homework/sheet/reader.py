@@ -264,47 +264,46 @@ class _SheetReader(AnswerReader, Reader):
         points = int(points) if float(points).is_integer() else points
         if points < 0:
             self.fail(f["points"], "'points' must not be negative")
-        item = Item(id=ident, kind=kind, line=node_line(node), tol=tol, points=points,
+        item = dict(id=ident, kind=kind, line=node_line(node), tol=tol, points=points,
                     question=self.text(f["question"], "'question'") if "question" in f else None)
         robot = self.robot_
         if "q" in f:
-            item.q = self.joints(f["q"], "'q'", allow_one=kind == "link")
+            item["q"] = self.joints(f["q"], "'q'", allow_one=kind == "link")
         if kind == "link":
             k = self.number(f["link"], "'link'")
             if k != int(k) or not 1 <= k <= robot.dof:
                 self.fail(f["link"], f"'link' must be a joint number 1..{robot.dof}, not "
                                      f"{cut(f['link'].value)}")
-            item.link = int(k)
-            if item.q.shape == (1,):          # just q_i: the other joints do not matter
+            item["link"] = link = int(k)
+            if item["q"].shape == (1,):          # just q_i: the other joints do not matter
                 q = np.zeros(robot.dof)
-                q[item.link - 1] = item.q[0] * (self.A if robot.is_revolute[item.link - 1]
-                                                else self.L)
-                item.q = q
+                q[link - 1] = item["q"][0] * (self.A if robot.is_revolute[link - 1] else self.L)
+                item["q"] = q
         if kind == "jacobian" and "frame" in f:
-            item.frame = self.text(f["frame"], "'frame'").strip()
-            if item.frame not in ("base", "tool"):
-                self.fail(f["frame"], f"'frame' must be base or tool, not {quote(item.frame)}")
+            item["frame"] = self.text(f["frame"], "'frame'").strip()
+            if item["frame"] not in ("base", "tool"):
+                self.fail(f["frame"], f"'frame' must be base or tool, not {quote(item['frame'])}")
         for key in ("tool", "base"):
             if key in f:
                 v = self.text(f[key], f"'{key}'").strip()
                 if v not in ("compare", "ignore"):
                     self.fail(f[key], f"'{key}' must be compare or ignore, not {quote(v)}")
-                setattr(item, key, v)
+                item[key] = v
         if kind == "ik" and "limits" in f:
             v = self.text(f["limits"], "'limits'").strip()
             if v not in ("respect", "ignore"):
                 self.fail(f["limits"], f"'limits' must be respect or ignore, not {quote(v)}")
-            item.limits = v == "respect"
+            item["limits"] = v == "respect"
         if "pose" in f:
-            item.target = self.pose_target(f["pose"])
+            item["target"] = self.pose_target(f["pose"])
         if "answer" in f and not f["answer"].tag.endswith(":null"):
-            item.answer_line = node_line(f["answer"])
-            item.answer = self.answer(kind, f["answer"], item)
-            if kind == "fk" and "tcv" in item.answer and abs(item.q[-1]) > TCV_MAX_ROLL:
+            item["answer_line"] = node_line(f["answer"])
+            item["answer"] = answer = self.answer(kind, f["answer"])
+            if kind == "fk" and "tcv" in answer and abs(item["q"][-1]) > TCV_MAX_ROLL:
                 # e^(q_n / pi) leaves the numbers a sheet can hold, and soon overflows
                 self.fail(f["q"], f"'answer.tcv': the tool configuration vector is given only "
                                   f"for a last joint within {TCV_MAX_ROLL:.1f} rad (ten turns)")
-        return item
+        return Item(**item)
 
     def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:
         robot = self.robot_
