@@ -37,16 +37,6 @@ def parallel(d1, d2, tol: float = GEOMETRY_TOL) -> bool:
     return float(np.linalg.norm(cross(d1, d2))) < tol
 
 
-def line_distance(p1, d1, p2, d2) -> float:
-    """Shortest distance between the lines ``p1 + t d1`` and ``p2 + s d2``."""
-    n = cross(d1, d2)
-    nn = np.linalg.norm(n)
-    w = np.asarray(p2, float) - np.asarray(p1, float)
-    if nn < GEOMETRY_TOL:
-        return float(np.linalg.norm(w - d1 * (w @ d1)))
-    return float(abs(w @ n) / nn)
-
-
 def point_line_distance(x, p, d) -> float:
     """Distance from point ``x`` to the line ``p + t d`` (``d`` unit)."""
     w = np.asarray(x, float) - np.asarray(p, float)

@@ -112,7 +112,3 @@ def as_vectors(*vs):
     np.broadcast(*arrays)               # raises when the leading shapes do not broadcast
     return arrays
 
-
-def batch_shape(*arrays) -> tuple:
-    """The leading shape of the batch the vectors ``(..., 3)`` broadcast to."""
-    return np.broadcast(*arrays).shape[:-1]

@@ -161,12 +161,6 @@ class Abbreviations:
         items = sorted(self.made.items(), key=lambda kv: kv[1][0])
         return tuple((s, f) for f, (_, s, _) in items)
 
-    def latex_names(self) -> dict:
-        out = {}
-        for f, (_, s, tex) in self.made.items():
-            out[s] = f"{self.prefix[0 if isinstance(f, self.sp.cos) else 1]}_{{{tex}}}"
-        return out
-
 
 def nest(expr, abbrev: Abbreviations, sp):
     """Pull out, recursively, the abbreviation shared by the most terms
