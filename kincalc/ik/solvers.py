@@ -16,7 +16,7 @@ import numpy as np
 
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
-from ..subproblems.cone import cone
+from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
 from .place import place
@@ -114,7 +114,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     Rt = br.take(_rotation(S, T))                                         # (N, K, 3, 3)
     # joint 5: h . R5 k6 = h . v, v = R1^T R_t k6 (axis 6 with joint 1 undone)
     v = S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, k6))
-    br = br.branch([4], cone(h, k6, k5, v))
+    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
+        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
     Rt, v = br.take(Rt), br.take(v)
     aligned = br.free[4]
     br = br.set(4, br.value[4], br.cos[4], br.sin[4], free=np.zeros_like(aligned))

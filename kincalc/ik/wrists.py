@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..subproblems import sp1
-from ..subproblems.cone import cone
+from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import cross, dot
 from .branches import Branches
 from ..spatial import wrap
@@ -50,7 +50,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     reasons of an unreachable pose)."""
     j1, j2, j3 = joints
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
-    middle = cone(k1, k3, k2, v)
+    middle = cone(k1, k3, k2, v, fixed=S.constant(("cone", j1, j2, j3),
+                                                  lambda: cone_constants(k1, k3, k2)))
     br = br.branch([j2], middle, least_squares=True)
     v, w = br.take(v), br.take(w)
     aligned = br.free[j2]

@@ -26,8 +26,6 @@ subproblem 4.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from .solutions import Solutions, as_vectors, cross, dot, norm, pair
@@ -39,10 +37,12 @@ from .sp4 import from_abc
 ALIGNED_TOL = 1e-10
 
 
-def _constants(h, p, k) -> tuple:
+def cone_constants(h, p, k) -> tuple:
     """What depends on ``h, p, k`` alone: the coefficients ``A cos t + B sin t + C`` of
     ``h . R(k, t) p``, ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0), the cone's reach
-    ``top`` and ``bottom`` of the lines ``+-h`` (module docstring), and ``r = 0``."""
+    ``top`` and ``bottom`` of the lines ``+-h`` (module docstring), and ``r = 0``. A solver
+    whose ``h, p, k`` are a robot's fixed axes computes these once and passes them to
+    :func:`cone` as ``fixed``."""
     beta = np.arctan2(norm(cross(k, h)), dot(k, h))
     gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
     kxp = cross(k, p)
@@ -55,20 +55,7 @@ def _constants(h, p, k) -> tuple:
     return A, B, dot(h, k) * dot(k, p), np.where(degenerate, 1.0, r), top, bottom, degenerate
 
 
-@lru_cache(maxsize=256)
-def _constants_of_axes(h: bytes, p: bytes, k: bytes) -> tuple:
-    """:func:`_constants` of three fixed vectors (a wrist's axes: the same for every pose
-    of a robot), given by their bytes."""
-    return _constants(*(np.frombuffer(x) for x in (h, p, k)))
-
-
-def _fixed(h, p, k) -> tuple:
-    if h.shape == p.shape == k.shape == (3,):
-        return _constants_of_axes(h.tobytes(), p.tobytes(), k.tobytes())
-    return _constants(h, p, k)
-
-
-def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
+def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutions:
     """Solve ``h . R(k, t) p = h . v`` for unit vectors (see the module docstring).
 
     Parameters
@@ -77,6 +64,8 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
         Unit vectors: the fixed axis, the vector turned, the rotation axis.
     v : array_like (..., 3)
         Unit vector: where ``R(k, t) p`` must be, up to a rotation about ``h``.
+    fixed : tuple, optional
+        :func:`cone_constants` of ``h, p, k``, when the caller has them.
 
     Returns
     -------
@@ -84,7 +73,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL) -> Solutions:
         Two slots, ``b + delta`` and ``b - delta`` (the same value where ``free``).
     """
     h, p, k, v = as_vectors(h, p, k, v)
-    A, B, C, rr, top, bottom, degenerate = _fixed(h, p, k)
+    A, B, C, rr, top, bottom, degenerate = cone_constants(h, p, k) if fixed is None else fixed
     f = dot(h, v)
     if degenerate.all():
         return from_abc(A, B, C, f, 1.0)
