@@ -1,4 +1,4 @@
-"""Forward kinematics on a :class:`~kincalc.model.Chain`, vectorised over poses.
+"""Forward kinematics on a :class:`~kincalc.chain.Chain`, vectorised over poses.
 
 The chain ``F_0 J_1(q_1) F_1 ... J_n(q_n) F_n`` is evaluated column-wise on
 structure-of-arrays data: the running pose is kept as three column vectors
@@ -11,7 +11,7 @@ and sign flips). Poses are processed in cache-sized chunks.
 For a few configurations (up to :data:`FEW`: a single ``robot.fk(q)``, an IK call's
 candidates) the same product is taken as stacked 4x4 matrices instead: all joint
 motions from one product of ``[cos x, sin x, x, 1]`` with the chain's
-:attr:`~kincalc.model.Chain.motion_basis`, then one matrix product per joint
+:attr:`~kincalc.chain.Chain.motion_basis`, then one matrix product per joint
 (:func:`prefixes_few`). That costs a fixed ~n + 10 numpy calls where the walk costs
 ~10 per joint. Units: rad and m (or the robot's own unit for unitless robots).
 """
@@ -124,7 +124,7 @@ def forward_kinematics(chain, q) -> np.ndarray:
 
 def _coefficients(chain, flat) -> np.ndarray:
     """``(4, N, n)``: each joint's ``[cos x, sin x, x, 1]`` for ``flat (N, n)``, with
-    ``x = q_i + c_i`` (the coefficients of :attr:`~kincalc.model.Chain.motion_basis`)."""
+    ``x = q_i + c_i`` (the coefficients of :attr:`~kincalc.chain.Chain.motion_basis`)."""
     N, n = flat.shape
     coef = np.empty((4, N, n))
     x = np.add(flat, chain.offset, out=coef[2])
@@ -136,7 +136,7 @@ def _coefficients(chain, flat) -> np.ndarray:
 
 def _motions(chain, coef) -> np.ndarray:
     """The joint motions ``J_i`` of ``coef (4, N, n)`` (:func:`_coefficients`), shape
-    ``(N, n, 4, 4)``: one product with :attr:`~kincalc.model.Chain.motion_basis`."""
+    ``(N, n, 4, 4)``: one product with :attr:`~kincalc.chain.Chain.motion_basis`."""
     _, N, n = coef.shape
     return (coef.transpose(1, 2, 0)[..., None, :] @ chain.motion_basis).reshape(N, n, 4, 4)
 

@@ -2,7 +2,7 @@
 
 A :class:`Robot` keeps the joints in the convention they were written in
 (standard DH, modified DH or product of exponentials), in SI units, and
-derives from them one uniform *chain*:
+derives from them one uniform *chain* (:class:`kincalc.chain.Chain`):
 
     T_world_tool(q) = F_0 · J_1(q_1) · F_1 · J_2(q_2) · ... · J_n(q_n) · F_n
 
@@ -13,13 +13,21 @@ kinematics and Jacobians run on that chain whatever the convention; the
 convention's own link frames (for printing ``T_{i-1}^i``) come from
 :meth:`Robot.link_transforms`.
 
+The methods ``fk``, ``jacobian`` and ``ik`` are the Python API's front door: they call
+down into :mod:`kincalc.fk`, :mod:`kincalc.jacobian` and the engine :mod:`kincalc.ik`,
+which see the robot only through its chain and limits (this module sits above them in the
+house plan, ``tests/test_architecture.py``).
+
 Link transforms by convention (lengths in m, angles in rad):
 
 * ``dh`` (standard, distal; Spong/Corke): ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
 * ``mdh`` (modified, proximal; Craig): ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``
-* ``poe`` (Brockett; Lynch & Park ch. 4): ``T = base · exp([S_1] q_1) ··· exp([S_n] q_n) · M``
+* ``poe`` (Brockett; Lynch & Park ch. 4):
+  ``T = base · exp([S_1] q_1) ··· exp([S_n] q_n) · M · tool``
   with ``S_i`` the screw of a unit axis through a point, both in the base frame
-  at q = 0, and ``M = tool`` the end-effector pose at q = 0.
+  at q = 0, and ``M`` the flange pose at q = 0 (a robot file's ``tool``).
+
+In every convention ``tool`` is ``T_flange_tool``, the tool on the flange.
 
 For dh/mdh a revolute joint's variable adds to ``theta`` and a prismatic
 joint's to ``d``.
@@ -32,6 +40,9 @@ from functools import cached_property
 
 import numpy as np
 
+from .chain import Chain
+from .fk import chain_frames, forward_kinematics
+from .jacobian import jacobian_base, jacobian_tool, scaled_ranks
 from .spatial import invert_transform, rot_x, rot_z, transform
 
 CONVENTIONS = ("dh", "mdh", "poe")
@@ -77,8 +88,13 @@ class Robot:
     base : ndarray (4, 4)
         ``T_world_0``: pose of the robot's frame 0 in the world (user) frame.
     tool : ndarray (4, 4)
-        dh/mdh: ``T_n_tool``, pose of the tool in the last link frame.
-        poe: ``M``, pose of the tool in frame 0 at q = 0.
+        ``T_flange_tool``, in every convention: the pose of the tool in the flange frame,
+        the frame that moves with the last link (dh/mdh: link frame n; poe: the frame at
+        ``M`` at q = 0). Identity when the tool is the flange.
+    M : ndarray (4, 4) or None
+        poe only (None for dh/mdh): ``T_0_flange`` at q = 0, the flange's pose in frame 0
+        at the zero configuration (Lynch & Park's M). A poe robot file's ``tool`` entry is
+        this M (:attr:`written_tool`).
     home : ndarray (n,)
         A home configuration (rad / m).
     length_unit, angle_unit : str
@@ -97,6 +113,7 @@ class Robot:
     joints: tuple[Joint, ...]
     base: np.ndarray = field(default_factory=lambda: np.eye(4))
     tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    M: np.ndarray | None = None
     home: np.ndarray | None = None
     title: str = ""
     source: str = ""
@@ -117,6 +134,13 @@ class Robot:
         tool.setflags(write=False)
         object.__setattr__(self, "base", base)
         object.__setattr__(self, "tool", tool)
+        if (self.M is None) != (self.convention != "poe"):
+            raise ValueError("a poe robot needs M (the flange pose at q = 0) and a dh/mdh "
+                             "robot has none (its flange is link frame n)")
+        if self.M is not None:
+            M = np.array(self.M, dtype=float)
+            M.setflags(write=False)
+            object.__setattr__(self, "M", M)
         home = np.zeros(self.dof) if self.home is None else np.array(self.home, dtype=float)
         home.setflags(write=False)
         object.__setattr__(self, "home", home)
@@ -167,14 +191,22 @@ class Robot:
         return (self.name == other.name and self.convention == other.convention
                 and self.joints == other.joints
                 and np.array_equal(self.base, other.base)
-                and np.array_equal(self.tool, other.tool))
+                and np.array_equal(self.tool, other.tool)
+                and (self.M is None) == (other.M is None)
+                and (self.M is None or np.array_equal(self.M, other.M)))
+
+    @property
+    def written_tool(self) -> np.ndarray:
+        """The robot file's ``tool`` entry ``(4, 4)``, m: ``T_n_tool`` for dh/mdh, and for
+        poe the tool's pose in frame 0 at q = 0, ``M @ tool``."""
+        return self.tool if self.M is None else self.M @ self.tool
 
     # --- the uniform chain -------------------------------------------------
 
     @cached_property
     def chain(self) -> "Chain":
         """The uniform chain ``F_0 J_1 F_1 ... J_n F_n`` (see module docstring)."""
-        return Chain.from_robot(self)
+        return _chain_of(self)
 
     @cached_property
     def characteristic_length(self) -> float:
@@ -198,7 +230,6 @@ class Robot:
         when either rank drops below these. Taken as the largest rank over a
         few seeded random configurations within the limits.
         """
-        from .jacobian import scaled_ranks
         rng = np.random.default_rng(12345)
         lo, hi = self.limits.T
         lo = np.where(np.isfinite(lo), lo, -np.pi)
@@ -227,7 +258,6 @@ class Robot:
         ValueError
             ``q``'s last axis is not ``n`` long.
         """
-        from .fk import forward_kinematics
         return forward_kinematics(self.chain, q)
 
     def jacobian(self, q, frame: str = "base") -> np.ndarray:
@@ -252,7 +282,6 @@ class Robot:
         ValueError
             An unknown ``frame``, or ``q`` of the wrong length.
         """
-        from .jacobian import jacobian_base, jacobian_tool
         if frame == "base":
             return jacobian_base(self.chain, q)
         if frame == "tool":
@@ -287,6 +316,7 @@ class Robot:
             The target's kind does not fit the robot (an orientation for a robot that sets
             none, ...).
         """
+        # lazily: the engine is large, and a robot is often loaded only to be shown
         from .ik import Target, solve
         return solve(self, Target(np.asarray(T, float), orientation), **options)
 
@@ -377,7 +407,6 @@ def axis_frame(axis, point) -> np.ndarray:
 
 
 def _poe_link_transforms(robot: Robot, q: np.ndarray) -> np.ndarray:
-    from .fk import chain_frames
     frames = chain_frames(robot.chain, q)  # world-frame joint frames after motion
     Tw0 = invert_transform(robot.base)
     T0 = Tw0 @ frames                      # (..., n, 4, 4) in frame 0
@@ -386,83 +415,40 @@ def _poe_link_transforms(robot: Robot, q: np.ndarray) -> np.ndarray:
     return invert_transform(prev) @ T0
 
 
-@dataclass(frozen=True)
-class Chain:
-    """``T(q) = F_0 J_1(q_1 + c_1) F_1 ... J_n(q_n + c_n) F_n``.
-
-    Attributes
-    ----------
-    fixed : ndarray (n + 1, 4, 4)
-        The constant transforms ``F_i``, base folded into ``F_0``, tool into ``F_n``.
-    revolute : ndarray (n,) of bool
-        ``J_i`` is ``Rz`` (True) or ``Tz`` (False).
-    offset : ndarray (n,)
-        ``c_i``, added to the joint variable (rad or m).
-    """
-
-    fixed: np.ndarray
-    revolute: np.ndarray
-    offset: np.ndarray
-
-    @property
-    def dof(self) -> int:
-        return len(self.revolute)
-
-    @cached_property
-    def offset_cos_sin(self) -> tuple:
-        """``(cos c_i, sin c_i)``, each ``(n,)``: the offsets' turn, for revolute joint
-        angles given by their cosines and sines (unused for prismatic joints)."""
-        return np.cos(self.offset), np.sin(self.offset)
-
-    @cached_property
-    def motion_basis(self) -> np.ndarray:
-        """``(n, 4, 16)``: joint i's motion ``J_i(x)`` (4x4, flattened) is
-        ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint,
-        ``Tz(x)`` for a prismatic one (x = q_i + c_i, rad or m)."""
-        rz = np.zeros((4, 4, 4))
-        rz[0, 0, 0] = rz[0, 1, 1] = 1.0                     # cos x
-        rz[1, 1, 0], rz[1, 0, 1] = 1.0, -1.0                # sin x
-        rz[3, 2, 2] = rz[3, 3, 3] = 1.0                     # 1
-        tz = np.zeros((4, 4, 4))
-        tz[2, 2, 3] = 1.0                                   # x
-        tz[3] = np.eye(4)                                   # 1
-        basis = np.where(self.revolute[:, None, None, None], rz, tz).reshape(-1, 4, 16)
-        basis.setflags(write=False)
-        return basis
-
-    @staticmethod
-    def from_robot(robot: Robot) -> "Chain":
-        n = robot.dof
-        pre, post, offset = [], [], np.zeros(n)
-        for i, j in enumerate(robot.joints):
-            if robot.convention == "poe":
-                C = axis_frame(j.axis, j.point)
-                pre.append(C)
-                post.append(invert_transform(C))
-                continue
-            Xa = transform(rot_x(j.alpha), [j.a, 0.0, 0.0])   # Rx(alpha) Tx(a) == Tx(a) Rx(alpha)
-            Rt = transform(rot_z(j.theta))
-            Td = transform(None, [0.0, 0.0, j.d])
-            if robot.convention == "dh":
-                if j.revolute:            # Rz(q + theta) · Tz(d) Tx(a) Rx(alpha)
-                    pre.append(np.eye(4)); post.append(Td @ Xa); offset[i] = j.theta
-                else:                     # Tz(q + d) · Rz(theta) Tx(a) Rx(alpha)
-                    pre.append(np.eye(4)); post.append(Rt @ Xa); offset[i] = j.d
-            else:
-                if j.revolute:            # Rx(alpha) Tx(a) · Rz(q + theta) · Tz(d)
-                    pre.append(Xa); post.append(Td); offset[i] = j.theta
-                else:                     # Rx(alpha) Tx(a) Rz(theta) · Tz(q + d)
-                    pre.append(Xa @ Rt); post.append(np.eye(4)); offset[i] = j.d
-        fixed = np.empty((n + 1, 4, 4))
-        fixed[0] = robot.base @ pre[0] if n else robot.base
-        for i in range(1, n):
-            fixed[i] = post[i - 1] @ pre[i]
-        fixed[n] = (post[n - 1] if n else np.eye(4)) @ robot.tool
-        # Snap exact-looking zeros and ones so the evaluator can skip them
-        # (cos(pi/2) = 6e-17 would otherwise cost a multiply per sample).
-        snapped = np.where(np.abs(fixed) < 1e-15, 0.0, fixed)
-        snapped = np.where(np.abs(np.abs(snapped) - 1.0) < 1e-15, np.sign(snapped), snapped)
-        revolute = robot.is_revolute
-        for arr in (snapped, revolute, offset):
-            arr.setflags(write=False)
-        return Chain(snapped, revolute, offset)
+def _chain_of(robot: Robot) -> Chain:
+    """The uniform chain of ``robot``'s joints in its convention (module docstring)."""
+    n = robot.dof
+    pre, post, offset = [], [], np.zeros(n)
+    for i, j in enumerate(robot.joints):
+        if robot.convention == "poe":
+            C = axis_frame(j.axis, j.point)
+            pre.append(C)
+            post.append(invert_transform(C))
+            continue
+        Xa = transform(rot_x(j.alpha), [j.a, 0.0, 0.0])   # Rx(alpha) Tx(a) == Tx(a) Rx(alpha)
+        Rt = transform(rot_z(j.theta))
+        Td = transform(None, [0.0, 0.0, j.d])
+        if robot.convention == "dh":
+            if j.revolute:            # Rz(q + theta) · Tz(d) Tx(a) Rx(alpha)
+                pre.append(np.eye(4)); post.append(Td @ Xa); offset[i] = j.theta
+            else:                     # Tz(q + d) · Rz(theta) Tx(a) Rx(alpha)
+                pre.append(np.eye(4)); post.append(Rt @ Xa); offset[i] = j.d
+        else:
+            if j.revolute:            # Rx(alpha) Tx(a) · Rz(q + theta) · Tz(d)
+                pre.append(Xa); post.append(Td); offset[i] = j.theta
+            else:                     # Rx(alpha) Tx(a) Rz(theta) · Tz(q + d)
+                pre.append(Xa @ Rt); post.append(np.eye(4)); offset[i] = j.d
+    fixed = np.empty((n + 1, 4, 4))
+    fixed[0] = robot.base @ pre[0] if n else robot.base
+    for i in range(1, n):
+        fixed[i] = post[i - 1] @ pre[i]
+    flange = np.eye(4) if robot.M is None else robot.M
+    fixed[n] = (post[n - 1] if n else np.eye(4)) @ flange @ robot.tool
+    # Snap exact-looking zeros and ones so the evaluator can skip them
+    # (cos(pi/2) = 6e-17 would otherwise cost a multiply per sample).
+    snapped = np.where(np.abs(fixed) < 1e-15, 0.0, fixed)
+    snapped = np.where(np.abs(np.abs(snapped) - 1.0) < 1e-15, np.sign(snapped), snapped)
+    revolute = robot.is_revolute
+    for arr in (snapped, revolute, offset):
+        arr.setflags(write=False)
+    return Chain(snapped, revolute, offset)

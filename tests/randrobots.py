@@ -26,6 +26,7 @@ def random_robot(rng, convention="dh", n=6, types=None, base_tool=True):
                                 a=rng.uniform(-0.5, 0.5), d=rng.uniform(-0.5, 0.5),
                                 theta=rng.uniform(-np.pi, np.pi), limits=lim))
     base = random_pose(rng) if base_tool else np.eye(4)
-    tool = random_pose(rng) if (base_tool or convention == "poe") else np.eye(4)
+    M = random_pose(rng) if convention == "poe" else None
+    tool = random_pose(rng) if base_tool else np.eye(4)
     return Robot(name=f"random_{convention}", convention=convention, joints=tuple(joints),
-                 base=base, tool=tool)
+                 base=base, tool=tool, M=M)

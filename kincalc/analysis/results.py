@@ -137,7 +137,7 @@ class FKResult:
                 for i, j in enumerate(self.robot.joints)
             ]
             out["base"] = u.pose(self.robot.base)
-            out["tool"] = u.pose(self.robot.tool)
+            out["tool"] = u.pose(self.robot.written_tool)
         return out
 
 

@@ -98,7 +98,7 @@ def _details(rob, u) -> dict:
         joints.append(entry)
     return {"source": rob.source, "notes": rob.notes, "file_units":
             {"length": rob.length_unit, "angle": rob.angle_unit},
-            "joints": joints, "base": u.pose(rob.base), "tool": u.pose(rob.tool),
+            "joints": joints, "base": u.pose(rob.base), "tool": u.pose(rob.written_tool),
             "home": u.joints(rob, rob.home),
             "path": rob.path, "characteristic_length": float(rob.characteristic_length * u.l)}
 

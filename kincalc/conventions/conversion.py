@@ -130,4 +130,5 @@ def to_poe(robot: Robot) -> Robot:
               point=tuple(frames[i, :3, 3]), limits=j.limits)
         for i, j in enumerate(robot.joints))
     M = inv_base @ robot.fk(q0)
-    return dataclasses.replace(robot, convention="poe", joints=joints, tool=M, expressions=())
+    return dataclasses.replace(robot, convention="poe", joints=joints, tool=np.eye(4), M=M,
+                               expressions=())

@@ -107,7 +107,7 @@ def _text(robot, numeric) -> str:
         if j.limits is not None:
             fields.append(f"limits: {_vector(np.asarray(j.limits) / scale)}")
         out.append("  - {" + ", ".join(fields) + "}")
-    base, tool = _pose(robot.base, L, A), _pose(robot.tool, L, A)
+    base, tool = _pose(robot.base, L, A), _pose(robot.written_tool, L, A)
     if base is not None:
         out.append(f"base: {base}")
     if tool is not None or robot.convention == "poe":

@@ -15,7 +15,10 @@ answer with its reasons (:mod:`~kincalc.ik.reasons`). General 6R
 :mod:`~kincalc.ik.refine`), the Newton polish (:mod:`~kincalc.ik.newton`), the numerical
 solver (:mod:`~kincalc.ik.numeric`) and the nearest reachable point
 (:mod:`~kincalc.ik.nearest`) live here too. It may use the subproblems, fk and jacobian,
-the model, spatial and the base layer; nothing above it, and no CLI words.
+the chain, spatial and the base layer; nothing above it, and no CLI words. A robot
+reaches it as an object with a ``chain``, ``joints`` (names, types, limits), ``limits``,
+``is_revolute``, ``characteristic_length`` and ``fk``: :class:`kincalc.model.Robot`,
+which sits above the engine so that ``robot.ik(T)`` is a downward call.
 """
 
 from .solve import IKResult, IKSolution, Target, solve

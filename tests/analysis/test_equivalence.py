@@ -52,7 +52,7 @@ def moved(robot, signs, offsets, name="candidate"):
             E = transform(None, -s * c * axis)
         H = H @ E
     cand = Robot(name=name, convention="poe", joints=tuple(joints), base=robot.base,
-                 tool=H @ poe.tool)
+                 M=H @ poe.M)
     q = _random_q(robot, np.random.default_rng(99), 20)
     assert np.allclose(cand.fk(q * signs + offsets), robot.fk(q), atol=1e-9), \
         "the test's own construction is wrong"

@@ -123,7 +123,15 @@ def test_general_base_and_tool_are_written_exactly():
         r = random_robot(rng, convention, n=4)
         back = parse_robot_text(dump_robot(r))
         assert np.allclose(back.base, r.base, atol=1e-12)
-        assert np.allclose(back.tool, r.tool, atol=1e-12)
+        # a poe file's tool is M · tool (the tool at q = 0): read back as M, tool = I
+        assert np.allclose(back.written_tool, r.written_tool, atol=1e-12)
+        if convention == "poe":
+            assert np.allclose(back.M, r.M @ r.tool, atol=1e-12)
+            assert np.allclose(back.tool, np.eye(4))
+        else:
+            assert back.M is None and np.allclose(back.tool, r.tool, atol=1e-12)
+        q = rng.uniform(-3, 3, (50, r.dof))
+        assert np.allclose(back.fk(q), r.fk(q), atol=1e-12)
         assert match(r, back).same
 
 

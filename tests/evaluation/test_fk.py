@@ -172,7 +172,7 @@ def test_chain_equals_product_of_link_transforms(convention):
             T = T @ A[:, i]
         if convention != "poe":
             T = T @ r.tool
-        else:  # poe link frames end on the last axis; the tool is M relative to q = 0
+        else:  # poe link frames end on the last axis; the flange is M at q = 0
             T = _poe_by_exponentials(r, q)
         assert np.allclose(T, r.fk(q), atol=1e-12)
 
@@ -194,7 +194,7 @@ def _poe_by_exponentials(r, q):
             else:
                 E[:3, 3] = w * x
             T = T @ E
-        out.append(T @ r.tool)
+        out.append(T @ r.M @ r.tool)        # the flange at M, the tool on it
     return np.array(out)
 
 

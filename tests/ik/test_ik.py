@@ -350,7 +350,7 @@ def test_reversed_ur_arm_and_batch():
     R = Screws.of(ur).reversed()
     joints = tuple(Joint(f"j{i + 1}", "revolute", axis=tuple(R.axis[i]), point=tuple(R.point[i]),
                          limits=(-2 * np.pi, 2 * np.pi)) for i in range(6))
-    r = Robot("ur5_reversed", "poe", joints, tool=R.M)
+    r = Robot("ur5_reversed", "poe", joints, M=R.M)
     fam, _ = classify(r, Screws.of(r))
     assert fam.name == "reversed-three-parallel"
     Q = sample_configurations(r, 50, np.random.default_rng(4))

@@ -348,7 +348,7 @@ def reversed_robot(r):
                          axis=tuple(R.axis[i]), point=tuple(R.point[i]),
                          limits=(-2 * np.pi, 2 * np.pi) if R.revolute[i] else (-2.0, 2.0))
                    for i in range(6))
-    return Robot(f"{r.name}_reversed", "poe", joints, tool=R.M)
+    return Robot(f"{r.name}_reversed", "poe", joints, M=R.M)
 
 
 @pytest.mark.parametrize("name", ["puma560", "kuka_kr16", "stanford_arm"])

@@ -331,7 +331,7 @@ def flipped_ur5(flip):
     sg[list(flip)] = -1
     joints = tuple(Joint(f"j{i + 1}", "revolute", axis=tuple(sg[i] * S.axis[i]),
                          point=tuple(S.point[i]), limits=(-2 * np.pi, 2 * np.pi)) for i in range(6))
-    return Robot("ur5_flipped", "poe", joints, tool=S.M)
+    return Robot("ur5_flipped", "poe", joints, M=S.M)
 
 
 @pytest.mark.parametrize("flip", [(2,), (3,), (1,), (1, 5)])
@@ -364,7 +364,7 @@ def test_reversed_ur_arm_at_its_wrist_singularity():
     R = Screws.of(load_robot("ur5")).reversed()
     joints = tuple(Joint(f"j{i + 1}", "revolute", axis=tuple(R.axis[i]), point=tuple(R.point[i]),
                          limits=(-2 * np.pi, 2 * np.pi)) for i in range(6))
-    r = Robot("ur5_reversed", "poe", joints, tool=R.M)
+    r = Robot("ur5_reversed", "poe", joints, M=R.M)
     assert classify(r, Screws.of(r))[0].name == "reversed-three-parallel"
     rng = np.random.default_rng(8)
     for k in range(20):

@@ -35,7 +35,7 @@ def symbolic_fk(robot, numeric_lengths: bool = False, length_unit: str | None = 
     links = tuple(b.link(i) for i in range(robot.dof))
     T = b.product(b.segments())
     base = None if _is_identity(robot.base) else b.pose(robot.base)
-    tool = None if _is_identity(robot.tool) else b.pose(robot.tool)
+    tool = None if _is_identity(robot.written_tool) else b.pose(robot.written_tool)
     mats = b.finish([*links, base, tool, T])
     return SymbolicFK(robot=robot, links=tuple(mats[:-3]), base=mats[-3], tool=mats[-2],
                       T=mats[-1], notation=b.notation(), length_unit=b.unit,
@@ -265,7 +265,7 @@ class _Builder:
             segs.append(before)
             self.split.append((len(segs), ez, o))
             segs.append(motion * after)
-        segs.append(self.pose(robot.tool))
+        segs.append(self.pose(robot.written_tool))
         return segs
 
     def link(self, i: int):

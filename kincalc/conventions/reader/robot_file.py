@@ -119,6 +119,8 @@ class RobotReader(Reader):
         if convention == "poe" and "tool" not in top:
             self.fail(root, "'tool' is missing: a poe robot needs the tool pose at q = 0 (M)")
         tool = self.pose(top["tool"], "'tool'") if "tool" in top else np.eye(4)
+        # a poe file's tool is M, the flange (= tool) pose at q = 0
+        tool, M = (np.eye(4), tool) if convention == "poe" else (tool, None)
 
         home = self.home_values(top["home"], joints) if "home" in top else None
 
@@ -126,7 +128,7 @@ class RobotReader(Reader):
             return self.text(top[key], f"'{key}'").strip() if key in top else ""
 
         return Robot(
-            name=name, convention=convention, joints=tuple(joints), base=base, tool=tool,
+            name=name, convention=convention, joints=tuple(joints), base=base, tool=tool, M=M,
             home=home, title=opt_text("title"), source=opt_text("source"),
             notes=opt_text("notes"), length_unit=length_unit, angle_unit=angle_unit,
             parameters=tuple(self.params.items()),

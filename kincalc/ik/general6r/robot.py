@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...model import Chain
+from ...chain import Chain
 from ...spatial import invert_transform, wrap
 from ..cache import per_robot
 from .common import PERTURB
