@@ -38,11 +38,25 @@ ALIGNED_TOL = 1e-10
 
 
 def cone_constants(h, p, k) -> tuple:
-    """What depends on ``h, p, k`` alone: the coefficients ``A cos t + B sin t + C`` of
-    ``h . R(k, t) p``, ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0), the cone's reach
-    ``top`` and ``bottom`` of the lines ``+-h`` (module docstring), and ``r = 0``. A solver
-    whose ``h, p, k`` are a robot's fixed axes computes these once and passes them to
-    :func:`cone` as ``fixed``."""
+    """What :func:`cone` needs of ``h, p, k`` alone.
+
+    A solver whose ``h, p, k`` are a robot's fixed axes computes these once and passes
+    them to :func:`cone` as ``fixed``.
+
+    Parameters
+    ----------
+    h, p, k : ndarray (..., 3)
+        Unit vectors in one frame, as in :func:`cone` (numpy arrays: they are indexed,
+        not converted); the leading shapes broadcast.
+
+    Returns
+    -------
+    tuple of ndarray (...)
+        ``(A, B, C, rr, top, bottom, degenerate)``: the coefficients ``A cos t + B sin t
+        + C`` of ``h . R(k, t) p``; ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0); the
+        cone's reach ``top`` and ``bottom`` of the lines ``+-h`` (module docstring); and
+        ``degenerate`` (bool), ``r <= 1e-12`` ("``r = 0``").
+    """
     beta = np.arctan2(norm(cross(k, h)), dot(k, h))
     gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
     kxp = cross(k, p)
@@ -61,16 +75,33 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     Parameters
     ----------
     h, p, k : array_like (..., 3)
-        Unit vectors: the fixed axis, the vector turned, the rotation axis.
+        Unit vectors: the fixed axis, the vector turned, the rotation axis, in one
+        frame; the leading shapes of all inputs broadcast.
     v : array_like (..., 3)
         Unit vector: where ``R(k, t) p`` must be, up to a rotation about ``h``.
+    aligned_tol : float
+        The sine of the angle between ``v`` and the line of ``h`` at most which the
+        wrist counts as singular (``free``), when the cone holds that line.
     fixed : tuple, optional
         :func:`cone_constants` of ``h, p, k``, when the caller has them.
 
     Returns
     -------
     Solutions
-        Two slots, ``b + delta`` and ``b - delta`` (the same value where ``free``).
+        Two slots, ``theta[0] (..., 2)`` in rad: ``b + delta`` and ``b - delta`` (the
+        same value where ``free``), in [-pi, pi] (plain ``arctan2``: ``-pi`` can occur);
+        where ``r = 0``, the answer of :func:`~kincalc.subproblems.sp4.from_abc`, in
+        (-pi, pi]. ``ok (..., 2)``: slot 0 always, slot 1 when there are two distinct
+        exact roots (not where the cones only touch, nor where ``free``).
+        ``exact (..., 2)`` False for the least-squares angle (the cones do not meet; in
+        slot 0). ``free (..., 2)``: the aligned (singular) case, with the value ``b`` or
+        ``b + pi``; where ``r = 0``, as subproblem 4.
+
+    Raises
+    ------
+    ValueError
+        When an input is not of shape ``(..., 3)`` or the leading shapes do not
+        broadcast.
     """
     h, p, k, v = as_vectors(h, p, k, v)
     A, B, C, rr, top, bottom, degenerate = cone_constants(h, p, k) if fixed is None else fixed

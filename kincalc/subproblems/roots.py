@@ -11,13 +11,30 @@ import numpy as np
 
 
 def polynomial_roots(coeffs) -> np.ndarray:
-    """Complex roots ``(..., d)`` of polynomials with coefficients ``(..., d + 1)``,
-    highest degree first (as ``numpy.roots``).
+    """Complex roots of a batch of polynomials of one degree ``d``.
 
     Every polynomial keeps its degree ``d``: a vanishing leading coefficient (below
     1e-13 of the largest) is replaced by that bound, which sends the roots of the
     missing degrees far away (callers keep roots in a band they trust), so that one
-    companion shape serves the whole batch."""
+    companion shape serves the whole batch.
+
+    Parameters
+    ----------
+    coeffs : array_like (..., d + 1)
+        Real or complex coefficients, highest degree first (as ``numpy.roots``).
+
+    Returns
+    -------
+    ndarray (..., d) of complex
+        The roots of each polynomial (eigenvalues of its companion matrix), in no
+        particular order; an all-zero polynomial gives ``d`` zero roots.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        When a coefficient is not finite (for the whole batch), or the eigenvalue
+        computation does not converge.
+    """
     coeffs = np.asarray(coeffs)
     d = coeffs.shape[-1] - 1
     # scaled to a largest coefficient of 1 first (the roots do not change): with

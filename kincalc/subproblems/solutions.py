@@ -26,7 +26,22 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Solutions:
-    """The solutions of one subproblem for a batch of problems (see the module)."""
+    """The solutions of one subproblem for a batch of problems (see the module).
+
+    Attributes
+    ----------
+    theta : tuple of ndarray (..., k)
+        One array per unknown angle, rad, in (-pi, pi].
+    c, s : tuple of ndarray (..., k)
+        Cosines and sines of ``theta``, in the same order.
+    ok : ndarray (..., k) of bool
+        The slot holds an answer; slots that are not ``ok`` hold meaningless finite numbers.
+    exact : ndarray (..., k) of bool
+        The answer solves the equations; else it is the solver's least-squares answer.
+    free : ndarray (..., k) of bool
+        The problem is ill-posed there (an angle undetermined, a continuum of answers):
+        the slot shows one representative.
+    """
 
     theta: tuple
     c: tuple
@@ -37,25 +52,68 @@ class Solutions:
 
     @property
     def slots(self) -> int:
-        """The number ``k`` of solution slots per problem."""
+        """The number ``k`` of solution slots per problem.
+
+        Returns
+        -------
+        int
+            The length of the last axis of ``ok``.
+        """
         return self.ok.shape[-1]
 
     def rows(self, index=()) -> list:
-        """The answers of one problem (``index`` into the leading shape) as a list of
-        tuples of angles, for reading and testing: ``[(theta1, theta2, ...), ...]``."""
+        """The answers of one problem as a list of tuples of angles, for reading and testing.
+
+        Parameters
+        ----------
+        index : int or tuple
+            A full index into the leading shape ``...``, selecting one problem; the default
+            ``()`` only for an unbatched result (empty leading shape).
+
+        Returns
+        -------
+        list of tuple of float
+            ``[(theta1, theta2, ...), ...]`` (rad), one tuple per ``ok`` slot, in slot
+            order; exact, least-squares and free answers alike.
+        """
         ok = self.ok[index]
         return [tuple(float(t[index][j]) for t in self.theta) for j in np.flatnonzero(ok)]
 
 
 def principal(theta) -> np.ndarray:
-    """Angles from ``arctan2`` in (-pi, pi]: ``-pi`` (a sine of -0 or of -1e-17 with a
-    cosine of -1) becomes ``pi``."""
+    """Angles from ``arctan2`` in (-pi, pi]: ``-pi`` becomes ``pi``.
+
+    ``arctan2`` gives ``-pi`` for a sine of -0 or of -1e-17 with a cosine of -1.
+
+    Parameters
+    ----------
+    theta : array_like (...)
+        Angles in [-pi, pi] (rad).
+
+    Returns
+    -------
+    ndarray (...)
+        The same angles in (-pi, pi]; only values equal to ``-pi`` change.
+    """
     return np.where(theta == -np.pi, np.pi, theta)
 
 
 def angles(c, s) -> tuple:
-    """``(theta, c, s)`` tuples of one unknown from unnormalised cosine and sine parts
-    ``c, s (..., k)`` (a direction in the plane; the zero vector gives angle 0)."""
+    """The angle of one unknown with its cosine and sine, from an unnormalised direction.
+
+    Parameters
+    ----------
+    c, s : ndarray (..., k)
+        Unnormalised cosine and sine parts: a direction in the plane, of any length
+        (the shapes broadcast).
+
+    Returns
+    -------
+    theta : ndarray (..., k)
+        ``atan2(s, c)`` in rad, in (-pi, pi]; 0 where ``(c, s)`` is the zero vector.
+    c, s : ndarray (..., k)
+        The normalised cosine and sine of ``theta`` (1 and 0 for the zero vector).
+    """
     n = np.sqrt(c * c + s * s)
     zero = n == 0.0
     n = np.where(zero, 1.0, n)
@@ -65,9 +123,26 @@ def angles(c, s) -> tuple:
 
 
 def pair(a, b) -> np.ndarray:
-    """``np.stack([a, b], -1)`` for two arrays that broadcast together: the two slots of a
-    subproblem's roots (written into one new array; ``np.stack`` costs several times as
-    much on the small batches of a single pose)."""
+    """``np.stack([a, b], -1)`` for two arrays that broadcast together.
+
+    The two slots of a subproblem's roots, written into one new array (``np.stack`` costs
+    several times as much on the small batches of a single pose).
+
+    Parameters
+    ----------
+    a, b : array_like (...)
+        The values of slot 0 and slot 1; their shapes broadcast together.
+
+    Returns
+    -------
+    ndarray (..., 2)
+        ``a`` in ``[..., 0]``, ``b`` in ``[..., 1]``, of the dtype ``result_type(a, b)``.
+
+    Raises
+    ------
+    ValueError
+        When the shapes of ``a`` and ``b`` do not broadcast.
+    """
     out = np.empty(np.broadcast(a, b).shape + (2,), np.result_type(a, b))
     out[..., 0] = a
     out[..., 1] = b
@@ -75,14 +150,49 @@ def pair(a, b) -> np.ndarray:
 
 
 def dot(a, b) -> np.ndarray:
-    """``a . b`` over the last axis of ``(..., 3)`` arrays (broadcasting), by components
-    (``(a * b).sum(-1)`` is six times slower on large batches)."""
+    """The dot product ``a . b`` over the last axis, by components.
+
+    ``(a * b).sum(-1)`` is six times slower on large batches.
+
+    Parameters
+    ----------
+    a, b : ndarray (..., 3)
+        Vectors in one frame (numpy arrays: they are indexed, not converted); the leading
+        shapes broadcast.
+
+    Returns
+    -------
+    ndarray (...)
+        ``a . b``, in the product of their units.
+
+    Raises
+    ------
+    ValueError
+        When the leading shapes do not broadcast.
+    """
     return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
 def cross(a, b) -> np.ndarray:
-    """``a x b`` for ``(..., 3)`` arrays (broadcasting), written into one new array
-    (stacking the components costs four times as much)."""
+    """The cross product ``a x b``, written into one new array.
+
+    Stacking the components costs four times as much.
+
+    Parameters
+    ----------
+    a, b : array_like (..., 3)
+        Vectors in one frame; the leading shapes broadcast.
+
+    Returns
+    -------
+    ndarray (..., 3)
+        ``a x b`` (float), in the same frame.
+
+    Raises
+    ------
+    ValueError
+        When the shapes do not broadcast.
+    """
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
@@ -98,13 +208,43 @@ def cross(a, b) -> np.ndarray:
 
 
 def norm(a) -> np.ndarray:
+    """The Euclidean length ``|a|`` over the last axis.
+
+    Parameters
+    ----------
+    a : ndarray (..., 3)
+        Vectors (a numpy array: it is indexed, not converted).
+
+    Returns
+    -------
+    ndarray (...)
+        ``sqrt(a . a)``, in the unit of ``a``.
+    """
     return np.sqrt(dot(a, a))
 
 
 def as_vectors(*vs):
     """The inputs as float arrays ``(..., 3)`` whose leading shapes broadcast together.
+
     They are not broadcast here: a fixed axis ``(3,)`` given with a batch of points
-    stays one vector, so that what depends on it alone is computed once."""
+    stays one vector, so that what depends on it alone is computed once.
+
+    Parameters
+    ----------
+    *vs : array_like (..., 3)
+        Vectors of one subproblem call.
+
+    Returns
+    -------
+    list of ndarray (..., 3)
+        The inputs as float arrays, each with its own leading shape, in input order.
+
+    Raises
+    ------
+    ValueError
+        When an input's last axis is not of length 3, or the leading shapes do not
+        broadcast together.
+    """
     arrays = [np.asarray(v, dtype=float) for v in vs]
     for a in arrays:
         if a.shape[-1:] != (3,):

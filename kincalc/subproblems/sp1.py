@@ -20,22 +20,33 @@ from .solutions import Solutions, angles, as_vectors, norm
 
 
 def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
-    """Solve subproblem 1 for every problem of a batch.
+    """Solve subproblem 1, ``R(k, theta) p1 = p2``, for every problem of a batch.
 
     Parameters
     ----------
     p1, p2 : array_like (..., 3)
-        The point to rotate and its target, as vectors from a point of the axis.
+        The point to rotate and its target, as vectors from a point of the axis, in one
+        frame and one length unit; the leading shapes of all inputs broadcast.
     k : array_like (..., 3)
-        Unit rotation axis.
+        Unit rotation axis, in the same frame.
     tol : float
         Relative tolerance (of ``max(|p1|, |p2|)``) of "same height and distance" and
-        "on the axis".
+        "on the axis". With ``tol <= 0`` there is no threshold: ``free`` only where a
+        part across the axis is exactly 0, and ``exact`` is True everywhere.
 
     Returns
     -------
     Solutions
-        One slot: ``theta[0] (..., 1)``.
+        One slot: ``theta[0] (..., 1)`` in rad, in (-pi, pi]; ``ok (..., 1)`` always
+        True; ``exact (..., 1)``: the heights along ``k`` and the distances from it
+        agree, else ``theta`` is the least-squares angle minimising ``|R p1 - p2|``;
+        ``free (..., 1)``: ``p1`` or ``p2`` on the axis, ``theta = 0``.
+
+    Raises
+    ------
+    ValueError
+        When an input is not of shape ``(..., 3)`` or the leading shapes do not
+        broadcast.
     """
     p1, p2, k = as_vectors(p1, p2, k)
     # by components: no (..., 3) temporaries broadcast against (..., 1) factors

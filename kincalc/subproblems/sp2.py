@@ -29,19 +29,35 @@ from .sp4 import sp4
 
 
 def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
-    """Solve subproblem 2 for every problem of a batch.
+    """Solve subproblem 2, ``R(k1, theta1) R(k2, theta2) p1 = p2``, for every problem of a batch.
 
     Parameters
     ----------
     p1, p2 : array_like (..., 3)
-        The point and its target, as vectors from the axes' common point.
+        The point and its target, as vectors from the axes' common point, in one frame
+        and one length unit (only their directions enter the angles); the leading shapes
+        of all inputs broadcast.
     k1, k2 : array_like (..., 3)
-        Unit rotation axes (``k1`` applied last).
+        Unit rotation axes in the same frame (``k1`` applied last).
+    tol : float
+        Relative tolerance (of ``max(|p1|, |p2|)``) of ``|p1| = |p2|``, and subproblem
+        1's tolerance for ``theta1``; subproblem 4 (``theta2``) uses its own default.
 
     Returns
     -------
     Solutions
-        Two slots; ``theta = (theta1 (..., 2), theta2 (..., 2))``.
+        Two slots; ``theta = (theta1 (..., 2), theta2 (..., 2))`` in rad, in (-pi, pi].
+        ``ok (..., 2)``: slot 0 always, slot 1 when there are two distinct solutions.
+        ``exact (..., 2)``: the pair solves the equation, else it is the least-squares
+        pair (``|p1| != |p2|``, or the cone of ``k2`` does not reach the height of
+        ``p2``). ``free (..., 2)``: ``theta2`` or ``theta1`` undetermined (the
+        undetermined angle shows 0).
+
+    Raises
+    ------
+    ValueError
+        When an input is not of shape ``(..., 3)`` or the leading shapes do not
+        broadcast.
     """
     p1, p2, k1, k2 = as_vectors(p1, p2, k1, k2)
     n1, n2 = norm(p1), norm(p2)

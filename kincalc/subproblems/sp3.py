@@ -17,27 +17,43 @@ from .sp4 import sp4
 
 
 def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
-    """Solve subproblem 3 for every problem of a batch.
+    """Solve subproblem 3, ``|R(k, theta) p1 - p2| = d``, for every problem of a batch.
 
     Parameters
     ----------
     p1, p2 : array_like (..., 3)
-        The point to rotate and the centre of the sphere, from a point of the axis.
+        The point to rotate and the centre of the sphere, from a point of the axis, in
+        one frame and one length unit; the leading shapes of all inputs broadcast.
     k : array_like (..., 3)
-        Unit rotation axis.
+        Unit rotation axis, in the same frame.
     d : array_like (...)
         The distance to reach (same length unit; broadcast against the vectors'
         leading shape).
+    tol : float
+        Subproblem 4's relative tolerance (of the scale below): of "the circle's
+        distance from ``p2`` is constant" and of how far beyond the tangent a problem
+        still counts as solved.
     scale : array_like (...), optional
         The size of the squared lengths the inputs were computed from (default: their
         own, ``(|p1|^2 + |p2|^2 + d^2) / 2``): a caller whose ``d`` comes from larger
         quantities (a target far from the origin) passes their size, so that a tangent
-        within their rounding counts as one.
+        within their rounding counts as one. The unit of the tolerances is the larger
+        of the two.
 
     Returns
     -------
     Solutions
-        Two slots, as :func:`~kincalc.subproblems.sp4.sp4`.
+        Two slots, as :func:`~kincalc.subproblems.sp4.sp4`: ``theta[0] (..., 2)`` in
+        rad, in (-pi, pi]; ``ok (..., 2)``: slot 0 always, slot 1 when there are two
+        distinct solutions; ``exact (..., 2)`` False for the least-squares angle (the
+        nearest or farthest point of the circle, in slot 0 only); ``free (..., 2)``:
+        ``p1`` or ``p2`` on the axis (``theta = 0``; ``exact`` when the constant
+        distance is ``d``).
+
+    Raises
+    ------
+    ValueError
+        When a vector is not of shape ``(..., 3)`` or the shapes do not broadcast.
     """
     p1, p2, k = as_vectors(p1, p2, k)
     d = np.asarray(d, float)

@@ -34,7 +34,7 @@ ROUNDING = 64 * np.finfo(float).eps
 
 
 def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
-    """Solve subproblem 4 for every problem of a batch.
+    """Solve subproblem 4, ``h . R(k, theta) p = d``, for every problem of a batch.
 
     Parameters
     ----------
@@ -43,7 +43,8 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
     p : array_like (..., 3)
         The vector rotated (from a point of the axis).
     k : array_like (..., 3)
-        Unit rotation axis.
+        Unit rotation axis. ``h``, ``p``, ``k`` in one frame; their leading shapes
+        broadcast.
     d : array_like (...)
         The component to reach, in the unit of ``h . p`` (broadcast against the
         vectors' leading shape: one geometry may take many ``d``).
@@ -58,7 +59,16 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
     Returns
     -------
     Solutions
-        Two slots, ``theta[0] (..., 2)``: ``base + delta`` and ``base - delta``.
+        Two slots, as :func:`from_abc`: ``theta[0] (..., 2)`` in rad, in (-pi, pi],
+        ``base + delta`` and ``base - delta``. ``ok (..., 2)``: slot 0 always, slot 1
+        when there are two distinct exact roots. ``exact (..., 2)`` False for the
+        least-squares angle (in slot 0). ``free (..., 2)``: ``r = 0``, ``theta = 0``
+        (``exact`` where every angle solves it, else no angle does).
+
+    Raises
+    ------
+    ValueError
+        When a vector is not of shape ``(..., 3)`` or the shapes do not broadcast.
     """
     h, p, k = as_vectors(h, p, k)
     d = np.asarray(d, float)      # broadcast with the vectors' leading shape by from_abc
@@ -72,11 +82,38 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
 
 
 def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
-    """Subproblem 4 in its coefficients: ``A cos(theta) + B sin(theta) + C = d`` for
-    arrays ``(...)`` (broadcasting); ``scale`` the size of the terms, for tolerances.
+    """Subproblem 4 in its coefficients: ``A cos(theta) + B sin(theta) + C = d``.
 
     For solvers that have the coefficients from constants of the robot (a height along
-    an axis, a law of cosines) rather than the vectors ``h``, ``p``, ``k``."""
+    an axis, a law of cosines) rather than the vectors ``h``, ``p``, ``k``.
+
+    Parameters
+    ----------
+    A, B, C, d : array_like (...)
+        Coefficients and right-hand side, in one unit (the shapes broadcast).
+    scale : array_like (...)
+        The size of the terms, the unit of the tolerances (floored at 1e-300).
+    tol : float
+        Relative tolerance (of ``scale``) of "``r = hypot(A, B)`` is zero" and of how
+        far beyond the tangent (``|d - C| <= r + tol * scale``) a problem still counts
+        as solved.
+
+    Returns
+    -------
+    Solutions
+        Two slots, ``theta[0] (..., 2)`` in rad, in (-pi, pi]: ``base + delta`` and
+        ``base - delta``, ``base = atan2(B, A)``. ``ok (..., 2)``: slot 0 always, slot 1
+        when there are two distinct exact roots (not at the tangent, within rounding).
+        ``exact (..., 2)``: ``|d - C| <= r`` within the tolerance, else slot 0 holds the
+        least-squares angle (``base``, or ``base + pi`` when ``d < C``). ``free (..., 2)``:
+        ``r`` is zero; ``theta = 0``, ``exact`` where ``|d - C| <= 1e-9 * scale`` (every
+        angle solves it), else no angle does.
+
+    Raises
+    ------
+    ValueError
+        When the shapes do not broadcast.
+    """
     A, B, C, d = (np.asarray(v, float) for v in (A, B, C, d))
     scale = np.maximum(scale, 1e-300)
     r = np.sqrt(A * A + B * B)

@@ -39,19 +39,36 @@ AXIS_TOL = 1e-6
 
 
 def sp5(p0, p1, p2, p3, k1, k2, k3, *, tol: float = GEOMETRY_TOL) -> Solutions:
-    """Solve subproblem 5 for every problem of a batch.
+    """Solve subproblem 5, ``p0 + R1 p1 = R2 (p2 + R3 p3)``, for every problem of a batch.
 
     Parameters
     ----------
     p0, p1, p2, p3 : array_like (..., 3)
-        Vectors of the loop ``p0 + R1 p1 = R2 (p2 + R3 p3)``, in one length unit.
+        Vectors of the loop ``p0 + R1 p1 = R2 (p2 + R3 p3)``, in one frame and one length
+        unit; the leading shapes of all inputs broadcast.
     k1, k2, k3 : array_like (..., 3)
-        Unit rotation axes through the origin.
+        Unit rotation axes through the origin, in the same frame.
+    tol : float
+        Tolerance of the two-ellipse solver (relative to ``L``, the largest of
+        ``|p0|..|p3|``), of subproblem 1 for ``theta2``, and of "a circle is a point"
+        (radius at most ``tol * L``).
 
     Returns
     -------
     Solutions
-        Four slots; ``theta = (theta1, theta2, theta3)``, each ``(..., 4)``.
+        Four slots; ``theta = (theta1, theta2, theta3)``, each ``(..., 4)``, in rad, in
+        (-pi, pi] (0 where not ``ok``). ``ok (..., 4)``: the slot holds a solution whose
+        loop closes to ``AXIS_TOL * L`` (``ok`` slots need not come first; all zero
+        vectors give one free slot, 0). ``exact`` is ``ok`` (no least-squares answer).
+        ``free (..., 4)``: an ``ok`` slot where the problem is ill-posed (module
+        docstring), its undetermined angles showing one representative; every slot when
+        an ill-posed problem has no ``ok`` slot.
+
+    Raises
+    ------
+    ValueError
+        When an input is not of shape ``(..., 3)`` or the leading shapes do not
+        broadcast.
     """
     p0, p1, p2, p3, k1, k2, k3 = np.broadcast_arrays(*as_vectors(p0, p1, p2, p3, k1, k2, k3))
     L = np.maximum(np.maximum(norm(p0), norm(p1)), np.maximum(norm(p2), norm(p3)))

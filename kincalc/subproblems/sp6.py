@@ -31,22 +31,36 @@ from .solutions import Solutions, cross, dot, norm
 
 
 def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL) -> Solutions:
-    """Solve subproblem 6 for every problem of a batch.
+    """Solve subproblem 6, two sums of rotated components, for every problem of a batch.
 
     Parameters
     ----------
     h, k, p : array_like (..., 4, 3)
         Rows ``h1..h4`` (directions, any length), ``k1..k4`` (unit axes; ``k1``, ``k3``
         turn by ``theta1``, ``k2``, ``k4`` by ``theta2``) and ``p1..p4`` (vectors from a
-        point of the axis).
+        point of the axis), all in one frame; the shapes broadcast.
     d1, d2 : array_like (...)
         Right-hand sides, in the unit of ``h . p`` (broadcast against the vectors'
         leading shape: one geometry may take many right sides).
+    tol : float
+        Tolerance of :func:`~kincalc.subproblems.unit_pair.solve`, relative to the
+        largest ``|h_i| |p_i|`` for a vanishing equation.
 
     Returns
     -------
     Solutions
-        Four slots; ``theta = (theta1 (..., 4), theta2 (..., 4))``.
+        Four slots, as :func:`~kincalc.subproblems.unit_pair.solve`:
+        ``theta = (theta1 (..., 4), theta2 (..., 4))`` in rad, in (-pi, pi] (0 where not
+        ``ok``); ``ok (..., 4)`` the slots holding a solution (not necessarily the first
+        ones); ``exact`` is ``ok`` (no least-squares answer); ``free (..., 4)``, the same
+        in every slot, the problem is ill-posed (one point of a curve, or none, is
+        returned).
+
+    Raises
+    ------
+    ValueError
+        When ``h``, ``k``, ``p``, or ``d1``, ``d2`` and the leading shape, do not
+        broadcast.
     """
     h, k, p = np.broadcast_arrays(*(np.asarray(v, float) for v in (h, k, p)))
     kp = dot(k, p)

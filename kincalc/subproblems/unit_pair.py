@@ -59,12 +59,27 @@ def solve(M, b, scale, *, tol: float = GEOMETRY_TOL) -> Solutions:
     scale : array_like (...)
         Size of a typical coefficient: a row whose norm is below ``tol * scale`` is
         taken as identically zero.
+    tol : float
+        Relative tolerance of a vanishing row (of ``scale``) and of parallel rows (of
+        the larger singular value of the row-normalised ``M``); also the tolerance of
+        "``|u1| = 1`` on the whole circle".
 
     Returns
     -------
     Solutions
-        Four slots; ``theta = (t1 (..., 4), t2 (..., 4))`` in (-pi, pi]; ``exact`` is
-        ``ok`` (no least-squares answer is given).
+        Four slots; ``theta = (t1 (..., 4), t2 (..., 4))`` in rad, in (-pi, pi] (0
+        where not ``ok``). ``ok (..., 4)``: the slot holds a solution satisfying the
+        row-normalised equations to ``RESIDUAL_TOL`` (duplicates dropped; ``ok`` slots
+        need not come first). ``exact`` is ``ok`` (no least-squares answer is given).
+        ``free (..., 4)``, the same in every slot: the problem is ill-posed (a vanishing
+        equation, parallel rows, a curve of solutions); one point of a curve is returned,
+        or no slot is ``ok``.
+
+    Raises
+    ------
+    ValueError
+        When ``M`` is not ``(..., 2, 4)``, ``b`` not ``(..., 2)``, or the leading shapes
+        do not broadcast.
     """
     M = np.asarray(M, float)
     b = np.asarray(b, float)
