@@ -20,10 +20,14 @@ import numpy as np
 class Chain:
     """``T(q) = F_0 J_1(q_1 + c_1) F_1 ... J_n(q_n + c_n) F_n``.
 
+    ``T(q)`` is ``T_world_tool`` for joint values ``q (n,)`` (rad for revolute, m for
+    prismatic joints).
+
     Attributes
     ----------
     fixed : ndarray (n + 1, 4, 4)
-        The constant transforms ``F_i``, base folded into ``F_0``, tool into ``F_n``.
+        The constant transforms ``F_i`` (lengths in m), base folded into ``F_0``, tool into
+        ``F_n``.
     revolute : ndarray (n,) of bool
         ``J_i`` is ``Rz`` (True) or ``Tz`` (False).
     offset : ndarray (n,)
@@ -36,19 +40,23 @@ class Chain:
 
     @property
     def dof(self) -> int:
+        """Number of joints ``n`` (int), the length of :attr:`revolute`."""
         return len(self.revolute)
 
     @cached_property
     def offset_cos_sin(self) -> tuple:
-        """``(cos c_i, sin c_i)``, each ``(n,)``: the offsets' turn, for revolute joint
-        angles given by their cosines and sines (unused for prismatic joints)."""
+        """``(cos c_i, sin c_i)``, each ``(n,)`` (unitless): the offsets' turn, for revolute joint
+        angles given by their cosines and sines (unused for prismatic joints). Computed once per
+        chain and cached.
+        """
         return np.cos(self.offset), np.sin(self.offset)
 
     @cached_property
     def motion_basis(self) -> np.ndarray:
-        """``(n, 4, 16)``: joint i's motion ``J_i(x)`` (4x4, flattened) is
-        ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint,
-        ``Tz(x)`` for a prismatic one (x = q_i + c_i, rad or m)."""
+        """``(n, 4, 16)``, read-only: joint i's motion ``J_i(x)`` (4x4, flattened) is
+        ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint, ``Tz(x)``
+        for a prismatic one (x = q_i + c_i, rad or m). Computed once per chain and cached.
+        """
         rz = np.zeros((4, 4, 4))
         rz[0, 0, 0] = rz[0, 1, 1] = 1.0                     # cos x
         rz[1, 1, 0], rz[1, 0, 1] = 1.0, -1.0                # sin x

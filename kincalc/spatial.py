@@ -47,9 +47,24 @@ TURN = 2 * math.pi
 
 
 def wrap(x) -> np.ndarray:
-    """Angles ``x (...)`` (rad) wrapped into (-pi, pi], by rounding the number of turns
-    (a floating remainder is several times slower on large batches). The one angle
-    wrap of kincalc: subproblems, the IK engine and its post-processing all use it."""
+    """Wrap angles into (-pi, pi].
+
+    Rounds the number of turns (a floating remainder is several times slower on large
+    batches). The one angle wrap of kincalc: subproblems, the IK engine and its
+    post-processing all use it.
+
+    Parameters
+    ----------
+    x : array_like (...)
+        Angles (rad), any range.
+
+    Returns
+    -------
+    ndarray (...)
+        ``x`` minus a whole number of turns (rad), in (-pi, pi]; a half turn gives +pi. A
+        float near an odd multiple of pi, far from 0, can come back above pi by the rounding
+        of ``x`` (~|x| 1e-16): the upper end is not clamped. Non-finite ``x`` gives nan.
+    """
     x = np.asarray(x, float)
     y = x - TURN * np.rint(x / TURN)
     return np.where(y <= -math.pi, y + TURN, y)
@@ -70,25 +85,75 @@ def _elementary(angle, i: int, j: int) -> np.ndarray:
 
 
 def rot_x(angle) -> np.ndarray:
-    """Rotation about x by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    """Rotation matrix ``Rx(angle)`` about the x axis.
+
+    Parameters
+    ----------
+    angle : array_like (...)
+        Rotation angle (rad), right-handed about +x.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``[[1, 0, 0], [0, c, -s], [0, s, c]]``: ``R_a_b`` of a frame b turned by ``angle``
+        about the x axis of frame a.
+    """
     return _elementary(angle, 1, 2)
 
 
 def rot_y(angle) -> np.ndarray:
-    """Rotation about y by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    """Rotation matrix ``Ry(angle)`` about the y axis.
+
+    Parameters
+    ----------
+    angle : array_like (...)
+        Rotation angle (rad), right-handed about +y.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``[[c, 0, s], [0, 1, 0], [-s, 0, c]]``: ``R_a_b`` of a frame b turned by ``angle``
+        about the y axis of frame a.
+    """
     return _elementary(angle, 2, 0)
 
 
 def rot_z(angle) -> np.ndarray:
-    """Rotation about z by ``angle`` (rad). Shape ``(...,)`` -> ``(..., 3, 3)``."""
+    """Rotation matrix ``Rz(angle)`` about the z axis.
+
+    Parameters
+    ----------
+    angle : array_like (...)
+        Rotation angle (rad), right-handed about +z.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``[[c, -s, 0], [s, c, 0], [0, 0, 1]]``: ``R_a_b`` of a frame b turned by ``angle``
+        about the z axis of frame a.
+    """
     return _elementary(angle, 0, 1)
 
 
 def transform(rotation=None, translation=None) -> np.ndarray:
-    """Homogeneous transform from ``rotation (..., 3, 3)`` and ``translation (..., 3)``.
+    """Homogeneous transform ``T_a_b = [[R_a_b, p], [0, 1]]`` from a rotation and a translation.
 
-    Either may be omitted (identity rotation, zero translation). Leading
-    dimensions broadcast.
+    Parameters
+    ----------
+    rotation : array_like (..., 3, 3), optional
+        ``R_a_b``, not checked to be a rotation. Omitted: the identity.
+    translation : array_like (..., 3), optional
+        ``p``, the origin of frame b in frame a (m). Omitted: zero.
+
+    Returns
+    -------
+    ndarray (..., 4, 4)
+        ``T_a_b``; the leading dimensions of the two inputs broadcast.
+
+    Raises
+    ------
+    ValueError
+        If the leading dimensions of ``rotation`` and ``translation`` do not broadcast.
     """
     R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=float)
     p = np.zeros(3) if translation is None else np.asarray(translation, dtype=float)
@@ -101,15 +166,42 @@ def transform(rotation=None, translation=None) -> np.ndarray:
 
 
 def invert_transform(T) -> np.ndarray:
-    """Inverse of rigid transforms ``T (..., 4, 4)``: ``T_b_a`` from ``T_a_b``."""
+    """Inverse of rigid transforms: ``T_b_a`` from ``T_a_b``.
+
+    Computed as ``[[R^T, -R^T p], [0, 1]]``: ``R`` is assumed orthonormal (not checked) and
+    the last row of ``T`` is not read.
+
+    Parameters
+    ----------
+    T : array_like (..., 4, 4)
+        ``T_a_b``, translation in m.
+
+    Returns
+    -------
+    ndarray (..., 4, 4)
+        ``T_b_a``, translation in m.
+    """
     T = np.asarray(T, dtype=float)
     Rt = np.swapaxes(T[..., :3, :3], -1, -2)
     return transform(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
 
 
 def cross(a, b) -> np.ndarray:
-    """``a x b`` for vectors ``(..., 3)``: numpy.cross without its per-call overhead
-    (it dominated the IK solvers' time on single 3-vectors)."""
+    """Cross product ``a x b`` of 3-vectors.
+
+    numpy.cross without its per-call overhead (it dominated the IK solvers' time on single
+    3-vectors).
+
+    Parameters
+    ----------
+    a, b : array_like (..., 3)
+        Vectors in one frame; leading dimensions broadcast.
+
+    Returns
+    -------
+    ndarray (..., 3)
+        ``a x b``, in the same frame (unit: the product of the inputs' units).
+    """
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
@@ -118,7 +210,18 @@ def cross(a, b) -> np.ndarray:
 
 
 def skew(v) -> np.ndarray:
-    """Skew-symmetric matrix ``[v]x`` of ``v (..., 3)``, so ``[v]x @ u = v x u``."""
+    """Skew-symmetric matrix ``[v]x`` of ``v``, so that ``[v]x @ u = v x u``.
+
+    Parameters
+    ----------
+    v : array_like (..., 3)
+        Vector (any unit).
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``[[0, -vz, vy], [vz, 0, -vx], [-vy, vx, 0]]``, in the unit of ``v``.
+    """
     v = np.asarray(v, dtype=float)
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1] = -v[..., 2]
@@ -133,7 +236,21 @@ def skew(v) -> np.ndarray:
 # --- Euler-type angle sets -------------------------------------------------
 
 def matrix_from_rpy(rpy) -> np.ndarray:
-    """``R = Rz(yaw) Ry(pitch) Rx(roll)`` from ``rpy (..., 3) = (roll, pitch, yaw)`` in rad."""
+    """Rotation matrix of fixed X-Y-Z angles: ``R = Rz(yaw) Ry(pitch) Rx(roll)``.
+
+    Craig, *Introduction to Robotics*, 3rd ed., sec. 2.8 ("X-Y-Z fixed angles").
+
+    Parameters
+    ----------
+    rpy : array_like (..., 3)
+        ``(roll, pitch, yaw)`` (rad), any range.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``R_a_b`` of frame b got from frame a by turning roll about x_a, then pitch about
+        y_a, then yaw about z_a.
+    """
     rpy = np.asarray(rpy, dtype=float)
     return rot_z(rpy[..., 2]) @ rot_y(rpy[..., 1]) @ rot_x(rpy[..., 0])
 
@@ -146,11 +263,32 @@ def _turn_angle(y, x):
 
 
 def rpy_from_matrix(R) -> np.ndarray:
-    """Fixed X-Y-Z angles ``(roll, pitch, yaw) (..., 3)`` in rad of ``R (..., 3, 3)``.
+    """Fixed X-Y-Z angles ``(roll, pitch, yaw)`` of rotation matrices.
 
-    Pitch lies in [-pi/2, pi/2]. At gimbal lock (|pitch| = pi/2, where only
-    ``yaw - roll`` or ``yaw + roll`` is defined) roll is set to 0 and the whole
-    rotation about the vertical goes into yaw.
+    The inverse of :func:`matrix_from_rpy` (Craig, 3rd ed., sec. 2.8), on the branch
+    ``cos(pitch) >= 0``.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        Rotation matrices (not checked to be orthonormal).
+
+    Returns
+    -------
+    ndarray (..., 3)
+        ``(roll, pitch, yaw)`` (rad) with ``R = Rz(yaw) Ry(pitch) Rx(roll)``. Pitch lies in
+        [-pi/2, pi/2]; roll and yaw in (-pi, pi]: a half turn whose sine entry is zero (of
+        either sign) gives +pi, but one whose sine entry is a rounding-level negative number
+        (as in ``rot_z(-pi)``) gives -pi.
+
+    Notes
+    -----
+    At gimbal lock (|pitch| = pi/2, where only ``yaw - roll`` or ``yaw + roll`` is
+    defined), detected as ``hypot(R[0, 0], R[1, 0]) < GIMBAL_TOL`` (1e-9,
+    :mod:`kincalc.tolerances`), pitch is set to exactly +-pi/2, roll is set to 0 and the
+    whole rotation about the vertical goes into yaw: ``yaw - roll`` at pitch = +pi/2,
+    ``yaw + roll`` at pitch = -pi/2. (Craig's degenerate solution instead sets the z angle,
+    yaw, to 0.)
     """
     R = np.asarray(R, dtype=float)
     cp = np.hypot(R[..., 0, 0], R[..., 1, 0])
@@ -166,16 +304,47 @@ def rpy_from_matrix(R) -> np.ndarray:
 
 
 def matrix_from_euler_zyz(zyz) -> np.ndarray:
-    """``R = Rz(a) Ry(b) Rz(c)`` from ``zyz (..., 3) = (a, b, c)`` in rad."""
+    """Rotation matrix of ZYZ Euler angles: ``R = Rz(a) Ry(b) Rz(c)``.
+
+    Craig, 3rd ed., sec. 2.8 ("Z-Y-Z Euler angles").
+
+    Parameters
+    ----------
+    zyz : array_like (..., 3)
+        ``(a, b, c)`` (rad), any range.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``R_a_b`` of frame b got from frame a by turning a about z, then b about the new y,
+        then c about the new z.
+    """
     zyz = np.asarray(zyz, dtype=float)
     return rot_z(zyz[..., 0]) @ rot_y(zyz[..., 1]) @ rot_z(zyz[..., 2])
 
 
 def euler_zyz_from_matrix(R) -> np.ndarray:
-    """ZYZ Euler angles ``(a, b, c) (..., 3)`` in rad with ``b`` in [0, pi].
+    """ZYZ Euler angles ``(a, b, c)`` of rotation matrices, with ``b`` in [0, pi].
 
-    When ``b`` is 0 or pi only ``a + c`` (or ``a - c``) is defined; then
-    ``a = 0``.
+    The inverse of :func:`matrix_from_euler_zyz`: Craig's solution (3rd ed., sec. 2.8) on
+    the branch ``sin b >= 0``, with his choice ``a = 0`` at the singularities.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        Rotation matrices (not checked to be orthonormal).
+
+    Returns
+    -------
+    ndarray (..., 3)
+        ``(a, b, c)`` (rad) with ``R = Rz(a) Ry(b) Rz(c)``: ``b`` in [0, pi], ``a`` and ``c``
+        in (-pi, pi] (a half turn as in :func:`rpy_from_matrix`).
+
+    Notes
+    -----
+    When ``b`` is 0 or pi only ``a + c`` (or ``a - c``) is defined; then ``a = 0``. The test
+    is ``hypot(R[0, 2], R[1, 2]) < GIMBAL_TOL`` (1e-9); ``b`` is then set to exactly 0 (if
+    ``R[2, 2] > 0``) or pi, and ``c`` carries ``a + c`` (b = 0) or ``c - a`` (b = pi).
     """
     R = np.asarray(R, dtype=float)
     sb = np.hypot(R[..., 0, 2], R[..., 1, 2])
@@ -193,15 +362,44 @@ def euler_zyz_from_matrix(R) -> np.ndarray:
 
 
 def matrix_from_euler_xyz(xyz) -> np.ndarray:
-    """Moving-axis X-Y-Z ("1-2-3") Euler angles: ``R = Rx(a) Ry(b) Rz(c)``, rad."""
+    """Rotation matrix of moving-axis X-Y-Z ("1-2-3") Euler angles: ``R = Rx(a) Ry(b) Rz(c)``.
+
+    Parameters
+    ----------
+    xyz : array_like (..., 3)
+        ``(a, b, c)`` (rad), any range.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``R_a_b`` of frame b got from frame a by turning a about x, then b about the new y,
+        then c about the new z.
+    """
     xyz = np.asarray(xyz, dtype=float)
     return rot_x(xyz[..., 0]) @ rot_y(xyz[..., 1]) @ rot_z(xyz[..., 2])
 
 
 def euler_xyz_from_matrix(R) -> np.ndarray:
-    """Moving X-Y-Z Euler angles ``(a, b, c) (..., 3)`` in rad, ``b`` in [-pi/2, pi/2].
+    """Moving X-Y-Z Euler angles ``(a, b, c)`` of rotation matrices, ``b`` in [-pi/2, pi/2].
 
-    At gimbal lock (|b| = pi/2) ``a = 0``.
+    The inverse of :func:`matrix_from_euler_xyz`, on the branch ``cos b >= 0``.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        Rotation matrices (not checked to be orthonormal).
+
+    Returns
+    -------
+    ndarray (..., 3)
+        ``(a, b, c)`` (rad) with ``R = Rx(a) Ry(b) Rz(c)``: ``b`` in [-pi/2, pi/2], ``a`` and
+        ``c`` in (-pi, pi] (a half turn as in :func:`rpy_from_matrix`).
+
+    Notes
+    -----
+    At gimbal lock (|b| = pi/2) ``a = 0``. The test is ``hypot(R[0, 0], R[0, 1]) <
+    GIMBAL_TOL`` (1e-9); ``b`` is then set to exactly +-pi/2 and ``c`` carries ``a + c``
+    (b = +pi/2) or ``c - a`` (b = -pi/2).
     """
     R = np.asarray(R, dtype=float)
     cb = np.hypot(R[..., 0, 0], R[..., 0, 1])
@@ -217,11 +415,24 @@ def euler_xyz_from_matrix(R) -> np.ndarray:
 # --- quaternions, axis-angle, rotation vectors ----------------------------
 
 def quaternion_from_matrix(R) -> np.ndarray:
-    """Unit quaternion ``(w, x, y, z) (..., 4)`` of ``R (..., 3, 3)``, with ``w >= 0``.
+    """Unit quaternions ``(w, x, y, z)`` of rotation matrices, with ``w >= 0``.
 
-    Shepperd's method: the largest of the four squared components is taken
-    from the diagonal, the others from off-diagonal sums, so no component is
-    computed from a difference of nearly equal numbers.
+    Shepperd's method (S. W. Shepperd, J. Guidance and Control 1(3), 1978): the largest of
+    the four squared components is taken from the diagonal, the others from off-diagonal
+    sums, so no component is computed from a difference of nearly equal numbers. Euler
+    parameters in Craig, 3rd ed., sec. 2.8.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        ``R_a_b``, not checked to be orthonormal (the result is normalised whatever ``R``).
+
+    Returns
+    -------
+    ndarray (..., 4)
+        ``(w, x, y, z)``, scalar first, unit norm, ``w = cos(angle / 2) >= 0`` and ``(x, y,
+        z) = sin(angle / 2) axis``. At a half turn (``w = 0``) ``q`` and ``-q`` are both
+        canonical; the sign returned is the one Shepperd's pivot gives.
     """
     R = np.asarray(R, dtype=float)
     m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
@@ -254,9 +465,20 @@ def quaternion_from_matrix(R) -> np.ndarray:
 
 
 def matrix_from_quaternion(q) -> np.ndarray:
-    """Rotation matrix ``(..., 3, 3)`` of quaternion ``q (..., 4) = (w, x, y, z)``.
+    """Rotation matrices of quaternions ``(w, x, y, z)``.
 
-    ``q`` is normalised first; ``q`` and ``-q`` give the same matrix.
+    Craig, 3rd ed., sec. 2.8 ("Euler parameters").
+
+    Parameters
+    ----------
+    q : array_like (..., 4)
+        ``(w, x, y, z)``, scalar first; any nonzero norm: ``q`` is normalised first, and ``q``
+        and ``-q`` give the same matrix. A zero ``q`` is not an error: it gives nan.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``R_a_b`` of the rotation by ``2 atan2(|(x, y, z)|, w)`` about ``(x, y, z)``.
     """
     q = np.asarray(q, dtype=float)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
@@ -275,11 +497,24 @@ def matrix_from_quaternion(q) -> np.ndarray:
 
 
 def axis_angle_from_matrix(R) -> tuple[np.ndarray, np.ndarray]:
-    """Unit axis ``(..., 3)`` and angle ``(...,)`` in [0, pi] rad of ``R``.
+    """Unit axis and angle in [0, pi] (rad) of rotation matrices.
 
-    Computed through the quaternion (``angle = 2 atan2(|v|, w)``), which stays
-    accurate near 0 and near pi where ``arccos((tr R - 1) / 2)`` does not. For
-    the identity the axis is reported as ``(0, 0, 1)``.
+    Computed through the quaternion (``angle = 2 atan2(|v|, w)``), which stays accurate near
+    0 and near pi where ``arccos((tr R - 1) / 2)`` does not.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        ``R_a_b`` (not checked to be orthonormal).
+
+    Returns
+    -------
+    axis : ndarray (..., 3)
+        Unit axis, in frame a (equally in frame b). For the identity, and below an angle of
+        about 2e-12 rad (``|v| <= SMALL_ANGLE``), it is reported as ``(0, 0, 1)``. At a half
+        turn ``axis`` and ``-axis`` are the same rotation; the sign is the quaternion's.
+    angle : ndarray (...)
+        Rotation angle (rad) in [0, pi].
     """
     q = quaternion_from_matrix(R)
     v = q[..., 1:]
@@ -291,9 +526,27 @@ def axis_angle_from_matrix(R) -> tuple[np.ndarray, np.ndarray]:
 
 
 def matrix_from_axis_angle(axis, angle) -> np.ndarray:
-    """Rodrigues' formula: rotation by ``angle (...,)`` rad about ``axis (..., 3)``.
+    """Rodrigues' formula: ``R = I + sin(angle) [k]x + (1 - cos(angle)) [k]x^2``.
 
-    The axis is normalised; a zero axis is an error.
+    Rotation by ``angle`` about the unit vector ``k = axis / |axis|`` (Lynch & Park,
+    *Modern Robotics*, 2017, sec. 3.2.3).
+
+    Parameters
+    ----------
+    axis : array_like (..., 3)
+        Rotation axis, any nonzero length: it is normalised.
+    angle : array_like (...)
+        Rotation angle (rad); leading dimensions broadcast with ``axis``.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        The rotation matrix.
+
+    Raises
+    ------
+    ValueError
+        If any ``axis`` is the zero vector.
     """
     axis = np.asarray(axis, dtype=float)
     angle = np.asarray(angle, dtype=float)
@@ -308,13 +561,36 @@ def matrix_from_axis_angle(axis, angle) -> np.ndarray:
 
 
 def rotvec_from_matrix(R) -> np.ndarray:
-    """Rotation vector ``axis * angle (..., 3)`` in rad, norm in [0, pi]."""
+    """Rotation vectors ``axis * angle`` of rotation matrices.
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        ``R_a_b`` (not checked to be orthonormal).
+
+    Returns
+    -------
+    ndarray (..., 3)
+        Rotation vector (rad), norm in [0, pi]: axis and angle of
+        :func:`axis_angle_from_matrix`.
+    """
     axis, angle = axis_angle_from_matrix(R)
     return axis * angle[..., None]
 
 
 def matrix_from_rotvec(r) -> np.ndarray:
-    """Rotation matrix of rotation vector ``r (..., 3)`` (rad)."""
+    """Rotation matrices of rotation vectors (the exponential map of SO(3)).
+
+    Parameters
+    ----------
+    r : array_like (..., 3)
+        Rotation vectors ``axis * angle`` (rad), any norm; a zero vector gives the identity.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        The rotation by ``|r|`` about ``r / |r|`` (:func:`matrix_from_axis_angle`).
+    """
     r = np.asarray(r, dtype=float)
     angle = np.linalg.norm(r, axis=-1)
     safe = np.where(angle[..., None] > 0, r, [0.0, 0.0, 1.0])
@@ -330,12 +606,26 @@ def matrix_from_rotvec(r) -> np.ndarray:
 TCV_MAX_ROLL = math.pi * math.log(MAX_MAGNITUDE)
 
 def tcv_from_transform(T, q_last) -> np.ndarray:
-    """Tool configuration vector ``w = [p; exp(q_n / pi) r3]`` of shape ``(..., 6)``.
+    """Tool configuration vector ``w = [p; exp(q_n / pi) r3]`` of tool poses.
 
-    Schilling, *Fundamentals of Robotics* (1990), sec. 3.4, as used in the
-    FER Zagreb homework: ``p`` is the tool position, ``r3`` the approach
-    vector (third column of R) and ``q_n`` the last joint's angle in rad, so
-    the norm of ``w[3:]`` encodes the tool roll.
+    Schilling, *Fundamentals of Robotics* (1990), sec. 3.4, as used in the FER Zagreb
+    homework: ``p`` is the tool position, ``r3`` the approach vector (third column of R) and
+    ``q_n`` the last joint's angle in rad, so the norm of ``w[3:]`` encodes the tool roll.
+
+    Parameters
+    ----------
+    T : array_like (..., 4, 4)
+        Tool pose, e.g. ``T_world_tool`` (m).
+    q_last : array_like (...)
+        ``q_n`` (rad), the last joint's angle: a scalar, or the leading dimensions of ``T``.
+        ``|q_n|`` beyond :data:`TCV_MAX_ROLL` (about 65 rad) is not checked here: the
+        exponential then exceeds kincalc's magnitude limit, and overflows to inf past 2229 rad.
+
+    Returns
+    -------
+    ndarray (..., 6)
+        ``w``, in the frame ``T`` is expressed in: ``w[:3]`` the position (m), ``w[3:]`` the
+        approach vector scaled by ``exp(q_n / pi)`` (unitless).
     """
     T = np.asarray(T, dtype=float)
     scale = np.exp(np.asarray(q_last, dtype=float) / np.pi)
@@ -343,11 +633,30 @@ def tcv_from_transform(T, q_last) -> np.ndarray:
 
 
 def transform_from_tcv(w) -> tuple[np.ndarray, np.ndarray]:
-    """Position ``(..., 3)``, approach ``(..., 3)`` and roll ``q_n (...,)`` from a TCV.
+    """Position, approach and roll ``q_n`` from a tool configuration vector.
 
-    The inverse of :func:`tcv_from_transform` as far as it goes: a TCV fixes
-    the position, the approach vector and the last joint's angle
-    ``q_n = pi ln |w[3:]|``, not the whole rotation.
+    The inverse of :func:`tcv_from_transform` as far as it goes: a TCV fixes the position,
+    the approach vector and the last joint's angle ``q_n = pi ln |w[3:]|``, not the whole
+    rotation, so no transform is returned.
+
+    Parameters
+    ----------
+    w : array_like (..., 6)
+        Tool configuration vector: position (m), then scaled approach vector.
+
+    Returns
+    -------
+    p : ndarray (..., 3)
+        Tool position ``w[:3]`` (m).
+    approach : ndarray (..., 3)
+        Unit approach vector ``w[3:] / |w[3:]|``, in the frame of ``w``.
+    q_n : ndarray (...)
+        The last joint's angle (rad), any real (not wrapped).
+
+    Raises
+    ------
+    ValueError
+        If any ``w[3:]`` is zero.
     """
     w = np.asarray(w, dtype=float)
     n = np.linalg.norm(w[..., 3:], axis=-1)
@@ -359,11 +668,24 @@ def transform_from_tcv(w) -> tuple[np.ndarray, np.ndarray]:
 # --- twists and errors -------------------------------------------------------
 
 def log_transform(T) -> np.ndarray:
-    """Twist coordinates ``(v, w) (..., 6)`` with ``exp([v; w]^) = T``.
+    """Twist coordinates ``(v, w)`` with ``exp([v; w]^) = T``: the matrix logarithm of SE(3).
 
-    The matrix logarithm of SE(3) (Lynch & Park, *Modern Robotics*, 2017,
-    sec. 3.3.3.2). ``w`` is the rotation vector; ``v = G^-1(theta) p``.
-    Used to compare poses and to differentiate FK numerically.
+    Lynch & Park, *Modern Robotics*, 2017, sec. 3.3.3.2 (their twist is ordered ``(w, v)``
+    and split into a unit screw times theta; here the product is returned). Used to compare
+    poses and to differentiate FK numerically.
+
+    Parameters
+    ----------
+    T : array_like (..., 4, 4)
+        ``T_a_b`` (m), assumed rigid; the last row is not read.
+
+    Returns
+    -------
+    ndarray (..., 6)
+        ``(v, w)``: ``w`` (rad) is the rotation vector of ``R`` (:func:`rotvec_from_matrix`,
+        norm theta in [0, pi]); ``v = G(w)^-1 p`` (m) with
+        ``G(w) = I + (1 - cos theta) / theta^2 [w]x + (theta - sin theta) / theta^3 [w]x^2``
+        (a series below theta = 1e-6). The twist has the same coordinates in frames a and b.
     """
     T = np.asarray(T, dtype=float)
     R = T[..., :3, :3]
@@ -384,10 +706,22 @@ def log_transform(T) -> np.ndarray:
 
 
 def adjoint(T) -> np.ndarray:
-    """Adjoint ``(..., 6, 6)`` of ``T (..., 4, 4)`` for twists ordered ``(v, w)``.
+    """Adjoint ``Ad_T = [[R, [p]x R], [0, R]]`` of rigid transforms, for twists ordered ``(v, w)``.
 
-    ``Ad_T = [[R, [p]x R], [0, R]]``: maps a twist expressed in frame b to the
-    same twist expressed in frame a, for ``T = T_a_b``.
+    Maps a twist expressed in frame b to the same twist expressed in frame a, for
+    ``T = T_a_b``. Murray, Li & Sastry, *A Mathematical Introduction to Robotic
+    Manipulation*, 1994, ch. 2 (same ordering); Lynch & Park, *Modern Robotics*, sec. 3.3.2,
+    order it ``(w, v)``.
+
+    Parameters
+    ----------
+    T : array_like (..., 4, 4)
+        ``T_a_b``, translation ``p`` in m; the last row is not read.
+
+    Returns
+    -------
+    ndarray (..., 6, 6)
+        ``Ad_T``: ``V_a = Ad_T @ V_b``.
     """
     T = np.asarray(T, dtype=float)
     R = T[..., :3, :3]
@@ -400,18 +734,42 @@ def adjoint(T) -> np.ndarray:
 
 
 def rotation_error(R_a, R_b) -> np.ndarray:
-    """Angle (rad, ``(...,)``) of the rotation taking ``R_b`` to ``R_a``."""
+    """Angle of the rotation taking ``R_b`` to ``R_a``.
+
+    The angle of ``R_b^T R_a`` (:func:`axis_angle_from_matrix`); it is symmetric in the two
+    arguments.
+
+    Parameters
+    ----------
+    R_a, R_b : array_like (..., 3, 3)
+        Rotation matrices in one frame; leading dimensions broadcast.
+
+    Returns
+    -------
+    ndarray (...)
+        Angle (rad) in [0, pi].
+    """
     R = np.swapaxes(np.asarray(R_b, dtype=float), -1, -2) @ np.asarray(R_a, dtype=float)
     return axis_angle_from_matrix(R)[1]
 
 
 def rotation_angle(R) -> np.ndarray:
-    """Angle (rad, ``(...,)``, in [0, pi]) of rotations ``R (..., 3, 3)``.
+    """Angle of rotations ``R`` in [0, pi] (rad).
 
-    ``atan2(sin, cos)`` with ``2 sin = |vee(R - R^T)|`` and ``2 cos = tr R - 1``:
-    both parts are accurate to rounding at every angle, so the angle is too (to
-    ~1e-16 rad absolute), near 0 and near pi alike, without the quaternion of
-    :func:`axis_angle_from_matrix` (cheaper when only the angle is needed).
+    ``atan2(sin, cos)`` with ``2 sin = |vee(R - R^T)|`` and ``2 cos = tr R - 1``: both parts
+    are accurate to rounding at every angle, so the angle is too (to ~1e-16 rad absolute),
+    near 0 and near pi alike, without the quaternion of :func:`axis_angle_from_matrix`
+    (cheaper when only the angle is needed).
+
+    Parameters
+    ----------
+    R : array_like (..., 3, 3)
+        Rotation matrices (not checked to be orthonormal).
+
+    Returns
+    -------
+    ndarray (...)
+        Rotation angle (rad) in [0, pi].
     """
     R = np.asarray(R, dtype=float)
     x = R[..., 2, 1] - R[..., 1, 2]
@@ -422,13 +780,23 @@ def rotation_angle(R) -> np.ndarray:
 
 
 def matrix_from_unit_axis_angle(axis, angle) -> np.ndarray:
-    """Rodrigues' formula for one rotation: ``R (3, 3)`` by ``angle`` (rad, a scalar)
-    about the unit vector ``axis (3,)``.
+    """Rodrigues' formula for one rotation: ``R = c I + s [k]x + (1 - c) k k^T``.
 
-    ``R = c I + s [k]x + (1 - c) k k^T``, written out in Python floats: the one-rotation
-    case of :func:`matrix_from_axis_angle` without its normalisation, checks and
-    broadcasting (the geometric IK solvers build many single rotations per pose).
-    The axis must already be unit; it is not checked.
+    Written out in Python floats: the one-rotation case of :func:`matrix_from_axis_angle`
+    without its normalisation, checks and broadcasting (the geometric IK solvers build many
+    single rotations per pose).
+
+    Parameters
+    ----------
+    axis : array_like (3,)
+        The unit vector ``k``. It must already be unit; it is not checked.
+    angle : float
+        Rotation angle (rad), a scalar.
+
+    Returns
+    -------
+    ndarray (3, 3)
+        The rotation by ``angle`` about ``axis``.
     """
     x, y, z = np.asarray(axis, dtype=float).tolist()
     angle = float(angle)
