@@ -40,6 +40,18 @@ class BadValue(UsageError):
         super().__init__(self.words(lambda f: f))
 
     def words(self, name) -> str:
+        """The message with the field named as the caller names it.
+
+        Parameters
+        ----------
+        name : callable
+            Maps the field's API name (``'samples'``) to the caller's (``'--samples'``).
+
+        Returns
+        -------
+        str
+            ``"<name(field)> must be <need>, not <value!r>"``.
+        """
         return f"{name(self.field)} must be {self.need}, not {self.value!r}"
 
 
@@ -114,9 +126,28 @@ class MissingExtra(KincalcError):
 
 
 def require_extra(command: str, module: str, extra: str):
-    """Import and return ``module``, or raise :class:`MissingExtra` naming ``command``
-    (what the user ran, as it should read in the message: ``"kincalc ik --plot"``) and
-    the extra that installs it."""
+    """Import and return ``module``, or raise :class:`MissingExtra` naming ``command`` and
+    the extra that installs it.
+
+    Parameters
+    ----------
+    command : str
+        What the user ran, as it should read in the message: ``"kincalc ik --plot"``.
+    module : str
+        The module to import (``"matplotlib"``).
+    extra : str
+        The kincalc extra that installs it (``pip install 'kincalc[<extra>]'``).
+
+    Returns
+    -------
+    module
+        The imported module.
+
+    Raises
+    ------
+    MissingExtra
+        ``module`` cannot be imported (any ImportError).
+    """
     import importlib
     try:
         return importlib.import_module(module)
@@ -147,9 +178,20 @@ class TargetMismatch(UsageError):
         super().__init__(self.words(self.VOCABULARY))
 
     def words(self, w: dict) -> str:
-        """The message with the fields named as ``w`` names them: keys ``approach``,
-        ``tcv``, ``orientation`` (the ways to give one, in parentheses) and ``prefix``
-        (``"{approach}: "`` on the command line)."""
+        """The message with the fields named as ``w`` names them.
+
+        Parameters
+        ----------
+        w : dict of str
+            Keys ``approach``, ``tcv``, ``orientation`` (the ways to give one, in
+            parentheses) and ``prefix`` (a format string with ``{field}``, e.g.
+            ``"{field}: "`` on the command line; ``""`` in :data:`VOCABULARY`).
+
+        Returns
+        -------
+        str
+            The one-line message for this mismatch's ``need``.
+        """
         a = w["approach"]
         if self.need == "full orientation":
             return (f"{w['prefix'].format(field=a)}{self.robot} controls {self.controls}; "

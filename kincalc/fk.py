@@ -71,8 +71,23 @@ def _move(chain, i, cols, p, x):
 def walk(chain, q, on_joint=None):
     """Run the chain over ``q (N, n)``; return the final ``(cols, p)``.
 
-    ``on_joint(i, cols, p)`` is called with the frame just before joint i's
-    motion (whose z column is joint i's axis in the world frame).
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : ndarray (N, n)
+        Joint values, rad / m (a float array, not checked: see :func:`joint_batch`).
+    on_joint : callable, optional
+        ``on_joint(i, cols, p)`` is called with the frame just before joint i's
+        motion (whose z column is joint i's axis in the world frame, and whose origin
+        ``p (3, N)`` is on that axis).
+
+    Returns
+    -------
+    cols : list of three ndarray (3, N)
+        The columns of the rotation of ``T_world_tool``.
+    p : ndarray (3, N)
+        Its position, world frame (m).
     """
     F = chain.fixed
     cols, p = _start(F[0], q.shape[0])
@@ -86,6 +101,27 @@ def walk(chain, q, on_joint=None):
 
 
 def joint_batch(chain, q):
+    """Joint values as a float array and flattened to one batch dimension.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (..., n)
+        Joint values, rad / m.
+
+    Returns
+    -------
+    q : ndarray (..., n)
+        ``q`` as floats.
+    flat : ndarray (N, n)
+        The same values, ``N`` the product of the leading dimensions.
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
+    """
     q = np.asarray(q, dtype=float)
     if q.ndim == 0 or q.shape[-1] != chain.dof:
         raise ValueError(f"expected joint values of shape (..., {chain.dof}), got {q.shape}")
@@ -105,7 +141,12 @@ def forward_kinematics(chain, q) -> np.ndarray:
     Returns
     -------
     ndarray (..., 4, 4)
-        Pose of the tool frame in the world frame.
+        Pose of the tool frame in the world frame (m).
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     q, flat = joint_batch(chain, q)
     N = flat.shape[0]
@@ -142,11 +183,24 @@ def _motions(chain, coef) -> np.ndarray:
 
 
 def prefixes_few(chain, flat):
-    """``P (N, n + 1, 4, 4)`` for joint values ``flat (N, n)`` (rad / m), by stacked 4x4
-    products, world frame: ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so
-    that ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
-    axis, its origin on that axis) and ``P_n`` the tool pose. For a few configurations
-    (any number gives the right answer)."""
+    """The chain's prefix products, by stacked 4x4 products.
+
+    For a few configurations (any number gives the right answer).
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    flat : ndarray (N, n)
+        Joint values, rad / m (not checked: see :func:`joint_batch`).
+
+    Returns
+    -------
+    ndarray (N, n + 1, 4, 4)
+        ``P``, world frame (m): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so that
+        ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
+        axis, its origin on that axis) and ``P_n`` the tool pose ``T_world_tool``.
+    """
     return _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
 
 
@@ -162,13 +216,30 @@ def _prefixes(chain, motions):
 
 
 def tool_from_cs(chain, c, s, x):
-    """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic),
-    joint-major: ``c, s, x (n, M)``, joint offsets not applied (IK's solvers give joint
-    values without them; the chain's offsets are turned in here, without trigonometry).
-    Returns ``(cols, p)``: the rotation's columns, a list of three ``(3, M)``, and the
-    position ``(3, M)`` (structure of arrays, as :func:`forward_kinematics` walks it).
+    """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic).
 
-    For checking IK candidates whose angles are known by their cosines and sines."""
+    For checking IK candidates whose angles are known by their cosines and sines.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    c, s : ndarray (n, M)
+        Joint-major cosines and sines of the revolute joints' values, joint offsets not
+        applied (IK's solvers give joint values without them; the chain's offsets are
+        turned in here, without trigonometry). Rows of prismatic joints: any finite values.
+    x : ndarray (n, M)
+        The prismatic joints' travel (m), offsets not applied. Rows of revolute joints:
+        any finite values.
+
+    Returns
+    -------
+    cols : list of three ndarray (3, M)
+        The columns of the rotation of ``T_world_tool`` (structure of arrays, as
+        :func:`forward_kinematics` walks it).
+    p : ndarray (3, M)
+        Its position, world frame (m).
+    """
     M = c.shape[1]
     co, so = chain.offset_cos_sin
     if M <= FEW:
@@ -205,7 +276,7 @@ def frame_columns(chain, q) -> list:
     chain : Chain
         From ``robot.chain``.
     q : array_like (M, n)
-        Joint values, rad / m.
+        Joint values, rad / m; taken as ``reshape(-1, n)``, without a shape check.
 
     Returns
     -------
@@ -228,8 +299,19 @@ def frame_columns(chain, q) -> list:
 
 
 def columns_of(frames) -> list:
-    """Stacked frames ``(M, n, 4, 4)`` as the structure of arrays of :func:`frame_columns`
-    (views into ``frames``)."""
+    """Stacked frames as the structure of arrays of :func:`frame_columns`.
+
+    Parameters
+    ----------
+    frames : ndarray (M, n, 4, 4)
+        Poses, e.g. those of :func:`chain_frames`.
+
+    Returns
+    -------
+    list of n tuples ``(cols, p)``
+        Per frame, its rotation columns (three ``(3, M)``) and origin ``(3, M)``, all
+        views into ``frames``.
+    """
     return [([frames[:, i, :3, j].T for j in range(3)], frames[:, i, :3, 3].T)
             for i in range(frames.shape[1])]
 
@@ -249,6 +331,11 @@ def chain_frames(chain, q) -> np.ndarray:
     ndarray (..., n, 4, 4)
         Frame i is ``F_0 J_1 F_1 ... F_{i-1} J_i(q_i)`` in the world frame (m): its z axis
         is joint i's axis and it moves with link i.
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     return frames_and_tool(chain, q)[0]
 
@@ -269,6 +356,11 @@ def frames_and_tool(chain, q):
         The frames of :func:`chain_frames` (world frame, m).
     tool : ndarray (..., 4, 4)
         ``T_world_tool``, as :func:`forward_kinematics` gives it.
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape

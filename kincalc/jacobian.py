@@ -38,6 +38,11 @@ def jacobian_and_pose(chain, q):
         :func:`jacobian_base`.
     T : ndarray (..., 4, 4)
         ``T_world_tool`` (m).
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
@@ -102,6 +107,11 @@ def jacobian_base(chain, q) -> np.ndarray:
         Rows ``vx vy vz wx wy wz``: joint rates (rad/s, m/s) to the linear velocity of the
         tool point (m/s) and the angular velocity of the tool (rad/s), both in the world
         frame (Siciliano et al. 2009, eq. 3.30).
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     return jacobian_and_pose(chain, q)[0]
 
@@ -121,13 +131,32 @@ def jacobian_tool(chain, q) -> np.ndarray:
     ndarray (..., 6, n)
         The velocities of :func:`jacobian_base` with both parts rotated into the tool
         frame: ``J_tool = diag(R^T, R^T) J_base``, ``R`` the tool's rotation.
+
+    Raises
+    ------
+    ValueError
+        ``q`` is a scalar or its last axis is not ``n`` long.
     """
     J, T = jacobian_and_pose(chain, q)
     return rotate_jacobian(J, np.swapaxes(T[..., :3, :3], -1, -2))
 
 
 def rotate_jacobian(J, R) -> np.ndarray:
-    """``diag(R, R) @ J`` for ``J (..., 6, n)`` and ``R (..., 3, 3)``."""
+    """Both halves of a Jacobian rotated: ``diag(R, R) @ J``.
+
+    Parameters
+    ----------
+    J : ndarray (..., 6, n)
+        A Jacobian, rows linear then angular.
+    R : ndarray (..., 3, 3)
+        The rotation applied to each half, broadcast against ``J``'s leading dimensions
+        (:func:`jacobian_tool` passes the tool's ``R^T``: world-frame rows to tool-frame).
+
+    Returns
+    -------
+    ndarray (..., 6, n)
+        A new array; ``J`` is not modified.
+    """
     out = np.empty_like(J)
     out[..., :3, :] = R @ J[..., :3, :]
     out[..., 3:, :] = R @ J[..., 3:, :]
@@ -155,6 +184,23 @@ def angular_rate_matrix(angles, kind: str) -> np.ndarray:
     ``w = e_a t1' + R_a(t1) e_b t2' + R_a(t1) R_b(t2) e_c t3'``
     (Siciliano et al. 2009, sec. 3.6); columns are reordered to the set's
     own angle order. Singular at the set's gimbal lock.
+
+    Parameters
+    ----------
+    angles : array_like (..., 3)
+        The angles in the set's own order (rpy: roll, pitch, yaw), rad.
+    kind : {'rpy', 'zyz', 'xyz'}
+        The angle set (:data:`ANGLE_SETS`).
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+        ``E``: angle rates (rad/s) to the angular velocity in the world frame (rad/s).
+
+    Raises
+    ------
+    KeyError
+        An unknown ``kind``.
     """
     from .spatial import rot_x, rot_y, rot_z
     rot = {"x": rot_x, "y": rot_y, "z": rot_z}
@@ -190,6 +236,8 @@ def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
     ------
     numpy.linalg.LinAlgError
         At the set's representation singularity (gimbal lock).
+    KeyError
+        An unknown ``kind``.
     """
     E = angular_rate_matrix(angles, kind)
     out = np.array(J, dtype=float, copy=True)
@@ -198,15 +246,50 @@ def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
 
 
 def rate_matrix_condition(angles, kind: str) -> np.ndarray:
-    """Smallest singular value of ``E(phi)``: 0 at the set's gimbal lock."""
+    """Smallest singular value of ``E(phi)`` (:func:`angular_rate_matrix`): 0 at the set's
+    gimbal lock.
+
+    Parameters
+    ----------
+    angles : array_like (..., 3)
+        The angles of the set ``kind``, rad.
+    kind : {'rpy', 'zyz', 'xyz'}
+        The angle set (:data:`ANGLE_SETS`).
+
+    Returns
+    -------
+    ndarray (...,)
+        The smallest singular value (dimensionless).
+
+    Raises
+    ------
+    KeyError
+        An unknown ``kind``.
+    """
     return np.linalg.svd(angular_rate_matrix(angles, kind), compute_uv=False)[..., -1]
 
 
 def scaled_ranks(J, revolute, length: float):
-    """``(rank of J, rank of its linear rows)``, each ``(...,)``, for ``J (..., 6, n)`` (SI)
-    made scale-free first: linear rows divided by ``length`` (m), prismatic columns
-    multiplied by it. A singular value counts when above ``SINGULAR_TOL`` times the
-    largest (or times 1 when the largest is below 1)."""
+    """``(rank of J, rank of its linear rows)`` of a Jacobian made scale-free first.
+
+    A singular value counts when above ``SINGULAR_TOL`` times the largest (or times 1 when
+    the largest is below 1).
+
+    Parameters
+    ----------
+    J : array_like (..., 6, n)
+        A geometric Jacobian, SI (copied, not modified).
+    revolute : array_like of bool (n,)
+        True for revolute joints (``robot.is_revolute``).
+    length : float
+        The length scale (m, e.g. ``robot.characteristic_length``): linear rows are divided
+        by it and prismatic columns multiplied by it.
+
+    Returns
+    -------
+    rank, position_rank : ndarray of int (...,)
+        The rank of ``J`` and of its rows ``vx vy vz``; zeros when ``J`` is empty.
+    """
     from .tolerances import SINGULAR_TOL
     J = np.array(J, dtype=float)
     if J.size == 0:

@@ -58,8 +58,22 @@ MAX_TRIALS = 1_000_000
 
 
 def quote(text, limit: int = MAX_QUOTE) -> str:
-    """``repr(text)`` cut to about ``limit`` characters (with '...' and the full length
-    when cut), for echoing a user's value in a one-line message."""
+    """``repr(text)`` cut to about ``limit`` characters, for echoing a user's value in a
+    one-line message.
+
+    Parameters
+    ----------
+    text : object
+        The value; ``str(text)`` is quoted.
+    limit : int
+        Characters of it kept (:data:`MAX_QUOTE` by default).
+
+    Returns
+    -------
+    str
+        ``repr(str(text))``, or when longer than ``limit`` the repr of its first ``limit``
+        characters followed by ``... (<length> characters)``.
+    """
     text = str(text)
     if len(text) <= limit:
         return repr(text)
@@ -67,8 +81,21 @@ def quote(text, limit: int = MAX_QUOTE) -> str:
 
 
 def cut(text, limit: int = MAX_QUOTE) -> str:
-    """``text`` cut to ``limit`` characters (with '...' when cut), for names a message
-    shows unquoted (a joint's name in "joint 2 (q2)")."""
+    """``text`` cut to ``limit`` characters, for names a message shows unquoted (a joint's
+    name in "joint 2 (q2)").
+
+    Parameters
+    ----------
+    text : object
+        The value; ``str(text)`` is cut.
+    limit : int
+        Characters kept (:data:`MAX_QUOTE` by default).
+
+    Returns
+    -------
+    str
+        ``str(text)``, or its first ``limit`` characters followed by ``...``.
+    """
     text = str(text)
     return text if len(text) <= limit else f"{text[:limit]}..."
 
@@ -77,6 +104,18 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
     """The bytes of the regular file (or stdin, for ``"-"``) at ``path``, at most
     ``limit`` of them.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file, or ``"-"`` for standard input.
+    limit : int
+        The most bytes accepted (:data:`MAX_FILE_BYTES` by default).
+
+    Returns
+    -------
+    bytes
+        The whole content, at most ``limit`` bytes.
+
     Raises
     ------
     TooLarge
@@ -84,6 +123,8 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
         so an endless device such as /dev/zero is refused, not read).
     OSError
         As ``open`` raises it (missing file, a directory, permission, a name too long).
+    ValueError
+        As ``open`` raises it for a name with a NUL character.
     """
     import sys
     if path == "-":
@@ -105,7 +146,18 @@ class TooLarge(Exception):
 
 
 def size_text(nbytes: int) -> str:
-    """``1 MiB``, ``64 KiB`` or ``500 bytes``."""
+    """A size in words: ``1 MiB``, ``64 KiB`` or ``500 bytes``.
+
+    Parameters
+    ----------
+    nbytes : int
+        The size, in bytes.
+
+    Returns
+    -------
+    str
+        In MiB or KiB when a whole number of them, else in bytes.
+    """
     for unit, size in (("MiB", 1 << 20), ("KiB", 1 << 10)):
         if nbytes >= size and nbytes % size == 0:
             return f"{nbytes // size} {unit}"
@@ -113,7 +165,19 @@ def size_text(nbytes: int) -> str:
 
 
 def os_error_text(exc: OSError) -> str:
-    """A short reason for an OSError of opening a user's file (no path in it)."""
+    """A short reason for an OSError of opening a user's file (no path in it).
+
+    Parameters
+    ----------
+    exc : OSError
+        The error of opening or reading the file.
+
+    Returns
+    -------
+    str
+        "no such file", "is a directory", "the name is too long for a file", or else the
+        error's ``strerror`` (its type's name when it has none).
+    """
     if exc.errno == errno.ENAMETOOLONG:
         return "the name is too long for a file"
     if exc.errno == errno.ENOENT:

@@ -55,10 +55,27 @@ class Target:
     @property
     def shown(self) -> str:
         """The path for a one-line message: as given, quoted when unprintable, cut when
-        absurdly long."""
+        absurdly long (:func:`shown_path`).
+
+        Returns
+        -------
+        str
+        """
         return shown_path(self.path)
 
     def fail(self, reason: str):
+        """Refuse the target.
+
+        Parameters
+        ----------
+        reason : str
+            What is wrong with it.
+
+        Raises
+        ------
+        InputError
+            Always: ``"<option> <path>: <reason>"``.
+        """
         raise InputError(f"{self.option} {self.shown}: {reason}")
 
 
@@ -67,14 +84,41 @@ _SHOWN_PATH = 300
 
 
 def shown_path(path) -> str:
-    """``path`` for a one-line message: as given, quoted when unprintable (a newline),
-    cut when longer than a few hundred characters."""
+    """``path`` for a one-line message.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path as the user gave it.
+
+    Returns
+    -------
+    str
+        ``str(path)`` as given; quoted when unprintable (a newline), cut (by
+        :func:`kincalc.limits.quote`) when longer than a few hundred characters.
+    """
     p = str(path)
     return p if p.isprintable() and len(p) <= _SHOWN_PATH else quote(p, _SHOWN_PATH)
 
 
 def as_target(path) -> Target:
-    """``path`` (a str, a path-like or a :class:`Target`) as a :class:`Target`."""
+    """``path`` as a :class:`Target`.
+
+    Parameters
+    ----------
+    path : str, os.PathLike or Target
+        A Target is returned as it is; a path becomes ``Target(path)`` (option ``-o``,
+        no ``force``, no inputs).
+
+    Returns
+    -------
+    Target
+
+    Raises
+    ------
+    TypeError
+        ``path`` is none of these (from :func:`os.fspath`).
+    """
     if isinstance(path, Target):
         return path
     return Target(os.fspath(path))
@@ -84,6 +128,16 @@ def check_target(target) -> str:
     """Refuse a file that may not be written (see the module's rules); return its folder.
 
     Cheap (a few ``stat`` calls), for commands to call before long work.
+
+    Parameters
+    ----------
+    target : str, os.PathLike or Target
+        The file to write (:func:`as_target`).
+
+    Returns
+    -------
+    str
+        The absolute path of the folder the file is to be written in.
 
     Raises
     ------
@@ -138,6 +192,18 @@ def replacing(target, *, binary: bool = True):
     or linked to its name (without: if a file of that name appeared meanwhile it is left
     alone). Otherwise the temporary file is removed and the target is untouched.
 
+    Parameters
+    ----------
+    target : str, os.PathLike or Target
+        The file to write (:func:`as_target`), checked by :func:`check_target` first.
+    binary : bool
+        True: ``fh`` takes bytes; False: text, written as UTF-8 with newlines as given.
+
+    Yields
+    ------
+    file object
+        The temporary file, open for writing.
+
     Raises
     ------
     InputError
@@ -187,7 +253,20 @@ def _commit(tmp: str, path: str, t: Target) -> None:
 
 
 def write_text(target, text: str) -> None:
-    """Write ``text`` (UTF-8) to ``target`` by :func:`replacing`."""
+    """Write ``text`` (UTF-8) to ``target`` by :func:`replacing`.
+
+    Parameters
+    ----------
+    target : str, os.PathLike or Target
+        The file to write (:func:`as_target`).
+    text : str
+        The whole content; newlines are written as they are.
+
+    Raises
+    ------
+    InputError
+        As :func:`replacing`.
+    """
     with replacing(target, binary=False) as fh:
         fh.write(text)
 

@@ -28,7 +28,24 @@ ANGLE_UNITS: dict[str, float] = {
 
 
 def length_factor(unit: str) -> float:
-    """Return metres per ``unit``; raise :class:`InputError` for an unknown unit."""
+    """Return metres per ``unit`` (the factor from the user's length unit to m).
+
+    Parameters
+    ----------
+    unit : str
+        A key of :data:`LENGTH_UNITS`: ``'m'``, ``'cm'``, ``'mm'``, ``'in'`` or
+        ``'unitless'`` (factor 1).
+
+    Returns
+    -------
+    float
+        Metres per ``unit``.
+
+    Raises
+    ------
+    InputError
+        An unknown unit (the message lists the accepted ones).
+    """
     try:
         return LENGTH_UNITS[unit]
     except KeyError:
@@ -38,7 +55,23 @@ def length_factor(unit: str) -> float:
 
 
 def angle_factor(unit: str) -> float:
-    """Return radians per ``unit``; raise :class:`InputError` for an unknown unit."""
+    """Return radians per ``unit`` (the factor from the user's angle unit to rad).
+
+    Parameters
+    ----------
+    unit : str
+        A key of :data:`ANGLE_UNITS`: ``'deg'`` or ``'rad'``.
+
+    Returns
+    -------
+    float
+        Radians per ``unit``.
+
+    Raises
+    ------
+    InputError
+        An unknown unit (the message lists the accepted ones).
+    """
     try:
         return ANGLE_UNITS[unit]
     except KeyError:

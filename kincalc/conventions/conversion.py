@@ -41,6 +41,19 @@ def convert(robot: Robot, to: str) -> Robot:
     the name, title, units, parameters, limits and home are kept, and the
     source ends with "(converted from <convention> by kincalc convert)".
 
+    Parameters
+    ----------
+    robot : Robot
+        The robot, SI (m, rad).
+    to : {'dh', 'mdh', 'poe'}
+        The convention to write it in.
+
+    Returns
+    -------
+    Robot
+        A new robot (or ``robot`` itself) whose ``fk(q)`` (``T_world_tool``) is the same
+        for every q (:func:`dh_to_mdh`, :func:`mdh_to_dh`, :func:`to_poe`).
+
     Raises
     ------
     InputError
@@ -70,7 +83,28 @@ def _xa(alpha, a):
 
 
 def dh_to_mdh(robot: Robot) -> Robot:
-    """The standard-DH ``robot`` as a modified-DH robot with identical FK."""
+    """The standard-DH ``robot`` as a modified-DH robot with identical FK.
+
+    Modified row i takes ``alpha``/``a`` (and their expressions) of standard row i - 1
+    (zero for row 1); ``Tx(a_n) Rx(alpha_n)`` of the last standard row moves into the tool.
+
+    Parameters
+    ----------
+    robot : Robot
+        A ``dh`` robot, SI (m, rad).
+
+    Returns
+    -------
+    Robot
+        The ``mdh`` robot, with ``tool = Tx(a_n) Rx(alpha_n) @ robot.tool``
+        (``T_flange_tool``: its flange is standard frame n without ``Tx(a_n) Rx(alpha_n)``)
+        and the same base, joint variables, limits and home.
+
+    Raises
+    ------
+    ValueError
+        ``robot`` is not a ``dh`` robot.
+    """
     if robot.convention != "dh":
         raise ValueError("dh_to_mdh needs a dh robot")
     joints, prev = [], (0.0, 0.0)
@@ -86,7 +120,28 @@ def dh_to_mdh(robot: Robot) -> Robot:
 
 
 def mdh_to_dh(robot: Robot) -> Robot:
-    """The modified-DH ``robot`` as a standard-DH robot with identical FK."""
+    """The modified-DH ``robot`` as a standard-DH robot with identical FK.
+
+    Standard row i takes ``alpha``/``a`` (and their expressions) of modified row i + 1
+    (zero for the last row); ``Rx(alpha_0) Tx(a_0)`` of the first modified row moves into
+    the base (its expressions are dropped).
+
+    Parameters
+    ----------
+    robot : Robot
+        An ``mdh`` robot, SI (m, rad).
+
+    Returns
+    -------
+    Robot
+        The ``dh`` robot, with ``base = robot.base @ Rx(alpha_0) Tx(a_0)`` (``T_world_0``)
+        and the same tool, joint variables, limits and home.
+
+    Raises
+    ------
+    ValueError
+        ``robot`` is not an ``mdh`` robot.
+    """
     if robot.convention != "mdh":
         raise ValueError("mdh_to_dh needs an mdh robot")
     js = robot.joints
@@ -120,7 +175,20 @@ def _ordered(entries) -> tuple:
 
 
 def to_poe(robot: Robot) -> Robot:
-    """Any ``robot`` as a product-of-exponentials robot with identical FK."""
+    """Any ``robot`` as a product-of-exponentials robot with identical FK.
+
+    Parameters
+    ----------
+    robot : Robot
+        Any convention, SI (m, rad).
+
+    Returns
+    -------
+    Robot
+        The ``poe`` robot: each joint's unit ``axis`` and ``point`` (m) are those of its
+        chain frame at q = 0, in frame 0; ``M = T_0_tool(q = 0)`` (the old tool folded
+        in), ``tool`` the identity, the same base, limits and home; expressions dropped.
+    """
     from ..fk import chain_frames
     q0 = np.zeros(robot.dof)
     inv_base = invert_transform(robot.base)

@@ -21,6 +21,16 @@ def library_dir() -> Path:
     In an installed wheel it is ``kincalc/robots``; in a source checkout
     (editable install or running from the tree) the top-level ``robots/``.
     ``KINCALC_ROBOTS`` overrides both.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder (in a source tree, returned whether or not it exists).
+
+    Raises
+    ------
+    InputError
+        ``KINCALC_ROBOTS`` is set but is not a folder.
     """
     env = os.environ.get("KINCALC_ROBOTS")
     if env:
@@ -36,7 +46,19 @@ def library_dir() -> Path:
 
 
 def bundled_names() -> list[str]:
-    """Sorted names of every bundled robot."""
+    """Sorted names of every bundled robot.
+
+    Returns
+    -------
+    list of str
+        The stems of the ``*.yaml`` files of :func:`library_dir`; empty when that folder
+        does not exist.
+
+    Raises
+    ------
+    InputError
+        As :func:`library_dir`.
+    """
     d = library_dir()
     return sorted(p.stem for p in d.glob("*.yaml")) if d.is_dir() else []
 
@@ -49,6 +71,25 @@ def resolve(robot: str) -> tuple[Path, str]:
     the system cannot hold (too long, a NUL character) is no robot: the tests
     go through ``os.path``, which answers False where ``Path.is_file`` raises
     (ENAMETOOLONG).
+
+    Parameters
+    ----------
+    robot : str
+        A bundled robot's name or a path, as the user gave it.
+
+    Returns
+    -------
+    path : pathlib.Path
+        The file to read (not checked to exist when ``robot`` looks like a path).
+    display_name : str
+        ``robot`` as given, for messages.
+
+    Raises
+    ------
+    RobotNotFoundError
+        Neither a bundled robot nor an existing file (with up to 3 close bundled names).
+    InputError
+        As :func:`library_dir`.
     """
     looks_like_path = os.sep in robot or "/" in robot or robot.endswith((".yaml", ".yml"))
     if not looks_like_path:
@@ -82,6 +123,8 @@ def load(robot: str):
         No bundled robot and no file of that name (the message suggests close names).
     RobotFileError
         The file is not a valid robot file (the message names the file, line and field).
+    InputError
+        As :func:`library_dir`.
     """
     from .reader import load_robot_file
     path, shown = resolve(robot)

@@ -53,7 +53,17 @@ def dump_robot(robot) -> str:
     -------
     str
         ``reader.parse_robot_text`` of it gives a robot with the same
-        joints, base, tool, limits and home (to 1e-12 relative).
+        joints, base, tool, limits and home (to 1e-12 relative). ``base`` is written
+        as ``T_world_0``, ``tool`` as :attr:`~kincalc.model.Robot.written_tool`
+        (``T_flange_tool`` for dh/mdh, ``M @ tool`` for poe).
+
+    Raises
+    ------
+    ValueError
+        A number that is not finite (:func:`num`).
+    KeyError
+        A ``length_unit`` or ``angle_unit`` not in :data:`~kincalc.units.LENGTH_UNITS` /
+        :data:`~kincalc.units.ANGLE_UNITS`.
     """
     from .reader import parse_robot_text
     numeric: set[tuple[int, str]] = set()
@@ -121,10 +131,26 @@ def _text(robot, numeric) -> str:
 
 
 def num(x: float) -> str:
-    """``x`` for a robot file: an integer when within ``CLEAN_TOL`` (relative) of
-    one, 0 below ``CLEAN_TOL`` in magnitude, else the shortest decimal within
-    ``SHORT_TOL`` (relative; a few units in the last place, what a unit
-    conversion leaves: 431.79999999999995 -> 431.8), else ``repr``."""
+    """``x`` as a number of a robot file.
+
+    Parameters
+    ----------
+    x : float
+        The value, in the file's units.
+
+    Returns
+    -------
+    str
+        An integer when within ``CLEAN_TOL`` (relative) of one (and below 1e15), 0 below
+        ``CLEAN_TOL`` in magnitude, else the shortest decimal within ``SHORT_TOL``
+        (relative; a few units in the last place, what a unit conversion leaves:
+        431.79999999999995 -> 431.8), else ``repr``.
+
+    Raises
+    ------
+    ValueError
+        ``x`` is infinite or NaN.
+    """
     x = float(x)
     if not np.isfinite(x):
         raise ValueError(f"cannot write {x!r} in a robot file")
@@ -196,7 +222,23 @@ def _text_block(s: str) -> str:
 
 def yaml_string(s: str, plain_ok: bool = False, expression: bool = False) -> str:
     """A YAML scalar for ``s``: plain when that reads back as the same text,
-    else double-quoted (JSON escapes are valid YAML ones)."""
+    else double-quoted (JSON escapes are valid YAML ones).
+
+    Parameters
+    ----------
+    s : str
+        The text (``str(s)`` is written).
+    plain_ok : bool
+        Allow a plain name (a letter, then letters, digits, ``_ . -``) that is no YAML
+        word such as ``yes`` or ``null``.
+    expression : bool
+        Allow a plain identifier (a parameter name standing for a DH field).
+
+    Returns
+    -------
+    str
+        The scalar as it goes in the file.
+    """
     s = str(s)
     if plain_ok and _PLAIN.match(s) and s.lower() not in _YAML_WORDS:
         return s

@@ -19,7 +19,26 @@ from ...spatial import matrix_from_rpy, transform
 
 def compose_yaml(text: str, file: str):
     """The node tree of the YAML ``text`` (plain tags only, see :func:`_plain_tags`), for
-    :class:`Reader`; a RobotFileError naming ``file`` and the line for invalid YAML."""
+    :class:`Reader`.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    file : str
+        How to name the file in messages.
+
+    Returns
+    -------
+    yaml.Node
+        The root node (nothing is constructed from it).
+
+    Raises
+    ------
+    RobotFileError
+        Invalid YAML (with the line where the mistake starts, when known), a control
+        character, nesting too deep, an empty file, or a tag other than plain YAML's.
+    """
     import yaml
     loader_cls = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     try:
@@ -93,7 +112,16 @@ def _one_line(text: str) -> str:
 
 
 def node_line(node) -> int:
-    """The 1-based line where ``node`` starts."""
+    """The 1-based line where ``node`` starts.
+
+    Parameters
+    ----------
+    node : yaml.Node
+
+    Returns
+    -------
+    int
+    """
     return node.start_mark.line + 1
 
 
@@ -117,11 +145,48 @@ class Reader:
 
     # errors --------------------------------------------------------------
     def fail(self, node, message: str):
+        """Report a problem at ``node``.
+
+        Parameters
+        ----------
+        node : yaml.Node or None
+            Where the problem is (None: the file as a whole, no line).
+        message : str
+            What is wrong, naming the field.
+
+        Raises
+        ------
+        RobotFileError
+            Always, with the file, ``node``'s line and the current ``joint`` and
+            ``joint_name`` (subclasses may raise their own error instead).
+        """
         line = node_line(node) if node is not None else None
         raise RobotFileError(self.file, line, message, self.joint, self.joint_name)
 
     # node kinds ----------------------------------------------------------
     def mapping(self, node, what: str, keys: dict[str, bool]) -> dict:
+        """The entries of a mapping node, checked against the keys it may have.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The mapping.
+        what : str
+            How to name it in messages (``"'units'"``).
+        keys : dict of str to bool
+            The allowed keys, each True when required.
+
+        Returns
+        -------
+        dict of str to yaml.Node
+            Key -> value node, in the file's order.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a mapping, a key that is not a plain name, a key given
+            twice, an unknown key (with the closest allowed one), a required key missing.
+        """
         import yaml
         if not isinstance(node, yaml.MappingNode):
             self.fail(node, f"{what} must be a mapping (key: value), not {self.kind(node)}")
@@ -146,29 +211,87 @@ class Reader:
 
     @staticmethod
     def is_mapping(node) -> bool:
+        """Whether ``node`` is a mapping.
+
+        Parameters
+        ----------
+        node : yaml.Node
+
+        Returns
+        -------
+        bool
+        """
         import yaml
         return isinstance(node, yaml.MappingNode)
 
     @staticmethod
     def is_scalar(node) -> bool:
+        """Whether ``node`` is a scalar (text, a number, ...).
+
+        Parameters
+        ----------
+        node : yaml.Node
+
+        Returns
+        -------
+        bool
+        """
         import yaml
         return isinstance(node, yaml.ScalarNode)
 
     @staticmethod
     def is_sequence(node) -> bool:
+        """Whether ``node`` is a sequence (a list).
+
+        Parameters
+        ----------
+        node : yaml.Node
+
+        Returns
+        -------
+        bool
+        """
         import yaml
         return isinstance(node, yaml.SequenceNode)
 
     @staticmethod
     def plain_keys(node) -> dict:
-        """``{key: value node}`` of a mapping node's plain-text keys (others skipped, the
-        last of repeated keys kept), without validation: for a first look at a mapping
-        whose checks depend on one of its entries."""
+        """``{key: value node}`` of a mapping node's plain-text keys, without validation: for
+        a first look at a mapping whose checks depend on one of its entries.
+
+        Parameters
+        ----------
+        node : yaml.MappingNode
+            The mapping (not checked to be one).
+
+        Returns
+        -------
+        dict of str to yaml.Node
+            Other keys skipped, the last of repeated keys kept.
+        """
         return {k.value: v for k, v in node.value if Reader.is_scalar(k)}
 
     def names(self, node, what: str):
-        """``(name, value node)`` of each entry of a mapping of plain names, in order (an
-        entry whose key is not a plain name fails when it is reached)."""
+        """``(name, value node)`` of each entry of a mapping of plain names, in order.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The mapping.
+        what : str
+            How to name it in messages.
+
+        Yields
+        ------
+        name : str
+        value : yaml.Node
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`, when iterated.) Not a mapping; an entry whose key is not a
+            plain name, when it is reached.
+        """
         if not self.is_mapping(node):
             self.fail(node, f"{what} must be a mapping of names to numbers")
         for knode, vnode in node.value:
@@ -179,7 +302,15 @@ class Reader:
     @staticmethod
     def put_first(node, key: str, value: str) -> None:
         """Give the mapping ``node`` the text entry ``key: value`` first, unless it has
-        ``key`` (for a default the reader should treat as written)."""
+        ``key`` (for a default the reader should treat as written).
+
+        Parameters
+        ----------
+        node : yaml.MappingNode
+            Modified in place; the new entry carries ``node``'s start line.
+        key, value : str
+            The entry, as text scalars.
+        """
         import yaml
         if any(k.value == key for k, _ in node.value):
             return
@@ -189,6 +320,17 @@ class Reader:
 
     @staticmethod
     def kind(node) -> str:
+        """What ``node`` is, for a message: "a mapping", "a list", "empty" or its quoted
+        text.
+
+        Parameters
+        ----------
+        node : yaml.Node
+
+        Returns
+        -------
+        str
+        """
         import yaml
         if isinstance(node, yaml.MappingNode):
             return "a mapping"
@@ -197,6 +339,26 @@ class Reader:
         return quote(node.value) if node.value != "" else "empty"
 
     def sequence(self, node, what: str, length: int | None = None) -> list:
+        """The items of a list node.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The list.
+        what : str
+            How to name it in messages.
+        length : int, optional
+            The number of items it must have.
+
+        Returns
+        -------
+        list of yaml.Node
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a list, or not ``length`` items.
+        """
         import yaml
         if not isinstance(node, yaml.SequenceNode):
             self.fail(node, f"{what} must be a list, not {self.kind(node)}")
@@ -205,13 +367,52 @@ class Reader:
         return node.value
 
     def text(self, node, what: str) -> str:
+        """The text of a scalar node (a number is taken as its text).
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The scalar.
+        what : str
+            How to name it in messages.
+
+        Returns
+        -------
+        str
+            As written.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a scalar, or empty (null).
+        """
         import yaml
         if not isinstance(node, yaml.ScalarNode) or node.tag.endswith(":null"):
             self.fail(node, f"{what} must be text, not {self.kind(node) if not isinstance(node, yaml.ScalarNode) else 'empty'}")
         return str(node.value)
 
     def number(self, node, what: str) -> float:
-        """A number or an arithmetic expression over ``parameters`` and ``pi``."""
+        """A number or an arithmetic expression over ``parameters`` and ``pi``.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The scalar.
+        what : str
+            How to name it in messages.
+
+        Returns
+        -------
+        float
+            In the file's units, not converted to SI (the caller multiplies by ``L`` or
+            ``A``).
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a scalar, yes/no, empty, an invalid expression
+            (:meth:`expression`), not finite, or larger than ``MAX_MAGNITUDE`` in magnitude.
+        """
         import yaml
         if not isinstance(node, yaml.ScalarNode):
             self.fail(node, f"{what} must be a number, not {self.kind(node)}")
@@ -237,6 +438,28 @@ class Reader:
         return value
 
     def expression(self, node, what: str) -> float:
+        """The value of an arithmetic expression: numbers, parameter names, ``pi`` (files
+        with angles in rad only), ``+ - * /`` and parentheses.
+
+        Parameters
+        ----------
+        node : yaml.ScalarNode
+            The expression's text.
+        what : str
+            How to name it in messages.
+
+        Returns
+        -------
+        float
+            In the file's units (parameters are in them too); not checked to be finite.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Longer than ``MAX_EXPRESSION`` characters, not an
+            expression, anything else in it, an unknown name, ``pi`` in a file in degrees,
+            a division by zero, an overflow, nesting too deep.
+        """
         src = node.value
         if len(src) > MAX_EXPRESSION:
             self.fail(node, f"{what}: expression longer than {MAX_EXPRESSION} characters")
@@ -289,13 +512,60 @@ class Reader:
         raise _ExprError("only numbers, parameter names, pi, + - * / and parentheses are allowed")
 
     def vector(self, node, what: str, length: int) -> np.ndarray:
+        """A list of ``length`` numbers (:meth:`number`).
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The list.
+        what : str
+            How to name it in messages (an item is ``what[k]``).
+        length : int
+            The number of items it must have.
+
+        Returns
+        -------
+        ndarray (length,)
+            In the file's units, not converted to SI.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) As :meth:`sequence` and :meth:`number`.
+        """
         items = self.sequence(node, what, length)
         return np.array([self.number(v, f"{what}[{k}]") for k, v in enumerate(items)])
 
     # the robot -----------------------------------------------------------
     def pose(self, node, what: str) -> np.ndarray:
         """``base`` or ``tool``: ``{xyz, rpy}``, ``{matrix: [4 rows]}`` or the 4x4 matrix
-        itself (a list of 4 rows, as PRODUCT.md allows)."""
+        itself (a list of 4 rows, as PRODUCT.md allows).
+
+        Uses ``self.L`` (m per file length unit, set by the subclass) and ``self.A`` (rad
+        per file angle unit). A missing ``xyz`` or ``rpy`` is zero.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The pose entry.
+        what : str
+            How to name it in messages (``"'base'"``).
+
+        Returns
+        -------
+        ndarray (4, 4)
+            The pose as written, in SI: translation in m; ``rpy`` (fixed X-Y-Z,
+            ``R = Rz(yaw) Ry(pitch) Rx(roll)``) converted to rad; a matrix's rotation
+            re-orthonormalised (by SVD). For a robot file, ``base`` is
+            ``T_world_0`` and ``tool`` is ``T_flange_tool`` (dh/mdh) or ``M`` (poe).
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Both ``matrix`` and ``xyz``/``rpy``, an unknown key, a
+            last row other than ``[0, 0, 0, 1]`` (to 1e-9), a 3x3 block that is not a
+            rotation (orthonormal to 1e-6, determinant +1), or as :meth:`vector`.
+        """
         import yaml
         if isinstance(node, yaml.SequenceNode):     # the bare matrix
             matrix, mwhat = node, f"{what} (a 4x4 matrix)"

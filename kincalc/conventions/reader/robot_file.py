@@ -36,6 +36,12 @@ def load_robot_file(path, display_name: str | None = None) -> Robot:
     display_name : str, optional
         How to name the file in messages (defaults to ``str(path)``).
 
+    Returns
+    -------
+    Robot
+        The robot, SI inside (m, rad) whatever the file's units, with ``path`` set to
+        ``str(path)``.
+
     Raises
     ------
     RobotFileError
@@ -50,10 +56,33 @@ def load_robot_file(path, display_name: str | None = None) -> Robot:
 def read_text(path, shown: str, what: str, error=RobotFileError,
               limit: int = MAX_FILE_BYTES) -> str:
     """The UTF-8 text of ``path``, at most ``limit`` bytes of it (read through
-    :func:`kincalc.limits.read_bounded`, so an endless device is refused, not read);
-    any failure is an ``error(shown, line, message)`` (``what`` names the kind of file,
-    e.g. "a robot file"). Only a failure to decode has a line: every other message is
-    about the file, never its content."""
+    :func:`kincalc.limits.read_bounded`, so an endless device is refused, not read).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file, or ``"-"`` for standard input.
+    shown : str
+        How to name the file in messages.
+    what : str
+        The kind of file, for messages (e.g. "a robot file").
+    error : callable
+        ``error(shown, line, message)`` gives the exception to raise
+        (:class:`~kincalc.errors.RobotFileError` by default).
+    limit : int
+        The most bytes accepted (:data:`~kincalc.limits.MAX_FILE_BYTES` by default).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    RobotFileError
+        (Or ``error``.) Larger than ``limit``, a directory, unreadable (no such file,
+        permission, ...), an invalid name, or not UTF-8. Only a failure to decode has a
+        line: every other message is about the file, never its content.
+    """
     try:
         data = read_bounded(path, limit)
     except TooLarge:
@@ -76,7 +105,25 @@ def read_text(path, shown: str, what: str, error=RobotFileError,
 
 
 def parse_robot_text(text: str, file: str = "<robot>") -> Robot:
-    """Parse the YAML ``text`` of a robot file; ``file`` names it in errors."""
+    """Parse the YAML ``text`` of a robot file.
+
+    Parameters
+    ----------
+    text : str
+        The robot file's text.
+    file : str
+        How to name it in messages.
+
+    Returns
+    -------
+    Robot
+        The robot, SI inside (m, rad) whatever the file's units.
+
+    Raises
+    ------
+    RobotFileError
+        Invalid YAML or any invalid field (``file:line: [joint k (name): ]message``).
+    """
     root = compose_yaml(text, file)
     return RobotReader(file).robot(root)
 
@@ -86,6 +133,30 @@ class RobotReader(Reader):
     values of :class:`~.nodes.Reader`."""
 
     def robot(self, root) -> Robot:
+        """The robot of a file's root node.
+
+        Sets ``self.L`` (m per file length unit) and ``self.A`` (rad per file angle unit)
+        from the file's ``units`` and converts every value with them. A poe file's
+        ``tool`` becomes the robot's ``M`` (its ``tool`` is then the identity).
+
+        Parameters
+        ----------
+        root : yaml.Node
+            From :func:`~.nodes.compose_yaml`.
+
+        Returns
+        -------
+        Robot
+            SI inside (m, rad); ``parameters`` in the file's units, ``expressions`` as
+            written (none for poe).
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) A missing, unknown or invalid key, e.g. an invalid name,
+            convention or unit, a poe file without ``tool``, or as :meth:`joint_list`,
+            :meth:`read_parameters`, :meth:`pose`, :meth:`home_values`.
+        """
         top = self.mapping(root, "the robot file", TOP_KEYS)
         name = self.text(top["name"], "'name'")
         if not name.strip():
@@ -137,7 +208,19 @@ class RobotReader(Reader):
 
     def read_parameters(self, pnode) -> None:
         """The file's ``parameters`` (name -> number, in the file's units) into
-        ``self.params``, for the expressions of the joints' entries."""
+        ``self.params``, for the expressions of the joints' entries.
+
+        Parameters
+        ----------
+        pnode : yaml.Node
+            The ``parameters`` mapping.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a mapping, a key that is not an identifier or is
+            ``pi``, a name given twice, or a value as :meth:`number` refuses it.
+        """
         import yaml
         if not isinstance(pnode, yaml.MappingNode):
             self.fail(pnode, "'parameters' must be a mapping of names to numbers")
@@ -153,7 +236,26 @@ class RobotReader(Reader):
             self.params[pname] = self.number(vnode, f"parameter {quote(pname)}")
 
     def joint_list(self, node, convention: str) -> list:
-        """The ``joints`` entries, in order, each with a name no other joint has."""
+        """The ``joints`` entries, in order, each with a name no other joint has.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The ``joints`` list.
+        convention : {'dh', 'mdh', 'poe'}
+            Which keys a joint has.
+
+        Returns
+        -------
+        list of Joint
+            SI (m, rad), as :meth:`joint_entry`.
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`, naming the joint.) Not a list, empty, a name used twice, or
+            as :meth:`joint_entry`.
+        """
         jnodes = self.sequence(node, "'joints'")
         if not jnodes:
             self.fail(node, "'joints' is empty; a robot needs at least one joint")
@@ -171,7 +273,26 @@ class RobotReader(Reader):
         return joints
 
     def home_values(self, hnode, joints) -> np.ndarray:
-        """The ``home`` joint values (SI), one per joint, each within its limits."""
+        """The ``home`` joint values, one per joint, each within its limits.
+
+        Parameters
+        ----------
+        hnode : yaml.Node
+            The ``home`` list, in the file's units.
+        joints : sequence of Joint
+            The robot's joints (SI), for their types and limits.
+
+        Returns
+        -------
+        ndarray (n,)
+            rad (revolute) / m (prismatic).
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) Not a list of n numbers, or a value outside its joint's
+            limits (by more than 1e-12, SI).
+        """
         items = self.sequence(hnode, "'home'")
         if len(items) != len(joints):
             self.fail(hnode, f"'home' has {len(items)} values but the robot has {len(joints)} joints")
@@ -183,6 +304,31 @@ class RobotReader(Reader):
         return home
 
     def joint_entry(self, node, convention: str) -> Joint:
+        """One ``joints`` entry; for dh/mdh, its fields written as expressions go to
+        ``self.exprs``.
+
+        Parameters
+        ----------
+        node : yaml.Node
+            The joint's mapping.
+        convention : {'dh', 'mdh', 'poe'}
+            dh/mdh: keys ``name type alpha a d theta [limits]``; poe: ``name type axis
+            point [limits]``.
+
+        Returns
+        -------
+        Joint
+            SI: ``alpha``, ``theta`` in rad and ``a``, ``d`` in m; poe ``axis`` normalised
+            and ``point`` in m (both in the base frame at q = 0); ``limits`` in rad
+            (revolute) or m (prismatic).
+
+        Raises
+        ------
+        RobotFileError
+            (By :meth:`fail`.) A missing or unknown key, an empty name, a type other than
+            revolute/prismatic, limits with lower > upper, a poe axis that is zero or not
+            of unit norm (to 1e-6), or a value as :meth:`number` refuses it.
+        """
         import yaml
         keys = POE_JOINT_KEYS if convention == "poe" else DH_JOINT_KEYS
         if isinstance(node, yaml.MappingNode):
