@@ -51,7 +51,8 @@ class RobotName(FileName):
 
 RobotArg = Annotated[str, typer.Argument(
     metavar="ROBOT", show_default=False, click_type=RobotName(),
-    help="A bundled robot's name (see 'kincalc robots list') or a path to a robot YAML file.")]
+    help="A bundled robot's name (see 'kincalc robots list'), a path to a robot YAML file or "
+         "a URDF file (.urdf).")]
 JointsArg = Annotated[Optional[List[str]], typer.Argument(
     metavar="Q...", show_default=False,
     help="Joint values in order: revolute in the angle unit, prismatic in the length unit. "
@@ -68,6 +69,13 @@ JsonOpt = Annotated[bool, typer.Option(
                    "\"JSON output\", and the command's man page).")]
 DebugOpt = Annotated[bool, typer.Option(
     "--debug", help="Show a Python traceback on errors.")]
+BaseLinkOpt = Annotated[Optional[str], typer.Option(
+    "--base-link", metavar="LINK", show_default=False,
+    help="URDF robots: the link the chain starts from (default: the tree's root).")]
+TipLinkOpt = Annotated[Optional[str], typer.Option(
+    "--tip-link", metavar="LINK", show_default=False,
+    help="URDF robots: the link the chain ends at (default: the end of the one chain of "
+         "moving joints; a tree that branches asks for it).")]
 BatchOpt = Annotated[Optional[str], typer.Option(
     "--batch", metavar="FILE", show_default=False, click_type=FileName(),
     help="Answer every record of FILE ('-' for stdin), one output line per record, in order: "
@@ -199,9 +207,11 @@ def robot_file(robot: str) -> str | None:
         return None
 
 
-def load_robot(name: str):
+def load_robot(name: str, base_link: str | None = None, tip_link: str | None = None):
+    """The robot ``name`` (bundled name, robot file or URDF); the links choose a URDF's
+    chain and are refused for a robot that is not a URDF."""
     from ..conventions.library import load
-    return load(name)
+    return load(name, base_link=base_link, tip_link=tip_link)
 
 
 def output(doc: dict, json: bool, tables, *args) -> None:

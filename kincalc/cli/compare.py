@@ -6,8 +6,8 @@ from typing import Annotated
 
 import typer
 
-from .common import (DebugOpt, DegOpt, JsonOpt, PrecisionOpt, UnitOpt, display_units,
-                     load_robot, output)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
+                     display_units, load_robot, output)
 
 RobotAArg = Annotated[str, typer.Argument(
     metavar="ROBOT_A", show_default=False,
@@ -45,6 +45,8 @@ def compare(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Are ROBOT_A and ROBOT_B the same robot (same tool pose for every joint value)?
@@ -56,7 +58,7 @@ def compare(
     match, and why. Exit status 0 same, 1 different, 2 bad input.
     """
     from ..analysis.compare import compare as _compare
-    a, b = load_robot(robot_a), load_robot(robot_b)
+    a, b = load_robot(robot_a, base_link, tip_link), load_robot(robot_b, base_link, tip_link)
     units = display_units(a, deg, unit)
     result = _compare(a, b, units, arguments=(robot_a, robot_b), samples=samples, seed=seed,
                       allow_offsets=allow_offsets, free_base=free_base, free_tool=free_tool)

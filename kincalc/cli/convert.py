@@ -6,7 +6,7 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import DebugOpt, FileName, RobotArg, load_robot, output_target
+from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
 
 ToOpt = Annotated[str, typer.Option(
     "--to", metavar="dh|mdh|poe", show_default=False,
@@ -26,6 +26,8 @@ def convert(
     to: ToOpt = ...,
     output_file: OutputOpt = None,
     force: ForceOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Rewrite ROBOT in another convention: standard DH <-> modified DH, or
@@ -45,7 +47,7 @@ def convert(
     if to not in CONVENTIONS:
         raise UsageError(f"--to must be one of {', '.join(CONVENTIONS)}, not {to!r}")
     target = _check_target(output_file, force, robot)
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     text = dump_robot(_convert(rob, to))
     if target is None:
         import sys

@@ -6,9 +6,9 @@ from typing import Annotated
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JointsArg,
-                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot,
-                     output, parse_joints)
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt,
+                     JointsArg, JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
+                     load_robot, output, parse_joints)
 
 
 def fk(
@@ -37,6 +37,8 @@ def fk(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Forward kinematics: the tool pose for joint values Q.
@@ -57,7 +59,7 @@ def fk(
     """
     if batch is not None:
         from .batch import run_command
-        rob = load_robot(robot)
+        rob = load_robot(robot, base_link, tip_link)
         run_command("fk", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
                              "--numeric-lengths": numeric_lengths},
@@ -67,13 +69,13 @@ def fk(
         symbolic_check(symbolic, latex, numeric_lengths, q)
         from ..analysis.symbolic import symbolic_fk
         require_sympy_for("fk", symbolic, latex)
-        rob = load_robot(robot)
+        rob = load_robot(robot, base_link, tip_link)
         display_units(rob, deg, unit)
         result = symbolic_fk(rob, numeric_lengths=numeric_lengths, length_unit=unit)
         symbolic_output(result, json, latex)
         return
     from ..analysis.reports import fk_report
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     result = fk_report(rob, qv, units, frames=frames)

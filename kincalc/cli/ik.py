@@ -6,8 +6,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt, JobsOpt,
-                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units,
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt,
+                     JobsOpt, JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
                      load_robot, output, output_target)
 from .targets import PoseOptions, with_pose_options
 
@@ -55,6 +55,8 @@ def ik(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Inverse kinematics: every joint solution that reaches a pose.
@@ -75,7 +77,7 @@ def ik(
         plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose_options.pose)])
         check_output(plot_to)
         require_matplotlib("kincalc ik --plot")
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     if batch is not None:
         from .batch import run_command

@@ -7,9 +7,9 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JointsArg,
-                     JsonOpt, PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot,
-                     output, parse_joints)
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt,
+                     JointsArg, JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
+                     load_robot, output, parse_joints)
 
 
 class Frame(str, Enum):
@@ -52,6 +52,8 @@ def jacobian(
     input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Geometric Jacobian (6 x n, rows vx vy vz wx wy wz) at joint values Q.
@@ -69,7 +71,7 @@ def jacobian(
     """
     if batch is not None:
         from .batch import run_command
-        rob = load_robot(robot)
+        rob = load_robot(robot, base_link, tip_link)
         run_command("jacobian", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     frame=frame.value,
                     refused={"--analytic": analytic, "--symbolic": symbolic, "--latex": latex,
@@ -83,14 +85,14 @@ def jacobian(
             raise UsageError("--analytic is not available with --symbolic")
         from ..analysis.symbolic import symbolic_jacobian
         require_sympy_for("jacobian", symbolic, latex)
-        rob = load_robot(robot)
+        rob = load_robot(robot, base_link, tip_link)
         display_units(rob, deg, unit)
         result = symbolic_jacobian(rob, frame=frame.value, numeric_lengths=numeric_lengths,
                                    length_unit=unit)
         symbolic_output(result, json, latex)
         return
     from ..analysis.reports import jacobian_report
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     result = jacobian_report(rob, qv, units, frame=frame.value,

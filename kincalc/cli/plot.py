@@ -7,8 +7,8 @@ from typing import Annotated
 
 import typer
 
-from .common import (DebugOpt, DegOpt, FileName, ForceOpt, JointsArg, RobotArg, UnitOpt,
-                     display_units, load_robot, output_target, parse_joints)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, ForceOpt, JointsArg, RobotArg,
+                     TipLinkOpt, UnitOpt, display_units, load_robot, output_target, parse_joints)
 
 OutputOpt = Annotated[str, typer.Option(
     "--output", "-o", metavar="FILE", show_default=False, click_type=FileName(),
@@ -27,6 +27,8 @@ def plot(
     force: ForceOpt = False,
     deg: DegOpt = True,
     unit: UnitOpt = None,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Draw ROBOT at joint values Q into FILE (PNG, SVG or PDF).
@@ -45,7 +47,7 @@ def plot(
     target = output_target(output, "-o", force, robot)
     check_output(target)
     require_matplotlib("kincalc plot")
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     qv = parse_joints(q, rob, units)
     drawing = draw_arms(rob, qv[None, :], [config_title(rob, qv, units)], target,

@@ -7,7 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..errors import InputError
-from .common import DebugOpt, FileName, RobotArg, load_robot, output_target
+from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
 
 SeedOpt = Annotated[Optional[int], typer.Option(
     "--seed", metavar="S", min=0, show_default=False,
@@ -40,6 +40,8 @@ def quiz(
     output: OutputOpt = None,
     force: ForceOpt = False,
     deg: SheetDegOpt = None,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Write a random exercise sheet for ROBOT (the format 'kincalc check' grades).
@@ -72,7 +74,7 @@ def quiz(
         from ..outputs import check_target
         target = output_target(output, "--output", force, robot)
         check_target(target)
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     drawn = seed is None
     if drawn:
         import secrets

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import typer
 
-from .common import (BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt, JsonOpt,
-                     PrecisionOpt, RobotArg, UnitOpt, display_units, load_robot, output)
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt,
+                     JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
+                     load_robot, output)
 from .targets import PoseOptions, with_pose_options
 
 
@@ -22,6 +23,8 @@ def reach(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Reachability: can the robot reach a pose, and if not, why.
@@ -37,7 +40,7 @@ def reach(
     options are those of 'kincalc ik'.
     """
     from ..analysis.reach import reach as _reach
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     if fmt not in ("jsonl", "csv"):
         from ..errors import UsageError

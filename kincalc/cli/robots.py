@@ -7,7 +7,8 @@ from typing import Annotated, List
 
 import typer
 
-from .common import DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName, UnitOpt
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
+                     TipLinkOpt, UnitOpt)
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
                   rich_markup_mode=None,
@@ -66,16 +67,25 @@ def show(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Show a robot: its DH (or POE) table as a textbook prints it, limits, base, tool, source."""
     from ..analysis.results import SCHEMA_VERSION, robot_summary
     from .common import display_units, load_robot
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     u = display_units(rob, deg, unit)
     doc = {"kincalc": SCHEMA_VERSION, "command": "robots show",
            "robot": robot_summary(rob), "units": u.to_dict()}
     doc["robot"].update(_details(rob, u))
+    doc["robot"]["ik"] = _ik_method(rob)
+    if rob.convention == "poe":
+        # the DH table of the same axes (a URDF's, or any poe robot's)
+        from ..conventions import convert
+        dh = convert(rob, "dh")
+        doc["robot"]["dh"] = {k: v for k, v in _details(dh, u).items()
+                              if k in ("joints", "base", "tool")}
     if json:
         from .render import emit_json
         emit_json(doc)
@@ -103,6 +113,16 @@ def _details(rob, u) -> dict:
             "path": rob.path, "characteristic_length": float(rob.characteristic_length * u.l)}
 
 
+def _ik_method(rob) -> dict:
+    """How ``kincalc ik`` answers for ``rob``: the closed-form family found from its axes,
+    or the numerical solver and why."""
+    from ..ik.families import plan
+    _, family, why = plan(rob)
+    if family is None:
+        return {"method": "numerical", "family": None, "description": why}
+    return {"method": "analytic", "family": family.name, "description": family.description}
+
+
 def _var(name, offset, precision, unit):
     from .render import num
     if abs(offset) < 10.0 ** -(precision + 1):
@@ -112,14 +132,9 @@ def _var(name, offset, precision, unit):
 
 
 def _show_tables(doc, rob, u, precision):
-    import numpy as np
-    from rich import box
-    from rich.table import Table
-
-    from .render import console, kv_table, matrix_table, num
+    from .render import console, kv_table, num
     c = console()
     r = doc["robot"]
-    deg = "°" if u.angle == "deg" else ""
     c.print(f"[bold]{rob.name}[/bold] - {rob.title}")
     meta = [("convention", {"dh": "dh (standard, distal: A_i = Rz(θ) Tz(d) Tx(a) Rx(α))",
                             "mdh": "mdh (modified, Craig: A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ) Tz(d))",
@@ -131,10 +146,32 @@ def _show_tables(doc, rob, u, precision):
     from ..conventions.library import library_dir
     if rob.path and Path(rob.path).resolve().parent != library_dir().resolve():
         meta.append(("file", rob.path))
+    ik = r["ik"]
+    meta.append(("ik", f"{ik['family']}: {ik['description']}" if ik["family"] else
+                 f"numerical ({ik['description']})"))
     c.print(kv_table(meta))
+    _joint_table(c, rob, r, u, precision)
+    if rob.convention == "poe":
+        from ..conventions import convert
+        _joint_table(c, convert(rob, "dh"), r["dh"], u, precision,
+                     "Standard DH table of the same axes (kincalc convert --to dh)")
+    c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
+    if rob.notes:
+        c.print(f"notes: {rob.notes}")
+
+
+def _joint_table(c, rob, r, u, precision, title=None):
+    """The robot's table (DH, modified DH or screws) with its limits, then its base and
+    tool when they are not the identity; ``r`` holds the values in display units."""
+    import numpy as np
+    from rich import box
+    from rich.table import Table
+
+    from .render import matrix_table, num
+    deg = "°" if u.angle == "deg" else ""
     t = Table(box=box.SIMPLE_HEAD, title_justify="left",
-              title={"dh": "Standard DH table", "mdh": "Modified DH table (Craig)",
-                     "poe": "Joint screws (base frame, q = 0)"}[rob.convention])
+              title=title or {"dh": "Standard DH table", "mdh": "Modified DH table (Craig)",
+                              "poe": "Joint screws (base frame, q = 0)"}[rob.convention])
     L = "" if u.length == "unitless" else f" {u.length}"
     if rob.convention == "dh":
         cols = ["i", "θ_i", "d_i", "a_i", "α_i"]
@@ -166,9 +203,6 @@ def _show_tables(doc, rob, u, precision):
         c.print(matrix_table(r["tool"], precision,
                              title="tool: M (tool pose at q = 0)" if rob.convention == "poe"
                              else "tool: T_n^tool"))
-    c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
-    if rob.notes:
-        c.print(f"notes: {rob.notes}")
 
 
 @app.command()
@@ -184,13 +218,12 @@ def validate(
     import sys
 
     from ..errors import KincalcError
-    from ..conventions.library import resolve
-    from ..conventions.reader import load_robot_file
+    from ..conventions.library import load
     report, bad = [], 0
     for f in files:
         try:
             # a name as every command takes it: a bundled robot first, then a file
-            r = load_robot_file(resolve(f)[0], display_name=f)
+            r = load(f, display_name=f)
             report.append({"file": f, "valid": True, "name": r.name, "dof": r.dof,
                            "convention": r.convention, "error": None})
         except KincalcError as exc:

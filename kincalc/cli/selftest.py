@@ -7,7 +7,7 @@ from typing import Annotated
 import typer
 
 from ..limits import MAX_TRIALS
-from .common import DebugOpt, JsonOpt, RobotArg, load_robot
+from .common import BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, TipLinkOpt, load_robot
 
 
 def selftest(
@@ -16,6 +16,8 @@ def selftest(
                                         help="Number of random configurations.")] = 1000,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed (>= 0).")] = 0,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Check IK on random configurations within the limits (IKFast's --iktests metrics).
@@ -28,7 +30,7 @@ def selftest(
     from ..ik.families import plan
     from ..ik.selftest import run
     from ..analysis.results import SCHEMA_VERSION, Units, robot_summary
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     _, fam, why = plan(rob)
     name, description = (fam.name, fam.description) if fam else (
         "numerical", f"one solution nearest home ({why})")

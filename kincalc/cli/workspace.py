@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .common import (DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt, RobotArg, UnitOpt,
-                     display_units, load_robot, output, output_target)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt, RobotArg,
+                     TipLinkOpt, UnitOpt, display_units, load_robot, output, output_target)
 
 
 def workspace(
@@ -42,6 +42,8 @@ def workspace(
     unit: UnitOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
+    base_link: BaseLinkOpt = None,
+    tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
     """Workspace: Monte-Carlo sampling of the joint space within the limits.
@@ -62,7 +64,7 @@ def workspace(
         plot_to = output_target(plot, "--plot", force, robot)
         check_output(plot_to)
         require_matplotlib("kincalc workspace --plot")
-    rob = load_robot(robot)
+    rob = load_robot(robot, base_link, tip_link)
     units = display_units(rob, deg, unit)
     with _progress() as report:
         result = analyse(rob, samples, seed, units=units, dexterity=dexterity,

@@ -57,18 +57,24 @@ def convert(robot: Robot, to: str) -> Robot:
     Raises
     ------
     InputError
-        ``to`` is not a convention, or ``robot`` is poe and ``to`` is dh or mdh
-        (not supported).
+        ``to`` is not a convention.
+
+    Notes
+    -----
+    poe to dh (or mdh) is the general line-geometry construction of
+    :func:`kincalc.conventions.lines.axes_to_dh`: DH frames on the joint axes at q = 0,
+    common normals for skew axes, the intersection for meeting ones, a normal through the
+    previous origin for parallel ones, and a ``tool`` for what remains.
     """
     if to not in CONVENTIONS:
         raise InputError(f"the convention must be one of {', '.join(CONVENTIONS)}, not {to!r}")
     if to == robot.convention:
         return robot
-    if robot.convention == "poe":
-        raise InputError(f"{robot.name} is a poe robot; converting poe to {to} is not "
-                         "supported (kincalc converts dh and mdh robots to each other and to poe)")
     if to == "poe":
         out = to_poe(robot)
+    elif robot.convention == "poe":
+        from .lines import axes_to_dh
+        out = axes_to_dh(robot) if to == "dh" else dh_to_mdh(axes_to_dh(robot))
     elif to == "mdh":
         out = dh_to_mdh(robot)
     else:

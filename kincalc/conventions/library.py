@@ -13,6 +13,15 @@ import os
 from pathlib import Path
 
 from ..errors import RobotNotFoundError
+from ..limits import cut
+
+
+#: a robot file with one of these endings is read as URDF (:mod:`kincalc.conventions.urdf`)
+URDF_SUFFIXES = (".urdf",)
+#: ... and one of these is refused with how to expand it
+XACRO_SUFFIXES = (".xacro",)
+XACRO_HINT = ("a .xacro file is a macro program, not a URDF: expand it first ('pip install "
+              "xacro', then 'xacro FILE.xacro > FILE.urdf') and give kincalc the .urdf")
 
 
 def library_dir() -> Path:
@@ -66,7 +75,7 @@ def bundled_names() -> list[str]:
 def resolve(robot: str) -> tuple[Path, str]:
     """Return ``(path, display_name)`` for a robot name or path.
 
-    A value containing a path separator or ending in .yaml/.yml is a path;
+    A value containing a path separator or ending in .yaml/.yml/.urdf/.xacro is a path;
     otherwise a bundled name is tried first, then a file of that name. A name
     the system cannot hold (too long, a NUL character) is no robot: the tests
     go through ``os.path``, which answers False where ``Path.is_file`` raises
@@ -91,7 +100,8 @@ def resolve(robot: str) -> tuple[Path, str]:
     InputError
         As :func:`library_dir`.
     """
-    looks_like_path = os.sep in robot or "/" in robot or robot.endswith((".yaml", ".yml"))
+    looks_like_path = os.sep in robot or "/" in robot or \
+        robot.lower().endswith((".yaml", ".yml") + URDF_SUFFIXES + XACRO_SUFFIXES)
     if not looks_like_path:
         candidate = library_dir() / f"{robot}.yaml"
         if os.path.isfile(candidate):
@@ -103,14 +113,21 @@ def resolve(robot: str) -> tuple[Path, str]:
     raise RobotNotFoundError(robot, close)
 
 
-def load(robot: str):
-    """Load a bundled robot by name, or a robot file by path (``kincalc.load_robot``).
+def load(robot: str, base_link: str | None = None, tip_link: str | None = None,
+         display_name: str | None = None):
+    """Load a bundled robot by name, or a robot file or URDF by path (``kincalc.load_robot``).
 
     Parameters
     ----------
     robot : str
-        A bundled robot's name (``kincalc robots list``) or a path to a robot YAML file
-        (see :func:`resolve` for which is which).
+        A bundled robot's name (``kincalc robots list``), a path to a robot YAML file, or
+        a path to a ``.urdf`` file (see :func:`resolve` for which is which).
+    base_link, tip_link : str, optional
+        A URDF's chain: its first and last link (defaults in :mod:`kincalc.conventions.urdf`);
+        refused for a robot that is not a URDF.
+    display_name : str, optional
+        How messages name the file (default: ``robot`` as given, or a bundled robot's
+        path).
 
     Returns
     -------
@@ -122,10 +139,25 @@ def load(robot: str):
     RobotNotFoundError
         No bundled robot and no file of that name (the message suggests close names).
     RobotFileError
-        The file is not a valid robot file (the message names the file, line and field).
+        The file is not a valid robot file or URDF (the message names the file, line and
+        field), or it is a .xacro file (the message says how to expand it).
     InputError
-        As :func:`library_dir`.
+        As :func:`library_dir`; or links given for a robot that is not a URDF.
     """
+    from ..errors import InputError, RobotFileError
     from .reader import load_robot_file
     path, shown = resolve(robot)
-    return load_robot_file(path, display_name=str(path) if path.parent == library_dir() else shown)
+    if display_name is None:
+        display_name = str(path) if path.parent == library_dir() else shown
+    shown = display_name
+    suffix = path.suffix.lower()
+    if suffix in XACRO_SUFFIXES:
+        raise RobotFileError(shown, None, XACRO_HINT)
+    if suffix in URDF_SUFFIXES:
+        from .urdf import load_urdf
+        return load_urdf(path, shown, base_link=base_link, tip_link=tip_link)
+    given = [o for o, v in (("--base-link", base_link), ("--tip-link", tip_link)) if v]
+    if given:
+        raise InputError(f"{' and '.join(given)} choose{'s' if len(given) == 1 else ''} the "
+                         f"chain of a URDF robot; {cut(robot)} is not a .urdf file")
+    return load_robot_file(path, display_name=shown)

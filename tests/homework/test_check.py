@@ -1511,3 +1511,29 @@ def test_quotes_of_the_sheet_are_cut(text, words):
     assert len(message) < 2 * MAX_QUOTE + 300, message[:500]
     for w in words:
         assert w in message, message
+
+
+TWO_LINK_URDF = """<robot name="two_link">
+  <link name="base_link"/><link name="upper_arm"/><link name="forearm"/>
+  <joint name="shoulder" type="continuous"><parent link="base_link"/>
+    <child link="upper_arm"/><axis xyz="0 0 1"/></joint>
+  <joint name="elbow" type="continuous"><parent link="upper_arm"/><child link="forearm"/>
+    <origin xyz="0.4 0 0"/><axis xyz="0 0 1"/></joint>
+  <link name="tool0"/>
+  <joint name="tool" type="fixed"><parent link="forearm"/><child link="tool0"/>
+    <origin xyz="0.3 0 0"/></joint>
+</robot>
+"""
+
+
+def test_a_sheet_robot_may_be_a_urdf_and_its_problems_are_told_by_line(folders):
+    (folders / "arm.urdf").write_text(TWO_LINK_URDF)
+    status, out, err = run_check(folders, "robot: arm.urdf\n" + SINGULAR)
+    assert status == 0, err
+    # a URDF whose names carry someone else's secret: only the line is told
+    bad = TWO_LINK_URDF.replace('<link name="tool0"/>', "") \
+        .replace("</robot>", f'<link name="{SECRET}"/></robot>')
+    (folders / "bad.urdf").write_text(bad)
+    status, _, err = run_check(folders, "robot: bad.urdf\n" + SINGULAR)
+    assert status == 2 and SECRET not in err and "tool0" not in err
+    assert "robot 'bad.urdf' is not a valid robot file (the first problem is on its line" in err

@@ -206,7 +206,8 @@ class _SheetReader(AnswerReader, Reader):
         return self.robot_file(node, name, path)
 
     def robot_file(self, node, name: str, path: str):
-        """The robot file at ``path`` that ``robot: NAME`` named. Its content is never
+        """The robot file (YAML, or a URDF for a name ending in .urdf) at ``path`` that
+        ``robot: NAME`` named. Its content is never
         quoted: the sheet's author may not own it (another student's sheet in the same
         folder, a grader's file), so a problem in it is reported by its line only."""
         from ...conventions.reader import parse_robot_text, read_text
@@ -219,6 +220,8 @@ class _SheetReader(AnswerReader, Reader):
             text = None
             line = exc.line
         if text is not None:
+            if name.lower().endswith(".urdf"):        # the URDF's default chain
+                from ...conventions.urdf import parse_urdf_text as parse_robot_text
             try:
                 robot = parse_robot_text(text, name)
             except RobotFileError as exc:

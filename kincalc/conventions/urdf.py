@@ -1,0 +1,388 @@
+"""URDF files -> :class:`~kincalc.model.Robot`: the kinematic subset, over the standard
+library, with file:line errors.
+
+A URDF (ROS's Unified Robot Description Format, https://wiki.ros.org/urdf/XML) is a tree
+of ``<link>`` elements joined by ``<joint>`` elements. kincalc reads what kinematics needs
+and nothing else:
+
+* ``<joint name type>`` of type ``revolute``, ``continuous`` (a revolute joint without
+  limits), ``prismatic`` or ``fixed`` (folded into the constant transforms); a ``floating``
+  or ``planar`` joint, or a ``<mimic>`` on the chosen chain, is refused by name;
+* its ``<parent link>``, ``<child link>``, ``<origin xyz rpy>`` (the child frame in the
+  parent frame; rpy fixed X-Y-Z, ``R = Rz(y) Ry(p) Rx(r)``, as kincalc's RPY), ``<axis
+  xyz>`` (in the joint frame, default ``1 0 0``) and ``<limit lower upper>`` (rad / m);
+* everything else (visuals, collisions, meshes and their ``package://`` references,
+  inertias, transmissions, gazebo tags) is ignored, never fetched.
+
+The robot is the serial chain from a base link to a tip link, as a ``poe`` robot: each
+joint's axis and a point on it in the base link's frame at q = 0, and ``M`` the tip
+link's pose there. Defaults: the base is the tree's root; the tip is the end of the one
+chain of moving joints (the leaf it leads to when only one does, else the child link
+of its last moving joint); a tree whose moving joints branch (two fingers, two arms)
+names its leaves and asks for ``tip_link``.
+
+URDF is untrusted XML: it is parsed by expat with a document type declaration refused
+(so no entity, internal or external, is ever expanded) and read through
+:func:`kincalc.limits.read_bounded` with the size limit of robot files.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import RobotFileError
+from ..limits import MAX_MAGNITUDE, quote
+from ..model import Joint, Robot
+from ..spatial import invert_transform, matrix_from_rpy, transform
+from .reader import read_text
+
+MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
+REFUSED = {"floating": "a floating joint (6 DOF) is not a serial joint",
+           "planar": "a planar joint (3 DOF) is not a serial joint"}
+NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
+
+
+@dataclass
+class Element:
+    """One XML element: its tag, attributes, 1-based line and children."""
+
+    tag: str
+    attrs: dict
+    line: int
+    children: list = field(default_factory=list)
+
+    def first(self, tag: str):
+        return next((c for c in self.children if c.tag == tag), None)
+
+
+@dataclass(frozen=True)
+class UrdfJoint:
+    """A ``<joint>`` as read: the child frame in the parent frame ``origin (4, 4)`` (m),
+    the unit ``axis (3,)`` in the joint frame, ``limits`` (rad / m) or None."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: np.ndarray
+    axis: np.ndarray
+    limits: tuple | None
+    mimic: bool
+    line: int
+
+
+def parse_xml(text: str, file: str) -> Element:
+    """The element tree of ``text``; a DOCTYPE (and so any entity) is refused."""
+    import xml.parsers.expat as expat
+
+    parser = expat.ParserCreate()
+    root: list[Element] = []
+    stack: list[Element] = []
+
+    def start(tag, attrs):
+        node = Element(tag, attrs, parser.CurrentLineNumber)
+        (stack[-1].children if stack else root).append(node)
+        stack.append(node)
+
+    def end(tag):
+        stack.pop()
+
+    def doctype(*args):
+        raise RobotFileError(file, parser.CurrentLineNumber,
+                             "a DOCTYPE is not accepted in a URDF (kincalc expands no entities)")
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    parser.StartDoctypeDeclHandler = doctype
+    parser.EntityDeclHandler = doctype
+    try:
+        parser.Parse(text, True)
+    except expat.ExpatError as exc:
+        raise RobotFileError(file, exc.lineno, "not well-formed XML: "
+                             f"{expat.ErrorString(exc.code)}") from None
+    if root[0].tag != "robot":
+        raise RobotFileError(file, root[0].line, f"the root element is <{cut_tag(root[0].tag)}>,"
+                                                 " not <robot>: not a URDF")
+    return root[0]
+
+
+def cut_tag(tag: str) -> str:
+    return tag if len(tag) <= 40 else tag[:37] + "..."
+
+
+class _Reader:
+    """The checked values of one URDF's elements; every failure a RobotFileError naming
+    the file, the line, the element and the attribute."""
+
+    def __init__(self, file: str):
+        self.file = file
+
+    def fail(self, node: Element, message: str):
+        raise RobotFileError(self.file, node.line, message)
+
+    def attr(self, node: Element, name: str, default=None) -> str:
+        if name in node.attrs:
+            return node.attrs[name]
+        if default is None:
+            self.fail(node, f"<{node.tag}> has no '{name}' attribute")
+        return default
+
+    def numbers(self, node: Element, name: str, count: int, default: str) -> np.ndarray:
+        text = self.attr(node, name, default)
+        parts = text.split()
+        try:
+            values = [float(p) for p in parts]
+        except ValueError:
+            hint = " (an unexpanded xacro expression? expand the file first)" \
+                if "$" in text else ""
+            self.fail(node, f"<{node.tag} {name}> {quote(text)} is not {count} numbers{hint}")
+        if len(values) != count:
+            self.fail(node, f"<{node.tag} {name}> needs {count} numbers, got {len(values)}")
+        if not all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in values):
+            self.fail(node, f"<{node.tag} {name}> holds a number that is not finite or is "
+                            f"larger than {MAX_MAGNITUDE:g}")
+        return np.array(values)
+
+    def joint(self, node: Element) -> UrdfJoint:
+        name = self.attr(node, "name")
+        kind = self.attr(node, "type")
+        where = f"joint {quote(name)}"
+        if kind not in MOVING and kind != "fixed" and kind not in REFUSED:
+            self.fail(node, f"{where}: type {quote(kind)} is not a URDF joint type "
+                            "(revolute, continuous, prismatic, fixed, floating, planar)")
+        links = {}
+        for tag in ("parent", "child"):
+            sub = node.first(tag)
+            if sub is None:
+                self.fail(node, f"{where} has no <{tag}>")
+            links[tag] = self.attr(sub, "link")
+        origin = node.first("origin")
+        T = np.eye(4)
+        if origin is not None:
+            xyz = self.numbers(origin, "xyz", 3, "0 0 0")
+            rpy = self.numbers(origin, "rpy", 3, "0 0 0")
+            T = transform(matrix_from_rpy(rpy), xyz)
+        axis = np.array([1.0, 0.0, 0.0])
+        sub = node.first("axis")
+        if sub is not None and kind in MOVING:
+            axis = self.numbers(sub, "xyz", 3, "1 0 0")
+            norm = float(np.linalg.norm(axis))
+            if norm < 1e-9:
+                self.fail(sub, f"{where}: <axis xyz> is the zero vector")
+            axis = axis / norm
+        limits = None
+        sub = node.first("limit")
+        if kind in ("revolute", "prismatic"):
+            if sub is None:
+                self.fail(node, f"{where}: a {kind} joint needs <limit lower upper> "
+                                "(a revolute joint without limits is 'continuous')")
+            lo = self.numbers(sub, "lower", 1, "0")[0]
+            hi = self.numbers(sub, "upper", 1, "0")[0]
+            if lo > hi:
+                self.fail(sub, f"{where}: <limit> lower {lo:g} is above upper {hi:g}")
+            limits = (float(lo), float(hi))
+        return UrdfJoint(name, kind, links["parent"], links["child"], T, axis, limits,
+                         node.first("mimic") is not None, node.line)
+
+
+def load_urdf(path, display_name: str | None = None, base_link: str | None = None,
+              tip_link: str | None = None) -> Robot:
+    """Read a URDF file as a ``poe`` :class:`~kincalc.model.Robot`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.urdf`` file.
+    display_name : str, optional
+        How errors name the file (default: ``path``).
+    base_link, tip_link : str, optional
+        The chain's first and last link (defaults: module docstring).
+
+    Returns
+    -------
+    Robot
+        Convention ``poe``, frame 0 the base link's frame: the joints' axes and points in
+        it at q = 0 (m), ``M`` the tip link's pose in it at q = 0, limits in rad / m,
+        display units m and deg.
+
+    Raises
+    ------
+    RobotFileError
+        An unreadable file, XML that is not well formed or has a DOCTYPE, an element or
+        attribute that is missing or wrong (file:line, the element and attribute named),
+        a refused joint on the chain, or a chain that cannot be chosen.
+    """
+    shown = display_name or str(path)
+    robot = parse_urdf_text(read_text(path, shown, "a URDF file"), shown, base_link, tip_link,
+                            stem=_stem(path))
+    object.__setattr__(robot, "path", str(path))
+    return robot
+
+
+def _stem(path) -> str:
+    from pathlib import Path
+    return Path(str(path)).name.split(".")[0]
+
+
+def parse_urdf_text(text: str, file: str = "<urdf>", base_link: str | None = None,
+                    tip_link: str | None = None, stem: str = "urdf") -> Robot:
+    """Parse URDF ``text`` (see :func:`load_urdf`); ``file`` names it in errors."""
+    root = parse_xml(text, file)
+    reader = _Reader(file)
+    links = {}
+    for node in root.children:
+        if node.tag == "link":
+            name = reader.attr(node, "name")
+            if name in links:
+                reader.fail(node, f"link {quote(name)} is defined twice")
+            links[name] = node
+    joints, by_child = {}, {}
+    for node in root.children:
+        if node.tag != "joint":
+            continue
+        j = reader.joint(node)
+        if j.name in joints:
+            reader.fail(node, f"joint {quote(j.name)} is defined twice")
+        for end in (j.parent, j.child):
+            if end not in links:
+                reader.fail(node, f"joint {quote(j.name)} names link {quote(end)}, which "
+                                  "is not defined")
+        if j.child in by_child:
+            reader.fail(node, f"link {quote(j.child)} is the child of two joints "
+                              f"({quote(by_child[j.child].name)} and {quote(j.name)})")
+        joints[j.name] = j
+        by_child[j.child] = j
+    if not links:
+        reader.fail(root, "the URDF has no <link>")
+    chain = _chain(reader, root, links, joints, by_child, base_link, tip_link)
+    return _robot(reader, root, chain, stem)
+
+
+def _chain(reader, root, links, joints, by_child, base_link, tip_link) -> list:
+    """The joints from the base link to the tip link, in order, each with whether it is
+    walked upwards (child to parent: a fixed joint above the base link, as ROS's ``base``
+    frame hangs off ``base_link``)."""
+    roots = [name for name in links if name not in by_child]
+    if not roots:
+        reader.fail(root, "the links form a loop: no link is the root of the tree")
+    if len(roots) > 1:
+        reader.fail(root, f"the URDF is not one tree: {len(roots)} links have no parent "
+                          f"({_names(roots)})")
+    children: dict[str, list[UrdfJoint]] = {}
+    for j in joints.values():
+        children.setdefault(j.parent, []).append(j)
+    reached, todo = {roots[0]}, [roots[0]]
+    while todo:
+        for j in children.get(todo.pop(), []):
+            reached.add(j.child)
+            todo.append(j.child)
+    if len(reached) < len(links):
+        lost = [name for name in links if name not in reached]
+        reader.fail(root, f"the joints form a loop: links {_names(lost)} are not below the "
+                          f"root link {quote(roots[0])}")
+    base = roots[0] if base_link is None else base_link
+    for name, what in ((base, "--base-link"), (tip_link, "--tip-link")):
+        if name is not None and name not in links:
+            reader.fail(root, f"{what} {quote(name)} is not a link of this URDF "
+                              f"({_names(list(links))})")
+    if tip_link is None:
+        tip_link = _default_tip(reader, root, base, children)
+
+    def up_to_root(link):
+        out = [link]
+        while out[-1] in by_child:
+            out.append(by_child[out[-1]].parent)
+        return out
+
+    rising, falling = up_to_root(base), up_to_root(tip_link)
+    meet = next(link for link in rising if link in set(falling))
+    # from the base up to where the two meet (fixed joints only, walked backwards), then down
+    up = [by_child[link] for link in rising[:rising.index(meet)]]
+    down = [by_child[link] for link in falling[:falling.index(meet)]][::-1]
+    for j in up:
+        if j.type != "fixed":
+            reader.fail(root, f"link {quote(tip_link)} is not below link {quote(base)}, and the "
+                              f"way up from {quote(base)} runs through the moving joint "
+                              f"{quote(j.name)}: choose a base link above it")
+    path = [(j, True) for j in up] + [(j, False) for j in down]
+    for j, _ in path:
+        if j.type in REFUSED:
+            raise RobotFileError(reader.file, j.line, f"joint {quote(j.name)}: "
+                                 f"{REFUSED[j.type]}; kincalc reads serial chains")
+        if j.mimic and j.type in MOVING:
+            raise RobotFileError(reader.file, j.line, f"joint {quote(j.name)} is a <mimic> "
+                                 "joint (it moves with another): not supported on the chain")
+    return path
+
+
+def _default_tip(reader, root, base: str, children) -> str:
+    """The tip when none is given: the end of the one chain of moving joints below
+    ``base`` (module docstring). Each link is visited once."""
+
+    def below(link, through_moving=False):
+        """The moving joints first met below ``link`` through fixed joints, and the leaves
+        reached (through fixed joints only, or through any)."""
+        moving, leaves, todo = [], [], [link]
+        while todo:                   # a stack, not recursion: a URDF may be deep
+            here = todo.pop()
+            joints = children.get(here, [])
+            if not joints:
+                leaves.append(here)
+            for j in joints:
+                if j.type != "fixed":
+                    moving.append(j)
+                if j.type == "fixed" or through_moving:
+                    todo.append(j.child)
+        return moving, leaves
+
+    link = base
+    while True:
+        moving, leaves = below(link)
+        if not moving:
+            # the chain ends here: its one leaf, or this link when fixed frames branch
+            return leaves[0] if len(leaves) == 1 else link
+        if len(moving) > 1:
+            reader.fail(root, f"the tree branches below link {quote(link)} into "
+                              f"{len(moving)} chains of moving joints; choose one with "
+                              f"--tip-link (its leaves: {_names(sorted(below(link, True)[1]))})")
+        link = moving[0].child
+
+
+def _names(names: list[str], most: int = 8) -> str:
+    shown = ", ".join(quote(n) for n in names[:most])
+    return shown + (f", ... ({len(names)} in all)" if len(names) > most else "")
+
+
+def _robot(reader, root, chain: list, stem: str) -> Robot:
+    """The poe robot of ``chain``: frames accumulated from the base link at q = 0."""
+    T = np.eye(4)
+    out = []
+    for j, upwards in chain:
+        if upwards:
+            T = T @ invert_transform(j.origin)
+            continue
+        T = T @ j.origin                  # the joint frame = the child link's frame at q = 0
+        if j.type == "fixed":
+            continue
+        axis = T[:3, :3] @ j.axis
+        out.append(Joint(name=j.name, type=MOVING[j.type], axis=tuple(axis.tolist()),
+                         point=tuple(T[:3, 3].tolist()), limits=j.limits))
+    if not out:
+        reader.fail(root, "the chain has no moving joint")
+    name = root.attrs.get("name", "")
+    if not NAME_RE.match(name):
+        name = re.sub(r"[^A-Za-z0-9_.\-]", "_", stem) or "urdf"
+        name = name if name[0].isalpha() else "urdf_" + name
+    lo = np.array([j.limits[0] if j.limits else -np.inf for j in out])
+    hi = np.array([j.limits[1] if j.limits else np.inf for j in out])
+    first, last = chain[0], chain[-1]
+    links = (f"links {quote(first[0].child if first[1] else first[0].parent)} -> "
+             f"{quote(last[0].child)}")
+    return Robot(name=name, convention="poe", joints=tuple(out), M=T,
+                 home=np.clip(0.0, lo, hi), title=f"from URDF, {links}",
+                 source=f"URDF robot {quote(root.attrs.get('name', ''))}, {links}",
+                 length_unit="m", angle_unit="deg")
