@@ -8,7 +8,9 @@ edge of the graph). The rules, each a test below:
 2. no import of another kincalc module's underscore name;
 3. typer, rich and click only in ``kincalc.cli``;
 4. yaml only in the one YAML reader, ``kincalc.conventions.reader``;
-5. matplotlib and sympy never at module level (optional extras, imported where used).
+5. matplotlib and sympy never at module level (optional extras, imported where used);
+6. no module over 500 lines and no function over 80 (``MAX_MODULE_LINES``,
+   ``MAX_FUNCTION_LINES``): a room that grows is split by job.
 
 Read with ``ast``: nothing is imported to check it.
 """
@@ -183,12 +185,12 @@ def test_the_version_is_the_projects():
 
 def test_the_plan_catches_an_upward_import(tmp_path, monkeypatch):
     """The checker itself: a module of the geometry layer importing the engine is found."""
-    fake = PACKAGE / "spatial.py"
-    source = fake.read_text(encoding="utf-8") + "\n\ndef _probe():\n    from .ik import engine\n"
-    probe = tmp_path / "spatial.py"
+    fake = PACKAGE / "spatial" / "rotations.py"
+    source = fake.read_text(encoding="utf-8") + "\n\ndef _probe():\n    from ..ik import engine\n"
+    probe = tmp_path / "rotations.py"
     probe.write_text(source, encoding="utf-8")
-    monkeypatch.setitem(MODULES, "kincalc.spatial", probe)
-    with pytest.raises(AssertionError, match="kincalc.spatial .geometry. imports "
+    monkeypatch.setitem(MODULES, "kincalc.spatial.rotations", probe)
+    with pytest.raises(AssertionError, match="kincalc.spatial.rotations .geometry. imports "
                                              "kincalc.ik.engine .ik."):
         test_no_module_imports_upward()
 
@@ -224,3 +226,24 @@ def graph_summary() -> str:
 
 if __name__ == "__main__":
     print(graph_summary())
+
+
+#: the size of a room's modules and functions (lines as the file has them, docstrings in)
+MAX_MODULE_LINES = 500
+MAX_FUNCTION_LINES = 80
+
+
+def test_no_module_or_function_is_too_large():
+    big, long = [], []
+    for module, path in MODULES.items():
+        text = path.read_text(encoding="utf-8")
+        if len(text.splitlines()) > MAX_MODULE_LINES:
+            big.append(f"{_shown(path)}: {len(text.splitlines())} lines")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                length = node.end_lineno - node.lineno + 1
+                if length > MAX_FUNCTION_LINES:
+                    long.append(f"{_shown(path)}:{node.lineno}: {node.name}, {length} lines")
+    assert not big, f"modules over {MAX_MODULE_LINES} lines (split them by job):\n" + \
+        "\n".join(big)
+    assert not long, f"functions over {MAX_FUNCTION_LINES} lines:\n" + "\n".join(long)

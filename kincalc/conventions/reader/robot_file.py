@@ -13,7 +13,8 @@ from ...limits import (MAX_FILE_BYTES, TooLarge, cut, os_error_text, quote, read
                        size_text)
 from ...model import CONVENTIONS, JOINT_TYPES, Joint, Robot
 from ...units import ANGLE_UNITS, LENGTH_UNITS
-from .nodes import Reader, compose_yaml
+from .nodes import compose_yaml
+from .values import Reader
 
 TOP_KEYS = {
     "name": True, "convention": True, "units": True, "joints": True,
