@@ -106,6 +106,12 @@ class Robot:
         Per joint, the DH fields (``alpha``, ``a``, ``d``, ``theta``) the file
         gave as expressions over parameters (e.g. ``('d', 'h1')``), as written.
         Used to print link matrices with the table's own names.
+    structure_tol : float or None
+        How nearly axes must meet (as a fraction of the arm's size) or be parallel (sine
+        of their angle) for the IK engine to take the structure as meant, solve the
+        nearest robot that has it in closed form and refine on this one; None: the
+        defaults :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` and
+        :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (``kincalc ik --structure-tol``).
     """
 
     name: str
@@ -123,6 +129,7 @@ class Robot:
     path: str | None = None
     parameters: tuple = ()
     expressions: tuple = ()
+    structure_tol: float | None = None
 
     def __post_init__(self):
         if self.convention not in CONVENTIONS:
@@ -177,7 +184,8 @@ class Robot:
         try:
             return self.__dict__["_hash"]
         except KeyError:
-            value = self.__dict__["_hash"] = hash((self.name, self.convention, self.joints))
+            value = self.__dict__["_hash"] = hash((self.name, self.convention, self.joints,
+                                                   self.structure_tol))
             return value
 
     def __getstate__(self):
@@ -189,7 +197,7 @@ class Robot:
         if not isinstance(other, Robot):
             return NotImplemented
         return (self.name == other.name and self.convention == other.convention
-                and self.joints == other.joints
+                and self.joints == other.joints and self.structure_tol == other.structure_tol
                 and np.array_equal(self.base, other.base)
                 and np.array_equal(self.tool, other.tool)
                 and (self.M is None) == (other.M is None)

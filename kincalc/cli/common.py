@@ -72,6 +72,11 @@ DebugOpt = Annotated[bool, typer.Option(
 BaseLinkOpt = Annotated[Optional[str], typer.Option(
     "--base-link", metavar="LINK", show_default=False,
     help="URDF robots: the link the chain starts from (default: the tree's root).")]
+StructureTolOpt = Annotated[Optional[float], typer.Option(
+    "--structure-tol", metavar="TOL", min=1e-12, max=0.1, show_default=False,
+    help="How nearly axes must meet (fraction of the arm's size) or be parallel (sine of "
+         "their angle) to count as a structure the closed forms use; the nearest "
+         "structured robot is solved and every answer refined on this one. Default 1e-4.")]
 TipLinkOpt = Annotated[Optional[str], typer.Option(
     "--tip-link", metavar="LINK", show_default=False,
     help="URDF robots: the link the chain ends at (default: the end of the one chain of "
@@ -207,11 +212,17 @@ def robot_file(robot: str) -> str | None:
         return None
 
 
-def load_robot(name: str, base_link: str | None = None, tip_link: str | None = None):
+def load_robot(name: str, base_link: str | None = None, tip_link: str | None = None,
+               structure_tol: float | None = None):
     """The robot ``name`` (bundled name, robot file or URDF); the links choose a URDF's
-    chain and are refused for a robot that is not a URDF."""
+    chain and are refused for a robot that is not a URDF; ``structure_tol`` (when given)
+    becomes the robot's :attr:`~kincalc.model.Robot.structure_tol`."""
+    import dataclasses
+
     from ..conventions.library import load
-    return load(name, base_link=base_link, tip_link=tip_link)
+    robot = load(name, base_link=base_link, tip_link=tip_link)
+    return robot if structure_tol is None else \
+        dataclasses.replace(robot, structure_tol=structure_tol)
 
 
 def output(doc: dict, json: bool, tables, *args) -> None:

@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 import typer
 
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt,
-                     JobsOpt, JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
-                     load_robot, output, output_target)
+                     JobsOpt, JsonOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt, UnitOpt,
+                     display_units, load_robot, output, output_target)
 from .targets import PoseOptions, with_pose_options
 
 AllBranchesOpt = Annotated[bool, typer.Option(
@@ -57,6 +57,7 @@ def ik(
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
+    structure_tol: StructureTolOpt = None,
     debug: DebugOpt = False,
 ):
     """Inverse kinematics: every joint solution that reaches a pose.
@@ -77,7 +78,7 @@ def ik(
         plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose_options.pose)])
         check_output(plot_to)
         require_matplotlib("kincalc ik --plot")
-    rob = load_robot(robot, base_link, tip_link)
+    rob = load_robot(robot, base_link, tip_link, structure_tol)
     units = display_units(rob, deg, unit)
     if batch is not None:
         from .batch import run_command

@@ -6,8 +6,8 @@ from __future__ import annotations
 import typer
 
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt,
-                     JsonOpt, PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units,
-                     load_robot, output)
+                     JsonOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt, UnitOpt,
+                     display_units, load_robot, output)
 from .targets import PoseOptions, with_pose_options
 
 
@@ -25,6 +25,7 @@ def reach(
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
+    structure_tol: StructureTolOpt = None,
     debug: DebugOpt = False,
 ):
     """Reachability: can the robot reach a pose, and if not, why.
@@ -40,7 +41,7 @@ def reach(
     options are those of 'kincalc ik'.
     """
     from ..analysis.reach import reach as _reach
-    rob = load_robot(robot, base_link, tip_link)
+    rob = load_robot(robot, base_link, tip_link, structure_tol)
     units = display_units(rob, deg, unit)
     if fmt not in ("jsonl", "csv"):
         from ..errors import UsageError

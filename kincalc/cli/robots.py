@@ -8,7 +8,7 @@ from typing import Annotated, List
 import typer
 
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
-                     TipLinkOpt, UnitOpt)
+                     StructureTolOpt, TipLinkOpt, UnitOpt)
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
                   rich_markup_mode=None,
@@ -69,12 +69,13 @@ def show(
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
+    structure_tol: StructureTolOpt = None,
     debug: DebugOpt = False,
 ):
     """Show a robot: its DH (or POE) table as a textbook prints it, limits, base, tool, source."""
     from ..analysis.results import SCHEMA_VERSION, robot_summary
     from .common import display_units, load_robot
-    rob = load_robot(robot, base_link, tip_link)
+    rob = load_robot(robot, base_link, tip_link, structure_tol)
     u = display_units(rob, deg, unit)
     doc = {"kincalc": SCHEMA_VERSION, "command": "robots show",
            "robot": robot_summary(rob), "units": u.to_dict()}

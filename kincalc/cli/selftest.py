@@ -7,7 +7,8 @@ from typing import Annotated
 import typer
 
 from ..limits import MAX_TRIALS
-from .common import BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, TipLinkOpt, load_robot
+from .common import (BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, StructureTolOpt, TipLinkOpt,
+                     load_robot)
 
 
 def selftest(
@@ -18,6 +19,7 @@ def selftest(
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
+    structure_tol: StructureTolOpt = None,
     debug: DebugOpt = False,
 ):
     """Check IK on random configurations within the limits (IKFast's --iktests metrics).
@@ -30,7 +32,7 @@ def selftest(
     from ..ik.families import plan
     from ..ik.selftest import run
     from ..analysis.results import SCHEMA_VERSION, Units, robot_summary
-    rob = load_robot(robot, base_link, tip_link)
+    rob = load_robot(robot, base_link, tip_link, structure_tol)
     _, fam, why = plan(rob)
     name, description = (fam.name, fam.description) if fam else (
         "numerical", f"one solution nearest home ({why})")

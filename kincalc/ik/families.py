@@ -165,12 +165,15 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
 
     A family is recognised when the axes meet and are parallel as it needs to within
     :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` (of the arm's size) and
-    :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (rad). It is ``exact`` when they do
+    :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (rad), or both within the robot's own
+    ``structure_tol`` when it has one. It is ``exact`` when they do
     to within ``EXACT_POINT_TOL`` and ``EXACT_ANGLE_TOL`` (rounding): a calibrated
     model or a rounded datasheet gives a robot that is only nearly of its family, whose
     closed-form solutions the dispatcher refines on the true robot.
     """
-    family, why = _classify(robot, S, STRUCTURE_POINT_TOL, STRUCTURE_ANGLE_TOL)
+    tol = getattr(robot, "structure_tol", None)
+    family, why = _classify(robot, S, STRUCTURE_POINT_TOL if tol is None else tol,
+                            STRUCTURE_ANGLE_TOL if tol is None else tol)
     if family is not None and family.name != "general-6r":
         strict, _ = _classify(robot, S, EXACT_POINT_TOL, EXACT_ANGLE_TOL)
         if strict is None or strict.name != family.name:

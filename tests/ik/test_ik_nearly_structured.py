@@ -158,3 +158,44 @@ def test_the_nearest_robot_of_the_family_has_the_structure_exactly(family):
         assert 0 < max(move, turn) < 1e-4
         ideal, _ = classify(r, S)          # the idealised screws: exactly of the family
         assert ideal.name == family and ideal.exact
+
+
+@pytest.mark.parametrize("size", [1e-9, 1e-6, 1e-4])
+def test_a_stated_structure_tolerance_finds_the_family_of_a_rougher_model(size):
+    """A model rougher than the default tolerance (a PUMA moved by 1e-3 m and rad) is no
+    PUMA by default; with ``structure_tol`` above its defect the closed form runs on the
+    nearest PUMA and every answer is refined on the robot as given: the set equals the
+    general 6R elimination's, and the method says how far the structure is off. Below
+    the defect (``size``), the family is refused again."""
+    rng = np.random.default_rng(17)
+    rough = perturbed(load_robot("puma560"), rng, 1e-3)
+    assert plan(rough)[1].name == "general-6r"
+    stated = dataclasses.replace(rough, structure_tol=2e-2)
+    family = plan(stated)[1]
+    assert family.name == "spherical-wrist" and not family.exact
+    for q in sample_configurations(rough, 5, rng):
+        T = rough.fk(q)
+        res = solve(stated, Target(T))
+        assert_complete(stated, q, T, res)
+        assert len(res.solutions) == len(solve_general_6r(rough, T))
+        assert "only to within" in res.method
+    tight = dataclasses.replace(rough, structure_tol=size)
+    assert plan(tight)[1].name == "general-6r"
+
+
+def test_structure_tol_on_the_command_line(tmp_path):
+    from cli_contract import run_cli
+    from kincalc.conventions.writer import dump_robot
+    rough = perturbed(load_robot("puma560"), np.random.default_rng(17), 1e-3)
+    f = tmp_path / "rough.yaml"
+    f.write_text(dump_robot(rough))
+    argv = ["ik", str(f), "--from-q", "10 20 30 40 50 60", "--json"]
+    status, out, err = run_cli(argv + ["--structure-tol", "0.02"])
+    assert status == 0, err
+    import json
+    doc = json.loads(out)
+    assert "only to within" in doc["method"]["description"] and len(doc["solutions"]) >= 2
+    status, out, err = run_cli(argv)
+    assert status == 0 and "only to within" not in json.loads(out)["method"]["description"]
+    status, out, err = run_cli(argv + ["--structure-tol", "0.5"])
+    assert status == 2 and "--structure-tol" in err and err.count("\n") == 1
