@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, List
+from typing import Annotated, List, Optional
 
 import typer
 
@@ -21,8 +21,18 @@ def structure_code(robot) -> str:
 
 
 @app.command("list")
-def list_(json: JsonOpt = False, debug: DebugOpt = False):
-    """List every bundled robot: name, joints, convention and title."""
+def list_(
+    family: Annotated[Optional[str], typer.Option(
+        "--family", metavar="NAME", show_default=False,
+        help="Only robots whose IK family is NAME (as the ik column shows it, e.g. "
+             "spherical-wrist, three-parallel, general-6r, or numerical).")] = None,
+    dof: Annotated[Optional[int], typer.Option(
+        "--dof", metavar="N", min=1, show_default=False,
+        help="Only robots with N joints.")] = None,
+    json: JsonOpt = False,
+    debug: DebugOpt = False,
+):
+    """List every bundled robot: name, joints, convention, how ik answers, and title."""
     from ..errors import KincalcError
     from ..conventions.library import bundled_names, library_dir
     from ..conventions.reader import load_robot_file
@@ -33,9 +43,12 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
         except KincalcError as exc:  # a broken bundled file is a bug; say so, keep listing
             entries.append({"name": name, "error": str(exc)})
             continue
+        ik = _ik_method(r)
         entries.append({"name": r.name, "dof": r.dof, "structure": structure_code(r),
                         "convention": r.convention, "units": r.length_unit,
-                        "title": r.title})
+                        "ik": ik["family"] or "numerical", "title": r.title})
+    entries = [e for e in entries if "error" in e or (
+        (dof is None or e["dof"] == dof) and (family is None or e["ik"] == family))]
     if json:
         from ..analysis.results import SCHEMA_VERSION
         from .render import emit_json
@@ -46,17 +59,21 @@ def list_(json: JsonOpt = False, debug: DebugOpt = False):
     from rich.table import Table
 
     from .render import console
-    t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots", title_justify="left")
-    for col in ("name", "dof", "structure", "convention", "units"):
+    which = " ".join(w for w in (f"with {dof} joints" if dof else "",
+                                 f"of IK family {family}" if family else "") if w)
+    t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots" + (f" {which}" if which
+                                                                          else ""),
+              title_justify="left")
+    for col in ("name", "dof", "structure", "convention", "units", "ik"):
         t.add_column(col, no_wrap=True)
     # a title squeezed narrower than this reads a word a line: then it gets a panel of its own
     t.add_column("title", min_width=25)
     for e in entries:
         if "error" in e:
-            t.add_row(e["name"], "", "", "", "", f"[red]broken: {e['error']}[/red]")
+            t.add_row(e["name"], "", "", "", "", "", f"[red]broken: {e['error']}[/red]")
         else:
             t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["units"],
-                      e["title"])
+                      e["ik"], e["title"])
     console().print(t)
 
 

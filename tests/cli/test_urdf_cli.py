@@ -124,3 +124,23 @@ def test_malformed_urdfs_never_break_the_contract(tmp_path):
         if status == 2:
             assert err.startswith(f"kincalc: error: {f}"), err
     assert snapshot(tmp_path).keys() == before.keys()
+
+
+def test_robots_list_filters_by_family_and_dof():
+    """The ik column is the family each robot's axes give (checked against plan, the
+    engine's own choice), and the filters keep exactly the matching robots."""
+    import kincalc
+    from kincalc.ik.families import plan
+    status, out, err = run_cli(["robots", "list", "--json"])
+    everyone = json.loads(out)["robots"]
+    for e in everyone:
+        family = plan(kincalc.load_robot(e["name"]))[1]
+        assert e["ik"] == (family.name if family else "numerical")
+    status, out, err = run_cli(["robots", "list", "--family", "three-parallel", "--dof", "6",
+                                "--json"])
+    kept = json.loads(out)["robots"]
+    assert status == 0 and kept and all(e["ik"] == "three-parallel" for e in kept)
+    assert {e["name"] for e in kept} == {e["name"] for e in everyone
+                                         if e["ik"] == "three-parallel" and e["dof"] == 6}
+    status, out, err = run_cli(["robots", "list", "--dof", "7"])
+    assert status == 0 and "with 7 joints" in out and "panda" in out and "puma560" not in out
