@@ -12,7 +12,8 @@ from kincalc.conventions import dh_to_mdh, mdh_to_dh, to_poe
 from kincalc.conventions.library import bundled_names, library_dir
 
 REPO_ROBOTS = Path(__file__).parents[2] / "robots"
-FACTS = Path(__file__).parents[1] / "golden" / "robot_facts.yaml"
+#: the facts files: robot_facts.yaml and one robot_facts_<group>.yaml per group of the zoo
+FACTS = sorted((Path(__file__).parents[1] / "golden").glob("robot_facts*.yaml"))
 NAMES = sorted(p.stem for p in REPO_ROBOTS.glob("*.yaml"))
 
 
@@ -62,7 +63,7 @@ def test_robots_shipped_in_two_conventions_agree(a, b):
 
 
 def facts():
-    return yaml.safe_load(FACTS.read_text(encoding="utf-8"))
+    return [f for path in FACTS for f in yaml.safe_load(path.read_text(encoding="utf-8")) or []]
 
 
 def test_golden_facts_cover_the_library():
