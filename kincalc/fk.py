@@ -276,7 +276,7 @@ def frame_columns(chain, q) -> list:
     chain : Chain
         From ``robot.chain``.
     q : array_like (M, n)
-        Joint values, rad / m; taken as ``reshape(-1, n)``, without a shape check.
+        Joint values, rad / m (any leading shape, flattened to ``(M, n)``).
 
     Returns
     -------
@@ -284,7 +284,10 @@ def frame_columns(chain, q) -> list:
         Per joint, its frame's rotation columns ``cols`` (three arrays ``(3, M)``; the
         z column is the joint's axis) and origin ``p (3, M)``, world frame, m.
     """
-    q = np.asarray(q, dtype=float).reshape(-1, chain.dof)
+    q = np.asarray(q, dtype=float)
+    if q.shape[-1:] != (chain.dof,):
+        raise ValueError(f"expected joint values of shape (..., {chain.dof}), got {q.shape}")
+    q = q.reshape(-1, chain.dof)
     if len(q) <= FEW:
         return columns_of(chain_frames(chain, q))
     F = chain.fixed

@@ -82,6 +82,7 @@ def point_line_distance(x, p, d) -> float:
         The distance (m): the norm of ``x - p`` less its component along ``d``.
     """
     w = np.asarray(x, float) - np.asarray(p, float)
+    d = np.asarray(d, float)
     return float(np.linalg.norm(w - d * (w @ d)))
 
 
@@ -163,7 +164,7 @@ def spherical_wrist(robot) -> Wrist | None:
     return Wrist(first=n - 3)
 
 
-def wrist_centre(robot, wrist: Wrist, dirs, pts) -> np.ndarray:
+def wrist_centre(robot, wrist: Wrist, dirs, pts) -> np.ndarray | None:
     """The wrist centre (world frame, m) given the axes at a configuration.
 
     Parameters

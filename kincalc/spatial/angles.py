@@ -12,6 +12,9 @@ import numpy as np
 from ..tolerances import GIMBAL_TOL
 from .rotations import rot_x, rot_y, rot_z
 
+#: the spacing of doubles at 1
+EPS = float(np.finfo(float).eps)
+
 
 def matrix_from_rpy(rpy) -> np.ndarray:
     """Rotation matrix of fixed X-Y-Z angles: ``R = Rz(yaw) Ry(pitch) Rx(roll)``.
@@ -34,10 +37,13 @@ def matrix_from_rpy(rpy) -> np.ndarray:
 
 
 def _turn_angle(y, x):
-    """``atan2(y, x)`` in (-pi, pi]: a zero ``y`` counts as +0, so a half turn is +pi
-    whichever sign the rounding gave the zero (the angle a table prints must not
-    flip between 180 and -180 with the last bit of a matrix entry)."""
-    return np.arctan2(y + 0.0, x)
+    """``atan2(y, x)`` in (-pi, pi]: a ``y`` of rounding size against a negative ``x``
+    counts as +0, so a half turn is +pi whichever sign the rounding gave it (the angle a
+    table prints must not flip between 180 and -180 with the last bit of a matrix entry:
+    ``rot_z(-pi)`` holds a sine of -1.2e-16)."""
+    y = np.asarray(y, float) + 0.0
+    x = np.asarray(x, float)
+    return np.arctan2(np.where((x < 0) & (np.abs(y) <= 4 * EPS * -x), 0.0, y), x)
 
 
 def rpy_from_matrix(R) -> np.ndarray:

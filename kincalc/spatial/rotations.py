@@ -39,7 +39,8 @@ def wrap(x) -> np.ndarray:
     """
     x = np.asarray(x, float)
     y = x - TURN * np.rint(x / TURN)
-    return np.where(y <= -math.pi, y + TURN, y)
+    # far from zero the rounded remainder can land a few ulps outside (-pi, pi]
+    return np.where(y <= -math.pi, y + TURN, np.where(y > math.pi, y - TURN, y))
 
 
 def _elementary(angle, i: int, j: int) -> np.ndarray:

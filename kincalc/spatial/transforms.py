@@ -101,7 +101,7 @@ def tcv_from_transform(T, q_last) -> np.ndarray:
     return np.concatenate([T[..., :3, 3], scale[..., None] * T[..., :3, 2]], axis=-1)
 
 
-def transform_from_tcv(w) -> tuple[np.ndarray, np.ndarray]:
+def transform_from_tcv(w) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Position, approach and roll ``q_n`` from a tool configuration vector.
 
     The inverse of :func:`tcv_from_transform` as far as it goes: a TCV fixes the position,

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, pair
+from .solutions import Solutions, as_vectors, cross, dot, norm, pair, principal
 from .sp4 import from_abc
 
 #: the sine of the angle between ``v`` and the line of ``h`` below which a wrist counts
@@ -89,7 +89,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     -------
     Solutions
         Two slots, ``theta[0] (..., 2)`` in rad: ``b + delta`` and ``b - delta`` (the
-        same value where ``free``), in [-pi, pi] (plain ``arctan2``: ``-pi`` can occur);
+        same value where ``free``), in (-pi, pi];
         where ``r = 0``, the answer of :func:`~kincalc.subproblems.sp4.from_abc`, in
         (-pi, pi]. ``ok (..., 2)``: slot 0 always, slot 1 when there are two distinct
         exact roots (not where the cones only touch, nor where ``free``).
@@ -126,7 +126,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     exact = exact | aligned
     c = pair(cb * cd - sb * sd, cb * cd + sb * sd)
     s = pair(sb * cd + cb * sd, sb * cd - cb * sd)
-    theta = np.arctan2(s, c)
+    theta = principal(np.arctan2(s, c))
     # one root where the cones only touch (delta 0 or pi: both roots are one
     # configuration), or a single aligned value; next to the singularity, where the cone
     # of R(k, t) p holds the line of h, delta is tiny but the two roots are two

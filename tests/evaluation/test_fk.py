@@ -287,3 +287,13 @@ def test_stacked_and_walked_evaluations_agree(name):
     for (ca, pa), (cb, pb) in zip(a, b):
         assert np.allclose(pa, pb[:, few], atol=1e-13)
         assert all(np.allclose(u, v[:, few], atol=1e-14) for u, v in zip(ca, cb))
+
+
+def test_frame_columns_refuses_joint_values_of_the_wrong_length():
+    """(2, 3) values for a 6-joint chain were read as one configuration."""
+    from kincalc.fk import frame_columns
+    r = load_robot("puma560")
+    with pytest.raises(ValueError, match=r"\(\.\.\., 6\)"):
+        frame_columns(r.chain, np.zeros((2, 3)))
+    cols = frame_columns(r.chain, np.zeros((2, 6)))
+    assert len(cols) == 6 and cols[0][1].shape == (3, 2)

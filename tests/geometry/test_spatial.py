@@ -193,3 +193,31 @@ def test_half_turns_read_as_plus_pi_whatever_the_sign_of_zero(zero):
     assert euler_xyz_from_matrix(x)[0] == np.pi
     assert euler_xyz_from_matrix(x @ z)[0] == np.pi and euler_xyz_from_matrix(x @ z)[2] == np.pi
     assert euler_zyz_from_matrix(z)[2] == np.pi
+
+
+# --- half turns and wraps at the edge of (-pi, pi] (found reading the contracts) ------
+
+def test_a_half_turn_reads_plus_180_whatever_sign_rounding_gave_its_sine():
+    """sp.rot_z(-pi) holds sin = -1.2e-16: its yaw is +pi, as sp.rot_z(pi)'s, in every
+    three-angle form (a table must not print -180 for one and 180 for the other)."""
+    for R in (sp.rot_z(-np.pi), sp.rot_z(np.pi), sp.rot_z(np.pi + 1e-16), sp.rot_z(-np.pi + 1e-16)):
+        assert sp.rpy_from_matrix(R)[2] == np.pi
+        assert sp.euler_zyz_from_matrix(R)[0] + sp.euler_zyz_from_matrix(R)[2] == pytest.approx(np.pi)
+    R = sp.rot_x(-np.pi)
+    assert sp.rpy_from_matrix(R)[0] == np.pi
+    assert sp.euler_xyz_from_matrix(R)[0] == np.pi
+    # a real angle just short of -pi stays negative
+    assert sp.rpy_from_matrix(sp.rot_z(-np.pi + 1e-6))[2] < 0
+
+
+def test_wrap_stays_in_the_half_open_turn_far_from_zero():
+    k = np.arange(-5000, 5000)
+    for x in ((2 * k + 1) * np.pi, (2 * k + 1) * np.pi + 1e-13, (2 * k + 1) * np.pi - 1e-13):
+        w = sp.wrap(x)
+        assert np.all(w <= np.pi) and np.all(w > -np.pi)
+        assert np.allclose(np.exp(1j * w), np.exp(1j * x), atol=1e-9)
+
+
+def test_point_line_distance_takes_lists():
+    from kincalc.structure import point_line_distance
+    assert point_line_distance([0, 2, 0], [0, 0, 0], [1, 0, 0]) == 2.0

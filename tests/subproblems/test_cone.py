@@ -80,3 +80,15 @@ def test_shapes_and_fixed_axes(shape):
         alone = cone(Z, Y, X, hv[i])
         idx = np.unravel_index(i, shape) if shape else ()
         assert np.allclose(together.theta[0][idx], alone.theta[0], atol=1e-15)
+
+
+def test_angles_are_in_the_half_open_turn():
+    """A root at a half turn comes out as +pi, never -pi (the Solutions contract), at 0,
+    1 and 3 leading dimensions."""
+    x, z = np.array([1.0, 0, 0]), np.array([0, 0, 1.0])
+    for shape in ((), (4,), (2, 3, 2)):
+        h = np.broadcast_to(x, shape + (3,))
+        sol = cone(h, h, np.broadcast_to(z, shape + (3,)), -h)
+        theta = sol.theta[0]
+        assert np.all(theta <= np.pi) and np.all(theta > -np.pi)
+        assert np.all(np.isclose(np.abs(theta[sol.ok]), np.pi))
