@@ -214,6 +214,11 @@ def angular_rate_matrix(angles, kind: str) -> np.ndarray:
     return E
 
 
+#: below this smallest singular value of E(phi) the angle set is at its gimbal lock: its
+#: rates would be ~1e16 times the angular velocity, so no analytic Jacobian is given
+GIMBAL_LOCK_CONDITION = 1e-9
+
+
 def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
     """The analytic Jacobian: the rates of an angle set instead of the angular velocity.
 
@@ -235,13 +240,17 @@ def analytic_jacobian(J, angles, kind: str) -> np.ndarray:
     Raises
     ------
     numpy.linalg.LinAlgError
-        At the set's representation singularity (gimbal lock).
+        At (within :data:`GIMBAL_LOCK_CONDITION` of) the set's representation singularity
+        (gimbal lock), for any of the configurations.
     KeyError
         An unknown ``kind``.
     """
+    if np.any(rate_matrix_condition(angles, kind) < GIMBAL_LOCK_CONDITION):
+        raise np.linalg.LinAlgError(f"the {kind} angles are at their representation "
+                                    "singularity (gimbal lock): no analytic Jacobian")
     E = angular_rate_matrix(angles, kind)
     out = np.array(J, dtype=float, copy=True)
-    out[..., 3:, :] = np.linalg.solve(E, J[..., 3:, :])
+    out[..., 3:, :] = np.linalg.solve(E, out[..., 3:, :])
     return out
 
 

@@ -84,9 +84,6 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                    "xyz": euler_xyz_from_matrix}[analytic]
         angles = extract(T[:3, :3])
         try:
-            from ..jacobian import rate_matrix_condition
-            if rate_matrix_condition(angles, analytic) < 1e-9:
-                raise np.linalg.LinAlgError
             result_analytic = (analytic, analytic_jacobian(Jb, angles, analytic))
         except np.linalg.LinAlgError:
             result_analytic = (analytic, None)

@@ -129,6 +129,19 @@ def test_analytic_jacobian_reports_gimbal_lock():
     assert res.to_dict()["analytic"]["angles"] == "zyz"
 
 
+@pytest.mark.parametrize("kind,angles", [("rpy", [0.3, np.pi / 2, -0.2]),
+                                         ("xyz", [0.3, np.pi / 2, -0.2]),
+                                         ("zyz", [0.3, 0.0, -0.2])])
+def test_analytic_jacobian_refuses_gimbal_lock_in_every_set(kind, angles):
+    """At pitch = 90 deg (rpy, xyz) E(phi) is singular only to rounding: solving it gave
+    rates of ~1e16 with no error; now the function itself refuses, as documented."""
+    J = np.arange(36.0).reshape(6, 6).tolist()           # a nested list is taken too
+    with pytest.raises(np.linalg.LinAlgError, match="gimbal lock"):
+        analytic_jacobian(J, angles, kind)
+    ok = analytic_jacobian(J, np.array(angles) + [0, 0.1, 0], kind)
+    assert np.isfinite(ok).all() and np.abs(ok).max() < 1e3
+
+
 def test_planar_rr_manipulability_is_yoshikawas_l1_l2_sin_theta2():
     # Yoshikawa (1985): w = l1 l2 |sin theta2| for the planar 2R arm; 0 when stretched/folded
     r = load_robot("bk_rr")
