@@ -94,32 +94,80 @@ class Branches:
 
     @staticmethod
     def start(N: int, n: int, *, explain: bool = False, ok=None) -> "Branches":
-        """One slot per pose, nothing solved; ``ok (N,)`` marks poses to solve."""
+        """One slot per pose, nothing solved: the branches a family solver starts from.
+
+        Parameters
+        ----------
+        N : int
+            Number of poses.
+        n : int
+            Number of joints of the chain.
+        explain : bool
+            Keep every slot and record notes and dead ends (``--explain``, ``--all-branches``).
+        ok : array_like (N,) of bool, optional
+            The poses to solve (default all); the others start dead.
+
+        Returns
+        -------
+        Branches
+            ``K = 1``: ``ok (N, 1)``, no joint set, empty signs.
+        """
         alive = np.ones((N, 1), bool) if ok is None else np.asarray(ok, bool).reshape(N, 1)
         return Branches(n=n, value={}, cos={}, sin={}, ok=alive, free={}, signs=((),),
                         parent=np.zeros(1, int), explain=explain, lineage=(np.zeros(1, int),))
 
     @property
     def N(self) -> int:
+        """Number of poses, ``N``."""
         return self.ok.shape[0]
 
     @property
     def K(self) -> int:
+        """Number of slots, ``K`` (the same for every pose)."""
         return self.ok.shape[1]
 
     def take(self, x):
-        """``x (N, K_prev, ...)``, computed per slot before the last step, for the slots
-        after it."""
+        """A per-slot quantity computed before the last step, carried to the slots after it.
+
+        Parameters
+        ----------
+        x : ndarray (N, K_prev, ...)
+            One value per slot of the previous step.
+
+        Returns
+        -------
+        ndarray (N, K, ...)
+            ``x[:, parent]``: each slot gets the value of the slot it came from.
+        """
         return x[:, self.parent]
 
     def branch(self, joints, sols, labels=None, *, least_squares: bool = False) -> "Branches":
-        """The next step: ``sols`` (a subproblem's Solutions of shape ``(N, K, k)``)
-        gives ``joints`` (one joint per unknown of the subproblem, in its order; None
-        to skip an unknown). Every slot splits into ``k``; a slot lives on where its
-        root is ``ok`` and exact (``least_squares``: or the subproblem's least-squares
-        answer, for the reasons of a pose out of reach). ``labels``: the sign label of
-        each of the ``k`` roots, given to the first joint of the step (default ``+``/``-``
-        for two roots, ``root i`` for more, none for one)."""
+        """The next step: every slot splits into the ``k`` roots of a subproblem.
+
+        A slot lives on where its root is ``ok`` and exact (``least_squares``: or the
+        subproblem's least-squares answer, for the reasons of a pose out of reach); without
+        ``explain`` the slots no pose keeps are then dropped.
+
+        Parameters
+        ----------
+        joints : sequence of int or None
+            The joint (0-based) each unknown of the subproblem gives, in its order; None to
+            skip an unknown.
+        sols : Solutions
+            The subproblem's solutions, of shape ``(N, K, k)`` (rad for revolute, m for
+            prismatic joints), with their ``ok``, ``exact`` and ``free`` masks ``(N, K, k)``.
+        labels : sequence of str or None, optional
+            The sign label of each of the ``k`` roots, given to the first joint of the step
+            (default ``+``/``-`` for two roots, ``root i`` for more, none for one).
+        least_squares : bool
+            Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
+
+        Returns
+        -------
+        Branches
+            ``K k`` slots (fewer once dead ones are dropped), ``parent (K k,)``; the free mask of
+            each joint of the step or-ed with the root's ``free``.
+        """
         k = sols.ok.shape[-1]
         K = self.K
         parent = np.repeat(np.arange(K), k)
@@ -166,8 +214,14 @@ class Branches:
                        full_signs=self.signs if self.full is None else self.full_signs)
 
     def expanded(self) -> "Branches":
-        """These branches in the family's full slot layout: the dropped slots back, dead
-        (joint values 0, cosines 1, sines 0)."""
+        """These branches in the family's full slot layout (once the solver is done).
+
+        Returns
+        -------
+        Branches
+            The dropped slots put back, dead (joint values 0, cosines 1, sines 0, not free;
+            extras 0), with the layout's sign table; ``self`` when no slot was dropped.
+        """
         if self.full is None:
             return self
         K, N, cols = len(self.full_signs), self.N, self.full
@@ -186,8 +240,20 @@ class Branches:
                        full_signs=None)
 
     def relabel(self, joint: int, label: str) -> "Branches":
-        """Every slot's sign for ``joint`` set to ``label`` (a value the target leaves
-        open)."""
+        """Every slot's sign for ``joint`` set to ``label`` (a value the target leaves open).
+
+        Parameters
+        ----------
+        joint : int
+            The joint (0-based).
+        label : str
+            Its sign label in every slot (e.g. ``"any"``), replacing any the steps gave.
+
+        Returns
+        -------
+        Branches
+            A copy with the new signs (and full-layout signs).
+        """
         def new(signs):
             return tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
                          for sg in signs)
@@ -195,16 +261,45 @@ class Branches:
                        full_signs=None if self.full_signs is None else new(self.full_signs))
 
     def with_extra(self, name: str, value) -> "Branches":
-        """A per-slot quantity ``value (N, K, ...)`` the engine needs at the end (a
-        continuum's relation, ...), carried through later steps."""
+        """A per-slot quantity the engine needs at the end, carried through later steps.
+
+        Parameters
+        ----------
+        name : str
+            Its key in ``extra`` (``"continuum"``, ``"parallel continuum"``, ``"psi"``, ...).
+        value : array_like (N, K, ...)
+            One value per slot (SI).
+
+        Returns
+        -------
+        Branches
+            A copy with ``extra[name] = value``.
+        """
         extra = dict(self.extra)
         extra[name] = np.asarray(value)
         return self._with(extra=extra)
 
     def set(self, joint: int, value, c=None, s=None, ok=None, free=None) -> "Branches":
-        """A step with one root per slot: ``joint`` gets ``value (N, K)`` (and its
-        cosine and sine); ``ok (N, K)`` narrows the slots; ``free (N, K)`` replaces the
-        joint's free mask."""
+        """A step with one root per slot: ``joint`` gets a value in every slot.
+
+        Parameters
+        ----------
+        joint : int
+            The joint (0-based).
+        value : ndarray (N, K)
+            Its value (rad or m).
+        c, s : ndarray (N, K), optional
+            Its cosine and sine (revolute joints; give both or neither).
+        ok : ndarray (N, K) of bool, optional
+            Narrows the live slots (and-ed with ``self.ok``).
+        free : ndarray (N, K) of bool, optional
+            Replaces the joint's free mask.
+
+        Returns
+        -------
+        Branches
+            A copy, the same ``K`` slots (``parent`` the identity).
+        """
         v, cs, sn = self._gather(None)
         v[joint] = value
         if c is not None:
@@ -217,14 +312,49 @@ class Branches:
                        parent=np.arange(self.K))
 
     def note(self, label: str, value, kind: str = "none") -> "Branches":
-        """Record an intermediate quantity ``value (N, K, ...)`` for ``--explain``."""
+        """Record an intermediate quantity for ``--explain`` (nothing without ``explain``).
+
+        Parameters
+        ----------
+        label : str
+            What it is.
+        value : array_like (N, K, ...)
+            Its value at the current slots (SI).
+        kind : str
+            ``"length"``, ``"angle"``, ``"none"`` or ``"joint:I"`` (for rendering).
+
+        Returns
+        -------
+        Branches
+            A copy with the :class:`Note` added.
+        """
         if not self.explain:
             return self
         return self._with(notes=self.notes + (Note(label, np.asarray(value, float), kind,
                                                       len(self.lineage) - 1),))
 
     def dead_end(self, joint: int, phase, need, where, what: str) -> "Branches":
-        """Record the slots ``where (N, K)`` for which ``joint`` had no real root."""
+        """Record the slots for which ``joint`` had no real root (``--all-branches``).
+
+        Nothing is recorded without ``explain`` or when ``where`` is all False.
+
+        Parameters
+        ----------
+        joint : int
+            The joint (0-based) of the step.
+        phase, need : array_like, broadcast to (N, K)
+            The equation ``cos(joint - phase) = need`` it had to solve (``phase`` rad; a
+            ``need`` beyond [-1, 1] is the reason).
+        where : ndarray (N, K) of bool
+            The slots it failed for.
+        what : str
+            The quantity placed (a sentence fragment).
+
+        Returns
+        -------
+        Branches
+            A copy with the :class:`DeadEnd` added.
+        """
         if not self.explain or not np.any(where):
             return self
         return self._with(dead_ends=self.dead_ends + (
@@ -232,10 +362,18 @@ class Branches:
                     where, what, len(self.lineage) - 1),))
 
     def reversed_chain(self) -> "Branches":
-        """The branches of a chain solved from the tool (:meth:`Screws.reversed
-        <kincalc.ik.screws.Screws.reversed>`) as the robot's own: joint k of the reversed
-        chain is joint n - 1 - k turned the other way (``q = -q'[::-1]``); signs, free
-        joints and a continuum's relation follow."""
+        """The branches of a chain solved from the tool as the robot's own.
+
+        For a chain reversed by :meth:`Screws.reversed <kincalc.ik.screws.Screws.reversed>`:
+        joint k of the reversed chain is joint n - 1 - k turned the other way
+        (``q = -q'[::-1]``); signs, free joints and a continuum's relation follow. Called on
+        expanded branches (the full layout's sign table is not remapped).
+
+        Returns
+        -------
+        Branches
+            A copy with the joints renumbered and negated (cosines kept, sines negated).
+        """
         n = self.n
         m = lambda j: n - 1 - j  # noqa: E731
         extra = dict(self.extra)
@@ -262,17 +400,28 @@ class Branches:
                 {j: v[:, parent] for j, v in self.sin.items()})
 
     def q(self) -> np.ndarray:
-        """``(N, K, n)`` joint values (0 where a joint was never set)."""
+        """The joint values of every slot.
+
+        Returns
+        -------
+        ndarray (N, K, n)
+            Rad or m; 0 where a joint was never set.
+        """
         out = np.zeros((self.N, self.K, self.n))
         for j, v in self.value.items():
             out[:, :, j] = v
         return out
 
     def joint_major(self) -> tuple:
-        """``(c, s, x)``, each ``(n, N K)`` contiguous, joint by joint: the cosine and
-        sine of every revolute joint (1 and 0 for prismatic joints and joints never
-        set) and every joint's value (0 where never set), for the FK check, which walks
-        the chain joint-major."""
+        """The candidates joint by joint, for the FK check (which walks the chain joint-major).
+
+        Returns
+        -------
+        c, s, x : ndarray (n, N K), contiguous
+            The cosine and sine of every revolute joint (1 and 0 for prismatic joints and
+            joints never set) and every joint's value (rad or m; 0 where never set); column
+            ``i K + k`` is slot k of pose i.
+        """
         M = self.N * self.K
         c, s, x = np.ones((self.n, M)), np.zeros((self.n, M)), np.zeros((self.n, M))
         for j, v in self.cos.items():
@@ -284,14 +433,31 @@ class Branches:
         return c, s, x
 
     def free_mask(self) -> np.ndarray:
-        """``(N, K, n)`` bool: joints left free in each slot."""
+        """The joints left free in each slot.
+
+        Returns
+        -------
+        ndarray (N, K, n) of bool
+            True where a singular target leaves the joint undetermined.
+        """
         out = np.zeros((self.N, self.K, self.n), bool)
         for j, f in self.free.items():
             out[:, :, j] = f
         return out
 
     def final_index(self, at: int) -> np.ndarray:
-        """For each final slot, its slot at lineage step ``at`` (for notes, dead ends)."""
+        """For each final slot, its slot at lineage step ``at`` (for notes, dead ends).
+
+        Parameters
+        ----------
+        at : int
+            The index into ``lineage`` (a :class:`Note`'s or :class:`DeadEnd`'s ``at``).
+
+        Returns
+        -------
+        ndarray (K,) of int
+            The slot index at that step.
+        """
         idx = np.arange(self.K)
         for parent in reversed(self.lineage[at + 1:]):
             idx = parent[idx]

@@ -6,9 +6,21 @@ from functools import lru_cache, wraps
 
 
 def per_robot(fn):
-    """``fn(robot, *args)`` computed once per robot (and arguments), for the 64 robots
-    used last. Robots hash by value (:class:`kincalc.model.Robot` is frozen); a robot-like
-    object that does not hash is computed afresh on every call."""
+    """``fn(robot, *args)`` computed once per robot (and arguments), for the 64 robots used last.
+
+    Robots hash by value (:class:`kincalc.model.Robot` is frozen); a robot-like object that
+    does not hash is computed afresh on every call.
+
+    Parameters
+    ----------
+    fn : callable
+        ``fn(robot, *args)``, the arguments hashable.
+
+    Returns
+    -------
+    callable
+        The cached function (shared results: do not modify them), with ``cache_clear()``.
+    """
     cached = lru_cache(maxsize=64)(fn)
 
     @wraps(fn)

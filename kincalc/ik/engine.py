@@ -1,14 +1,13 @@
 """The one IK engine: every closed-form family, for a batch of targets at once.
 
-:func:`solve_targets` recognises the robot's family (:func:`~kincalc.ik.families.plan`),
-runs its solver (:mod:`kincalc.ik.solvers`, on the reversed chain for a ``reversed-``
-family, with the general 6R elimination for six revolute joints of no other structure)
-over all targets, and checks and flags every candidate in one pass:
+:func:`solve_targets` recognises the robot's family (:func:`~kincalc.ik.families.plan`), runs its
+solver (:mod:`kincalc.ik.solvers`, on the reversed chain for a ``reversed-`` family, with the
+general 6R elimination for six revolute joints of no other structure) over all targets, and checks
+and flags every candidate in one pass:
 
-1. FK of every candidate (the robot as given); a candidate is a solution when it
-   reaches the target: its position to ``ACCEPT_POSITION`` of the arm's size, the
-   components the family controls to ``ACCEPT_ORIENTATION`` rad, other components a
-   target gives to ``CHECK_ORIENTATION``;
+1. FK of every candidate (the robot as given); a candidate is a solution when it reaches the target:
+   its position to ``ACCEPT_POSITION`` of the arm's size, the components the family controls to
+   ``ACCEPT_ORIENTATION`` rad, other components a target gives to ``CHECK_ORIENTATION``;
 2. revolute joints moved by whole turns to the representative nearest their limits
    (:func:`normalise`);
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first;
@@ -16,8 +15,8 @@ over all targets, and checks and flags every candidate in one pass:
    (:mod:`kincalc.ik.labels`).
 
 A single pose is a batch of one: ``robot.ik`` and ``robot.ik_batch``, the CLI's ``ik``,
-``ik --batch``, ``reach``, ``check`` and the rest answer through here, so a solution has
-the same label and flags wherever it is asked for.
+``ik --batch``, ``reach``, ``check`` and the rest answer through here, so a solution has the
+same label and flags wherever it is asked for.
 """
 
 from __future__ import annotations
@@ -43,20 +42,19 @@ from .target import Targets
 class Solved:
     """Every candidate of every target, checked (see the module docstring).
 
-    ``q (N, K, n)`` joint values (rad / m, normalised into the limits); ``candidate (N,
-    K)`` the family produced one in this slot; ``valid (N, K)`` it reaches the target
-    (and is not a copy of an earlier slot); ``position_error (N, K)`` (m) and
-    ``orientation_error (N, K)`` (rad; NaN where no orientation is checked);
-    ``violation (N, K, n)`` how far each joint is beyond its limits (negative below the
-    lower, positive above the upper, 0 within); ``within (N, K)``; ``free (N, K, n)``
-    joints the target leaves undetermined; ``signs``: each slot's +/- per step;
-    ``continuum (N, K, 5)`` (mask, first joint, second joint, sign, total) or None;
-    ``branches``: the solver's :class:`~kincalc.ik.branches.Branches` (its notes and
-    dead ends, with ``explain``; None for a batch solved in chunks).
+    ``q (N, K, n)`` joint values (rad / m, normalised into the limits); ``candidate (N, K)`` the
+    family produced one in this slot; ``valid (N, K)`` it reaches the target (and is not a copy of
+    an earlier slot); ``position_error (N, K)`` (m) and ``orientation_error (N, K)`` (rad; NaN where
+    no orientation is checked); ``violation (N, K, n)`` how far each joint is beyond its limits
+    (negative below the lower, positive above the upper, 0 within); ``within (N, K)``;
+    ``free (N, K, n)`` joints the target leaves undetermined; ``signs``: each slot's +/- per step;
+    ``continuum (N, K, 5)`` (mask, first joint, second joint, sign, total) or None; ``branches``:
+    the solver's :class:`~kincalc.ik.branches.Branches` (its notes and dead ends, with
+    ``explain``; None for a batch solved in chunks).
 
-    :attr:`labels` (branch labels of the candidates) and :attr:`singular` (the singular
-    flag of the valid solutions) are computed when first asked for: a batch that only
-    needs the joint values does not pay for them.
+    :attr:`labels` (branch labels of the candidates) and :attr:`singular` (the singular flag of the
+    valid solutions) are computed when first asked for: a batch that only needs the joint values
+    does not pay for them.
     """
 
     family: str
@@ -84,8 +82,8 @@ class Solved:
     def _frames(self, mask):
         """Joint frames and tool poses of the slots ``mask (N, K)`` (within the candidates).
 
-        A few candidates (a single pose) are evaluated once, all together, for both the
-        labels and the singular flags; a large batch evaluates what each asks for."""
+        A few candidates (a single pose) are evaluated once, all together, for both the labels and
+        the singular flags; a large batch evaluates what each asks for."""
         from ..fk import FEW, frames_and_tool
         count = int(np.count_nonzero(self.candidate))
         if 0 < count <= FEW:
@@ -117,8 +115,8 @@ class Solved:
 
     @property
     def singular(self) -> np.ndarray:
-        """``(N, K)`` bool: valid solutions at a singular configuration (the Jacobian's
-        rank test of :func:`singular`, or a joint the target leaves free)."""
+        """``(N, K)`` bool: valid solutions at a singular configuration (the rank test of
+        :func:`singular`, or a joint the target leaves free)."""
         if "singular" not in self.memo:
             sing = np.zeros(self.valid.shape, bool)
             if self.valid.any():
@@ -133,10 +131,25 @@ CHUNK = 2048
 
 
 def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
-    """Every IK solution of ``robot`` for each pose of ``T (N, 4, 4)`` (world frame, SI),
-    solved ``chunk`` poses at a time: the :class:`Solved` of all of them (``branches``
-    is None when there was more than one chunk). Raises :class:`UnsupportedRobot` for a
-    robot no closed form covers."""
+    """Every IK solution of ``robot`` for each pose of ``T``, solved ``chunk`` poses at a time.
+
+    Parameters
+    ----------
+    robot : Robot
+    T : array_like (N, 4, 4) or (4, 4), the target poses ``T_world_tool`` (world frame, SI)
+    chunk : int, poses solved together (memory: a few kB per target and slot)
+
+    Returns
+    -------
+    Solved, all N targets (``branches`` None when there was more than one chunk)
+
+    Raises
+    ------
+    ValueError
+        ``T`` is not of shape (N, 4, 4) or (4, 4).
+    UnsupportedRobot
+        No closed form covers the robot.
+    """
     T = np.asarray(T, float)
     if T.ndim == 2:
         T = T[None]
@@ -164,8 +177,25 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
 def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
     """Every closed-form solution of ``robot`` for each target of ``targets``.
 
-    Raises :class:`UnsupportedRobot` when no family covers the robot (the numerical
-    solver's business) or the target's kind does not fit the family."""
+    Parameters
+    ----------
+    robot : Robot
+    targets : Targets, ``N`` targets of one kind (world frame, SI)
+    explain : bool, record notes and dead ends in ``branches`` (every slot is then kept)
+
+    Returns
+    -------
+    Solved, the candidates ``q (N, K, n)`` and their checks (see the module docstring)
+
+    Raises
+    ------
+    UnsupportedRobot
+        No family covers the robot (the numerical solver's business).
+    TargetMismatch
+        The kind does not fit the family (:func:`check_kind`) or the robot cannot take a TCV.
+    ValueError
+        A ``"tcv"`` batch of more than one target.
+    """
     S, family, why = plan(robot)
     if targets.kind == "tcv":
         family = TCV
@@ -207,7 +237,20 @@ TCV = Family("tcv", "tool configuration vector: the last joint from |w4..w6|, th
 
 
 def check_kind(robot, family: Family, targets: Targets) -> None:
-    """Refuse a target kind the family does not take (words for the edge to render)."""
+    """Refuse a target kind the family does not take (words for the edge to render).
+
+    Parameters
+    ----------
+    robot : Robot
+    family : Family, the robot's (:data:`TCV` takes every kind)
+    targets : Targets, of which only the ``kind`` is read
+
+    Raises
+    ------
+    TargetMismatch
+        An approach target for a family not in ``APPROACH_FAMILIES``, or a position target
+        for one that needs the orientation.
+    """
     from .families import APPROACH_FAMILIES
     five = family.name in APPROACH_FAMILIES
     if family is TCV:
@@ -255,10 +298,10 @@ def _distance(a, b):
 
 
 def _orientation_error(targets: Targets, cols, K):
-    """Angle (rad) between each slot's orientation (rotation columns ``cols``, three
-    ``(3, M)``) and its target's, for the components the target gives: the whole
-    rotation (from ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate for small
-    angles), or the approach (tool z)."""
+    """Angle (rad) between each slot's orientation (rotation columns ``cols``, three ``(3, M)``)
+    and its target's, for the components the target gives: the whole rotation (from
+    ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate for small angles), or the approach
+    (tool z)."""
     if targets.kind == "position":
         return None
     if targets.kind in ("approach", "tcv"):
@@ -278,10 +321,20 @@ def _orientation_error(targets: Targets, cols, K):
 
 
 def normalise(robot, Q) -> np.ndarray:
-    """``Q (..., n)`` with each revolute joint moved by whole turns to the value nearest
-    its limits: in (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn
-    that lies within them (the lowest, for limits wider than a turn), else the one
-    that misses them least. A new array; prismatic joints are kept."""
+    """``Q`` with each revolute joint moved by whole turns to the value nearest its limits.
+
+    In (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn within them (the
+    lowest, for limits wider than a turn), else the one that misses them least; prismatic kept.
+
+    Parameters
+    ----------
+    robot : Robot
+    Q : array_like (..., n), joint values (rad / m)
+
+    Returns
+    -------
+    ndarray (..., n), a new array
+    """
     Q = np.array(Q, float)
     rev = robot.is_revolute
     if Q.size == 0 or not rev.any():
@@ -303,8 +356,17 @@ def normalise(robot, Q) -> np.ndarray:
 
 
 def within_limits(robot, Q) -> np.ndarray:
-    """``(...)`` bool: is each configuration ``Q (..., n)`` within the limits, revolute
-    joints allowing whole turns (-170 deg passes a [0, 360] limit)?"""
+    """Is each configuration within the limits, revolute joints allowing whole turns?
+
+    Parameters
+    ----------
+    robot : Robot
+    Q : array_like (..., n), joint values (rad / m)
+
+    Returns
+    -------
+    ndarray (...) of bool, :func:`normalise` puts it within them (-170 deg passes [0, 360] deg)
+    """
     return ~(violations(robot, normalise(robot, Q)) != 0).any(-1)
 
 
@@ -313,9 +375,17 @@ def _miss(x, lo, hi):
 
 
 def violations(robot, q) -> np.ndarray:
-    """``(..., n)``: how far each joint of ``q`` is beyond its limits, beyond
-    ``LIMIT_TOL`` (rad, or times the arm's size for prismatic joints): negative below the
-    lower limit, positive above the upper, 0 within."""
+    """How far each joint of ``q`` is beyond its limits, beyond ``LIMIT_TOL``.
+
+    Parameters
+    ----------
+    robot : Robot, its limits (``LIMIT_TOL``: rad, or times the arm's size for prismatic)
+    q : ndarray (..., n), joint values (rad / m), not wrapped
+
+    Returns
+    -------
+    ndarray (..., n), ``q - lower`` below the lower limit, ``q - upper`` above the upper, else 0
+    """
     lo, hi, lo_band, hi_band = _limit_bands(robot)
     below = np.where(q < lo_band, q - lo, 0.0)
     above = np.where(q > hi_band, q - hi, 0.0)
@@ -333,15 +403,24 @@ def _limit_bands(robot) -> tuple:
 
 
 def duplicates(robot, q, valid, cs=None) -> np.ndarray:
-    """``(N, K)``: valid slots whose every joint is within ``DUPLICATE`` (wrapped for
-    revolute joints) of an earlier valid slot that is kept; ``cs``: the joints' cosines
-    and sines, joint-major ``(n, N K)``, when known.
+    """Valid slots whose every joint is within ``DUPLICATE`` (wrapped) of an earlier kept one.
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
-    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are
-    1-Lipschitz, so two slots within ``DUPLICATE`` in every joint have keys within
-    ``sum_k |w_k| DUPLICATE``, and only the pairs that pass are compared joint by joint
-    (distinct solutions almost never do)."""
+    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are 1-Lipschitz,
+    so two slots within ``DUPLICATE`` in every joint have keys within ``sum_k |w_k| DUPLICATE``,
+    and only the pairs that pass are compared joint by joint (distinct solutions almost never do).
+
+    Parameters
+    ----------
+    robot : Robot
+    q : ndarray (N, K, n), joint values (rad / m)
+    valid : ndarray (N, K) of bool
+    cs : tuple of ndarray (n, N K), optional: the joints' cosines and sines, joint-major
+
+    Returns
+    -------
+    ndarray (N, K) of bool, the slots to drop
+    """
     N, K, n = q.shape
     drop = np.zeros((N, K), bool)
     if K < 2 or not valid.any():
@@ -385,9 +464,20 @@ def _duplicate_key(robot) -> tuple:
 
 
 def singular(robot, Q, F, tool) -> np.ndarray:
-    """``(m,)``: is each configuration singular (the rank of its Jacobian, lengths in
-    units of the arm's size, below the robot's generic rank, or that of its linear
-    rows)? ``F (m, n, 4, 4)`` the joint frames, ``tool (m, 4, 4)`` the tool poses."""
+    """Is each configuration singular (its Jacobian's rank below the robot's generic rank)?
+
+    Parameters
+    ----------
+    robot : Robot
+    Q : ndarray (m, n), joint values (rad / m)
+    F : ndarray (m, n, 4, 4), the joint frames (world frame, m)
+    tool : ndarray (m, 4, 4), the tool poses ``T_world_tool`` (m)
+
+    Returns
+    -------
+    ndarray (m,) of bool
+        Lengths in units of the arm's size; the linear rows tested against the position rank.
+    """
     m, n = Q.shape
     rev = robot.is_revolute[:, None]
     L = robot.characteristic_length

@@ -56,12 +56,41 @@ class Continuum:
     total: float | None = None
 
     def reversed(self, n: int) -> "Continuum":
-        """The same relation for the original chain of a reversed one (joint k of the
-        reversed chain is joint n - 1 - k, turned the other way)."""
+        """The same relation for the original chain of a reversed one.
+
+        Joint k of the reversed chain is joint n - 1 - k, turned the other way.
+
+        Parameters
+        ----------
+        n : int
+            Number of joints.
+
+        Returns
+        -------
+        Continuum
+            Joints renumbered, ``total`` negated (None stays None).
+        """
         return Continuum(n - 1 - self.i, n - 1 - self.j, self.sign,
                          None if self.total is None else -self.total)
 
     def text(self, names, angle_unit: str, per_rad: float) -> str:
+        """The relation in words: ``a + b = total`` (or ``a - b``), in the display angle unit.
+
+        Parameters
+        ----------
+        names : sequence of str
+            The joints' names, by 0-based index.
+        angle_unit : str
+            The display angle unit's name.
+        per_rad : float
+            Display angle units per rad.
+
+        Returns
+        -------
+        str
+            ``total`` wrapped to (-pi, pi] and shown in the display unit; without a ``total``,
+            the sentence that the two axes are aligned.
+        """
         a, b = names[self.i], names[self.j]
         if self.total is None:
             return f"axes of {a} and {b} aligned: they turn the tool about one line"
@@ -90,7 +119,10 @@ class Family:
 
     @property
     def solver(self) -> str:
-        """The key of :data:`SOLVERS` (and of the batched solvers) for this family."""
+        """The key of :data:`~kincalc.ik.solvers.SOLVERS` for this family (``str``).
+
+        Its name without ``reversed-``; also the key of the batched solvers.
+        """
         return self.name.removeprefix("reversed-") if self.reverse else self.name
 
 
@@ -101,11 +133,26 @@ def _parallel(a, b, tol=1e-9) -> bool:
 @per_robot
 def plan(robot) -> tuple[Screws, Family | None, str]:
     """``(screws, family, why)`` of ``robot``: geometry facts, computed once per robot.
+
     The solvers keep their robot-level constants on these screws
     (:meth:`~kincalc.ik.screws.Screws.constant`), so they too are computed once per robot.
 
-    The screws are those the family's solver runs on: the robot's own, or for a robot
-    only nearly of its family those of the nearest robot that is (:func:`idealised`)."""
+    Parameters
+    ----------
+    robot : Robot
+        Hashable for the cache (:class:`kincalc.model.Robot` is frozen).
+
+    Returns
+    -------
+    screws : Screws
+        Those the family's solver runs on (world frame at q = 0, SI): the robot's own, or
+        for a robot only nearly of its family those of the nearest robot that is
+        (:func:`idealised`).
+    family : Family or None
+        See :func:`classify`; None when no closed form covers the robot.
+    why : str
+        Why there is no family ("" when there is one).
+    """
     S = Screws.of(robot)
     family, why = classify(robot, S)
     if family is not None and not family.exact:
@@ -114,11 +161,26 @@ def plan(robot) -> tuple[Screws, Family | None, str]:
 
 
 def idealised(S: Screws, structure) -> Screws:
-    """The screws ``S`` moved the least way onto ``structure`` (:attr:`Family.structure`):
-    parallel axes turned to their mean direction (each keeping its sense), meeting axes
+    """The screws ``S`` moved the least way onto ``structure`` (:attr:`Family.structure`).
+
+    Parallel axes are turned to their mean direction (each keeping its sense), meeting axes
     moved (parallel to themselves) through their least-squares common point, which for
     ``meet-approach`` is then taken onto the approach line; a ``roll`` axis becomes the
-    approach line. Directions first, so that points meet on the final lines."""
+    approach line. Directions first, so that points meet on the final lines.
+
+    Parameters
+    ----------
+    S : Screws
+        The robot's screws (world frame at q = 0, m).
+    structure : tuple of (str, tuple of int)
+        ``(kind, joints)`` facts, 0-based joints.
+
+    Returns
+    -------
+    Screws
+        The nearest screws with the structure (same ``M`` and ``scale``), ``slack`` (m)
+        ``1e3 (move + turn max(scale, 1))`` of :func:`structure_defect`.
+    """
     axis, point = S.axis.copy(), S.point.copy()
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     order = {"parallel": 0, "roll": 0, "meet": 1, "meet-approach": 1}
@@ -142,8 +204,20 @@ def idealised(S: Screws, structure) -> Screws:
 
 
 def structure_defect(S: Screws, ideal: Screws) -> tuple[float, float]:
-    """How far the screws ``ideal`` are from ``S``: ``(metres, rad)``, the largest
-    distance a joint's line moved and the largest angle an axis turned."""
+    """How far the screws ``ideal`` are from ``S``.
+
+    Parameters
+    ----------
+    S, ideal : Screws
+        The same chain's screws (world frame at q = 0, m).
+
+    Returns
+    -------
+    move : float
+        The largest distance (m) a joint's line moved (of ``ideal``'s point from ``S``'s line).
+    turn : float
+        The largest angle (rad, as its sine) an axis turned.
+    """
     turn = float(np.max(norm3_rows(cross(S.axis, ideal.axis)), initial=0.0))
     d = ideal.point - S.point          # the new point's distance from the old line
     move = float(np.max(norm3_rows(d - (d * S.axis).sum(-1)[:, None] * S.axis), initial=0.0))
@@ -151,6 +225,16 @@ def structure_defect(S: Screws, ideal: Screws) -> tuple[float, float]:
 
 
 def norm3_rows(v) -> np.ndarray:
+    """Euclidean norms of the rows of ``v``.
+
+    Parameters
+    ----------
+    v : array_like (..., 3)
+
+    Returns
+    -------
+    ndarray (...)
+    """
     return np.sqrt((np.asarray(v) ** 2).sum(-1))
 
 
@@ -166,10 +250,24 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
     A family is recognised when the axes meet and are parallel as it needs to within
     :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` (of the arm's size) and
     :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (rad), or both within the robot's own
-    ``structure_tol`` when it has one. It is ``exact`` when they do
-    to within ``EXACT_POINT_TOL`` and ``EXACT_ANGLE_TOL`` (rounding): a calibrated
-    model or a rounded datasheet gives a robot that is only nearly of its family, whose
-    closed-form solutions the dispatcher refines on the true robot.
+    ``structure_tol`` when it has one. It is ``exact`` when they do to within
+    ``EXACT_POINT_TOL`` and ``EXACT_ANGLE_TOL`` (rounding): a calibrated model or a
+    rounded datasheet gives a robot that is only nearly of its family, whose closed-form
+    solutions the dispatcher refines on the true robot.
+
+    Parameters
+    ----------
+    robot : Robot
+        Gives ``generic_ranks`` and ``structure_tol`` (optional).
+    S : Screws
+        The robot's screws (:meth:`Screws.of <kincalc.ik.screws.Screws.of>`).
+
+    Returns
+    -------
+    family : Family or None
+        ``general-6r`` (always exact) for six revolute joints of no other structure.
+    why : str
+        Why there is no family (redundant, or no analytic solver); "" when there is one.
     """
     tol = getattr(robot, "structure_tol", None)
     family, why = _classify(robot, S, STRUCTURE_POINT_TOL if tol is None else tol,
@@ -309,13 +407,41 @@ class ParallelContinuum:
     total: float
 
     def reversed(self, n: int) -> "ParallelContinuum":
-        """The same relation for the original chain of a reversed one (joint k of the
-        reversed chain is joint n - 1 - k, turned the other way)."""
+        """The same relation for the original chain of a reversed one.
+
+        Joint k of the reversed chain is joint n - 1 - k, turned the other way.
+
+        Parameters
+        ----------
+        n : int
+            Number of joints.
+
+        Returns
+        -------
+        ParallelContinuum
+            Joints renumbered (in ascending order, their signs with them), ``total`` negated.
+        """
         pairs = sorted((n - 1 - i, s) for i, s in zip(self.joints, self.signs))
         return ParallelContinuum(tuple(i for i, _ in pairs), tuple(s for _, s in pairs),
                                  n - 1 - self.free, -self.total)
 
     def text(self, names, angle_unit: str, per_rad: float) -> str:
+        """The relation in words: the signed sum, its total, and which joint is free.
+
+        Parameters
+        ----------
+        names : sequence of str
+            The joints' names, by 0-based index.
+        angle_unit : str
+            The display angle unit's name.
+        per_rad : float
+            Display angle units per rad.
+
+        Returns
+        -------
+        str
+            ``total`` wrapped to (-pi, pi] and shown in the display unit.
+        """
         terms = [("-" if s < 0 else "") + names[j] if k == 0 else
                  ("- " if s < 0 else "+ ") + names[j]
                  for k, (j, s) in enumerate(zip(self.joints, self.signs))]

@@ -30,16 +30,27 @@ _NAMED = ({0}, {1, 2}, {4})
 
 
 def branch_geometry(robot, family: str, frames) -> np.ndarray:
-    """The geometric words of the branch labels of ``k`` solutions whose joint frames are
-    ``frames`` (:func:`kincalc.fk.frame_columns`: per joint its rotation's columns and
-    origin, each ``(3, k)``, world frame): codes ``(k, 3)`` for (shoulder, elbow, wrist),
-    each 0 where the word does not apply, else 1 or 2 for the first or second word of
-    :data:`WORDS` (see the module docstring for the rules).
+    """The geometric words of the branch labels of ``k`` solutions, as codes.
 
     The point P of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
     meet on a UR arm) is fixed in the frame of the joint before those axes, so it is
     carried from its coordinates there (:func:`_meeting_point_local`) instead of being
     intersected anew for every solution.
+
+    Parameters
+    ----------
+    robot : Robot
+    family : str
+        The family's solver name; only ``spherical-wrist`` and ``three-parallel`` have words.
+    frames : list of (tuple of 3 ndarray (3, k), ndarray (3, k))
+        Per joint, its rotation's columns and origin (world frame, m), as
+        :func:`kincalc.fk.frame_columns` gives them.
+
+    Returns
+    -------
+    ndarray (k, 3) of int8
+        Codes for (shoulder, elbow, wrist), each 0 where the word does not apply, else 1 or
+        2 for the first or second word of :data:`WORDS` (rules: the module docstring).
     """
     k = frames[0][1].shape[1] if frames else 0
     codes = np.zeros((k, 3), np.int8)
@@ -123,11 +134,31 @@ def _meeting_point_local(robot, first: int):
 
 
 def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
-    """The label of each of ``s`` solutions, ``(s,)`` object: ``frames`` their joint
-    frames (:func:`kincalc.fk.frame_columns`), ``signs`` the family's sign table (per
-    slot, a tuple of ``(joint, label)`` for each step with more than one root), ``slot
-    (s,)`` the slot each came from, ``free (s, n)`` bool. A string is made once per
-    robot and distinct combination of words, signs and free joints, not per solution."""
+    """The branch label of each of ``s`` solutions.
+
+    A string is made once per robot and distinct combination of words, signs and free
+    joints, not per solution.
+
+    Parameters
+    ----------
+    robot : Robot
+    family : str
+        The family's solver name (:attr:`Family.solver <kincalc.ik.families.Family.solver>`).
+    frames : list of (tuple of 3 ndarray (3, s), ndarray (3, s))
+        Their joint frames (:func:`kincalc.fk.frame_columns`, world frame, m).
+    signs : tuple
+        The family's sign table: per slot, a tuple of ``(joint, label)`` for each step with
+        more than one root.
+    slot : ndarray (s,) of int
+        The slot each solution came from (index into ``signs``).
+    free : array_like (s, n) of bool
+        The joints each leaves free.
+
+    Returns
+    -------
+    ndarray (s,) of object
+        The labels (str); ``"unique"`` when there is nothing to tell.
+    """
     out = np.empty(len(slot), object)
     if len(slot) == 0:
         return out

@@ -35,15 +35,17 @@ def _pose_error(P, R, p_goal, R_goal, L):
 
 def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float = 1e-13,
             limits=None):
-    """Damped least squares from each start towards its goal, batched over starts.
+    """Damped least squares from each start to its goal: a local minimum when out of reach.
 
-    ``X0 (B, n)`` starts (rad / m); ``p_goal (B, 3)`` positions (m, world);
-    ``R_goal (B, 3, 3)`` orientations, or None for the position alone. Steps
-    are projected onto the joint limits. Returns ``(X (B, n), position error
-    (B,) m, orientation error (B,) rad or None)`` at the best configuration
-    found: a local minimum of the distance to the goal when it is out of reach.
-    ``limits (n, 2)`` replaces the robot's limits (infinite bounds allowed).
-    """
+    Parameters
+    ----------
+    robot, X0, p_goal : Robot, (B, n) starts (rad / m), (B, 3) goal positions (m, world)
+    R_goal, iterations, tol : (B, 3, 3) goal orientations (None: position only), int, float
+    limits : (n, 2), optional, instead of the robot's (inf allowed); steps projected onto them
+
+    Returns
+    -------
+    X (B, n), position error (B,) m, orientation error (B,) rad or None: the best found"""
     from ..jacobian import jacobian_and_pose
     L = max(robot.characteristic_length, 1e-12)
     lo0, hi0 = (robot.limits if limits is None else np.asarray(limits, float)).T
@@ -114,10 +116,23 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
 
 
 def motion_frame(P, robot):
-    """``(origin (3,), basis (3, d))``: the affine span of the tool points ``P``.
+    """The affine span of the tool points ``P``: where the tool moves.
 
-    d is 3 for a spatial arm, 2 for a planar one (world x, y when the plane is
-    horizontal), 1 for a line."""
+    Parameters
+    ----------
+    P : ndarray (M, 3)
+        Tool points (world frame, m).
+    robot : Robot
+        Its ``characteristic_length`` (m) sets the rank tolerance.
+
+    Returns
+    -------
+    origin : ndarray (3,)
+        A point of the span (m).
+    basis : ndarray (3, d)
+        Orthonormal columns; d is 3 for a spatial arm (origin 0, world axes), 2 for a
+        planar one (world x, y when the plane is horizontal), 1 for a line.
+    """
     c = P.mean(axis=0)
     sub = P[:: max(1, len(P) // 20000)] - c
     _, s, Vt = np.linalg.svd(sub, full_matrices=False)
@@ -131,9 +146,24 @@ def motion_frame(P, robot):
 
 
 def samples(robot, count: int, seed: int, limits=None) -> np.ndarray:
-    """``(count, n)`` seeded joints uniform within ``limits`` (default the robot's);
-    a bound that is infinite is replaced by a turn (revolute) or the robot's size
-    (prismatic) beyond the other bound or zero. For search starts and shape tests."""
+    """Seeded joint values uniform within ``limits``, for search starts and shape tests.
+
+    A bound that is infinite is replaced from the other bound and zero, with ``s = pi``
+    (revolute) or the robot's size (prismatic): ``lo = min(-s, hi - 2 s)``,
+    ``hi = max(s, lo + 2 s)``.
+
+    Parameters
+    ----------
+    robot : Robot
+    count : int
+    seed : int
+    limits : array_like (n, 2), optional
+        Rad / m; default the robot's.
+
+    Returns
+    -------
+    ndarray (count, n)
+    """
     lo, hi = (robot.limits if limits is None else np.asarray(limits, float)).T
     span = np.where(robot.is_revolute, np.pi, max(robot.characteristic_length, 1e-12))
     lo = np.where(np.isfinite(lo), lo, np.minimum(-span, hi - 2 * span))
@@ -142,17 +172,45 @@ def samples(robot, count: int, seed: int, limits=None) -> np.ndarray:
 
 
 def unlimited(robot) -> np.ndarray:
-    """``(n, 2)`` limits that hold no joint back (for :func:`nearest_position`)."""
+    """Limits that hold no joint back (for :func:`nearest_position`).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    ndarray (n, 2)
+        ``-inf`` and ``+inf`` for every joint.
+    """
     return np.column_stack([np.full(robot.dof, -np.inf), np.full(robot.dof, np.inf)])
 
 
 def nearest_position(robot, p, *, limits=None, seed: int = 0):
-    """The configuration whose tool point is nearest ``p (3,)`` (m, world), within
-    ``limits (n, 2)`` (default the robot's). Returns ``(q (n,), tool point (3,),
-    distance)``.
+    """The configuration whose tool point is nearest ``p``.
 
-    The last few answers are remembered: ``reach`` asks again for what the IK
-    reason already measured."""
+    The last few answers are remembered: ``reach`` asks again for what the IK reason
+    already measured.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (3,)
+        The position (world frame, m).
+    limits : array_like (n, 2), optional
+        Rad / m; default the robot's.
+    seed : int
+        Seeds the sampled starts.
+
+    Returns
+    -------
+    q : ndarray (n,)
+        Joint values (rad / m).
+    point : ndarray (3,)
+        Its tool point (world frame, m).
+    distance : float
+        From ``p`` (m).
+    """
     key = (tuple(np.asarray(p, float).reshape(3)),
            None if limits is None else tuple(np.asarray(limits, float).ravel()), seed)
     q, point, dist = _nearest(robot, key)
@@ -175,15 +233,29 @@ def _nearest(robot, key):
 
 
 def where_outside(robot, p, p_near, dist):
-    """Where a position ``p`` out of reach even without joint limits lies
-    (:class:`~kincalc.ik.reasons.Outside`), ``p_near`` being the nearest reachable
-    point, ``dist`` away (world frame, m).
+    """Where a position out of reach even without joint limits lies.
 
-    Off the plane of a planar arm: outside the workspace. Otherwise the nearest
-    point says which side the target is on: farther from the base than it, and
-    roughly along the line from the base (within 60 deg), the target is beyond
-    the outer reach; nearer the base than it, inside the inner void; anything
-    else (a notch in the workspace) is outside the workspace."""
+    Off the plane of a planar arm (or the line of a linear one): outside the workspace.
+    Otherwise the nearest point says which side the target is on: farther from the base
+    than it, and roughly along the line from the base (within 60 deg), the target is beyond
+    the outer reach; nearer the base than it, inside the inner void; anything else (a notch
+    in the workspace) is outside the workspace.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (3,)
+        The position (world frame, m).
+    p_near : ndarray (3,)
+        The nearest reachable point (world frame, m).
+    dist : float
+        Its distance from ``p`` (m).
+
+    Returns
+    -------
+    Outside
+        :class:`~kincalc.ik.reasons.Outside`, distances in m.
+    """
     from .reasons import Outside
     o = robot.base[:3, 3]
     origin, basis = motion_frame(robot.fk(samples(robot, 512, 1))[:, :3, 3], robot)

@@ -17,8 +17,39 @@ from .screws import Screws
 
 
 def on_true_robot(robot, family, targets, q, candidate, br):
-    """``(q, candidate, branches, method text)`` on the robot as given, for candidates
-    ``q (N, K, n)`` of the nearest robot of ``family``."""
+    """The candidates of the nearest robot of ``family`` moved onto the robot as given.
+
+    Each candidate is refined by Newton's method (:func:`~kincalc.ik.refine.refine`, on the
+    pose, the position or the position and approach, as the targets and the family ask);
+    the free masks are cleared and the continua dropped (they belong to the idealised
+    robot). For six revolute joints and whole poses the general 6R elimination's solutions
+    are appended as ``G`` more slots (their signs empty).
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot as given.
+    family : Family
+        Its (not exact) family.
+    targets : Targets
+        ``N`` targets (world frame, SI).
+    q : ndarray (N, K, n)
+        The candidates (rad / m) of the nearest robot of the family.
+    candidate : ndarray (N, K) of bool
+        The slots that hold one.
+    br : Branches
+        The solver's branches (expanded).
+
+    Returns
+    -------
+    q : ndarray (N, K', n)
+        Refined joint values, revolute joints wrapped to (-pi, pi]; ``K' = K`` or ``K + G``.
+    candidate : ndarray (N, K') of bool
+    br : Branches
+        With the same ``K'`` slots.
+    method : str
+        The method text, saying how far the axes are from the structure (m, rad).
+    """
     from .families import plan, structure_defect
     N, K, n = q.shape
     mode = {"pose": "pose", "approach": "approach", "position": "position",

@@ -61,9 +61,10 @@ class NumericIK:
 
     ``q (n,)`` joints (rad / m); ``converged`` whether the target was reached to
     :data:`TOL`; residuals in m and rad (``orientation_error`` None when only the
-    position was asked for); ``at_limits`` the joints held at a limit;
-    ``distance`` the scaled distance ``|x - x0|`` from the start; ``start`` the
-    start configuration that converged (``q0`` or a restart).
+    position was asked for); ``iterations`` those of the start kept; ``at_limits`` the
+    joints held at a limit; ``distance`` the scaled distance ``|x - x0|`` from the start;
+    ``start`` the start configuration that converged (``q0`` or a restart);
+    ``restarts`` the restarts tried (0 when ``q0`` converged).
     """
 
     q: np.ndarray
@@ -78,11 +79,29 @@ class NumericIK:
 
 
 def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float = 1e-6):
-    """Geometric Jacobian ``(6, n)`` (world frame, linear rows then angular) of any
-    FK function ``fk(q (n,)) -> T (4, 4)`` by central differences (step ``h`` rad,
-    ``h * scale`` m). A column whose central difference ``fk`` refuses (ValueError,
-    ArithmeticError: the edge of a mechanism's assembly region) is taken forward or
-    backward, towards whichever side ``fk`` accepts."""
+    """Geometric Jacobian of any FK function by central differences.
+
+    A column whose central difference ``fk`` refuses (ValueError, ArithmeticError: the edge
+    of a mechanism's assembly region) is taken forward or backward, towards whichever side
+    ``fk`` accepts; it stays 0 when ``fk`` refuses both sides.
+
+    Parameters
+    ----------
+    fk : callable
+        ``fk(q (n,)) -> T (4, 4)``, ``T_world_tool`` (SI).
+    q : array_like (n,)
+        Joint values (rad / m).
+    revolute : array_like (n,) of bool
+    scale : float
+        The prismatic joints' step is ``h * scale`` (m).
+    h : float
+        The revolute joints' step (rad).
+
+    Returns
+    -------
+    ndarray (6, n)
+        World frame, linear rows (m per rad or per m) then angular.
+    """
     q = np.asarray(q, float)
     n = len(q)
     J = np.zeros((6, n))
@@ -129,8 +148,15 @@ class _Problem:
         self.jac = jacobian or (lambda q: finite_difference_jacobian(fk, q, self.revolute, scale))
 
     def error(self, q):
-        """Scaled pose error; inf where ``self.fk`` refuses ``q`` (a mechanism that cannot
-        be assembled there raises ValueError): such a step is rejected."""
+        """The scaled pose error ``[(p* - p) / scale, rotvec(R* R^T)]`` at ``q (n,)``.
+
+        Returns
+        -------
+        ndarray (6,) or (3,)
+            The rows asked for (position only without orientation); inf where ``self.fk``
+            refuses ``q`` (a mechanism that cannot be assembled there raises ValueError or an
+            ArithmeticError): such a step is rejected.
+        """
         try:
             Tq = np.asarray(self.fk(q), float)
         except (ValueError, ArithmeticError):
@@ -141,6 +167,21 @@ class _Problem:
         return e[self.rows]
 
     def scaled_jacobian(self, q):
+        """The Jacobian at ``q`` in the scaled variables.
+
+        Linear rows divided by ``scale``, columns times the joints' scaling ``s``; central
+        differences when the user's Jacobian refuses ``q``.
+
+        Parameters
+        ----------
+        q : ndarray (n,)
+            Joint values (rad / m).
+
+        Returns
+        -------
+        ndarray (6, n) or (3, n)
+            The rows of the error (position only without orientation).
+        """
         try:
             J = np.asarray(self.jac(q), float).copy()
         except (ValueError, ArithmeticError):   # a difference left the mechanism
@@ -149,15 +190,44 @@ class _Problem:
         return J[self.rows] * self.s
 
     def held(self, q, dx):
-        """Joints at a limit that the step ``dx`` would push further out."""
+        """Joints at a limit that the step ``dx`` would push further out.
+
+        Parameters
+        ----------
+        q, dx : ndarray (n,)
+            Joint values (rad / m) and a step (any scale; its sign is read).
+
+        Returns
+        -------
+        ndarray (n,) of bool
+        """
         return ((q <= self.lo + 1e-12) & (dx < 0)) | ((q >= self.hi - 1e-12) & (dx > 0))
 
     def project(self, q):
+        """``q`` clipped to the limits.
+
+        Parameters
+        ----------
+        q : ndarray (n,)
+            Joint values (rad / m).
+
+        Returns
+        -------
+        ndarray (n,)
+        """
         return np.clip(q, self.lo, self.hi)
 
     def lm(self, q, iters, fixed=None):
-        """Levenberg-Marquardt onto the target, ``fixed`` joints kept where they are;
-        returns (q, |e|, iterations used)."""
+        """Levenberg-Marquardt onto the target from ``q (n,)``, ``fixed (n,)`` joints kept.
+
+        Returns
+        -------
+        q : ndarray (n,)
+        E : float
+            ``|e|``, the scaled error reached.
+        k : int
+            Iterations used (at most ``iters``).
+        """
         e = self.error(q)
         E = float(np.linalg.norm(e))
         lam = 1e-3
@@ -196,8 +266,17 @@ class _Problem:
         return q, E, k
 
     def null_step(self, q, x0, free):
-        """The step towards x0 in the null space of the task, moving ``free`` joints only
-        (joints at a limit that it would push outward are taken out and it is redone)."""
+        """The step towards ``x0`` in the null space of the task, moving ``free (n,)`` joints only.
+
+        Joints at a limit that it would push outward are taken out and it is redone.
+
+        Returns
+        -------
+        step : ndarray (n,)
+            Scaled joint space.
+        free : ndarray (n,) of bool
+            The joints it moves.
+        """
         J = self.scaled_jacobian(q)
         dz = x0 - q / self.s
         free = free.copy()
@@ -212,9 +291,17 @@ class _Problem:
         return step, free
 
     def nearest(self, q, x0):
-        """Least change: null-space steps towards x0, each followed by LM back on. A joint
-        a step would carry past its limit stops exactly on it and stays there (pinned)
-        while the first-order condition asks it to; then it is released."""
+        """Least change: null-space steps from ``q`` towards ``x0`` (scaled), each followed by LM.
+
+        A joint a step would carry past its limit stops exactly on it and stays there (pinned)
+        while the first-order condition asks it to; then it is released.
+
+        Returns
+        -------
+        q : ndarray (n,)
+        used : int
+            LM iterations used.
+        """
         used = 0
         gain = 1.0
         pinned = np.zeros(self.n, bool)
@@ -259,6 +346,16 @@ class _Problem:
         return q, used
 
     def attempt(self, start):
+        """LM from ``start (n,)``, then the least-change steps towards ``q0`` when converged.
+
+        Returns
+        -------
+        q : ndarray (n,)
+        E : float
+            The scaled error reached (inf when ``self.fk`` refuses the start).
+        k : int
+            Iterations used.
+        """
         if not np.isfinite(self.error(self.project(start))).all():
             return self.project(start), np.inf, 0          # self.fk refuses the start: skip it
         q, E, k = self.lm(self.project(start), self.max_iter)
@@ -272,15 +369,42 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
                   revolute=None, scale: float = 1.0, orientation: bool = True,
                   least_change: bool = True, restarts: int = RESTARTS,
                   seed: int = 0, max_iter: int = 300) -> NumericIK:
-    """The IK solution of ``fk`` for target ``T (4, 4)`` nearest ``q0 (n,)``.
+    """The IK solution of ``fk`` for target ``T`` nearest ``q0``.
 
-    ``fk(q (n,)) -> (4, 4)`` world <- tool, SI; ``jacobian(q) -> (6, n)`` its
-    geometric Jacobian (rows vx vy vz wx wy wz, world frame), or None for
-    central differences; ``limits (n, 2)`` (rad / m, +-inf for none);
-    ``revolute (n,)`` bool (default all revolute); ``scale`` a characteristic
-    length (m) to weigh positions against angles; ``orientation=False`` reaches
-    the position only. When the target cannot be reached, the returned
-    solution is the least-squares best found, with ``converged`` False.
+    Parameters
+    ----------
+    fk : callable
+        ``fk(q (n,)) -> (4, 4)``, ``T_world_tool`` (SI); it may raise ValueError or an
+        ArithmeticError where the mechanism cannot be assembled.
+    T : array_like (4, 4)
+        The target pose (world frame, SI).
+    q0 : array_like (n,)
+        The start configuration (rad / m).
+    jacobian : callable, optional
+        ``jacobian(q) -> (6, n)``, the geometric Jacobian of ``fk`` (rows vx vy vz wx wy wz,
+        world frame); None for central differences.
+    limits : array_like (n, 2), optional
+        Rad / m, +-inf for none.
+    revolute : array_like (n,) of bool, optional
+        Default all revolute.
+    scale : float
+        A characteristic length (m) to weigh positions against angles.
+    orientation : bool
+        False reaches the position only.
+    least_change : bool
+        Move to the solution with the least scaled change from ``q0`` once converged.
+    restarts : int
+        Seeded random starts tried when ``q0`` does not converge.
+    seed : int
+        Seeds the restarts.
+    max_iter : int
+        Levenberg-Marquardt iterations per start.
+
+    Returns
+    -------
+    NumericIK
+        When the target cannot be reached, the least-squares best found, with
+        ``converged`` False.
     """
     P = _Problem(fk, T, q0, jacobian, limits, revolute, scale, orientation, least_change,
                  max_iter)

@@ -1,37 +1,34 @@
 """Placing a point with two or three joints of any type (R or P): every solution, for
 a batch of targets at once.
 
-The point ``p0`` (world frame, q = 0) is moved by ``E_a(x_a) E_b(x_b) [E_c(x_c)]`` and
-must reach a target ``pt``. Joint a's motion leaves two quantities of a point unchanged
-(Pieper 1968; the Paden-Kahan invariants): for a revolute joint its height along the
-axis and its distance from a point ``o`` of it, for a prismatic one its two components
-across the axis. So the point ``f = E_b E_c p0`` before joint a must match ``pt`` in
-those two: two equations in ``x_b, x_c``. The structure of the robot decides how they
-are solved (:func:`plan`, once per robot), each way a short sequence of subproblems:
+The point ``p0`` (world frame, q = 0) is moved by ``E_a(x_a) E_b(x_b) [E_c(x_c)]`` and must reach a
+target ``pt``. Joint a's motion leaves two quantities of a point unchanged (Pieper 1968; the
+Paden-Kahan invariants): for a revolute joint its height along the axis and its distance from a
+point ``o`` of it, for a prismatic one its two components across the axis. So the point ``f = E_b
+E_c p0`` before joint a must match ``pt`` in those two: two equations in ``x_b, x_c``. The structure
+of the robot decides how they are solved (:func:`plan`, once per robot), each way a short sequence
+of subproblems:
 
-* ``decoupled``: one invariant does not depend on ``x_b`` (axes a and b meet, with ``o``
-  their common point, or are parallel, or slide along one direction): that invariant
-  alone gives ``x_c`` (subproblem 4, or a quadratic for a prismatic c), the other then
-  ``x_b`` (subproblem 4 or a quadratic), and ``x_a`` follows (subproblem 1, or the
-  travel along the axis). The elbow arms (PUMA, Stanford, the textbook's RRP and RPR),
-  SCARAs and cylindrical arms.
-* ``shoulder``: revolute joints with axes b and c parallel and a not (an offset
-  shoulder: KUKA, ABB, Fanuc): the height along the parallel axes fixes ``x_a``
-  (subproblem 4), the law of cosines in their plane ``x_c`` (subproblem 3), and
-  ``x_b`` turns the elbow onto the target (subproblem 1).
-* ``three cones``: three revolute joints with no such structure: subproblem 5 gives
-  all three angles (up to four solutions).
-* ``resultant``: the remaining mixes with prismatic joints: eliminating ``x_b`` leaves
-  one equation in ``x_c`` of bounded degree, sampled and solved through a companion
-  matrix per target; then ``x_b`` and ``x_a`` by back-substitution, and Gauss-Newton
-  on the point equations.
-* two joints (``pair``): the invariant that depends on ``x_b`` the most gives ``x_b``
-  (both together when they fix its cosine and sine), then ``x_a``; the third equation
-  is left to the caller's check (two joints reach a surface).
+* ``decoupled``: one invariant does not depend on ``x_b`` (axes a and b meet, with ``o`` their
+  common point, or are parallel, or slide along one direction): that invariant alone gives ``x_c``
+  (subproblem 4, or a quadratic for a prismatic c), the other then ``x_b`` (subproblem 4 or a
+  quadratic), and ``x_a`` follows (subproblem 1, or the travel along the axis). The elbow arms
+  (PUMA, Stanford, the textbook's RRP and RPR), SCARAs and cylindrical arms.
+* ``shoulder``: revolute joints with axes b and c parallel and a not (an offset shoulder: KUKA, ABB,
+  Fanuc): the height along the parallel axes fixes ``x_a`` (subproblem 4), the law of cosines in
+  their plane ``x_c`` (subproblem 3), and ``x_b`` turns the elbow onto the target (subproblem 1).
+* ``three cones``: three revolute joints with no such structure: subproblem 5 gives all three angles
+  (up to four solutions).
+* ``resultant``: the remaining mixes with prismatic joints: eliminating ``x_b`` leaves one equation
+  in ``x_c`` of bounded degree, sampled and solved through a companion matrix per target; then
+  ``x_b`` and ``x_a`` by back-substitution, and Gauss-Newton on the point equations.
+* two joints (``pair``): the invariant that depends on ``x_b`` the most gives ``x_b`` (both together
+  when they fix its cosine and sine), then ``x_a``; the third equation is left to the caller's check
+  (two joints reach a surface).
 
-A joint a target leaves undetermined (the point on the axis) gets 0 and is marked free.
-Solutions are the roots of exact equations: a target out of reach gives none (the step
-that failed is recorded as a dead end for ``--all-branches``).
+A joint a target leaves undetermined (the point on the axis) gets 0 and is marked free. Solutions
+are the roots of exact equations: a target out of reach gives none (the step that failed is recorded
+as a dead end for ``--all-branches``).
 """
 
 from __future__ import annotations
@@ -68,9 +65,21 @@ class Plan:
 
 
 def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
-    """``br`` with ``joints`` (2 or 3 indices, base to tip) solved so that they move
-    ``p0 (3,)`` (world frame, q = 0) to ``PT (N, K, 3)``, one target per slot (world
-    frame, m). Joints before ``joints[0]`` must be undone in ``PT`` already."""
+    """``br`` with ``joints`` solved so that they move ``p0`` to ``PT``, one target per slot.
+
+    Parameters
+    ----------
+    S : Screws, the chain (world frame at q = 0, SI)
+    br : Branches, the candidates so far
+    joints : sequence of int, 2 or 3 joints (0-based), base to tip
+    p0 : array_like (3,), the point at q = 0 (world frame, m)
+    PT : array_like (N, K, 3), its targets (world frame, m); joints before ``joints[0]`` undone
+    what : str, the point's name in the dead ends (``--all-branches``)
+
+    Returns
+    -------
+    Branches, with ``joints`` set: a slot per root, dead where there is no real one
+    """
     P = plan(S, tuple(joints), tuple(np.asarray(p0, float)))
     return {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
             "resultant": _resultant, "pair": _pair}[P.mode](S, P, br, np.asarray(PT, float),
@@ -78,7 +87,9 @@ def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -
 
 
 def plan(S: Screws, joints: tuple, p0: tuple) -> Plan:
-    """The way ``joints`` place ``p0`` (cached on the screws)."""
+    """The :class:`Plan` by which ``joints`` place ``p0``, cached on the screws ``S``.
+
+    ``joints``: tuple of int (0-based); ``p0``: tuple of 3 floats (world frame at q = 0, m)."""
     return S.constant(("place", joints, p0), lambda: _make_plan(S, joints, np.array(p0)))
 
 
@@ -423,9 +434,8 @@ def _roots_in_c(S: Screws, c: int, R) -> Solutions:
 
 
 def _poly_fit_matrix() -> np.ndarray:
-    """``(POLY_DEGREE + 1, samples)``: samples of a polynomial of that degree in
-    ``y = x / span`` at the Chebyshev points of :func:`_samples` -> its coefficients,
-    highest degree first."""
+    """``(POLY_DEGREE + 1, samples)``: samples of a polynomial of that degree in ``y = x / span``
+    at the Chebyshev points of :func:`_samples` -> its coefficients, highest degree first."""
     n = 2 * POLY_DEGREE + 1
     y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
     V = np.vander(y, POLY_DEGREE + 1)                                      # highest first

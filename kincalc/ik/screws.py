@@ -32,9 +32,23 @@ class Screws:
     cache: dict = field(default_factory=dict, compare=False, repr=False, init=False)
 
     def constant(self, key, make):
-        """``make()``, computed once for these screws and ``key``: the robot-level
-        constants of a solver (a subproblem's fixed vectors, a placement's structure),
-        which every batch of poses would otherwise compute again."""
+        """``make()``, computed once for these screws and ``key``.
+
+        The robot-level constants of a solver (a subproblem's fixed vectors, a placement's
+        structure), which every batch of poses would otherwise compute again.
+
+        Parameters
+        ----------
+        key : hashable
+            Names the constant (unique across the solvers).
+        make : callable
+            ``make() -> value``, called on the first request only.
+
+        Returns
+        -------
+        object
+            The cached value (shared: do not modify it).
+        """
         try:
             return self.cache[key]
         except KeyError:
@@ -42,14 +56,31 @@ class Screws:
             return value
 
     def turn(self, i: int, c, s, v) -> np.ndarray:
-        """Vectors ``v (..., 3)`` turned by joint ``i``'s rotation, given as its cosine
-        and sine ``c, s (...)`` (or of a leading part of v's shape, one angle for the
-        vectors behind it; or anything that broadcasts): ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K``
-        the cross-product matrix of the axis), all three terms in one matrix product.
+        """Vectors turned by joint ``i``'s rotation, given as its cosine and sine.
 
-        Computed on components (``(3, M)``: each operation runs along the batch, where
-        ``(M, 3)`` arrays broadcast against ``(M, 1)`` factors cost several times
-        more); the result is a ``(..., 3)`` view of that layout."""
+        ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K`` the cross-product matrix of
+        the axis), all three terms in one matrix product. Computed on components (``(3, M)``:
+        each operation runs along the batch, where ``(M, 3)`` arrays broadcast against
+        ``(M, 1)`` factors cost several times more).
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based; revolute).
+        c, s : array_like (...)
+            Cosine and sine of the angle (rad): of the same shape as ``v``'s leading part,
+            or of a leading part of it (one angle for the vectors behind it), or anything
+            that broadcasts.
+        v : array_like (..., 3)
+            Vectors (world frame at q = 0), free vectors: the axis passes through the origin
+            here (use :meth:`move` for points).
+
+        Returns
+        -------
+        ndarray (..., 3)
+            The turned vectors, a view of the ``(3, M)`` layout; the shape broadcast from ``v``
+            and ``c, s``.
+        """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
         shape = v.shape[:-1]
         if c.shape == s.shape and shape[:c.ndim] == c.shape:
@@ -71,9 +102,19 @@ class Screws:
         return out.T.reshape(shape + (3,))
 
     def rodrigues(self, i: int) -> np.ndarray:
-        """``[I + K^2; -K^2; K] (9, 3)``, contiguous, of joint i's axis ``k`` (``K`` its
-        cross-product matrix): ``rodrigues @ v`` stacks the three terms of
-        :meth:`turn`; computed once per joint."""
+        """``[I + K^2; -K^2; K]`` of joint ``i``'s axis ``k`` (``K`` its cross-product matrix).
+
+        ``rodrigues @ v`` stacks the three terms of :meth:`turn`; computed once per joint.
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based).
+
+        Returns
+        -------
+        ndarray (9, 3), contiguous
+        """
         def make():
             k = self.axis[i]
             K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
@@ -82,14 +123,44 @@ class Screws:
         return self.constant(("rodrigues", i), make)
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
-        """Points ``p (..., 3)`` moved by joint ``i``: turned about its line by the angle
-        with cosine and sine ``c, s (...)``, or slid along it by ``x (...)``."""
+        """Points moved by joint ``i``: turned about its line, or slid along it.
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based).
+        x : array_like (...)
+            A prismatic joint's travel (m); unused for a revolute joint.
+        c, s : array_like (...)
+            A revolute joint's cosine and sine of the angle; unused for a prismatic joint.
+        p : array_like (..., 3)
+            Points (world frame at q = 0, m).
+
+        Returns
+        -------
+        ndarray (..., 3)
+            The moved points (m).
+        """
         if self.revolute[i]:
             return self.point[i] + self.turn(i, c, s, p - self.point[i])
         return p + np.asarray(x)[..., None] * self.axis[i]
 
     @staticmethod
     def of(robot) -> "Screws":
+        """The screws of ``robot`` from its FK at q = 0.
+
+        Parameters
+        ----------
+        robot : Robot
+            Gives ``chain``, ``dof``, ``is_revolute`` and ``characteristic_length``.
+
+        Returns
+        -------
+        Screws
+            Joint axes and points of the joint frames at q = 0 (world frame, m), ``M`` the
+            tool pose ``T_world_tool`` at q = 0, ``scale`` the characteristic length (m),
+            ``slack`` 0.
+        """
         from ..fk import frames_and_tool
         F, M = frames_and_tool(robot.chain, np.zeros(robot.dof))
         return Screws(F[:, :3, 2].copy(), F[:, :3, 3].copy(), robot.is_revolute.copy(), M,
@@ -97,10 +168,25 @@ class Screws:
 
     @property
     def n(self) -> int:
+        """Number of joints."""
         return len(self.revolute)
 
     def exp(self, i: int, x) -> np.ndarray:
-        """``E_i(x)`` as transforms ``(..., 4, 4)`` for ``x (...)``."""
+        """``E_i(x)``: joint ``i``'s motion as transforms.
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based).
+        x : array_like (...)
+            Joint values (rad for revolute, m for prismatic joints).
+
+        Returns
+        -------
+        ndarray (..., 4, 4)
+            Rotations about joint i's line (through ``point[i]``) or translations along its
+            axis (world frame at q = 0, m).
+        """
         x = np.asarray(x, float)
         T = np.zeros(x.shape + (4, 4))
         T[..., 3, 3] = 1.0
@@ -114,14 +200,42 @@ class Screws:
         return T
 
     def product(self, idx, xs) -> np.ndarray:
-        """``E_idx[0](xs[0]) E_idx[1](xs[1]) ...``."""
+        """``E_idx[0](xs[0]) E_idx[1](xs[1]) ...``.
+
+        Parameters
+        ----------
+        idx : sequence of int
+            The joints (0-based), in the order of the product.
+        xs : sequence of array_like (...)
+            Their values (rad / m), broadcasting against each other.
+
+        Returns
+        -------
+        ndarray (..., 4, 4)
+            The product (the identity for no joint).
+        """
         T = np.eye(4)
         for i, x in zip(idx, xs):
             T = T @ self.exp(i, x)
         return T
 
     def move_point(self, i: int, x, p) -> np.ndarray:
-        """``E_i(x)`` applied to point(s) ``p (..., 3)``; ``x`` broadcasts."""
+        """``E_i(x)`` applied to points ``p``.
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based).
+        x : array_like (...)
+            Joint values (rad / m); broadcast against ``p``'s leading part.
+        p : array_like (..., 3)
+            Points (world frame at q = 0, m).
+
+        Returns
+        -------
+        ndarray (..., 3)
+            The moved points (m).
+        """
         p = np.asarray(p, float)
         x = np.asarray(x, float)[..., None]
         k = self.axis[i]
@@ -135,16 +249,29 @@ class Screws:
         return self.point[i] + along + np.cos(x) * (d - along) + np.sin(x) * kxd
 
     def inverse_M(self) -> np.ndarray:
+        """The inverse of the tool pose at q = 0.
+
+        Returns
+        -------
+        ndarray (4, 4)
+            ``M^-1`` (SI).
+        """
         return invert_transform(self.M)
 
     def reversed(self) -> "Screws":
         """The chain seen from the tool: ``T(q)^-1 = E'_1(-q_n) ... E'_n(-q_1) M^-1``.
 
-        With ``T = E_1(q_1) ... E_n(q_n) M``, inverting and moving ``M^-1`` to the
-        right gives ``E'_k(x) = M^-1 E_{n+1-k}(x) M``: joint k of the reversed chain
-        is joint n + 1 - k, its line carried by ``M^-1``, turned by minus the angle
-        (or slid by minus the length). Solve the reversed chain for ``T^-1`` and
-        map back with ``q = -q'[::-1]``.
+        With ``T = E_1(q_1) ... E_n(q_n) M``, inverting and moving ``M^-1`` to the right
+        gives ``E'_k(x) = M^-1 E_{n+1-k}(x) M``: joint k of the reversed chain is joint
+        n + 1 - k, its line carried by ``M^-1``, turned by minus the angle (or slid by minus
+        the length). Solve the reversed chain for ``T^-1`` and map back with
+        ``q = -q'[::-1]``.
+
+        Returns
+        -------
+        Screws
+            Axes and points in the tool frame at q = 0, ``M`` replaced by ``M^-1``; the same
+            ``scale`` and ``slack``.
         """
         Mi = self.inverse_M()
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),

@@ -50,7 +50,18 @@ class Target:
 
     @staticmethod
     def of(targets: Targets, i: int = 0) -> "Target":
-        """Target ``i`` of a batch (the inverse of :meth:`targets`)."""
+        """Target ``i`` of a batch (the inverse of :meth:`targets`).
+
+        Parameters
+        ----------
+        targets : Targets
+        i : int
+
+        Returns
+        -------
+        Target
+            A copy of that target (world frame, SI).
+        """
         T = targets.T[i].copy()
         if targets.kind == "tcv":
             return Target(T, orientation=False,
@@ -60,7 +71,14 @@ class Target:
         return Target(T, orientation=targets.kind == "pose")
 
     def targets(self) -> Targets:
-        """This target as a batch of one for the engine."""
+        """This target as a batch of one for the engine.
+
+        Returns
+        -------
+        Targets
+            ``N = 1``, of kind ``"tcv"``, ``"approach"``, ``"pose"`` or (without an
+            orientation) ``"position"``.
+        """
         T = np.asarray(self.T, float)[None]
         if self.tcv is not None:
             a, qn = self.tcv
@@ -113,10 +131,36 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
           units=None, near=None, numeric: bool = False) -> IKResult:
     """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`.
 
-    ``near (n,)`` (rad / m): the current joints; analytic solutions are then ordered by
-    their change from it, and the numerical solver starts there. ``numeric=True`` (or a
-    robot no analytic family covers) finds the one solution nearest ``near``
-    numerically (:mod:`kincalc.ik.numeric`).
+    Parameters
+    ----------
+    robot : Robot
+    target : Target
+        The pose ``T_world_tool`` (world frame, SI) and what of it counts.
+    all_branches : bool
+        Also list the branches that do not reach the target (``rejected``: FK rejects and
+        the cross combinations) and the steps that found no real root (``dead_ends``).
+    explain : bool
+        Give each solution the intermediate quantities of its steps (``trace``).
+    units : optional
+        Display units, kept on the result for rendering.
+    near : array_like (n,), optional
+        The current joints (rad / m): analytic solutions are then ordered by their change
+        from it (moved by whole turns, within the limits, towards it), and the numerical
+        solver starts there.
+    numeric : bool
+        Find the one solution nearest ``near`` (default: the home joints) numerically
+        (:mod:`kincalc.ik.numeric`); also done for a robot no analytic family covers.
+
+    Returns
+    -------
+    IKResult
+        Solutions within the limits first; ``reason`` says why the answer is what it is.
+
+    Raises
+    ------
+    TargetMismatch
+        The target's kind does not fit the robot's family (or an approach target for a
+        robot solved numerically, or a TCV target the robot cannot take).
     """
     S, family, why = plan(robot)
     if near is not None:
@@ -197,8 +241,20 @@ def _is_copy(robot, sv, k) -> bool:
 
 
 def violation_list(robot, q) -> list:
-    """``(joint, amount, side)`` (SI) for each limit the configuration ``q (n,)`` breaks
-    (beyond :data:`~kincalc.tolerances.LIMIT_TOL`), sorted by joint."""
+    """The limits the configuration ``q`` breaks (beyond :data:`~kincalc.tolerances.LIMIT_TOL`).
+
+    Parameters
+    ----------
+    robot : Robot
+    q : array_like (n,)
+        Joint values (rad / m).
+
+    Returns
+    -------
+    list of (int, float, str)
+        ``(joint, amount, side)`` per broken limit, sorted by joint: the amount (rad / m,
+        positive) beyond it, ``side`` ``"lower"`` or ``"upper"``.
+    """
     from .engine import violations
     return _violation_list(violations(robot, np.asarray(q, float)))
 
@@ -273,7 +329,17 @@ def _scaled_norm(robot, d) -> float:
 
 
 def default_start(robot) -> np.ndarray:
-    """The numerical solver's default start: the robot's home joints, inside the limits."""
+    """The numerical solver's default start: the robot's home joints, inside the limits.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    ndarray (n,)
+        ``robot.home`` clipped to the limits (rad / m).
+    """
     lo, hi = robot.limits.T
     return np.clip(np.asarray(robot.home, float), lo, hi)
 

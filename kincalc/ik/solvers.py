@@ -79,7 +79,21 @@ def _angle_about(h, e, Rv, tol=0.0):
 # --- six joints --------------------------------------------------------------------
 
 def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
-    """Axes 4, 5, 6 meet at the wrist centre: joints 1-3 place it, the wrist turns."""
+    """Axes 4, 5, 6 meet at the wrist centre: joints 1-3 place it, the wrist turns.
+
+    Joints 1-3 place the wrist centre (:func:`~kincalc.ik.place.place`), then joints 4-6
+    take the orientation left for them (:func:`~kincalc.ik.wrists.spherical`).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     T = targets.T
     c0 = S.constant("wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
     ct = _tool_point(S, T, c0)
@@ -95,15 +109,29 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
 
 
 def three_parallel(S: Screws, targets, br: Branches) -> Branches:
-    """Axes 2, 3, 4 parallel (direction h), axes 5 and 6 meet (UR): joint 1 from the
-    height of the wrist point along h (subproblem 4), joint 5 from the component of axis
-    6 along h (the cone form of subproblem 4), joint 6 and the angle of joints 2-4 about h
-    (subproblem 1), then joints 2 and 3 place axis 4 (a planar two-link arm).
+    """Axes 2, 3, 4 parallel (direction h), axes 5 and 6 meet (UR).
+
+    Joint 1 from the height of the wrist point along h (subproblem 4), joint 5 from the
+    component of axis 6 along h (the cone form of subproblem 4), joint 6 and the angle of
+    joints 2-4 about h (subproblem 1), then joints 2 and 3 place axis 4 (a planar two-link
+    arm).
 
     At the wrist singularity (axis 6 parallel to h, q5 = 0 or 180 deg) only the signed
     sum ``q2 + s3 q3 + s4 q4 + sigma q6`` is fixed: joint 6 takes the representatives of
     :func:`~kincalc.ik.wrists.parallel_wrist_q6` (one per arc of the continuum), marked
-    free, with the sum kept as the slot's continuum."""
+    free, with the sum kept as the slot's continuum (``extra["parallel continuum"]``,
+    ``(N, K, 3)``: mask, sigma, total in rad).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     T = targets.T
     h, k1, k5, k6 = S.axis[1], S.axis[0], S.axis[4], S.axis[5]
     o1 = S.point[0]
@@ -177,11 +205,23 @@ def _singular_q6(S: Screws, br: Branches, T, Rt, sigma, aligned):
 
 
 def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
-    """Joints 1-4 about or along one direction h (three revolute, one prismatic), axes 5
-    and 6 meet (the textbook's offset-wrist arm): rotations about parallel axes add up,
-    so joint 5 comes from the component of axis 6 along h (subproblem 4), joint 6 and the
-    sum of the revolute angles about h from subproblem 1; joints 1-3 then place axis 4's
-    point, and joint 4 closes the sum."""
+    """Joints 1-4 about or along one direction h, axes 5 and 6 meet (offset wrist).
+
+    Three revolute joints and one prismatic (the textbook's offset-wrist arm): rotations
+    about parallel axes add up, so joint 5 comes from the component of axis 6 along h
+    (subproblem 4), joint 6 and the sum of the revolute angles about h from subproblem 1;
+    joints 1-3 then place axis 4's point, and joint 4 closes the sum.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     T = targets.T
     h, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
     Rt = _rotation(S, T)
@@ -207,12 +247,34 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
 # --- fewer joints ------------------------------------------------------------------
 
 def position_3(S: Screws, targets, br: Branches) -> Branches:
-    """Three joints place the tool point."""
+    """Three joints place the tool point.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions ``T[:, :3, 3]`` (m) (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     return place(S, br, (0, 1, 2), S.M[:3, 3], targets.T[:, None, :3, 3], what="the tool")
 
 
 def position_2(S: Screws, targets, br: Branches) -> Branches:
-    """Two joints place the tool point (on the surface they sweep)."""
+    """Two joints place the tool point (on the surface they sweep).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions ``T[:, :3, 3]`` (m) (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved (two joints reach a surface: the FK check decides)
+    """
     return place(S, br, (0, 1), S.M[:3, 3], targets.T[:, None, :3, 3], what="the tool")
 
 
@@ -231,20 +293,58 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:
-    """Three parallel revolute axes: a point of axis 3 by joints 1-2, joint 3 from the
-    orientation."""
+    """Three parallel revolute axes: a point of axis 3 by joints 1-2, joint 3 from the orientation.
+
+    Joint 3 by subproblem 1.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     return _last_axis_roll(S, targets, br, (0, 1))
 
 
 def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
-    """A point of axis 4 by joints 1-3 (SCARA, the R-R-P-R spherical arm), joint 4 from
-    the orientation."""
+    """A point of axis 4 by joints 1-3, joint 4 from the orientation (subproblem 1).
+
+    SCARA, the R-R-P-R spherical arm.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     return _last_axis_roll(S, targets, br, (0, 1, 2))
 
 
 def position_approach(S: Screws, targets, br: Branches) -> Branches:
-    """Five joints, axes 4 and 5 meeting at ``c`` on the approach line: ``c = p - d a``
-    is placed by joints 1-3, then joints 4 and 5 turn the approach (subproblem 2)."""
+    """Five joints, axes 4 and 5 meeting at ``c`` on the approach line.
+
+    ``c = p - d a`` is placed by joints 1-3, then joints 4 and 5 turn the approach
+    (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
+    approach). The roll about the approach follows.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions with approaches ``(N, 3)``, or poses (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     T = targets.T
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
@@ -258,10 +358,22 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
 
 
 def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
-    """Five joints, axes 2-4 parallel and joint 5 rolling the tool about its approach:
-    joint 1 from the position (subproblem 4), the pitch sum from the approach
-    (subproblem 1), joints 2-3 planar, joint 5 from the orientation (any value, 0, for an
-    approach alone)."""
+    """Five joints, axes 2-4 parallel and joint 5 rolling the tool about its approach.
+
+    Joint 1 from the position (subproblem 4), the pitch sum from the approach (subproblem
+    1), joints 2-3 planar, joint 5 from the orientation (any value, 0, for an approach
+    alone: labelled ``any``).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions with approaches ``(N, 3)``, or poses (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
     T = targets.T
     h, k1 = S.axis[1], S.axis[0]
     o1 = S.point[0]
@@ -293,11 +405,37 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
-    """A tool configuration vector ``w = [p; e^(qn/pi) r3]`` (Schilling 1990; the FER
-    Zagreb homework) for one target: the last joint from ``|w4..w6|``, the other joints
-    place the tool point as the last joint turns it; the approach ``r3`` is checked by
-    the engine. (The point depends on the target's roll, so the engine gives this one
-    target at a time.)"""
+    """A tool configuration vector ``w = [p; e^(qn/pi) r3]`` for one target.
+
+    Schilling 1990; the FER Zagreb homework. The last joint from ``|w4..w6|``, the other
+    joints place the tool point as the last joint turns it; the approach ``r3`` is checked by
+    the engine. (The point depends on the target's roll, so the engine gives this one target
+    at a time.)
+
+    Parameters
+    ----------
+    robot : Robot
+        Its ``name`` goes into the error.
+    S : Screws
+        The robot's screws (world frame at q = 0, SI); 3 or 4 joints, the last revolute.
+    targets : Targets
+        One target of kind ``"tcv"``: the position ``T[0, :3, 3]`` (m) and ``roll (1,)``
+        (rad), the last joint's value.
+    br : Branches
+        One slot.
+
+    Returns
+    -------
+    Branches
+        Every joint solved; the last joint is ``roll`` in every slot.
+
+    Raises
+    ------
+    TargetMismatch
+        The last joint is not revolute, or the robot has other than 3 or 4 joints.
+    ValueError
+        More than one target.
+    """
     from ..errors import TargetMismatch
     n = S.n
     if not S.revolute[n - 1] or n - 1 not in (2, 3):

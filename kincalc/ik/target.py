@@ -50,16 +50,45 @@ class Targets:
 
     @staticmethod
     def poses(T) -> "Targets":
-        """Whole poses ``T (N, 4, 4)`` or one ``(4, 4)``."""
+        """Whole-pose targets.
+
+        Parameters
+        ----------
+        T : array_like (N, 4, 4) or (4, 4)
+            Poses ``T_world_tool`` (world frame, SI).
+
+        Returns
+        -------
+        Targets
+            ``N`` targets of kind ``"pose"`` (one for a single pose).
+        """
         T = np.asarray(T, float)
         return Targets(T.reshape(-1, 4, 4))
 
     def inverted(self) -> "Targets":
-        """The inverse poses (for a chain solved from the tool: ``T^-1``)."""
+        """The inverse poses (for a chain solved from the tool: ``T^-1``).
+
+        Returns
+        -------
+        Targets
+            ``T_tool_world`` per target, of the same kind; ``approach`` and ``roll`` kept as
+            they are.
+        """
         return Targets(invert_transform(self.T), self.kind, self.approach, self.roll)
 
     def take(self, index) -> "Targets":
-        """The targets at ``index`` (an index array or mask into the N)."""
+        """The targets at ``index``.
+
+        Parameters
+        ----------
+        index : array_like of int or bool
+            An index array or a mask ``(N,)`` into the N targets.
+
+        Returns
+        -------
+        Targets
+            The chosen targets, of the same kind.
+        """
         pick = lambda x: None if x is None else x[index]  # noqa: E731
         return Targets(self.T[index], self.kind, pick(self.approach), pick(self.roll))
 
@@ -88,7 +117,18 @@ class BadTarget(UsageError):
         super().__init__(self.words(lambda f: f))
 
     def words(self, name) -> str:
-        """The message, with each field ``f`` spelled ``name(f)``."""
+        """The message, with each field ``f`` spelled ``name(f)``.
+
+        Parameters
+        ----------
+        name : callable
+            ``name(field) -> str``: how the caller spells a field of :data:`FIELDS`
+            (``--quat``, ``quat``).
+
+        Returns
+        -------
+        str
+        """
         f = [name(x) for x in self.fields]
         if self.problem == "two orientations":
             return f"give at most one orientation, not {' and '.join(f)}"
@@ -103,9 +143,24 @@ class BadTarget(UsageError):
 
 
 def target_form(given) -> str | None:
-    """The format of a request that gives the fields ``given`` (names of :data:`FIELDS`,
-    in the order given): one of :data:`ORIENTATIONS` or :data:`WHOLE`, or None for a
-    position alone. Raises :class:`BadTarget` for fields that do not make one target."""
+    """The format of a request that gives the fields ``given``.
+
+    Parameters
+    ----------
+    given : iterable of str
+        Field names, in the order given; names not in :data:`FIELDS` are ignored.
+
+    Returns
+    -------
+    str or None
+        One of :data:`ORIENTATIONS` or :data:`WHOLE`, or None for a position alone.
+
+    Raises
+    ------
+    BadTarget
+        For fields that do not make one target: two orientations, a whole pose with a
+        position or an orientation, two wholes, ``tcv`` with ``xyz``, or no position.
+    """
     given = [f for f in given if f in FIELDS]
     orient = [f for f in given if f in ORIENTATIONS]
     whole = [f for f in given if f in WHOLE]
@@ -137,14 +192,31 @@ ROTATION_TOL = 1e-6
 
 
 def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.ndarray]:
-    """The targets of ``N`` requests of one ``form`` (see :func:`target_form`; ``"q"``
-    is not built here: its pose is the robot's FK), vectorised.
+    """The targets of ``N`` requests of one ``form``, vectorised.
 
-    ``values (N, k)``: the form's values (angles rad, lengths m; ``T`` 16 or 12 per
-    row, ``matrix`` 9, row-major); ``xyz (N, 3)``: the positions (m), for the forms that
-    do not hold one. Returns ``(targets, defect)``: ``defect (N,)`` object, None or one
-    of :data:`DEFECTS` per request; a request with a defect holds the identity pose.
-    Whole poses are re-orthonormalised (the nearest rotation, by SVD)."""
+    Whole poses are re-orthonormalised (the nearest rotation, by SVD).
+
+    Parameters
+    ----------
+    form : str or None
+        See :func:`target_form` (``"q"`` is not built here: its pose is the robot's FK);
+        None for positions alone.
+    values : array_like (N, k), optional
+        The form's values (angles rad, lengths m; ``T`` 16 or 12 per row, ``matrix`` 9,
+        row-major); unused for ``form`` None.
+    xyz : array_like (N, 3), optional
+        The positions (m, world frame), for the forms that do not hold one.
+
+    Returns
+    -------
+    targets : Targets
+        ``N`` targets (world frame, SI): kind ``"position"`` for ``form`` None,
+        ``"approach"`` or ``"tcv"`` for those forms, else ``"pose"``.
+    defect : ndarray (N,) of object
+        None or one of :data:`DEFECTS` per request. A request with a defect holds the
+        identity rotation (approach +z, roll 0) at the position given (a ``T``: the
+        identity pose).
+    """
     if form is not None:
         values = np.asarray(values, float)
         values = values.reshape(len(values), -1)
@@ -200,9 +272,21 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
 
 
 def defect_text(form: str, defect: str, what: str) -> str:
-    """What is wrong with a request's values (:data:`kincalc.ik.target.DEFECTS`), the
-    field named ``what``
-    (each caller names its fields: ``--quat``, ``quat``)."""
+    """What is wrong with a request's values, in words.
+
+    Parameters
+    ----------
+    form : str
+        The request's form (:func:`target_form`).
+    defect : str
+        One of :data:`DEFECTS`.
+    what : str
+        The field, as each caller names it (``--quat``, ``quat``).
+
+    Returns
+    -------
+    str
+    """
     if defect == "not rotation":
         return (f"{what} is not a rotation matrix (rows must be orthonormal with "
                 "determinant +1, to 6 digits)")
@@ -226,10 +310,27 @@ def _rotations(R, defect) -> None:
 
 
 def to_si(form: str | None, values, units):
-    """``values (N, k)`` of ``form`` in the user's units (:class:`kincalc.units.Units`)
-    converted to SI: angles of ``rpy``, ``euler_*`` and the angle of ``axis_angle``
-    from the display angle unit, the position of ``T`` and ``tcv`` from the display
-    length unit (a new array; other forms are unit-free)."""
+    """Values of ``form`` in the user's units converted to SI.
+
+    Angles of ``rpy``, ``euler_*`` and the angle of ``axis_angle`` from the display angle
+    unit, the position of ``T`` and ``tcv`` from the display length unit; other forms
+    are unit-free.
+
+    Parameters
+    ----------
+    form : str or None
+        The request's form (:func:`target_form`).
+    values : array_like (N, k)
+        The values in the user's units.
+    units : Units
+        The display units (:class:`kincalc.analysis.results.Units`): ``a`` and ``l``, display
+        units per rad and per m.
+
+    Returns
+    -------
+    ndarray (N, k)
+        A new array (rad, m).
+    """
     v = np.array(values, float)
     v = v.reshape(len(v), -1)
     if form in ("rpy", "euler_zyz", "euler_xyz"):

@@ -28,8 +28,23 @@ from .screws import Screws
 
 
 def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
-    """``(R_j1 ... R_jm)^T x`` for vectors ``x (N, K, ..., 3)`` (one or more per slot):
-    the rotations of the solved revolute ``joints`` (in chain order) undone."""
+    """``(R_j1 ... R_jm)^T x``: the rotations of the solved revolute ``joints`` undone.
+
+    Parameters
+    ----------
+    S : Screws
+        The chain (world frame at q = 0).
+    br : Branches
+        Gives the joints' cosines and sines ``(N, K)``.
+    joints : sequence of int
+        Solved joints (0-based), in chain order; prismatic ones are skipped.
+    x : array_like (N, K, ..., 3)
+        Vectors (one or more per slot).
+
+    Returns
+    -------
+    ndarray (N, K, ..., 3)
+    """
     for j in joints:
         if S.revolute[j]:
             x = S.turn(j, br.cos[j], -br.sin[j], x)
@@ -37,17 +52,47 @@ def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
 
 
 def normal_to(k) -> np.ndarray:
-    """A fixed unit vector normal to the unit vector ``k`` (3,)."""
+    """A fixed unit vector normal to the unit vector ``k``.
+
+    Parameters
+    ----------
+    k : array_like (3,)
+
+    Returns
+    -------
+    ndarray (3,)
+    """
     e = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
     return e / np.linalg.norm(e)
 
 
 def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
-    """``br`` with the wrist ``joints`` (three revolute, concurrent axes) solved for
-    ``v = R_W k3`` and ``w = R_W e`` (``(N, K, 3)``, world frame at q = 0; ``e (3,)``
-    normal to ``k3``). Two slots per placement (the middle joint's +/- roots); where
-    the orientation is out of the wrist's reach, its least-squares angle (for the
-    reasons of an unreachable pose)."""
+    """``br`` with the wrist ``joints`` (three revolute, concurrent axes) solved.
+
+    Two slots per placement (the middle joint's +/- roots); where the orientation is out
+    of the wrist's reach, its least-squares angle (for the reasons of an unreachable pose).
+    At the singularity the first joint is 0 and free, and ``extra["continuum"]``
+    ``(N, K, 5)`` holds (mask, first joint, third joint, sigma, total in rad).
+
+    Parameters
+    ----------
+    S : Screws
+        The chain (world frame at q = 0, SI).
+    br : Branches
+        The joints before the wrist solved.
+    joints : tuple of int
+        The wrist's three joints (0-based), base to tip.
+    v, w : ndarray (N, K, 3)
+        ``v = R_W k3`` and ``w = R_W e`` (unit; world frame at q = 0), with the joints
+        before the wrist undone.
+    e : ndarray (3,)
+        The fixed unit vector normal to ``k3`` that ``w`` was made from.
+
+    Returns
+    -------
+    Branches
+        ``2 K`` slots (fewer once dead ones are dropped), the three joints set.
+    """
     j1, j2, j3 = joints
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
     middle = cone(k1, k3, k2, v, fixed=S.constant(("cone", j1, j2, j3),
@@ -93,14 +138,27 @@ def parallel_wrist_q6(S: Screws, a, b, sigma):
     side of ``q6 = 0`` is used. This value is inside the arc, away from the stretched
     and folded elbow.
 
-    ``a (..., 3)``: from axis 2 to axis 6, normal to h. ``b (..., 3)``: from axis 6 to
-    axis 4 at ``q6 = 0``, normal to h. ``sigma (...)``: +1 when axis 6 points along h,
-    -1 when it points against it.
+    Parameters
+    ----------
+    S : Screws
+        The arm's screws (world frame at q = 0, m); ``h`` is axis 2.
+    a : array_like (..., 3)
+        From axis 2 to axis 6, normal to h (m).
+    b : array_like (..., 3)
+        From axis 6 to axis 4 at ``q6 = 0``, normal to h (m).
+    sigma : array_like (...)
+        +1 when axis 6 points along h, -1 when it points against it.
 
-    Returns ``q6 (..., 2)`` (rad, in (-pi, pi]), ``ok (..., 2)`` and ``phi (..., 2)``.
-    Slot 0 is the arc on the side of ``q6 = 0`` (or the only arc). Slot 1 is the other
-    arc, valid only when there are two. ``phi`` is the angle about h from ``a`` to axis
-    4's offset, whose sign tells the two arcs apart.
+    Returns
+    -------
+    q6 : ndarray (..., 2)
+        Rad, in (-pi, pi]. Slot 0 is the arc on the side of ``q6 = 0`` (or the only
+        arc), slot 1 the other arc.
+    ok : ndarray (..., 2) of bool
+        Slot 0: the elbow reaches axis 4 on some arc; slot 1: only when there are two.
+    phi : ndarray (..., 2)
+        The angle (rad) about h from ``a`` to axis 4's offset, whose sign tells the two
+        arcs apart.
     """
     h = S.axis[1]
     perp = lambda x: x - (x @ h) * h  # noqa: E731

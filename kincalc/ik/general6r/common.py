@@ -88,11 +88,24 @@ _LEVI_CIVITA[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
 
 
 def cubic_map(N12):
-    """``(84, 126)``: the right side's coefficients ``Rc (9, 14)`` (step 2) as a linear
-    map of the cubic monomials of ``u = (1, l, p)``, ``l, p`` the third column and the
-    origin of the scaled target: at grid point g, ``l_g = R_g l`` and ``p_g = R_g p + t_g``
-    (``N12[g] = [R_g, t_g]``) are linear in u, so each of the 14 quantities is a cubic in
-    u (lower degrees times powers of ``u_0 = 1``), and the Fourier fit is linear."""
+    """The right side's coefficients as a linear map of the cubic monomials of the target.
+
+    ``Rc (9, 14)`` (step 2) as a map of the cubic monomials of ``u = (1, l, p)``, ``l, p``
+    the third column and the origin of the scaled target: at grid point g, ``l_g = R_g l``
+    and ``p_g = R_g p + t_g`` (``N12[g] = [R_g, t_g]``) are linear in u, so each of the 14
+    quantities is a cubic in u (lower degrees times powers of ``u_0 = 1``), and the Fourier
+    fit is linear.
+
+    Parameters
+    ----------
+    N12 : ndarray (9, 4, 4)
+        ``(A_1 A_2)^-1`` on the 3x3 grid of (theta_1, theta_2), lengths scaled.
+
+    Returns
+    -------
+    ndarray (84, 126), contiguous
+        Rows: the 84 monomials ``u_a u_b u_c`` (:data:`CUBIC_IDX`); columns: ``Rc`` flattened.
+    """
     R, t = N12[:, :3, :3], N12[:, :3, 3]
     Lg = np.zeros((9, 3, 7))
     Lg[:, :, 1:4] = R
@@ -116,7 +129,17 @@ def cubic_map(N12):
 # --- small vectorised helpers ---------------------------------------------
 
 def dh(theta, d, a, alpha):
-    """Standard DH link transforms ``(..., 4, 4)``; all arguments broadcast."""
+    """Standard DH link transforms ``Rz(theta) Tz(d) Tx(a) Rx(alpha)``.
+
+    Parameters
+    ----------
+    theta, d, a, alpha : array_like
+        Angles (rad) and lengths (any unit, kept); all arguments broadcast.
+
+    Returns
+    -------
+    ndarray (..., 4, 4)
+    """
     c, s = np.cos(theta), np.sin(theta)
     ca, sa = np.cos(alpha), np.sin(alpha)
     T = np.zeros(np.shape(c * ca + d * a) + (4, 4))
@@ -136,7 +159,17 @@ def dh(theta, d, a, alpha):
 
 
 def f14(l, p):
-    """The 14 Raghavan-Roth quantities ``(..., 14)`` of ``l, p (..., 3)``."""
+    """The 14 Raghavan-Roth quantities ``l, p, p.p, p.l, p x l, (p.p) l - 2 (p.l) p``.
+
+    Parameters
+    ----------
+    l, p : ndarray (..., 3)
+        A third column and an origin (scaled lengths).
+
+    Returns
+    -------
+    ndarray (..., 14)
+    """
     pp = np.einsum("...i,...i->...", p, p)[..., None]
     pl = np.einsum("...i,...i->...", p, l)[..., None]
     return np.concatenate([l, p, pp, pl, cross(p, l), pp * l - 2.0 * pl * p], axis=-1)
@@ -150,8 +183,29 @@ nnz = np.count_nonzero
 
 
 def dot(u, v):
+    """Row-wise dot products.
+
+    Parameters
+    ----------
+    u, v : ndarray (..., k)
+
+    Returns
+    -------
+    ndarray (...)
+    """
     return np.einsum("...i,...i->...", u, v)
 
 
 def unit(u):
+    """The vectors divided by their norms.
+
+    Parameters
+    ----------
+    u : ndarray (..., k)
+        Non-zero vectors.
+
+    Returns
+    -------
+    ndarray (..., k)
+    """
     return u / np.sqrt(dot(u, u))[..., None]

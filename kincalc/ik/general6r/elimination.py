@@ -36,15 +36,28 @@ def _sigma(S, k):
 
 
 def eliminate(model, T):
-    """Raw candidates of the model's standard form (pivot: its joint 3) for ``T (M, 4, 4)``.
+    """Raw candidates of the model's standard form (pivot: its joint 3) for the poses ``T``.
 
-    Returns ``(pose (C,), slot (C,), q (C, 6), degenerate (M,), width)``: candidate
-    joint values (the model's joints, rad, not wrapped), sorted by pose, with the index
-    of their pose and their eigenvalue slot (``< width``: 16, or 32 when a pose has a
-    cluster, whose extra vectors take slots 16-31); ``degenerate`` marks the poses where
-    the elimination does not apply (``Q`` loses rank, an equation vanishes, or ``A`` is
-    singular for every shift delta). ``model`` is one model for all poses or one per
-    pose (leading dimension M).
+    Parameters
+    ----------
+    model : Model
+        One model for all poses, or one per pose (leading dimension M).
+    T : ndarray (M, 4, 4)
+        Poses ``T_world_tool`` (SI).
+
+    Returns
+    -------
+    pose : ndarray (C,) of int
+        Each candidate's pose; the candidates are sorted by pose.
+    slot : ndarray (C,) of int
+        Its eigenvalue slot (``< width``).
+    q : ndarray (C, 6)
+        Candidate joint values (the model's joints, rad, not wrapped), finite.
+    degenerate : ndarray (M,) of bool
+        The poses where the elimination does not apply (``Q`` loses rank, an equation
+        vanishes, or ``A`` is singular for every shift delta).
+    width : int
+        16, or 32 when a pose has a cluster (whose extra vectors take slots 16-31).
     """
     with np.errstate(all="ignore"):
         W, G, Sig, Ai, Ri, ok, delta = _matrix_polynomial(model, T)
@@ -225,33 +238,33 @@ def _ratio_angles(v):
 def split_clusters(v, phi, keep, Sig):
     """Better vectors for clustered eigenvalues, all clusters of all poses at once.
 
-    ``v (M, 12, n)`` (vectors), ``phi (M, n)`` (angles), ``keep (M, n)`` (real
-    candidates), ``Sig (M, 12, 36)`` (``[C | B | A]`` of each pose). Returns
-    ``(keep, extra)``: ``keep`` updated for the clusters' own vectors, and ``extra`` None
-    (no cluster: the common case) or ``(rows (P,), v2 (P, 12, n), phi2 (P, n), keep2
-    (P, n))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
-    vector that goes with own slot j.
+    Solutions that share the pivot angle (e.g. the two wrist flips of a spherical wrist when the
+    pivot is an arm joint) give a multiple eigenvalue, often defective in the companion form: it
+    splits by up to ~sqrt(eps) and eig's vectors are arbitrary mixtures, or nearly parallel. The
+    mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so each cluster of m eigenvalues
+    (real parts of the angles within CLUSTER_TOL of the next; this includes a conjugate pair with a
+    small imaginary part, which is how a near-double real root often comes out) gets the mean angle
+    and, as its space, the m smallest right singular vectors ``N`` of ``Sigma`` there. In that space
+    the true vectors ``v = N c`` are those of monomials, so ``c`` is a common eigenvector of the
+    shift operators "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply by x5"; these m x m
+    operators come from least squares on the Moebius-shifted form
+    ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a fixed combination of
+    the two is diagonalised. The cluster's own eigenvectors compete (they are right when its
+    eigenvalues are distinct roots that merely lie close): of the 2m vectors, those within 1e-3 of a
+    monomial vector are kept, and at least the m closest. The subspace vectors get the mean angle.
 
-    Solutions that share the pivot angle (e.g. the two wrist flips of a
-    spherical wrist when the pivot is an arm joint) give a multiple
-    eigenvalue, often defective in the companion form: it splits by up to
-    ~sqrt(eps) and eig's vectors are arbitrary mixtures, or nearly parallel.
-    The mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so
-    each cluster of m eigenvalues (real parts of the angles within
-    CLUSTER_TOL of the next; this includes a conjugate pair with a small
-    imaginary part, which is how a near-double real root often comes out)
-    gets the mean angle and, as its space, the m smallest right singular
-    vectors ``N`` of ``Sigma`` there. In that space the true vectors ``v = N c``
-    are those of monomials, so ``c`` is a common eigenvector of the shift
-    operators "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply by
-    x5"; these m x m operators come from least squares on the Moebius-shifted
-    form ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a
-    fixed combination of the two is diagonalised. The cluster's own
-    eigenvectors compete (they are right when its eigenvalues are distinct
-    roots that merely lie close): of the 2m vectors, those within 1e-3 of a
-    monomial vector are kept, and at least the m closest. The subspace vectors
-    get the mean angle.
-    """
+    Parameters
+    ----------
+    v, phi : ndarray (M, 12, n), (M, n) complex, the eigenvectors and their angles (rad)
+    keep : ndarray (M, n) of bool, the real candidates
+    Sig : ndarray (M, 12, 36), ``[C | B | A]`` of each pose
+
+    Returns
+    -------
+    keep : ndarray (M, n) of bool, updated for the clusters' own vectors
+    extra : None (no cluster: the common case) or ``(rows (P,), v2 (P, 12, n), phi2 (P, n),
+        keep2 (P, n))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
+        vector that goes with own slot j"""
     M, n = phi.shape
     key = np.where(keep, phi.real, np.inf)
     sk = np.sort(key, axis=1)

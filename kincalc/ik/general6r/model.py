@@ -131,9 +131,19 @@ class Model:
         self.U, self.K, self.UWb, self.UWW = self._deflation(P)
 
     def right_side(self, W):
-        """Coefficients ``Rc (M, 9, 14)`` of the right side for scaled targets ``W (M, 4, 4)``
-        (``W = left @ T @ right``): row ``i1 * 3 + i2`` holds the 14 equations' coefficients
-        of ``(1, c1, s1)[i1] (1, c2, s2)[i2]``."""
+        """Coefficients of the right side for scaled targets.
+
+        Parameters
+        ----------
+        W : ndarray (M, 4, 4)
+            ``W = left @ T @ right`` (lengths in units of ``L``).
+
+        Returns
+        -------
+        ndarray (M, 9, 14)
+            Row ``i1 * 3 + i2`` holds the 14 equations' coefficients of
+            ``(1, c1, s1)[i1] (1, c2, s2)[i2]``.
+        """
         M = len(W)
         if self.cubic is not None:
             u = np.take(W.reshape(M, 16), U_IDX, axis=1)
@@ -189,8 +199,22 @@ class Model:
 
     @classmethod
     def from_lines(cls, dirs, pts, T0, L):
-        """Model of the 6R whose axes at q = 0 are ``pts[..., i, :] + t dirs[..., i, :]``
-        (``(..., 6, 3)``, m) and whose tool pose at q = 0 is ``T0 (..., 4, 4)``."""
+        """Model of the 6R whose axes at q = 0 are ``pts[..., i, :] + t dirs[..., i, :]``.
+
+        Parameters
+        ----------
+        dirs, pts : ndarray (..., 6, 3)
+            Unit axis directions and a point of each axis (world frame, m).
+        T0 : ndarray (..., 4, 4)
+            The tool pose at q = 0 (SI).
+        L : float
+            Length scale (m).
+
+        Returns
+        -------
+        Model
+            With the leading dimensions of the arguments.
+        """
         F = _dh_frames(dirs, pts, L)
         G = invert_transform(F[..., :-1, :, :]) @ F[..., 1:, :, :]   # A_i(offset_i) (.., 6, 4, 4)
         theta0 = np.arctan2(G[..., 1, 0], G[..., 0, 0])
@@ -201,14 +225,36 @@ class Model:
         return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha)
 
     def perturbed(self, size):
-        """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded)."""
+        """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded).
+
+        Parameters
+        ----------
+        size : float
+            Scaled units (lengths over ``L``) and rad.
+
+        Returns
+        -------
+        Model
+            Random signs; the same ``B``, ``E``, ``L`` and offsets.
+        """
         rng = np.random.default_rng(20240611)
         dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * size
         return Model(self.B, self.E, self.L, self.offset, self.d + dd, self.a + da,
                      self.alpha + dal)
 
     def fk_dh(self, q):
-        """FK ``(..., 4, 4)`` (SI) of the DH model at ``q (..., 6)``, for checks."""
+        """FK of the DH model, for checks.
+
+        Parameters
+        ----------
+        q : array_like (..., 6)
+            Joint values (rad).
+
+        Returns
+        -------
+        ndarray (..., 4, 4)
+            ``T_world_tool`` (SI).
+        """
         th = np.asarray(q, float) + self.offset
         T = np.broadcast_to(np.eye(4), th.shape[:-1] + (4, 4)).copy()
         for i in range(6):

@@ -17,14 +17,38 @@ _ROT_IDX = np.array([7, 2, 3, 5, 6, 1, 0, 4, 8])   # R21 R02 R10, R12 R20 R01, R
 
 
 def skew_trace(R):
-    """``(v, c2)`` of rotations ``R (m, 3, 3)``: ``v = 2 sin(angle) axis`` (the skew part,
-    doubled) and ``c2 = 2 cos(angle)``."""
+    """The skew part and the trace of rotations.
+
+    Parameters
+    ----------
+    R : ndarray (m, 3, 3)
+
+    Returns
+    -------
+    v : ndarray (m, 3)
+        ``2 sin(angle) axis`` (the skew part, doubled).
+    c2 : ndarray (m,)
+        ``2 cos(angle)``.
+    """
     g = np.take(R.reshape(-1, 9), _ROT_IDX, axis=1)
     return g[:, :3] - g[:, 3:6], reduce_sum(g[:, 6:], axis=1) - 1.0
 
 
 def rotation_log(v, c2, R):
-    """Rotation vectors ``(m, 3)`` from :func:`skew_trace` ``(v, c2)`` of ``R (m, 3, 3)``."""
+    """Rotation vectors from :func:`skew_trace`.
+
+    Parameters
+    ----------
+    v, c2 : ndarray (m, 3), (m,)
+        :func:`skew_trace` of ``R``.
+    R : ndarray (m, 3, 3)
+        The rotations (read only beyond 90 degrees, where the skew part is inaccurate).
+
+    Returns
+    -------
+    ndarray (m, 3)
+        ``angle axis`` (rad).
+    """
     sn = np.sqrt(reduce_sum(v * v, axis=1))
     w = v * (np.arctan2(sn, c2) / np.maximum(sn, 1e-300))[:, None]
     far = c2 < 0.0
@@ -34,17 +58,33 @@ def rotation_log(v, c2, R):
 
 
 def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
-    """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T``; returns ``(q (m, 6),
-    residual (m,), moved (m,))``.
+    """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T`` for the candidates ``Q``.
 
-    ``chain`` is the robot's with lengths divided by its length scale, ``T (m, 3, 4)``
-    each candidate's target (rows 0-2, translation scaled alike), ``Q (m, 6)`` the
-    starts; ``moved`` marks the candidates that took a step. A candidate stops when its
-    residual ``max(|dp| / L, |dw|)`` is at rounding level (below 1e-13, or below
-    ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or when it is still
-    far after a few (``GIVE_UP``: spurious candidates from complex eigenvalues; the few
-    that would wander into a solution after many steps only find one that a good
+    A candidate stops when its residual ``max(|dp| / L, |dw|)`` is at rounding level (below
+    1e-13, or below ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or when
+    it is still far after a few (``GIVE_UP``: spurious candidates from complex eigenvalues;
+    the few that would wander into a solution after many steps only find one that a good
     candidate already gave).
+
+    Parameters
+    ----------
+    chain : Chain
+        The robot's, with lengths divided by its length scale L.
+    T : ndarray (m, 3, 4)
+        Each candidate's target (rows 0-2 of ``T_world_tool``, translation scaled alike).
+    Q : ndarray (m, 6)
+        The starts (rad).
+    iters : int
+        Newton steps at most (steps of at most ``STEP_MAX`` rad).
+
+    Returns
+    -------
+    q : ndarray (m, 6)
+        Rad, not wrapped.
+    residual : ndarray (m,)
+        Each one's last residual: the largest component of ``(dp / L, dw)`` (rad).
+    moved : ndarray (m,) of bool
+        The candidates that took a step.
     """
     tp, tR = T[:, :, 3], T[:, :, :3]
 

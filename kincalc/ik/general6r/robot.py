@@ -70,15 +70,33 @@ class _Robot6R:
 
     @property
     def perturbed(self):
-        """Nearby generic models (one per PERTURB size), built on first use."""
+        """Nearby generic models (one per PERTURB size), built on first use.
+
+        Returns
+        -------
+        list of Model
+        """
         if self._perturbed is None:
             self._perturbed = [self.model.perturbed(size) for size in PERTURB]
         return self._perturbed
 
     def shifted_model(self, T, shift):
-        """``(model, order)``: the 6Rs of the cyclic shift ``shift`` for poses ``T (M, 4, 4)``
-        (one model per pose; their target is the identity) and their joints' indices in
-        the original order."""
+        """The 6Rs of the cyclic shift ``shift`` for the given poses, one model per pose.
+
+        Parameters
+        ----------
+        T : ndarray (M, 4, 4)
+            Poses ``T_world_tool`` (SI).
+        shift : int
+            1 .. 5.
+
+        Returns
+        -------
+        model : Model
+            Leading dimension M; their target is the identity.
+        order : ndarray (6,) of int
+            Their joints' indices in the original order.
+        """
         G = self.T0 @ invert_transform(T)                 # (M, 4, 4)
         order = np.r_[shift:6, 0:shift]
         moved = order < shift
@@ -90,14 +108,30 @@ class _Robot6R:
         return Model.from_lines(dirs, pts, G, self.L), order
 
     def raw(self, T, shift):
-        """Raw candidates with the pivot of cyclic shift ``shift`` for ``T (M, 4, 4)``:
-        ``(pose (C,), slot (C,), q (C, 6) in the robot's joint order, degenerate (M,),
-        width)`` (see :func:`eliminate`).
+        """Raw candidates with the pivot of cyclic shift ``shift``.
 
         The pivot is joint ``(shift + 2) % 6 + 1`` (1-based): 3 for shift 0, 2 for shift 5.
         ``A_1 ... A_6 = T'`` is rotated into ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I``:
         a 6R chain whose joints are k+1..6, 1..k, with the pose folded into the
         link between joints 6 and 1, and the target the identity.
+
+        Parameters
+        ----------
+        T : ndarray (M, 4, 4)
+            Poses ``T_world_tool`` (SI).
+        shift : int
+            0 .. 5.
+
+        Returns
+        -------
+        pose, slot : ndarray (C,) of int
+            Each candidate's pose and eigenvalue slot (see :func:`eliminate`).
+        q : ndarray (C, 6)
+            Rad, in the robot's joint order, not wrapped.
+        degenerate : ndarray (M,) of bool
+            Poses where this pivot's elimination does not apply.
+        width : int
+            Slots per pose (16, or 32 with a cluster).
         """
         if shift == 0:
             return eliminate(self.model, T)
@@ -108,10 +142,24 @@ class _Robot6R:
         return pose, slot, out, bad, width
 
     def candidates(self, T):
-        """Raw candidates for ``T (M, 4, 4)``: each pose with the first ranked shift that
-        does not degenerate, else with both perturbed models (the second one's slots after
-        the first's). Returns ``(pose (C,), slot (C,), q (C, 6), width)`` sorted by pose
-        (then slot), ``slot < width``."""
+        """Raw candidates for the given poses, each pose with the first ranked shift that works.
+
+        A pose where every shift degenerates is solved with both perturbed models (the second
+        one's slots after the first's).
+
+        Parameters
+        ----------
+        T : ndarray (M, 4, 4)
+            Poses ``T_world_tool`` (SI).
+
+        Returns
+        -------
+        pose, slot : ndarray (C,) of int
+            Sorted by pose (then slot), ``slot < width``.
+        q : ndarray (C, 6)
+            Rad, in the robot's joint order, not wrapped.
+        width : int
+        """
         todo = np.arange(len(T))
         pieces = []
         for shift in self.shifts:
@@ -136,4 +184,19 @@ class _Robot6R:
 
 @per_robot
 def robot_data(robot):
+    """The per-robot data of the general-6R solver (cached for 64 robots).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    _Robot6R
+
+    Raises
+    ------
+    ValueError
+        The robot does not have exactly 6 revolute joints.
+    """
     return _Robot6R(robot)

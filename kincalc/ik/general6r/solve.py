@@ -112,18 +112,59 @@ _EARLIER = np.tri(4 * BATCH_SLOTS, k=-1, dtype=bool)
 
 
 def solve_general_6r(robot, T) -> np.ndarray:
-    """All real solutions ``(k, 6)`` (rad, wrapped to (-pi, pi], k <= 16) of
-    ``robot.fk(q) == T`` for one pose ``T (4, 4)`` (SI, world frame): the valid rows of
-    :func:`solve_general_6r_batch` for the batch ``T[None]`` (same accuracy, merging
-    and ValueErrors; a non-finite or unreachable pose gives ``(0, 6)``)."""
+    """All real solutions of ``robot.fk(q) == T`` for one pose.
+
+    The valid rows of :func:`solve_general_6r_batch` for the batch ``T[None]`` (same
+    accuracy and merging).
+
+    Parameters
+    ----------
+    robot : Robot
+        Six revolute joints.
+    T : array_like (4, 4)
+        The pose ``T_world_tool`` (SI, world frame).
+
+    Returns
+    -------
+    ndarray (k, 6)
+        Rad, wrapped to (-pi, pi], k <= 16; ``(0, 6)`` for a non-finite or unreachable pose.
+
+    Raises
+    ------
+    ValueError
+        If ``robot`` does not have exactly 6 revolute joints, or ``T`` is not (4, 4).
+    """
     Q, ok = solve_general_6r_batch(robot, np.asarray(T, dtype=float)[None])
     return Q[0][ok[0]]
 
 
 def general_6r(robot, targets, br):
-    """The branches of a general 6R robot: the elimination's solutions of every pose
-    (:func:`solve_general_6r_batch`), ordered by joint 3 then joint 1, one slot each,
-    labelled by their rank (``root k`` of joint 3). ``targets`` must be whole poses."""
+    """The branches of a general 6R robot: the elimination's solutions of every pose.
+
+    The solutions of :func:`solve_general_6r_batch`, ordered by joint 3 then joint 1, one
+    slot each, labelled by their rank (``root k`` of joint 3).
+
+    Parameters
+    ----------
+    robot : Robot
+        Six revolute joints.
+    targets : Targets
+        ``N`` whole poses (world frame, SI).
+    br : Branches
+        One slot per target (:meth:`Branches.start <kincalc.ik.branches.Branches.start>`).
+
+    Returns
+    -------
+    Branches
+        ``K = BATCH_SLOTS`` slots, every joint set (rad), valid slots first.
+
+    Raises
+    ------
+    UnsupportedRobot
+        ``targets`` are not whole poses.
+    ValueError
+        If ``robot`` does not have exactly 6 revolute joints.
+    """
     from dataclasses import replace as _replace
     from ...errors import UnsupportedRobot
     if targets.kind != "pose":
