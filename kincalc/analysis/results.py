@@ -259,6 +259,10 @@ def ik_document(result) -> dict:
         "near": None if result.near is None else u.joints(robot, result.near),
         "solutions": [_ik_solution(robot, s, u) for s in result.solutions],
     })
+    if result.locked:
+        out["locked"] = [{"joint": robot.joints[j].name,
+                          "value": json_numbers(v * (u.a if robot.joints[j].revolute else u.l))}
+                         for j, v in result.locked]
     if result.rejected is not None:
         out["rejected"] = [
             {"q": u.joints(robot, r["q"]), "branch": r["branch"],

@@ -77,6 +77,11 @@ StructureTolOpt = Annotated[Optional[float], typer.Option(
     help="How nearly axes must meet (fraction of the arm's size) or be parallel (sine of "
          "their angle) to count as a structure the closed forms use; the nearest "
          "structured robot is solved and every answer refined on this one. Default 1e-4.")]
+LockOpt = Annotated[Optional[List[str]], typer.Option(
+    "--lock", metavar="JOINT=VALUE", show_default=False,
+    help="Hold a joint at a value (its name or number, the value in the angle or length "
+         "unit; repeatable): the other joints are solved with every branch, as for an arm "
+         "of that many joints. For redundant arms.")]
 TipLinkOpt = Annotated[Optional[str], typer.Option(
     "--tip-link", metavar="LINK", show_default=False,
     help="URDF robots: the link the chain ends at (default: the end of the one chain of "
@@ -143,6 +148,40 @@ def parse_joints(tokens: list[str] | None, robot, units, option: str | None = No
         check_number(value, f"{where}joint {joint.name}")
     q = np.array(values)
     return q / np.where(robot.is_revolute, units.a, units.l)
+
+
+def parse_locks(items: list[str] | None, robot, units) -> dict:
+    """``--lock JOINT=VALUE`` options as ``{joint index (0-based): value (SI)}``; JOINT
+    is a joint's name or its number (1-based), VALUE in the user's units."""
+    from ..limits import quote
+    locks = {}
+    names = [j.name for j in robot.joints]
+    for item in items or []:
+        joint, sep, value = item.partition("=")
+        joint = joint.strip()
+        if not sep or not joint or not value.strip():
+            raise InputError(f"--lock: {quote(item)} is not JOINT=VALUE (a joint name or "
+                             "number, then its value)")
+        if joint in names:
+            k = names.index(joint)
+        elif joint.isdigit() and 1 <= int(joint) <= robot.dof:
+            k = int(joint) - 1
+        else:
+            raise InputError(f"--lock: {robot.name} has no joint {quote(joint)} (joints "
+                             f"{', '.join(names)}, or 1..{robot.dof})")
+        if k in locks:
+            raise InputError(f"--lock: joint {names[k]} is locked twice")
+        try:
+            v = float(value)
+        except ValueError:
+            raise InputError(f"--lock: value {quote(value.strip())} of joint {names[k]} is "
+                             "not a number") from None
+        check_number(v, f"--lock: joint {names[k]}")
+        locks[k] = v / (units.a if robot.joints[k].revolute else units.l)
+    if locks and len(locks) >= robot.dof:
+        raise InputError(f"--lock: every joint of {robot.name} is locked; nothing is left "
+                         "to solve")
+    return locks
 
 
 def check_number(value: float, what: str) -> float:

@@ -7,8 +7,8 @@ from typing import Annotated, Optional
 import typer
 
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt,
-                     JobsOpt, JsonOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt, UnitOpt,
-                     display_units, load_robot, output, output_target)
+                     JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt,
+                     UnitOpt, display_units, load_robot, output, output_target, parse_locks)
 from .targets import PoseOptions, with_pose_options
 
 AllBranchesOpt = Annotated[bool, typer.Option(
@@ -58,6 +58,7 @@ def ik(
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
     structure_tol: StructureTolOpt = None,
+    lock: LockOpt = None,
     debug: DebugOpt = False,
 ):
     """Inverse kinematics: every joint solution that reaches a pose.
@@ -85,15 +86,22 @@ def ik(
         run_command("ik", rob, units, batch, fmt, jobs,
                     given=pose_options.given(),
                     refused={"--all-branches": all_branches, "--explain": explain,
-                             "--near": near, "--numeric": numeric, "--plot": plot},
+                             "--near": near, "--numeric": numeric, "--plot": plot,
+                             "--lock": lock},
                     input_format=input_format)
     target = pose_options.target(rob, units)
     q_near = None
     if near is not None:
         from .common import parse_joints
         q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
-    result = solve(rob, target, all_branches=all_branches, explain=explain, units=units,
-                   near=q_near, numeric=numeric)
+    options = dict(all_branches=all_branches, explain=explain, units=units, near=q_near,
+                   numeric=numeric)
+    locks = parse_locks(lock, rob, units)
+    if locks:
+        from ..analysis.redundancy import solve_locked
+        result = solve_locked(rob, target, locks, **options)
+    else:
+        result = solve(rob, target, **options)
     from ..analysis.results import ik_document
     doc = ik_document(result)
     if plot_to is not None:
@@ -145,10 +153,13 @@ def _tables(doc, robot, precision, explain):
         c.print(f"target position: {vec([r[3] for r in doc['target']['T'][:3]], precision)}"
                 f"{length}  ({what})")
     m = doc["method"]
-    c.print(kv_table([("method", f"{m['family']}: {m['description']}"),
-                      ("controls", m["controls"]),
-                      ("reachable", "yes" if doc["reachable"] else "no"),
-                      ("", doc["reason"])]))
+    rows = [("method", f"{m['family']}: {m['description']}"), ("controls", m["controls"])]
+    if doc.get("locked"):
+        rows.append(("locked", ", ".join(f"{e['joint']} = {num(e['value'], precision)}"
+                                         for e in doc["locked"])
+                     + " (the other joints solved with every branch)"))
+    c.print(kv_table(rows + [("reachable", "yes" if doc["reachable"] else "no"),
+                             ("", doc["reason"])]))
     n = doc["count"]
     if n:
         t = Table(box=box.SIMPLE_HEAD, title=f"{n} solution{'s' if n != 1 else ''} ({u['angle']}"

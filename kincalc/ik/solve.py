@@ -124,6 +124,9 @@ class IKResult:
     near: np.ndarray | None = None
     #: with all_branches: why each branch that found nothing found nothing (``NoRoot``)
     dead_ends: list | None = None
+    #: joints held at a value, ``((index, value), ...)`` (rad / m), when the answer is of
+    #: the chain they leave (:mod:`kincalc.analysis.redundancy`)
+    locked: tuple = ()
     # rendered by kincalc.analysis.results.ik_document (JSON and tables) and kincalc.analysis.words
 
 

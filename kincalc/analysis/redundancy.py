@@ -1,0 +1,184 @@
+"""Redundant arms solved completely: a locked joint leaves a chain the engine solves.
+
+A 7-joint arm reaches a pose along a one-parameter family of configurations. Holding one
+joint at a value (``--lock JOINT=VALUE``) leaves six joints: the analytic engine then
+returns every branch of that 6-joint chain, labelled and flagged as for any 6-joint arm,
+and each solution is the 7-joint configuration with the locked value put back.
+
+The locked chain is built in product-of-exponentials form (Lynch & Park, *Modern
+Robotics*, sec. 4.1): with ``G = exp([S_j] v)`` the motion of joint j held at v,
+
+    base · e^[S_1]q_1 ··· G ··· e^[S_n]q_n · M · tool
+        = base · e^[S_1]q_1 ··· e^[S_{j-1}]q_{j-1} · e^[S'_{j+1}]q_{j+1} ··· e^[S'_n]q_n · G M · tool
+
+with ``S'_k = Ad_G S_k``: every joint after j has its axis moved by G, and the flange at
+q = 0 becomes ``G M``. Its family is found from its axes like any robot's (locking joint 3
+of an iiwa leaves a spherical wrist; where no structure is left, the general 6R
+elimination). SI inside: rad, m.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..errors import InputError
+from ..ik import IKResult, IKSolution, Target, solve
+from ..model import Joint, Robot
+from ..spatial import matrix_from_axis_angle, transform
+
+
+def joint_motion(axis, point, revolute: bool, value: float) -> np.ndarray:
+    """``exp([S] value)`` ``(4, 4)``: a turn by ``value`` (rad) about the line through
+    ``point`` along the unit ``axis``, or a slide by ``value`` (m) along ``axis``."""
+    axis, point = np.asarray(axis, float), np.asarray(point, float)
+    if not revolute:
+        return transform(None, value * axis)
+    R = matrix_from_axis_angle(axis, value)
+    return transform(R, point - R @ point)
+
+
+def locked_robot(robot: Robot, locks: dict[int, float]) -> Robot:
+    """``robot`` with the joints ``locks`` (0-based index -> value, rad / m) held.
+
+    Parameters
+    ----------
+    robot : Robot
+        Any convention; read through its joint axes at q = 0.
+    locks : dict of int to float
+        Joint index (0-based) -> the value it is held at (rad / m).
+
+    Returns
+    -------
+    Robot
+        A poe robot of the remaining joints, in order, with their names, limits and home;
+        ``fk(q_rest)`` equals ``robot.fk(q)`` with the locked values in place.
+
+    Raises
+    ------
+    ValueError
+        A joint index out of range, or every joint locked.
+    """
+    from ..conventions import to_poe
+    n = robot.dof
+    if any(not 0 <= j < n for j in locks):
+        raise ValueError(f"joint indices must be 0..{n - 1}, got {sorted(locks)}")
+    if len(locks) >= n:
+        raise ValueError("every joint is locked: nothing is left to solve")
+    poe = to_poe(robot)
+    axes = [np.array(j.axis) for j in poe.joints]
+    points = [np.array(j.point) for j in poe.joints]
+    M = poe.M @ poe.tool
+    for j in sorted(locks):
+        G = joint_motion(axes[j], points[j], poe.joints[j].revolute, locks[j])
+        for k in range(j + 1, n):
+            axes[k] = G[:3, :3] @ axes[k]
+            points[k] = G[:3, :3] @ points[k] + G[:3, 3]
+        M = G @ M
+    keep = [k for k in range(n) if k not in locks]
+    joints = tuple(Joint(name=poe.joints[k].name, type=poe.joints[k].type,
+                         axis=tuple(axes[k] / np.linalg.norm(axes[k])),
+                         point=tuple(points[k]), limits=poe.joints[k].limits) for k in keep)
+    held = ", ".join(robot.joints[j].name for j in sorted(locks))
+    return Robot(name=robot.name, convention="poe", joints=joints, base=robot.base, M=M,
+                 home=np.asarray(robot.home)[keep],
+                 title=f"{robot.title or robot.name} ({held} locked)", source=robot.source,
+                 length_unit=robot.length_unit, angle_unit=robot.angle_unit,
+                 structure_tol=robot.structure_tol)
+
+
+def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
+                 near=None, **options) -> IKResult:
+    """Every IK solution of ``robot`` for ``target`` with the joints ``locks`` held.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (any number of joints; typically 7).
+    target : Target
+        As for :func:`kincalc.ik.solve` (``T_world_tool``, m).
+    locks : dict of int to float
+        Joint index (0-based) -> held value (rad / m).
+    near : array_like (n,), optional
+        The current joints of the whole arm (rad / m).
+    **options
+        Those of :func:`kincalc.ik.solve` (``all_branches``, ``explain``, ``units``,
+        ``numeric``).
+
+    Raises
+    ------
+    InputError
+        The locks leave a chain with a self-motion of its own (the elbow of an arm whose
+        shoulder and wrist are spherical: the arm still turns about the shoulder-wrist
+        line), whose solutions are a continuum.
+
+    Returns
+    -------
+    IKResult
+        Of ``robot``: each solution's ``q (n,)`` holds the locked values, its branch label,
+        flags and free joints are those of the locked chain (indices of ``robot``), a
+        held value outside its joint's limits is a violation of every solution, and
+        ``locked`` lists ``(index, value)``.
+    """
+    reduced = locked_robot(robot, locks)
+    rank = reduced.generic_ranks[0]
+    if rank < min(reduced.dof, 6) and rank < robot.generic_ranks[0]:
+        held = ", ".join(robot.joints[j].name for j in sorted(locks))
+        raise InputError(f"locking {held} of {robot.name} leaves a chain that still moves "
+                         f"without moving the tool (its Jacobian has rank {rank} for "
+                         f"{reduced.dof} joints): its solutions form a continuum, not a set "
+                         "of branches; lock another joint (of an arm with a spherical "
+                         "shoulder and wrist, any but the elbow)")
+    keep = [k for k in range(robot.dof) if k not in locks]
+    near_full = None if near is None else np.asarray(near, float)
+    res = solve(reduced, target, near=None if near_full is None else near_full[keep],
+                **options)
+    held = [(j, v) for j, v in sorted(locks.items())]
+    outside = [(j, *_beyond(robot.limits[j], v)) for j, v in held
+               if _beyond(robot.limits[j], v) is not None]
+
+    def full(q):
+        out = np.empty(robot.dof)
+        out[keep] = q
+        for j, v in held:
+            out[j] = v
+        return out
+
+    def solution(s: IKSolution) -> IKSolution:
+        violations = [(keep[i], amount, side) for i, amount, side in s.violations] + outside
+        q = full(s.q)
+        return dataclasses.replace(
+            s, q=q, violations=violations, within_limits=s.within_limits and not outside,
+            free=tuple(keep[i] for i in s.free),
+            continuum=None if s.continuum is None else _Renamed(s.continuum, keep),
+            change=None if near_full is None else q - near_full)
+
+    rejected = None if res.rejected is None else \
+        [{**r, "q": full(r["q"])} for r in res.rejected]
+    chain = ", ".join(f"{k + 1} = {robot.joints[i].name}" for k, i in enumerate(keep))
+    return dataclasses.replace(res, robot=robot, solutions=[solution(s) for s in res.solutions],
+                               rejected=rejected, near=near_full, locked=tuple(held),
+                               method=f"{res.method} (joints of the chain the lock leaves: "
+                                      f"{chain})")
+
+
+def _beyond(limits, value):
+    """``(amount, side)`` by which ``value`` is outside ``limits (2,)``, or None."""
+    lo, hi = limits
+    if value < lo:
+        return lo - value, "lower"
+    if value > hi:
+        return value - hi, "upper"
+    return None
+
+
+@dataclasses.dataclass(frozen=True)
+class _Renamed:
+    """A continuum of the locked chain, read with the whole arm's joint names."""
+
+    inner: object
+    keep: list
+
+    def text(self, names, *args):
+        return self.inner.text([names[i] for i in self.keep], *args)

@@ -1,0 +1,143 @@
+"""Redundant arms with a locked joint: the locked chain is the arm (FK), every branch of
+it is found (round trips of random configurations, and no solution an independent
+multi-start numerical search finds is missing), and the command line says what was
+locked."""
+
+import json
+
+import numpy as np
+import pytest
+from randrobots import random_robot
+
+import kincalc
+from kincalc.analysis.redundancy import locked_robot, solve_locked
+from kincalc.errors import InputError
+from kincalc.ik import Target
+from kincalc.ik.families import plan
+
+SEVEN = ["iiwa14", "iiwa7", "panda", "kinova_gen3"]
+
+
+def _close(a, b, revolute, tol=1e-6):
+    d = np.where(revolute, np.angle(np.exp(1j * (a - b))), a - b)
+    return np.abs(d).max() < tol
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_the_locked_chain_is_the_arm_with_the_joint_held(convention):
+    rng = np.random.default_rng({"dh": 1, "mdh": 2, "poe": 3}[convention])
+    for _ in range(20):
+        r = random_robot(rng, convention, n=int(rng.integers(2, 9)))
+        held = sorted(rng.choice(r.dof, size=int(rng.integers(1, r.dof)), replace=False))
+        values = rng.uniform(-2, 2, len(held))
+        red = locked_robot(r, dict(zip(held, values)))
+        keep = [k for k in range(r.dof) if k not in held]
+        assert [j.name for j in red.joints] == [r.joints[k].name for k in keep]
+        for q in rng.uniform(-2, 2, (20, r.dof)):
+            q[held] = values
+            assert np.allclose(red.fk(q[keep]), r.fk(q), atol=1e-12)
+
+
+@pytest.mark.parametrize("name", SEVEN)
+def test_every_lock_of_a_seven_joint_arm_finds_the_generating_configuration(name):
+    r = kincalc.load_robot(name)
+    rng = np.random.default_rng(sum(map(ord, name)))
+    lo, hi = np.clip(r.limits, -np.pi, np.pi).T
+    elbow = _srs_elbow(r)
+    for q0 in rng.uniform(lo, hi, (4, 7)):
+        T = r.fk(q0)
+        for j in range(7):
+            if j == elbow:
+                with pytest.raises(InputError, match="continuum"):
+                    solve_locked(r, Target(T), {j: q0[j]})
+                continue
+            res = solve_locked(r, Target(T), {j: q0[j]})
+            assert res.locked == ((j, q0[j]),)
+            assert any(_close(s.q, q0, r.is_revolute) for s in res.solutions), (j, res.method)
+            for s in res.solutions:
+                assert s.q[j] == q0[j]
+                assert np.allclose(r.fk(s.q), T, atol=1e-9)
+
+
+def _srs_elbow(robot):
+    """Joint 4 (index 3) when joints 1-3 and 5-7 each meet at a point (an SRS arm),
+    found from the axes at q = 0 with a least-squares common point; else None."""
+    from kincalc.structure import common_point, joint_axes
+    dirs, pts = joint_axes(robot)
+    meets = [common_point(pts[js], dirs[js], 1e-9 * robot.characteristic_length) is not None
+             for js in ([0, 1, 2], [4, 5, 6])]
+    return 3 if all(meets) else None
+
+
+def test_locking_gives_the_analytic_family_the_geometry_has():
+    """iiwa (an SRS arm): any single lock leaves a spherical wrist at one end; the Panda
+    with joint 7 held: joints 1-3 meet (a wrist at the base, seen from the tool)."""
+    iiwa, panda = kincalc.load_robot("iiwa14"), kincalc.load_robot("panda")
+    assert plan(locked_robot(iiwa, {2: 0.4}))[1].name == "spherical-wrist"
+    assert plan(locked_robot(panda, {6: 0.4}))[1].name == "reversed-spherical-wrist"
+    assert plan(locked_robot(panda, {0: 0.4}))[1].name == "general-6r"
+
+
+def _numeric_solutions(robot, T, starts, rng):
+    """Damped least squares from many random starts, written here (no kincalc IK): the
+    distinct configurations that reach ``T``."""
+    found = []
+    for q in rng.uniform(-np.pi, np.pi, (starts, robot.dof)):
+        for _ in range(60):
+            E = robot.fk(q)
+            dp = T[:3, 3] - E[:3, 3]
+            Rerr = T[:3, :3] @ E[:3, :3].T
+            dw = 0.5 * np.array([Rerr[2, 1] - Rerr[1, 2], Rerr[0, 2] - Rerr[2, 0],
+                                 Rerr[1, 0] - Rerr[0, 1]])
+            e = np.concatenate([dp, dw])
+            if np.linalg.norm(e) < 1e-12:
+                break
+            J = robot.jacobian(q)
+            q = q + J.T @ np.linalg.solve(J @ J.T + 1e-6 * np.eye(6), e)
+        if np.linalg.norm(e) < 1e-10 and not any(_close(q, f, robot.is_revolute, 1e-5)
+                                                  for f in found):
+            found.append(q)
+    return found
+
+
+def test_no_solution_of_an_independent_search_is_missing():
+    r = kincalc.load_robot("panda")
+    rng = np.random.default_rng(5)
+    q0 = rng.uniform(*np.clip(r.limits, -np.pi, np.pi).T)
+    locks = {0: q0[0]}                                     # general 6R left: the hard case
+    red = locked_robot(r, locks)
+    T = r.fk(q0)
+    ours = solve_locked(r, Target(T), locks).solutions
+    theirs = _numeric_solutions(red, T, 300, rng)
+    assert theirs and len(ours) <= 16
+    for q in theirs:
+        assert any(_close(s.q[1:], q, red.is_revolute, 1e-5) for s in ours)
+
+
+def test_a_held_value_outside_its_limits_flags_every_solution():
+    r = kincalc.load_robot("iiwa14")
+    q0 = np.zeros(7) + 0.3
+    res = solve_locked(r, Target(r.fk(q0)), {2: 3.5})       # beyond +-170 deg
+    assert all(not s.within_limits and any(v[0] == 2 for v in s.violations)
+               for s in res.solutions)
+
+
+def test_lock_on_the_command_line():
+    from cli_contract import run_cli
+    q0 = "20 -30 40 -50 60 30 -20"
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, "--lock", "A3=40", "--json"])
+    assert status == 0, err
+    doc = json.loads(out)
+    assert doc["locked"] == [{"joint": kincalc.load_robot("iiwa14").joints[2].name,
+                              "value": 40.0}]
+    assert doc["method"]["family"] == "spherical-wrist"
+    q = [20, -30, 40, -50, 60, 30, -20]
+    assert any(np.allclose(s["q"], q, atol=1e-6) for s in doc["solutions"])
+    assert all(s["q"][2] == 40.0 for s in doc["solutions"])
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, "--lock", "3=40"])
+    assert status == 0 and "locked" in out
+    for bad, words in ((["--lock", "9=1"], "no joint '9'"), (["--lock", "3"], "JOINT=VALUE"),
+                       (["--lock", "3=x"], "not a number"),
+                       (["--lock", "3=1", "--lock", "3=2"], "locked twice")):
+        status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, *bad])
+        assert status == 2 and words in err and err.count("\n") == 1, err
