@@ -6,8 +6,8 @@ from __future__ import annotations
 import typer
 
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FormatOpt, InputFormatOpt, JobsOpt,
-                     JsonOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt, UnitOpt,
-                     display_units, load_robot, output)
+                     JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt, UnitOpt,
+                     display_units, load_robot, output, parse_locks)
 from .targets import PoseOptions, with_pose_options
 
 
@@ -26,6 +26,7 @@ def reach(
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
     structure_tol: StructureTolOpt = None,
+    lock: LockOpt = None,
     debug: DebugOpt = False,
 ):
     """Reachability: can the robot reach a pose, and if not, why.
@@ -43,17 +44,28 @@ def reach(
     from ..analysis.reach import reach as _reach
     rob = load_robot(robot, base_link, tip_link, structure_tol)
     units = display_units(rob, deg, unit)
+    locks = parse_locks(lock, rob, units)
     if fmt not in ("jsonl", "csv"):
         from ..errors import UsageError
         raise UsageError(f"--format must be jsonl or csv, not {fmt!r}")
     if batch is not None:
         from .batch import run_command
         run_command("reach", rob, units, batch, fmt, jobs,
-                    given=pose_options.given(),
+                    given=pose_options.given(), refused={"--lock": lock},
                     input_format=input_format)
     target = pose_options.target(rob, units)
+    from ..analysis.results import json_numbers
+    held = [{"joint": rob.joints[j].name,
+             "value": json_numbers(v * (units.a if rob.joints[j].revolute else units.l))}
+            for j, v in sorted(locks.items())]
+    if locks:       # the question is asked of the chain the held joints leave
+        from ..analysis.redundancy import locked_robot
+        rob = locked_robot(rob, locks)
     result = _reach(rob, target, units=units)
-    output(result.to_dict(), json, _tables, rob, precision)
+    doc = result.to_dict()
+    if held:
+        doc["locked"] = held
+    output(doc, json, _tables, rob, precision)
     if not result.reachable:
         raise typer.Exit(1)
 
@@ -80,6 +92,9 @@ def _tables(doc, robot, precision):
             ("distance", "-" if doc["distance"] is None else num(doc["distance"], precision)
              + length),
             ("solver", doc["method"]["family"])]
+    if doc.get("locked"):
+        rows.append(("locked", ", ".join(f"{e['joint']} = {num(e['value'], precision)}"
+                                         for e in doc["locked"])))
     if doc["nearest"] is not None:
         rows.append(("nearest reachable point", vec(doc["nearest"]["position"], precision)))
         rows.append(("  at q", vec(doc["nearest"]["q"], precision)))

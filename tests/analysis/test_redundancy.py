@@ -141,3 +141,19 @@ def test_lock_on_the_command_line():
                        (["--lock", "3=1", "--lock", "3=2"], "locked twice")):
         status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, *bad])
         assert status == 2 and words in err and err.count("\n") == 1, err
+
+
+def test_reach_with_a_lock_asks_of_the_chain_left():
+    from cli_contract import run_cli
+    q0 = "10 20 30 -40 50 60 70"
+    status, out, err = run_cli(["reach", "iiwa14", "--from-q", q0, "--lock", "A3=30", "--json"])
+    assert status == 0, err
+    doc = json.loads(out)
+    assert doc["locked"] == [{"joint": "A3", "value": 30.0}] and doc["solutions"] == 8
+    # held where the pose cannot be reached with it: A3 = 30 and a pose of A3 = -120
+    q1 = "10 20 -120 -40 50 60 70"
+    status, out, err = run_cli(["reach", "iiwa14", "--from-q", q1, "--lock", "A3=30"])
+    assert status in (0, 1) and "locked" in out
+    status, out, err = run_cli(["reach", "iiwa14", "--batch", "-", "--lock", "A3=30"],
+                               stdin='{"xyz": [0.5, 0, 0.5]}\n')
+    assert status == 2 and "--lock" in err
