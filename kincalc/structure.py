@@ -186,3 +186,103 @@ def wrist_centre(robot, wrist: Wrist, dirs, pts) -> np.ndarray | None:
     """
     f = wrist.first
     return common_point(pts[f:f + 3], dirs[f:f + 3], np.inf)
+
+
+def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
+              revolute=None) -> np.ndarray:
+    """Standard DH frames on joint axes (Spong, Hutchinson & Vidyasagar, *Robot Modeling
+    and Control*, sec. 3.2): frame i's z axis along axis i+1 and its x axis along the
+    common normal of axes i and i+1, batched over independent sets of axes.
+
+    Skew axes: x is ``z_{i-1} x z_i`` and the origin the foot of the common normal on axis
+    i+1 (a may be negative); meeting axes: the same cross product, the origin at the
+    intersection; parallel axes (sine of their angle below ``parallel_tol``): the normal
+    through frame i-1's origin (d = 0); coincident axes keep frame i-1's x. A prismatic
+    axis is a direction only: its line is taken through frame i-1's origin. Frame 0 sits
+    on axis 1 at the foot of its common normal with axis 2, its x along frame 1's; frame
+    n shares frame n-1's origin and x (projected). Any frame 0 on axis 1 and frame n
+    along axis n may replace them: the rows between stay valid.
+
+    Parameters
+    ----------
+    dirs, pts : ndarray (..., n, 3)
+        Unit directions of the axes and a point on each, one frame for all (m).
+    L : float
+        The arm's size (m): coincident axes are those within ``1e-9 L``.
+    parallel_tol : float
+        Sine of the angle below which consecutive axes are parallel.
+    revolute : array_like (n,) of bool, optional
+        False for prismatic joints (default: all revolute).
+
+    Returns
+    -------
+    ndarray (..., n + 1, 4, 4)
+        The poses of DH frames 0..n in the axes' frame (m); between frames i-1 and i the
+        transform is ``Rz(theta) Tz(d) Tx(a) Rx(alpha)``.
+    """
+    n = dirs.shape[-2]
+    moving_line = np.ones(n, bool) if revolute is None else np.asarray(revolute, bool)
+    z = [dirs[..., i, :] for i in range(n)] + [dirs[..., n - 1, :]]
+    x, o = [None] * (n + 1), [None] * (n + 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for i in range(1, n):                        # frame i: axes i (0-based i-1) and i+1
+            u, v = dirs[..., i - 1, :], dirs[..., i, :]
+            p, r = pts[..., i - 1, :], pts[..., i, :]
+            if i == 1 and not moving_line[0]:
+                p = np.zeros_like(p)
+            if i > 1 and not moving_line[i - 1]:
+                p = o[i - 1]
+            if not moving_line[i]:
+                r = o[i - 1] if i > 1 else p
+            nn = cross(u, v)
+            sn = np.sqrt(_dot(nn, nn))
+            par = ~(sn > parallel_tol)[..., None]    # (..., 1): axes i, i+1 parallel
+            # skew axes: closest points p + t u (axis i) and r + s v (axis i+1)
+            w = r - p
+            uv, wu, wv = _dot(u, v), _dot(w, u), _dot(w, v)
+            den = 1.0 - uv * uv
+            t = ((wu - wv * uv) / den)[..., None]
+            s = ((wu * uv - wv) / den)[..., None]
+            foot_j = r + s * v
+            xi = nn / sn[..., None]
+            if i == 1:
+                o[0] = np.where(par, p, p + t * u)
+            # parallel axes: the normal through the previous origin
+            ref = o[i - 1]
+            wp = r - ref
+            wp = wp - u * _dot(wp, u)[..., None]
+            nw = np.sqrt(_dot(wp, wp))[..., None]
+            if i == 1:                               # axes 1 and 2 coincide: any normal
+                prev = cross(u, np.where(np.abs(u[..., :1]) < 0.9, [1.0, 0.0, 0.0],
+                                         [0.0, 1.0, 0.0]))
+            else:
+                prev = x[i - 1]
+            xp = np.where(nw > 1e-9 * L, wp / nw, prev)
+            xi = np.where(par, xp, xi)
+            foot_j = np.where(par, ref + wp, foot_j)
+            xi = xi - v * _dot(xi, v)[..., None]
+            x[i] = _unit(xi)
+            o[i] = foot_j
+            if i == 1:
+                x[0] = _unit(x[1] - z[0] * _dot(x[1], z[0])[..., None])
+    if n == 1:
+        x[0] = _unit(cross(z[0], np.where(np.abs(z[0][..., :1]) < 0.9, [1.0, 0.0, 0.0],
+                                          [0.0, 1.0, 0.0])))
+        o[0] = pts[..., 0, :] if moving_line[0] else np.zeros_like(pts[..., 0, :])
+    x[n], o[n] = _unit(x[n - 1] - z[n] * _dot(x[n - 1], z[n])[..., None]), o[n - 1]
+    X, Z, O = (np.stack(f, axis=-2) for f in (x, z, o))
+    F = np.zeros(dirs.shape[:-2] + (n + 1, 4, 4))
+    F[..., :3, 0] = X
+    F[..., :3, 1] = cross(Z, X)
+    F[..., :3, 2] = Z
+    F[..., :3, 3] = O
+    F[..., 3, 3] = 1.0
+    return F
+
+
+def _dot(u, v):
+    return np.einsum("...i,...i->...", u, v)
+
+
+def _unit(u):
+    return u / np.sqrt(_dot(u, u))[..., None]

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..model import Joint, Robot
 from ..spatial import invert_transform
+from ..structure import dh_frames
 
 #: axes whose directions' cross product is below this are parallel; lines closer than
 #: this times the arm's size meet (both far below any real arm's geometry, far above
@@ -45,30 +46,6 @@ def _frame(origin, x, z) -> np.ndarray:
     F = np.eye(4)
     F[:3, 0], F[:3, 1], F[:3, 2], F[:3, 3] = x, np.cross(z, x), z, origin
     return F
-
-
-def _next_frame(F, w, p, scale) -> np.ndarray:
-    """Frame i from frame i-1 ``F`` (z along axis i) and axis i+1 (unit ``w`` through
-    ``p``): the common normal construction of the module docstring."""
-    o, x0, z = F[:3, 3], F[:3, 0], F[:3, 2]
-    n = np.cross(z, w)
-    sin = float(np.linalg.norm(n))
-    if sin < LINE_TOL:                                    # parallel or coincident
-        x = _perpendicular(p - o, z)
-        if x is None or abs((p - o) @ x) < LINE_TOL * scale:
-            return _frame(o, x0, w)
-        return _frame(o + x * ((p - o) @ x), x, w)
-    # closest points of the lines o + s z and p + t w
-    r = p - o
-    b = float(z @ w)
-    denom = 1.0 - b * b
-    s = (r @ z - b * (r @ w)) / denom
-    t = (b * (r @ z) - r @ w) / denom
-    c, e = o + s * z, p + t * w
-    gap = e - c
-    if float(np.linalg.norm(gap)) < LINE_TOL * scale:      # intersecting
-        return _frame(e, n / sin, w)
-    return _frame(e, gap / np.linalg.norm(gap), w)
 
 
 def _dh_row(A) -> tuple[float, float, float, float]:
@@ -104,21 +81,24 @@ def axes_to_dh(robot: Robot) -> Robot:
     scale = max(robot.characteristic_length, 1.0)
     tool0 = to0 @ robot.fk(np.zeros(n))                    # the tool in frame 0, q = 0
 
+    F = list(dh_frames(np.array(axes), np.array(points), scale, LINE_TOL,
+                       robot.is_revolute))
+    # frame 0 on joint 1's axis at the foot of the perpendicular from frame 0's origin
+    # (a prismatic joint's line through that origin), x along the robot's x where it can
     z = axes[0]
     x = _perpendicular(np.array([1.0, 0.0, 0.0]), z)
     x = x if x is not None else _perpendicular(np.array([0.0, 1.0, 0.0]), z)
-    # frame 0 on joint 1's axis at the foot of the perpendicular from frame 0's origin
-    # (a prismatic joint's line through that origin)
     o = points[0] - z * (points[0] @ z) if robot.joints[0].revolute else np.zeros(3)
-    F = [_frame(o, x, z)]
-    for i in range(1, n):
-        p = points[i] if robot.joints[i].revolute else F[-1][:3, 3]
-        F.append(_next_frame(F[-1], axes[i], p, scale))
-    last = F[-1]
+    if robot.joints[0].revolute or n == 1:
+        F[0] = _frame(o, x, z)
+    else:       # joint 1 slides: frame 0 stays where frame 1's construction put it
+        F[0] = _frame(F[0][:3, 3], x, z)
+    # frame n: frame n-1 moved along its z to the tool's height, x towards the tool's x
+    last = F[n - 1]
     xe = _perpendicular(tool0[:3, 0], last[:3, 2])
     xe = xe if xe is not None else last[:3, 0]
     lift = (tool0[:3, 3] - last[:3, 3]) @ last[:3, 2]
-    F.append(_frame(last[:3, 3] + lift * last[:3, 2], xe, last[:3, 2]))
+    F[n] = _frame(last[:3, 3] + lift * last[:3, 2], xe, last[:3, 2])
 
     joints = []
     for i, j in enumerate(robot.joints):

@@ -377,10 +377,11 @@ def _poe(axes, points, types=None):
     # an elbow: axis 2 meets axis 1 at height 0.5: a = 0, x1 = z x y = -x, and
     # Rx(alpha) about -x takes z onto +y for alpha = +90 deg
     ([[0, 0, 1], [0, 1, 0]], [[0, 0, 0], [0, 0, 0.5]], None, [(0.5, 0, np.pi / 2), (0, 0, 0)]),
-    # skew axes 0.3 apart at height 0.2, at right angles: x1 = +x, and Rx(alpha) takes
-    # z onto +y for alpha = -90 deg
+    # skew axes 0.3 apart at height 0.2, at right angles: x1 = z x y = -x, the foot on
+    # axis 2 at (0.3, 0, 0.2), so a = -0.3 along x1, and Rx(alpha) about -x takes z onto
+    # +y for alpha = +90 deg
     ([[0, 0, 1], [0, 1, 0]], [[0, 0, 0], [0.3, 0, 0.2]], None,
-     [(0.2, 0.3, -np.pi / 2), (0, 0, 0)]),
+     [(0.2, -0.3, np.pi / 2), (0, 0, 0)]),
     # coincident axes: nothing between them
     ([[0, 0, 1], [0, 0, 1]], [[0, 0, 0], [0, 0, 0.7]], None, [(0, 0, 0), (0, 0, 0)]),
     # a prismatic joint along axis 1's direction, off to the side: its line is free

@@ -297,3 +297,36 @@ def test_frame_columns_refuses_joint_values_of_the_wrong_length():
         frame_columns(r.chain, np.zeros((2, 3)))
     cols = frame_columns(r.chain, np.zeros((2, 6)))
     assert len(cols) == 6 and cols[0][1].shape == (3, 2)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_dh_frames_are_dh_frames(seed):
+    """The one DH-frame construction (used by convert and the general 6R solver): on
+    random axes, including parallel, meeting and coincident pairs and prismatic joints,
+    every frame has z along its axis and each step is Rz Tz Tx Rx (no y-components)."""
+    from kincalc.structure import dh_frames
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 8))
+    dirs = rng.normal(size=(n, 3))
+    pts = rng.uniform(-1, 1, (n, 3))
+    for k in range(1, n):                  # make some consecutive pairs special
+        kind = rng.integers(0, 4)
+        if kind == 1:
+            dirs[k] = dirs[k - 1]                                    # parallel
+        elif kind == 2:
+            pts[k] = pts[k - 1] + 0.3 * dirs[k - 1]                  # meeting
+        elif kind == 3:
+            dirs[k], pts[k] = dirs[k - 1], pts[k - 1] + dirs[k - 1]  # coincident
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    revolute = rng.random(n) < 0.7
+    F = dh_frames(dirs, pts, 1.0, 1e-9, revolute)
+    for i in range(n):
+        assert np.allclose(F[i, :3, 2], dirs[i], atol=1e-9)
+        if revolute[i]:                    # the frame's z line is the joint's axis
+            off = F[i, :3, 3] - pts[i]
+            assert np.linalg.norm(off - dirs[i] * (off @ dirs[i])) < 1e-9
+    for i in range(1, n + 1):
+        A = np.linalg.inv(F[i - 1]) @ F[i]
+        assert abs(A[2, 0]) < 1e-9                              # x_i is normal to z_{i-1}
+        theta = np.arctan2(A[1, 0], A[0, 0])
+        assert abs(-A[0, 3] * np.sin(theta) + A[1, 3] * np.cos(theta)) < 1e-9  # meets z_{i-1}

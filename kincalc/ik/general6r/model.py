@@ -1,69 +1,15 @@
 """A 6R robot as scaled standard DH and the robot-level half of the elimination
-(steps 1 and 2 of :mod:`kincalc.ik.general6r`): the DH frames of its axes, the
+(steps 1 and 2 of :mod:`kincalc.ik.general6r`): the DH frames of its axes
+(:func:`kincalc.structure.dh_frames`), the
 Pieper / Lee-Liang equations' left side, the deflation of the spurious roots."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...spatial import cross, invert_transform
-from .common import (CUBIC_IDX, GRID, H2, PARALLEL_TOL, U_IDX, VINV2, VINV3, cubic_map, dh,
-                     dot, f14, unit)
-
-
-# --- the robot as standard DH ----------------------------------------------
-
-def _dh_frames(dirs, pts, L):
-    """World poses ``(..., 7, 4, 4)`` of DH frames 0..6 at q = 0 (see the package docstring)
-    of the axes ``pts + t dirs`` (``(..., 6, 3)`` each; the leading dimensions are
-    independent robots, e.g. one per pose of a cyclically shifted problem)."""
-    z = [dirs[..., i, :] for i in range(6)] + [dirs[..., 5, :]]  # z_i = axis i+1; z_6 = axis 6
-    x = [None] * 7
-    o = [None] * 7
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for i in range(1, 6):                        # frame i: axes i (0-based i-1) and i+1
-            u, v = dirs[..., i - 1, :], dirs[..., i, :]
-            p, r = pts[..., i - 1, :], pts[..., i, :]
-            n = cross(u, v)
-            sn = np.sqrt(dot(n, n))
-            par = ~(sn > PARALLEL_TOL)[..., None]    # (..., 1): axes i, i+1 parallel
-            # skew axes: closest points p + t u (axis i) and r + s v (axis i+1)
-            w = r - p
-            uv, wu, wv = dot(u, v), dot(w, u), dot(w, v)
-            den = 1.0 - uv * uv
-            t = ((wu - wv * uv) / den)[..., None]
-            s = ((wu * uv - wv) / den)[..., None]
-            foot_j = r + s * v
-            xi = n / sn[..., None]
-            if i == 1:
-                o[0] = np.where(par, p, p + t * u)
-            # parallel axes: the normal through the previous origin
-            ref = o[i - 1]
-            wp = r - ref
-            wp = wp - u * dot(wp, u)[..., None]
-            nw = np.sqrt(dot(wp, wp))[..., None]
-            if i == 1:                               # axes 1 and 2 coincide: any normal
-                prev = cross(u, np.where(np.abs(u[..., :1]) < 0.9, [1.0, 0.0, 0.0],
-                                         [0.0, 1.0, 0.0]))
-            else:
-                prev = x[i - 1]
-            xp = np.where(nw > 1e-9 * L, wp / nw, prev)
-            xi = np.where(par, xp, xi)
-            foot_j = np.where(par, ref + wp, foot_j)
-            xi = xi - v * dot(xi, v)[..., None]
-            x[i] = unit(xi)
-            o[i] = foot_j
-            if i == 1:
-                x[0] = unit(x[1] - z[0] * dot(x[1], z[0])[..., None])
-    x[6], o[6] = unit(x[5] - z[6] * dot(x[5], z[6])[..., None]), o[5]
-    X, Z, O = (np.stack(f, axis=-2) for f in (x, z, o))
-    F = np.zeros(dirs.shape[:-2] + (7, 4, 4))
-    F[..., :3, 0] = X
-    F[..., :3, 1] = cross(Z, X)
-    F[..., :3, 2] = Z
-    F[..., :3, 3] = O
-    F[..., 3, 3] = 1.0
-    return F
+from ...spatial import invert_transform
+from ...structure import dh_frames
+from .common import CUBIC_IDX, GRID, H2, PARALLEL_TOL, U_IDX, VINV2, VINV3, cubic_map, dh, f14
 
 
 class Model:
@@ -215,7 +161,7 @@ class Model:
         Model
             With the leading dimensions of the arguments.
         """
-        F = _dh_frames(dirs, pts, L)
+        F = dh_frames(dirs, pts, L, PARALLEL_TOL)
         G = invert_transform(F[..., :-1, :, :]) @ F[..., 1:, :, :]   # A_i(offset_i) (.., 6, 4, 4)
         theta0 = np.arctan2(G[..., 1, 0], G[..., 0, 0])
         d = G[..., 2, 3]
