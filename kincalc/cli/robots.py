@@ -64,7 +64,7 @@ def list_(
     t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots" + (f" {which}" if which
                                                                           else ""),
               title_justify="left")
-    for col in ("name", "dof", "structure", "convention", "units", "ik"):
+    for col in ("name", "dof", "structure", "convention", "ik", "units"):
         t.add_column(col, no_wrap=True)
     # a title squeezed narrower than this reads a word a line: then it gets a panel of its own
     t.add_column("title", min_width=25)
@@ -72,8 +72,8 @@ def list_(
         if "error" in e:
             t.add_row(e["name"], "", "", "", "", "", f"[red]broken: {e['error']}[/red]")
         else:
-            t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["units"],
-                      e["ik"], e["title"])
+            t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["ik"],
+                      e["units"], e["title"])
     console().print(t)
 
 

@@ -96,7 +96,10 @@ def _text(robot, numeric) -> str:
     out.append(f"convention: {robot.convention}")
     out.append(f"units: {{length: {robot.length_unit}, angle: {robot.angle_unit}}}")
     if robot.parameters:
-        items = ", ".join(f"{yaml_string(k, plain_ok=True)}: {num(v)}" for k, v in robot.parameters)
+        # the file's own values, never converted: written exactly (num would shorten
+        # 0.5773502691896257, a parameter given to full precision)
+        items = ", ".join(f"{yaml_string(k, plain_ok=True)}: {_exact(v)}"
+                          for k, v in robot.parameters)
         out.append(f"parameters: {{{items}}}")
     out.append("joints:")
     exprs = list(robot.expressions) + [()] * (robot.dof - len(robot.expressions))
@@ -154,6 +157,25 @@ def num(x: float) -> str:
     x = float(x)
     if not np.isfinite(x):
         raise ValueError(f"cannot write {x!r} in a robot file")
+    text = _short(x)
+    # the text read back must write as itself (a file rewritten is unchanged): shortening
+    # the shortened value can drop one more digit, so go on to the fixed point (a few
+    # SHORT_TOL at most)
+    while (again := _short(float(text))) != text:
+        text = again
+    return text
+
+
+def _exact(x: float) -> str:
+    """``x`` as the shortest text that reads back as exactly ``x`` (an integer as one)."""
+    x = float(x)
+    if not np.isfinite(x):
+        raise ValueError(f"cannot write {x!r} in a robot file")
+    return str(int(x)) if x.is_integer() and abs(x) < 1e15 else repr(x)
+
+
+def _short(x: float) -> str:
+    """One step of :func:`num`: the integer, 0, or the shortest decimal near ``x``."""
     if abs(x) < CLEAN_TOL:
         return "0"
     nearest = round(x)

@@ -296,3 +296,17 @@ def test_absurd_lengths_are_refused_not_compared(tmp_path, capsys):
     status = main(["compare", "planar_3r", str(f)])
     err = capsys.readouterr().err
     assert status == 2 and "huge.yaml:5" in err and "too large" in err
+
+
+def test_a_number_written_reads_back_and_writes_as_itself():
+    """xarm6's tool z, 112.000000459881 mm, wrote as 112.00000045988 the second time: a
+    file rewritten must be unchanged."""
+    rng = np.random.default_rng(8)
+    values = np.concatenate([rng.uniform(-1, 1, 3000) * 10.0 ** rng.integers(-6, 6, 3000),
+                             112.0 + rng.uniform(0, 1e-6, 2000), [112.000000459881]])
+    for x in values:
+        text = num(x)
+        assert num(float(text)) == text, (x, text)
+        assert abs(float(text) - x) <= 1e-13 * max(abs(x), 1e-300) + 1e-300 or \
+            abs(x) < 1e-12
+    assert num(112.00000045988099) == num(112.000000459881)
