@@ -1,10 +1,11 @@
-"""Robots that are only nearly of a family (issue 14, item 10): a calibrated model or a
+"""Robots that are only nearly of a family (issue 14, item 10; issue 17): a calibrated model or a
 datasheet rounded to a few digits has axes that meet or are parallel to 1e-7, not
 exactly. kincalc must still return every real solution of the robot as given, at
 machine precision, and never call a pose it reaches "unreachable".
 
 Each test perturbs the DH parameters of a structured robot (random ones of every family
-and the bundled PUMA 560) by 1e-10 .. 1e-5, takes poses from FK of random joints, and
+and the bundled PUMA 560) by 1e-10 .. 1e-4 (beyond 1e-5 with a stated ``structure_tol``),
+takes poses from FK of random joints, and
 asks for them back: the generating joints must be among the answers, every answer must
 reproduce the pose by FK to 1e-9 of the arm's size, and for six revolute joints the set
 must be the general 6R elimination's (an independent solver that needs no structure).
@@ -88,18 +89,22 @@ FAMILIES = ["spherical-wrist", "three-parallel", "parallel-four-wrist", "planar-
 
 
 @pytest.mark.parametrize("family", FAMILIES)
-@pytest.mark.parametrize("size", SIZES)
+@pytest.mark.parametrize("size", SIZES + [1e-4])
 def test_random_robots_of_each_family_perturbed(family, size):
-    rng = np.random.default_rng([FAMILIES.index(family), SIZES.index(size)])
+    rng = np.random.default_rng([FAMILIES.index(family), (SIZES + [1e-4]).index(size)])
     for trial in range(3):
         exact = random_family_robot(rng, family)
-        r = perturbed(exact, rng, size)
+        # sizes up to 1e-4: beyond the default tolerance a robot is stated rough enough
+        r = dataclasses.replace(perturbed(exact, rng, size),
+                                structure_tol=None if size < 1e-4 else 1e-2)
         fam = plan(r)[1]
         for q in sample_configurations(r, 5, rng):
             T = r.fk(q)
             if fam is None:          # out of every family: the numerical solver's one answer
                 continue
             res = solve(r, Target(T, orientation=fam.needs_orientation))
+            if not fam.exact and fam.name != "general-6r":     # the report is present
+                assert "only to within" in res.method, res.method
             if fam.needs_orientation:
                 assert_complete(r, q, T, res)
             else:
