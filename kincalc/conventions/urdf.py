@@ -39,11 +39,11 @@ from ..limits import MAX_MAGNITUDE, quote
 from ..model import Joint, Robot
 from ..spatial import invert_transform, matrix_from_rpy, transform
 from .reader import read_text
+from .reader.robot_file import NAME_RE
 
 MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 REFUSED = {"floating": "a floating joint (6 DOF) is not a serial joint",
            "planar": "a planar joint (3 DOF) is not a serial joint"}
-NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
 
 
 @dataclass
