@@ -194,23 +194,20 @@ def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
     and Control*, sec. 3.2): frame i's z axis along axis i+1 and its x axis along the
     common normal of axes i and i+1, batched over independent sets of axes.
 
-    Skew axes: x is ``z_{i-1} x z_i`` and the origin the foot of the common normal on axis
-    i+1 (a may be negative); meeting axes: the same cross product, the origin at the
-    intersection; parallel axes (sine of their angle below ``parallel_tol``): the normal
-    through frame i-1's origin (d = 0); coincident axes keep frame i-1's x. A prismatic
-    axis is a direction only: its line is taken through frame i-1's origin. Frame 0 sits
-    on axis 1 at the foot of its common normal with axis 2, its x along frame 1's; frame
-    n shares frame n-1's origin and x (projected). Any frame 0 on axis 1 and frame n
-    along axis n may replace them: the rows between stay valid.
+    Skew or meeting axes: x along ``z_{i-1} x z_i``, the origin the foot of the common
+    normal on axis i+1 (the intersection; a may be negative); parallel axes (sine below
+    ``parallel_tol``): the normal through frame i-1's origin (d = 0); coincident axes keep
+    frame i-1's x; a prismatic axis (a direction only) is put through frame i-1's origin.
+    Frame 0 sits on axis 1 at the foot of its normal with axis 2, frame n at frame n-1's
+    origin; any frame 0 on axis 1 and frame n along axis n may replace them.
 
     Parameters
     ----------
     dirs, pts : ndarray (..., n, 3)
         Unit directions of the axes and a point on each, one frame for all (m).
-    L : float
-        The arm's size (m): coincident axes are those within ``1e-9 L``.
-    parallel_tol : float
-        Sine of the angle below which consecutive axes are parallel.
+    L, parallel_tol : float
+        The arm's size (m; coincident axes are within ``1e-9 L``), and the sine of the
+        angle below which consecutive axes are parallel.
     revolute : array_like (n,) of bool, optional
         False for prismatic joints (default: all revolute).
 
@@ -265,13 +262,17 @@ def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
             o[i] = foot_j
             if i == 1:
                 x[0] = _unit(x[1] - z[0] * _dot(x[1], z[0])[..., None])
-    if n == 1:
+    if n == 1:                                       # one axis: any normal to it
         x[0] = _unit(cross(z[0], np.where(np.abs(z[0][..., :1]) < 0.9, [1.0, 0.0, 0.0],
                                           [0.0, 1.0, 0.0])))
         o[0] = pts[..., 0, :] if moving_line[0] else np.zeros_like(pts[..., 0, :])
     x[n], o[n] = _unit(x[n - 1] - z[n] * _dot(x[n - 1], z[n])[..., None]), o[n - 1]
-    X, Z, O = (np.stack(f, axis=-2) for f in (x, z, o))
-    F = np.zeros(dirs.shape[:-2] + (n + 1, 4, 4))
+    return _poses(*(np.stack(f, axis=-2) for f in (x, z, o)))
+
+
+def _poses(X, Z, O) -> np.ndarray:
+    """Frames ``(..., 4, 4)`` from their x and z axes and origins ``(..., 3)``."""
+    F = np.zeros(X.shape[:-1] + (4, 4))
     F[..., :3, 0] = X
     F[..., :3, 1] = cross(Z, X)
     F[..., :3, 2] = Z
