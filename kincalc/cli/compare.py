@@ -58,7 +58,13 @@ def compare(
     match, and why. Exit status 0 same, 1 different, 2 bad input.
     """
     from ..analysis.compare import compare as _compare
-    a, b = load_robot(robot_a, base_link, tip_link), load_robot(robot_b, base_link, tip_link)
+    from ..conventions.library import URDF_SUFFIXES
+    if (base_link or tip_link) and not any(r.lower().endswith(URDF_SUFFIXES)
+                                           for r in (robot_a, robot_b)):
+        load_robot(robot_a, base_link, tip_link)       # refused: neither robot is a URDF
+    # the links choose the chain of whichever robot is a URDF (a YAML robot has none)
+    a, b = (load_robot(r, *((base_link, tip_link) if r.lower().endswith(URDF_SUFFIXES)
+                            else (None, None))) for r in (robot_a, robot_b))
     units = display_units(a, deg, unit)
     result = _compare(a, b, units, arguments=(robot_a, robot_b), samples=samples, seed=seed,
                       allow_offsets=allow_offsets, free_base=free_base, free_tool=free_tool)

@@ -144,3 +144,13 @@ def test_robots_list_filters_by_family_and_dof():
                                          if e["ik"] == "three-parallel" and e["dof"] == 6}
     status, out, err = run_cli(["robots", "list", "--dof", "7"])
     assert status == 0 and "with 7 joints" in out and "panda" in out and "puma560" not in out
+
+
+def test_compare_applies_the_links_to_the_urdf_side(arms):
+    """A YAML robot against a URDF's chosen chain: the links were refused for the YAML."""
+    status, out, err = run_cli(["compare", "ur5", str(arms / "ur5.urdf"), "--base-link", "base",
+                                "--tip-link", "tool0", "--free-tool", "--json"])
+    assert status == 0, err
+    assert json.loads(out)["same"]
+    status, out, err = run_cli(["compare", "ur5", "puma560", "--tip-link", "tool0"])
+    assert status == 2 and "not a .urdf file" in err
