@@ -259,6 +259,9 @@ def load_robot(name: str, base_link: str | None = None, tip_link: str | None = N
     import dataclasses
 
     from ..conventions.library import load
+    import math
+    if structure_tol is not None and not math.isfinite(structure_tol):
+        raise InputError(f"--structure-tol: {structure_tol} is not a finite number")
     robot = load(name, base_link=base_link, tip_link=tip_link)
     return robot if structure_tol is None else \
         dataclasses.replace(robot, structure_tol=structure_tol)

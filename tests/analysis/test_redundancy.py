@@ -138,7 +138,10 @@ def test_lock_on_the_command_line():
     assert status == 0 and "locked" in out
     for bad, words in ((["--lock", "9=1"], "no joint '9'"), (["--lock", "3"], "JOINT=VALUE"),
                        (["--lock", "3=x"], "not a number"),
-                       (["--lock", "3=1", "--lock", "3=2"], "locked twice")):
+                       (["--lock", "3=1", "--lock", "3=2"], "locked twice"),
+                       (["--lock", "A3=1e400"], "not a finite number"),
+                       (["--lock", "=5"], "JOINT=VALUE"), (["--lock", "0=1"], "no joint '0'"),
+                       ([x for k in range(1, 8) for x in ("--lock", f"{k}=0")], "nothing is left")):
         status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, *bad])
         assert status == 2 and words in err and err.count("\n") == 1, err
 

@@ -204,3 +204,11 @@ def test_structure_tol_on_the_command_line(tmp_path):
     assert status == 0 and "only to within" not in json.loads(out)["method"]["description"]
     status, out, err = run_cli(argv + ["--structure-tol", "0.5"])
     assert status == 2 and "--structure-tol" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-1", "0.5", "x"])
+def test_a_structure_tolerance_that_is_no_number_is_refused(value):
+    from cli_contract import run_cli
+    status, out, err = run_cli(["ik", "puma560", "--from-q", "1 2 3 4 5 6",
+                                "--structure-tol", value])
+    assert status == 2 and out == "" and "--structure-tol" in err and err.count("\n") == 1
