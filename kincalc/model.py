@@ -401,9 +401,18 @@ def _rz_tz(theta, d) -> np.ndarray:
 
 
 def axis_frame(axis, point) -> np.ndarray:
-    """A frame ``(4, 4)`` with origin ``point`` and z along the unit ``axis``.
+    """A frame with its z axis along a joint axis.
 
-    The x axis is chosen deterministically perpendicular to z.
+    Parameters
+    ----------
+    axis, point : array_like (3,)
+        The axis direction (normalised here) and a point on it (m).
+
+    Returns
+    -------
+    ndarray (4, 4)
+        The frame's pose: origin ``point``, z along ``axis``, x chosen deterministically
+        perpendicular to z (from the x or y axis of the frame the inputs are in).
     """
     z = np.asarray(axis, dtype=float)
     z = z / np.linalg.norm(z)

@@ -56,6 +56,7 @@ class Element:
     children: list = field(default_factory=list)
 
     def first(self, tag: str):
+        """The first child element named ``tag``, or None."""
         return next((c for c in self.children if c.tag == tag), None)
 
 
@@ -76,7 +77,25 @@ class UrdfJoint:
 
 
 def parse_xml(text: str, file: str) -> Element:
-    """The element tree of ``text``; a DOCTYPE (and so any entity) is refused."""
+    """The element tree of a URDF's text, a DOCTYPE (and so any entity) refused.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    file : str
+        How errors name the file.
+
+    Returns
+    -------
+    Element
+        The ``<robot>`` element, each element with its 1-based line.
+
+    Raises
+    ------
+    RobotFileError
+        XML that is not well formed, a DOCTYPE, or a root element other than ``<robot>``.
+    """
     import xml.parsers.expat as expat
 
     parser = expat.ParserCreate()
@@ -105,12 +124,12 @@ def parse_xml(text: str, file: str) -> Element:
         raise RobotFileError(file, exc.lineno, "not well-formed XML: "
                              f"{expat.ErrorString(exc.code)}") from None
     if root[0].tag != "robot":
-        raise RobotFileError(file, root[0].line, f"the root element is <{cut_tag(root[0].tag)}>,"
+        raise RobotFileError(file, root[0].line, f"the root element is <{_cut_tag(root[0].tag)}>,"
                                                  " not <robot>: not a URDF")
     return root[0]
 
 
-def cut_tag(tag: str) -> str:
+def _cut_tag(tag: str) -> str:
     return tag if len(tag) <= 40 else tag[:37] + "..."
 
 
@@ -230,7 +249,29 @@ def _stem(path) -> str:
 
 def parse_urdf_text(text: str, file: str = "<urdf>", base_link: str | None = None,
                     tip_link: str | None = None, stem: str = "urdf") -> Robot:
-    """Parse URDF ``text`` (see :func:`load_urdf`); ``file`` names it in errors."""
+    """A URDF's text as a ``poe`` robot (:func:`load_urdf` without the file).
+
+    Parameters
+    ----------
+    text : str
+        The URDF.
+    file : str
+        How errors name it.
+    base_link, tip_link : str, optional
+        The chain's first and last link (defaults: module docstring).
+    stem : str
+        The robot's name when the URDF's own is not a valid robot name.
+
+    Returns
+    -------
+    Robot
+        As :func:`load_urdf`.
+
+    Raises
+    ------
+    RobotFileError
+        As :func:`load_urdf`.
+    """
     root = parse_xml(text, file)
     reader = _Reader(file)
     links = {}
