@@ -108,7 +108,7 @@ class Solved:
                 from ..fk import FEW, columns_of, frame_columns
                 cols = (columns_of(self._frames(self.candidate)[0]) if len(idx[0]) <= FEW
                         else frame_columns(self.robot.chain, self.q[self.candidate]))
-                lab[idx] = labels(self.robot, self.spec.solver, cols, self.signs, idx[1],
+                lab[idx] = labels(self.robot, self.spec.name, cols, self.signs, idx[1],
                                   self.free[idx])
             self.memo["labels"] = lab
         return self.memo["labels"]

@@ -143,7 +143,8 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     ----------
     robot : Robot
     family : str
-        The family's solver name (:attr:`Family.solver <kincalc.ik.families.Family.solver>`).
+        The family's name (a ``reversed-`` family has no geometric words: its wrist is at
+        the base, and the words' rules read joints 4-6 as the wrist).
     frames : list of (tuple of 3 ndarray (3, s), ndarray (3, s))
         Their joint frames (:func:`kincalc.fk.frame_columns`, world frame, m).
     signs : tuple

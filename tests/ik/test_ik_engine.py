@@ -148,3 +148,20 @@ def test_round_trips_through_robot_ik(name):
         for s in res.solutions:
             assert s.position_error <= 1e-9 * robot.characteristic_length
             assert s.orientation_error <= 1e-9
+
+
+def test_labels_of_a_wrist_at_the_base_tell_every_branch_apart():
+    """A reversed family (the wrist at the base) had the words of a wrist at the tool put
+    on the robot's own joints 4-6: two branches of one pose read "shoulder right wrist
+    no-flip joint2:+ joint4:+". Every solution of a pose has its own label."""
+    from test_ik import wrist_first_robot
+    from kincalc.analysis.redundancy import locked_robot
+    from kincalc.ik.selftest import sample_configurations
+    import kincalc
+    rng = np.random.default_rng(31)
+    robots = [wrist_first_robot(rng) for _ in range(4)]
+    robots.append(locked_robot(kincalc.load_robot("panda"), {6: 0.4}))
+    for r in robots:
+        for q in sample_configurations(r, 10, rng):
+            labels = [s.branch for s in r.ik(r.fk(q)).solutions]
+            assert len(labels) == len(set(labels)), labels
