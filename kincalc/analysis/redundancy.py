@@ -135,8 +135,7 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
     res = solve(reduced, target, near=None if near_full is None else near_full[keep],
                 **options)
     held = [(j, v) for j, v in sorted(locks.items())]
-    outside = [(j, *_beyond(robot.limits[j], v)) for j, v in held
-               if _beyond(robot.limits[j], v) is not None]
+    outside = [(j, *b) for j, v in held if (b := _beyond(robot.limits[j], v)) is not None]
 
     def full(q):
         out = np.empty(robot.dof)

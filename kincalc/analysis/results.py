@@ -238,6 +238,14 @@ class JacobianResult:
         return out
 
 
+def locked_entries(robot, locked, u: Units) -> list:
+    """``[{"joint": name, "value": v}]`` of held joints ``((index, value SI), ...)``, the
+    values in the units ``u``: the ``locked`` field of ik and reach documents."""
+    return [{"joint": robot.joints[j].name,
+             "value": json_numbers(v * (u.a if robot.joints[j].revolute else u.l))}
+            for j, v in locked]
+
+
 def ik_document(result) -> dict:
     """The JSON document of an IK answer (:class:`~kincalc.ik.solve.IKResult`), in its
     units (the robot file's when it has none): what ``kincalc ik --json`` prints and the
@@ -260,9 +268,7 @@ def ik_document(result) -> dict:
         "solutions": [_ik_solution(robot, s, u) for s in result.solutions],
     })
     if result.locked:
-        out["locked"] = [{"joint": robot.joints[j].name,
-                          "value": json_numbers(v * (u.a if robot.joints[j].revolute else u.l))}
-                         for j, v in result.locked]
+        out["locked"] = locked_entries(robot, result.locked, u)
     if result.rejected is not None:
         out["rejected"] = [
             {"q": u.joints(robot, r["q"]), "branch": r["branch"],

@@ -54,10 +54,8 @@ def reach(
                     given=pose_options.given(), refused={"--lock": lock},
                     input_format=input_format)
     target = pose_options.target(rob, units)
-    from ..analysis.results import json_numbers
-    held = [{"joint": rob.joints[j].name,
-             "value": json_numbers(v * (units.a if rob.joints[j].revolute else units.l))}
-            for j, v in sorted(locks.items())]
+    from ..analysis.results import locked_entries
+    held = locked_entries(rob, sorted(locks.items()), units)
     if locks:       # the question is asked of the chain the held joints leave
         from ..analysis.redundancy import locked_robot
         rob = locked_robot(rob, locks)
