@@ -566,3 +566,24 @@ def test_rotation_log_of_newton_matches_the_quaternion_route():
     angles = np.concatenate([rng.uniform(0, np.pi, 396), [0.0, 1e-9, np.pi - 1e-9, np.pi]])
     R = matrix_from_axis_angle(axes, angles)
     assert np.allclose(rotation_log(*skew_trace(R), R), rotvec_from_matrix(R), atol=1e-12)
+
+
+def test_pose_no_candidate_reaches_after_polishing():
+    """A pose where every candidate is polished (some move) and none reaches it: no
+    solution, not a crash (the duplicate check ran on an empty set). The Kinova Gen3 with
+    its joint 6 held at -3 deg is a general 6R; the pose, made with joint 6 at 50 deg, is
+    outside its reach: many-start Newton on the same chain finds nothing either."""
+    from kincalc.analysis.redundancy import locked_robot
+    gen3 = load_robot("kinova_gen3")
+    T = gen3.fk(D([10, 40, 20, -60, 30, 50, -20]))
+    chain = locked_robot(gen3, {5: D(-3.0)})
+    assert solve_general_6r(chain, T).shape == (0, 6)
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        for _ in range(40):
+            Tq = chain.fk(q)
+            e = np.concatenate([Tq[:3, 3] - T[:3, 3],
+                                0.5 * sum(np.cross(T[:3, i], Tq[:3, i]) for i in range(3))])
+            q = q - np.linalg.lstsq(chain.jacobian(q), e, rcond=None)[0]
+        assert residual(chain, T, q[None])[0] > 1e-6

@@ -80,6 +80,8 @@ def _solve_block(data, T, Q_out, ok):
     Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
     acc = res < ACCEPT_TOL
     pose, Qp = pose[acc], wrap(Qp[acc])
+    if not len(pose):                   # no candidate reaches its pose: no solution
+        return
     rank = np.arange(len(pose)) - np.searchsorted(pose, pose)     # in slot order
     if width > 16 or nnz(moved):
         # duplicates: a solution within MERGE_TOL of one in an earlier slot of its pose
