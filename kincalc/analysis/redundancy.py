@@ -88,6 +88,36 @@ def locked_robot(robot: Robot, locks: dict[int, float]) -> Robot:
                  structure_tol=robot.structure_tol)
 
 
+def check_lock(robot: Robot, reduced: Robot, locks: dict[int, float]) -> None:
+    """Refuse locks that leave a chain with a self-motion of its own.
+
+    Parameters
+    ----------
+    robot : Robot
+        The whole arm.
+    reduced : Robot
+        ``locked_robot(robot, locks)``.
+    locks : dict of int to float
+        Joint index (0-based) -> held value (rad / m).
+
+    Raises
+    ------
+    InputError
+        The reduced chain's generic Jacobian rank is below both its joint count (up to 6)
+        and the whole arm's rank (the elbow of an arm whose shoulder and wrist are
+        spherical: the arm still turns about the shoulder-wrist line), so its solutions
+        form a continuum.
+    """
+    rank = reduced.generic_ranks[0]
+    if rank < min(reduced.dof, 6) and rank < robot.generic_ranks[0]:
+        held = ", ".join(robot.joints[j].name for j in sorted(locks))
+        raise InputError(f"locking {held} of {robot.name} leaves a chain that still moves "
+                         f"without moving the tool (its Jacobian has rank {rank} for "
+                         f"{reduced.dof} joints): its solutions form a continuum, not a set "
+                         "of branches; lock another joint (of an arm with a spherical "
+                         "shoulder and wrist, any but the elbow)")
+
+
 def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
                  near=None, **options) -> IKResult:
     """Every IK solution of ``robot`` for ``target`` with the joints ``locks`` held.
@@ -122,14 +152,7 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
         ``locked`` lists ``(index, value)``.
     """
     reduced = locked_robot(robot, locks)
-    rank = reduced.generic_ranks[0]
-    if rank < min(reduced.dof, 6) and rank < robot.generic_ranks[0]:
-        held = ", ".join(robot.joints[j].name for j in sorted(locks))
-        raise InputError(f"locking {held} of {robot.name} leaves a chain that still moves "
-                         f"without moving the tool (its Jacobian has rank {rank} for "
-                         f"{reduced.dof} joints): its solutions form a continuum, not a set "
-                         "of branches; lock another joint (of an arm with a spherical "
-                         "shoulder and wrist, any but the elbow)")
+    check_lock(robot, reduced, locks)
     keep = [k for k in range(robot.dof) if k not in locks]
     near_full = None if near is None else np.asarray(near, float)
     res = solve(reduced, target, near=None if near_full is None else near_full[keep],

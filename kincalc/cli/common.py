@@ -162,13 +162,7 @@ def parse_locks(items: list[str] | None, robot, units) -> dict:
         if not sep or not joint or not value.strip():
             raise InputError(f"--lock: {quote(item)} is not JOINT=VALUE (a joint name or "
                              "number, then its value)")
-        if joint in names:
-            k = names.index(joint)
-        elif joint.isdigit() and 1 <= int(joint) <= robot.dof:
-            k = int(joint) - 1
-        else:
-            raise InputError(f"--lock: {robot.name} has no joint {quote(joint)} (joints "
-                             f"{', '.join(names)}, or 1..{robot.dof})")
+        k = joint_index(joint, robot, "--lock")
         if k in locks:
             raise InputError(f"--lock: joint {names[k]} is locked twice")
         try:
@@ -182,6 +176,19 @@ def parse_locks(items: list[str] | None, robot, units) -> dict:
         raise InputError(f"--lock: every joint of {robot.name} is locked; nothing is left "
                          "to solve")
     return locks
+
+
+def joint_index(joint: str, robot, option: str) -> int:
+    """The 0-based index of the joint a user named (its name, or its number from 1)."""
+    from ..limits import quote
+    names = [j.name for j in robot.joints]
+    joint = joint.strip()
+    if joint in names:
+        return names.index(joint)
+    if joint.isdigit() and 1 <= int(joint) <= robot.dof:
+        return int(joint) - 1
+    raise InputError(f"{option}: {robot.name} has no joint {quote(joint)} (joints "
+                     f"{', '.join(names)}, or 1..{robot.dof})")
 
 
 def check_number(value: float, what: str) -> float:

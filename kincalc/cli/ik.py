@@ -6,7 +6,7 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, FormatOpt, InputFormatOpt,
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, InputFormatOpt,
                      JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt,
                      UnitOpt, display_units, load_robot, output, output_target, parse_locks)
 from .targets import PoseOptions, with_pose_options
@@ -17,7 +17,8 @@ AllBranchesOpt = Annotated[bool, typer.Option(
 NearOpt = Annotated[Optional[str], typer.Option(
     "--near", metavar="'Q1 Q2 ...'", show_default=False,
     help="The current joints (one quoted argument): solutions are ordered by their change "
-         "from them, and the numerical solver starts there.")]
+         "from them, and the numerical solver starts there; with --sweep, the value and "
+         "branch nearest them.")]
 NumericOpt = Annotated[bool, typer.Option(
     "--numeric", help="Find the one solution nearest --near numerically (Levenberg-Marquardt, "
                       "then least change), even when a closed form exists. Robots no closed "
@@ -25,13 +26,34 @@ NumericOpt = Annotated[bool, typer.Option(
 PlotOpt = Annotated[Optional[str], typer.Option(
     "--plot", metavar="FILE", show_default=False, click_type=FileName(),
     help="Also draw every solution side by side, each titled with its branch, to FILE "
-         "(.png, .svg or .pdf; needs the 'plot' extra). An existing FILE is not replaced "
-         "without --force.")]
+         "(.png, .svg or .pdf; needs the 'plot' extra); with --sweep, each joint against "
+         "the swept value. An existing FILE is not replaced without --force.")]
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let --plot replace an existing regular file (never a link, a device or "
                     "the robot or --pose file).")]
 DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
                                      help="Pixels per inch of a PNG --plot.")]
+SweepOpt = Annotated[Optional[str], typer.Option(
+    "--sweep", metavar="JOINT", show_default=False,
+    help="Redundant arms: hold JOINT (a name or number) at each of --steps values from "
+         "--from to --to and solve the other joints with every branch, joined into "
+         "continuous branches along the values; reports where each branch is within the "
+         "limits and where branches meet or leave the reach. --plot draws each joint "
+         "against the swept value; --format csv gives every value.")]
+FromOpt = Annotated[Optional[float], typer.Option(
+    "--from", metavar="VALUE", show_default=False,
+    help="First value of --sweep, in the angle or length unit (default: the joint's lower "
+         "limit).")]
+ToOpt = Annotated[Optional[float], typer.Option(
+    "--to", metavar="VALUE", show_default=False,
+    help="Last value of --sweep (default: the joint's upper limit).")]
+StepsOpt = Annotated[Optional[int], typer.Option(
+    "--steps", metavar="N", min=2, max=100000, show_default=False,
+    help="Number of values of --sweep, evenly spaced, ends included (default 181).")]
+SweepFormatOpt = Annotated[str, typer.Option(
+    "--format", metavar="jsonl|csv",
+    help="Output format of --batch; with --sweep, csv prints one row per value and branch "
+         "instead of the tables.")]
 ExplainOpt = Annotated[bool, typer.Option(
     "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
 
@@ -48,7 +70,7 @@ def ik(
     dpi: DpiOpt = 100,
     force: ForceOpt = False,
     batch: BatchOpt = None,
-    fmt: FormatOpt = "jsonl",
+    fmt: SweepFormatOpt = "jsonl",
     input_format: InputFormatOpt = "auto",
     jobs: JobsOpt = 1,
     deg: DegOpt = True,
@@ -59,6 +81,10 @@ def ik(
     tip_link: TipLinkOpt = None,
     structure_tol: StructureTolOpt = None,
     lock: LockOpt = None,
+    sweep: SweepOpt = None,
+    start: FromOpt = None,
+    stop: ToOpt = None,
+    steps: StepsOpt = None,
     debug: DebugOpt = False,
 ):
     """Inverse kinematics: every joint solution that reaches a pose.
@@ -73,12 +99,12 @@ def ik(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..ik import solve
-    plot_to = None
-    if plot is not None and batch is None:
-        from ..analysis.plot import check_output, require_matplotlib
-        plot_to = output_target(plot, "--plot", force, robot, [("--pose", pose_options.pose)])
-        check_output(plot_to)
-        require_matplotlib("kincalc ik --plot")
+    from .sweep import check_sweep_options
+    check_sweep_options(sweep, start, stop, steps, fmt, {
+        "--all-branches": all_branches, "--explain": explain, "--numeric": numeric,
+        "--batch": batch is not None, "--tcv": pose_options.tcv is not None})
+    plot_to = None if plot is None or batch is not None else \
+        _plot_target(plot, force, robot, pose_options.pose)
     rob = load_robot(robot, base_link, tip_link, structure_tol)
     units = display_units(rob, deg, unit)
     if batch is not None:
@@ -97,6 +123,10 @@ def ik(
     options = dict(all_branches=all_branches, explain=explain, units=units, near=q_near,
                    numeric=numeric)
     locks = parse_locks(lock, rob, units)
+    if sweep is not None:
+        from .sweep import run_sweep
+        return run_sweep(rob, target, units, sweep, start, stop, steps, locks, near=q_near,
+                         plot_to=plot_to, dpi=dpi, fmt=fmt, json=json, precision=precision)
     if locks:
         from ..analysis.redundancy import solve_locked
         result = solve_locked(rob, target, locks, **options)
@@ -109,6 +139,16 @@ def ik(
     output(doc, json, _tables, rob, precision, explain)
     if not result.reachable:
         raise typer.Exit(1)
+
+
+def _plot_target(plot: str, force: bool, robot: str, pose: str | None):
+    """The checked output target of ``--plot`` (before any work: a file that may not be
+    written, or a missing matplotlib, is said at once)."""
+    from ..analysis.plot import check_output, require_matplotlib
+    target = output_target(plot, "--plot", force, robot, [("--pose", pose)])
+    check_output(target)
+    require_matplotlib("kincalc ik --plot")
+    return target
 
 
 def _plot_solutions(robot, result, target, units, dpi):

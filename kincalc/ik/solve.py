@@ -25,7 +25,7 @@ from .engine import TCV, Solved, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
-from ..spatial import wrap
+from ..spatial import turn_toward, wrap
 from .target import Targets
 
 #: --all-branches lists cross combinations only up to this many
@@ -314,15 +314,10 @@ def _dead_ends(robot, sv: Solved) -> list:
 
 
 def _toward(robot, q, near):
-    """``q`` with each revolute joint moved by a multiple of 2 pi, inside its limits, to
-    the value nearest ``near`` (a joint that may turn more than once takes the short way)."""
-    q = np.array(q, float)
+    """``q`` with each revolute joint moved by whole turns, inside its limits, towards
+    ``near`` (:func:`kincalc.spatial.turn_toward`)."""
     lo, hi = robot.limits.T
-    for i in np.flatnonzero(robot.is_revolute):
-        options = [q[i] + 2 * np.pi * k for k in range(-3, 4)]
-        options = [x for x in options if lo[i] - 1e-12 <= x <= hi[i] + 1e-12] or [q[i]]
-        q[i] = min(options, key=lambda x: abs(x - near[i]))
-    return q
+    return np.where(robot.is_revolute, turn_toward(q, near, lo, hi), q)
 
 
 def _scaled_norm(robot, d) -> float:

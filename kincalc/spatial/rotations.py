@@ -43,6 +43,33 @@ def wrap(x) -> np.ndarray:
     return np.where(y <= -math.pi, y + TURN, np.where(y > math.pi, y - TURN, y))
 
 
+def turn_toward(x, near, lo, hi) -> np.ndarray:
+    """Angles moved by whole turns (up to 3) to the value nearest ``near`` within limits.
+
+    Parameters
+    ----------
+    x : array_like (..., n)
+        Angles (rad).
+    near : array_like (n,)
+        The angles to move towards (rad).
+    lo, hi : array_like (n,)
+        Limits (rad; 1e-12 of slack).
+
+    Returns
+    -------
+    ndarray (..., n)
+        ``x + 2 pi k`` with ``k`` in -3..3 the nearest ``near`` within ``[lo, hi]`` (a range of
+        more than a turn takes the short way); ``x`` itself where no such value is within.
+    """
+    x = np.asarray(x, float)
+    lo, hi = np.asarray(lo, float)[:, None], np.asarray(hi, float)[:, None]
+    options = x[..., None] + TURN * np.arange(-3, 4)                    # (..., n, 7)
+    inside = (options >= lo - 1e-12) & (options <= hi + 1e-12)
+    cost = np.where(inside, np.abs(options - np.asarray(near, float)[:, None]), np.inf)
+    best = np.take_along_axis(options, cost.argmin(-1)[..., None], -1)[..., 0]
+    return np.where(inside.any(-1), best, x)
+
+
 def _elementary(angle, i: int, j: int) -> np.ndarray:
     """Rotation by ``angle`` mixing axes i and j (the plane of rotation)."""
     angle = np.asarray(angle, dtype=float)

@@ -221,3 +221,22 @@ def test_wrap_stays_in_the_half_open_turn_far_from_zero():
 def test_point_line_distance_takes_lists():
     from kincalc.structure import point_line_distance
     assert point_line_distance([0, 2, 0], [0, 0, 0], [1, 0, 0]) == 2.0
+
+
+def test_turn_toward_is_the_nearest_whole_turn_within_the_limits():
+    """Against a brute-force search over k in -3..3 written with plain floats."""
+    from kincalc.spatial import turn_toward
+    rng = np.random.default_rng(17)
+    for _ in range(300):
+        n = 4
+        lo = rng.uniform(-9, 0, n)
+        hi = lo + rng.uniform(0.5, 12, n)
+        x, near = rng.uniform(-12, 12, n), rng.uniform(-6, 6, n)
+        got = turn_toward(x, near, lo, hi)
+        for i in range(n):
+            inside = [x[i] + 2 * np.pi * k for k in range(-3, 4)
+                      if lo[i] - 1e-12 <= x[i] + 2 * np.pi * k <= hi[i] + 1e-12]
+            want = min(inside, key=lambda v: abs(v - near[i])) if inside else x[i]
+            assert got[i] == pytest.approx(want, abs=1e-12)
+    X = rng.uniform(-4, 4, (5, 3, 4))                     # leading axes
+    assert turn_toward(X, np.zeros(4), -np.full(4, np.pi), np.full(4, np.pi)).shape == X.shape

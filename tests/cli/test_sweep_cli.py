@@ -1,0 +1,72 @@
+"""``kincalc ik --sweep``: tables, JSON and CSV say the same, the options are checked, a
+drawing is written."""
+
+import csv
+import io
+import json
+
+import pytest
+from cli_contract import run_cli
+
+Q0 = "10 40 20 -60 30 50 -20"
+
+
+def test_json_csv_and_tables_agree():
+    base = ["ik", "iiwa14", "--from-q", Q0, "--sweep", "A3", "--from", "-90", "--to", "90",
+            "--steps", "7"]
+    status, out, err = run_cli(base + ["--json"])
+    assert status == 0, err
+    doc = json.loads(out)
+    assert doc["sweep"]["values"] == [-90.0, -60.0, -30.0, 0.0, 30.0, 60.0, 90.0]
+    assert len(doc["branches"]) == 8 and doc["reachable"]
+    status, out, err = run_cli(base + ["--format", "csv"])
+    assert status == 0, err
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert len(rows) == sum(len(p["solutions"]) for p in doc["points"])
+    first = doc["points"][0]["solutions"][0]
+    assert float(rows[0]["A5"]) == pytest.approx(first["q"][4], abs=1e-9)
+    assert rows[0]["A3_swept"] == "-90.0" and rows[0]["label"] == first["label"]
+    status, out, err = run_cli(base)
+    assert status == 0, err
+    assert "8 branches along A3" in out and "range end" in out
+
+
+def test_near_picks_a_branch_and_value():
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", Q0, "--sweep", "3", "--steps", "19",
+                                "--near", "0 30 0 -60 0 60 0", "--json"])
+    assert status == 0, err
+    best = json.loads(out)["nearest"]
+    assert best["branch"] >= 1 and best["q"][2] == best["value"]
+
+
+def test_bad_sweep_options():
+    for extra, words in ((["--from", "10"], "--from needs --sweep"),
+                         (["--steps", "5"], "--steps needs --sweep"),
+                         (["--sweep", "A9"], "no joint 'A9'"),
+                         (["--sweep", "A4"], "continuum"),
+                         (["--sweep", "A3", "--lock", "A3=10"], "also locked"),
+                         (["--sweep", "A3", "--all-branches"], "--all-branches does not go"),
+                         (["--sweep", "A3", "--numeric"], "--numeric does not go"),
+                         (["--sweep", "A3", "--from", "nan"], "--from"),
+                         (["--sweep", "A3", "--format", "xml"], "--format")):
+        status, out, err = run_cli(["ik", "iiwa14", "--from-q", Q0, *extra])
+        assert status == 2 and words in err and err.count("\n") == 1, (extra, err)
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", Q0, "--sweep", "A3", "--steps", "1"])
+    assert status == 2 and "--steps" in err
+
+
+def test_unreachable_everywhere_exits_1():
+    status, out, err = run_cli(["ik", "iiwa14", "--xyz", "5", "0", "0", "--rpy", "0", "0", "0",
+                                "--sweep", "A1", "--steps", "5", "--json"])
+    assert status == 1, err
+    doc = json.loads(out)
+    assert not doc["reachable"] and doc["branches"] == []
+
+
+def test_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "sweep.png"
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", Q0, "--sweep", "A1", "--steps", "31",
+                                "--plot", str(path)])
+    assert status == 0, err
+    assert path.stat().st_size > 10_000 and "drawing:" in out
