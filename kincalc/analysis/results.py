@@ -258,6 +258,8 @@ def ik_document(result) -> dict:
                      "orientation_given": result.target.orientation}
     if result.target.approach is not None:
         out["target"]["approach"] = json_numbers(np.asarray(result.target.approach, float))
+    if result.target.swivel is not None:
+        out["target"]["swivel"] = json_numbers(result.target.swivel * u.a)
     out.update({
         "reachable": result.reachable,
         "reason": reason_text(result.reason, robot, u),

@@ -9,6 +9,7 @@ import typer
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, InputFormatOpt,
                      JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt,
                      UnitOpt, display_units, load_robot, output, output_target, parse_locks)
+from .redundant import RedundancyOptions, with_redundancy_options
 from .targets import PoseOptions, with_pose_options
 
 AllBranchesOpt = Annotated[bool, typer.Option(
@@ -33,23 +34,6 @@ ForceOpt = Annotated[bool, typer.Option(
                     "the robot or --pose file).")]
 DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
                                      help="Pixels per inch of a PNG --plot.")]
-SweepOpt = Annotated[Optional[str], typer.Option(
-    "--sweep", metavar="JOINT", show_default=False,
-    help="Redundant arms: hold JOINT (a name or number) at each of --steps values from "
-         "--from to --to and solve the other joints with every branch, joined into "
-         "continuous branches along the values; reports where each branch is within the "
-         "limits and where branches meet or leave the reach. --plot draws each joint "
-         "against the swept value; --format csv gives every value.")]
-FromOpt = Annotated[Optional[float], typer.Option(
-    "--from", metavar="VALUE", show_default=False,
-    help="First value of --sweep, in the angle or length unit (default: the joint's lower "
-         "limit).")]
-ToOpt = Annotated[Optional[float], typer.Option(
-    "--to", metavar="VALUE", show_default=False,
-    help="Last value of --sweep (default: the joint's upper limit).")]
-StepsOpt = Annotated[Optional[int], typer.Option(
-    "--steps", metavar="N", min=2, max=100000, show_default=False,
-    help="Number of values of --sweep, evenly spaced, ends included (default 181).")]
 SweepFormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv",
     help="Output format of --batch; with --sweep, csv prints one row per value and branch "
@@ -59,6 +43,7 @@ ExplainOpt = Annotated[bool, typer.Option(
 
 
 @with_pose_options
+@with_redundancy_options
 def ik(
     robot: RobotArg,
     pose_options: PoseOptions,
@@ -81,10 +66,7 @@ def ik(
     tip_link: TipLinkOpt = None,
     structure_tol: StructureTolOpt = None,
     lock: LockOpt = None,
-    sweep: SweepOpt = None,
-    start: FromOpt = None,
-    stop: ToOpt = None,
-    steps: StepsOpt = None,
+    redundancy: RedundancyOptions = None,
     debug: DebugOpt = False,
 ):
     """Inverse kinematics: every joint solution that reaches a pose.
@@ -99,10 +81,10 @@ def ik(
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
     from ..ik import solve
-    from .sweep import check_sweep_options
-    check_sweep_options(sweep, start, stop, steps, fmt, {
-        "--all-branches": all_branches, "--explain": explain, "--numeric": numeric,
-        "--batch": batch is not None, "--tcv": pose_options.tcv is not None})
+    redundancy.check(fmt, {"--all-branches": all_branches, "--explain": explain,
+                           "--numeric": numeric, "--batch": batch is not None,
+                           "--lock": bool(lock), "--tcv": pose_options.tcv is not None,
+                           "--approach": pose_options.approach is not None})
     plot_to = None if plot is None or batch is not None else \
         _plot_target(plot, force, robot, pose_options.pose)
     rob = load_robot(robot, base_link, tip_link, structure_tol)
@@ -113,9 +95,9 @@ def ik(
                     given=pose_options.given(),
                     refused={"--all-branches": all_branches, "--explain": explain,
                              "--near": near, "--numeric": numeric, "--plot": plot,
-                             "--lock": lock},
+                             "--lock": lock, **redundancy.given()},
                     input_format=input_format)
-    target = pose_options.target(rob, units)
+    target = redundancy.target(pose_options.target(rob, units), units)
     q_near = None
     if near is not None:
         from .common import parse_joints
@@ -123,10 +105,9 @@ def ik(
     options = dict(all_branches=all_branches, explain=explain, units=units, near=q_near,
                    numeric=numeric)
     locks = parse_locks(lock, rob, units)
-    if sweep is not None:
-        from .sweep import run_sweep
-        return run_sweep(rob, target, units, sweep, start, stop, steps, locks, near=q_near,
-                         plot_to=plot_to, dpi=dpi, fmt=fmt, json=json, precision=precision)
+    if redundancy.answers:
+        return redundancy.run(rob, target, units, locks, near=q_near, plot_to=plot_to,
+                              dpi=dpi, fmt=fmt, json=json, precision=precision)
     if locks:
         from ..analysis.redundancy import solve_locked
         result = solve_locked(rob, target, locks, **options)

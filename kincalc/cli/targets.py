@@ -98,20 +98,27 @@ def with_pose_options(command):
     """A typer command whose ``pose_options: PoseOptions`` parameter stands for the eleven
     pose options (``--xyz`` .. ``--from-q``, in that place of its signature, so --help
     lists them as before); the command receives them as one :class:`PoseOptions`."""
+    return option_group(command, "pose_options", POSE_OPTIONS, PoseOptions)
+
+
+def option_group(command, param: str, options, make):
+    """``command`` with its parameter ``param`` standing for the typer ``options``
+    (``(name, annotation)`` pairs, listed by --help in that place of its signature); the
+    command receives them as one ``make(**values)``."""
     hints = typing.get_type_hints(command, include_extras=True)
     params = []
     for p in inspect.signature(command).parameters.values():
-        if p.name == "pose_options":
+        if p.name == param:
             params += [inspect.Parameter(name, inspect.Parameter.POSITIONAL_OR_KEYWORD,
                                          default=None, annotation=annotation)
-                       for name, annotation in POSE_OPTIONS]
+                       for name, annotation in options]
         else:
             params.append(p.replace(annotation=hints.get(p.name, p.annotation)))
 
     @functools.wraps(command)
     def wrapper(*args, **kwargs):
-        values = {name: kwargs.pop(name, None) for name, _ in POSE_OPTIONS}
-        return command(*args, pose_options=PoseOptions(**values), **kwargs)
+        values = {name: kwargs.pop(name, None) for name, _ in options}
+        return command(*args, **{param: make(**values)}, **kwargs)
     wrapper.__signature__ = inspect.Signature(params)
     wrapper.__annotations__ = {p.name: p.annotation for p in params}
     return wrapper

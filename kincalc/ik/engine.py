@@ -30,7 +30,7 @@ from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
                           LIMIT_TOL, SINGULAR_TOL)
 from .branches import Branches
 from .cache import per_robot
-from .families import Family, plan
+from .families import TARGET_FAMILIES, TCV, Family, plan  # noqa: F401 (TCV: the API)
 from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
@@ -197,16 +197,16 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         A ``"tcv"`` batch of more than one target.
     """
     S, family, why = plan(robot)
-    if targets.kind == "tcv":
-        family = TCV
+    if targets.kind in TARGET_FAMILIES:
+        family = TARGET_FAMILIES[targets.kind]
     elif family is None:
         raise UnsupportedRobot(f"{robot.name}: no closed form ({why})")
     check_kind(robot, family, targets)
     N, n = len(targets), robot.dof
     br = Branches.start(N, n, explain=explain)
-    if targets.kind == "tcv":
-        from .solvers import tcv
-        br = tcv(robot, S, targets, br)
+    if targets.kind in TARGET_FAMILIES:
+        from .solvers import TARGET_SOLVERS
+        br = TARGET_SOLVERS[targets.kind](robot, S, targets, br)
     elif family.name == "general-6r":
         from .general6r import general_6r
         br = general_6r(robot, targets, br)
@@ -229,13 +229,6 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
     return _check(robot, family, method, targets, (c, s, x), candidate, br)
 
 
-#: the pseudo-family of tool-configuration-vector targets (Schilling 1990): the last
-#: joint from the vector's length, the others placing the tool point
-TCV = Family("tcv", "tool configuration vector: the last joint from |w4..w6|, the others "
-             "place the tool point, the approach vector r3 is checked",
-             "position, approach and roll", False)
-
-
 def check_kind(robot, family: Family, targets: Targets) -> None:
     """Refuse a target kind the family does not take (words for the edge to render).
 
@@ -253,7 +246,7 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
     """
     from .families import APPROACH_FAMILIES
     five = family.name in APPROACH_FAMILIES
-    if family is TCV:
+    if targets.kind in TARGET_FAMILIES:
         return
     if targets.kind == "approach" and not five:
         raise TargetMismatch(robot.name, "full orientation", family.controls)

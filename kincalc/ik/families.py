@@ -126,6 +126,19 @@ class Family:
         return self.name.removeprefix("reversed-") if self.reverse else self.name
 
 
+#: the pseudo-families of target kinds that bring their own solver: a tool configuration
+#: vector (Schilling 1990; the last joint from the vector's length, the others placing the
+#: tool point) and a pose at a swivel angle (kincalc.ik.swivel)
+TCV = Family("tcv", "tool configuration vector: the last joint from |w4..w6|, the others "
+             "place the tool point, the approach vector r3 is checked",
+             "position, approach and roll", False)
+SWIVEL = Family("srs-swivel", "spherical shoulder and wrist at a swivel angle: joint 4 from "
+                "the shoulder-wrist distance, the shoulder turns the arm into the angle's "
+                "plane, the wrist sets the orientation", "position, orientation and the "
+                "swivel angle", True)
+TARGET_FAMILIES = {"tcv": TCV, "swivel": SWIVEL}
+
+
 def _parallel(a, b, tol=1e-9) -> bool:
     return float(np.linalg.norm(cross(a, b))) < tol
 

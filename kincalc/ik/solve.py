@@ -41,12 +41,15 @@ class Target:
     configuration vector target, ``(approach (3,), last joint value q_n in rad)``; T then
     holds the position only. ``approach (3,)``: a unit approach direction (the tool z
     axis, world frame) to reach when no full orientation is given (five-joint arms).
+    ``swivel``: for an arm with a spherical shoulder and wrist, the swivel angle of its
+    elbow (rad, :mod:`kincalc.ik.swivel`) at which to reach the whole pose ``T``.
     """
 
     T: np.ndarray
     orientation: bool = True
     tcv: tuple | None = None
     approach: np.ndarray | None = None
+    swivel: float | None = None
 
     @staticmethod
     def of(targets: Targets, i: int = 0) -> "Target":
@@ -68,6 +71,8 @@ class Target:
                           tcv=(targets.approach[i].copy(), float(targets.roll[i])))
         if targets.kind == "approach":
             return Target(T, orientation=False, approach=targets.approach[i].copy())
+        if targets.kind == "swivel":
+            return Target(T, swivel=float(targets.swivel[i]))
         return Target(T, orientation=targets.kind == "pose")
 
     def targets(self) -> Targets:
@@ -76,8 +81,8 @@ class Target:
         Returns
         -------
         Targets
-            ``N = 1``, of kind ``"tcv"``, ``"approach"``, ``"pose"`` or (without an
-            orientation) ``"position"``.
+            ``N = 1``, of kind ``"tcv"``, ``"approach"``, ``"swivel"``, ``"pose"`` or
+            (without an orientation) ``"position"``.
         """
         T = np.asarray(self.T, float)[None]
         if self.tcv is not None:
@@ -86,6 +91,8 @@ class Target:
                            roll=np.array([float(qn)]))
         if self.approach is not None:
             return Targets(T, "approach", approach=np.asarray(self.approach, float)[None])
+        if self.swivel is not None:
+            return Targets(T, "swivel", swivel=np.array([float(self.swivel)]))
         return Targets(T, "pose" if self.orientation else "position")
 
 
@@ -168,7 +175,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     S, family, why = plan(robot)
     if near is not None:
         near = np.asarray(near, float).reshape(robot.dof)
-    if target.tcv is None and (family is None or numeric):
+    if target.tcv is None and target.swivel is None and (family is None or numeric):
         return _solve_numerical(robot, target, near, units,
                                 why if family is None else "asked for")
     # the steps record their intermediate quantities (explain) and their dead ends

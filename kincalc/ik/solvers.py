@@ -30,12 +30,12 @@ def _minv(S: Screws) -> np.ndarray:
     return S.constant("M^-1", S.inverse_M)
 
 
-def _rotation(S: Screws, T) -> np.ndarray:
+def target_rotation(S: Screws, T) -> np.ndarray:
     """``R_t (N, 1, 3, 3)``: the rotation ``E_1 ... E_n`` must give."""
     return (T[:, :3, :3] @ _minv(S)[:3, :3])[:, None]
 
 
-def _tool_point(S: Screws, T, p) -> np.ndarray:
+def tool_point(S: Screws, T, p) -> np.ndarray:
     """Where the point ``p`` (world frame at q = 0, moving with the tool) is at the
     poses ``T (N, 4, 4)``: ``(N, 1, 3)``."""
     Minv = _minv(S)
@@ -96,10 +96,10 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     c0 = S.constant("wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
-    ct = _tool_point(S, T, c0)
+    ct = tool_point(S, T, c0)
     br = place(S, br, (0, 1, 2), c0, ct, what="the wrist centre")
     br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct), "length")
-    Rt = _rotation(S, T)
+    Rt = target_rotation(S, T)
     e = S.constant("normal to axis 6", lambda: normal_to(S.axis[5]))
     ke = S.constant("axis 6 and its normal", lambda: np.stack([S.axis[5], e], -1))   # (3, 2)
     vw = np.empty((br.N, br.K, 2, 3))
@@ -136,10 +136,10 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     h, k1, k5, k6 = S.axis[1], S.axis[0], S.axis[4], S.axis[5]
     o1 = S.point[0]
     c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
-    ct = _tool_point(S, T, c56)
+    ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     br = br.branch([0], _negated(sp4(h, ct - o1, k1, h @ (c56 - o1))))
-    Rt = br.take(_rotation(S, T))                                         # (N, K, 3, 3)
+    Rt = br.take(target_rotation(S, T))                                         # (N, K, 3, 3)
     # joint 5: h . R5 k6 = h . v, v = R1^T R_t k6 (axis 6 with joint 1 undone)
     v = S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, k6))
     br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
@@ -196,7 +196,7 @@ def _singular_q6(S: Screws, br: Branches, T, Rt, sigma, aligned):
         return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
     h = S.axis[1]
     # axis 6's point, and axis 4's point at q6 = 0, with joint 1 undone, across h
-    W = _back(S, br, 0, np.broadcast_to(_tool_point(S, T, S.point[5]), (N, K, 3)))
+    W = _back(S, br, 0, np.broadcast_to(tool_point(S, T, S.point[5]), (N, K, 3)))
     P0 = _back(S, br, 4, np.broadcast_to(S.point[3], (N, K, 3)))
     P0 = _back(S, br, 0, _tool_point_of(S, T, P0))
     perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
@@ -224,7 +224,7 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     h, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
-    Rt = _rotation(S, T)
+    Rt = target_rotation(S, T)
     br = br.branch([4], sp4(h, k6, k5, dot(h, _mv(Rt, k6))[:, :, None].squeeze(-1)))
     Rt = br.take(Rt.repeat(1, 1))
     a = np.broadcast_to(_mtv(Rt, h), (br.N, br.K, 3))
@@ -283,9 +283,9 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     about its axis from the orientation (subproblem 1)."""
     n = S.n
     T = targets.T
-    br = place(S, br, first, S.point[n - 1], _tool_point(S, T, S.point[n - 1]),
+    br = place(S, br, first, S.point[n - 1], tool_point(S, T, S.point[n - 1]),
                what=f"axis {n}")
-    Rt = _rotation(S, T)
+    Rt = target_rotation(S, T)
     k = S.axis[n - 1]
     e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
     return br.set(n - 1, *_angle_about(k, e, undo(S, br, first, np.broadcast_to(
@@ -399,7 +399,7 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
         return br.relabel(4, "any")
     k5 = S.axis[4]
     e = S.constant("normal to axis 5", lambda: normal_to(k5))
-    Rt = _rotation(S, T)
+    Rt = target_rotation(S, T)
     return br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
         _mv(Rt, e), (br.N, br.K, 3)))))
 
@@ -448,6 +448,14 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     q = np.full((br.N, br.K), qn)
     return br.set(n - 1, q, np.cos(q), np.sin(q))
 
+
+def _swivel(robot, S, targets, br):
+    from .swivel import swivel
+    return swivel(robot, S, targets, br)
+
+
+#: the solvers of target kinds that bring their own (``engine.TARGET_FAMILIES``)
+TARGET_SOLVERS = {"tcv": tcv, "swivel": _swivel}
 
 SOLVERS = {
     "spherical-wrist": spherical_wrist,

@@ -8,7 +8,9 @@ A :class:`Targets` holds ``N`` targets of one kind, world frame, SI:
 * ``"approach"``: the position and the approach direction, the tool z axis
   (``approach (N, 3)``, unit), for five-joint arms that do not set the roll about it;
 * ``"tcv"``: a tool configuration vector (Schilling 1990): the position, the approach
-  and the last joint's value ``roll (N,)`` (rad).
+  and the last joint's value ``roll (N,)`` (rad);
+* ``"swivel"``: the whole pose and, for an arm with a spherical shoulder and wrist, the
+  swivel angle of its elbow ``swivel (N,)`` (rad; :mod:`kincalc.ik.swivel`).
 
 :func:`target_form` names the format of a request from the fields it gives (and
 refuses a combination that is not one target), :func:`targets_from` builds the targets
@@ -29,7 +31,7 @@ from .. import spatial as sp
 from ..errors import UsageError
 from ..spatial import invert_transform
 
-KINDS = ("pose", "position", "approach", "tcv")
+KINDS = ("pose", "position", "approach", "tcv", "swivel")
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class Targets:
     kind: str = "pose"
     approach: np.ndarray | None = None
     roll: np.ndarray | None = None
+    swivel: np.ndarray | None = None
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -71,10 +74,11 @@ class Targets:
         Returns
         -------
         Targets
-            ``T_tool_world`` per target, of the same kind; ``approach`` and ``roll`` kept as
-            they are.
+            ``T_tool_world`` per target, of the same kind; ``approach``, ``roll`` and
+            ``swivel`` kept as they are.
         """
-        return Targets(invert_transform(self.T), self.kind, self.approach, self.roll)
+        return Targets(invert_transform(self.T), self.kind, self.approach, self.roll,
+                       self.swivel)
 
     def take(self, index) -> "Targets":
         """The targets at ``index``.
@@ -90,7 +94,8 @@ class Targets:
             The chosen targets, of the same kind.
         """
         pick = lambda x: None if x is None else x[index]  # noqa: E731
-        return Targets(self.T[index], self.kind, pick(self.approach), pick(self.roll))
+        return Targets(self.T[index], self.kind, pick(self.approach), pick(self.roll),
+                       pick(self.swivel))
 
 
 #: the fields of a target request and their number of values (``q``: one per joint,
