@@ -29,12 +29,13 @@ from ..model import Joint, Robot
 from ..spatial import matrix_from_axis_angle, transform
 
 
-def joint_motion(axis, point, revolute: bool, value: float) -> np.ndarray:
-    """``exp([S] value)`` ``(4, 4)``: a turn by ``value`` (rad) about the line through
-    ``point`` along the unit ``axis``, or a slide by ``value`` (m) along ``axis``."""
+def joint_motion(axis, point, revolute: bool, value) -> np.ndarray:
+    """``exp([S] value)`` ``(..., 4, 4)``: a turn by ``value (...)`` (rad) about the line
+    through ``point`` along the unit ``axis``, or a slide by ``value`` (m) along ``axis``."""
     axis, point = np.asarray(axis, float), np.asarray(point, float)
+    value = np.asarray(value, float)
     if not revolute:
-        return transform(None, value * axis)
+        return transform(None, value[..., None] * axis)
     R = matrix_from_axis_angle(axis, value)
     return transform(R, point - R @ point)
 

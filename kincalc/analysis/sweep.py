@@ -197,18 +197,18 @@ class _Solver:
     def _unpack(self, chain, targets, values) -> list:
         from ..ik.engine import solve_targets
         sv = solve_targets(chain, targets)
-        out = []
-        for r, v in enumerate(np.asarray(values, float).tolist()):
-            ok = sv.valid[r]
-            q = np.empty((int(ok.sum()), self.robot.dof))
-            q[:, self.keep] = sv.q[r, ok]
-            q[:, self.joint] = v
-            for j, x in self.locks.items():
-                q[:, j] = x
-            inside = self.held_in and self.limits[0] <= v <= self.limits[1]
-            out.append((q, sv.labels[r, ok], sv.within[r, ok] & inside, sv.singular[r, ok],
-                        sv.family))
-        return out
+        values = np.asarray(values, float)
+        N, K = sv.valid.shape
+        q = np.empty((N, K, self.robot.dof))
+        q[..., self.keep] = sv.q
+        q[..., self.joint] = values[:, None]
+        for j, x in self.locks.items():
+            q[..., j] = x
+        inside = self.held_in & (values >= self.limits[0]) & (values <= self.limits[1])
+        within = sv.within & inside[:, None]
+        labels, singular = sv.labels, sv.singular
+        return [(q[r, ok], labels[r, ok], within[r, ok], singular[r, ok], sv.family)
+                for r, ok in enumerate(sv.valid)]
 
 
 def _moved_targets(robot, targets: Targets, joint: int, values) -> Targets:
@@ -217,8 +217,8 @@ def _moved_targets(robot, targets: Targets, joint: int, values) -> Targets:
     from ..conventions import to_poe
     poe = to_poe(robot)
     axis, point = np.array(poe.joints[joint].axis), np.array(poe.joints[joint].point)
-    G_inv = np.stack([joint_motion(axis, point, poe.joints[joint].revolute, -v)
-                      for v in np.asarray(values).tolist()])                    # (m, 4, 4)
+    G_inv = joint_motion(axis, point, poe.joints[joint].revolute,
+                         -np.asarray(values, float))                            # (m, 4, 4)
     T = targets.T[0]
     if joint == 0:
         B = np.asarray(robot.base, float)
