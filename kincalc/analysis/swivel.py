@@ -123,6 +123,45 @@ def swivel_ranges(robot, T, samples: int = SAMPLES) -> list:
     return out
 
 
+def nearest_swivel(robot, T, near, samples: int = SAMPLES):
+    """The branch and swivel angle whose solution is nearest the current joints ``near
+    (7,)`` (rad): the least change, each joint moved by whole turns within its limits
+    towards ``near`` (:func:`kincalc.spatial.turn_toward`), among solutions within the
+    limits; the angle found on the sampled circle, then refined three times on 33 angles
+    around it (to ``2 pi / samples / 16^3``).
+
+    Returns
+    -------
+    (label, psi (rad), q (7,), change (7,)), or None when no branch is feasible at any
+    sampled angle.
+    """
+    from ..spatial import turn_toward
+    near = np.asarray(near, float)
+    lo, hi = robot.limits.T
+
+    def best(psi, slots=None):
+        sv = _solve(robot, T, psi)
+        ok = sv.valid & sv.within
+        if slots is not None:
+            ok &= np.arange(ok.shape[1]) == slots
+        Q = turn_toward(sv.q, near, lo, hi)
+        cost = np.where(ok, np.linalg.norm(Q - near, axis=-1), np.inf)
+        i, k = np.unravel_index(int(np.argmin(cost)), cost.shape)
+        return (None if not np.isfinite(cost[i, k]) else
+                (int(k), float(psi[i]), Q[i, k], sv.labels[i, k]))
+    grid = -np.pi + 2 * np.pi * np.arange(samples) / samples
+    found = best(grid)
+    if found is None:
+        return None
+    step = 2 * np.pi / samples
+    for _ in range(3):
+        k, psi = found[0], found[1]
+        found = best(psi + np.linspace(-step, step, 33), k) or found
+        step /= 16
+    k, psi, q, label = found
+    return label, (psi + np.pi) % (2 * np.pi) - np.pi, q, q - near
+
+
 def _limits_at(robot, T, psi, slots) -> list:
     """Per end: ``(joint, side)`` of the limit the solution in ``slot`` breaks just
     outside the interval (the largest violation), or None where it does not exist."""
@@ -139,8 +178,9 @@ def _limits_at(robot, T, psi, slots) -> list:
     return out
 
 
-def swivel_document(robot, target, ranges, units) -> dict:
-    """The JSON document of ``kincalc ik --swivel-range`` in the display ``units``."""
+def swivel_document(robot, target, ranges, units, near=None) -> dict:
+    """The JSON document of ``kincalc ik --swivel-range`` in the display ``units``; with
+    the current joints ``near (7,)`` (rad), ``nearest`` (:func:`nearest_swivel`)."""
     from .results import json_header, json_numbers
     u = units
     names = [j.name for j in robot.joints]
@@ -161,4 +201,9 @@ def swivel_document(robot, target, ranges, units) -> dict:
                         "to_limit": side(y)} for (a, b), (x, y) in zip(r.intervals, r.bounds)],
          "whole_circle": r.intervals == ((-np.pi, np.pi),)}
         for r in ranges]
+    if near is not None:
+        best = nearest_swivel(robot, target.T, near)
+        out["nearest"] = None if best is None else {
+            "branch": best[0], "swivel": deg(best[1]), "q": u.joints(robot, best[2]),
+            "change": u.joints(robot, best[3])}
     return out

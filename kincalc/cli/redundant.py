@@ -227,14 +227,13 @@ def run_swivel_range(robot, target, units, *, near=None, plot_to=None, dpi=100, 
     exit status 1 when no branch is feasible at any angle."""
     from ..analysis.swivel import swivel_document, swivel_ranges
     from .common import output
-    for name, given in (("--near", near is not None), ("--plot", plot_to is not None),
-                        ("--format csv", fmt == "csv")):
+    for name, given in (("--plot", plot_to is not None), ("--format csv", fmt == "csv")):
         if given:
             raise InputError(f"{name} does not go with --swivel-range")
     if not target.orientation:
         raise InputError("--swivel-range needs the whole pose: give an orientation (--rpy, "
                          "--quat, ...), --pose or --from-q")
-    doc = swivel_document(robot, target, swivel_ranges(robot, target.T), units)
+    doc = swivel_document(robot, target, swivel_ranges(robot, target.T), units, near=near)
     output(doc, json, _swivel_tables, robot, precision)
     if not doc["reachable"]:
         raise typer.Exit(1)
@@ -266,3 +265,11 @@ def _swivel_tables(doc, robot, precision):
         rows.append((escape(b["branch"]), text))
     c.print(kv_table(rows, title=f"swivel angles within the limits ({u}; the joint limits "
                                  "that end each interval)"))
+    best = doc.get("nearest")
+    if best is not None:
+        c.print(kv_table([("branch", f"{escape(best['branch'])} at {num(best['swivel'], precision)}"),
+                          ("q", " ".join(num(x, precision) for x in best["q"])),
+                          ("change", " ".join(num(x, precision) for x in best["change"]))],
+                         title="nearest --near (least change, within the limits)"))
+    elif "nearest" in doc:
+        c.print("nearest --near: no branch is within the joint limits at any swivel angle")

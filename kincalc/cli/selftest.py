@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Optional
 
 import typer
 
@@ -20,6 +20,13 @@ def selftest(
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,
     structure_tol: StructureTolOpt = None,
+    lock_joint: Annotated[Optional[str], typer.Option(
+        "--lock-joint", metavar="JOINT", show_default=False,
+        help="Redundant arms: hold JOINT (a name or number) at each configuration's own "
+             "value and solve the others with every branch (ik --lock).")] = None,
+    swivel: Annotated[bool, typer.Option(
+        "--swivel", help="Arms with a spherical shoulder and wrist: solve each pose at its "
+                         "configuration's own swivel angle (ik --swivel).")] = False,
     debug: DebugOpt = False,
 ):
     """Check IK on random configurations within the limits (IKFast's --iktests metrics).
@@ -29,6 +36,8 @@ def selftest(
     wrong-solution rates, the solution counts and the time per pose.
     Exit status 1 if any solution was wrong or any generating configuration missed.
     """
+    from ..errors import InputError
+    from ..ik import Target, solve
     from ..ik.families import plan
     from ..ik.selftest import run
     from ..analysis.results import SCHEMA_VERSION, Units, robot_summary
@@ -36,7 +45,30 @@ def selftest(
     _, fam, why = plan(rob)
     name, description = (fam.name, fam.description) if fam else (
         "numerical", f"one solution nearest home ({why})")
-    m = run(rob, trials, seed)
+    solver = None
+    if lock_joint is not None and swivel:
+        raise InputError("--lock-joint and --swivel do not go together")
+    if lock_joint is not None:
+        from ..analysis.redundancy import check_lock, locked_robot, solve_locked
+        from .common import joint_index
+        j = joint_index(lock_joint, rob, "--lock-joint")
+        chain = locked_robot(rob, {j: 0.9})             # a generic value: the family
+        check_lock(rob, chain, {j: 0.9})
+        fam = plan(chain)[1]
+        name = fam.name if fam else "numerical"
+        description = (f"{rob.joints[j].name} held at each configuration's own value; the "
+                       f"chain left: {fam.description if fam else 'numerical'}")
+
+        def solver(q, T):
+            return solve_locked(rob, Target(T), {j: float(q[j])})
+    elif swivel:
+        from ..ik.swivel import require_srs, swivel_angles
+        require_srs(rob)
+        name, description = "srs-swivel", "each pose at its configuration's swivel angle"
+
+        def solver(q, T):
+            return solve(rob, Target(T, swivel=float(swivel_angles(rob, q))))
+    m = run(rob, trials, seed, solver)
     doc = {"kincalc": SCHEMA_VERSION, "command": "selftest", "robot": robot_summary(rob),
            "units": Units(length=rob.length_unit).to_dict(),
            "method": {"family": name, "description": description}, **m}

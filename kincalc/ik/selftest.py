@@ -49,7 +49,7 @@ def sample_configurations(robot, n: int, rng) -> np.ndarray:
     return rng.uniform(lo, hi, (n, robot.dof))
 
 
-def run(robot, trials: int = 1000, seed: int = 0) -> dict:
+def run(robot, trials: int = 1000, seed: int = 0, solver=None) -> dict:
     """Run ``trials`` round trips (random joints -> FK -> IK); return the metrics.
 
     A returned solution is counted wrong when its FK position misses the pose's by more
@@ -64,6 +64,11 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
         From 1 to :data:`~kincalc.limits.MAX_TRIALS`.
     seed : int
         Non-negative; seeds the configurations.
+    solver : callable, optional
+        ``solver(q, T) -> IKResult``: every solution of the pose ``T`` made by the joints
+        ``q`` (rad / m), for a question that depends on them (a joint held at its own value,
+        the swivel angle of the configuration); default ``solve`` of the pose (its
+        orientation where the robot controls it).
 
     Returns
     -------
@@ -90,30 +95,23 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
     # give the orientation only where the robot controls it (otherwise a position
     # target has the family's full solution set, as in the textbooks)
     orientation = family is None or family.needs_orientation
-    numerical = family is None
+    numerical = family is None and solver is None
+    if solver is None:
+        def solver(q, T):
+            return solve(robot, Target(T, orientation=orientation))
     rng = np.random.default_rng(seed)
     found = missing = none = wrong = total = 0
     times = np.empty(trials)
     counts: dict[int, int] = {}
-    scale = robot.characteristic_length
     for k, (q, T) in enumerate(_round_trip_inputs(robot, trials, rng)):
         t0 = time.perf_counter()
-        res = solve(robot, Target(T, orientation=orientation))
+        res = solver(q, T)
         times[k] = time.perf_counter() - t0
         sols = res.solutions
         counts[len(sols)] = counts.get(len(sols), 0) + 1
         total += len(sols)
-        hit = False
-        for s in sols:
-            Tq = robot.fk(s.q)
-            if np.linalg.norm(Tq[:3, 3] - T[:3, 3]) > 1e-9 * scale:
-                wrong += 1
-            d = np.where(robot.is_revolute, wrap(s.q - q), s.q - q)
-            if np.all(np.abs(d) < 1e-6 * np.where(robot.is_revolute, 1.0, max(scale, 1.0))):
-                hit = True
-        if numerical and sols and np.linalg.norm(robot.fk(sols[0].q)[:3, 3] - T[:3, 3]) <= \
-                1e-9 * scale:
-            hit = True          # one solution of infinitely many: reaching the pose is success
+        hit, misses = _score(robot, q, T, [s.q for s in sols], numerical)
+        wrong += misses
         if hit:
             found += 1
         elif sols:
@@ -129,6 +127,21 @@ def run(robot, trials: int = 1000, seed: int = 0) -> dict:
         "time_per_pose_ms": {"median": round(float(np.median(times) * 1e3), 4),
                              "mean": round(float(np.mean(times) * 1e3), 4)},
     }
+
+
+def _score(robot, q, T, sols, numerical: bool) -> tuple[bool, int]:
+    """``(found, wrong)`` of the solutions ``sols`` (joint vectors) of the pose ``T`` made
+    by ``q``: the generating joints among them (for a robot solved numerically, one
+    solution of infinitely many: reaching the pose), and how many miss the pose."""
+    scale = robot.characteristic_length
+    if not sols:
+        return False, 0
+    Q = np.array(sols)
+    miss = np.linalg.norm(robot.fk(Q)[:, :3, 3] - T[:3, 3], axis=-1) > 1e-9 * scale
+    d = np.where(robot.is_revolute, wrap(Q - q), Q - q)
+    tol = 1e-6 * np.where(robot.is_revolute, 1.0, max(scale, 1.0))
+    hit = bool(np.all(np.abs(d) < tol, axis=-1).any()) or (numerical and not miss[0])
+    return hit, int(miss.sum())
 
 
 def _round_trip_inputs(robot, trials: int, rng):

@@ -160,3 +160,26 @@ def test_reach_with_a_lock_asks_of_the_chain_left():
     status, out, err = run_cli(["reach", "iiwa14", "--batch", "-", "--lock", "A3=30"],
                                stdin='{"xyz": [0.5, 0, 0.5]}\n')
     assert status == 2 and "--lock" in err
+
+
+def test_selftest_of_locked_and_swivel_ik():
+    """Round trips through the closed forms of a redundant arm: the generating joints come
+    back every time, no solution misses its pose."""
+    from cli_contract import run_cli
+    for extra, family, count in ((["--lock-joint", "A3"], "spherical-wrist", "8"),
+                                 (["--lock-joint", "7"], "reversed-spherical-wrist", "8"),
+                                 (["--swivel"], "srs-swivel", "8")):
+        status, out, err = run_cli(["selftest", "iiwa14", "--trials", "40", "--seed", "3",
+                                    "--json", *extra])
+        assert status == 0, (extra, err)
+        doc = json.loads(out)
+        assert doc["method"]["family"] == family
+        assert doc["success_rate"] == 1.0 and doc["wrong_solution_rate"] == 0.0
+        assert set(doc["solutions_per_pose"]) == {count}
+    for extra, words in ((["--lock-joint", "A4"], "continuum"),
+                         (["--lock-joint", "A3", "--swivel"], "do not go together"),
+                         (["--lock-joint", "A9"], "no joint")):
+        status, out, err = run_cli(["selftest", "iiwa14", "--trials", "5", *extra])
+        assert status == 2 and words in err, (extra, err)
+    status, out, err = run_cli(["selftest", "panda", "--trials", "5", "--swivel"])
+    assert status == 2 and "spherical shoulder" in err

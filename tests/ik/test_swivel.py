@@ -191,3 +191,22 @@ def test_swivel_on_the_command_line():
     assert status == 2 and "spherical shoulder" in err
     status, out, err = run_cli(["ik", "iiwa14", "--xyz", "0.5", "0", "0.5", "--swivel", "10"])
     assert status == 2 and "whole pose" in err
+
+
+def test_nearest_swivel_is_the_least_change_on_the_circle():
+    """Against a dense scan of the circle (20 000 angles, every branch)."""
+    from kincalc.analysis.swivel import nearest_swivel
+    from kincalc.spatial import turn_toward
+    r = kincalc.load_robot("iiwa14")
+    q0 = np.radians([20, -35, 50, 70, -40, 60, 10])
+    near = q0 + np.radians([3, -2, 5, 0, 4, -3, 2])
+    label, psi, q, change = nearest_swivel(r, r.fk(q0), near)
+    assert np.allclose(r.fk(q), r.fk(q0), atol=1e-9)
+    assert np.isclose(np.angle(np.exp(1j * (swivel_angles(r, q) - psi))), 0, atol=1e-8)
+    grid = np.linspace(-np.pi, np.pi, 20000)
+    sv = solve_targets(r, Targets(np.broadcast_to(r.fk(q0), (len(grid), 4, 4)).copy(),
+                                  "swivel", swivel=grid))
+    Q = turn_toward(sv.q, near, *r.limits.T)
+    cost = np.where(sv.valid & sv.within, np.linalg.norm(Q - near, axis=-1), np.inf)
+    assert np.linalg.norm(change) <= cost.min() + 1e-9
+    assert np.linalg.norm(change) <= np.linalg.norm(q0 - near) + 1e-12
