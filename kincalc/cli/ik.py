@@ -95,8 +95,8 @@ def ik(
                     given=pose_options.given(),
                     refused={"--all-branches": all_branches, "--explain": explain,
                              "--near": near, "--numeric": numeric, "--plot": plot,
-                             "--lock": lock, **redundancy.given()},
-                    input_format=input_format)
+                             **redundancy.given()},
+                    input_format=input_format, locks=parse_locks(lock, rob, units))
     target = redundancy.target(pose_options.target(rob, units), units)
     q_near = None
     if near is not None:

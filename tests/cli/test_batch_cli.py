@@ -722,3 +722,51 @@ def test_a_far_pose_does_not_change_its_neighbours_answers(capsys):
                    '{"xyz": [1e9, -1e9, 1e9], "rpy": [0, 0, 0]}\n'
                    '{"xyz": [0.3, 0.1, 0.2], "quat": [1, 0, 0, 0]}\n')[1]
     assert json_documents(both)[1]["solutions"] == json_documents(alone)[0]["solutions"]
+
+
+def test_ik_batch_records_hold_joints(tmp_path, capsys):
+    """A record's ``lock`` (and ``--lock`` for every record): the generating joints among
+    the solutions, each reproducing the pose with the held values in place, the same
+    branches and flags as ``ik --lock``; bad locks are error records, and only ik takes
+    them."""
+    r = load_robot("iiwa14")
+    Q = sample_configurations(r, 12, np.random.default_rng(8))
+    T = r.fk(Q)
+    held = [2 if k % 2 else 6 for k in range(len(Q))]          # A3 or A7
+    src = write(tmp_path, "l.jsonl", [
+        {"q": list(np.degrees(q)), "lock": {r.joints[j].name: float(np.degrees(q[j]))}}
+        for q, j in zip(Q, held)])
+    for jobs in ("1", "2"):
+        code, out, err = run(capsys, "ik", "iiwa14", "--batch", src, "-j", jobs)
+        assert code == 0, err
+        recs = lines(out)
+        for rec, t, q, j in zip(recs, T, Q, held):
+            sols = np.radians([s["q"] for s in rec["solutions"]])
+            assert len(sols) == 8 and np.allclose(sols[:, j], q[j])
+            assert np.allclose(r.fk(sols), t, atol=1e-9)
+            assert (np.abs((sols - q + np.pi) % (2 * np.pi) - np.pi).max(-1) < 1e-6).any()
+    rec, q, j = recs[1], Q[1], held[1]
+    c, single, _ = run(capsys, "ik", "iiwa14", "--from-q",
+                       " ".join(repr(float(v)) for v in np.degrees(q)), "--lock",
+                       f"{r.joints[j].name}={float(np.degrees(q[j]))!r}", "--json")
+    doc = json.loads(single)
+    assert {(s["branch"], s["within_limits"]) for s in rec["solutions"]} == \
+        {(s["branch"], s["within_limits"]) for s in doc["solutions"]}
+    # --lock for every record, a record's own lock added to it
+    src = write(tmp_path, "g.jsonl", [{"q": list(np.degrees(Q[0]))},
+                                      {"q": list(np.degrees(Q[0])), "lock": {"A9": 1}},
+                                      {"q": list(np.degrees(Q[0])), "lock": {"A4": 1}},
+                                      {"q": list(np.degrees(Q[0])), "lock": [1]},
+                                      {"q": list(np.degrees(Q[0])), "lock": {"A1": True}}])
+    code, out, err = run(capsys, "ik", "iiwa14", "--batch", src, "--lock",
+                         f"A3={float(np.degrees(Q[0][2]))!r}")
+    recs = lines(out)
+    assert code == 2 and len(recs) == 5
+    assert len(recs[0]["solutions"]) == 8
+    assert "no joint 'A9'" in recs[1]["error"]
+    assert "reachable" in recs[2]                     # A3 and A4 held: five joints left
+    assert "lock: expected an object" in recs[3]["error"] and "not a number" in recs[4]["error"]
+    code, out, err = run(capsys, "ik", "iiwa14", "--batch", src)
+    assert "continuum" in lines(out)[2]["error"]
+    code, out, err = run(capsys, "reach", "iiwa14", "--batch", src)
+    assert code == 2 and "only ik --batch" in lines(out)[1]["error"]

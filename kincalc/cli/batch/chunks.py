@@ -13,18 +13,22 @@ FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
                frozenset({"T"}), frozenset({"q"})}
 
 
-def process_chunk(kind, robot, units, header, fmt, frame, item) -> tuple[str, bool, bool]:
+def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> tuple[str, bool, bool]:
     """Parse, solve and format one chunk ``item = (first index, lines)``; returns
     ``(text, any record bad, any pose without a solution)``. Pure: safe to run in a
     worker process. Numbers that come out NaN or infinite make their record an error
-    (each chunk function checks its results), so floating-point warnings are not shown."""
+    (each chunk function checks its results), so floating-point warnings are not shown.
+    ``locks`` (ik): joints held for every record, ``{index: value}`` (SI)."""
     from functools import partial
 
     import numpy as np
     start, lines = item
     parsed = parse_records(header, robot, start, lines)
+    if kind != "ik":
+        parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
+                  if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk,
-             "ik": partial(_ik_chunk, fmt=fmt)}[kind]
+             "ik": partial(_ik_chunk, fmt=fmt, locks=locks or {})}[kind]
     with np.errstate(all="ignore"):
         records, no = solve(robot, units, parsed, frame)
     bad = any("error" in r for r in records)
@@ -218,26 +222,86 @@ def _pose_matrix(flat):
     return np.full((4, 4), np.nan)
 
 
-def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
+def _ik_chunk(robot, units, parsed, frame, fmt="jsonl", locks=None):
+    """IK records of one chunk, grouped by the joints they hold (``locks``, SI, for every
+    record, and each record's own ``lock``, which adds to them and wins for a joint both
+    name): each group solved on the chain its locks leave, in one batch."""
+    from ...errors import KincalcError
+    groups, errors = {}, []
+    for i, kw, err in parsed:
+        held = dict(locks or {})
+        if err is None and "lock" in kw:
+            try:
+                held.update(_record_locks(robot, units, kw["lock"]))
+            except KincalcError as exc:
+                errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {exc}"}))
+                continue
+            kw = {k: v for k, v in kw.items() if k != "lock"}
+        groups.setdefault(tuple(sorted(held.items())), []).append((i, kw, err))
+    recs, no = [], False
+    for held, items in groups.items():
+        try:
+            r, e, n = _ik_group(robot, units, items, fmt, dict(held))
+        except KincalcError as exc:        # locks this arm cannot take: every record says so
+            r, n = [], False
+            e = [(i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"})
+                 for i, kw, _ in items]
+        recs += r
+        errors += e
+        no |= n
+    return _merge(recs, errors), no
+
+
+def _record_locks(robot, units, pairs) -> dict:
+    """A record's ``lock`` pairs ``((joint, value in user units), ...)`` as ``{index:
+    value (SI)}``."""
+    from ..common import joint_index
+    out = {}
+    for name, value in pairs:
+        k = joint_index(name, robot, "lock")
+        out[k] = value / (units.a if robot.joints[k].revolute else units.l)
+    if len(out) >= robot.dof:
+        from ...errors import InputError
+        raise InputError(f"lock: every joint of {robot.name} is held; nothing is left to solve")
+    return out
+
+
+def _ik_group(robot, units, parsed, fmt, held):
+    """``(records, errors, any pose without a solution)`` of IK records that hold the
+    joints ``held`` (SI; none: the robot itself)."""
     import numpy as np
 
-    from ...ik import Target
     from ...errors import KincalcError
     from ...errors import UnsupportedRobot
+    from ...ik import Target
     from ...ik.solve import solve
     full, T, partial, errors = _poses(robot, units, parsed)
+    chain, keep, put_back, inside = robot, slice(None), None, True
+    if held:
+        from ...analysis.redundancy import check_lock, locked_robot, solve_locked
+        chain = locked_robot(robot, held)
+        check_lock(robot, chain, held)
+        keep = [k for k in range(robot.dof) if k not in held]
+        lo, hi = robot.limits.T
+        inside = all(lo[j] - 1e-12 <= v <= hi[j] + 1e-12 for j, v in held.items())
+
+        def put_back(q):
+            out = np.empty(q.shape[:-1] + (robot.dof,))
+            out[..., keep] = q
+            for j, v in held.items():
+                out[..., j] = v
+            return out
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
     try:
-        B = robot.ik_batch(T) if len(T) else None
+        B = chain.ik_batch(T) if len(T) else None
     except UnsupportedRobot:
         B = None
-        for (i, kw), t in zip(full, T):
-            partial.append((i, kw, Target(t, orientation=True)))
+        partial += [(i, kw, Target(t, orientation=True)) for (i, kw), t in zip(full, T)]
     if B is not None:
         valid = B.valid & np.isfinite(B.q).all(axis=-1)         # (a NaN is no solution)
-        q = B.q[valid]                                                     # (s, n)
-        within = B.within[valid]
+        q = B.q[valid] if put_back is None else put_back(B.q[valid])       # (s, n)
+        within = B.within[valid] & inside
         owner, _ = np.nonzero(valid)
         labels = B.labels[valid].tolist()
         counts = valid.sum(axis=1)
@@ -254,7 +318,7 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
             recs.append({**_head(i, kw), "reachable": bool(c), "solutions": sols})
     for i, kw, target in partial:
         try:
-            result = solve(robot, target)
+            result = solve_locked(robot, target, held) if held else solve(robot, target)
         except KincalcError as exc:        # a question this robot cannot take: its record
             errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"}))
             continue
@@ -263,7 +327,7 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl"):
                 if np.isfinite(s.q).all()]
         no |= not sols
         recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
-    return _merge(recs, errors), no
+    return recs, errors, no
 
 
 def _reach_chunk(robot, units, parsed, frame):

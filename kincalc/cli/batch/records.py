@@ -165,20 +165,22 @@ _LIMIT = f"{MAX_MAGNITUDE:.0e}".replace("e+0", "e").replace("e+", "e")
 _WHY = "kincalc's limit for the magnitude of a number"
 #: the fields of a JSON record, with the count of numbers of each (0: any)
 _FIELDS = {**POSE_KEYS, "T": 0, "q": 0}
-_KNOWN = frozenset(_FIELDS) | {"id"}
+_KNOWN = frozenset(_FIELDS) | {"id", "lock"}
 
 
 def _pose_keywords(rec: dict) -> dict:
     if not _KNOWN.issuperset(rec):
-        unknown = next(k for k in rec if k not in _FIELDS and k != "id")
+        unknown = next(k for k in rec if k not in _KNOWN)
         raise RecordError(f"unknown field {quote(unknown)} (pose fields: "
-                          f"{', '.join(_FIELDS)})")
+                          f"{', '.join(_FIELDS)}; also id, lock)")
     out = {}
     for key, value in rec.items():
         if key == "id":
             if isinstance(value, (list, dict)) or (type(value) is float and
                                                     not math.isfinite(value)):
                 raise RecordError("id must be a string, a finite number, true, false or null")
+        elif key == "lock":
+            value = _lock(value)
         elif key == "T":
             if type(value) is list and value and type(value[0]) is list:
                 value = [x for row in value for x in (row if type(row) is list else [row])]
@@ -186,9 +188,21 @@ def _pose_keywords(rec: dict) -> dict:
         else:
             value = _numbers(value, _FIELDS[key], key)
         out[key] = value
-    if len(out) == ("id" in out):
+    if len(out) == ("id" in out) + ("lock" in out):
         raise RecordError("no pose (give xyz and an orientation, T or q)")
     return out
+
+
+def _lock(value) -> tuple:
+    """A record's ``lock``: an object of joint names (or numbers from 1, as strings) and
+    their held values in the user's units, as ``((joint, value), ...)``; the joints are
+    found on the robot when the record is solved."""
+    if type(value) is not dict or not value:
+        raise RecordError("lock: expected an object of joints and their values, like "
+                          '{"A3": 30}')
+    names = list(value)
+    numbers = _numbers([value[k] for k in names], len(names), "lock")
+    return tuple(zip(names, numbers))
 
 
 def _csv_layout(header, robot):

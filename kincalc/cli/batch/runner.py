@@ -32,10 +32,10 @@ REACH_CHUNK_LINES = 64
 
 def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=(),
                 frame: str = "base", refused: dict | None = None,
-                input_format: str = "auto"):
+                input_format: str = "auto", locks: dict | None = None):
     """The --batch branch of a command: refuse the command's own inputs (``given``, the
     values of its joint or pose arguments) and the options in ``refused``, run, and leave
-    with the batch's exit status."""
+    with the batch's exit status. ``locks`` (ik): joints held for every record (SI)."""
     import typer
 
     from ...errors import UsageError
@@ -45,11 +45,11 @@ def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given
     for option, value in (refused or {}).items():
         if value:
             raise UsageError(f"{option} does not combine with --batch")
-    raise typer.Exit(run(kind, robot, units, src, fmt, jobs, frame, input_format))
+    raise typer.Exit(run(kind, robot, units, src, fmt, jobs, frame, input_format, locks))
 
 
 def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str = "base",
-        input_format: str = "auto") -> int:
+        input_format: str = "auto", locks: dict | None = None) -> int:
     """Answer every record of ``src`` with ``kind`` ('fk', 'jacobian', 'ik' or 'reach');
     write the output records to stdout; return the exit status (2 if any record was bad,
     1 if all were good but some pose had no solution, else 0)."""
@@ -70,7 +70,7 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     try:
         header, chunks = _chunked(source, REACH_CHUNK_LINES if kind == "reach" else CHUNK_LINES,
                                   input_format)
-        work = partial(process_chunk, kind, robot, units, header, fmt, frame)
+        work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks)
         # the workers start before any other thread of this process does (the progress
         # bar's): a fork copies a lock another thread holds, locked for good
         pool = _pool(jobs) if jobs > 1 else None
