@@ -1537,3 +1537,54 @@ def test_a_sheet_robot_may_be_a_urdf_and_its_problems_are_told_by_line(folders):
     status, _, err = run_check(folders, "robot: bad.urdf\n" + SINGULAR)
     assert status == 2 and SECRET not in err and "tool0" not in err
     assert "robot 'bad.urdf' is not a valid robot file (the first problem is on its line" in err
+
+
+def test_ik_item_with_a_lock_grades_the_branches_of_the_chain_left():
+    """An iiwa item holding A3: the branches of the held chain within the limits (each
+    checked here by FK, with A3 at its value) are what the sheet must list; a set that
+    moves the held joint is wrong even though it reaches the pose; a missing branch is
+    named."""
+    import kincalc as kc
+    from kincalc.analysis.redundancy import solve_locked
+    from kincalc.ik import Target
+    r = kc.load_robot("iiwa14")
+    q0 = np.radians([10, 20, 30, -40, 50, 60, 70])
+    T = r.fk(q0)
+    sols = [s.q for s in solve_locked(r, Target(T), {2: q0[2]}).solutions if s.within_limits]
+    assert len(sols) >= 4
+    for q in sols:
+        assert np.allclose(r.fk(q), T, atol=1e-9) and np.isclose(q[2], q0[2])
+    pose = "{q: [10, 20, 30, -40, 50, 60, 70]}"
+    rows = ", ".join(js(np.degrees(q)) for q in sols)
+    item = f"""\
+        - id: i
+          kind: ik
+          pose: {pose}
+          lock: {{A3: 30}}
+          answer: [{rows}]
+        """
+    res = one(item, robot="iiwa14")
+    assert res.passed, (res.message, res.hint)
+    # drop one: missed; add a set with A3 moved (another point of the self-motion)
+    other = solve_locked(r, Target(T), {2: q0[2] + 0.3}).solutions[0].q
+    rows = ", ".join(js(np.degrees(q)) for q in sols[1:] + [other])
+    res = one(item.replace(item[item.index("answer"):], f"answer: [{rows}]\n"), robot="iiwa14")
+    assert not res.passed
+    assert len(res.details["missed"]) == 1
+    moved = [s for s in res.details["sets"] if s["status"] == "wrong"]
+    assert len(moved) == 1 and "holds joint 3 (A3) at 30;" in moved[0]["note"]
+
+
+def test_ik_item_lock_errors_name_the_line():
+    for lock, words in (("{A9: 30}", "unknown key 'A9'"), ("{A3: x}", "lock.A3"),
+                        ("[30]", "'lock' must be a mapping"),
+                        ("{1: 0, 2: 0, 3: 0, 4: 0, 5: 0, 6: 0, 7: 0}", "from 1 to 6")):
+        text = sheet_text(f"""\
+            - id: i
+              kind: ik
+              pose: {{xyz: [0.5, 0, 0.5], rpy: [0, 90, 0]}}
+              lock: {lock}
+            """, robot="iiwa14")
+        with pytest.raises(Exception) as e:
+            parse_sheet(text, "hw.yaml", ".")
+        assert words in str(e.value) and "hw.yaml:" in str(e.value), str(e.value)

@@ -35,7 +35,11 @@ def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
     missed."""
     from ...ik.solve import solve
     robot, units = sheet.robot, sheet.units
-    res = solve(robot, item.target, all_branches=True, units=units)
+    if item.lock:
+        from ...analysis.redundancy import solve_locked
+        res = solve_locked(robot, item.target, dict(item.lock), all_branches=True, units=units)
+    else:
+        res = solve(robot, item.target, all_branches=True, units=units)
     sols = res.solutions
     required = [k for k, s in enumerate(sols) if s.within_limits or not item.limits]
     # a numerical solver finds one solution, not all: the sets are then checked by FK
@@ -73,6 +77,13 @@ def _judge_sets(sheet, item, res, required, exhaustive):
         entry = {"set": number, "line": line, "q": json_numbers(display_q(robot, q, units)),
                  "residual": {"position": pe * units.l,
                               "orientation": None if oe is None else oe * units.a}}
+        moved = [j for j, v in item.lock if gaps(robot, q, _with(q, j, v))[j] > jtol[j]]
+        if moved:
+            entry.update(status="wrong", note="the item holds " + ", ".join(
+                f"{joint_label(robot, j)} at {fmt(dict(item.lock)[j] * (units.a if rev[j] else units.l))}"
+                for j in moved) + "; this set moves it")
+            sets.append(entry)
+            continue
         hit = next((k for k in range(len(sols))
                     if np.all(gaps(robot, q, sols[k].q) <= jtol)), None) if exhaustive else None
         reaches = pe <= tol.position and (oe is None or oe <= tol.angle)
@@ -104,6 +115,13 @@ def _judge_sets(sheet, item, res, required, exhaustive):
                          note=_ik_wrong_note(sheet, item, q, pe, oe, res, required))
         sets.append(entry)
     return sets, matched, worst
+
+
+def _with(q, j, v):
+    """``q`` with joint ``j`` at ``v``."""
+    out = np.array(q, float)
+    out[j] = v
+    return out
 
 
 def _summary(sheet, item, res, required, exhaustive, sets, missed):

@@ -22,7 +22,7 @@ KIND_KEYS = {
     "dh": {"tool": False, "base": False},
     "link": {"link": True, "q": True},
     "fk": {"q": True},
-    "ik": {"pose": True, "limits": False},
+    "ik": {"pose": True, "limits": False, "lock": False},
     "jacobian": {"q": True, "frame": False},
     "reach": {"pose": True},
     "singular": {"q": True},
@@ -76,6 +76,7 @@ class Item:
     frame: str = "base"                  # for jacobian
     target: object = None                # kincalc.ik.Target for ik/reach
     limits: bool = True                  # ik: only solutions within the limits are required
+    lock: tuple = ()                     # ik: joints held, ((index, value SI), ...)
     tool: str = "compare"                # dh: compare | ignore
     base: str = "compare"
     answer: object = None                # kind-specific, parsed; None = not answered

@@ -297,6 +297,8 @@ class _SheetReader(AnswerReader, Reader):
             if v not in ("respect", "ignore"):
                 self.fail(f["limits"], f"'limits' must be respect or ignore, not {quote(v)}")
             item["limits"] = v == "respect"
+        if "lock" in f:
+            item["lock"] = self.locks(f["lock"])
         if "pose" in f:
             item["target"] = self.pose_target(f["pose"])
         if "answer" in f and not f["answer"].tag.endswith(":null"):
@@ -307,6 +309,25 @@ class _SheetReader(AnswerReader, Reader):
                 self.fail(f["q"], f"'answer.tcv': the tool configuration vector is given only "
                                   f"for a last joint within {TCV_MAX_ROLL:.1f} rad (ten turns)")
         return Item(**item)
+
+    def locks(self, node) -> tuple:
+        """An ik item's ``lock``: joint names (or numbers from 1) and the values they are
+        held at, in the sheet's units, as ``((index, value SI), ...)``."""
+        robot = self.robot_
+        names = [j.name for j in robot.joints]
+        entries = self.mapping(node, "'lock'", {**{n: False for n in names},
+                                                 **{str(k + 1): False for k in range(robot.dof)}})
+        out = {}
+        for key, vnode in entries.items():
+            k = names.index(key) if key in names else int(key) - 1
+            if k in out:
+                self.fail(vnode, f"'lock': joint {names[k]} is held twice")
+            v = self.number(vnode, f"'lock.{key}'")
+            out[k] = v * (self.A if robot.is_revolute[k] else self.L)
+        if not out or len(out) >= robot.dof:
+            self.fail(node, f"'lock' must hold from 1 to {robot.dof - 1} of the joints of "
+                            f"{robot.name}")
+        return tuple(sorted(out.items()))
 
     def joints(self, node, what: str, allow_one: bool = False) -> np.ndarray:
         robot = self.robot_
