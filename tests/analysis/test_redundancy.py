@@ -183,3 +183,29 @@ def test_selftest_of_locked_and_swivel_ik():
         assert status == 2 and words in err, (extra, err)
     status, out, err = run_cli(["selftest", "panda", "--trials", "5", "--swivel"])
     assert status == 2 and "spherical shoulder" in err
+
+
+def test_the_families_the_readme_states_for_each_lock():
+    """The README's table of the family each single lock of a bundled 7-joint arm leaves."""
+    import re
+    from pathlib import Path
+    text = Path(__file__).parents[2].joinpath("README.md").read_text()
+    words = {"spherical wrist": "spherical-wrist", "general 6R": "general-6r",
+             "reversed spherical wrist": "reversed-spherical-wrist"}
+    rows = re.findall(r"^\| `(\w+)`(?:, `(\w+)`)? \| (.+) \|$", text, flags=re.M)
+    checked = 0
+    for first, second, cells in rows:
+        cells = [c.strip() for c in cells.split("|")]
+        if len(cells) != 7:
+            continue
+        for name in filter(None, (first, second)):
+            r = kincalc.load_robot(name)
+            for j, cell in enumerate(cells):
+                chain = locked_robot(r, {j: 0.9})
+                if cell.startswith("refused"):
+                    with pytest.raises(InputError):
+                        solve_locked(r, Target(r.fk(np.zeros(7) + 0.3)), {j: 0.9})
+                    continue
+                assert plan(chain)[1].name == words[cell], (name, j)
+            checked += 1
+    assert checked == 4
