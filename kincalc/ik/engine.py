@@ -485,9 +485,16 @@ def singular(robot, Q, F, tool) -> np.ndarray:
     def rank(M):
         sv = np.linalg.svd(M, compute_uv=False)
         return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
-    rJ = rank(J)
-    out = rJ < full
-    rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
-    if rest.any():
-        out[rest] |= rank(J[rest, :, :3]) < full_pos
+    out, todo = np.zeros(m, bool), np.ones(m, bool)
+    if n == 6 == full and full_pos == 3:   # s_min >= |det| / |J|_F^5: full rank, no SVD
+        fro = np.sqrt((J * J).sum(axis=(1, 2)))
+        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) * fro ** 5
+    if todo.any():
+        M = J[todo]
+        rJ = rank(M)
+        sub = rJ < full
+        rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
+        if rest.any():
+            sub[rest] |= rank(M[rest, :, :3]) < full_pos
+        out[todo] = sub
     return out

@@ -165,3 +165,33 @@ def test_labels_of_a_wrist_at_the_base_tell_every_branch_apart():
         for q in sample_configurations(r, 10, rng):
             labels = [s.branch for s in r.ik(r.fk(q)).solutions]
             assert len(labels) == len(set(labels)), labels
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "stanford_arm", "abb_irb140"])
+def test_singular_flags_equal_the_svd_rank_test(name):
+    """The engine skips the SVD where the determinant proves full rank; its flags must be
+    those of the rank test itself (every singular value, written here) on random
+    configurations and on singular ones (wrist straight, elbow at special values)."""
+    import kincalc
+    from kincalc.fk import frames_and_tool
+    from kincalc.ik.engine import singular
+    from kincalc.tolerances import SINGULAR_TOL
+    r = kincalc.load_robot(name)
+    rng = np.random.default_rng(12)
+    Q = rng.uniform(-3, 3, (6000, r.dof))
+    Q[:1500, 4] = 0.0
+    Q[1500:2500, 2] = rng.choice([0.0, np.pi / 2, -np.pi / 2], 1000)
+    F, tool = frames_and_tool(r.chain, Q)
+    rev, L = r.is_revolute[:, None], r.characteristic_length
+    z = F[:, :, :3, 2]
+    J = np.concatenate([np.where(rev, np.cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L,
+                                 z * L), np.where(rev, z, 0.0)], axis=-1)
+    sv = np.linalg.svd(J, compute_uv=False)
+    full, full_pos = r.generic_ranks
+    rank = (sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0)).sum(-1)
+    want = rank < full
+    sv3 = np.linalg.svd(J[..., :3], compute_uv=False)
+    rank3 = (sv3 > SINGULAR_TOL * np.maximum(sv3[:, :1], 1.0)).sum(-1)
+    want |= ~((rank == 6) & (full_pos == 3)) & (rank3 < full_pos)
+    got = singular(r, Q, F, tool)
+    assert np.array_equal(got, want) and got[:1500].mean() > 0.5
