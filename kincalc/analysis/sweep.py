@@ -105,10 +105,10 @@ def sweep_values(robot, joint: int, start=None, stop=None, steps: int = DEFAULT_
     start = lo if start is None else start
     stop = hi if stop is None else stop
     if not (np.isfinite(start) and np.isfinite(stop)):
-        raise InputError(f"--sweep: joint {robot.joints[joint].name} has no finite limits; "
-                         "give --from and --to")
+        raise InputError(f"joint {robot.joints[joint].name} has no finite limits to sweep "
+                         "between: give the first and the last value")
     if steps < 2:
-        raise InputError("--steps: a sweep needs at least 2 values")
+        raise InputError("a sweep needs at least 2 values")
     return np.linspace(start, stop, steps)
 
 
@@ -144,10 +144,9 @@ def sweep(robot, targets: Targets, joint: int, values, locks=None) -> Sweep:
     """
     locks = dict(locks or {})
     if joint in locks:
-        raise InputError(f"--sweep: joint {robot.joints[joint].name} is also locked")
+        raise InputError(f"the swept joint {robot.joints[joint].name} is also locked")
     if targets.kind == "tcv":
-        raise InputError("--sweep: a tool configuration vector target is not swept; give "
-                         "the pose")
+        raise InputError("a tool configuration vector target is not swept; give the pose")
     values = np.asarray(values, float)
     size = 1.0 if robot.joints[joint].revolute else robot.characteristic_length
     generic = {**locks, joint: _GENERIC * size}
@@ -175,6 +174,9 @@ class _Solver:
         self.keep = [k for k in range(n) if k not in locks and k != joint]
         self.shared = joint == 0 or (joint == n - 1 and targets.kind == "pose")
         self.chain = locked_robot(robot, {**locks, joint: 0.0}) if self.shared else None
+        if self.shared:
+            from ..conventions import to_poe
+            self.poe = to_poe(robot)
         lo, hi = robot.limits.T
         self.limits = lo[joint] - 1e-12, hi[joint] + 1e-12
         self.held_in = all(lo[j] - 1e-12 <= v <= hi[j] + 1e-12 for j, v in locks.items())
@@ -182,15 +184,13 @@ class _Solver:
     def grid(self, values) -> list:
         """The solutions at each of ``values`` (one engine batch when the chain is shared)."""
         if self.shared:
-            return self._unpack(self.chain, _moved_targets(self.robot, self.targets,
-                                                           self.joint, values), values)
+            return self._unpack(self.chain, _moved_targets(self, values), values)
         return [self.at(v) for v in np.asarray(values).tolist()]
 
     def at(self, v: float):
         """The solutions at the value ``v``."""
         if self.shared:
-            return self._unpack(self.chain, _moved_targets(self.robot, self.targets,
-                                                           self.joint, [v]), [v])[0]
+            return self._unpack(self.chain, _moved_targets(self, [v]), [v])[0]
         chain = locked_robot(self.robot, {**self.locks, self.joint: v})
         return self._unpack(chain, self.targets, [v])[0]
 
@@ -211,11 +211,10 @@ class _Solver:
                 for r, ok in enumerate(sv.valid)]
 
 
-def _moved_targets(robot, targets: Targets, joint: int, values) -> Targets:
-    """The targets of the chain held at 0 for each value of the first or last ``joint``
-    (module docstring, step 1): ``m`` targets of the kind of ``targets``."""
-    from ..conventions import to_poe
-    poe = to_poe(robot)
+def _moved_targets(solver, values) -> Targets:
+    """The targets of the chain held at 0 for each value of the first or last joint of a
+    shared-chain ``solver`` (module docstring, step 1): ``m`` targets of its kind."""
+    robot, targets, joint, poe = solver.robot, solver.targets, solver.joint, solver.poe
     axis, point = np.array(poe.joints[joint].axis), np.array(poe.joints[joint].point)
     G_inv = joint_motion(axis, point, poe.joints[joint].revolute,
                          -np.asarray(values, float))                            # (m, 4, 4)

@@ -127,8 +127,8 @@ def nearest_swivel(robot, T, near, samples: int = SAMPLES):
     """The branch and swivel angle whose solution is nearest the current joints ``near
     (7,)`` (rad): the least change, each joint moved by whole turns within its limits
     towards ``near`` (:func:`kincalc.spatial.turn_toward`), among solutions within the
-    limits; the angle found on the sampled circle, then refined three times on 33 angles
-    around it (to ``2 pi / samples / 16^3``).
+    limits; the angle found on the sampled circle, then refined seven times on 33 angles
+    around it (to ``2 pi / samples / 16^7``, 3e-11 rad).
 
     Returns
     -------
@@ -154,7 +154,7 @@ def nearest_swivel(robot, T, near, samples: int = SAMPLES):
     if found is None:
         return None
     step = 2 * np.pi / samples
-    for _ in range(3):
+    for _ in range(7):
         k, psi = found[0], found[1]
         found = best(psi + np.linspace(-step, step, 33), k) or found
         step /= 16

@@ -100,10 +100,9 @@ def require_srs(robot) -> SRS:
     swivel angle does not apply."""
     g = srs(robot)
     if g is None:
-        raise InputError(f"--swivel: {robot.name} is not an arm with a spherical shoulder "
-                         "and wrist (7 revolute joints, axes 1-3 through one point, 5-7 "
-                         "through another): its self-motion has no swivel angle; hold a "
-                         "joint instead (--lock, --sweep)")
+        raise InputError(f"{robot.name} is not an arm with a spherical shoulder and wrist (7 "
+                         "revolute joints, axes 1-3 through one point, 5-7 through another): "
+                         "its self-motion has no swivel angle; hold a joint instead")
     return g
 
 

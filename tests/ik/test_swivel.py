@@ -181,10 +181,14 @@ def test_swivel_on_the_command_line():
     assert len(doc["branches"]) == 8 and doc["reachable"]
     status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, "--swivel-range"])
     assert status == 0 and "swivel angles within the limits" in out
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, "--swivel-range", "--near", q0,
+                                "--json"])
+    assert status == 0 and json.loads(out)["nearest"]["change"] == pytest.approx([0] * 7,
+                                                                                   abs=1e-6)
     for extra, words in ((["--swivel", "10", "--lock", "A1=0"], "--lock does not go with"),
                          (["--swivel", "10", "--sweep", "A1"], "do not go together"),
                          (["--swivel", "nan"], "--swivel"),
-                         (["--swivel-range", "--near", "0 0 0 0 0 0 0"], "--near does not go")):
+                         (["--swivel-range", "--format", "csv"], "--format csv does not go")):
         status, out, err = run_cli(["ik", "iiwa14", "--from-q", q0, *extra])
         assert status == 2 and words in err and err.count("\n") == 1, (extra, err)
     status, out, err = run_cli(["ik", "panda", "--from-q", q0, "--swivel", "10"])
