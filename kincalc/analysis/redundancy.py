@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..ik import IKResult, IKSolution, Target, solve
+from ..ik.reasons import Blocked, Found
 from ..model import Joint, Robot
 from ..spatial import matrix_from_axis_angle, transform
 
@@ -179,9 +180,23 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
 
     rejected = None if res.rejected is None else \
         [{**r, "q": full(r["q"])} for r in res.rejected]
+    sols = [solution(s) for s in res.solutions]
+    reason = res.reason
+    if isinstance(reason, (Found, Blocked)):    # of the arm's joints and its held values
+        worst = {}
+        for s in sols:
+            for i, amount, _ in s.violations:
+                worst[i] = min(worst.get(i, np.inf), amount)
+        within = sum(s.within_limits for s in sols)
+        reason = Found(len(sols), within) if within else \
+            Blocked(len(sols), tuple(sorted(worst.items())))
+    dead = None if res.dead_ends is None else \
+        [dataclasses.replace(d, joint=keep[d.joint]) for d in res.dead_ends]
     chain = ", ".join(f"{k + 1} = {robot.joints[i].name}" for k, i in enumerate(keep))
-    return dataclasses.replace(res, robot=robot, solutions=[solution(s) for s in res.solutions],
+    return dataclasses.replace(res, robot=robot, solutions=sols,
+                               reachable=any(s.within_limits for s in sols),
                                rejected=rejected, near=near_full, locked=tuple(held),
+                               reason=reason, dead_ends=dead,
                                method=f"{res.method} (joints of the chain the lock leaves: "
                                       f"{chain})")
 

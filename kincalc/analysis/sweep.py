@@ -151,8 +151,15 @@ def sweep(robot, targets: Targets, joint: int, values, locks=None) -> Sweep:
     size = 1.0 if robot.joints[joint].revolute else robot.characteristic_length
     generic = {**locks, joint: _GENERIC * size}
     check_lock(robot, locked_robot(robot, generic), generic)
+    from ..errors import UnsupportedRobot
     solver = _Solver(robot, targets, joint, locks)
-    found = solver.grid(values)
+    try:
+        found = solver.grid(values)
+    except UnsupportedRobot as exc:
+        held = ", ".join(robot.joints[j].name for j in sorted({**locks, joint: 0}))
+        raise InputError(f"holding {held} of {robot.name} leaves {robot.dof - len(locks) - 1} "
+                         f"joints that no closed form covers ({exc}); a sweep needs a "
+                         "closed form at every value") from None
     return _join(solver, values, found)
 
 

@@ -84,7 +84,7 @@ def ik(
     redundancy.check(fmt, {"--all-branches": all_branches, "--explain": explain,
                            "--numeric": numeric, "--batch": batch is not None,
                            "--lock": bool(lock), "--tcv": pose_options.tcv is not None,
-                           "--approach": pose_options.approach is not None})
+                           "--approach": pose_options.approach is not None}, json)
     plot_to = None if plot is None or batch is not None else \
         _plot_target(plot, force, robot, pose_options.pose)
     rob = load_robot(robot, base_link, tip_link, structure_tol)
@@ -98,6 +98,8 @@ def ik(
                              **redundancy.given()},
                     input_format=input_format, locks=parse_locks(lock, rob, units))
     target = redundancy.target(pose_options.target(rob, units), units)
+    if target.swivel is not None:
+        redundancy.check_swivel(rob, target, "--swivel")
     q_near = None
     if near is not None:
         from .common import parse_joints

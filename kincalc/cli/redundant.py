@@ -28,8 +28,10 @@ ToOpt = Annotated[Optional[float], typer.Option(
     "--to", metavar="VALUE", show_default=False,
     help="Last value of --sweep (default: the joint's upper limit).")]
 StepsOpt = Annotated[Optional[int], typer.Option(
-    "--steps", metavar="N", min=2, max=100000, show_default=False,
-    help="Number of values of --sweep, evenly spaced, ends included (default 181).")]
+    "--steps", metavar="N", min=2, max=20000, show_default=False,
+    help="Number of values of --sweep, evenly spaced, ends included (default 181). The first "
+         "and the last joint are swept in one batch; any other joint costs a few "
+         "milliseconds per value.")]
 SwivelOpt = Annotated[Optional[float], typer.Option(
     "--swivel", metavar="ANGLE", show_default=False,
     help="Arms with a spherical shoulder and wrist (7 joints, axes 1-3 and 5-7 each through "
@@ -71,7 +73,7 @@ class RedundancyOptions:
         """A sweep or a swivel range replaces the ik answer."""
         return self.sweep is not None or bool(self.swivel_range)
 
-    def check(self, fmt: str, refused: dict) -> None:
+    def check(self, fmt: str, refused: dict, json: bool = False) -> None:
         """Refuse what does not go together, before any work: --from/--to/--steps without
         --sweep, values that are not finite numbers, a --format that is not jsonl or csv,
         and the options of ``refused`` (name -> given) next to --sweep, --swivel or
@@ -92,8 +94,12 @@ class RedundancyOptions:
         for name, v in (("--from", self.start), ("--to", self.stop), ("--swivel", self.swivel)):
             if v is not None:
                 check_number(v, name)
+        if self.start is not None and self.start == self.stop:
+            raise InputError("--from and --to are the same value: nothing to sweep")
         if fmt not in ("jsonl", "csv"):
             raise InputError(f"--format: {fmt!r} is not jsonl or csv")
+        if fmt == "csv" and json and self.sweep is not None:
+            raise InputError("--json and --format csv do not go together")
 
     def target(self, target, units):
         """``target`` at the --swivel angle (SI), or as it is."""
@@ -103,6 +109,15 @@ class RedundancyOptions:
             raise InputError("--swivel needs the whole pose: give an orientation (--rpy, "
                              "--quat, ...), --pose or --from-q")
         return replace(target, swivel=self.swivel / units.a)
+
+    @staticmethod
+    def check_swivel(robot, target, option: str) -> None:
+        """Refuse a pose at which the swivel angle is undefined."""
+        from ..ik.swivel import undefined_at
+        why = undefined_at(robot, target.T)
+        if why is not None:
+            raise InputError(f"{option}: the swivel angle is undefined at this pose: {why}; "
+                             "hold a joint instead (--lock, --sweep)")
 
     def run(self, robot, target, units, locks, **how) -> None:
         """Answer --sweep or --swivel-range (``how``: near, plot_to, dpi, fmt, json,
@@ -193,7 +208,8 @@ def _tables(doc, robot, precision):
         rows.append(("locked", ", ".join(f"{e['joint']} = {n(e['value'])}"
                                          for e in doc["locked"])))
     rows.append(("reachable", "yes" if doc["reachable"] else
-                 "no: no branch is within the joint limits at any value"))
+                 "no: no branch is within the joint limits at any value" if doc["branches"]
+                 else "no: the pose is out of reach at every value"))
     c.print(kv_table(rows))
     t = Table(box=box.SIMPLE_HEAD, title_justify="left",
               title=f"{len(doc['branches'])} branches along {sw['joint']} ({unit})")
@@ -233,6 +249,7 @@ def run_swivel_range(robot, target, units, *, near=None, plot_to=None, dpi=100, 
     if not target.orientation:
         raise InputError("--swivel-range needs the whole pose: give an orientation (--rpy, "
                          "--quat, ...), --pose or --from-q")
+    RedundancyOptions.check_swivel(robot, target, "--swivel-range")
     doc = swivel_document(robot, target, swivel_ranges(robot, target.T), units, near=near)
     output(doc, json, _swivel_tables, robot, precision)
     if not doc["reachable"]:

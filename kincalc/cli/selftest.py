@@ -52,6 +52,9 @@ def selftest(
         from ..analysis.redundancy import check_lock, locked_robot, solve_locked
         from .common import joint_index
         j = joint_index(lock_joint, rob, "--lock-joint")
+        if rob.dof < 7:
+            raise InputError(f"--lock-joint is for redundant arms: {rob.name} has {rob.dof} "
+                             "joints, one held leaves fewer than a pose needs")
         chain = locked_robot(rob, {j: 0.9})             # a generic value: the family
         check_lock(rob, chain, {j: 0.9})
         fam = plan(chain)[1]

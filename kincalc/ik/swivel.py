@@ -32,9 +32,10 @@ The inverse, for poses and angles in one batch (:func:`swivel`):
 3. joints 1-3: ``R_1 R_2 R_3 = R_s``, a spherical wrist problem (two roots);
 4. joints 5-7: ``R_5 R_6 R_7 = (R_1 ... R_4)^T R_t``, the spherical wrist (two roots).
 
-Up to eight solutions. Where ``w = R`` the angle is undefined (no solution is given);
-where the elbow lies on the line SW (stretched or folded) the arm has no plane and every
-angle gives the same configurations.
+Up to eight solutions. Where ``w = R`` the angle is undefined (no solution is given), and
+where the elbow lies on the line SW (stretched or folded) the arm has no plane: the angle
+then turns the straight arm about SW from an arbitrary zero. :func:`undefined_at` says
+which, for the callers to refuse such a pose.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ import numpy as np
 from ..errors import InputError
 from ..structure import common_point
 from ..subproblems import sp3
-from ..subproblems.solutions import cross, dot
+from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .cache import per_robot
 from .screws import Screws
@@ -104,6 +105,28 @@ def require_srs(robot) -> SRS:
                          "revolute joints, axes 1-3 through one point, 5-7 through another): "
                          "its self-motion has no swivel angle; hold a joint instead")
     return g
+
+
+def undefined_at(robot, T) -> str | None:
+    """Why the swivel angle is undefined at the pose ``T (4, 4)`` (world frame, SI), or
+    None: the wrist centre on the singular direction R from the shoulder, or the elbow on
+    the shoulder-wrist line (the arm stretched or folded: the elbow within 1e-7 of the
+    arm's size of it)."""
+    from .solvers import tool_point
+    g = require_srs(robot)
+    S = g.screws
+    W = tool_point(S, np.asarray(T, float)[None], g.wrist)[0, 0]
+    d = float(np.linalg.norm(W - g.shoulder))
+    tol = 1e-9 * S.scale
+    if d <= tol or not reference_axes(g, (W - g.shoulder) / d)[2]:
+        return ("the wrist centre is on the swivel angle's singular direction from the "
+                "shoulder (along axis 1, towards the base)")
+    r1 = float(np.linalg.norm(g.elbow - g.shoulder))
+    r2 = float(np.linalg.norm(g.wrist - g.elbow))
+    c = np.clip((r1 * r1 + d * d - r2 * r2) / (2 * r1 * d), -1.0, 1.0)
+    if r1 * np.sqrt(1.0 - c * c) <= 1e-7 * S.scale:     # the elbow's distance from SW
+        return "the arm is stretched or folded: its elbow is on the shoulder-wrist line"
+    return None
 
 
 def reference_axes(g: SRS, w):
@@ -182,7 +205,7 @@ def swivel(robot, S: Screws, targets, br: Branches) -> Branches:
     Wt = tool_point(S, T, g.wrist)                                         # (N, 1, 3)
     d = np.sqrt(dot(Wt - g.shoulder, Wt - g.shoulder))
     o4, k4 = S.point[3], S.axis[3]
-    elbow = sp3(g.wrist - o4, g.shoulder - o4, k4, d, scale=(S.scale + d) ** 2)
+    elbow = _larger_first(sp3(g.wrist - o4, g.shoulder - o4, k4, d, scale=(S.scale + d) ** 2))
     br = br.branch([3], elbow)
     Wt, psi_k = br.take(Wt), br.take(np.broadcast_to(psi[:, None], (br.N, 1)))
     # the arm's triangle at q = 0 with q4 turned (body) and where psi puts it (world)
@@ -209,6 +232,16 @@ def swivel(robot, S: Screws, targets, br: Branches) -> Branches:
     ke = np.stack([S.axis[6], e7], -1)                                     # (3, 2)
     vw = undo(S, br, (0, 1, 2, 3), np.swapaxes(Rt @ ke, -1, -2))
     return spherical(S, br, (4, 5, 6), vw[..., 0, :], vw[..., 1, :], e7)
+
+
+def _larger_first(sol: Solutions) -> Solutions:
+    """Subproblem 3's two roots with the larger angle first, so that joint 4's label ``+``
+    is its larger value (for an elbow whose zero is the stretched arm: the positive one,
+    as the held-joint families label it)."""
+    swap = (sol.ok[..., 1] & (sol.theta[0][..., 1] > sol.theta[0][..., 0]))[..., None]
+    pick = lambda a: np.where(swap, a[..., ::-1], a)  # noqa: E731
+    return Solutions((pick(sol.theta[0]),), (pick(sol.c[0]),), (pick(sol.s[0]),),
+                     pick(sol.ok), pick(sol.exact), pick(sol.free))
 
 
 def normal_to_each(u) -> np.ndarray:

@@ -120,6 +120,20 @@ def test_a_held_value_outside_its_limits_flags_every_solution():
     res = solve_locked(r, Target(r.fk(q0)), {2: 3.5})       # beyond +-170 deg
     assert all(not s.within_limits and any(v[0] == 2 for v in s.violations)
                for s in res.solutions)
+    assert not res.reachable and 2 in dict(res.reason.worst)
+
+
+def test_the_reason_names_the_arms_joints():
+    """A pose every branch of the held chain reaches only outside the limits: the reason
+    names the joints the solutions break (the arm's, not the chain's numbering)."""
+    r = kincalc.load_robot("iiwa14")
+    T = np.eye(4)
+    T[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    T[2, 3] = 0.034
+    res = solve_locked(r, Target(T), {2: 0.0})
+    assert res.solutions and not res.reachable
+    broken = {v[0] for s in res.solutions for v in s.violations}
+    assert set(dict(res.reason.worst)) == broken and 2 not in broken
 
 
 def test_lock_on_the_command_line():

@@ -757,11 +757,13 @@ def test_ik_batch_records_hold_joints(tmp_path, capsys):
                                       {"q": list(np.degrees(Q[0])), "lock": {"A9": 1}},
                                       {"q": list(np.degrees(Q[0])), "lock": {"A4": 1}},
                                       {"q": list(np.degrees(Q[0])), "lock": [1]},
-                                      {"q": list(np.degrees(Q[0])), "lock": {"A1": True}}])
+                                      {"q": list(np.degrees(Q[0])), "lock": {"A1": True}},
+                                      {"q": list(np.degrees(Q[0])), "lock": {"A1": 1, "1": 2}}])
     code, out, err = run(capsys, "ik", "iiwa14", "--batch", src, "--lock",
                          f"A3={float(np.degrees(Q[0][2]))!r}")
     recs = lines(out)
-    assert code == 2 and len(recs) == 5
+    assert code == 2 and len(recs) == 6
+    assert "A1 is held twice" in recs[5]["error"]
     assert len(recs[0]["solutions"]) == 8
     assert "no joint 'A9'" in recs[1]["error"]
     assert "reachable" in recs[2]                     # A3 and A4 held: five joints left

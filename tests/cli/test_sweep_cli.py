@@ -70,3 +70,16 @@ def test_plot(tmp_path):
                                 "--plot", str(path)])
     assert status == 0, err
     assert path.stat().st_size > 10_000 and "drawing:" in out
+
+
+def test_more_bad_sweeps():
+    for argv, words in ((["iiwa14", "--from-q", Q0, "--sweep", "3", "--from", "10", "--to", "10"],
+                         "the same value"),
+                        (["iiwa14", "--from-q", Q0, "--sweep", "3", "--format", "csv", "--json"],
+                         "--json and --format csv"),
+                        (["puma560", "--from-q", "10 20 30 40 50 60", "--sweep", "1", "--steps",
+                          "5"], "no closed form covers")):
+        status, out, err = run_cli(["ik", *argv])
+        assert status == 2 and words in err and err.count("\n") == 1, (argv, err)
+    status, out, err = run_cli(["selftest", "puma560", "--lock-joint", "1"])
+    assert status == 2 and "redundant arms" in err

@@ -214,3 +214,37 @@ def test_nearest_swivel_is_the_least_change_on_the_circle():
     cost = np.where(sv.valid & sv.within, np.linalg.norm(Q - near, axis=-1), np.inf)
     assert np.linalg.norm(change) <= cost.min() + 1e-9
     assert np.linalg.norm(change) <= np.linalg.norm(q0 - near) + 1e-12
+
+
+def test_labels_name_the_sign_of_joints_2_4_6():
+    """The iiwa's eight branches at a swivel angle: each label's +/- of A2, A4 and A6 is the
+    sign of that joint (as the held-joint families label them)."""
+    r = kincalc.load_robot("iiwa14")
+    rng = np.random.default_rng(9)
+    for q0 in rng.uniform(-2.0, 2.0, (10, 7)):
+        res = solve(r, Target(r.fk(q0), swivel=float(swivel_angles(r, q0))))
+        for s in res.solutions:
+            signs = dict(part.split(":") for part in s.branch.split() if ":" in part)
+            for j in (1, 3, 5):
+                if abs(s.q[j]) > 1e-6:
+                    assert signs[f"A{j + 1}"] == ("+" if s.q[j] > 0 else "-"), s.branch
+
+
+def test_undefined_swivel_angles_are_refused():
+    """The wrist straight below the shoulder (the SEW singular direction) and a stretched
+    arm: the angle is undefined, and the command line says so instead of 'unreachable'."""
+    from cli_contract import run_cli
+    from kincalc.ik.swivel import undefined_at
+    r = kincalc.load_robot("iiwa14")
+    assert undefined_at(r, r.fk(np.radians([10, 40, 20, 0, 30, 50, -20]))) is not None
+    assert undefined_at(r, r.fk(np.radians([10, 40, 20, 0.01, 30, 50, -20]))) is None
+    g = srs(r)
+    T = np.eye(4)
+    T[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    from kincalc.ik.solvers import tool_point
+    W = tool_point(g.screws, T[None], g.wrist)[0, 0]      # the wrist centre of this pose
+    T[:3, 3] += (g.shoulder + 0.5 * g.R) - W              # moved onto S + t R
+    assert "singular direction" in undefined_at(r, T)
+    for extra in (["--swivel", "10"], ["--swivel-range"]):
+        status, out, err = run_cli(["ik", "iiwa14", "--from-q", "10 40 20 0 30 50 -20", *extra])
+        assert status == 2 and "undefined at this pose" in err, err

@@ -60,8 +60,10 @@ def draw_sweep(sw, path, *, units, dpi=100) -> Drawing:
             for b in range(B):
                 y = sw.q[:, b, j]
                 xs, ys = _broken(x, y) if robot.is_revolute[j] else (x, y)
-                ax.plot(xs, ys * scale[j], color=colours(b % colours.N), lw=1.4,
-                        label=f"{b + 1}" if k == 0 else None)
+                # thinner in branch order: a branch drawn over another's values leaves
+                # that one's edges showing
+                ax.plot(xs, ys * scale[j], color=colours(b % colours.N),
+                        lw=3.2 - 2.2 * b / max(B - 1, 1), label=f"{b + 1}" if k == 0 else None)
                 ends = [i for i in (sw.branches[b].first, sw.branches[b].last)
                         if 0 < i < len(x) - 1]
                 ax.plot(x[ends], y[ends] * scale[j], "o", color=colours(b % colours.N), ms=3)
@@ -84,7 +86,7 @@ def draw_sweep(sw, path, *, units, dpi=100) -> Drawing:
             ax.xaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
             ax.yaxis.set_major_locator(MaxNLocator(6, steps=TICK_STEPS))
         if B:
-            fig.legend(title="branch (grey: beyond the limits)", loc="outside lower center",
+            fig.legend(title="branch (grey bands: beyond the joint limits)", loc="outside lower center",
                        ncols=min(B, 12), fontsize="small")
         return save_figure(fig, path, fmt, dpi, ["2d"] * len(panels))
 

@@ -244,8 +244,8 @@ def _ik_chunk(robot, units, parsed, frame, fmt="jsonl", locks=None):
             r, e, n = _ik_group(robot, units, items, fmt, dict(held))
         except KincalcError as exc:        # locks this arm cannot take: every record says so
             r, n = [], False
-            e = [(i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"})
-                 for i, kw, _ in items]
+            e = [(i, {**_head(i, kw), "error": err or f"record {i + 1}: {_words(exc)}"})
+                 for i, kw, err in items]
         recs += r
         errors += e
         no |= n
@@ -259,6 +259,9 @@ def _record_locks(robot, units, pairs) -> dict:
     out = {}
     for name, value in pairs:
         k = joint_index(name, robot, "lock")
+        if k in out:
+            from ...errors import InputError
+            raise InputError(f"lock: joint {robot.joints[k].name} is held twice")
         out[k] = value / (units.a if robot.joints[k].revolute else units.l)
     if len(out) >= robot.dof:
         from ...errors import InputError
