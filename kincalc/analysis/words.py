@@ -15,6 +15,25 @@ def length_suffix(units) -> str:
     return "" if units.length == "unitless" else f" {units.length}"
 
 
+#: a target this many times beyond the reach suggests numbers meant in a smaller unit
+UNIT_SLIP = 20.0
+
+
+def _unit_slip(r: Outside, units) -> str:
+    """A hint for a target far beyond the reach (:data:`UNIT_SLIP` times) that a smaller
+    length unit would bring within it: the numbers were likely meant in that unit."""
+    from ..units import LENGTH_UNITS
+    if units.length == "unitless" or r.reach <= 0 or r.target < UNIT_SLIP * r.reach:
+        return ""
+    shown = LENGTH_UNITS[units.length]
+    smaller = sorted((f, u) for u, f in LENGTH_UNITS.items() if u != "unitless" and f < shown)
+    for f, u in reversed(smaller):                 # the least change of unit that fits
+        if r.target * f / shown <= r.reach:
+            return (f"; were the numbers meant in {u}? Read as {u}, the target is "
+                    f"{length(r.target * f / shown, units)} from the base, within the reach")
+    return ""
+
+
 def length(x: float, units, digits: int = 6) -> str:
     return f"{x * units.l:.{digits}g}{length_suffix(units)}"
 
@@ -94,7 +113,7 @@ def _(r: Outside, robot, units) -> str:
     if r.where == "beyond-outer-reach":
         return (f"beyond the outer reach by {d}: the target is {length(r.target, units)} "
                 f"from the base, the arm reaches {length(r.reach, units)} from it in this "
-                "direction")
+                "direction" + _unit_slip(r, units))
     if r.where == "inside-inner-void":
         return (f"inside the inner void by {d}: the target is {length(r.target, units)} "
                 f"from the base, the arm reaches no closer than {length(r.reach, units)}"

@@ -108,12 +108,15 @@ def _tables(doc, robot, precision):
     headers = [j.name for j in robot.joints]
     L = doc["units"]["length"]
     c.print(matrix_table(
-        doc["J"], precision, headers=headers,
+        doc["J"], precision, headers=headers, row_labels=["vx", "vy", "vz", "wx", "wy", "wz"],
         title=f"J ({doc['frame']} frame; rows vx vy vz [{L}/rad] wx wy wz [rad/rad])"))
     if "analytic" in doc:
         an = doc["analytic"]
         if an["J"] is not None:
+            rates = {"rpy": ("roll", "pitch", "yaw"), "zyz": ("z1", "y", "z2"),
+                     "xyz": ("x", "y", "z")}.get(an["angles"], ("a1", "a2", "a3"))
             c.print(matrix_table(an["J"], precision, headers=headers,
+                                 row_labels=["vx", "vy", "vz"] + [f"d{a}" for a in rates],
                                  title=f"analytic Jacobian ({an['angles']} angle rates)"))
         else:
             c.print(f"analytic Jacobian: {an['error']}")

@@ -257,19 +257,24 @@ def vec(values, precision: int) -> str:
     return "  ".join(num(v, precision) for v in values)
 
 
-def matrix_table(rows, precision: int, title: str | None = None, headers=None):
-    """A borderless right-aligned table of a matrix (list of rows)."""
+def matrix_table(rows, precision: int, title: str | None = None, headers=None,
+                 row_labels=None):
+    """A borderless right-aligned table of a matrix (list of rows); ``row_labels``: a first
+    column naming each row (repeated in every panel of a split table)."""
     from rich import box
     from rich.table import Table
     from rich.markup import escape
     t = Table(title=escape(title) if title else None, box=box.SIMPLE, show_header=headers is not None,
               title_justify="left", pad_edge=False)
-    key_columns(t, 0)
+    key_columns(t, 0 if row_labels is None else 1)
+    if row_labels is not None:
+        t.add_column("", justify="left")
     ncols = len(rows[0]) if rows else 0
     for k in range(ncols):
         t.add_column(headers[k] if headers else "", justify="right")
-    for r in rows:
-        t.add_row(*(num(v, precision) for v in r))
+    for i, r in enumerate(rows):
+        t.add_row(*([] if row_labels is None else [escape(row_labels[i])]),
+                  *(num(v, precision) for v in r))
     return t
 
 

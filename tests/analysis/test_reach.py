@@ -366,3 +366,24 @@ def test_cli_bad_input_exit_2_and_one_line(capsys, tmp_path, arms):
 
     code, out, err = run(capsys, "reach", arms["rr"], "--batch", "-", "--format", "xml")
     assert code == 2 and err.count("\n") == 1
+
+
+def test_a_target_far_beyond_the_reach_suggests_a_smaller_unit():
+    """PUMA numbers written in mm or cm but read as m: the reason says which unit brings
+    the target within the reach (the target's distance divided by that unit's factor),
+    and says nothing for a target merely out of reach."""
+    from cli_contract import run_cli
+    for xyz, unit in ((["500", "100", "300"], "mm"), (["50", "10", "30"], "cm")):
+        status, out, err = run_cli(["ik", "puma560", "--xyz", *xyz, "--rpy", "0", "90", "0",
+                                    "--json"])
+        reason = json.loads(out)["reason"]
+        assert status == 1 and f"were the numbers meant in {unit}?" in reason, reason
+        shown = float(reason.split(f"Read as {unit}, the target is ")[1].split(" m")[0])
+        r = np.linalg.norm(np.array(xyz, float)) * {"mm": 1e-3, "cm": 1e-2}[unit]
+        assert abs(shown - r) < 0.2       # from the base (the base point is near the origin)
+    status, out, err = run_cli(["ik", "puma560", "--xyz", "5", "1", "3", "--rpy", "0", "90", "0",
+                                "--json"])
+    assert "meant" not in json.loads(out)["reason"]
+    status, out, err = run_cli(["ik", "puma560", "--xyz", "500000", "0", "0", "--rpy", "0", "0",
+                                "0", "--unit", "mm", "--json"])
+    assert "meant" not in json.loads(out)["reason"]      # no unit smaller than mm

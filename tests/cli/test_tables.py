@@ -423,3 +423,18 @@ def test_no_trailing_spaces_when_not_a_terminal():
     out.flush()   # a line without its newline is written whole
     assert buf.getvalue() == "a\nb  c\n\n\nend "
     assert out.isatty() is False
+
+
+def test_jacobian_rows_are_labelled(monkeypatch):
+    """Every row of the geometric and the analytic Jacobian carries its name (vx..wz, and
+    the angle rates), also in every panel of a table split to fit the width."""
+    from cli_contract import run_cli
+    monkeypatch.setenv("COLUMNS", "50")
+    status, out, err = run_cli(["jacobian", "puma560", "0", "45", "-90", "0", "30", "0",
+                                "--analytic", "rpy"])
+    assert status == 0, err
+    first = [line.split()[0] for line in out.splitlines() if line.strip()]
+    vx, wx, dyaw = first.count("vx"), first.count("wx"), first.count("dyaw")
+    assert wx >= 2 and dyaw >= 2 and vx == wx + dyaw            # split, every panel labelled
+    for k in ("vy", "vz", "wy", "wz"):
+        assert first.count(k) == (vx if k[0] == "v" else wx)
