@@ -162,7 +162,7 @@ def _tables(doc, robot, precision, explain):
     from rich.markup import escape
     from rich.table import Table
 
-    from .render import console, heading, kv_table, matrix_table, num
+    from .render import console, heading, joint_amount, kv_table, matrix_table, num
     c = console()
     c.print(heading(doc))
     u = doc["units"]
@@ -204,7 +204,8 @@ def _tables(doc, robot, precision, explain):
                 "" if res["orientation"] is None else f" / {res['orientation']:.1e}")
             if s["violations"]:
                 text += "; out of limits: " + ", ".join(
-                    f"{v['joint']} by {num(v['by'], 2)} ({v['side']})" for v in s["violations"])
+                    f"{v['joint']} by {joint_amount(robot, v['joint'], v['by'], u)} ({v['side']})"
+                    for v in s["violations"])
             if s.get("change_from_near") is not None:
                 text += "; change from --near: " + " ".join(
                     num(v, 2) for v in s["change_from_near"])

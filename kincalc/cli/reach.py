@@ -71,7 +71,7 @@ def reach(
 def _tables(doc, robot, precision):
     from rich.markup import escape
 
-    from .render import console, heading, kv_table, matrix_table, num, vec
+    from .render import console, heading, joint_amount, kv_table, matrix_table, num, vec
     c = console()
     c.print(heading(doc))
     u = doc["units"]
@@ -101,6 +101,7 @@ def _tables(doc, robot, precision):
         rows = []
         for b in doc["blocked"]:
             rows.append((escape(b["branch"]), escape(", ".join(
-                f"{v['joint']} {num(v['by'], 2)} beyond its {v['side']} limit "
-                f"{num(v['limit'], 2)}" for v in b["violations"]))))
+                f"{v['joint']} {joint_amount(robot, v['joint'], v['by'], doc['units'])} beyond "
+                f"its {v['side']} limit {joint_amount(robot, v['joint'], v['limit'], doc['units'])}"
+                for v in b["violations"]))))
         c.print(kv_table(rows, title="solutions and the limits they violate"))

@@ -237,6 +237,16 @@ def _panel_title(table, n: int, a: int, b: int, total: int, width: int):
     return whole if Text.from_markup(whole).cell_len <= width else note
 
 
+def joint_amount(robot, joint: str, x: float, units: dict) -> str:
+    """An amount of joint ``joint`` (its name; an angle for a revolute joint, a length for a
+    prismatic one) with 4 significant digits and its unit, from the document's ``units``:
+    a limit violation reads the same in every table whatever --precision is."""
+    revolute = next(j.revolute for j in robot.joints if j.name == joint)
+    unit = units["angle"] if revolute else ("" if units["length"] == "unitless"
+                                            else units["length"])
+    return f"{x:.4g}" + (f" {unit}" if unit else "")
+
+
 def num(x, precision: int) -> str:
     """A number for a table: fixed decimals, no negative zero, inf/nan spelled out."""
     if x is None:

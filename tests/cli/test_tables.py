@@ -438,3 +438,17 @@ def test_jacobian_rows_are_labelled(monkeypatch):
     assert wx >= 2 and dyaw >= 2 and vx == wx + dyaw            # split, every panel labelled
     for k in ("vy", "vz", "wy", "wz"):
         assert first.count(k) == (vx if k[0] == "v" else wx)
+
+
+def test_limit_violations_carry_their_unit_and_digits():
+    """A prismatic joint 4.8 mm beyond its limit says so in metres with its digits, not
+    "by 0.00" (whatever --precision is); an angle in degrees."""
+    from cli_contract import run_cli
+    status, out, err = run_cli(["ik", "stanford_arm", "--from-q", "10 20 1.2748 30 40 50",
+                                "--precision", "2"])
+    assert "d3 by 0.0048 m (upper)" in out, out
+    status, out, err = run_cli(["reach", "stanford_arm", "--from-q", "10 20 1.2748 30 40 50"])
+    assert "d3 0.0048 m beyond its upper limit 1.27 m" in out, out
+    status, out, err = run_cli(["ik", "iiwa14", "--from-q", "10 40 20 -60 30 50 -20", "--lock",
+                                "A3=175"])
+    assert "A3 by 5 deg (upper)" in out
