@@ -71,12 +71,14 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     Jn[:, ~robot.is_revolute] *= L  # prismatic columns: m/m -> per unit of L
     U, s, Vt = np.linalg.svd(Jn)
     rank = int(np.sum(s > SINGULAR_TOL * max(s[0], 1.0)))
-    sv = np.linalg.svd(Jn[:3], compute_uv=False)
+    Up, sv, _ = np.linalg.svd(Jn[:3])
     pos_rank = int(np.sum(sv > SINGULAR_TOL * max(sv[0], 1.0)))
     full, full_pos = robot.generic_ranks
     singularity = None
     if rank < full or pos_rank < full_pos:
-        singularity = _classify(robot, q, U, s, Vt, rank, pos_rank < full_pos)
+        # the direction (base frame) the tool point cannot move in, when it has lost one
+        stuck = Up[:, pos_rank] if pos_rank < full_pos else None
+        singularity = _classify(robot, q, U, s, Vt, rank, stuck)
 
     result_analytic = err = None
     if analytic is not None:
@@ -96,8 +98,9 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                           analytic_error=err)
 
 
-def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
-    """Name the singularity from the axes' geometry where the structure allows."""
+def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:
+    """Name the singularity from the axes' geometry where the structure allows; ``stuck``:
+    the unit direction (base frame) the tool point cannot move in, if it lost one."""
     from ..structure import (joint_axes, parallel, point_line_distance,
                             spherical_wrist, wrist_centre)
 
@@ -154,10 +157,18 @@ def _classify(robot, q, U, s, Vt, rank, position_lost=False) -> Singularity:
     if n > 6:
         null_space = None
     lost = U[:, rank] if rank < 6 and n >= 6 else None
-    if not kinds and position_lost:
+    if not kinds and stuck is not None:
         kinds.append("position")
-        texts.append("position singularity: the tool point cannot move in some direction "
-                     "(for a planar arm: stretched or folded)")
+        d = np.round(stuck * np.sign(stuck[np.argmax(np.abs(stuck))]), 3) + 0.0
+        planar = all(parallel(dirs[j], dirs[0], tol_dir) for j in range(n) if rev[j]) \
+            and robot.generic_ranks[1] == 2
+        tip = robot.fk(q)[:3, 3]
+        on_axis = bool(rev[0]) and point_line_distance(tip, pts[0], dirs[0]) < tol_len
+        texts.append("position singularity: the tool point cannot move along "
+                     f"({d[0]:.3f}, {d[1]:.3f}, {d[2]:.3f}) (base frame)"
+                     + (": the planar arm is stretched or folded" if planar else
+                        ": it lies on the axis of joint 1 (a shoulder singularity)" if on_axis
+                        else ""))
     if not kinds:
         kinds.append("unclassified")
         msg = f"singular configuration: the Jacobian has rank {rank} instead of {robot.generic_ranks[0]}"

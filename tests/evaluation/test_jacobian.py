@@ -216,3 +216,26 @@ def test_ur_wrist_singularity_names_the_parallel_joints():
     text = " ".join(res.singularity.descriptions)
     assert "parallel to those of joints 2, 3, 4" in text and "q2, q3, q4, q6" in text
     assert "only q4 + q6" not in text
+
+
+def test_position_singularities_name_the_arm_at_hand():
+    """The direction the tool point cannot move in is a left null vector of the linear
+    Jacobian (checked with J from robot.jacobian); a planar arm is told it is stretched or
+    folded, a spatial arm with its tool point on axis 1 that it is a shoulder singularity,
+    and a spatial arm is never told it is planar."""
+    import re
+
+    from kincalc import jacobian_report, load_robot
+    for name, q, words in (("bk_rr", [0, 0], "the planar arm is stretched or folded"),
+                           ("bk_rr", [0, np.pi], "the planar arm is stretched or folded"),
+                           ("fer_rrpr", [0, 0, 0.5, 0], "on the axis of joint 1")):
+        r = load_robot(name)
+        rep = jacobian_report(r, np.array(q, float))
+        text = "; ".join(rep.singularity.descriptions)
+        assert words in text, text
+        if name == "fer_rrpr":
+            assert "planar" not in text
+        d = np.array([float(x) for x in re.search(r"along \(([^)]*)\)", text)[1].split(",")])
+        Jv = r.jacobian(np.array(q, float))[:3]
+        assert np.isclose(np.linalg.norm(d), 1, atol=2e-3)
+        assert np.abs(d @ Jv).max() < 2e-3 * np.abs(Jv).max()
