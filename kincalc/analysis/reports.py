@@ -159,16 +159,7 @@ def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:
     lost = U[:, rank] if rank < 6 and n >= 6 else None
     if not kinds and stuck is not None:
         kinds.append("position")
-        d = np.round(stuck * np.sign(stuck[np.argmax(np.abs(stuck))]), 3) + 0.0
-        planar = all(parallel(dirs[j], dirs[0], tol_dir) for j in range(n) if rev[j]) \
-            and robot.generic_ranks[1] == 2
-        tip = robot.fk(q)[:3, 3]
-        on_axis = bool(rev[0]) and point_line_distance(tip, pts[0], dirs[0]) < tol_len
-        texts.append("position singularity: the tool point cannot move along "
-                     f"({d[0]:.3f}, {d[1]:.3f}, {d[2]:.3f}) (base frame)"
-                     + (": the planar arm is stretched or folded" if planar else
-                        ": it lies on the axis of joint 1 (a shoulder singularity)" if on_axis
-                        else ""))
+        texts.append(_position_text(robot, q, stuck, dirs, pts, tol_len, tol_dir))
     if not kinds:
         kinds.append("unclassified")
         msg = f"singular configuration: the Jacobian has rank {rank} instead of {robot.generic_ranks[0]}"
@@ -182,3 +173,20 @@ def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:
         k = int(np.argmax(np.abs(null_space)))
         null_space = null_space * np.sign(null_space[k])
     return Singularity(tuple(kinds), tuple(texts), null_space, lost)
+
+
+def _position_text(robot, q, stuck, dirs, pts, tol_len, tol_dir) -> str:
+    """The sentence of a position singularity: the direction ``stuck`` (unit, base frame)
+    the tool point cannot move in, and the geometry where it says why: a planar arm
+    stretched or folded, the tool point on the axis of joint 1."""
+    from ..structure import parallel, point_line_distance
+    rev = robot.is_revolute
+    d = np.round(stuck * np.sign(stuck[np.argmax(np.abs(stuck))]), 3) + 0.0
+    planar = all(parallel(dirs[j], dirs[0], tol_dir) for j in range(robot.dof) if rev[j]) \
+        and robot.generic_ranks[1] == 2
+    tip = robot.fk(q)[:3, 3]
+    on_axis = bool(rev[0]) and point_line_distance(tip, pts[0], dirs[0]) < tol_len
+    return ("position singularity: the tool point cannot move along "
+            f"({d[0]:.3f}, {d[1]:.3f}, {d[2]:.3f}) (base frame)"
+            + (": the planar arm is stretched or folded" if planar else
+               ": it lies on the axis of joint 1 (a shoulder singularity)" if on_axis else ""))
