@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
 from kincalc.analysis.redundancy import locked_robot, solve_locked  # noqa: E402
-from kincalc.analysis.sweep import _Solver, sweep  # noqa: E402
+from kincalc.analysis.sweep import Solver, sweep  # noqa: E402
 from kincalc.analysis.swivel import swivel_ranges  # noqa: E402
 from kincalc.ik import Target, solve  # noqa: E402
 from kincalc.ik.selftest import sample_configurations  # noqa: E402
@@ -71,7 +71,7 @@ def main():
         ("swivel angle, 8 branches", median(
             lambda x: solve(arm, Target(x[0], swivel=float(x[2]))), items)),
         ("sweep A1, 100 values (batch)", median(
-            lambda x: _Solver(arm, Target(x[0]).targets(), 0, {}).grid(values), items[:20])),
+            lambda x: Solver(arm, Target(x[0]).targets(), 0, {}).grid(values), items[:20])),
         ("sweep A1, 100 values (joined)", median(
             lambda x: sweep(arm, Target(x[0]).targets(), 0, values), items[:20])),
         ("swivel range", median(lambda x: swivel_ranges(arm, x[0]), items[:20])),

@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import InputError
 from ..ik import IKResult, IKSolution, Target, solve
 from ..ik.reasons import Blocked, Found
+from ..ik.solve import limits_reason, violation_list
 from ..model import Joint, Robot
 from ..spatial import matrix_from_axis_angle, transform
 
@@ -120,6 +121,72 @@ def check_lock(robot: Robot, reduced: Robot, locks: dict[int, float]) -> None:
                          "shoulder and wrist, any but the elbow)")
 
 
+#: the value (rad, or arm sizes for a prismatic joint) at which a joint held at every
+#: value is checked for a self-motion of the chain it leaves (any but a few special
+#: values will do)
+GENERIC = 0.9
+
+
+def generic_chain(robot: Robot, joint: int, locks: dict | None = None) -> Robot:
+    """The chain ``robot`` leaves with ``joint`` held at :data:`GENERIC` (and ``locks``),
+    checked by :func:`check_lock`: what holding the joint at any value gives (its family).
+
+    Raises
+    ------
+    InputError
+        From :func:`check_lock`.
+    """
+    size = 1.0 if robot.joints[joint].revolute else robot.characteristic_length
+    held = {**(locks or {}), joint: GENERIC * size}
+    chain = locked_robot(robot, held)
+    check_lock(robot, chain, held)
+    return chain
+
+
+def with_held(robot: Robot, q, locks: dict) -> np.ndarray:
+    """The arm's joints ``(..., n)`` from the joints ``q (..., n - len(locks))`` of the
+    chain ``locks`` leave (rad / m), the held values in place; a held value may be an
+    array that broadcasts against ``q``'s leading shape."""
+    q = np.asarray(q, float)
+    keep = [k for k in range(robot.dof) if k not in locks]
+    out = np.empty(q.shape[:-1] + (robot.dof,))
+    out[..., keep] = q
+    for j, v in locks.items():
+        out[..., j] = v
+    return out
+
+
+def held_within(robot: Robot, q, joints) -> np.ndarray:
+    """``(...)`` bool: the ``joints`` of the arm's configurations ``q (..., n)`` are within
+    their limits (the engine's test, :func:`kincalc.ik.engine.violations`)."""
+    from ..ik.engine import violations
+    return (violations(robot, np.asarray(q, float))[..., list(joints)] == 0).all(-1)
+
+
+def least_change(robot: Robot, Q, ok, near):
+    """The candidate of ``Q (..., n)`` (where ``ok (...)``) nearest the current joints
+    ``near (n,)`` (rad / m): each revolute joint moved by whole turns within its limits
+    towards ``near`` (:func:`kincalc.spatial.turn_toward`), prismatic changes over the
+    arm's size.
+
+    Returns
+    -------
+    (index tuple, q (n,), change (n,)), or None when no candidate is ``ok``.
+    """
+    from ..spatial import turn_toward
+    near = np.asarray(near, float)
+    ok = np.asarray(ok, bool)
+    if not ok.any():
+        return None
+    lo, hi = robot.limits.T
+    Q = np.where(ok[..., None], Q, 0.0)
+    Q = np.where(robot.is_revolute, turn_toward(Q, near, lo, hi), Q)
+    scale = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
+    cost = np.where(ok, np.linalg.norm((Q - near) / scale, axis=-1), np.inf)
+    idx = np.unravel_index(int(np.argmin(cost)), cost.shape)
+    return tuple(int(i) for i in idx), Q[idx], Q[idx] - near
+
+
 def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
                  near=None, **options) -> IKResult:
     """Every IK solution of ``robot`` for ``target`` with the joints ``locks`` held.
@@ -160,18 +227,12 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
     res = solve(reduced, target, near=None if near_full is None else near_full[keep],
                 **options)
     held = [(j, v) for j, v in sorted(locks.items())]
-    outside = [(j, *b) for j, v in held if (b := _beyond(robot.limits[j], v)) is not None]
-
-    def full(q):
-        out = np.empty(robot.dof)
-        out[keep] = q
-        for j, v in held:
-            out[j] = v
-        return out
+    outside = [v for v in violation_list(robot, with_held(robot, np.zeros(reduced.dof), locks))
+               if v[0] in locks]
 
     def solution(s: IKSolution) -> IKSolution:
         violations = [(keep[i], amount, side) for i, amount, side in s.violations] + outside
-        q = full(s.q)
+        q = with_held(robot, s.q, locks)
         return dataclasses.replace(
             s, q=q, violations=violations, within_limits=s.within_limits and not outside,
             free=tuple(keep[i] for i in s.free),
@@ -179,17 +240,11 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
             change=None if near_full is None else q - near_full)
 
     rejected = None if res.rejected is None else \
-        [{**r, "q": full(r["q"])} for r in res.rejected]
+        [{**r, "q": with_held(robot, r["q"], locks)} for r in res.rejected]
     sols = [solution(s) for s in res.solutions]
     reason = res.reason
     if isinstance(reason, (Found, Blocked)):    # of the arm's joints and its held values
-        worst = {}
-        for s in sols:
-            for i, amount, _ in s.violations:
-                worst[i] = min(worst.get(i, np.inf), amount)
-        within = sum(s.within_limits for s in sols)
-        reason = Found(len(sols), within) if within else \
-            Blocked(len(sols), tuple(sorted(worst.items())))
+        reason = limits_reason(sols)
     dead = None if res.dead_ends is None else \
         [dataclasses.replace(d, joint=keep[d.joint]) for d in res.dead_ends]
     chain = ", ".join(f"{k + 1} = {robot.joints[i].name}" for k, i in enumerate(keep))
@@ -199,16 +254,6 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
                                reason=reason, dead_ends=dead,
                                method=f"{res.method} (joints of the chain the lock leaves: "
                                       f"{chain})")
-
-
-def _beyond(limits, value):
-    """``(amount, side)`` by which ``value`` is outside ``limits (2,)``, or None."""
-    lo, hi = limits
-    if value < lo:
-        return lo - value, "lower"
-    if value > hi:
-        return value - hi, "upper"
-    return None
 
 
 @dataclasses.dataclass(frozen=True)

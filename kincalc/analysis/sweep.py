@@ -35,7 +35,8 @@ import numpy as np
 from ..errors import InputError
 from ..ik.target import Targets
 from ..spatial import invert_transform, wrap
-from .redundancy import check_lock, joint_motion, locked_robot
+from .redundancy import (generic_chain, held_within, joint_motion, least_change,
+                         locked_robot, with_held)
 
 #: the largest change of any joint (rad; prismatic joints in units of the arm's size)
 #: between neighbouring values of one branch
@@ -148,11 +149,9 @@ def sweep(robot, targets: Targets, joint: int, values, locks=None) -> Sweep:
     if targets.kind == "tcv":
         raise InputError("a tool configuration vector target is not swept; give the pose")
     values = np.asarray(values, float)
-    size = 1.0 if robot.joints[joint].revolute else robot.characteristic_length
-    generic = {**locks, joint: _GENERIC * size}
-    check_lock(robot, locked_robot(robot, generic), generic)
+    generic_chain(robot, joint, locks)
     from ..errors import UnsupportedRobot
-    solver = _Solver(robot, targets, joint, locks)
+    solver = Solver(robot, targets, joint, locks)
     try:
         found = solver.grid(values)
     except UnsupportedRobot as exc:
@@ -163,30 +162,24 @@ def sweep(robot, targets: Targets, joint: int, values, locks=None) -> Sweep:
     return _join(solver, values, found)
 
 
-#: the value (rad, or arm sizes) at which a swept joint's lock is checked for a
-#: self-motion of the chain it leaves (any value but a few special ones will do)
-_GENERIC = 0.9
 #: halvings of a step to follow a branch through fast motion or locate its end
 _DEPTH = 8
 
 
-class _Solver:
-    """The solutions of the locked problem at any value of the swept joint (module
-    docstring, step 1), the whole arm's joints: ``(q (k, n), label (k,), within (k,),
-    singular (k,), family)`` per value."""
+class Solver:
+    """The solutions of the locked problem at any value of the swept ``joint`` (module
+    docstring, step 1), the other ``locks`` held, for the one target of ``targets``: the
+    whole arm's joints, ``(q (k, n), label (k,), within (k,), singular (k,), family)`` per
+    value (within: every joint, the held ones included)."""
 
     def __init__(self, robot, targets, joint, locks):
         self.robot, self.targets, self.joint, self.locks = robot, targets, joint, locks
         n = robot.dof
-        self.keep = [k for k in range(n) if k not in locks and k != joint]
         self.shared = joint == 0 or (joint == n - 1 and targets.kind == "pose")
         self.chain = locked_robot(robot, {**locks, joint: 0.0}) if self.shared else None
         if self.shared:
             from ..conventions import to_poe
             self.poe = to_poe(robot)
-        lo, hi = robot.limits.T
-        self.limits = lo[joint] - 1e-12, hi[joint] + 1e-12
-        self.held_in = all(lo[j] - 1e-12 <= v <= hi[j] + 1e-12 for j, v in locks.items())
 
     def grid(self, values) -> list:
         """The solutions at each of ``values`` (one engine batch when the chain is shared)."""
@@ -205,14 +198,8 @@ class _Solver:
         from ..ik.engine import solve_targets
         sv = solve_targets(chain, targets)
         values = np.asarray(values, float)
-        N, K = sv.valid.shape
-        q = np.empty((N, K, self.robot.dof))
-        q[..., self.keep] = sv.q
-        q[..., self.joint] = values[:, None]
-        for j, x in self.locks.items():
-            q[..., j] = x
-        inside = self.held_in & (values >= self.limits[0]) & (values <= self.limits[1])
-        within = sv.within & inside[:, None]
+        q = with_held(self.robot, sv.q, {**self.locks, self.joint: values[:, None]})
+        within = sv.within & held_within(self.robot, q, [self.joint, *self.locks])
         labels, singular = sv.labels, sv.singular
         return [(q[r, ok], labels[r, ok], within[r, ok], singular[r, ok], sv.family)
                 for r, ok in enumerate(sv.valid)]
@@ -348,26 +335,16 @@ def _end(robot, b, where, at_range_end) -> BranchEnd:
 def nearest(sw: Sweep, near) -> tuple | None:
     """The value and branch of ``sw`` nearest the current joints ``near (n,)`` (rad / m):
     the least change, each revolute joint moved by whole turns within its limits towards
-    ``near`` (:func:`kincalc.spatial.turn_toward`), prismatic joints scaled by the arm's size.
+    ``near``, prismatic joints scaled by the arm's size
+    (:func:`~kincalc.analysis.redundancy.least_change`).
 
     Returns
     -------
     (value index, branch index, q (n,), change (n,)) of the nearest solution within the
     limits, or None when no solution of the sweep is within them.
     """
-    from ..spatial import turn_toward
-    robot = sw.robot
-    near = np.asarray(near, float)
-    ok = sw.present & sw.within
-    if not ok.any():
-        return None
-    lo, hi = robot.limits.T
-    Q = np.where(ok[..., None], sw.q, 0.0)
-    Q = np.where(robot.is_revolute, turn_toward(Q, near, lo, hi), Q)
-    scale = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
-    cost = np.where(ok, np.linalg.norm((Q - near) / scale, axis=-1), np.inf)
-    i, b = np.unravel_index(int(np.argmin(cost)), cost.shape)
-    return int(i), int(b), Q[i, b], Q[i, b] - near
+    best = least_change(sw.robot, sw.q, sw.present & sw.within, near)
+    return None if best is None else (*best[0], best[1], best[2])
 
 
 # --- the document ---------------------------------------------------------------------

@@ -125,9 +125,8 @@ def swivel_ranges(robot, T, samples: int = SAMPLES) -> list:
 
 def nearest_swivel(robot, T, near, samples: int = SAMPLES):
     """The branch and swivel angle whose solution is nearest the current joints ``near
-    (7,)`` (rad): the least change, each joint moved by whole turns within its limits
-    towards ``near`` (:func:`kincalc.spatial.turn_toward`), among solutions within the
-    limits; the angle found on the sampled circle, then refined seven times on 33 angles
+    (7,)`` (rad): the least change (:func:`~kincalc.analysis.redundancy.least_change`),
+    among solutions within the limits; the angle found on the sampled circle, then refined seven times on 33 angles
     around it (to ``2 pi / samples / 16^7``, 3e-11 rad).
 
     Returns
@@ -135,20 +134,18 @@ def nearest_swivel(robot, T, near, samples: int = SAMPLES):
     (label, psi (rad), q (7,), change (7,)), or None when no branch is feasible at any
     sampled angle.
     """
-    from ..spatial import turn_toward
-    near = np.asarray(near, float)
-    lo, hi = robot.limits.T
+    from .redundancy import least_change
 
     def best(psi, slots=None):
         sv = _solve(robot, T, psi)
         ok = sv.valid & sv.within
         if slots is not None:
             ok &= np.arange(ok.shape[1]) == slots
-        Q = turn_toward(sv.q, near, lo, hi)
-        cost = np.where(ok, np.linalg.norm(Q - near, axis=-1), np.inf)
-        i, k = np.unravel_index(int(np.argmin(cost)), cost.shape)
-        return (None if not np.isfinite(cost[i, k]) else
-                (int(k), float(psi[i]), Q[i, k], sv.labels[i, k]))
+        found = least_change(robot, sv.q, ok, near)
+        if found is None:
+            return None
+        (i, k), q, _ = found
+        return k, float(psi[i]), q, sv.labels[i, k]
     grid = -np.pi + 2 * np.pi * np.arange(samples) / samples
     found = best(grid)
     if found is None:
@@ -159,7 +156,7 @@ def nearest_swivel(robot, T, near, samples: int = SAMPLES):
         found = best(psi + np.linspace(-step, step, 33), k) or found
         step /= 16
     k, psi, q, label = found
-    return label, (psi + np.pi) % (2 * np.pi) - np.pi, q, q - near
+    return label, (psi + np.pi) % (2 * np.pi) - np.pi, q, q - np.asarray(near, float)
 
 
 def _limits_at(robot, T, psi, slots) -> list:

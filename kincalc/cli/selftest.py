@@ -49,14 +49,13 @@ def selftest(
     if lock_joint is not None and swivel:
         raise InputError("--lock-joint and --swivel do not go together")
     if lock_joint is not None:
-        from ..analysis.redundancy import check_lock, locked_robot, solve_locked
+        from ..analysis.redundancy import generic_chain, solve_locked
         from .common import joint_index
         j = joint_index(lock_joint, rob, "--lock-joint")
         if rob.dof < 7:
             raise InputError(f"--lock-joint is for redundant arms: {rob.name} has {rob.dof} "
                              "joints, one held leaves fewer than a pose needs")
-        chain = locked_robot(rob, {j: 0.9})             # a generic value: the family
-        check_lock(rob, chain, {j: 0.9})
+        chain = generic_chain(rob, j)                   # the family of any held value
         fam = plan(chain)[1]
         name = fam.name if fam else "numerical"
         description = (f"{rob.joints[j].name} held at each configuration's own value; the "

@@ -321,8 +321,7 @@ def _dead_ends(robot, sv: Solved) -> list:
 
 
 def _toward(robot, q, near):
-    """``q`` with each revolute joint moved by whole turns, inside its limits, towards
-    ``near`` (:func:`kincalc.spatial.turn_toward`)."""
+    """``q``'s revolute joints moved by whole turns towards ``near`` (``turn_toward``)."""
     lo, hi = robot.limits.T
     return np.where(robot.is_revolute, turn_toward(q, near, lo, hi), q)
 
@@ -389,16 +388,22 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                     units=units, near=near)
 
 
-def _reason(robot, family, T, target, sols, rejected):
-    """Why the answer is what it is (:mod:`kincalc.ik.reasons`)."""
+def limits_reason(sols) -> Found | Blocked:
+    """``Found`` (how many of ``sols``, one or more, are within the limits), else ``Blocked``
+    (each broken joint and the least amount any solution is beyond it)."""
     if any(s.within_limits for s in sols):
         return Found(len(sols), sum(s.within_limits for s in sols))
+    worst = {}
+    for s in sols:
+        for i, amount, side in s.violations:
+            worst[i] = min(worst.get(i, np.inf), amount)
+    return Blocked(len(sols), tuple(sorted(worst.items())))
+
+
+def _reason(robot, family, T, target, sols, rejected):
+    """Why the answer is what it is (:mod:`kincalc.ik.reasons`)."""
     if sols:
-        worst = {}
-        for s in sols:
-            for i, amount, side in s.violations:
-                worst[i] = min(worst.get(i, np.inf), amount)
-        return Blocked(len(sols), tuple(sorted(worst.items())))
+        return limits_reason(sols)
     if rejected:
         placed = _placing(robot, rejected)
         if not placed:

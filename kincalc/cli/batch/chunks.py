@@ -279,21 +279,12 @@ def _ik_group(robot, units, parsed, fmt, held):
     from ...ik import Target
     from ...ik.solve import solve
     full, T, partial, errors = _poses(robot, units, parsed)
-    chain, keep, put_back, inside = robot, slice(None), None, True
+    chain = robot
     if held:
-        from ...analysis.redundancy import check_lock, locked_robot, solve_locked
+        from ...analysis.redundancy import (check_lock, held_within, locked_robot,
+                                             solve_locked, with_held)
         chain = locked_robot(robot, held)
         check_lock(robot, chain, held)
-        keep = [k for k in range(robot.dof) if k not in held]
-        lo, hi = robot.limits.T
-        inside = all(lo[j] - 1e-12 <= v <= hi[j] + 1e-12 for j, v in held.items())
-
-        def put_back(q):
-            out = np.empty(q.shape[:-1] + (robot.dof,))
-            out[..., keep] = q
-            for j, v in held.items():
-                out[..., j] = v
-            return out
     qdisp = np.where(robot.is_revolute, units.a, units.l)
     recs, no = [], False
     try:
@@ -303,8 +294,10 @@ def _ik_group(robot, units, parsed, fmt, held):
         partial += [(i, kw, Target(t, orientation=True)) for (i, kw), t in zip(full, T)]
     if B is not None:
         valid = B.valid & np.isfinite(B.q).all(axis=-1)         # (a NaN is no solution)
-        q = B.q[valid] if put_back is None else put_back(B.q[valid])       # (s, n)
-        within = B.within[valid] & inside
+        q, within = B.q[valid], B.within[valid]                            # (s, n)
+        if held:
+            q = with_held(robot, q, held)
+            within = within & held_within(robot, q, held)
         owner, _ = np.nonzero(valid)
         labels = B.labels[valid].tolist()
         counts = valid.sum(axis=1)

@@ -77,10 +77,12 @@ def _judge_sets(sheet, item, res, required, exhaustive):
         entry = {"set": number, "line": line, "q": json_numbers(display_q(robot, q, units)),
                  "residual": {"position": pe * units.l,
                               "orientation": None if oe is None else oe * units.a}}
-        moved = [j for j, v in item.lock if gaps(robot, q, _with(q, j, v))[j] > jtol[j]]
+        held = dict(item.lock)
+        gap = gaps(robot, q, [held.get(j, x) for j, x in enumerate(q)])
+        moved = [j for j in held if gap[j] > jtol[j]]
         if moved:
             entry.update(status="wrong", note="the item holds " + ", ".join(
-                f"{joint_label(robot, j)} at {fmt(dict(item.lock)[j] * (units.a if rev[j] else units.l))}"
+                f"{joint_label(robot, j)} at {fmt(held[j] * (units.a if rev[j] else units.l))}"
                 for j in moved) + "; this set moves it")
             sets.append(entry)
             continue
@@ -115,13 +117,6 @@ def _judge_sets(sheet, item, res, required, exhaustive):
                          note=_ik_wrong_note(sheet, item, q, pe, oe, res, required))
         sets.append(entry)
     return sets, matched, worst
-
-
-def _with(q, j, v):
-    """``q`` with joint ``j`` at ``v``."""
-    out = np.array(q, float)
-    out[j] = v
-    return out
 
 
 def _summary(sheet, item, res, required, exhaustive, sets, missed):
