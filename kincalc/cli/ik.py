@@ -73,7 +73,7 @@ def ik(
 
     Give the position with --xyz and at most one orientation, or the whole
     pose with --pose or --from-q. Each solution is labelled by its branch
-    (shoulder left/right, elbow up/down, wrist flip/no-flip where the
+    (shoulder left/right or front/back, elbow up/down, wrist flip/no-flip where the
     structure has them; otherwise the +/- choice of each step), checked by FK,
     and flagged for joint limits and singularity. Exit status 1 when no
     solution within the joint limits reaches the target.

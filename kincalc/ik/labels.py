@@ -4,10 +4,11 @@
 A label is made of
 
 * the geometric words where the arm has them (:func:`branch_geometry`, from the
-  solution's joint frames): ``shoulder right/left`` (the side of the wrist point
-  relative to the plane of axes 1 and 2), ``elbow up/down`` (for parallel axes 2 and 3,
-  the elbow's side of the shoulder-to-wrist line), ``wrist no-flip/flip`` (the sign of
-  ``(z4 x z6) . z5``);
+  solution's joint frames): ``shoulder right/left`` for an arm with a shoulder offset,
+  ``shoulder front/back`` for one without (the side of the wrist point relative to the
+  plane of axes 1 and 2), ``elbow up/down`` (for the first two parallel revolute axes
+  among joints 1-3, the elbow's side of the shoulder-to-wrist line), ``wrist
+  no-flip/flip`` (the sign of ``(z4 x z6) . z5``);
 * the +/- (or ``root k``) of every other step with more than one root, from the slot the
   solution came from (:class:`~kincalc.ik.branches.Branches` gives each slot its
   signs: one table per family, not a string per solution);
@@ -17,31 +18,64 @@ A label is made of
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .cache import per_robot
 
 
-#: the geometric words of a branch label, for the codes 1 and 2 of :func:`branch_geometry`
-WORDS = (("shoulder right", "shoulder left"), ("elbow up", "elbow down"),
-         ("wrist no-flip", "wrist flip"))
-#: the joints whose +/- choice each word already names (shoulder 1, elbow 2 and 3, wrist 5)
-_NAMED = ({0}, {1, 2}, {4})
+#: the geometric words of a branch label, for the codes 1, 2, ... of :func:`branch_geometry`:
+#: the shoulder of an arm with a shoulder offset (right/left) or without one (front/back),
+#: the elbow, the wrist
+WORDS = (("shoulder right", "shoulder left", "shoulder front", "shoulder back"),
+         ("elbow up", "elbow down"), ("wrist no-flip", "wrist flip"))
+#: the families whose steps the words name: the shoulder's step is joint 1's, the elbow's
+#: the steps of its two joints, the wrist's joint 5's (a ``reversed-`` family has its wrist
+#: at the base, and the other families split their roots otherwise)
+WORDED = {"spherical-wrist", "three-parallel", "position-2", "position-3", "planar-3",
+          "point-plus-roll", "pitch-roll"}
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Which words of :data:`WORDS` an arm has and where their points are (robot-level).
+
+    A point fixed in a link is ``(frame, local)``: its coordinates ``local (3,)`` (m) in
+    the frame of :func:`kincalc.fk.chain_frames` that moves with that link.
+    """
+
+    #: P, the point the shoulder word judges; None: no shoulder word
+    shoulder: tuple | None
+    #: +1 or -1: the side of P at q = 0 (front); 0: the arm has a shoulder offset (right/left)
+    front: int
+    #: the elbow's joints (j, j + 1), revolute with parallel axes; None: no elbow word
+    elbow: tuple | None
+    #: W, the point the elbow reaches towards (the wrist)
+    wrist_point: tuple | None
+    #: the elbow's plane holds axis 1 (a spatial arm), else it is normal to it (a planar arm)
+    spatial: bool
+    #: the wrist word (z4 x z6) . z5 applies
+    wrist: bool
+
+    def named(self) -> tuple:
+        """The joints (0-based) whose +/- choice each word already names."""
+        return ({0}, set(self.elbow or ()), {4})
 
 
 def branch_geometry(robot, family: str, frames) -> np.ndarray:
     """The geometric words of the branch labels of ``k`` solutions, as codes.
 
-    The point P of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
-    meet on a UR arm) is fixed in the frame of the joint before those axes, so it is
-    carried from its coordinates there (:func:`_meeting_point_local`) instead of being
-    intersected anew for every solution.
+    The points of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
+    meet on a UR arm, the axis or tool point a planar arm reaches) are fixed in a link, so
+    they are carried from their coordinates there (:func:`geometry`) instead of being
+    found anew for every solution.
 
     Parameters
     ----------
     robot : Robot
     family : str
-        The family's solver name; only ``spherical-wrist`` and ``three-parallel`` have words.
+        The family's name; only those of :data:`WORDED` have words.
     frames : list of (tuple of 3 ndarray (3, k), ndarray (3, k))
         Per joint, its rotation's columns and origin (world frame, m), as
         :func:`kincalc.fk.frame_columns` gives them.
@@ -49,44 +83,56 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
     Returns
     -------
     ndarray (k, 3) of int8
-        Codes for (shoulder, elbow, wrist), each 0 where the word does not apply, else 1 or
-        2 for the first or second word of :data:`WORDS` (rules: the module docstring).
+        Codes for (shoulder, elbow, wrist), each 0 where the word does not apply, else 1, 2,
+        ... for the first, second, ... word of :data:`WORDS` (rules: ``man kincalc-ik``,
+        BRANCH LABELS).
     """
     k = frames[0][1].shape[1] if frames else 0
     codes = np.zeros((k, 3), np.int8)
-    first = {"spherical-wrist": 3, "three-parallel": 4}.get(family)
-    if first is None or k == 0:
+    geo = geometry(robot, family)
+    if geo is None or k == 0:
         return codes
     z = [cols[2] for cols, _ in frames]
     o = [p for _, p in frames]
-    rev = robot.is_revolute
-    local = _meeting_point_local(robot, first)
-    skew_01, parallel_12 = _axis_pairs(robot)
-    if local is not None:
-        cols = frames[first - 1][0]
-        P = cols[0] * local[0] + cols[1] * local[1] + cols[2] * local[2] + o[first - 1]
-        if rev[0] and skew_01:
-            side = _dot(P - o[0], _cross(z[0], z[1]))
-            codes[:, 0] = np.where(side >= 0, 1, 2)
-        if robot.dof >= 3 and rev[1] and rev[2] and parallel_12:
-            # the elbow (axis 3) against the shoulder-to-target line, in the plane of the
-            # parallel axes 2 and 3; the target is P, or axis 4 for a UR arm
-            sh, el, h = o[1], o[2], z[1]
-            tgt = P if family == "spherical-wrist" else o[3]
-            line = tgt - sh
-            line = line - h * _dot(h, line)
-            v = el - sh
-            v = v - h * _dot(h, v)
-            ll = np.maximum(_dot(line, line), 1e-300)
-            perp = v - line * (_dot(v, line) / ll)
-            up = _dot(perp, z[0])
-            # the elbow on the line (stretched or folded): the turn sense decides
-            alt = _dot(_cross(el - sh, tgt - el), h)
-            up = np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up)
-            codes[:, 1] = np.where(up >= 0, 1, 2)
-    w = _dot(_cross(z[3], z[5]), z[4])
-    codes[:, 2] = np.where(w >= 0, 1, 2)
+    if geo.shoulder is not None:
+        side = _dot(_carried(frames, geo.shoulder) - o[0], _cross(z[0], z[1]))
+        codes[:, 0] = (np.where(side >= 0, 1, 2) if geo.front == 0 else
+                       np.where(geo.front * side >= 0, 3, 4))
+    if geo.elbow is not None:
+        codes[:, 1] = np.where(_elbow_up(robot, geo, z, o, _carried(frames, geo.wrist_point)),
+                               1, 2)
+    if geo.wrist:
+        codes[:, 2] = np.where(_dot(_cross(z[3], z[5]), z[4]) >= 0, 1, 2)
     return codes
+
+
+def _carried(frames, point):
+    """A point fixed in a link, ``(frame, local)``, in the world: ``(3, k)``."""
+    f, local = point
+    cols, o = frames[f]
+    return cols[0] * local[0] + cols[1] * local[1] + cols[2] * local[2] + o
+
+
+def _elbow_up(robot, geo: Geometry, z, o, tgt):
+    """``(k,)`` bool: the elbow is up (``man kincalc-ik``, BRANCH LABELS)."""
+    j = geo.elbow[0]
+    sh, el, h = o[j], o[j + 1], z[j]
+    if not geo.spatial:
+        # a planar elbow: on the counterclockwise side of the shoulder-to-wrist line, seen
+        # from the tip of the axes ((W - S) x (E - S) . h; components along h drop out)
+        return _dot(_cross(tgt - sh, el - sh), h) >= 0
+    # the elbow against the shoulder-to-target line, in the plane of the parallel axes:
+    # up on the side axis 1 points to
+    line = tgt - sh
+    line = line - h * _dot(h, line)
+    v = el - sh
+    v = v - h * _dot(h, v)
+    ll = np.maximum(_dot(line, line), 1e-300)
+    perp = v - line * (_dot(v, line) / ll)
+    up = _dot(perp, z[0])
+    # the elbow on the line (stretched or folded): the turn sense decides
+    alt = _dot(_cross(el - sh, tgt - el), h)
+    return np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up) >= 0
 
 
 def _dot(a, b):
@@ -101,25 +147,58 @@ def _cross(a, b):
 
 
 @per_robot
-def _axis_pairs(robot) -> tuple:
-    """``(axes 1 and 2 not parallel, axes 2 and 3 parallel)``: facts of the robot (a joint
-    turns the axes after it together, so the angle between two consecutive axes is the
-    same in every configuration), from q = 0. Cached per robot."""
+def geometry(robot, family: str) -> Geometry | None:
+    """The words ``robot`` has when solved as ``family``, and their points (robot-level:
+    a joint turns the axes after it together, so the angle between consecutive axes and
+    the points fixed in a link are facts of the robot, read at q = 0). Cached per robot.
+
+    Parameters
+    ----------
+    robot : Robot
+    family : str
+        The family's name.
+
+    Returns
+    -------
+    Geometry or None
+        None for a family not in :data:`WORDED`.
+    """
+    if family not in WORDED:
+        return None
     from ..fk import chain_frames
-    z = chain_frames(robot.chain, np.zeros(robot.dof))[:, :3, 2]
-    sin2 = lambda a, b: float(np.sum(np.cross(a, b) ** 2))  # noqa: E731
-    return (sin2(z[0], z[1]) > 1e-12,
-            robot.dof >= 3 and sin2(z[1], z[2]) < 1e-12)
+    n, rev = robot.dof, robot.is_revolute
+    F = chain_frames(robot.chain, np.zeros(n))
+    z, o = F[:, :3, 2], F[:, :3, 3]
+    parallel = lambda a, b: float(np.sum(np.cross(z[a], z[b]) ** 2)) < 1e-12  # noqa: E731
+    tool = (n - 1, robot.chain.fixed[n][:3, 3])
+    sixes = family in ("spherical-wrist", "three-parallel")
+    elbow = next(((j, j + 1) for j in (0, 1) if j + 1 < n and rev[j] and rev[j + 1] and parallel(j, j + 1)), None)
+    if family == "spherical-wrist":
+        point = wrist = _meeting_point(robot, F, 3)
+    elif family == "three-parallel":
+        point, wrist = _meeting_point(robot, F, 4), (3, np.zeros(3))
+    else:
+        third = elbow is not None and elbow[1] + 1 < n and rev[elbow[1] + 1] \
+            and parallel(elbow[1], elbow[1] + 1)
+        point = wrist = (elbow[1] + 1, np.zeros(3)) if third else tool
+    shoulder = point if rev[0] and n >= 2 and not parallel(0, 1) and point is not None else None
+    front = 0
+    if shoulder is not None:
+        P = F[shoulder[0], :3, :3] @ shoulder[1] + F[shoulder[0], :3, 3]
+        L = max(robot.characteristic_length, 1e-12)
+        if abs((P - o[0]) @ z[1]) <= 1e-6 * L:        # no shoulder offset: front or back
+            side = (P - o[0]) @ np.cross(z[0], z[1])
+            front = -1 if side < -1e-9 * L else 1
+    return Geometry(shoulder=shoulder, front=front, elbow=elbow if wrist is not None else None,
+                    wrist_point=wrist, spatial=elbow is not None and not parallel(0, elbow[0]),
+                    wrist=sixes and n >= 6)
 
 
-@per_robot
-def _meeting_point_local(robot, first: int):
-    """Where axes ``first+1 .. n`` meet (least squares over their lines), ``(3,)`` in the
-    coordinates of joint ``first``'s frame of :func:`kincalc.fk.chain_frames` (it moves
-    only with the joints before them: the axes after it turn about lines through it), from
-    the robot at q = 0; None if those axes are all parallel. Cached per robot."""
-    from ..fk import chain_frames
-    F = chain_frames(robot.chain, np.zeros(robot.dof))
+def _meeting_point(robot, F, first: int):
+    """Where axes ``first+1 .. n`` meet (least squares over their lines) as a point fixed
+    in the link of joint ``first`` (its frame moves only with the joints before those axes,
+    which turn about lines through it): ``(first - 1, local (3,))``; None if the axes are
+    all parallel. ``F``: the frames at q = 0."""
     A, b = np.zeros((3, 3)), np.zeros(3)
     for j in range(first, robot.dof):
         Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
@@ -130,7 +209,7 @@ def _meeting_point_local(robot, first: int):
     P = np.linalg.solve(A, b)
     local = F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
     local.setflags(write=False)
-    return local
+    return first - 1, local
 
 
 def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
@@ -143,8 +222,8 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     ----------
     robot : Robot
     family : str
-        The family's name (a ``reversed-`` family has no geometric words: its wrist is at
-        the base, and the words' rules read joints 4-6 as the wrist).
+        The family's name (words only for :data:`WORDED`: a ``reversed-`` family has its
+        wrist at the base, and the words' rules read joints 4-6 as the wrist).
     frames : list of (tuple of 3 ndarray (3, s), ndarray (3, s))
         Their joint frames (:func:`kincalc.fk.frame_columns`, world frame, m).
     signs : tuple
@@ -167,31 +246,33 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     bits = np.asarray(free, bool) @ (1 << np.arange(robot.dof, dtype=np.int64))
     code = ((codes @ np.array([9, 3, 1])) * len(signs) + slot) << robot.dof | bits
     distinct, inverse = np.unique(code, return_inverse=True)
-    texts = _texts(robot)
+    texts = _texts(robot, family)
     made = []
     for c in distinct.tolist():
         b, rest = c & ((1 << robot.dof) - 1), c >> robot.dof
         k, sg = rest // len(signs), signs[rest % len(signs)]
         key = (k, sg, b)
         if key not in texts:
-            texts[key] = _text(robot, (k // 9, k // 3 % 3, k % 3), sg, b)
+            texts[key] = _text(robot, family, (k // 9, k // 3 % 3, k % 3), sg, b)
         made.append(texts[key])
     out[:] = np.array(made, object)[inverse.ravel()]
     return out
 
 
 @per_robot
-def _texts(robot) -> dict:
-    """The labels made so far for ``robot``: (geometric code, signs, free bits) -> text."""
+def _texts(robot, family: str) -> dict:
+    """The labels made so far for ``robot`` solved as ``family``: (geometric code, signs,
+    free bits) -> text."""
     return {}
 
 
-def _text(robot, words, signs, free_bits) -> str:
+def _text(robot, family, words, signs, free_bits) -> str:
     """One label: the geometric ``words`` (codes of :data:`WORDS`), the ``signs`` of the
     steps they do not name, the free joints (bit j: joint j)."""
     names = [j.name for j in robot.joints]
     parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
-    named = set().union(*(_NAMED[w] for w, x in enumerate(words) if x))
+    geo = geometry(robot, family)
+    named = set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
     parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs) if j not in named]
     if free_bits:
         parts.append("(" + ", ".join(names[j] for j in range(robot.dof) if free_bits >> j & 1)
