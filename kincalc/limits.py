@@ -25,6 +25,13 @@ MAX_FILE_BYTES = 1 << 20
 #: the most items one homework sheet may hold
 MAX_SHEET_ITEMS = 200
 
+#: the most students one ``kincalc quiz --roster`` file may list (each gets a sheet and a
+#: key drawn for them, up to a second each)
+MAX_ROSTER_STUDENTS = 2000
+
+#: the longest student id of a roster, in characters (it names the student's files)
+MAX_STUDENT_ID = 64
+
 #: the longest arithmetic expression a number in a robot file or sheet may be, in characters
 MAX_EXPRESSION = 500
 

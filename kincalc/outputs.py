@@ -1,7 +1,8 @@
 """The files kincalc writes (drawings, robot files, exercise sheets), none ever destroyed.
 
 Every writer goes through here: ``kincalc plot -o``, ``ik --plot``, ``workspace --plot``,
-``convert -o`` and ``quiz -o``, and the drawing functions of :mod:`kincalc.analysis.plot`. The
+``convert -o``, ``quiz -o`` (and ``quiz --roster``), ``check -o``, ``check --gradebook`` and
+``check --feedback-dir``, and the drawing functions of :mod:`kincalc.analysis.plot`. The
 rules (README, "Output files"):
 
 * an existing file is refused unless ``force``;

@@ -1,13 +1,46 @@
-"""``kincalc check``: grade homework sheets."""
+"""``kincalc check``: grade homework sheets, one or a class's at once; tables or JSON for
+people and scripts, Gradescope's and PrairieLearn's results for autograders, a gradebook
+and feedback files for teachers."""
 
 from __future__ import annotations
 
+import os
 import sys
 from typing import Annotated, List, Optional
 
 import typer
 
-from .common import DebugOpt, JsonOpt, PrecisionOpt
+from .common import DebugOpt, FileName, JsonOpt, PrecisionOpt
+
+#: the output formats, and those that describe one submission
+FORMATS = ("table", "json", "gradescope", "prairielearn")
+ONE_SUBMISSION = ("gradescope", "prairielearn")
+
+FormatOpt = Annotated[Optional[str], typer.Option(
+    "--format", metavar="table|json|gradescope|prairielearn", show_default=False,
+    help="What to write: tables (the default), kincalc's JSON (as --json), or the "
+         "results.json of a Gradescope or a PrairieLearn autograder (one sheet).")]
+OutputOpt = Annotated[Optional[str], typer.Option(
+    "-o", "--output", metavar="FILE", show_default=False, click_type=FileName(),
+    help="Write the --format json, gradescope or prairielearn document to FILE instead of "
+         "standard output ('-'). An existing FILE is not replaced without --force.")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Let --output and --gradebook replace an existing regular file (never a "
+                    "sheet, a link or a device), and --feedback-dir replace the feedback "
+                    "files kincalc wrote there (no other file).")]
+VisibilityOpt = Annotated[Optional[str], typer.Option(
+    "--visibility", metavar="visible|hidden|after_due_date|after_published",
+    show_default=False,
+    help="With --format gradescope: when students see the results (Gradescope's "
+         "visibility; default: visible).")]
+GradebookOpt = Annotated[Optional[str], typer.Option(
+    "--gradebook", metavar="FILE", show_default=False, click_type=FileName(),
+    help="Also write a CSV gradebook: a row per sheet (student, file, each item's points, "
+         "points, total, percent, error), an invalid sheet's too.")]
+FeedbackDirOpt = Annotated[Optional[str], typer.Option(
+    "--feedback-dir", metavar="DIR", show_default=False, click_type=FileName(),
+    help="Also write a Markdown feedback file per sheet in DIR (made if missing), named "
+         "after the sheet (hw.yaml: hw.md).")]
 
 
 def check(
@@ -21,6 +54,12 @@ def check(
         help="Also let a sheet's 'robot:' name a robot file in DIR (repeatable; looked up "
              "before the sheet's folder). Without it a sheet may name only a bundled robot, "
              "an inline robot or a file in its own folder.")] = None,
+    fmt: FormatOpt = None,
+    output: OutputOpt = None,
+    force: ForceOpt = False,
+    visibility: VisibilityOpt = None,
+    gradebook: GradebookOpt = None,
+    feedback_dir: FeedbackDirOpt = None,
     precision: PrecisionOpt = 4,
     json: JsonOpt = False,
     debug: DebugOpt = False,
@@ -38,58 +77,198 @@ def check(
     Sheets are untrusted input: a sheet's robot file must lie in the sheet's
     folder (or a --robots-dir folder), and no message quotes another file.
 
+    For autograders, --format gradescope or prairielearn writes the results
+    file of one sheet; for a class, --gradebook and --feedback-dir write a
+    gradebook row and a feedback file per sheet, an invalid sheet's too.
+
     Exit status: 0 every answer right, 1 some wrong, 2 an invalid sheet (the
     message names file and line; other sheets are still graded; the worst
     status counts).
     """
-    import os
+    from .progress import progress
+    if output == "-":
+        output = None                    # '-o -' is standard output, as for quiz
+    fmt = _format(fmt, json, len(sheets), output, visibility)
+    dirs = _robots_dirs(robots_dir)
+    files = _plan(sheets, output, force, gradebook, feedback_dir)   # before any work
+    outcomes, documents = [], []
+    with progress(len(sheets), "grading") as step:
+        for k, path in enumerate(sheets):
+            outcome = _grade(path, dirs, debug)
+            outcomes.append(outcome)
+            text = _document(outcome, fmt, visibility)
+            if text is not None and output is None:
+                sys.stdout.write(text)
+            elif text is not None:
+                documents.append(text)
+            elif fmt == "table" and outcome.report is not None:
+                _tables(outcome.report.to_dict(), precision, quiet)
+            if files["feedback"]:
+                _write_feedback(files["feedback"][k], outcome)
+            step()
+    _finish(files, outcomes, documents, feedback_dir)
+    raise typer.Exit(max(o.status for o in outcomes))
 
-    from ..homework import grade, load_sheet
-    from ..errors import InputError, KincalcError
+
+def _format(fmt, json: bool, count: int, output, visibility) -> str:
+    """The output format asked for, or a UsageError for options that do not go together."""
+    from ..errors import UsageError
+    from ..homework.export import VISIBILITIES
+    if fmt is None:
+        fmt = "json" if json else "table"
+    elif fmt not in FORMATS:
+        raise UsageError(f"--format must be one of {', '.join(FORMATS)}, not {fmt!r}")
+    elif json and fmt != "json":
+        raise UsageError(f"--json and --format {fmt} ask for two formats; give one")
+    if fmt in ONE_SUBMISSION and count != 1:
+        raise UsageError(f"--format {fmt} describes one submission: give one sheet, not "
+                         f"{count} (for a class's sheets use --gradebook FILE and "
+                         "--feedback-dir DIR)")
+    if visibility is not None and fmt != "gradescope":
+        raise UsageError("--visibility is a setting of --format gradescope")
+    if visibility is not None and visibility not in VISIBILITIES:
+        raise UsageError(f"--visibility must be one of {', '.join(VISIBILITIES)}, not "
+                         f"{visibility!r}")
+    if output is not None and fmt == "table":
+        raise UsageError("--output writes --format json, gradescope or prairielearn; "
+                         "tables go to standard output")
+    return fmt
+
+
+def _robots_dirs(robots_dir) -> list:
+    from ..errors import InputError
     dirs = list(robots_dir or [])
     for d in dirs:
         if not os.path.isdir(d):
             raise InputError(f"--robots-dir {d}: "
                              + ("no such folder" if not os.path.exists(d) else "not a folder"))
-    status = 0
-    for path in sheets:
-        try:
-            report = grade(load_sheet(path, dirs))
-        except KincalcError as exc:
-            if len(sheets) == 1 or debug:
-                raise
-            sys.stderr.write(f"kincalc: error: {' '.join(str(exc).split())}\n")
-            status = 2
-            continue
-        if json:
-            from .render import emit_json
-            emit_json(report.to_dict())
-        else:
-            _tables(report.to_dict(), precision, quiet)
-        if not report.all_correct and status == 0:
-            status = 1
-    raise typer.Exit(status)
+    return dirs
 
 
-def _score_line(doc) -> str:
-    s = doc["score"]
-    pts = f"{_n(s['points'])} of {_n(s['total'])} points ({_n(s['percent'])} %)"
-    return f"score: {pts}; {s['correct']} of {s['items']} items right"
+def _grade(path: str, dirs, debug: bool):
+    """The :class:`~kincalc.homework.export.Outcome` of one sheet; an invalid sheet's error
+    is said on stderr (``--debug`` raises it)."""
+    import time
+
+    from ..errors import KincalcError
+    from ..homework import grade, load_sheet
+    from ..homework.export import Outcome
+    start = time.monotonic()
+    try:
+        report = grade(load_sheet(path, dirs))
+    except KincalcError as exc:
+        if debug:
+            raise
+        message = " ".join(str(exc).split())
+        sys.stderr.write(f"kincalc: error: {message}\n")
+        return Outcome(path, error=message, seconds=time.monotonic() - start)
+    return Outcome(path, report=report, seconds=time.monotonic() - start)
 
 
-def _n(x) -> str:
-    return str(int(x)) if float(x).is_integer() else f"{x:g}"
+def _document(outcome, fmt: str, visibility) -> str | None:
+    """The JSON line of ``outcome`` in a machine format (None for tables, and for an
+    invalid sheet with --json: its error is on stderr)."""
+    from ..homework.export import gradescope_results, prairielearn_results
+    from .render import json_line
+    if fmt == "gradescope":
+        return json_line(gradescope_results(outcome, visibility))
+    if fmt == "prairielearn":
+        return json_line(prairielearn_results(outcome))
+    if fmt == "json" and outcome.report is not None:
+        return json_line(outcome.report.to_dict())
+    return None
+
+
+def _plan(sheets, output, force: bool, gradebook, feedback_dir) -> dict:
+    """The files to write, each checked before any sheet is graded (a refused file costs
+    nothing): ``{"output": Target or None, "gradebook": ..., "feedback": [Target, ...]}``;
+    the feedback folder is made here, after every check."""
+    from ..errors import UsageError
+    from ..outputs import Target, check_target
+    inputs = tuple((f"the sheet {s}", s) for s in sheets)
+    out = {"output": None, "gradebook": None, "feedback": []}
+    for key, option, path in (("output", "--output", output),
+                              ("gradebook", "--gradebook", gradebook)):
+        if path is not None:
+            out[key] = Target(path, option, force, inputs)
+            check_target(out[key])
+    if output is not None and gradebook is not None \
+            and os.path.abspath(output) == os.path.abspath(gradebook):
+        raise UsageError("--output and --gradebook name the same file")
+    if feedback_dir is not None:
+        out["feedback"] = _feedback_targets(feedback_dir, sheets, force, inputs)
+        os.makedirs(feedback_dir, exist_ok=True)
+    return out
+
+
+def _feedback_targets(folder: str, sheets, force: bool, inputs) -> list:
+    """One checked :class:`~kincalc.outputs.Target` per sheet in ``folder``: a new name, or
+    with ``force`` a feedback file kincalc wrote (its first line the mark)."""
+    from ..homework.export import FEEDBACK_MARK
+    from ..homework.gradebook import feedback_names
+    from ..outputs import Target, check_target, shown_path
+    from ..errors import InputError
+    where = f"--feedback-dir {shown_path(folder)}"
+    if os.path.lexists(folder) and not os.path.isdir(folder):
+        raise InputError(f"{where}: not a folder")
+    if not os.path.isdir(folder) and not os.path.isdir(os.path.dirname(os.path.abspath(folder))):
+        raise InputError(f"{where}: the folder it would be made in does not exist")
+    targets = [Target(os.path.join(folder, name), "--feedback-dir", force, inputs)
+               for name in feedback_names(sheets)]
+    if os.path.isdir(folder):
+        mark = (FEEDBACK_MARK + "\n").encode()
+        for t in targets:
+            check_target(t)
+            if os.path.lexists(t.path):
+                with open(t.path, "rb") as fh:
+                    if fh.read(len(mark)) != mark:
+                        t.fail("is not a feedback file kincalc wrote (its first line is not "
+                               f"{FEEDBACK_MARK}); not replaced, even with --force")
+    return targets
+
+
+def _write_feedback(target, outcome) -> None:
+    from ..homework.export import feedback_markdown
+    from ..outputs import write_text
+    write_text(target, feedback_markdown(outcome))
+
+
+def _finish(files: dict, outcomes, documents, feedback_dir) -> None:
+    """Write the documents kept for --output and the gradebook, and say in one line what
+    was written."""
+    from ..outputs import shown_path, write_text
+    wrote = []
+    if files["output"] is not None:
+        write_text(files["output"], "".join(documents))
+        wrote.append(files["output"].shown)
+    if files["gradebook"] is not None:
+        from ..homework.gradebook import gradebook_csv
+        write_text(files["gradebook"], gradebook_csv(outcomes))
+        bad = sum(o.report is None for o in outcomes)
+        wrote.append(f"{files['gradebook'].shown} ({_count(len(outcomes), 'sheet')}"
+                     + (f", {bad} invalid" if bad else "") + ")")
+    if files["feedback"]:
+        wrote.append(f"{_count(len(outcomes), 'feedback file')} in {shown_path(feedback_dir)}")
+    if wrote:
+        listed = ", ".join(wrote[:-1]) + " and " + wrote[-1] if len(wrote) > 1 else wrote[0]
+        sys.stderr.write(f"kincalc: wrote {listed}\n")
+
+
+def _count(n: int, what: str) -> str:
+    return f"{n} {what}{'' if n == 1 else 's'}"
 
 
 def _tables(doc, precision: int, quiet: bool):
     from rich.markup import escape
     from rich.table import Table
 
+    from ..homework.export import score_line
     from .render import console, matrix_table
     c = console()
     who = f" — {doc['student']}" if doc["student"] else ""
     if quiet:
-        c.print(f"{escape(doc['sheet'])}{escape(who)}: {_score_line(doc)}", highlight=False)
+        c.print(f"{escape(doc['sheet'])}{escape(who)}: {score_line(doc['score'])}",
+                highlight=False)
         return
     r = doc["robot"]
     title = f" — {doc['title']}" if doc["title"] else ""
@@ -120,7 +299,7 @@ def _tables(doc, precision: int, quiet: bool):
                 and "expected" in d:
             c.print(matrix_table(d["expected"], precision, title="expected"))
     c.print()
-    c.print(f"[bold]{_score_line(doc)}[/bold]", highlight=False)
+    c.print(f"[bold]{score_line(doc['score'])}[/bold]", highlight=False)
 
 
 def _ik_table(d, precision):

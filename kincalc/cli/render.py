@@ -16,7 +16,13 @@ import sys
 
 def emit_json(doc: dict) -> None:
     """Write one JSON document (and a newline) to stdout."""
-    sys.stdout.write(json.dumps(doc, allow_nan=False, default=_json_default) + "\n")
+    sys.stdout.write(json_line(doc))
+
+
+def json_line(doc: dict) -> str:
+    """``doc`` as one line of strict JSON (no NaN; numpy numbers and arrays as plain ones),
+    ending in a newline."""
+    return json.dumps(doc, allow_nan=False, default=_json_default) + "\n"
 
 
 def _json_default(obj):

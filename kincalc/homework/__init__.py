@@ -7,7 +7,13 @@
   kincalc's own FK, IK, Jacobian and reach analysis;
 * :mod:`~kincalc.homework.slips`: the common mistakes a wrong answer is tried against,
   for the hint;
-* :mod:`~kincalc.homework.quiz`: random exercise sheets and their answer keys.
+* :mod:`~kincalc.homework.quiz`: random exercise sheets and their answer keys;
+* :mod:`~kincalc.homework.roster`: a sheet and a key per student of a roster, each from a
+  seed of the course's salt and the student's id;
+* :mod:`~kincalc.homework.export`: a graded sheet as Gradescope's and PrairieLearn's
+  results documents and as a Markdown feedback page;
+* :mod:`~kincalc.homework.gradebook`: a class's sheets as a CSV gradebook, and the names
+  of their feedback files.
 """
 
 from .grade import ItemResult, Report, grade
