@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from functools import singledispatch
 
-from ..ik.reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
+from ..tolerances import ACCEPT_POSITION
+from ..ik.reasons import (ArmMissed, Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
                          NumericMissed, OrientationOut, Outside, OutOfReach)
 
 
@@ -74,11 +75,20 @@ def _(r: Blocked, robot, units) -> str:
 @reason_text.register
 def _(r: Missed, robot, units) -> str:
     parts = []
-    if r.position_error > 0:
+    if r.position_error > ACCEPT_POSITION * max(robot.characteristic_length, 1e-12):
         parts.append(f"position off by {r.position_error * units.l:.4g}{length_suffix(units)}")
+    elif r.orientation_error:
+        parts.append("position reached")
     if r.orientation_error:
         parts.append(f"orientation off by {r.orientation_error * units.a:.4g} {units.angle}")
     return "does not reach the target: " + ", ".join(parts)
+
+
+@reason_text.register
+def _(r: ArmMissed, robot, units) -> str:
+    names = ", ".join(robot.joints[j].name for j in r.joints)
+    return (f"does not reach the target: {names} put the {r.point} "
+            f"{r.distance * units.l:.4g}{length_suffix(units)} from where the target needs it")
 
 
 @reason_text.register

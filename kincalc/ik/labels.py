@@ -57,6 +57,11 @@ class Geometry:
     spatial: bool
     #: the wrist word (z4 x z6) . z5 applies
     wrist: bool
+    #: the point the arm's first joints place, ``(frame, local)`` (the shoulder's P, else
+    #: W, else the tool point), its name, and the joints that move it (0-based)
+    placed: tuple = None
+    placed_name: str = "tool point"
+    arm: tuple = ()
 
     def named(self) -> tuple:
         """The joints (0-based) whose +/- choice each word already names."""
@@ -189,9 +194,18 @@ def geometry(robot, family: str) -> Geometry | None:
         if abs((P - o[0]) @ z[1]) <= 1e-6 * L:        # no shoulder offset: front or back
             side = (P - o[0]) @ np.cross(z[0], z[1])
             front = -1 if side < -1e-9 * L else 1
+    placed = shoulder or wrist or tool
+    name = ("wrist centre" if family == "spherical-wrist" else
+            "point where axes 5 and 6 meet" if family == "three-parallel" else
+            "tool point" if placed is tool else f"point of axis {placed[0] + 1}")
+    P = F[placed[0], :3, :3] @ placed[1] + F[placed[0], :3, 3]
+    arm = list(range(placed[0] + 1))
+    while arm and rev[arm[-1]] and np.linalg.norm(np.cross(z[arm[-1]], P - o[arm[-1]])) \
+            <= 1e-9 * max(robot.characteristic_length, 1e-12):   # turning about the point
+        arm.pop()
     return Geometry(shoulder=shoulder, front=front, elbow=elbow if wrist is not None else None,
                     wrist_point=wrist, spatial=elbow is not None and not parallel(0, elbow[0]),
-                    wrist=sixes and n >= 6)
+                    wrist=sixes and n >= 6, placed=placed, placed_name=name, arm=tuple(arm))
 
 
 def _meeting_point(robot, F, first: int):

@@ -32,6 +32,16 @@ class Missed:
 
 
 @dataclass(frozen=True)
+class ArmMissed:
+    """A combination of the values of the arm's ``joints`` (indices) that puts the point
+    they place (``point``: its name, e.g. "wrist centre") ``distance`` (m) from where the
+    target needs it; the joints after them do not move it."""
+    point: str
+    distance: float
+    joints: tuple
+
+
+@dataclass(frozen=True)
 class NoSolution:
     """No candidate reaches the target; ``best``: the closest one's miss, or None when
     the arm reaches the position but cannot place its tool at this pose."""

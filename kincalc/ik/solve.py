@@ -13,24 +13,19 @@ SI); :mod:`kincalc.analysis.words` words them in the user's units.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..errors import TargetMismatch
-from ..spatial import rotation_error
 from ..tolerances import ACCEPT_POSITION
+from .combinations import cross_combinations
 from .engine import TCV, Solved, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
 from ..spatial import turn_toward, wrap
 from .target import Targets
-
-#: --all-branches lists cross combinations only up to this many
-MAX_COMBINATIONS = 512
-
 
 @dataclass(frozen=True)
 class Target:
@@ -193,7 +188,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     reason = _reason(robot, family, T, target, sols, rejected)
     result_rejected = note = dead = None
     if all_branches:
-        combos, note = _cross_combinations(robot, T, target, sols)
+        combos, note = cross_combinations(robot, family.name, T, target.orientation, sols)
         result_rejected = []
         for r in rejected + combos:
             if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
@@ -463,37 +458,3 @@ def _out_of_reach(robot, T):
     if dist_free <= tol:
         return OutOfReach(distance=dist)
     return OutOfReach(where_outside(robot, p, p_free, dist_free))
-
-
-def _cross_combinations(robot, T, target, sols):
-    """Combinations of joint values taken independently, as a textbook's +/- choices
-    are, that do not reach the target (Bingul & Kucuk, Example 4.2: zeta1, zeta4).
-
-    Returns ``(rejected, note)``; ``note`` says why nothing was listed when there
-    are more than :data:`MAX_COMBINATIONS` combinations.
-    """
-    if len(sols) < 2:
-        return [], None
-    values = []
-    for i in range(robot.dof):
-        vals = []
-        for s in sols:
-            if not any(abs(wrap(s.q[i] - v)) < 1e-6 for v in vals):
-                vals.append(s.q[i])
-        values.append(vals)
-    total = int(np.prod([len(v) for v in values]))
-    if total > MAX_COMBINATIONS:
-        return [], (f"{total} combinations of the solutions' joint values: too many to list "
-                    f"(at most {MAX_COMBINATIONS})")
-    out = []
-    for combo in itertools.product(*values):
-        q = np.array(combo)
-        if any(np.all(np.abs(wrap(q - s.q)) < 1e-6) for s in sols):
-            continue
-        Tq = robot.fk(q)
-        pe = float(np.linalg.norm(Tq[:3, 3] - T[:3, 3]))
-        oe = float(rotation_error(Tq[:3, :3], T[:3, :3])) if target.orientation else None
-        out.append({"q": q, "branch": "combination of the solutions' values",
-                    "position_error": pe, "orientation_error": oe,
-                    "reason": Missed(pe, oe)})
-    return out, None
