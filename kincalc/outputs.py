@@ -1,7 +1,7 @@
 """The files kincalc writes (drawings, robot files, exercise sheets), none ever destroyed.
 
 Every writer goes through here: ``kincalc plot -o``, ``ik --plot``, ``workspace --plot``,
-``convert -o``, ``quiz -o`` (and ``quiz --roster``), ``check -o``, ``check --gradebook`` and
+``view -o``, ``convert -o``, ``quiz -o`` (and ``quiz --roster``), ``check -o``, ``check --gradebook`` and
 ``check --feedback-dir``, and the drawing functions of :mod:`kincalc.analysis.plot`. The
 rules (README, "Output files"):
 

@@ -23,7 +23,7 @@ _HELP = {"help_option_names": ["-h", "--help"]}
 #: The commands, in the order of ``kincalc --help``: name -> (module of kincalc.cli,
 #: its function or ``app`` for a group, context settings, the short help). A command's
 #: module is imported only when that command runs (or shows its own help), so start-up
-#: pays for one command, not twelve. The short help is the first sentence of the
+#: pays for one command, not fourteen. The short help is the first sentence of the
 #: command's docstring; tests/cli/test_cli.py checks that the two agree.
 COMMANDS = {
     "fk": ("fk", "fk", NUMERIC_ARGS,
@@ -38,6 +38,9 @@ COMMANDS = {
                   "Workspace: Monte-Carlo sampling of the joint space within the limits."),
     "plot": ("plot", "plot", NUMERIC_ARGS,
              "Draw ROBOT at joint values Q into FILE (PNG, SVG or PDF)."),
+    "view": ("view", "view", NUMERIC_ARGS,
+             "Write an interactive 3D page of ROBOT: joint sliders, the live tool pose, IK "
+             "branches."),
     "quiz": ("quiz", "quiz", None,
              "Write a random exercise sheet for ROBOT (the format 'kincalc check' grades)."),
     "check": ("check", "check", None,

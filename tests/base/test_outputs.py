@@ -178,6 +178,7 @@ def folder(tmp_path, umask022):
     (tmp_path / "robot.svg").write_bytes((ROOT / "robots" / "bk_rr.yaml").read_bytes())
     (tmp_path / "old.png").write_bytes(b"old drawing")
     (tmp_path / "old.yaml").write_text("old: file\n")
+    (tmp_path / "old.html").write_text("old page")
     (tmp_path / "pose.txt").write_text("1 0 0 12\n0 1 0 2\n0 0 1 0\n0 0 0 1\n")
     (tmp_path / "link.png").symlink_to("old.png")
     return tmp_path
@@ -187,6 +188,7 @@ def _unchanged(folder):
     assert (folder / "robot.svg").read_bytes() == (ROOT / "robots" / "bk_rr.yaml").read_bytes()
     assert (folder / "old.png").read_bytes() == b"old drawing"
     assert (folder / "old.yaml").read_text() == "old: file\n"
+    assert (folder / "old.html").read_text() == "old page"
     assert (folder / "link.png").is_symlink()
     assert not [p for p in os.listdir(folder) if p.startswith(".kincalc-")]
 
@@ -199,8 +201,11 @@ WRITERS = [
      "--plot"),
     (["convert", "robot.svg", "--to", "dh", "-o", "{out}"], "-o"),
     (["quiz", "robot.svg", "--seed", "1", "--items", "fk", "-o", "{out}"], "--output"),
+    (["view", "robot.svg", "0", "0", "-o", "{out}"], "-o"),
 ]
-IDS = ["plot", "ik --plot", "workspace --plot", "convert", "quiz"]
+IDS = ["plot", "ik --plot", "workspace --plot", "convert", "quiz", "view"]
+#: the suffix each writer's files have
+SUFFIX = {"convert": ".yaml", "quiz": ".yaml", "view": ".html"}
 
 
 def _argv(argv, out, *extra):
@@ -208,7 +213,7 @@ def _argv(argv, out, *extra):
 
 
 def _existing(argv):
-    return "old.yaml" if argv[0] in ("convert", "quiz") else "old.png"
+    return "old" + SUFFIX.get(argv[0], ".png")
 
 
 @pytest.mark.parametrize("argv, option", WRITERS, ids=IDS)
@@ -235,7 +240,7 @@ def test_writer_refuses_an_existing_file_without_force(argv, option, folder):
 def test_writer_force_replaces_no_device_and_no_link(argv, option, folder):
     # the issue's case was /dev/null replaced by a root run; a FIFO is the device a test
     # can make (and a regression of this test cannot harm the machine it runs on)
-    suffix = ".yaml" if argv[0] in ("convert", "quiz") else ".png"
+    suffix = SUFFIX.get(argv[0], ".png")
     os.mkfifo(folder / f"pipe{suffix}")       # a FIFO opened for writing would block: never
     if suffix != ".png":
         os.symlink("old.yaml", folder / f"link{suffix}")
@@ -254,14 +259,14 @@ def test_writer_force_replaces_a_regular_file(argv, option, folder):
     status, out, err = run(_argv(argv, name, "--force"), folder)
     assert status in (0, 1), err
     data = (folder / name).read_bytes()
-    assert data not in (b"old drawing", b"old: file\n") and data
+    assert data not in (b"old drawing", b"old: file\n", b"old page") and data
     assert mode(folder / name) == 0o640                 # a replaced file keeps its mode
     assert not [p for p in os.listdir(folder) if p.startswith(".kincalc-")]
 
 
 @pytest.mark.parametrize("argv, option", WRITERS, ids=IDS)
 def test_writer_new_file_follows_the_umask(argv, option, folder):
-    name = "new.yaml" if argv[0] in ("convert", "quiz") else "new.png"
+    name = "new" + SUFFIX.get(argv[0], ".png")
     status, _, err = run(_argv(argv, name), folder)
     assert status in (0, 1), err
     assert mode(folder / name) == 0o644                  # convert wrote 0600
@@ -279,7 +284,8 @@ def test_ik_plot_never_writes_over_its_pose_file(folder):
 
 def test_writer_checks_before_any_work(folder, monkeypatch):
     """A refused file costs nothing: workspace does not sample, convert does not
-    convert, quiz does not draw."""
+    convert, quiz does not draw, view does not load the robot."""
+    import kincalc.cli.view
     import kincalc.conventions
     import kincalc.homework.quiz
     import kincalc.analysis.workspace
@@ -289,6 +295,7 @@ def test_writer_checks_before_any_work(folder, monkeypatch):
     monkeypatch.setattr(kincalc.analysis.workspace, "analyse", boom)
     monkeypatch.setattr(kincalc.conventions, "convert", boom)
     monkeypatch.setattr(kincalc.homework.quiz, "make_sheet", boom)
+    monkeypatch.setattr(kincalc.cli.view, "load_robot", boom)
     for argv, _ in WRITERS[2:]:
         status, _, err = run(_argv(argv, _existing(argv)), folder)
         assert status == 2 and "the file exists" in err, err

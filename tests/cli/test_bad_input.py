@@ -470,6 +470,7 @@ BAD_COMMANDS = [
 
 #: every command that takes a ROBOT, with the other arguments it needs
 ROBOT_COMMANDS = [("fk", "{}"), ("jacobian", "{}"), ("plot", "{} 0 0 -o x.png"),
+                  ("view", "{} -o x.html"),
                   ("quiz", "{}"), ("compare", "bk_rr {}"), ("compare", "{} bk_rr"),
                   ("robots show", "{}"), ("ik", "{} --xyz 1 0 0"), ("reach", "{} --xyz 1 0 0"),
                   ("workspace", "{}"), ("selftest", "{}"), ("convert", "{} --to dh")]

@@ -52,8 +52,8 @@ def test_completion_refuses_other_shells():
 
 def test_command_names():
     assert complete("bash", "kincalc ") == [f"plain,{c}" for c in (
-        "fk", "jacobian", "ik", "reach", "workspace", "plot", "quiz", "check", "compare",
-        "convert", "selftest", "robots", "completion")]
+        "fk", "jacobian", "ik", "reach", "workspace", "plot", "view", "quiz", "check",
+        "compare", "convert", "selftest", "robots", "completion")]
     assert complete("bash", "kincalc c") == ["plain,check", "plain,compare", "plain,convert",
                                              "plain,completion"]
     # zsh and fish get each command's one-line summary

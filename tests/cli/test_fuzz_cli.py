@@ -123,6 +123,8 @@ DRAWINGS = st.sampled_from(["new.png", "new.svg", "new.pdf", "old.png", LINK, "r
                             "arm.png", "new.txt", "new", FOLDER, "missing/new.png",
                             "sock.png", "", "-", "new.PNG", "x" * 300 + ".png",
                             "new.png/"])
+PAGES = st.sampled_from(["new.html", "new.HTM", "old.png", LINK, "robot.svg", "new.png", "new",
+                         FOLDER, "missing/new.html", "sock.png", "", "-", "new.html/"])
 FILES_OUT = st.sampled_from(["new.yaml", "old.yaml", ROBOT_FILE, LINK, "robot.svg",
                              "sheet.yaml", FOLDER, "missing/new.yaml", "sock.yaml", "", "-",
                              "new.yaml/"])
@@ -218,6 +220,11 @@ COMMANDS = {
                 [opt("-o", DRAWINGS), opt("--output", DRAWINGS), opt("--dpi", SMALL_DPI),
                  opt("--force"), opt("--deg"), opt("--rad"),
                  opt("--unit", choice("m", "mm", "ft"))], 50),
+    ("view",): (robot_and_joints().map(lambda a: a + ["-o", "new.html"]),
+                [opt("-o", PAGES), opt("--output", PAGES), opt("--force"), opt("--deg"),
+                 opt("--rad"), opt("--unit", choice("m", "mm", "ft")),
+                 opt("--xyz", NUMBERS, 3), opt("--rpy", NUMBERS, 3),
+                 opt("--from-q", quoted()), opt("--pose", INPUT_PATHS)], 40),
     ("check",): (st.lists(st.sampled_from(["sheet.yaml", "sheet.yaml", "-"]), min_size=1,
                           max_size=2),
                  [opt("-q"), opt("--quiet"), opt("--precision", choice("2", "-1")),
@@ -271,7 +278,8 @@ def command_lines(path):
                                    else pieces, min_size=count, max_size=count)):
             chunks.insert(draw(st.integers(first, len(chunks))), piece)   # kept whole
         argv = list(path) + [t for c in chunks for t in c]
-        if path[0] in ("ik", "reach"):
+        if path[0] in ("ik", "reach") or (path[0] == "view" and any(
+                a in ("--xyz", "--rpy", "--from-q", "--pose") for a in argv)):
             argv = [a if a not in DOF or DOF[a] <= 6 else "puma560" for a in argv]
         if path[0] == "workspace":       # sampling a 6-joint arm takes seconds: small arms
             argv = [a if a not in DOF or DOF[a] <= 3 else "bk_rr" for a in argv]
@@ -302,8 +310,8 @@ def _shown(argv) -> str:
 def _check_output_is_finite(out: str, argv) -> None:
     """No 'nan' or 'inf' in a table (JSON is parsed strictly by the contract). A word the
     user typed may come back as text (a file named 'inf'): then tables are not checked."""
-    if any(NONFINITE.search(a) for a in argv) or "--json" in argv:
-        return
+    if any(NONFINITE.search(a) for a in argv) or "--json" in argv or argv[0] == "view":
+        return                            # (view prints a web page, not a table)
     for line in out.splitlines():
         m = NONFINITE.search(line)
         assert m is None, f"{_shown(argv)}: non-finite number in output: " \

@@ -62,6 +62,15 @@ def test_wheel_puts_every_page_in_share_man_man1(wheel):
     assert any(n.startswith("kincalc/robots/") for n in names), "the robot library stays"
 
 
+def test_wheel_carries_the_view_page_assets(wheel):
+    """kincalc view inlines its template, style and scripts from package data files:
+    without them in the wheel, the command fails after install."""
+    names = set(zipfile.ZipFile(wheel).namelist())
+    from kincalc.analysis.view import ASSETS
+    for asset in ["page.html", *ASSETS.values()]:
+        assert f"kincalc/analysis/view/{asset}" in names, asset
+
+
 def test_fresh_install_has_the_pages_where_man_finds_them(fresh_env):
     man1 = fresh_env / "share" / "man" / "man1"
     assert sorted(p.name for p in man1.glob("*.1")) == PAGES

@@ -1,6 +1,6 @@
 """The man pages in man/ stay in step with the command line.
 
-For every command path (kincalc, fk, jacobian, ik, reach, workspace, plot,
+For every command path (kincalc, fk, jacobian, ik, reach, workspace, plot, view,
 selftest, robots, robots list, robots show, robots validate, completion) the ``--help`` text is taken from the CLI itself,
 in-process through ``kincalc.cli.main.main`` with stdout captured by capsys
 (there is no ``kincalc/__main__.py``, so ``python -m kincalc`` is not used).
@@ -35,6 +35,7 @@ PAGES: dict[tuple[str, ...], str] = {
     ("reach",): "kincalc-reach.1",
     ("workspace",): "kincalc-workspace.1",
     ("plot",): "kincalc-plot.1",
+    ("view",): "kincalc-view.1",
     ("check",): "kincalc-check.1",
     ("quiz",): "kincalc-quiz.1",
     ("compare",): "kincalc-compare.1",
