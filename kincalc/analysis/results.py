@@ -267,7 +267,7 @@ def ik_document(result) -> dict:
                    "controls": result.controls},
         "count": len(result.solutions),
         "near": None if result.near is None else u.joints(robot, result.near),
-        "solutions": [_ik_solution(robot, s, u) for s in result.solutions],
+        "solutions": [_ik_solution(robot, s, u, result) for s in result.solutions],
     })
     if result.locked:
         out["locked"] = locked_entries(robot, result.locked, u)
@@ -286,7 +286,7 @@ def ik_document(result) -> dict:
     return out
 
 
-def _ik_solution(robot, s, u: Units) -> dict:
+def _ik_solution(robot, s, u: Units, result) -> dict:
     from .words import singularity_text
     names = [j.name for j in robot.joints]
     d = {
@@ -306,17 +306,7 @@ def _ik_solution(robot, s, u: Units) -> dict:
     if s.change is not None:
         d["change_from_near"] = u.joints(robot, s.change)
     if s.trace:
-        d["trace"] = [{"step": k, "value": _trace_value(robot, v, kind, u)}
-                      for k, v, kind in s.trace]
+        from .explain import worked_steps
+        d["trace"] = worked_steps(robot, s, np.asarray(result.target.T, float), u,
+                                  result.family)
     return d
-
-
-def _trace_value(robot, v, kind: str, u: Units):
-    """An intermediate quantity of ``--explain`` in display units (``kind``: length,
-    length2, angle, joint:i, or anything else for a pure number)."""
-    if isinstance(v, str):
-        return v
-    if kind.startswith("joint:"):
-        kind = "angle" if robot.joints[int(kind[6:])].revolute else "length"
-    f = {"length": u.l, "length2": u.l ** 2, "angle": u.a}.get(kind)
-    return json_numbers(np.asarray(v, float) * (1.0 if f is None else f))

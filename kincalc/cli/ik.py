@@ -39,7 +39,8 @@ SweepFormatOpt = Annotated[str, typer.Option(
     help="Output format of --batch; with --sweep, csv prints one row per value and branch "
          "instead of the tables.")]
 ExplainOpt = Annotated[bool, typer.Option(
-    "--explain", help="Print a worked trace per solution: the intermediate quantities.")]
+    "--explain", help="Print each solution's steps in the textbook's equations, with the "
+                       "numbers put in.")]
 
 
 @with_pose_options
@@ -233,16 +234,5 @@ def _tables(doc, robot, precision, explain):
     if explain:
         for k, s in enumerate(doc["solutions"], start=1):
             if s.get("trace"):
-                c.print(kv_table([(escape(str(e["step"])), escape(_fmt(e["value"], precision)))
-                                  for e in s["trace"]], title=f"solution {k}: {s['branch']}"))
-
-
-def _fmt(v, precision):
-    from .render import num
-    if isinstance(v, list):
-        if v and isinstance(v[0], list):
-            return "; ".join(" ".join(num(x, precision) for x in row) for row in v)
-        return " ".join(num(x, precision) for x in v)
-    if isinstance(v, float):
-        return num(v, precision)
-    return str(v)
+                c.print(kv_table([(escape(e["step"]), escape(e["text"])) for e in s["trace"]],
+                                 title=f"solution {k}: {s['branch']}"))

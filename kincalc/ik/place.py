@@ -39,10 +39,12 @@ import numpy as np
 
 from ..subproblems import sp1, sp3, sp5
 from ..subproblems.solutions import Solutions, angles, cross, dot
+from ..subproblems.roots import quadratic
 from ..subproblems.sp4 import from_abc
 from .branches import Branches
 from .newton import polish
 from .screws import Screws
+from .worked import note_equation, note_turn
 
 #: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
 TRIG_SAMPLES = 16
@@ -216,31 +218,6 @@ def _targets(S: Screws, P: Plan, PT):
 
 # --- the steps ------------------------------------------------------------------------
 
-def _quadratic(A, B, C, scale) -> Solutions:
-    """The real roots of ``A x^2 + B x + C = 0`` per problem (arrays ``(...)``): two slots
-    in ascending order, or one when the equation is linear (``A`` ~ 0) for every problem
-    (a robot-level fact: a sliding joint along the invariant's direction)."""
-    A, B, C = np.broadcast_arrays(*(np.asarray(v, float) for v in (A, B, C)))
-    linear = np.abs(A) <= 1e-12 * np.maximum(np.abs(B), 1e-300)
-    if linear.all():
-        Bl = np.where(B == 0.0, 1.0, B)
-        x = (-C / Bl)[..., None]
-        ok = (B != 0.0)[..., None]
-        zero = np.zeros_like(x)
-        return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
-    disc = B * B - 4 * A * C
-    real = disc >= -1e-12 * np.maximum(B * B, scale ** 2)
-    sq = np.sqrt(np.maximum(disc, 0.0))
-    Aq = np.where(linear, 1.0, A)
-    r1, r2 = (-B - sq) / (2 * Aq), (-B + sq) / (2 * Aq)
-    lo, hi = np.minimum(r1, r2), np.maximum(r1, r2)
-    Bl = np.where(B == 0.0, 1.0, B)
-    x = np.stack([np.where(linear, -C / Bl, lo), hi], -1)
-    ok = np.stack([np.where(linear, B != 0.0, real), ~linear & real & (sq > 0)], -1)
-    zero = np.zeros_like(x)
-    return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
-
-
 def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
     """Decoupled: x_c from the invariant free of x_b (``t (N, K)``: the target's)."""
     c = P.joints[2]
@@ -250,8 +227,9 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
         sol = from_abc(A, B, C, t, scale)
         br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
                          ~sol.exact[..., 0] & br.ok, what)
-        return br.branch([c], sol)
-    return br.branch([c], _quadratic(A, B, C - t, scale), labels=("root 1", "root 2"))
+        return note_equation(br, c, _measure(S, P, P.k), P.joints[0], A, B, C, t).branch(
+            [c], sol)
+    return br.branch([c], quadratic(A, B, C - t, scale), labels=("root 1", "root 2"))
 
 
 def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
@@ -264,8 +242,9 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
         sol = from_abc(be, ga, al, t, scale)
         br = br.dead_end(b, np.arctan2(ga, be), (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
                          ~sol.exact[..., 0] & br.ok, what)
-        return br.branch([b], sol)
-    return br.branch([b], _quadratic(ga, be, al - t, scale), labels=("-", "+"))
+        return note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t).branch(
+            [b], sol)
+    return br.branch([b], quadratic(ga, be, al - t, scale), labels=("-", "+"))
 
 
 def _solve_a(S: Screws, P: Plan, br, g) -> Branches:
@@ -274,10 +253,16 @@ def _solve_a(S: Screws, P: Plan, br, g) -> Branches:
     f = _point_before_a(S, P, br)
     if S.revolute[a]:
         sol = sp1(f - S.point[a], g - S.point[a], S.axis[a])
+        br = note_turn(S, br, a, f, g)
         return br.set(a, sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0],
                       free=sol.free[..., 0])
     x = (g - f) @ S.axis[a]
     return br.set(a, x, np.ones_like(x), np.zeros_like(x))
+
+
+def _measure(S: Screws, P: Plan, m: int) -> str:
+    """What invariant ``m`` of joint a measures (``--explain``)."""
+    return ("height", "distance2")[m] if S.revolute[P.joints[0]] else "across"
 
 
 def _point_before_a(S: Screws, P: Plan, br):
@@ -307,6 +292,10 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
     first = _sp4_negated(h, PT - oa, w, h @ (P.p0 - oa), S.scale)
     br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
+    if br.explain:          # h . R(w, -x) u = cos x (h.u - (h.w)(w.u)) - sin x h.(w x u) + ...
+        u, hw = PT - oa, h @ w
+        br = note_equation(br, a, "height", b, u @ h - hw * (u @ w), -(cross(w, u) @ h),
+                           hw * (u @ w), h @ (P.p0 - oa))
     br = br.branch([a], first)
     # the target seen before joint a, in the plane normal to h
     q = S.turn(a, br.cos[a], -br.sin[a], br.take(PT) - oa) + oa - ob
@@ -319,10 +308,14 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     reach = (S.scale + np.sqrt(dot(br.take(PT) - oa, br.take(PT) - oa))) ** 2
     third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach)
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
+    # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v), for u, v normal to k
+    br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
+                       u @ u + v @ v, dot(q, q))
     br = br.branch([c], third)
     q = br.take(q)
     elbow = u + S.turn(c, br.cos[c], br.sin[c], v)
     second = sp1(elbow, q, h)
+    br = note_turn(S, br, b, elbow + ob, q + ob)
     return br.set(b, second.theta[0][..., 0], second.c[0][..., 0], second.s[0][..., 0],
                   free=second.free[..., 0])
 

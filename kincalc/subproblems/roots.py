@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .solutions import Solutions
+
 
 def polynomial_roots(coeffs) -> np.ndarray:
     """Complex roots of a batch of polynomials of one degree ``d``.
@@ -48,3 +50,41 @@ def polynomial_roots(coeffs) -> np.ndarray:
     comp[..., 0, :] = -coeffs[..., 1:] / lead[..., None]
     comp[..., np.arange(1, d), np.arange(d - 1)] = 1.0
     return np.linalg.eigvals(comp)
+
+
+def quadratic(A, B, C, scale) -> Solutions:
+    """The real roots of ``A x^2 + B x + C = 0`` for each problem.
+
+    Parameters
+    ----------
+    A, B, C : array_like, broadcast together to ``(...)``
+    scale : float or array_like, the size of ``B^2`` below which a slightly negative
+        discriminant (rounding) counts as a double root
+
+    Returns
+    -------
+    Solutions
+        One unknown: two slots ``(..., 2)`` in ascending order, or one ``(..., 1)`` when
+        the equation is linear (``A`` ~ 0) for every problem (a robot-level fact: a
+        sliding joint along the invariant's direction); ``ok = exact`` where a root is
+        real, never ``free``.
+    """
+    A, B, C = np.broadcast_arrays(*(np.asarray(v, float) for v in (A, B, C)))
+    linear = np.abs(A) <= 1e-12 * np.maximum(np.abs(B), 1e-300)
+    if linear.all():
+        Bl = np.where(B == 0.0, 1.0, B)
+        x = (-C / Bl)[..., None]
+        ok = (B != 0.0)[..., None]
+        zero = np.zeros_like(x)
+        return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
+    disc = B * B - 4 * A * C
+    real = disc >= -1e-12 * np.maximum(B * B, scale ** 2)
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    Aq = np.where(linear, 1.0, A)
+    r1, r2 = (-B - sq) / (2 * Aq), (-B + sq) / (2 * Aq)
+    lo, hi = np.minimum(r1, r2), np.maximum(r1, r2)
+    Bl = np.where(B == 0.0, 1.0, B)
+    x = np.stack([np.where(linear, -C / Bl, lo), hi], -1)
+    ok = np.stack([np.where(linear, B != 0.0, real), ~linear & real & (sq > 0)], -1)
+    zero = np.zeros_like(x)
+    return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))

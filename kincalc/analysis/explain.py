@@ -1,0 +1,197 @@
+"""``ik --explain``: each solution's steps in a textbook chapter's own equations, with
+the numbers put in (Bingul & Kucuk ch. 4, Craig ch. 4, Spong ch. 5).
+
+The steps are the ones the engine took and noted (:mod:`kincalc.ik.worked`); this module
+only writes them, in the user's units:
+
+* the wrist centre: ``p_w = p - d·a`` (the target's position less the wrist's offset
+  along the approach ``a``);
+* a joint from an invariant of an earlier joint's motion, ``A cos q + B sin q + C = t``
+  (a height along that joint's axis, or the squared distance from a point of it): the
+  law of cosines ``cos q = (|p - o|² - (l1² + l2²)) / (2 l1 l2)`` where it is one (no
+  sine term), else ``q = atan2(B, A) ± acos((t - C) / sqrt(A² + B²))``;
+* a joint turning a point onto its target: ``q = atan2(p2, p1) - atan2(f2, f1)`` in the
+  plane normal to its axis (the base's x and y for a vertical axis 1);
+* a spherical wrist: ``R_3^6 = (R_0^3)^T R`` and, where the wrist's axes are those of ZYZ
+  angles in frame 3 (the PUMA's), ``q5 = atan2(±sqrt(r13² + r23²), r33)``,
+  ``q4 = atan2(±r23, ±r13)``, ``q6 = atan2(±r32, ∓r31)``.
+
+Symbols are the joints' own names and A, B, C, t, p, o, f: none is a DH parameter's
+(a, d, alpha, theta).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..spatial import wrap
+
+#: the few digits the worked steps show
+DIGITS = 6
+
+
+def worked_steps(robot, solution, T, units, family: str) -> list:
+    """The worked steps of one solution.
+
+    Parameters
+    ----------
+    robot : Robot
+    solution : IKSolution, with the ``trace`` the engine noted (``explain``)
+    T : ndarray (4, 4), the target ``T_world_tool`` (world frame, SI)
+    units : Units, the display units
+    family : str, the family's name (``spherical-wrist`` adds the wrist's steps)
+
+    Returns
+    -------
+    list of dict
+        ``{"step": what the line solves, "text": the equation with its numbers}``, in
+        the order a textbook takes them.
+    """
+    trace = list(solution.trace)
+    names = [j.name for j in robot.joints]
+    centre = [v for label, v, kind in trace if label == "wrist centre (target)"]
+    out = [_wrist_centre(np.asarray(centre[0]), T, units)] if centre else []
+    for label, value, kind in trace:
+        parts = kind.split(":")
+        if parts[0] == "abc":
+            j = int(parts[1])
+            out.append({"step": names[j], "text": _cosine_step(
+                names[j], parts[2], names[int(parts[3])], np.asarray(value),
+                solution.q[j], units)})
+        elif parts[0] == "turn":
+            j = int(parts[1])
+            out.append({"step": names[j], "text": _turn_step(names[j], np.asarray(value),
+                                                             solution.q[j], units)})
+    if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
+        out += _wrist_steps(robot, solution.q, names, units)
+    return out
+
+
+def _n(x) -> str:
+    return f"{float(x):.{DIGITS}g}"
+
+
+def _vec(v, scale) -> str:
+    return "(" + ", ".join(_n(x * scale) for x in v) + ")"
+
+
+def _unit(units) -> str:
+    return "" if units.length == "unitless" else f" {units.length}"
+
+
+def _wrist_centre(pw, T, units) -> dict:
+    """``p_w = p - d·a``: the wrist centre from the target's position and approach."""
+    p, R = T[:3, 3], T[:3, :3]
+    c = R.T @ (pw - p)                               # the wrist centre in the tool's frame
+    L = max(np.linalg.norm(c), np.linalg.norm(p), 1e-12)
+    if np.linalg.norm(c) <= 1e-12 * L:
+        text = f"p_w = p = {_vec(p, units.l)}{_unit(units)} (the tool point is the wrist centre)"
+    elif np.linalg.norm(c[:2]) <= 1e-9 * L:
+        d = -c[2]
+        text = (f"p_w = p - d·a = {_vec(p, units.l)} - {_n(d * units.l)}·{_vec(R[:, 2], 1)} "
+                f"= {_vec(pw, units.l)}{_unit(units)} (a: the approach, the tool's z axis)")
+    else:
+        text = (f"p_w = p + R·c = {_vec(pw, units.l)}{_unit(units)} (c = {_vec(c, units.l)}: "
+                "the wrist centre in the tool's frame)")
+    return {"step": "wrist centre", "text": text}
+
+
+def _terms(A, B, C, q) -> str:
+    """``A cos q + B sin q + C`` with its signs written once."""
+    out = f"{_n(A)} cos {q}"
+    for x, w in ((B, f" sin {q}"), (C, "")):
+        out += f" {'-' if x < 0 else '+'} {_n(abs(x))}{w}"
+    return out
+
+
+def _cosine_step(q, what, pivot, value, q_value, units) -> str:
+    """``A cos q + B sin q + C = t`` in the textbook's words."""
+    A, B, C, t = value
+    f = units.l ** 2 if what == "distance2" else units.l
+    A, B, C, t = A * f, B * f, C * f, t * f
+    got = f"{q} = {_angle(q_value, units)}"
+    if what == "distance2":
+        lhs = f"|p - o|² (o on the axis of {pivot})"
+    elif what == "height":
+        lhs = f"the height of p along the axis of {pivot}"
+    else:
+        lhs = f"p across the axis of {pivot}"
+    if abs(B) <= 1e-12 * max(abs(A), 1e-300) and A != 0:
+        c = (t - C) / A
+        head = f"cos {q} = (t - C) / A = ({_n(t)} - {_n(C)}) / {_n(A)}"
+        if what == "distance2" and C >= abs(A):
+            l1 = 0.5 * (np.sqrt(C + abs(A)) + np.sqrt(C - abs(A)))
+            l2 = 0.5 * (np.sqrt(C + abs(A)) - np.sqrt(C - abs(A)))
+            head = (f"cos {q} = (|p - o|² - l1² - l2²) / (2 l1 l2) = ({_n(t)} - {_n(l1 * l1)} - "
+                    f"{_n(l2 * l2)}) / (2·{_n(l1)}·{_n(l2)})")
+        return (f"{head} = {_n(c)} (the law of cosines; t = {lhs}) -> {q} = "
+                f"±{_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}")
+    r = np.hypot(A, B)
+    c = (t - C) / r
+    return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> "
+            f"{q} = atan2(B, A) ± acos((t - C) / sqrt(A² + B²)) = {_angle(np.arctan2(B, A), units)}"
+            f" ± {_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}")
+
+
+def _turn_step(q, value, q_value, units) -> str:
+    """``q = atan2(p2, p1) - atan2(f2, f1)``."""
+    g1, g2, f1, f2 = (float(x) * units.l for x in value)
+    back = np.arctan2(f2, f1)
+    return (f"{q} = atan2(p2, p1) - atan2(f2, f1) = atan2({_n(g2)}, {_n(g1)}) - "
+            f"atan2({_n(f2)}, {_n(f1)}) = {_angle(np.arctan2(g2, g1), units)} "
+            f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)} = "
+            f"{_angle(q_value, units)} (p: the target, "
+            f"f: where {q} = 0 leaves it, in the plane normal to the axis of {q})")
+
+
+def _angle(x, units) -> str:
+    sign = "°" if units.angle == "deg" else " rad"
+    return f"{_n(float(wrap(x)) * units.a)}{sign}"
+
+
+def _wrist_steps(robot, q, names, units) -> list:
+    """``R_3^6 = (R_0^3)^T R`` and the ZYZ angles, where the wrist's axes are theirs."""
+    A = robot.link_transforms(q)
+    R03 = A[0][:3, :3] @ A[1][:3, :3] @ A[2][:3, :3]
+    R36 = R03.T @ (A[0] @ A[1] @ A[2] @ A[3] @ A[4] @ A[5])[:3, :3]
+    rows = "; ".join(" ".join(_n(x) for x in row) for row in R36)
+    out = [{"step": "R_3^6", "text": f"R_3^6 = (R_0^3)^T R_0^6 = [{rows}] (R_0^3 from "
+                                     f"{', '.join(names[:3])}; R_0^6 the target's rotation)"}]
+    zyz = _zyz_form(robot, R36, q)
+    q4, q5, q6 = names[3:6]
+    if zyz is None:
+        out.append({"step": f"{q4}, {q5}, {q6}", "text": (
+            f"R_3^6 = R({q4}) R({q5}) R({q6}) about this wrist's own axes (not those of ZYZ "
+            f"angles in frame 3): {q5} from the cone its axis must lie on, {q4} and {q6} by "
+            f"turning onto R_3^6's columns: {', '.join(_angle(x, units) for x in q[3:6])}")})
+        return out
+    r, sigma, what = zyz
+    b = sigma * q[4]
+    s = 1.0 if np.sin(b) >= 0 else -1.0
+    pm, mp = ("+", "-") if s > 0 else ("-", "+")
+    five = q5 if sigma > 0 else f"-{q5}"
+    out.append({"step": q5, "text": (
+        f"{five} = atan2({pm}sqrt(r13² + r23²), r33) = atan2({_n(s * np.hypot(r[0, 2], r[1, 2]))}"
+        f", {_n(r[2, 2])}) = {_angle(b, units)} ({what} = Rz({q4}) Ry({five}) Rz({q6}): ZYZ "
+        f"angles, r its entries)")})
+    out.append({"step": q4, "text": f"{q4} = atan2({pm}r23, {pm}r13) = atan2({_n(s * r[1, 2])}, "
+                                    f"{_n(s * r[0, 2])}) = {_angle(q[3], units)}"})
+    out.append({"step": q6, "text": f"{q6} = atan2({pm}r32, {mp}r31) = atan2({_n(s * r[2, 1])}, "
+                                    f"{_n(-s * r[2, 0])}) = {_angle(q[5], units)}"})
+    return out
+
+
+def _zyz_form(robot, R36, q):
+    """``(R, sigma, name)`` when ``R = Rz(q4) Ry(sigma q5) Rz(q6)`` for ``R = R_3^6`` or, for
+    modified DH, ``R_3^6`` without link 4's fixed twist in front (``R_3^6 = Rx(alpha3) R``);
+    None when the wrist's axes are not those of ZYZ angles."""
+    from ..spatial import matrix_from_euler_zyz
+    first = robot.link_transforms(np.zeros(robot.dof))[3][:3, :3]
+    forms = [(R36, "R_3^6")]
+    if robot.convention == "mdh":
+        forms.append((first.T @ R36, "Rx(alpha3)^T R_3^6"))
+    for R, what in forms:
+        for sigma in (1.0, -1.0):
+            if np.abs(matrix_from_euler_zyz([q[3], sigma * q[4], q[5]]) - R).max() < 1e-9:
+                return R, sigma, what
+    return None

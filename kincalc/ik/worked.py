@@ -1,0 +1,84 @@
+"""The worked steps of ``--explain``: what a step of a closed form records, as data.
+
+A solver step notes its equation with the numbers it solved (nothing without
+``explain``: a batch of poses pays nothing); :mod:`kincalc.analysis.explain` writes them
+the way a textbook chapter does, in the user's units. Two kinds:
+
+* ``abc:J:WHAT:A`` — joint J from ``A cos qJ + B sin qJ + C = t`` (value ``(..., 4)``:
+  A, B, C, t), an invariant of joint A's motion: ``height`` along its axis (m),
+  ``distance2``, the squared distance from a point of it (m^2), or ``across`` its
+  sliding axis (m);
+* ``turn:J`` — joint J turning a point onto its target about its axis (value
+  ``(..., 4)``: the target's and the point's coordinates in the plane normal to the
+  axis, ``(g1, g2, f1, f2)`` in m, on the basis of :func:`plane_basis`), so
+  ``qJ = atan2(g2, g1) - atan2(f2, f1)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .branches import Branches
+
+
+def plane_basis(k) -> np.ndarray:
+    """``(2, 3)``: unit ``e1, e2`` spanning the plane normal to the unit axis ``k``,
+    counterclockwise about it (``e2 = k x e1``): the world's x and y for ``k = z``.
+
+    Parameters
+    ----------
+    k : array_like (3,), unit
+
+    Returns
+    -------
+    ndarray (2, 3)
+    """
+    k = np.asarray(k, float)
+    x = np.array([1.0, 0, 0]) if abs(k[0]) < 0.9 else np.array([0, 1.0, 0])
+    e1 = x - (x @ k) * k
+    e1 /= np.linalg.norm(e1)
+    return np.stack([e1, np.cross(k, e1)])
+
+
+def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -> Branches:
+    """``br`` with ``A cos q + B sin q + C = t`` for ``joint`` noted (``explain`` only).
+
+    Parameters
+    ----------
+    br : Branches, at the slots the coefficients belong to
+    joint : int, the joint solved (0-based)
+    what : str, ``height``, ``distance2`` or ``across`` (the module docstring)
+    pivot : int, the joint whose invariant it is (0-based)
+    A, B, C, t : array_like, broadcast to (N, K) (SI: m, or m^2 for ``distance2``)
+
+    Returns
+    -------
+    Branches
+    """
+    if not br.explain:
+        return br
+    value = np.stack(np.broadcast_arrays(A, B, C, t), -1)
+    return br.note("A cos + B sin + C = t", np.broadcast_to(value, (br.N, br.K, 4)),
+                   f"abc:{joint}:{what}:{pivot}")
+
+
+def note_turn(S, br: Branches, joint: int, f, g) -> Branches:
+    """``br`` with joint ``joint``'s turn of the points ``f`` onto ``g`` noted (``explain``
+    only).
+
+    Parameters
+    ----------
+    S : Screws, the chain (world frame at q = 0, m)
+    br : Branches
+    joint : int, revolute (0-based)
+    f, g : ndarray (N, K, 3), the point with the joint at 0 and its target (m)
+
+    Returns
+    -------
+    Branches
+    """
+    if not br.explain:
+        return br
+    e = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
+    o = S.point[joint]
+    return br.note("turn", np.concatenate([(g - o) @ e.T, (f - o) @ e.T], -1), f"turn:{joint}")

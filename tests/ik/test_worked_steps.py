@@ -1,0 +1,98 @@
+"""--explain (issue 19): the steps the engine notes are true of the solutions they belong
+to, and they are written in the textbook's equations with the numbers put in."""
+
+import re
+
+import numpy as np
+import pytest
+
+from kincalc import load_robot
+from kincalc.analysis.explain import worked_steps
+from kincalc.analysis.results import Units
+from kincalc.ik import Target
+from kincalc.ik.solve import solve
+from kincalc.spatial import wrap
+
+
+def _explained(name, q_deg):
+    r = load_robot(name)
+    T = r.fk(np.radians(q_deg))
+    return r, T, solve(r, Target(T), explain=True)
+
+
+@pytest.mark.parametrize("name", ["puma560", "puma560_mdh", "kuka_kr16", "abb_irb120",
+                                  "stanford_arm", "bk_scara_euler", "siciliano_arm_6r"])
+def test_noted_equations_hold_at_the_solutions(name):
+    """Each noted ``A cos q + B sin q + C = t`` holds at the solution's own q, and each noted
+    turn is ``q = atan2(p2, p1) - atan2(f2, f1)``: the notes are the steps that made q."""
+    rng = np.random.default_rng(15)
+    r = load_robot(name)
+    lo, hi = np.clip(r.limits.T, -2.5, 2.5)
+    for _ in range(5):
+        res = solve(r, Target(r.fk(rng.uniform(lo, hi))), explain=True)
+        assert res.solutions
+        for s in res.solutions:
+            kinds = [kind.split(":")[0] for _, _, kind in s.trace]
+            assert "abc" in kinds or "turn" in kinds, s.trace
+            for _, value, kind in s.trace:
+                parts = kind.split(":")
+                if parts[0] == "abc":
+                    A, B, C, t = value
+                    x = s.q[int(parts[1])]
+                    scale = max(abs(A), abs(B), abs(C), abs(t), 1e-300)
+                    assert abs(A * np.cos(x) + B * np.sin(x) + C - t) < 1e-8 * scale
+                elif parts[0] == "turn":
+                    g1, g2, f1, f2 = value
+                    x = s.q[int(parts[1])]
+                    assert abs(wrap(np.arctan2(g2, g1) - np.arctan2(f2, f1) - x)) < 1e-8
+
+
+def test_planar_rr_in_the_chapters_words():
+    """Example 4.2: cos theta2 = (px^2 + py^2 - l1^2 - l2^2) / (2 l1 l2), worked out by hand
+    as (12.99^2 + 2.5^2 - 100 - 25) / 100 = 0.499901, theta2 = +-60.0065 deg; then
+    theta1 = atan2(py, px) - atan2(l2 sin theta2, l1 + l2 cos theta2)."""
+    r = load_robot("bk_rr")
+    T = np.eye(4)
+    T[:3, 3] = [12.99, 2.5, 0]
+    res = solve(r, Target(T, orientation=False), explain=True)
+    for s in res.solutions:
+        steps = worked_steps(r, s, T, Units("deg", "unitless"), res.family)
+        assert [e["step"] for e in steps] == ["theta2", "theta1"]
+        two, one = steps[0]["text"], steps[1]["text"]
+        assert "cos theta2 = (|p - o|² - l1² - l2²) / (2 l1 l2)" in two
+        assert "(174.99 - 100 - 25) / (2·10·5) = 0.499901" in two and "±60.0065°" in two
+        q2 = np.radians(60.0065) * np.sign(s.q[1])
+        f = (10 + 5 * np.cos(q2), 5 * np.sin(q2))
+        assert f"atan2(2.5, 12.99) - atan2({f[1]:.6g}, {f[0]:.6g})" in one
+        assert f"= {np.degrees(s.q[0]):.6g}° (p: the target" in one
+
+
+def test_spherical_wrist_in_the_chapters_words():
+    """The PUMA: p_w = p (d6 = 0), then R_3^6 = (R_0^3)^T R and its ZYZ angles, which are
+    (q4, -q5, q6) for Corke's twists (alpha4 = 90, alpha5 = -90 deg)."""
+    r, T, res = _explained("puma560", [10, -30, 40, 25, 40, 35])
+    for s in res.solutions:
+        steps = worked_steps(r, s, T, Units(), res.family)
+        names = [e["step"] for e in steps]
+        assert names[0] == "wrist centre" and names[-4:] == ["R_3^6", "q5", "q4", "q6"]
+        text = {e["step"]: e["text"] for e in steps}
+        assert text["q5"].startswith("-q5 = atan2(")
+        for j, name in ((3, "q4"), (5, "q6")):
+            got = float(re.search(r"= (-?[\d.e+-]+)°$", text[name]).group(1))
+            assert abs(wrap(np.radians(got) - s.q[j])) < 1e-5
+
+
+def test_wrist_centre_is_p_minus_d_along_the_approach():
+    """The KUKA KR 16's flange is 158 mm beyond the wrist centre along the approach."""
+    r, T, res = _explained("kuka_kr16", [10, -60, 70, 20, 30, 40])
+    steps = worked_steps(r, res.solutions[0], T, Units("deg", "mm"), res.family)
+    assert steps[0]["text"].startswith("p_w = p - d·a = ") and "- 158·(" in steps[0]["text"]
+
+
+def test_no_symbol_of_the_dh_table():
+    """alpha, theta, a and d are the DH table's: the steps use A, B, C, t, p, o, f."""
+    for name, q in [("puma560", [10, -30, 40, 25, 40, 35]), ("kuka_kr16", [10, -60, 70, 20, 30, 40])]:
+        r, T, res = _explained(name, q)
+        for s in res.solutions:
+            for e in worked_steps(r, s, T, Units(), res.family):
+                assert "α" not in e["text"] and "alpha" not in e["text"]
