@@ -33,10 +33,12 @@ def plot(
 ):
     """Draw ROBOT at joint values Q into FILE (PNG, SVG or PDF).
 
-    Links are thick lines, revolute joints circles, prismatic joints
-    squares, and the base and tool frames x/y/z triads (red/green/blue), at
-    equal scale on axes in the length unit. A planar arm is drawn in 2D in
-    its plane, any other in 3D. Needs matplotlib: pip install 'kincalc[plot]'.
+    Links are thick lines, prismatic joints squares, and the base and tool
+    frames x/y/z triads (red/green/blue), at equal scale. A planar arm is drawn
+    in 2D in its plane (revolute joints as circles); any other in 3D, on a
+    pedestal on the ground, seen from the direction that shows it best, each
+    revolute joint a cylinder with an arrow to its axis's positive end. Needs
+    matplotlib: pip install 'kincalc[plot]'.
 
     ROBOT is a bundled robot's name (kincalc robots list) or a path to a robot
     YAML file. Q... are the joint values in order, revolute in the angle unit,

@@ -30,9 +30,10 @@ def workspace(
              "the full orientation, 24 for one angle).")] = None,
     plot: Annotated[Optional[str], typer.Option(
         "--plot", metavar="FILE", show_default=False, click_type=FileName(),
-        help="Also draw XY and XZ sections of the reachable set, coloured by "
-             "manipulability, to FILE (.png, .svg or .pdf; needs the 'plot' extra). An "
-             "existing FILE is not replaced without --force.")] = None,
+        help="Also draw sections of the reachable set through the base axis and through "
+             "the shoulder (a planar arm: its plane), with their boundary, the dexterous part "
+             "hatched and manipulability in colour, to FILE (.png, .svg or .pdf; needs the "
+             "'plot' extra). An existing FILE is not replaced without --force.")] = None,
     dpi: Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
                                      help="Resolution of a PNG --plot.")] = 100,
     force: Annotated[bool, typer.Option(
@@ -78,25 +79,15 @@ def workspace(
         plot = None
     if plot is not None:
         from ..analysis.plot import draw_sections
-        unit = "" if units.length == "unitless" else f" ({units.length})"
-        secs = [dict(s, extent=tuple(x * units.l for x in s["extent"]),
-                     xlabel=s["xlabel"] + unit, ylabel=s["ylabel"] + unit,
-                     title=_title(s, units))
-                for s in result.sections]
-        draw_sections(secs, plot_to, suptitle=f"{rob.title or rob.name}: workspace sections "
-                                              f"({samples} samples, seed {seed})",
-                      colour_label="manipulability (Yoshikawa, as kincalc jacobian)", dpi=dpi)
+        from ..analysis.workspace import manipulability_unit
+        unit = manipulability_unit(rob, units)
+        draw_sections(result.sections, plot_to, units=units, dpi=dpi,
+                      suptitle=f"{rob.title or rob.name}: workspace sections "
+                               f"({samples} samples, seed {seed})",
+                      colour_label="manipulability (Yoshikawa, as kincalc jacobian)"
+                                   + (f", {unit}" if unit else ""))
         doc["plot"] = plot
     output(doc, json, _tables, rob, precision)
-
-
-def _title(section, units) -> str:
-    """The section's title with its level in the display unit."""
-    if "level" not in section:
-        return section["title"]
-    unit = "" if units.length == "unitless" else f" {units.length}"
-    return (f"{section['name']} section at {section['across']} = "
-            f"{section['level'] * units.l:.4g}{unit}")
 
 
 class _progress:

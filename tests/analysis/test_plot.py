@@ -311,13 +311,18 @@ def test_config_title():
 # --- workspace sections -----------------------------------------------------------------
 
 def sections(k=2, seed=0):
+    """``k`` made-up sections: a disc of reach with random manipulability in it."""
+    from kincalc.analysis.workspace import Section
     rng = np.random.default_rng(seed)
     out = []
+    y, x = np.mgrid[-1:1:40j, -1.5:1.5:60j]
     for i in range(k):
         g = rng.uniform(0, 1, (40, 60))
         g[:5] = np.nan
-        out.append({"title": f"z = {i}", "xlabel": "x (m)", "ylabel": "y (m)",
-                    "extent": (-1.5, 1.5, -1.0, 1.0), "grid": g})
+        e = np.eye(3)
+        out.append(Section(f"section {i}", "made up", e[0], e[1], e[2], float(i),
+                           (np.zeros(2), None), None, (-1.5, 1.5, -1.0, 1.0),
+                           (np.hypot(x, y) < 0.9).astype(float), g, None, 100))
     return out
 
 
@@ -342,8 +347,9 @@ def test_sections_are_deterministic(tmp_path, fmt):
 
 
 def test_sections_all_empty_and_bad_suffix(tmp_path):
-    empty = sections(1)
-    empty[0]["grid"] = np.full((10, 10), np.nan)
+    import dataclasses
+    empty = [dataclasses.replace(sections(1)[0], reach=np.zeros((10, 10)),
+                                 manipulability=np.full((10, 10), np.nan))]
     plot.draw_sections(empty, tmp_path / "e.png", suptitle="w", colour_label="c")
     assert png_size(tmp_path / "e.png") == (500, 500)
     with pytest.raises(InputError):
@@ -461,6 +467,6 @@ def test_workspace_plot_is_deterministic_for_a_seed(tmp_path, capsys):
     data = [p.read_bytes() for p in paths]
     assert data[0][:8] == b"\x89PNG\r\n\x1a\n"
     assert data[0] == data[1] and data[0] != data[2]
-    # two sections (XY and XZ) for a spatial arm: at least two panels wide
+    # two sections (through the base axis and the shoulder) for a spatial arm: two panels wide
     w, h = png_size(paths[0])
     assert w >= 2 * h

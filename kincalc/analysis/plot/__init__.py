@@ -18,10 +18,12 @@ Geometry comes in SI (m, rad) and is drawn in the display length unit of a
 :class:`~kincalc.analysis.results.Units`.
 
 The modules: :mod:`~.style` (formats, sizes, colours, :class:`Drawing`, :class:`ArmPoints`),
-:mod:`~.geometry` (what an arm's drawing shows, in SI), :mod:`~.files` (figures, titles,
-saving), :mod:`~.arms` and :mod:`~.sections` (the two kinds of drawing). They use fk,
-:mod:`kincalc.outputs` and :mod:`kincalc.analysis.reports`; matplotlib only inside
-functions.
+:mod:`~.geometry` (what an arm's drawing shows, in SI), :mod:`~.scene` (a figure of arms
+before drawing: joint axes, the view that tells the panels apart, pedestal and ground,
+labels' places), :mod:`~.views` (an arm in space drawn in that view), :mod:`~.files`
+(figures, titles, saving), :mod:`~.arms`, :mod:`~.sections` and :mod:`~.sweeps` (the
+kinds of drawing). They use fk, :mod:`kincalc.outputs` and
+:mod:`kincalc.analysis.reports`; matplotlib only inside functions.
 """
 
 from __future__ import annotations
@@ -30,10 +32,12 @@ from ...errors import MissingExtra  # noqa: F401 (kincalc.analysis.plot.MissingE
 from .arms import draw_arms
 from .files import check_output
 from .geometry import arm_points, config_title, drawing_plane, joint_points
+from .scene import Scene, arm_scene, choose_view
 from .sections import draw_sections
 from .style import (ArmPoints, Drawing, FORMATS, MAX_COLUMNS, PANEL_INCHES, PLANAR_TOL,
                     TRIAD_FRACTION, require_matplotlib)
 
 __all__ = ["ArmPoints", "Drawing", "FORMATS", "MAX_COLUMNS", "PANEL_INCHES", "PLANAR_TOL",
-           "TRIAD_FRACTION", "arm_points", "check_output", "config_title", "draw_arms",
-           "draw_sections", "drawing_plane", "joint_points", "require_matplotlib"]
+           "Scene", "TRIAD_FRACTION", "arm_points", "arm_scene", "check_output",
+           "choose_view", "config_title", "draw_arms", "draw_sections", "drawing_plane",
+           "joint_points", "require_matplotlib"]

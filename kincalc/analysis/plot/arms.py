@@ -1,5 +1,5 @@
 """Drawing arm configurations side by side (``kincalc plot``, ``ik --plot``), in 3D or
-in the plane of a planar arm."""
+in the plane of a planar arm; the geometry comes from :mod:`~.scene`."""
 
 from __future__ import annotations
 
@@ -7,9 +7,10 @@ import numpy as np
 
 from .files import (check_output, default_style, fit_title, new_figure, panel_grid,
                     save_figure, title_inches)
-from .geometry import arm_points, drawing_plane, joint_points
+from .scene import arm_scene
 from .style import (Drawing, JOINT_FACE, LINK_COLOUR, TICK_STEPS, TRIAD_COLOURS,
                     TRIAD_FRACTION, require_matplotlib)
+from .views import draw_view, frames
 
 
 # --- arms ------------------------------------------------------------------------
@@ -18,12 +19,17 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     """Draw the arm at each configuration of ``Q`` and write it to ``path``.
 
     One panel per configuration, at most ``MAX_COLUMNS`` a row, each
-    ``PANEL_INCHES`` square. Links are thick lines, revolute joints circles,
-    prismatic joints squares, the base and tool frames x/y/z triads
-    (red/green/blue) ``TRIAD_FRACTION`` of the robot's characteristic
-    length long. Every panel has the same equal-scaled limits. A planar arm
-    (:func:`drawing_plane`) is drawn in 2D in its plane, with out-of-plane
-    triad axes shown as a dot (towards the viewer) or a cross (away).
+    ``PANEL_INCHES`` square, every panel with the same equal-scaled limits. Links are
+    thick lines, prismatic joints squares, the base and tool frames x/y/z triads
+    (red/green/blue) ``TRIAD_FRACTION`` of the robot's characteristic length long,
+    labelled where they keep clear of the rest. In 3D a revolute joint is a short
+    cylinder on its axis with an arrow to the axis's positive end and the joint's
+    number there (so a wrist flip, which reverses joint 5's axis, shows); the arm
+    stands on a pedestal on a ground grid, seen from the view that tells the panels
+    apart (:func:`~.scene.choose_view`). A planar arm (:func:`drawing_plane`) is drawn
+    in 2D in its plane: revolute joints are circles (their axes face the viewer), and a
+    triad axis normal to the page is a dot (towards the viewer) or a cross (away), as
+    the legend says.
 
     Parameters
     ----------
@@ -46,6 +52,7 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     Returns
     -------
     Drawing
+        With the panels' titles and the view of each 3D panel read back from the figure.
 
     Raises
     ------
@@ -64,64 +71,26 @@ def draw_arms(robot, Q, titles, path, *, suptitle=None, units=None, dpi=100) -> 
     if len(titles) != len(Q):
         raise ValueError(f"{len(Q)} configurations but {len(titles)} titles")
     units = units if units is not None else Units(length=robot.length_unit)
-    scale = units.l
     unit_label = "" if units.length == "unitless" else f" ({units.length})"
-    arms = [arm_points(robot, q) for q in Q]
-    starts = [joint_points(robot, q) for q in Q]
-    triad = TRIAD_FRACTION * robot.characteristic_length
-    plane = drawing_plane(robot, Q)
-    centre, half = _extent(arms, triad, scale, plane)
+    scene = arm_scene(robot, Q)
     cols, rows = panel_grid(len(Q))
     with default_style(mpl):
         fig = new_figure(cols, rows, dpi)
         fit_title(fig.suptitle("", fontsize=11),
                   suptitle if suptitle is not None else _robot_title(robot), title_inches(cols))
-        for k, (arm, start, title) in enumerate(zip(arms, starts, titles)):
-            if plane is None:
-                # our zorder (links, joints, triads) rather than mplot3d's depth sort,
-                # which hides triads and joints behind thick links
-                ax = fig.add_subplot(rows, cols, k + 1, projection="3d", computed_zorder=False)
-                _draw_3d(ax, robot, arm, start, triad, scale)
-                _frame_3d(ax, centre, half, unit_label)
+        for k, title in enumerate(titles):
+            ax = fig.add_subplot(rows, cols, k + 1)
+            if scene.plane is None:
+                draw_view(ax, scene, k, units.l, "" if units.length == "unitless"
+                          else units.length)
             else:
-                ax = fig.add_subplot(rows, cols, k + 1)
-                _draw_2d(ax, robot, arm, start, triad, scale, plane)
-                _frame_2d(ax, centre, half, [f"{n}{unit_label}" for n in plane[2]])
+                _frame_2d(ax, scene.centre * units.l, scene.half * units.l,
+                          [f"{n}{unit_label}" for n in scene.plane[2]])
+                _draw_2d(ax, scene, k, units.l)
             fit_title(ax.set_title("", fontsize="medium"), title, title_inches(1))
-        projections = ["3d" if ax.name == "3d" else "2d" for ax in fig.axes]
-        return save_figure(fig, path, fmt, dpi, projections)
-
-
-def _extent(arms, triad, scale, plane):
-    """The common limits of every panel, in display units: ``(centre, half width)`` of
-    the square (cube) around everything drawn, triads included, with room for labels;
-    in the plane's coordinates for a planar arm."""
-    drawn = [a.points for a in arms]
-    for a in arms:
-        for T in (a.base, a.tool):
-            drawn.append(T[:3, 3] + triad * T[:3, :3].T)
-    drawn = np.concatenate(drawn) * scale
-    if plane is not None:
-        u, v, _ = plane
-        drawn = drawn @ np.stack([u, v], axis=1)
-    lo, hi = drawn.min(axis=0), drawn.max(axis=0)
-    return (lo + hi) / 2, max(float(np.max(hi - lo)) / 2, triad * scale) * 1.12
-
-
-def _frame_3d(ax, centre, half, unit_label):
-    """Orthographic, equal-scaled 3D axes around ``centre``, labelled, with round ticks."""
-    from matplotlib.ticker import MaxNLocator
-    ax.set_proj_type("ortho")
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_xlabel(f"x{unit_label}")
-    ax.set_ylabel(f"y{unit_label}")
-    ax.set_zlabel(f"z{unit_label}")
-    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
-        axis.set_major_locator(MaxNLocator(4, steps=TICK_STEPS))
-    ax.tick_params(labelsize="small")   # 3D corners crowd tick labels
+        _legend(fig, scene, mpl)
+        return save_figure(fig, path, fmt, dpi, ["2d" if scene.plane else "3d"] * len(Q),
+                           titles=[ax.get_title() for ax in fig.axes])
 
 
 def _frame_2d(ax, centre, half, labels):
@@ -142,51 +111,48 @@ def _robot_title(robot) -> str:
     return f"{robot.name} - {robot.title}" if robot.title else robot.name
 
 
-def _draw_3d(ax, robot, arm, start, triad, scale):
-    p = arm.points * scale
-    ax.plot(p[:, 0], p[:, 1], p[:, 2], color=LINK_COLOUR, lw=5, solid_capstyle="round",
-            solid_joinstyle="round", zorder=1)
-    s = start * scale
-    # squares larger and below circles: a revolute joint on a prismatic one stays visible
-    for marker, size, mask in (("s", 110, ~robot.is_revolute), ("o", 70, robot.is_revolute)):
-        if np.any(mask):
-            ax.scatter(s[mask, 0], s[mask, 1], s[mask, 2], marker=marker, s=size,
-                       c=JOINT_FACE, edgecolors="black", linewidths=1.0, depthshade=False,
-                       zorder=3)
-    for T, name in ((arm.base, "base"), (arm.tool, "tool")):
-        o = T[:3, 3] * scale
-        for j, colour in enumerate(TRIAD_COLOURS):
-            e = o + T[:3, j] * triad * scale
-            ax.plot([o[0], e[0]], [o[1], e[1]], [o[2], e[2]], color=colour, lw=2.5, zorder=4)
-        ax.text(o[0], o[1], o[2], f"  {name}", fontsize="small", color="0.3")
-
-
-def _draw_2d(ax, robot, arm, start, triad, scale, plane):
-    u, v, _ = plane
+def _draw_2d(ax, scene, k, scale):
+    u, v, _ = scene.plane
     P = np.stack([u, v], axis=1)
-    w = np.cross(u, v)
-    p = arm.points @ P * scale
-    ax.plot(p[:, 0], p[:, 1], color=LINK_COLOUR, lw=5, solid_capstyle="round",
+    p = scene.panels[k]
+    pts = p.arm.points @ P * scale
+    ax.plot(pts[:, 0], pts[:, 1], color=LINK_COLOUR, lw=5, solid_capstyle="round",
             solid_joinstyle="round", zorder=2)
-    s = start @ P * scale
-    for marker, size, mask in (("s", 110, ~robot.is_revolute), ("o", 70, robot.is_revolute)):
+    s = p.joints @ P * scale
+    for marker, size, mask in (("s", 110, ~p.revolute), ("o", 70, p.revolute)):
         if np.any(mask):
             ax.scatter(s[mask, 0], s[mask, 1], marker=marker, s=size, c=JOINT_FACE,
                        edgecolors="black", linewidths=1.0, zorder=3)
-    for T, name in ((arm.base, "base"), (arm.tool, "tool")):
-        o = T[:3, 3] @ P * scale
-        for j, colour in enumerate(TRIAD_COLOURS):
-            axis = T[:3, j]
-            d = axis @ P * triad * scale
-            if np.linalg.norm(axis @ P) > 0.2:
-                ax.annotate("", xy=o + d, xytext=o, zorder=4,
-                            arrowprops=dict(arrowstyle="-|>", color=colour, lw=2.5,
-                                            shrinkA=0, shrinkB=0, mutation_scale=12))
-            else:  # (nearly) normal to the drawing: a ring around the origin (and any
-                # joint drawn there) with a dot for towards the viewer, a cross for away
-                ax.scatter([o[0]], [o[1]], marker="o", s=260, facecolors="white",
-                           edgecolors=colour, linewidths=2, zorder=2.5)
-                ax.scatter([o[0]], [o[1]], marker="." if axis @ w > 0 else "x",
-                           s=40 if axis @ w > 0 else 30, c=colour, linewidths=2, zorder=6)
-        ax.annotate(name, xy=o, xytext=(6, -12), textcoords="offset points",
-                    fontsize="small", color="0.3")
+    frames(ax, scene, k, scale)
+
+
+def _legend(fig, scene, mpl):
+    """One legend under the panels: what the marks mean."""
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color=LINK_COLOUR, lw=4, label="link")]
+    revolute = any(np.any(p.revolute) for p in scene.panels)
+    prismatic = any(np.any(~p.revolute) for p in scene.panels)
+    if revolute and scene.plane is None:
+        handles.append(Line2D([], [], color=JOINT_FACE, lw=6, label="revolute joint, "
+                              "+ axis arrow"))
+    elif revolute:
+        handles.append(Line2D([], [], ls="", marker="o", ms=8, mfc=JOINT_FACE, mec="black",
+                              label="revolute joint"))
+    if prismatic:
+        handles.append(Line2D([], [], ls="", marker="s", ms=9, mfc=JOINT_FACE, mec="black",
+                              label="prismatic joint"))
+    marks = scene.triad_marks()
+    for j, (name, colour) in enumerate(zip("xyz", TRIAD_COLOURS)):
+        if (j, "arrow") in marks:
+            handles.append(Line2D([], [], color=colour, lw=2.5, label=f"{name} (base, tool)"))
+        out, into = (("out of the page", "into the page") if scene.plane is not None
+                     else ("towards you", "away from you"))
+        if (j, "towards") in marks:
+            handles.append(Line2D([], [], ls="", marker=".", ms=9, color=colour,
+                                  label=f"{name} {out}"))
+        if (j, "away") in marks:
+            handles.append(Line2D([], [], ls="", marker="x", ms=6, mew=2, color=colour,
+                                  label=f"{name} {into}"))
+    cols = min(len(handles), 3 if len(fig.axes) == 1 else 4 if len(fig.axes) == 2 else 8)
+    fig.legend(handles=handles, loc="outside lower center", ncols=cols, fontsize="small",
+               frameon=False, handlelength=1.6, columnspacing=1.2)

@@ -36,7 +36,7 @@ def check_output(path) -> str:
     return fmt
 
 
-def save_figure(fig, path, fmt, dpi, projections) -> Drawing:
+def save_figure(fig, path, fmt, dpi, projections, titles=(), colour_label=None) -> Drawing:
     target = as_target(path)
     # to a temporary file renamed over the target when complete (kincalc.outputs)
     with replacing(target) as fh:
@@ -46,7 +46,8 @@ def save_figure(fig, path, fmt, dpi, projections) -> Drawing:
         size = (int(round(w_in * dpi)), int(round(h_in * dpi)), "px")
     else:
         size = (int(round(w_in * 72)), int(round(h_in * 72)), "pt")
-    return Drawing(str(target.path), fmt, *size, projections=tuple(projections))
+    return Drawing(str(target.path), fmt, *size, projections=tuple(projections),
+                   titles=tuple(titles), colour_label=colour_label)
 
 
 def title_inches(cols: int) -> float:

@@ -32,6 +32,8 @@ METADATA = {"png": {}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}
 LINK_COLOUR = "#3b4a5a"
 JOINT_FACE = "#f2a13a"
 TRIAD_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")   # x red, y green, z blue
+GROUND_COLOUR = "#e8e4da"
+PEDESTAL_COLOUR = "0.8"
 
 
 def require_matplotlib(command: str):
@@ -49,8 +51,10 @@ class Drawing:
 
     ``width`` and ``height`` are in ``size_unit``: pixels for PNG, points
     (1/72 inch, as the file declares them) for SVG and PDF. ``projections``
-    are the panels' axes kinds, ``'2d'`` or ``'3d'``, read back from the
-    figure.
+    are the panels' kinds of view: ``'2d'`` (a planar arm in its plane, a
+    section) or ``'3d'`` (an arm in space, seen from a direction).
+    ``titles``: the panels' titles and ``colour_label`` the colour bar's label
+    (None without one), read back from the figure.
     """
 
     path: str
@@ -59,6 +63,8 @@ class Drawing:
     height: int
     size_unit: str
     projections: tuple[str, ...]
+    titles: tuple[str, ...] = ()
+    colour_label: str | None = None
 
     @property
     def planar(self) -> bool:

@@ -45,12 +45,14 @@ import numpy as np
 
 from ...errors import BadValue
 from ...limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .dexterity import dexterous, super_fibonacci
+from .dexterity import dexterous, super_fibonacci, test_orientations
 from .sampling import envelope, joint_ranges, sample_tool_points
-from .volume import estimate_volume, section_grids, wilson
+from .sections import Section, workspace_sections
+from .volume import estimate_volume, wilson
 
-__all__ = ["Workspace", "analyse", "envelope", "joint_ranges", "sample_tool_points",
-           "super_fibonacci", "wilson"]
+__all__ = ["Section", "Workspace", "analyse", "envelope", "joint_ranges",
+           "manipulability_unit", "sample_tool_points", "super_fibonacci", "wilson",
+           "workspace_sections"]
 
 #: samples the manipulability statistics use (the first ones drawn), and the
 #: condition-number statistics (an SVD each)
@@ -117,6 +119,19 @@ class Workspace:
         return out
 
 
+def manipulability_unit(robot, units) -> str:
+    """The unit of the manipulability the analysis reports (``"m^3"`` for a six-joint
+    revolute arm in m): its linear rows are length per radian for revolute joints and
+    pure numbers for prismatic ones, so the product of the singular values up to the
+    generic rank is a length to the power of the position rank less the number of
+    prismatic joints (one of them per linear direction); "" for a pure number or
+    unitless lengths."""
+    power = robot.generic_ranks[1] - int(np.sum(~robot.is_revolute))
+    if power <= 0 or units.length == "unitless":
+        return ""
+    return units.length if power == 1 else f"{units.length}^{power}"
+
+
 def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     """Per-sample Yoshikawa measure ``(N,)`` (as ``kincalc jacobian`` reports it, in
     display units) and statistics including the normalised condition number."""
@@ -163,9 +178,9 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     ``samples`` joint configurations drawn with ``numpy.random.default_rng(seed)``;
     ``dexterity`` in (0, 1]: the fraction of test orientations a point must reach
     to count as dexterous; ``orientations``: how many test orientations (default
-    48 for SO(3), 24 for one angle). ``sections=True`` also builds the XY and XZ
-    sections for plotting. ``progress(stage, done, total)`` is called as work
-    proceeds.
+    48 for SO(3), 24 for one angle). ``sections=True`` also builds the sections for
+    drawing (:mod:`~.sections`: through the base axis and through the shoulder).
+    ``progress(stage, done, total)`` is called as work proceeds.
 
     Raises
     ------
@@ -219,7 +234,13 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     w, manip = _manipulability(robot, sub, units)
     times["manipulability"] = time.perf_counter() - t0
 
-    secs = section_grids(grid, P[: len(sub)], w, robot, env) if sections else []
+    secs = []
+    if sections:
+        t0 = time.perf_counter()
+        tests = test_orientations(robot, Q, orientations, units) if dex["defined"] else None
+        secs = workspace_sections(robot, rng, sub, P[: len(sub)], w, vol, tests, dexterity,
+                                  progress)
+        times["sections"] = time.perf_counter() - t0
     return Workspace(robot=robot, samples=samples, seed=seed, ranges=(lo, hi), envelope=env,
                      dim=grid.dim, volume=volume, volume_ci=volume_ci, grid=vol.info,
                      dexterous=dex, manipulability=manip, sections=secs, timings=times,

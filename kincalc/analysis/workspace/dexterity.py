@@ -4,6 +4,8 @@ sec. 4.3), SO(3) test sets by the super-Fibonacci spiral; see
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .sampling import joint_ranges
@@ -66,15 +68,24 @@ def _orientation_family(robot):
                   "orientation")
 
 
-def dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volume_ci,
-               fraction, count, units, progress) -> dict:
-    """The dexterous workspace: random points of ``region`` (cells), each tested with
-    every orientation of a fixed set. Its volume is the reachable ``volume`` times the
-    share of the reachable test points that are dexterous (a ratio, so it never
-    exceeds the reachable volume), with Wilson's interval on that share."""
+@dataclass(frozen=True)
+class Orientations:
+    """The test orientations of the dexterous workspace: ``R (K, 3, 3)`` (world), what
+    they are in words (``about``), and whether the closed form tests them (``exact``,
+    :meth:`Robot.ik_batch`) rather than damped least squares."""
+
+    R: np.ndarray
+    about: str
+    exact: bool
+
+
+def test_orientations(robot, Q, count, units) -> Orientations | str:
+    """The :class:`Orientations` of ``robot`` (``count`` of them, default 48 for SO(3)
+    and 24 for one angle), or the sentence why the dexterous workspace is not defined.
+    ``Q (N, n)``: samples (the first one's orientation starts the one-angle set)."""
     kind, extra = _orientation_family(robot)
     if kind is None:
-        return {"defined": False, "reason": extra, "volume": None, "volume_ci95": None}
+        return extra
     if kind == "SO(3)":
         count = count or ORIENTATIONS_3D
         Rset = super_fibonacci(count)
@@ -87,11 +98,17 @@ def dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volum
         Rset = matrix_from_axis_angle(np.broadcast_to(extra, (count, 3)), angles) @ R0
         about = (f"{count} tool angles {2 * np.pi / count * units.a:.4g} {units.angle} apart "
                  f"about the axis {np.round(extra, 6).tolist()}")
-    exact = _batchable(robot)
-    m = DEXTERITY_POINTS
-    cells = np.argwhere(region)
-    pick = cells[rng.integers(0, len(cells), m)]
-    targets = grid.point(pick, rng.uniform(size=(m, grid.dim)))
+    return Orientations(Rset, about, _batchable(robot))
+
+
+def orientation_hits(robot, Q, P, grid, order, sorted_cells, targets, orientations,
+                     progress=None):
+    """Which of the points ``targets (M, 3)`` the robot reaches, and with which test
+    orientations: ``(at, hit)`` with ``at`` the indices of the reachable targets and
+    ``hit (len(at), K)`` bool. Searches start from the samples ``Q``, ``P`` nearest each
+    target (``grid``, ``order``, ``sorted_cells``: the volume's grid and its samples
+    sorted by cell); ``progress("dexterity", done, 2)`` after each stage."""
+    progress = progress or (lambda *a: None)
     cand = starts(grid, order, sorted_cells, targets, per_cell=4)
     Rs = robot.fk(Q[np.maximum(cand, 0)].reshape(-1, robot.dof))[:, :3, :3].reshape(
         cand.shape + (3, 3))
@@ -100,6 +117,7 @@ def dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volum
     progress("dexterity", 1, 2)
     # every (point, orientation) pair of the reachable points, PAIR_CHUNK pairs at a time
     # (each pair is solved on its own: the chunks change nothing but the memory)
+    Rset = orientations.R
     K = len(Rset)
     at = np.flatnonzero(reachable)
     hit = np.zeros((len(at), K), bool)
@@ -109,8 +127,27 @@ def dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volum
         hit[s:s + len(a)] = reached(
             robot, Q, P, np.repeat(cand[a], K, axis=0), np.repeat(targets[a], K, axis=0),
             R_goal=np.tile(Rset, (len(a), 1, 1)), Rc=np.repeat(Rs[a], K, axis=0),
-            exact=exact).reshape(len(a), K)
+            exact=orientations.exact).reshape(len(a), K)
     progress("dexterity", 2, 2)
+    return at, hit
+
+
+def dexterous(robot, rng, grid, Q, P, order, sorted_cells, region, volume, volume_ci,
+               fraction, count, units, progress) -> dict:
+    """The dexterous workspace: random points of ``region`` (cells), each tested with
+    every orientation of a fixed set. Its volume is the reachable ``volume`` times the
+    share of the reachable test points that are dexterous (a ratio, so it never
+    exceeds the reachable volume), with Wilson's interval on that share."""
+    tests = test_orientations(robot, Q, count, units)
+    if isinstance(tests, str):
+        return {"defined": False, "reason": tests, "volume": None, "volume_ci95": None}
+    m = DEXTERITY_POINTS
+    cells = np.argwhere(region)
+    pick = cells[rng.integers(0, len(cells), m)]
+    targets = grid.point(pick, rng.uniform(size=(m, grid.dim)))
+    at, hit = orientation_hits(robot, Q, P, grid, order, sorted_cells, targets, tests,
+                               progress)
+    exact, about = tests.exact, tests.about
     share = hit.mean(axis=1)
     k, a = int(np.sum(share >= fraction - 1e-12)), len(at)
     f_lo, f_hi = wilson(k, a)
