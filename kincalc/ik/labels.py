@@ -213,14 +213,10 @@ def _meeting_point(robot, F, first: int):
     in the link of joint ``first`` (its frame moves only with the joints before those axes,
     which turn about lines through it): ``(first - 1, local (3,))``; None if the axes are
     all parallel. ``F``: the frames at q = 0."""
-    A, b = np.zeros((3, 3)), np.zeros(3)
-    for j in range(first, robot.dof):
-        Pj = np.eye(3) - np.outer(F[j, :3, 2], F[j, :3, 2])
-        A += Pj
-        b += Pj @ F[j, :3, 3]
-    if np.linalg.svd(A, compute_uv=False)[-1] < 1e-6:
+    from ..structure import common_point
+    P = common_point(F[first:, :3, 3], F[first:, :3, 2], np.inf)
+    if P is None:
         return None
-    P = np.linalg.solve(A, b)
     local = F[first - 1, :3, :3].T @ (P - F[first - 1, :3, 3])
     local.setflags(write=False)
     return first - 1, local
