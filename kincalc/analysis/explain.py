@@ -106,9 +106,13 @@ def _terms(A, B, C, q) -> str:
 
 def _cosine_step(q, what, pivot, value, q_value, units) -> str:
     """``A cos q + B sin q + C = t`` in the textbook's words."""
-    A, B, C, t = value
+    A, B, C, t, l1, l2 = value
     f = units.l ** 2 if what == "distance2" else units.l
     A, B, C, t = A * f, B * f, C * f, t * f
+    l1, l2 = l1 * units.l, l2 * units.l
+    triangle = what == "distance2" and np.isfinite(l1) and \
+        abs(abs(A) - 2 * l1 * l2) <= 1e-9 * max(C, 1e-300) and \
+        abs(C - l1 * l1 - l2 * l2) <= 1e-9 * max(C, 1e-300)
     got = f"{q} = {_angle(q_value, units)}"
     if what == "distance2":
         lhs = f"|p - o|² (o on the axis of {pivot})"
@@ -118,14 +122,13 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
         lhs = f"p across the axis of {pivot}"
     if abs(B) <= 1e-12 * max(abs(A), 1e-300) and A != 0:
         c = (t - C) / A
-        head = f"cos {q} = (t - C) / A = ({_n(t)} - {_n(C)}) / {_n(A)}"
-        if what == "distance2" and C >= abs(A):
-            l1 = 0.5 * (np.sqrt(C + abs(A)) + np.sqrt(C - abs(A)))
-            l2 = 0.5 * (np.sqrt(C + abs(A)) - np.sqrt(C - abs(A)))
-            head = (f"cos {q} = (|p - o|² - l1² - l2²) / (2 l1 l2) = ({_n(t)} - {_n(l1 * l1)} - "
-                    f"{_n(l2 * l2)}) / (2·{_n(l1)}·{_n(l2)})")
-        return (f"{head} = {_n(c)} (the law of cosines; t = {lhs}) -> {q} = "
-                f"±{_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}")
+        head = f"cos {q} = (t - C) / A = ({_n(t)} - {_n(C)}) / {_n(A)} = {_n(c)} (t: {lhs})"
+        if triangle:
+            sign = "" if A > 0 else "-"
+            head = (f"cos {q} = {sign}(|p - o|² - l1² - l2²) / (2 l1 l2) = {sign}({_n(t)} - "
+                    f"{_n(l1 * l1)} - {_n(l2 * l2)}) / (2·{_n(l1)}·{_n(l2)}) = {_n(c)} (the law "
+                    f"of cosines: o on the axis of {pivot}, l1 and l2 the triangle's sides)")
+        return f"{head} -> {q} = ±{_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}"
     r = np.hypot(A, B)
     c = (t - C) / r
     return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> "

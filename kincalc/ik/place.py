@@ -242,8 +242,13 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
         sol = from_abc(be, ga, al, t, scale)
         br = br.dead_end(b, np.arctan2(ga, be), (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
                          ~sol.exact[..., 0] & br.ok, what)
-        return note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t).branch(
-            [b], sol)
+        if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
+            u = g - S.point[b]
+            e1 = u - (u @ S.axis[b])[..., None] * S.axis[b]
+            sides = (np.sqrt(dot(S.point[b] + u - e1 - P.o, S.point[b] + u - e1 - P.o)),
+                     np.sqrt(dot(e1, e1)))
+            br = note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t, sides)
+        return br.branch([b], sol)
     return br.branch([b], quadratic(ga, be, al - t, scale), labels=("-", "+"))
 
 
@@ -310,7 +315,7 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v), for u, v normal to k
     br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
-                       u @ u + v @ v, dot(q, q))
+                       u @ u + v @ v, dot(q, q), (np.sqrt(u @ u), np.sqrt(v @ v)))
     br = br.branch([c], third)
     q = br.take(q)
     elbow = u + S.turn(c, br.cos[c], br.sin[c], v)

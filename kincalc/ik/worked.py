@@ -4,10 +4,10 @@ A solver step notes its equation with the numbers it solved (nothing without
 ``explain``: a batch of poses pays nothing); :mod:`kincalc.analysis.explain` writes them
 the way a textbook chapter does, in the user's units. Two kinds:
 
-* ``abc:J:WHAT:A`` — joint J from ``A cos qJ + B sin qJ + C = t`` (value ``(..., 4)``:
-  A, B, C, t), an invariant of joint A's motion: ``height`` along its axis (m),
-  ``distance2``, the squared distance from a point of it (m^2), or ``across`` its
-  sliding axis (m);
+* ``abc:J:WHAT:A`` — joint J from ``A cos qJ + B sin qJ + C = t`` (value ``(..., 6)``:
+  A, B, C, t, and for a distance the triangle's sides l1, l2 or NaN), an invariant of
+  joint A's motion: ``height`` along its axis (m), ``distance2``, the squared distance
+  from a point of it (m^2), or ``across`` its sliding axis (m);
 * ``turn:J`` — joint J turning a point onto its target about its axis (value
   ``(..., 4)``: the target's and the point's coordinates in the plane normal to the
   axis, ``(g1, g2, f1, f2)`` in m, on the basis of :func:`plane_basis`), so
@@ -40,7 +40,8 @@ def plane_basis(k) -> np.ndarray:
     return np.stack([e1, np.cross(k, e1)])
 
 
-def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -> Branches:
+def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t,
+                  sides=(np.nan, np.nan)) -> Branches:
     """``br`` with ``A cos q + B sin q + C = t`` for ``joint`` noted (``explain`` only).
 
     Parameters
@@ -50,6 +51,10 @@ def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -
     what : str, ``height``, ``distance2`` or ``across`` (the module docstring)
     pivot : int, the joint whose invariant it is (0-based)
     A, B, C, t : array_like, broadcast to (N, K) (SI: m, or m^2 for ``distance2``)
+    sides : pair of array_like, broadcast to (N, K), optional
+        For a distance: from the point of joint ``pivot``'s axis to the centre of the
+        circle joint ``joint`` moves the point on, and that circle's radius (m); the law
+        of cosines when ``C = l1^2 + l2^2`` and ``|A| = 2 l1 l2`` (a planar triangle)
 
     Returns
     -------
@@ -57,8 +62,8 @@ def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -
     """
     if not br.explain:
         return br
-    value = np.stack(np.broadcast_arrays(A, B, C, t), -1)
-    return br.note("A cos + B sin + C = t", np.broadcast_to(value, (br.N, br.K, 4)),
+    value = np.stack(np.broadcast_arrays(A, B, C, t, *sides), -1)
+    return br.note("A cos + B sin + C = t", np.broadcast_to(value, (br.N, br.K, 6)),
                    f"abc:{joint}:{what}:{pivot}")
 
 
