@@ -667,8 +667,11 @@ def test_ctrl_c_exits_130_with_whole_lines_and_no_traceback(tmp_path, jobs):
     import time
     src = write(tmp_path, "big.jsonl", ['{"q": [%d, 20, 30, 40, 50, 60]}\n' % (k % 300)
                                         for k in range(60000)])
+    # SIGINT as a terminal leaves it: a run started in the background of a script (as
+    # `pytest &`) inherits it ignored, and then Ctrl-C is rightly ignored too
     p = _kincalc("ik", "puma560", "--batch", src, "-j", jobs, stdout=subprocess.PIPE,
-                 stderr=subprocess.PIPE, start_new_session=True)
+                 stderr=subprocess.PIPE, start_new_session=True,
+                 preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         # (unbuffered: communicate() reads the descriptor, past a buffered reader's bytes)
         first = os.read(p.stdout.fileno(), 1 << 16)
