@@ -2,7 +2,7 @@
 paired the way a student pairs the +/- roots of each step, each with why it fails.
 
 A textbook solves an arm in groups: the first joints place a point (the wrist centre,
-the tool point, ...; :func:`~kincalc.ik.labels.geometry` finds it from the axes), the
+the tool point, ...; :func:`~kincalc.ik.labels.placed_point` finds it from the axes), the
 others (the wrist) then set the orientation from them. A student who pairs a root of one
 step with a root of another from the wrong branch gets a combination that does not reach
 the target (Bingul & Kucuk, Example 4.2: zeta1 and zeta4). Within each group the values
@@ -27,7 +27,7 @@ import itertools
 import numpy as np
 
 from ..spatial import rotation_error, wrap
-from .labels import geometry
+from .labels import placed_point
 from .reasons import ArmMissed, Missed
 
 #: --all-branches lists combinations only up to this many
@@ -43,7 +43,7 @@ def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:
     ----------
     robot : Robot
     family : str
-        The family the solutions came from (its placed point and arm, :func:`geometry`).
+        The family the solutions came from (its placed point and arm, :func:`placed_point`).
     T : ndarray (4, 4)
         The target pose ``T_world_tool`` (world frame, SI).
     orientation : bool
@@ -63,8 +63,8 @@ def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:
         return [], None
     Q = np.array([s.q for s in sols])
     rev = robot.is_revolute
-    geo = geometry(robot, family)
-    arm = list(geo.arm) if geo is not None and geo.arm else list(range(robot.dof))
+    placed = placed_point(robot, family)
+    arm = list(placed[2]) if placed is not None and placed[2] else list(range(robot.dof))
     rest = [j for j in range(robot.dof) if j not in arm]
     groups = [(arm, None)] if not rest else \
         [(arm, None)] + [(rest, members) for members in _same(Q, arm, rev)]
@@ -76,7 +76,7 @@ def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:
     out = []
     for joints, members, values in combos:
         if members is None and rest:
-            out.append(_arm_combination(robot, geo, Q, joints, values))
+            out.append(_arm_combination(robot, placed, Q, joints, values))
         else:
             q = Q[0 if members is None else members[0]].copy()
             q[joints] = values
@@ -126,20 +126,20 @@ def _combinations(Q, joints, rev) -> list:
             if not any(_equal(c, q[joints], rev[joints]) for q in Q)]
 
 
-def _arm_combination(robot, geo, Q, arm, values) -> dict:
+def _arm_combination(robot, placed, Q, arm, values) -> dict:
     """An arm combination, judged by the point it places: the other joints from the
     solution that shares most of its values."""
     shared = [(_gap(q[arm], values, robot.is_revolute[arm]) < SAME).sum() for q in Q]
     q = Q[int(np.argmax(shared))].copy()
     q[arm] = values
     from ..fk import chain_frames
-    frame, local = geo.placed
+    (frame, local), name, _ = placed
     F = chain_frames(robot.chain, np.array([q, Q[0]]))[:, frame]
     P = F[:, :3, :3] @ local + F[:, :3, 3]          # the combination's point, a solution's
     d = float(np.linalg.norm(P[0] - P[1]))
     return {"q": q, "branch": "combination of the arm's values", "position_error": d,
             "orientation_error": None,
-            "reason": ArmMissed(geo.placed_name, d, tuple(arm))}
+            "reason": ArmMissed(name, d, tuple(arm))}
 
 
 def _pose_combination(robot, T, orientation, q, branch) -> dict:

@@ -55,6 +55,11 @@ class Geometry:
     wrist_point: tuple | None
     #: the elbow's plane holds axis 1 (a spatial arm), else it is normal to it (a planar arm)
     spatial: bool
+    #: +1 or -1: axis 1 as written points up, or down, in the world (a KUKA's A1 points
+    #: down): the words are the world's, not the file's sign
+    upward: float
+    #: the same for the elbow's axes
+    elbow_upward: float
     #: the wrist word (z4 x z6) . z5 applies
     wrist: bool
     #: the point the arm's first joints place, ``(frame, local)`` (the shoulder's P, else
@@ -100,7 +105,7 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
     z = [cols[2] for cols, _ in frames]
     o = [p for _, p in frames]
     if geo.shoulder is not None:
-        side = _dot(_carried(frames, geo.shoulder) - o[0], _cross(z[0], z[1]))
+        side = geo.upward * _dot(_carried(frames, geo.shoulder) - o[0], _cross(z[0], z[1]))
         codes[:, 0] = (np.where(side >= 0, 1, 2) if geo.front == 0 else
                        np.where(geo.front * side >= 0, 3, 4))
     if geo.elbow is not None:
@@ -121,10 +126,11 @@ def _carried(frames, point):
 def _elbow_up(robot, geo: Geometry, z, o, tgt):
     """``(k,)`` bool: the elbow is up (``man kincalc-ik``, BRANCH LABELS)."""
     j = geo.elbow[0]
-    sh, el, h = o[j], o[j + 1], z[j]
+    sh, el, h = o[j], o[j + 1], z[j] * geo.elbow_upward
     if not geo.spatial:
         # a planar elbow: on the counterclockwise side of the shoulder-to-wrist line, seen
-        # from the tip of the axes ((W - S) x (E - S) . h; components along h drop out)
+        # from above (the tip of the axes turned up; (W - S) x (E - S) . h: components
+        # along h drop out)
         return _dot(_cross(tgt - sh, el - sh), h) >= 0
     # the elbow against the shoulder-to-target line, in the plane of the parallel axes:
     # up on the side axis 1 points to
@@ -134,7 +140,7 @@ def _elbow_up(robot, geo: Geometry, z, o, tgt):
     v = v - h * _dot(h, v)
     ll = np.maximum(_dot(line, line), 1e-300)
     perp = v - line * (_dot(v, line) / ll)
-    up = _dot(perp, z[0])
+    up = _dot(perp, z[0]) * geo.upward
     # the elbow on the line (stretched or folded): the turn sense decides
     alt = _dot(_cross(el - sh, tgt - el), h)
     return np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up) >= 0
@@ -192,8 +198,7 @@ def geometry(robot, family: str) -> Geometry | None:
         P = F[shoulder[0], :3, :3] @ shoulder[1] + F[shoulder[0], :3, 3]
         L = max(robot.characteristic_length, 1e-12)
         if abs((P - o[0]) @ z[1]) <= 1e-6 * L:        # no shoulder offset: front or back
-            side = (P - o[0]) @ np.cross(z[0], z[1])
-            front = -1 if side < -1e-9 * L else 1
+            front = _front(robot, shoulder, _upward(z[0]))
     placed = shoulder or wrist or tool
     name = ("wrist centre" if family == "spherical-wrist" else
             "point where axes 5 and 6 meet" if family == "three-parallel" else
@@ -205,7 +210,66 @@ def geometry(robot, family: str) -> Geometry | None:
         arm.pop()
     return Geometry(shoulder=shoulder, front=front, elbow=elbow if wrist is not None else None,
                     wrist_point=wrist, spatial=elbow is not None and not parallel(0, elbow[0]),
+                    upward=_upward(z[0]),
+                    elbow_upward=_upward(z[elbow[0]]) if elbow is not None else 1.0,
                     wrist=sixes and n >= 6, placed=placed, placed_name=name, arm=tuple(arm))
+
+
+@per_robot
+def placed_point(robot, family: str):
+    """The point the arm's first joints place and the joints that move it, for any family.
+
+    A worded family's (:func:`geometry`); otherwise where the last three axes meet (a
+    spherical wrist), else where the last two meet (a wrist pair), the joints before them
+    being the arm. Cached per robot.
+
+    Parameters
+    ----------
+    robot : Robot
+    family : str
+
+    Returns
+    -------
+    tuple or None
+        ``((frame, local (3,)), name, arm joints)``: the point fixed in the link of
+        :func:`kincalc.fk.chain_frames` frame ``frame`` (local coordinates, m); None when
+        no axes meet (a general 6R: the arm is the whole chain).
+    """
+    geo = geometry(robot, family)
+    if geo is not None:
+        return geo.placed, geo.placed_name, geo.arm
+    from ..fk import chain_frames
+    from ..structure import common_point
+    n = robot.dof
+    F = chain_frames(robot.chain, np.zeros(n))
+    tol = 1e-9 * max(robot.characteristic_length, 1e-12)
+    for first, name in ((n - 3, "wrist centre"), (n - 2, f"point where axes {n - 1} and {n} meet")):
+        if first >= 2 and robot.is_revolute[first:].all() and common_point(
+                F[first:, :3, 3], F[first:, :3, 2], tol) is not None:
+            frame, local = _meeting_point(robot, F, first)
+            return (frame, local), name, tuple(range(first))
+    return None
+
+
+def _front(robot, point, upward: float) -> int:
+    """The side (+1 or -1) of the shoulder word's point that is the front: its side at the
+    robot's home joints (the arm reaching out), else at q = 0 when the point is on axis 1
+    there (an arm standing straight up), else +1."""
+    from ..fk import chain_frames
+    L = max(robot.characteristic_length, 1e-12)
+    for q in (np.asarray(robot.home, float), np.zeros(robot.dof)):
+        F = chain_frames(robot.chain, q)
+        P = F[point[0], :3, :3] @ point[1] + F[point[0], :3, 3]
+        side = upward * (P - F[0, :3, 3]) @ np.cross(F[0, :3, 2], F[1, :3, 2])
+        if abs(side) > 1e-6 * L:
+            return 1 if side > 0 else -1
+    return 1
+
+
+def _upward(k) -> float:
+    """+1 when the axis ``k`` (world frame) points up (world z), -1 when down, +1 when it
+    is horizontal (a wall-mounted or planar-in-a-vertical-plane arm: its own sense)."""
+    return -1.0 if k[2] < -1e-9 else 1.0
 
 
 def _meeting_point(robot, F, first: int):

@@ -81,3 +81,17 @@ def test_example_4_2_is_one_group():
     T[:3, 3] = [12.99, 2.5, 0]
     res = solve(r, Target(T, orientation=False), all_branches=True)
     assert [type(x["reason"]) for x in res.rejected] == [Missed, Missed]
+
+
+def test_a_wrist_pair_is_its_own_group():
+    """The offset-wrist arm (R-P-R-R-R-R, axes 5 and 6 meeting; a family without words):
+    joints 1-4 place the point where axes 5 and 6 meet, and no combination puts one
+    arm's wrist on another arm (each arm here has one solution, so only arm
+    combinations are wrong, judged by that point)."""
+    r = load_robot("bk_offset_wrist")
+    res = solve(r, Target(r.fk(np.radians([-133.72, 0, 36.54, -169.67, -126.74, 154.15])
+                                + np.array([0, 1.5685, 0, 0, 0, 0]))), all_branches=True)
+    assert len(res.solutions) == 4 and res.rejected
+    for x in res.rejected:
+        assert isinstance(x["reason"], ArmMissed) and x["reason"].joints == (0, 1, 2, 3)
+        assert x["reason"].point == "point where axes 5 and 6 meet"

@@ -103,3 +103,34 @@ def test_labels_tell_every_solution_apart(name):
         res = r.ik(r.fk(rng.uniform(lo, hi)))
         labels = [s.branch for s in res.solutions]
         assert len(set(labels)) == len(labels), labels
+
+
+@pytest.mark.parametrize("name", ["kuka_kr16", "kawasaki_rs007n", "kinova_gen3_6dof",
+                                  "abb_irb120", "puma560", "fanuc_m20ia"])
+def test_elbow_up_is_the_worlds_up(name):
+    """The elbow is up when it lies above the line from the shoulder (axis 2) to the wrist
+    centre, above in the world (z up), in the plane normal to the elbow's axes: also for
+    the files whose axis 1 points down (KUKA, Kawasaki, Kinova), where the labeller's
+    'side axis 1 points to' read upside down. Computed here from the solution's frames."""
+    from kincalc.fk import chain_frames
+    from kincalc.structure import common_point
+    r = kincalc.load_robot(name)
+    rng = np.random.default_rng(11)
+    lo, hi = np.clip(r.limits.T, -3.0, 3.0)
+    checked = 0
+    for _ in range(20):
+        for s in r.ik(r.fk(rng.uniform(lo, hi))).solutions:
+            F = chain_frames(r.chain, s.q)
+            h = F[1, :3, 2]
+            W = common_point(F[3:, :3, 3], F[3:, :3, 2], np.inf)
+
+            def flat(x):
+                return x - (x @ h) * h
+            line, v = flat(W - F[1, :3, 3]), flat(F[2, :3, 3] - F[1, :3, 3])
+            perp = v - line * (v @ line) / (line @ line)
+            up = perp[2]
+            if abs(up) < 1e-6 or abs(flat(np.array([0, 0, 1.0])) @ perp) < 1e-6:
+                continue                  # stretched, folded, or the plane is horizontal
+            assert ("elbow up" in s.branch) == (up > 0), (s.q, s.branch)
+            checked += 1
+    assert checked > 20
