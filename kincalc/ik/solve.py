@@ -171,8 +171,12 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     if near is not None:
         near = np.asarray(near, float).reshape(robot.dof)
     if target.tcv is None and target.swivel is None and (family is None or numeric):
-        return _solve_numerical(robot, target, near, units,
-                                why if family is None else "asked for")
+        result = _solve_numerical(robot, target, near, units,
+                                  why if family is None else "asked for")
+        if all_branches:       # one solution, found numerically: there are no branches
+            result = replace(result, rejected=[], dead_ends=[], note=(
+                "none: the numerical solver finds one solution, not the branches"))
+        return result
     # the steps record their intermediate quantities (explain) and their dead ends
     # (all_branches) only when asked: a batch of poses records nothing
     sv = solve_targets(robot, target.targets(), explain=explain or all_branches)

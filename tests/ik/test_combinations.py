@@ -95,3 +95,12 @@ def test_a_wrist_pair_is_its_own_group():
     for x in res.rejected:
         assert isinstance(x["reason"], ArmMissed) and x["reason"].joints == (0, 1, 2, 3)
         assert x["reason"].point == "point where axes 5 and 6 meet"
+
+
+def test_numerical_robots_say_there_are_no_branches():
+    """A robot no closed form covers gets one numerical solution; --all-branches says so
+    instead of leaving the lists out."""
+    r = load_robot("craig_rpr")
+    res = solve(r, Target(r.fk(np.array([0.2, 0.3, 0.4]))), all_branches=True)
+    assert res.family == "numerical" and res.rejected == [] and res.dead_ends == []
+    assert "numerical" in res.note
