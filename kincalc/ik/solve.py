@@ -326,9 +326,11 @@ def _toward(robot, q, near):
 
 
 def _scaled_norm(robot, d) -> float:
-    """|d| with prismatic joints divided by the robot's characteristic length."""
+    """|d| with revolute joints wrapped into (-pi, pi] (a change of a whole turn, made to
+    keep a joint within its limits when ``near`` is beyond them, is the same
+    configuration) and prismatic joints divided by the robot's characteristic length."""
     s = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
-    return float(np.linalg.norm(d / s))
+    return float(np.linalg.norm(np.where(robot.is_revolute, wrap(d), d) / s))
 
 
 def default_start(robot) -> np.ndarray:

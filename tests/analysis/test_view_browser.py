@@ -12,6 +12,7 @@ a tab per page; skipped, saying why, where no Chromium is installed.
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -220,3 +221,34 @@ def test_the_screenshot_shows_the_arm(open_page, tmp_path):
     # and the canvas' corner is background
     corner = image[int(canvas[1]) + 3, int(canvas[0]) + 3]
     assert corner.tolist() == [255, 255, 255]
+
+
+#: every text of the joints panel and the DH table: the cells, the unit and limits
+#: spans, the number boxes
+TEXTS = "#joints th, #joints td, #joints span, #joints input[type=number], #dh th, #dh td"
+
+
+@pytest.mark.parametrize("args, box", [
+    (["puma560", "1e9", "0", "0", "0", "0", "0"], "1000000000.00"),
+    ([str(Path(__file__).parents[1] / "conventions" / "urdf" / "ur5.urdf"), "--rad",
+      "--unit", "mm"], "0.0000")], ids=["huge-joint", "ur5-rad-mm"])
+def test_no_value_is_hidden_in_the_joints_or_the_dh_table(args, box, open_page):
+    # the project's rule: a table never hides a value; what does not fit wraps or stacks
+    tab = open_page(*args)
+    assert tab.eval("document.querySelector('#joints input[type=number]').value") == box
+    hidden = tab.eval(f"""(() => {{
+        const out = [];
+        const pane = (e) => e.closest('#side, #view-pane').getBoundingClientRect();
+        document.querySelectorAll({json.dumps(TEXTS)}).forEach((e) => {{
+          const r = e.getBoundingClientRect();
+          const text = e.value !== undefined && e.tagName === 'INPUT' ? e.value : e.textContent;
+          if (e.scrollWidth > e.clientWidth || r.right > pane(e).right + 0.5 ||
+              r.left < pane(e).left - 0.5) out.push(text);
+        }});
+        ['side', 'view-pane'].forEach((id) => {{ const p = document.getElementById(id);
+          if (p.scrollWidth > p.clientWidth) out.push('#' + id); }});
+        return out; }})()""")
+    assert hidden == []
+    # a unit word is a word: "3.1416 rad" (and "90.00°", which needs no space)
+    dh = tab.eval("document.getElementById('dh').innerText")
+    assert not re.search(r"\drad", dh), dh

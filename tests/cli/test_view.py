@@ -133,6 +133,17 @@ def test_a_pose_embeds_every_ik_solution(tmp_path):
     assert status == 0 and [s["branch"] for s in ik["solutions"]] == ["elbow down", "elbow up"]
 
 
+def test_the_configuration_the_page_opens_at_is_the_first_solution(tmp_path):
+    # PUMA_Q's q3 = 150 is outside [-225, 45]: within the limits it is -210, the same
+    # configuration, a change of 0 modulo a turn: the first solution listed
+    page = tmp_path / "puma.html"
+    status, _, err = run("view", "puma560", *PUMA_Q, "--from-q", " ".join(PUMA_Q),
+                         "-o", str(page))
+    assert status == 0, err
+    first = data_of(page.read_text(encoding="utf-8"))["ik"]["solutions"][0]
+    assert first["q"] == pytest.approx([10, -30, -210, 20, 40, 30], abs=1e-6)
+
+
 def test_an_unreachable_pose_still_writes_the_page(tmp_path):
     page = tmp_path / "far.html"
     status, _, err = run("view", "bk_rr", "--xyz", "100", "0", "0", "-o", str(page))

@@ -534,3 +534,13 @@ def test_cli_approach_target(tmp_path):
         assert np.allclose(T[:3, 3], [0.3, 0.05, 0.2], atol=1e-9)
         assert np.allclose(T[:3, 2], a / np.linalg.norm(a), atol=1e-9)
         assert "q5:any" in s["branch"] and not s["singular"]
+
+
+def test_near_beyond_a_limit_orders_by_the_configuration():
+    """near = the PUMA at q3 = 150 deg, beyond q3's limits [-225, 45]: the same
+    configuration within them is q3 = -210, a change of a whole turn, and must come first
+    (it came fifth, ranked as a 360-degree change)."""
+    r = load_robot("puma560")
+    near = np.radians([10, -30, 150, 20, 40, 30])
+    res = solve(r, Target(r.fk(near)), near=near)
+    assert close(res.solutions[0].q, near, r)

@@ -82,7 +82,7 @@
     data.joints.forEach((j, i) => {
       const [lo, hi] = sliderRange(i).map((v) => toUser(i, v));
       const tr = el("tr");
-      tr.append(el("th", j.name));
+      tr.append(nameCell(j.name));
       const slider = el("input");
       Object.assign(slider, { type: "range", min: lo, max: hi, step: sliderStep(i, hi - lo) });
       slider.setAttribute("aria-label", `${j.name} slider`);
@@ -102,8 +102,10 @@
       slider.addEventListener("input", () => {
         q[i] = toSI(i, Number(slider.value));
         box.value = slider.value;
+        fitBox(box);
         update();
       });
+      box.addEventListener("input", () => fitBox(box));
       box.addEventListener("change", () => {
         const v = Number(box.value);
         if (box.value === "" || !Number.isFinite(v)) { syncControls(); return; }
@@ -117,6 +119,38 @@
     $("zero").addEventListener("click", () => goTo(new Array(n).fill(0), false));
   }
 
+  // a joint's name (text), free to break after "_" when the table wraps
+  function nameCell(name) {
+    const th = el("th", name);
+    th.dataset.name = name;
+    return th;
+  }
+
+  function breakNames(wrap) {
+    $("joints").querySelectorAll("th").forEach((th) => {
+      const parts = th.dataset.name.split(/(?<=_)/);
+      const text = (part) => document.createTextNode(part);
+      th.replaceChildren(...parts.flatMap((part, k) =>
+        (wrap && k ? [el("wbr"), text(part)] : [text(part)])));
+    });
+  }
+
+  // a number box as wide as its value: it cannot wrap, so it grows
+  function fitBox(box) {
+    const width = `max(86px, calc(${box.value.length}ch + 32px))`;
+    if (box.style.width !== width) { box.style.width = width; fitJoints(); }
+  }
+
+  // the joints table on one line per joint where that fits the panel, else wrapping
+  function fitJoints() {
+    const table = $("joints");
+    table.classList.remove("wrap");
+    breakNames(false);
+    const wrap = table.offsetWidth > table.parentElement.clientWidth;
+    table.classList.toggle("wrap", wrap);
+    if (wrap) breakNames(true);
+  }
+
   function sliderStep(i, span) {
     if (chain.revolute[i]) return units.angle === "deg" ? 0.1 : 0.001;
     const raw = span / 1000;
@@ -127,6 +161,7 @@
     rows.forEach(({ slider, box, row }, i) => {
       slider.value = toUser(i, q[i]);
       box.value = fmtJoint(i, q[i]);
+      fitBox(box);
       row.classList.toggle("out", !withinLimits(i, q[i]));
     });
   }
@@ -143,7 +178,7 @@
       tr.append(el("td", String(i + 1)));
       // an entry the joint's variable adds to reads "q2 + 90.00°" (or just "q2")
       row.forEach(([value, kind, variable]) => {
-        const unit = kind === "angle" ? angleName.trim() : "";
+        const unit = kind === "angle" ? angleName : ""; // "90.00°", "1.5708 rad"
         const show = (v) => (kind === "angle" ? fmtAngle(v) : fmtLength(v));
         let text = show(value) + unit;
         if (variable !== null) {
@@ -388,7 +423,7 @@
     document.querySelectorAll("input[name=projection]").forEach((r) =>
       r.addEventListener("change", () => scene.setProjection(r.value)));
     $("reset-view").addEventListener("click", () => scene.reset());
-    window.addEventListener("resize", () => scene.draw());
+    window.addEventListener("resize", () => { fitJoints(); scene.draw(); });
   }
 
   let lastArm = null;
