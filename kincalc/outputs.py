@@ -162,12 +162,12 @@ def check_target(target) -> str:
     except OSError as exc:
         t.fail(f"cannot write: {exc.strerror}")
     for what, source in t.inputs:
-        if source is not None and _same_file(path, source):
+        if source is not None and same_file(path, source):
             t.fail(f"that is {what}, which this command reads; kincalc never writes over "
                    "its input")
     if stat.S_ISDIR(st.st_mode):
         t.fail("is a folder, cannot write a file there; give a file name")
-    kind = next((name for test, name in _KINDS if test(st.st_mode)), None)
+    kind = special_kind(st.st_mode)
     if kind is not None or not stat.S_ISREG(st.st_mode):
         t.fail(f"is {kind or 'not a regular file'}; kincalc replaces regular files only, "
                "even with --force")
@@ -176,7 +176,26 @@ def check_target(target) -> str:
     return folder
 
 
-def _same_file(a: str, b) -> bool:
+def special_kind(mode: int) -> str | None:
+    """What a file that is no regular file is, in words, from its ``lstat`` mode.
+
+    Parameters
+    ----------
+    mode : int
+        ``os.lstat(path).st_mode`` (the link itself, not what it points to).
+
+    Returns
+    -------
+    str or None
+        ``"a symbolic link"``, ``"a character device"``, ``"a block device"``, ``"a named
+        pipe (FIFO)"`` or ``"a socket"``; None for anything else (a regular file, a folder).
+    """
+    return next((name for test, name in _KINDS if test(mode)), None)
+
+
+def same_file(a: str, b) -> bool:
+    """Whether ``a`` and ``b`` are one existing file (device and inode: a hard or a
+    symbolic link too); False when either is missing or unreadable."""
     try:
         return os.path.samefile(a, os.fspath(b))
     except (OSError, ValueError):

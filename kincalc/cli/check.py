@@ -86,6 +86,7 @@ def check(
     status counts).
     """
     from .progress import progress
+    _names(output, gradebook, feedback_dir)
     if output == "-":
         output = None                    # '-o -' is standard output, as for quiz
     fmt = _format(fmt, json, len(sheets), output, visibility)
@@ -135,6 +136,19 @@ def _format(fmt, json: bool, count: int, output, visibility) -> str:
     return fmt
 
 
+def _names(output, gradebook, feedback_dir) -> None:
+    """Refuse an empty name, and --gradebook - (standard output holds the sheets'
+    results)."""
+    from ..errors import UsageError
+    for option, value, what in (("--output", output, "file"), ("--gradebook", gradebook, "file"),
+                                ("--feedback-dir", feedback_dir, "folder")):
+        if value is not None and not value.strip():
+            raise UsageError(f"{option}: give a {what} name")
+    if gradebook == "-":
+        raise UsageError("--gradebook -: standard output is for the sheets' results; give a "
+                         "file name")
+
+
 def _robots_dirs(robots_dir) -> list:
     from ..errors import InputError
     dirs = list(robots_dir or [])
@@ -166,16 +180,18 @@ def _grade(path: str, dirs, debug: bool):
 
 
 def _document(outcome, fmt: str, visibility) -> str | None:
-    """The JSON line of ``outcome`` in a machine format (None for tables, and for an
-    invalid sheet with --json: its error is on stderr)."""
+    """The JSON line of ``outcome`` in a machine format (None for tables); with --json an
+    invalid sheet's line is ``{"sheet": PATH, "error": MESSAGE}`` (the error is on stderr
+    too), so there is a line per sheet."""
     from ..homework.export import gradescope_results, prairielearn_results
     from .render import json_line
     if fmt == "gradescope":
         return json_line(gradescope_results(outcome, visibility))
     if fmt == "prairielearn":
         return json_line(prairielearn_results(outcome))
-    if fmt == "json" and outcome.report is not None:
-        return json_line(outcome.report.to_dict())
+    if fmt == "json":
+        return json_line(outcome.report.to_dict() if outcome.report is not None
+                         else {"sheet": outcome.path, "error": outcome.error})
     return None
 
 
@@ -192,13 +208,29 @@ def _plan(sheets, output, force: bool, gradebook, feedback_dir) -> dict:
         if path is not None:
             out[key] = Target(path, option, force, inputs)
             check_target(out[key])
-    if output is not None and gradebook is not None \
-            and os.path.abspath(output) == os.path.abspath(gradebook):
-        raise UsageError("--output and --gradebook name the same file")
     if feedback_dir is not None:
         out["feedback"] = _feedback_targets(feedback_dir, sheets, force, inputs)
+    _no_clash([t for t in (out["output"], out["gradebook"], *out["feedback"]) if t])
+    if feedback_dir is not None:
         os.makedirs(feedback_dir, exist_ok=True)
     return out
+
+
+def _no_clash(targets) -> None:
+    """Refuse two targets that are one file: the same real path (links in the folders
+    followed), or the same file where both exist (a hard link)."""
+    from ..errors import UsageError
+    from ..outputs import same_file
+    seen = {}
+    for t in targets:
+        real = os.path.normcase(os.path.realpath(t.path))
+        other = seen.get(real) or next((o for o in seen.values()
+                                        if os.path.lexists(t.path) and same_file(o.path, t.path)),
+                                       None)
+        if other is not None:
+            raise UsageError(f"{other.option} {other.shown} and {t.option} {t.shown} are the "
+                             "same file; give each output a file of its own")
+        seen[real] = t
 
 
 def _feedback_targets(folder: str, sheets, force: bool, inputs) -> list:
@@ -263,34 +295,38 @@ def _tables(doc, precision: int, quiet: bool):
     from rich.table import Table
 
     from ..homework.export import score_line
+    from ..homework.text import printable
     from .render import console, matrix_table
+
+    def text(s) -> str:                  # a sheet's words: no markup, no control character
+        return escape(printable(s))
     c = console()
     who = f" — {doc['student']}" if doc["student"] else ""
     if quiet:
-        c.print(f"{escape(doc['sheet'])}{escape(who)}: {score_line(doc['score'])}",
-                highlight=False)
+        c.print(f"{text(doc['sheet'])}{text(who)}: {score_line(doc['score'])}",
+                highlight=False, soft_wrap=True)          # one line, however long
         return
     r = doc["robot"]
     title = f" — {doc['title']}" if doc["title"] else ""
-    c.print(f"[bold]{escape(doc['sheet'])}[/bold]{escape(title)}{escape(who)}")
+    c.print(f"[bold]{text(doc['sheet'])}[/bold]{text(title)}{text(who)}")
     u, t = doc["units"], doc["tolerance"]
     lu = "" if u["length"] == "unitless" else f" {u['length']}"
-    c.print(f"robot {escape(r['name'])} ({r['dof']} joints, {r['convention']}); "
+    c.print(f"robot {text(r['name'])} ({r['dof']} joints, {r['convention']}); "
             f"tolerances: position {t['position']:g}{lu}, angle {t['angle']:g} {u['angle']}, "
             f"matrix entries {t['matrix']:g}", highlight=False)
     for item in doc["items"]:
         mark = "[green]right[/green]" if item["passed"] else "[red]wrong[/red]"
         c.print()
-        c.print(f"[bold]item {escape(item['id'])}[/bold] ({item['kind']}): {mark}",
+        c.print(f"[bold]item {text(item['id'])}[/bold] ({item['kind']}): {mark}",
                 highlight=False)
         rows = Table(box=None, show_header=False, pad_edge=False, padding=(0, 2, 0, 2))
         rows.add_column(style="dim", no_wrap=True)
         rows.add_column(overflow="fold")
-        rows.add_row("result", escape(item["message"]))
+        rows.add_row("result", text(item["message"]))
         if item["error"] is not None and item["kind"] != "ik":
             rows.add_row("error", f"{item['error']:.{max(precision, 1)}g}")
         if item["hint"] and item["kind"] != "ik":
-            rows.add_row("hint", escape(item["hint"]))
+            rows.add_row("hint", text(item["hint"]))
         c.print(rows)
         d = item["details"]
         if item["kind"] == "ik" and (d.get("sets") or d.get("missed")):

@@ -197,13 +197,21 @@ def _roster_targets(folder: str, keys: str, ids, force: bool, robot: str, roster
     if not os.path.isdir(os.path.dirname(os.path.abspath(folder))):
         raise InputError(f"--output {shown_path(folder)}: the folder it would be made in "
                          "does not exist")
-    out = []
+    if os.path.realpath(keys) == os.path.realpath(folder):
+        raise InputError(f"--output {shown_path(folder)}: its keys folder {shown_path(keys)} "
+                         "is the sheets' folder (a link): the sheets would hold the answers")
+    out, seen = [], set()
     for sid in ids:
         pair = tuple(output_target(os.path.join(d, f"{sid}.yaml"), "--output", force, robot,
                                    files=[("--roster", roster)]) for d in (folder, keys))
         for t, d in zip(pair, (folder, keys)):
             if os.path.isdir(d):
                 check_target(t)
+            real = os.path.realpath(t.path)
+            if real in seen:
+                t.fail("is also another sheet's or key's file (a link in the folders); "
+                       "nothing written")
+            seen.add(real)
         out.append(pair)
     return out
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 from .grade import Report
 from .slips import fmt
+from .text import printable
 
 #: Gradescope's visibility settings (its "Controlling Test Case Visibility")
 VISIBILITIES = ("visible", "hidden", "after_due_date", "after_published")
@@ -78,7 +79,7 @@ class Outcome:
 
 
 def number(x) -> str:
-    """``x`` as a score reads: ``2``, ``2.5``, ``33.3``.
+    """``x`` as a score reads: ``2``, ``2.5``, ``1234.5678``.
 
     Parameters
     ----------
@@ -87,9 +88,10 @@ def number(x) -> str:
     Returns
     -------
     str
-        Whole numbers without a decimal point, others in ``%g``.
+        Whole numbers without a decimal point, others to 12 significant digits (``%.12g``:
+        1234.5678 as it is, 0.1 + 0.2 as 0.3).
     """
-    return str(int(x)) if float(x).is_integer() else f"{x:g}"
+    return str(int(x)) if float(x).is_integer() else f"{float(x):.12g}"
 
 
 def score_line(score: dict) -> str:
@@ -111,8 +113,11 @@ def score_line(score: dict) -> str:
 
 
 def md(text) -> str:
-    """``text`` for a Markdown paragraph: the characters Markdown would read as markup
-    (``* _ [ ] < > | # ` \\``) backslash-escaped, so a sheet's text reads as written.
+    """``text`` for a Markdown paragraph, heading or table cell, read as written: on one
+    line with no control character (:func:`~kincalc.homework.text.printable`), the
+    characters Markdown would read as markup (``* _ [ ] < > | # ` ~ & \\``)
+    backslash-escaped, and a start that would open a list, a quote or a heading (``-``,
+    ``+``, ``>``, ``=``, ``1.``, ``1)``) escaped too.
 
     Parameters
     ----------
@@ -123,7 +128,9 @@ def md(text) -> str:
     -------
     str
     """
-    return re.sub(r"([\\`*_\[\]<>|#])", r"\\\1", str(text))
+    out = re.sub(r"([\\`*_\[\]<>|#~&])", r"\\\1", printable(text))
+    return re.sub(r"^(\s*)(?:([-+>=])|(\d+)([.)]))",
+                  lambda m: m[1] + ("\\" + m[2] if m[2] else m[3] + "\\" + m[4]), out)
 
 
 def _q(values) -> str:

@@ -12,6 +12,7 @@ import io
 import os
 
 from .export import Outcome, number
+from .text import printable
 
 #: the columns before the items' and after them
 LEAD_COLUMNS = ("student", "file")
@@ -43,8 +44,10 @@ def item_columns(outcomes) -> list[str]:
 
 
 def safe_cell(text: str) -> str:
-    """A text cell that a spreadsheet program shows as text: one starting with ``=``,
-    ``+``, ``-``, ``@``, a tab or a carriage return gets a leading apostrophe.
+    """A text cell that a spreadsheet program shows as text, on one line: control
+    characters and line breaks as :func:`~kincalc.homework.text.printable` shows them, and
+    one starting with ``=``, ``+``, ``-``, ``@``, a tab or a carriage return gets a leading
+    apostrophe.
 
     Parameters
     ----------
@@ -54,6 +57,7 @@ def safe_cell(text: str) -> str:
     -------
     str
     """
+    text = printable(text)
     return "'" + text if text.startswith(_FORMULA_START) else text
 
 
@@ -72,12 +76,13 @@ def gradebook_rows(outcomes) -> list[list[str]]:
         columns by :func:`item_columns`, named ``item ID``), then per sheet: the student
         (:attr:`Outcome.student`), the sheet's path, the points each item earned (its
         points when right, 0 when wrong, empty when the sheet has no such item), the
-        points earned, the points there were, the percent (one decimal) and an empty
+        points earned, the points there were, the percent (one decimal, never 100 unless
+        every point was earned, never 0 unless none was) and an empty
         error; an invalid sheet has empty numbers and its error message. Text cells are
         made safe by :func:`safe_cell`.
     """
     ids = item_columns(outcomes)
-    rows = [[*LEAD_COLUMNS, *(f"item {i}" for i in ids), *TAIL_COLUMNS]]
+    rows = [[*LEAD_COLUMNS, *(safe_cell(f"item {i}") for i in ids), *TAIL_COLUMNS]]
     for o in outcomes:
         lead = [safe_cell(o.student), safe_cell(o.path)]
         if o.report is None:

@@ -126,10 +126,11 @@ def parse_roster(text: str, file: str = "<roster>") -> list[Student]:
         students, or none.
     """
     reader = csv.reader(io.StringIO(text.removeprefix("\ufeff"), newline=""), strict=True)
-    column, students, seen = None, [], {}
+    column, students, seen, end = None, [], {}, 0
     try:
         for row in reader:
-            line = reader.line_num
+            # the record's first line: a quoted field may span lines, and line_num is the last
+            line, end = end + 1, reader.line_num
             if not any(c.strip() for c in row):
                 continue
             if column is None:

@@ -29,6 +29,17 @@ class ItemResult:
                 "line": self.line, "details": self.details}
 
 
+def percent(got: float, total: float) -> float:
+    """``100 * got / total`` to one decimal, never rounded to 100 (or 0) unless every
+    point (or none) was earned: 99.992 % is 99.9, 0.04 % is 0.1; 100 for a total of 0."""
+    if not total:
+        return 100.0
+    p = round(100.0 * got / total, 1)
+    if got < total:
+        p = min(p, 99.9)
+    return max(p, 0.1) if got > 0 else p
+
+
 @dataclass(frozen=True)
 class Report:
     sheet: Sheet
@@ -38,8 +49,7 @@ class Report:
     def score(self) -> dict:
         total = sum(r.points for r in self.items)
         got = sum(r.points for r in self.items if r.passed)
-        return {"points": got, "total": total,
-                "percent": round(100.0 * got / total, 1) if total else 100.0,
+        return {"points": got, "total": total, "percent": percent(got, total),
                 "correct": sum(r.passed for r in self.items), "items": len(self.items)}
 
     @property

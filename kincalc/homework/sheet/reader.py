@@ -27,8 +27,25 @@ def load_sheet(path: str, robots_dirs=()) -> Sheet:
     ``robots_dirs``: folders besides the sheet's own that its ``robot:`` may name a file
     in (see :func:`sheet_robot_path`)."""
     from ...conventions.reader import read_text
+    _regular_only(path)
     text = read_text(path, path, "a sheet", SheetError)
     return parse_sheet(text, path, os.path.dirname(os.path.abspath(path)), robots_dirs)
+
+
+def _regular_only(path: str) -> None:
+    """Refuse, unread, a sheet that is a symbolic link, a FIFO, a device or a socket: a
+    student's ``hw.yaml -> key.yaml`` (or ``-> /etc/passwd``) would be graded or quoted,
+    and a FIFO would block forever. A missing file or a folder is left to the reader."""
+    from ...outputs import special_kind
+    if path == "-":                        # standard input
+        return
+    try:
+        kind = special_kind(os.lstat(path).st_mode)
+    except (OSError, ValueError):
+        return
+    if kind is not None:
+        raise SheetError(path, None, f"is {kind}, not read: a sheet must be a regular file "
+                                     "(no link, no FIFO, no device)")
 
 
 def parse_sheet(text: str, file: str = "<sheet>", folder: str = ".", robots_dirs=()) -> Sheet:
