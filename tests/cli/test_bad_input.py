@@ -454,7 +454,7 @@ BAD_COMMANDS = [
     BadCommand("pose-file-name-too-long", ("ik", "puma560", "--pose", "p" * 300),
                ("--pose", "the name is too long for a file")),
     BadCommand("sheet-endless", ("check", "/dev/zero"),
-               ("/dev/zero", "larger than 1 MiB, kincalc's limit for a sheet")),
+               ("/dev/zero", "a sheet must be a regular file")),
     BadCommand("check-robots-dir-missing", ("check", "hw.yaml", "--robots-dir", "nope"),
                ("--robots-dir nope", "no such folder")),
     BadCommand("workspace-samples-beyond-the-limit",

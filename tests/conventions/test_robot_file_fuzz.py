@@ -97,7 +97,10 @@ def exercise(data: bytes):
         # are in the report, as the robot graded against)
         sc, oc, ec = run(["check", "hw.yaml", "--json"], work, secret=True)
         if sv == 2:
-            assert sc == 2 and "hw.yaml" in ec and "arm.yaml" in ec and oc == ""
+            # one JSON line per sheet: the invalid one as {sheet, error}, the stderr line
+            assert sc == 2 and "hw.yaml" in ec and "arm.yaml" in ec
+            assert json_documents(oc) == [{"sheet": "hw.yaml", "error": ec.strip().removeprefix(
+                "kincalc: error: ")}]
         assert snapshot(Path(tmp)) == before, "a file was written or changed"
         assert not (work / "pwned").exists()
         return sv
