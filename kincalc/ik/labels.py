@@ -133,7 +133,7 @@ def _elbow_up(robot, geo: Geometry, z, o, tgt):
         # along h drop out)
         return _dot(_cross(tgt - sh, el - sh), h) >= 0
     # the elbow against the shoulder-to-target line, in the plane of the parallel axes:
-    # up on the side axis 1 points to
+    # up on the side axis 1 points to, axis 1 turned to point up in the world
     line = tgt - sh
     line = line - h * _dot(h, line)
     v = el - sh
