@@ -26,8 +26,9 @@ import numpy as np
 
 from ..spatial import wrap
 
-#: the few digits the worked steps show
-DIGITS = 6
+#: significant digits of the numbers a step works with (enough that the printed numbers
+#: give the printed result, also near acos(+-1)) and of the angles it ends with
+DIGITS, RESULT_DIGITS = 9, 6
 
 
 def worked_steps(robot, solution, T, units, family: str) -> list:
@@ -63,12 +64,14 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
             out.append({"step": names[j], "text": _turn_step(names[j], np.asarray(value),
                                                              solution.q[j], units)})
     if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
-        out += _wrist_steps(robot, solution.q, names, units)
+        out += _wrist_steps(robot, solution.q, names, T, units)
     return out
 
 
-def _n(x) -> str:
-    return f"{float(x):.{DIGITS}g}"
+def _n(x, scale=0.0) -> str:
+    """A number of a step; rounding noise (below 1e-12 of the step's ``scale``) is 0."""
+    x = float(x)
+    return "0" if abs(x) <= 1e-12 * scale else f"{x:.{DIGITS}g}"
 
 
 def _vec(v, scale) -> str:
@@ -109,17 +112,19 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
     A, B, C, t, l1, l2 = value
     f = units.l ** 2 if what == "distance2" else units.l
     A, B, C, t = A * f, B * f, C * f, t * f
+    big = max(abs(A), abs(B), abs(C), abs(t))
+    A, B, C, t = (0.0 if abs(x) <= 1e-12 * big else x for x in (A, B, C, t))
     l1, l2 = l1 * units.l, l2 * units.l
     triangle = what == "distance2" and np.isfinite(l1) and \
         abs(abs(A) - 2 * l1 * l2) <= 1e-9 * max(C, 1e-300) and \
         abs(C - l1 * l1 - l2 * l2) <= 1e-9 * max(C, 1e-300)
-    got = f"{q} = {_angle(q_value, units)}"
+    got = _result(q, q_value, units)
     if what == "distance2":
-        lhs = f"|p - o|² (o on the axis of {pivot})"
+        lhs = f"|p - o|², p the point placed, o on the axis of {pivot}"
     elif what == "height":
-        lhs = f"the height of p along the axis of {pivot}"
+        lhs = f"the height along the axis of {pivot} of p, the point placed"
     else:
-        lhs = f"p across the axis of {pivot}"
+        lhs = f"p, the point placed, across the axis of {pivot}"
     if abs(B) <= 1e-12 * max(abs(A), 1e-300) and A != 0:
         c = (t - C) / A
         head = f"cos {q} = (t - C) / A = ({_n(t)} - {_n(C)}) / {_n(A)} = {_n(c)} (t: {lhs})"
@@ -127,7 +132,8 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
             sign = "" if A > 0 else "-"
             head = (f"cos {q} = {sign}(|p - o|² - l1² - l2²) / (2 l1 l2) = {sign}({_n(t)} - "
                     f"{_n(l1 * l1)} - {_n(l2 * l2)}) / (2·{_n(l1)}·{_n(l2)}) = {_n(c)} (the law "
-                    f"of cosines: o on the axis of {pivot}, l1 and l2 the triangle's sides)")
+                    f"of cosines: p the point placed, o on the axis of {pivot}, l1 and l2 the "
+                    f"triangle's sides)")
         return f"{head} -> {q} = ±{_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}"
     r = np.hypot(A, B)
     c = (t - C) / r
@@ -139,27 +145,42 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
 def _turn_step(q, value, q_value, units) -> str:
     """``q = atan2(p2, p1) - atan2(f2, f1)``."""
     g1, g2, f1, f2 = (float(x) * units.l for x in value)
+    big = max(abs(g1), abs(g2), abs(f1), abs(f2))
+    g1, g2, f1, f2 = (0.0 if abs(x) <= 1e-12 * big else x for x in (g1, g2, f1, f2))
     back = np.arctan2(f2, f1)
     return (f"{q} = atan2(p2, p1) - atan2(f2, f1) = atan2({_n(g2)}, {_n(g1)}) - "
             f"atan2({_n(f2)}, {_n(f1)}) = {_angle(np.arctan2(g2, g1), units)} "
-            f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)} = "
-            f"{_angle(q_value, units)} (p: the target, "
-            f"f: where {q} = 0 leaves it, in the plane normal to the axis of {q})")
+            f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
+            f"{_result(q, q_value, units)} (p: where the point placed must go, f: where "
+            f"{q} = 0 leaves it, in the plane normal to the axis of {q})")
 
 
-def _angle(x, units) -> str:
+def _angle(x, units, digits: int = RESULT_DIGITS) -> str:
+    """An angle wrapped into (-180, 180] deg (or (-pi, pi] rad), as a formula gives it."""
     sign = "°" if units.angle == "deg" else " rad"
-    return f"{_n(float(wrap(x)) * units.a)}{sign}"
+    return f"{float(wrap(x)) * units.a:.{digits}g}{sign}"
 
 
-def _wrist_steps(robot, q, names, units) -> list:
-    """``R_3^6 = (R_0^3)^T R`` and the ZYZ angles, where the wrist's axes are theirs."""
+def _result(q, value, units) -> str:
+    """``q = value``, with the turn the solution keeps within the joint's limits when that
+    is not the formula's (-180, 180] (the table's value)."""
+    out = f"{q} = {_angle(value, units)}"
+    if abs(float(wrap(value)) - float(value)) > 1e-12:
+        sign = "°" if units.angle == "deg" else " rad"
+        out += f" (= {float(value) * units.a:.{RESULT_DIGITS}g}{sign} within its limits)"
+    return out
+
+
+def _wrist_steps(robot, q, names, T, units) -> list:
+    """``R_3^6 = (R_0^3)^T R_0^6`` (R_0^6 from the target without the base and the tool) and
+    the ZYZ angles, where the wrist's axes are theirs."""
     A = robot.link_transforms(q)
     R03 = A[0][:3, :3] @ A[1][:3, :3] @ A[2][:3, :3]
-    R36 = R03.T @ (A[0] @ A[1] @ A[2] @ A[3] @ A[4] @ A[5])[:3, :3]
-    rows = "; ".join(" ".join(_n(x) for x in row) for row in R36)
-    out = [{"step": "R_3^6", "text": f"R_3^6 = (R_0^3)^T R_0^6 = [{rows}] (R_0^3 from "
-                                     f"{', '.join(names[:3])}; R_0^6 the target's rotation)"}]
+    R06 = (np.linalg.inv(robot.base) @ T @ np.linalg.inv(robot.tool))[:3, :3]
+    R36 = R03.T @ R06
+    out = [{"step": "R_3^6", "text": (
+        f"R_3^6 = (R_0^3)^T R_0^6 = {_matrix(R36)} (R_0^3 from "
+        f"{', '.join(names[:3])}; R_0^6 the target's rotation without the base and the tool)")}]
     zyz = _zyz_form(robot, R36, q)
     q4, q5, q6 = names[3:6]
     if zyz is None:
@@ -169,6 +190,9 @@ def _wrist_steps(robot, q, names, units) -> list:
             f"turning onto R_3^6's columns: {', '.join(_angle(x, units) for x in q[3:6])}")})
         return out
     r, sigma, what = zyz
+    if what != "R_3^6":
+        out.append({"step": what, "text": f"{what} = {_matrix(r)} (link 4's fixed rotation, "
+                                          "its twist and angle offset, taken off)"})
     b = sigma * q[4]
     s = 1.0 if np.sin(b) >= 0 else -1.0
     pm, mp = ("+", "-") if s > 0 else ("-", "+")
@@ -178,21 +202,25 @@ def _wrist_steps(robot, q, names, units) -> list:
         f", {_n(r[2, 2])}) = {_angle(b, units)} ({what} = Rz({q4}) Ry({five}) Rz({q6}): ZYZ "
         f"angles, r its entries)")})
     out.append({"step": q4, "text": f"{q4} = atan2({pm}r23, {pm}r13) = atan2({_n(s * r[1, 2])}, "
-                                    f"{_n(s * r[0, 2])}) = {_angle(q[3], units)}"})
+                                    f"{_n(s * r[0, 2])}): {_result(q4, q[3], units)}"})
     out.append({"step": q6, "text": f"{q6} = atan2({pm}r32, {mp}r31) = atan2({_n(s * r[2, 1])}, "
-                                    f"{_n(-s * r[2, 0])}) = {_angle(q[5], units)}"})
+                                    f"{_n(-s * r[2, 0])}): {_result(q6, q[5], units)}"})
     return out
+
+
+def _matrix(R) -> str:
+    return "[" + "; ".join(" ".join(_n(x, 1.0) for x in row) for row in R) + "]"
 
 
 def _zyz_form(robot, R36, q):
     """``(R, sigma, name)`` when ``R = Rz(q4) Ry(sigma q5) Rz(q6)`` for ``R = R_3^6`` or, for
-    modified DH, ``R_3^6`` without link 4's fixed twist in front (``R_3^6 = Rx(alpha3) R``);
-    None when the wrist's axes are not those of ZYZ angles."""
+    modified DH, ``R_3^6`` without link 4's fixed rotation in front (``F4`` = Rx(alpha3)
+    and its angle offset); None when the wrist's axes are not those of ZYZ angles."""
     from ..spatial import matrix_from_euler_zyz
     first = robot.link_transforms(np.zeros(robot.dof))[3][:3, :3]
     forms = [(R36, "R_3^6")]
     if robot.convention == "mdh":
-        forms.append((first.T @ R36, "Rx(alpha3)^T R_3^6"))
+        forms.append((first.T @ R36, "F4^T R_3^6"))
     for R, what in forms:
         for sigma in (1.0, -1.0):
             if np.abs(matrix_from_euler_zyz([q[3], sigma * q[4], q[5]]) - R).max() < 1e-9:

@@ -60,11 +60,13 @@ def test_planar_rr_in_the_chapters_words():
         assert [e["step"] for e in steps] == ["theta2", "theta1"]
         two, one = steps[0]["text"], steps[1]["text"]
         assert "cos theta2 = (|p - o|² - l1² - l2²) / (2 l1 l2)" in two
-        assert "(174.99 - 100 - 25) / (2·10·5) = 0.499901" in two and "±60.0065°" in two
-        q2 = np.radians(60.0065) * np.sign(s.q[1])
+        assert "(174.9901 - 100 - 25) / (2·10·5) = 0.499901" in two and "±60.0065°" in two
+        q2 = np.arccos(0.499901) * np.sign(s.q[1])
         f = (10 + 5 * np.cos(q2), 5 * np.sin(q2))
-        assert f"atan2(2.5, 12.99) - atan2({f[1]:.6g}, {f[0]:.6g})" in one
-        assert f"= {np.degrees(s.q[0]):.6g}° (p: the target" in one
+        got = re.search(r"atan2\(2\.5, 12\.99\) - atan2\(([-\d.e]+), ([-\d.e]+)\)", one)
+        assert got and np.allclose([float(got.group(1)), float(got.group(2))], f[::-1],
+                                   atol=1e-5)
+        assert f": theta1 = {np.degrees(s.q[0]):.6g}° (p: where the point placed must go" in one
 
 
 def test_spherical_wrist_in_the_chapters_words():
@@ -78,7 +80,7 @@ def test_spherical_wrist_in_the_chapters_words():
         text = {e["step"]: e["text"] for e in steps}
         assert text["q5"].startswith("-q5 = atan2(")
         for j, name in ((3, "q4"), (5, "q6")):
-            got = float(re.search(r"= (-?[\d.e+-]+)°$", text[name]).group(1))
+            got = float(re.search(name + r" = (-?[\d.e+-]+)°", text[name]).group(1))
             assert abs(wrap(np.radians(got) - s.q[j])) < 1e-5
 
 
@@ -114,3 +116,25 @@ def test_law_of_cosines_only_for_a_planar_triangle():
     for s in res.solutions:
         for e in worked_steps(r, s, T, Units(), res.family):
             assert "law of cosines" not in e["text"]
+
+
+def test_a_turn_beyond_the_formulas_range_is_said():
+    """q2 = 200 deg is within the PUMA's limits [-45, 225]: the formula gives -160 deg and
+    the step says the solution keeps 200 (the table's value)."""
+    r, T, res = _explained("puma560", [10, 200, -30, 40, 50, 60])
+    texts = [e["text"] for s in res.solutions for e in worked_steps(r, s, T, Units(), res.family)]
+    assert any("q2 = -160° (= 200° within its limits)" in t for t in texts)
+
+
+def test_the_wrist_starts_from_the_target_not_the_answer():
+    """The KUKA KR 16 has a base and a tool transform: R_0^6 is the target's rotation with
+    them taken off, (R_0^3)^T R_0^6 computed here from the target and the solution's
+    first three links."""
+    r, T, res = _explained("kuka_kr16", [10, -80, 100, 40, 50, 60])
+    for s in res.solutions:
+        A = r.link_transforms(s.q)
+        R36 = (A[0] @ A[1] @ A[2])[:3, :3].T @ (np.linalg.inv(r.base) @ T @ np.linalg.inv(r.tool))[:3, :3]
+        text = {e["step"]: e["text"] for e in worked_steps(r, s, T, Units(), res.family)}
+        got = [float(x) for x in re.search(r"R_0\^6 = \[([^\]]*)\]", text["R_3^6"]).group(1)
+               .replace(";", " ").split()]
+        assert np.allclose(np.reshape(got, (3, 3)), R36, atol=1e-8)
