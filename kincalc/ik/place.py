@@ -187,12 +187,7 @@ def _coefficients(S: Screws, P: Plan, g):
     ``|m - o|^2 + |e1|^2 + 2 cos(x_b) (m - o) . e1 + 2 sin(x_b) (m - o) . e2``."""
     a, b = P.joints[0], P.joints[1]
     k = S.axis[b]
-    if S.revolute[b]:
-        u = g - S.point[b]
-        h = (u @ k)[..., None]
-        m, e1, e2 = S.point[b] + h * k, u - h * k, cross(k, u)
-    else:
-        m, e1, e2 = g, k, None
+    m, e1, e2 = _circle(S, b, g) if S.revolute[b] else (g, k, None)
     shape = (2,) + np.shape(g)[:-1]
     al, be, ga = np.empty(shape), np.empty(shape), np.empty(shape)
     if S.revolute[a]:
@@ -209,6 +204,14 @@ def _coefficients(S: Screws, P: Plan, g):
     for i, n in enumerate(lines):
         al[i], be[i], ga[i] = m @ n, e1 @ n, 0.0 if e2 is None else e2 @ n
     return al, be, ga
+
+
+def _circle(S: Screws, b: int, g):
+    """Joint ``b``'s circle through ``g (..., 3)``: centre ``m``, ``e1 = g - m``, ``k_b x e1``."""
+    k = S.axis[b]
+    u = g - S.point[b]
+    h = (u @ k)[..., None]
+    return S.point[b] + h * k, u - h * k, cross(k, u)
 
 
 def _targets(S: Screws, P: Plan, PT):
@@ -243,10 +246,8 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
         br = br.dead_end(b, np.arctan2(ga, be), (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
                          ~sol.exact[..., 0] & br.ok, what)
         if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
-            u = g - S.point[b]
-            e1 = u - (u @ S.axis[b])[..., None] * S.axis[b]
-            sides = (np.sqrt(dot(S.point[b] + u - e1 - P.o, S.point[b] + u - e1 - P.o)),
-                     np.sqrt(dot(e1, e1)))
+            centre, e1, _ = _circle(S, b, g)
+            sides = (np.sqrt(dot(centre - P.o, centre - P.o)), np.sqrt(dot(e1, e1)))
             br = note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t, sides)
         return br.branch([b], sol)
     return br.branch([b], quadratic(ga, be, al - t, scale), labels=("-", "+"))
@@ -297,10 +298,10 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
     first = _sp4_negated(h, PT - oa, w, h @ (P.p0 - oa), S.scale)
     br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
-    if br.explain:          # h . R(w, -x) u = cos x (h.u - (h.w)(w.u)) - sin x h.(w x u) + ...
-        u, hw = PT - oa, h @ w
-        br = note_equation(br, a, "height", b, u @ h - hw * (u @ w), -(cross(w, u) @ h),
-                           hw * (u @ w), h @ (P.p0 - oa))
+    if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
+        p, hw = PT - oa, h @ w
+        br = note_equation(br, a, "height", b, p @ h - hw * (p @ w), -(cross(w, p) @ h),
+                           hw * (p @ w), h @ (P.p0 - oa))
     br = br.branch([a], first)
     # the target seen before joint a, in the plane normal to h
     q = S.turn(a, br.cos[a], -br.sin[a], br.take(PT) - oa) + oa - ob
@@ -313,14 +314,15 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     reach = (S.scale + np.sqrt(dot(br.take(PT) - oa, br.take(PT) - oa))) ** 2
     third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach)
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
-    # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v), for u, v normal to k
-    br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
-                       u @ u + v @ v, dot(q, q), (np.sqrt(u @ u), np.sqrt(v @ v)))
+    if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
+        br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
+                           u @ u + v @ v, dot(q, q), (np.sqrt(u @ u), np.sqrt(v @ v)))
     br = br.branch([c], third)
     q = br.take(q)
     elbow = u + S.turn(c, br.cos[c], br.sin[c], v)
     second = sp1(elbow, q, h)
-    br = note_turn(S, br, b, elbow + ob, q + ob)
+    if br.explain:
+        br = note_turn(S, br, b, elbow + ob, q + ob)
     return br.set(b, second.theta[0][..., 0], second.c[0][..., 0], second.s[0][..., 0],
                   free=second.free[..., 0])
 
