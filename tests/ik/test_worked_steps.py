@@ -138,3 +138,19 @@ def test_the_wrist_starts_from_the_target_not_the_answer():
         got = [float(x) for x in re.search(r"R_0\^6 = \[([^\]]*)\]", text["R_3^6"]).group(1)
                .replace(";", " ").split()]
         assert np.allclose(np.reshape(got, (3, 3)), R36, atol=1e-8)
+
+
+def test_the_command_line_shows_the_steps():
+    """`kincalc ik bk_rr --xyz 12.99 2.5 0 --explain` prints each solution's steps under
+    its branch; --json carries them as trace [{step, text}]."""
+    import json
+
+    from cli_contract import run_cli
+    argv = ["ik", "bk_rr", "--xyz", "12.99", "2.5", "0", "--explain"]
+    status, out, err = run_cli(argv)
+    assert status == 0 and err == ""
+    assert "solution 1: elbow down" in out and "cos theta2 = (|p - o|² - l1² - l2²)" in out
+    status, out, _ = run_cli(argv + ["--json"])
+    trace = json.loads(out)["solutions"][0]["trace"]
+    assert [e["step"] for e in trace] == ["theta2", "theta1"]
+    assert all(set(e) == {"step", "text"} for e in trace)
