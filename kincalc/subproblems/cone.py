@@ -106,13 +106,14 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     h, p, k, v = as_vectors(h, p, k, v)
     A, B, C, rr, top, bottom, degenerate = cone_constants(h, p, k) if fixed is None else fixed
     f = dot(h, v)
-    if degenerate.all():
+    some_degenerate = np.count_nonzero(degenerate)
+    if some_degenerate == np.size(degenerate):
         return from_abc(A, B, C, f, 1.0)
     cb, sb = A / rr, B / rr
     P = norm(cross(h, v))
-    P2 = P * P
-    one_minus = np.where(f > 0, P2 / (1.0 + np.abs(f)), 1.0 - f)
-    one_plus = np.where(f < 0, P2 / (1.0 + np.abs(f)), 1.0 + f)
+    near = P * P / (1.0 + np.abs(f))
+    one_minus = np.where(f > 0, near, 1.0 - f)
+    one_plus = np.where(f < 0, near, 1.0 + f)
     um = one_minus - top                  # r (1 - cos delta)
     wm = one_plus - bottom                # r (1 + cos delta)
     exact = (um >= -1e-9 * rr) & (wm >= -1e-9 * rr)
@@ -120,21 +121,26 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     n = np.maximum(u + w, 1e-300)
     cd, sd = (w - u) / n, 2.0 * np.sqrt(u * w) / n
     gap = 0.5 * aligned_tol ** 2
-    aligned = (P <= aligned_tol) & np.where(f > 0, top <= gap, bottom <= gap)
-    cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
-    sd = np.where(aligned, 0.0, sd)
-    exact = exact | aligned
-    c = pair(cb * cd - sb * sd, cb * cd + sb * sd)
-    s = pair(sb * cd + cb * sd, sb * cd - cb * sd)
+    aligned = P <= aligned_tol
+    if np.count_nonzero(aligned):
+        aligned &= np.where(f > 0, top <= gap, bottom <= gap)
+        cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
+        sd = np.where(aligned, 0.0, sd)
+        exact = exact | aligned
+    ccd, scd, csd, ssd = cb * cd, sb * cd, cb * sd, sb * sd
+    c = pair(ccd - ssd, ccd + ssd)
+    s = pair(scd + csd, scd - csd)
     theta = principal(np.arctan2(s, c))
     # one root where the cones only touch (delta 0 or pi: both roots are one
     # configuration), or a single aligned value; next to the singularity, where the cone
     # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
-    touch = (sd <= 1e-9) & np.where(cd > 0, top > gap, bottom > gap)
-    two = exact & ~aligned & ~touch
+    two = exact & ~aligned
+    touch = sd <= 1e-9
+    if np.count_nonzero(touch):
+        two &= ~(touch & np.where(cd > 0, top > gap, bottom > gap))
     sol = Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
                     pair(aligned, aligned))
-    if degenerate.any():
+    if some_degenerate:
         plain = from_abc(A, B, C, f, 1.0)
         pick = lambda x, y: np.where(degenerate[..., None], y, x)  # noqa: E731
         sol = Solutions((pick(sol.theta[0], plain.theta[0]),), (pick(sol.c[0], plain.c[0]),),

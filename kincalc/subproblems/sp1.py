@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, angles, as_vectors, norm
+from .solutions import Solutions, angles, as_vectors, cross, dot
 
 
 def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
@@ -49,25 +49,21 @@ def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
         broadcast.
     """
     p1, p2, k = as_vectors(p1, p2, k)
-    # by components: no (..., 3) temporaries broadcast against (..., 1) factors
-    (u0, u1, u2), (v0, v1, v2), (k0, k1, k2) = ((w[..., 0], w[..., 1], w[..., 2])
-                                                for w in (p1, p2, k))
-    h1 = k0 * u0 + k1 * u1 + k2 * u2
-    h2 = k0 * v0 + k1 * v1 + k2 * v2
-    a0, a1, a2 = u0 - h1 * k0, u1 - h1 * k1, u2 - h1 * k2      # p1 across the axis
-    b0, b1, b2 = v0 - h2 * k0, v1 - h2 * k1, v2 - h2 * k2      # p2 across the axis
-    x = a0 * b0 + a1 * b1 + a2 * b2                            # a . b
-    y = ((k1 * a2 - k2 * a1) * b0 + (k2 * a0 - k0 * a2) * b1   # (k x a) . b
-         + (k0 * a1 - k1 * a0) * b2)
+    h1, h2 = dot(p1, k), dot(p2, k)
+    a = p1 - h1[..., None] * k                                  # p1 across the axis
+    b = p2 - h2[..., None] * k                                  # p2 across the axis
+    x = dot(a, b)
+    y = dot(cross(k, a), b)
     if tol > 0.0:
-        scale = np.maximum(np.maximum(norm(p1), norm(p2)), 1e-300)
-        r1 = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-        r2 = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
-        free = (r1 < tol * scale) | (r2 < tol * scale)
-        exact = (np.abs(h1 - h2) < tol * scale) & (np.abs(r1 - r2) < tol * scale)
+        band = tol * np.maximum(np.sqrt(np.maximum(dot(p1, p1), dot(p2, p2))), 1e-300)
+        r1, r2 = np.sqrt(dot(a, a)), np.sqrt(dot(b, b))
+        free = (r1 < band) | (r2 < band)
+        exact = (np.abs(h1 - h2) < band) & (np.abs(r1 - r2) < band)
     else:                   # no threshold: free only where a part across the axis is 0
         free = (x == 0.0) & (y == 0.0)
         exact = np.ones(free.shape, bool)
-    theta, c, s = angles(np.where(free, 1.0, x)[..., None], np.where(free, 0.0, y)[..., None])
+    if np.count_nonzero(free):
+        x, y = np.where(free, 1.0, x), np.where(free, 0.0, y)
+    theta, c, s = angles(x[..., None], y[..., None])
     one = np.ones(theta.shape, bool)
     return Solutions((theta,), (c,), (s,), one, exact[..., None], free[..., None])

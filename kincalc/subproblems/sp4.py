@@ -118,19 +118,30 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
     scale = np.maximum(scale, 1e-300)
     r = np.sqrt(A * A + B * B)
     free = r < tol * scale
-    rr = np.where(free, 1.0, r)
-    cb, sb = np.where(free, 1.0, A / rr), np.where(free, 0.0, B / rr)
-    cd = (d - C) / rr
-    # exactness from the cosine as computed, before the tangent band moves it to +-1
-    exact = np.where(free, np.abs(d - C) <= 1e-9 * scale, np.abs(cd) <= 1.0 + tol * scale / rr)
+    dC = d - C
+    if np.count_nonzero(free):          # r = 0: the angle is anyone's; 1 and 0 stand in
+        rr = np.where(free, 1.0, r)
+        cb, sb = np.where(free, 1.0, A / rr), np.where(free, 0.0, B / rr)
+        cd = dC / rr
+        # exactness from the cosine as computed, before the tangent band moves it to +-1
+        exact = np.where(free, np.abs(dC) <= 1e-9 * scale,
+                         np.abs(cd) <= 1.0 + tol * scale / rr)
+    else:
+        rr = r
+        cb, sb, cd = A / r, B / r, dC / r
+        exact = np.abs(cd) <= 1.0 + tol * scale / r
     # a cosine within rounding of +-1 is the tangent: one (double) root (and beyond +-1
     # the least-squares end, also +-1)
-    band = ROUNDING * scale / rr
-    cd = np.where(np.abs(cd) >= 1.0 - band, np.sign(cd), cd)
-    cd = np.where(free, 1.0, np.clip(cd, -1.0, 1.0))
+    tangent = np.abs(cd) >= 1.0 - ROUNDING * scale / rr
+    if np.count_nonzero(tangent):
+        cd = np.where(tangent, np.sign(cd), cd)
+    cd = np.minimum(np.maximum(cd, -1.0), 1.0)
+    if rr is not r:
+        cd = np.where(free, 1.0, cd)
     sd = np.sqrt(1.0 - cd * cd)
-    c = pair(cb * cd - sb * sd, cb * cd + sb * sd)
-    s = pair(sb * cd + cb * sd, sb * cd - cb * sd)
+    ccd, scd, csd, ssd = cb * cd, sb * cd, cb * sd, sb * sd
+    c = pair(ccd - ssd, ccd + ssd)
+    s = pair(scd + csd, scd - csd)
     theta = principal(np.arctan2(s, c))
     two = exact & ~free & (sd > 0.0)
     return Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
