@@ -25,6 +25,7 @@ them).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -60,21 +61,24 @@ class DeadEnd:
 class Branches:
     """Candidates of ``N`` poses in ``K`` slots (see the module docstring).
 
-    ``value``, ``cos``, ``sin``: joint (0-based) -> ``(N, K)`` (rad or m; cosine and
-    sine of revolute joints); ``ok (N, K)``; ``free``: joint -> ``(N, K)`` bool, the
-    joint undetermined at this target (a representative value is shown); ``signs``: per
-    slot, a tuple of ``(joint, label)`` for each step with more than one root;
-    ``parent (K,)``: the slot of the previous step each slot came from; ``full (K,)``
+    ``X (3, n, N, K)``: every joint's value, cosine and sine in each slot (rad or m; a
+    joint not solved yet, or prismatic, has cosine 1 and sine 0; value 0 until set), read
+    as :attr:`value`, :attr:`cos`, :attr:`sin` (each ``(n, N, K)``: ``br.value[j]`` is
+    joint j's ``(N, K)``); ``F (n, N, K)`` bool, read as :attr:`free`: the joint
+    undetermined at this target (a representative value is shown); ``ok (N, K)``;
+    ``signs``: per slot, a tuple of ``(joint, label)`` for each step with more than one
+    root; ``parent (K,)``: the slot of the previous step each slot came from; ``full (K,)``
     and ``full_signs``: once slots were dropped, each column's slot in the family's full
     layout and that layout's sign table (None before; see :meth:`expanded`).
+
+    The arrays are shared between a :class:`Branches` and the ones made from it: never
+    modify them in place (every method returns new arrays where it changes them).
     """
 
     n: int
-    value: dict
-    cos: dict
-    sin: dict
+    X: np.ndarray
+    F: np.ndarray
     ok: np.ndarray
-    free: dict
     signs: tuple
     parent: np.ndarray
     explain: bool = False
@@ -84,6 +88,10 @@ class Branches:
     extra: dict = field(default_factory=dict)
     full: np.ndarray | None = None
     full_signs: tuple | None = None
+    #: joints :meth:`set` since the arrays were last written: joint -> (value, cos, sin,
+    #: free), each ``(N, K)`` or None (kept from ``X``/``F``); written by :meth:`flushed`
+    #: and by the next :meth:`branch`, so a step with one root copies no array
+    pending: dict = field(default_factory=dict)
 
     def _with(self, **changes) -> "Branches":
         """A copy with ``changes`` (``dataclasses.replace`` without its per-field checks:
@@ -91,6 +99,41 @@ class Branches:
         new = object.__new__(Branches)
         new.__dict__.update(self.__dict__, **changes)
         return new
+
+    @property
+    def value(self):
+        """Every joint's value in each slot, ``value[j] (N, K)`` (rad or m; 0 where not set)."""
+        return _Rows(self, 0) if self.pending else self.X[0]
+
+    @property
+    def cos(self):
+        """The cosine of every revolute joint, ``cos[j] (N, K)`` (1 where not set, prismatic)."""
+        return _Rows(self, 1) if self.pending else self.X[1]
+
+    @property
+    def sin(self):
+        """The sine of every revolute joint, ``sin[j] (N, K)`` (0 where not set, prismatic)."""
+        return _Rows(self, 2) if self.pending else self.X[2]
+
+    @property
+    def free(self):
+        """``free[j] (N, K)`` bool: the joints a singular target leaves undetermined."""
+        return _Rows(self, 3) if self.pending else self.F
+
+    def flushed(self) -> "Branches":
+        """These branches with the :attr:`pending` joints written into new arrays."""
+        if not self.pending:
+            return self
+        X, F = self.X.copy(), self.F
+        if any(p[3] is not None for p in self.pending.values()):
+            F = F.copy()
+        for j, (v, c, s, f) in self.pending.items():
+            X[0, j] = v
+            if c is not None:
+                X[1, j], X[2, j] = c, s
+            if f is not None:
+                F[j] = f
+        return self._with(X=X, F=F, pending={})
 
     @staticmethod
     def start(N: int, n: int, *, explain: bool = False, ok=None) -> "Branches":
@@ -113,8 +156,37 @@ class Branches:
             ``K = 1``: ``ok (N, 1)``, no joint set, empty signs.
         """
         alive = np.ones((N, 1), bool) if ok is None else np.asarray(ok, bool).reshape(N, 1)
-        return Branches(n=n, value={}, cos={}, sin={}, ok=alive, free={}, signs=((),),
-                        parent=np.zeros(1, int), explain=explain, lineage=(np.zeros(1, int),))
+        return Branches(n=n, X=_unset(n, N, 1), F=np.zeros((n, N, 1), bool), ok=alive,
+                        signs=((),), parent=_ZERO, explain=explain, lineage=(_ZERO,))
+
+    def with_slots(self, ok, signs) -> "Branches":
+        """Branches with a slot per sign in ``signs`` (a tuple of K tuples of (joint, label)),
+        nothing solved yet, live where ``ok (N, K)`` and this slot are, ``parent`` all 0:
+        made from these one-slot branches by a solver that finds every slot at once."""
+        K = len(signs)
+        return self._with(X=_unset(self.n, self.N, K), F=np.zeros((self.n, self.N, K), bool),
+                          ok=ok & self.ok[:, :1], signs=tuple(signs),
+                          parent=np.zeros(K, np.intp), pending={})
+
+    def appended(self, ok) -> "Branches":
+        """These expanded branches with ``G`` more slots after the last (``ok (N, G)``),
+        found another way: values set later with :meth:`set`, empty signs, not free."""
+        if self.pending:
+            return self.flushed().appended(ok)
+        N, G = ok.shape
+        X = np.concatenate([self.X, _unset(self.n, N, G)], axis=-1)
+        F = np.concatenate([self.F, np.zeros((self.n, N, G), bool)], axis=-1)
+        extra = {k: np.concatenate([v, np.zeros((N, G) + v.shape[2:])], axis=1)
+                 for k, v in self.extra.items()}
+        return self._with(X=X, F=F, ok=np.concatenate([self.ok, ok], axis=1),
+                          signs=self.signs + ((),) * G, extra=extra,
+                          parent=np.arange(self.K + G))
+
+    def without_free(self) -> "Branches":
+        """These branches with no joint free and no continuum (solutions refined on another
+        robot than the one whose singular structure made them free)."""
+        extra = {k: v for k, v in self.extra.items() if "continuum" not in k}
+        return self.flushed()._with(F=np.zeros_like(self.F), extra=extra)
 
     @property
     def N(self) -> int:
@@ -127,18 +199,8 @@ class Branches:
         return self.ok.shape[1]
 
     def take(self, x):
-        """A per-slot quantity computed before the last step, carried to the slots after it.
-
-        Parameters
-        ----------
-        x : ndarray (N, K_prev, ...)
-            One value per slot of the previous step.
-
-        Returns
-        -------
-        ndarray (N, K, ...)
-            ``x[:, parent]``: each slot gets the value of the slot it came from.
-        """
+        """A per-slot quantity ``x (N, K_prev, ...)`` computed before the last step, carried
+        to the slots after it: ``x[:, parent]``, ``(N, K, ...)``."""
         return x[:, self.parent]
 
     def branch(self, joints, sols, labels=None, *, least_squares: bool = False) -> "Branches":
@@ -169,49 +231,53 @@ class Branches:
             each joint of the step or-ed with the root's ``free``.
         """
         k = sols.ok.shape[-1]
-        K = self.K
-        parent = np.repeat(np.arange(K), k)
-        flat = lambda a: np.asarray(a).reshape(self.N, K * k)  # noqa: E731
-        value, cos, sin = self._gather(parent)
-        free = {j: f[:, parent] for j, f in self.free.items()}
-        for j, t, c, s, fr in zip(joints, sols.theta, sols.c, sols.s, _per_unknown(sols)):
-            if j is None:
-                continue
-            value[j], cos[j], sin[j] = flat(t), flat(c), flat(s)
-            free[j] = free[j] | flat(fr) if j in free else flat(fr)
-        ok = self.ok[:, parent] & flat(sols.ok if least_squares else sols.ok & sols.exact)
+        N, K = self.ok.shape
+        parent = _parents(K, k)
+        X, F = self.X[..., parent], self.F[..., parent]
+        for j, (v, c, s, f) in self.pending.items():
+            X[0, j] = v[:, parent]
+            if c is not None:
+                X[1, j], X[2, j] = c[:, parent], s[:, parent]
+            if f is not None:
+                F[j] = f[:, parent]
+        free = sols.free.reshape(N, K * k)
+        for j, t, c, s in zip(joints, sols.theta, sols.c, sols.s):
+            if j is not None:
+                X[0, j], X[1, j], X[2, j] = (a.reshape(N, K * k) for a in (t, c, s))
+                F[j] |= free
+        ok = self.ok[:, parent] & (sols.ok if least_squares else
+                                   sols.ok & sols.exact).reshape(N, K * k)
         if k == 1:                      # one root: nothing to tell apart
             labels = (None,)
         elif labels is None:
             labels = ("+", "-") if k == 2 else tuple(f"root {i + 1}" for i in range(k))
         first = next(j for j in joints if j is not None)
-        step = lambda sg, r: sg + (((first, labels[r]),) if labels[r] else ())  # noqa: E731
-        signs = tuple(step(self.signs[p], i % k) for i, p in enumerate(parent.tolist()))
+        signs = _split_signs(self.signs, k, tuple(labels), first)
         extra = {name: x[:, parent] for name, x in self.extra.items()}
         full, full_signs = self.full, self.full_signs
         if full is not None:
             full = np.repeat(full * k, k) + np.tile(np.arange(k), K)
-            full_signs = tuple(step(sg, r) for sg in full_signs for r in range(k))
-        out = self._with(value=value, cos=cos, sin=sin, ok=ok, free=free, signs=signs,
-                      parent=parent, extra=extra, full=full, full_signs=full_signs,
-                      lineage=self.lineage + (parent,) if self.explain else self.lineage)
+            full_signs = _split_signs(full_signs, k, tuple(labels), first)
+        out = self._with(X=X, F=F, ok=ok, signs=signs, parent=parent, extra=extra, full=full,
+                         full_signs=full_signs, pending={},
+                         lineage=self.lineage + (parent,) if self.explain else self.lineage)
         return out if self.explain else out._live()
 
     def _live(self) -> "Branches":
         """These branches without the slots no pose keeps (at least one slot stays)."""
-        live = self.ok.any(axis=0)
-        if live.all():
+        live = np.logical_or.reduce(self.ok, axis=0)
+        if np.count_nonzero(live) == len(live):
             return self
         if not live.any():
             live[0] = True
         cols = np.flatnonzero(live)
         full = np.arange(self.K) if self.full is None else self.full
-        pick = lambda d: {j: v[:, cols] for j, v in d.items()}  # noqa: E731
-        return self._with(value=pick(self.value), cos=pick(self.cos), sin=pick(self.sin),
-                       free=pick(self.free), ok=self.ok[:, cols],
-                       signs=tuple(self.signs[c] for c in cols.tolist()),
-                       parent=self.parent[cols], extra=pick(self.extra), full=full[cols],
-                       full_signs=self.signs if self.full is None else self.full_signs)
+        return self._with(X=self.X[..., cols], F=self.F[..., cols], ok=self.ok[:, cols],
+                          signs=tuple(self.signs[c] for c in cols.tolist()),
+                          parent=self.parent[cols],
+                          extra={j: v[:, cols] for j, v in self.extra.items()},
+                          full=full[cols],
+                          full_signs=self.signs if self.full is None else self.full_signs)
 
     def expanded(self) -> "Branches":
         """These branches in the family's full slot layout (once the solver is done).
@@ -223,58 +289,41 @@ class Branches:
             extras 0), with the layout's sign table; ``self`` when no slot was dropped.
         """
         if self.full is None:
-            return self
+            return self.flushed()
         K, N, cols = len(self.full_signs), self.N, self.full
-
-        def put(d, fill):
-            out = {}
-            for j, v in d.items():
-                a = np.full((N, K) + v.shape[2:], fill, v.dtype)
-                a[:, cols] = v
-                out[j] = a
-            return out
-        return self._with(value=put(self.value, 0.0), cos=put(self.cos, 1.0),
-                       sin=put(self.sin, 0.0), free=put(self.free, False),
-                       ok=put({0: self.ok}, False)[0], signs=self.full_signs,
-                       parent=np.arange(K), extra=put(self.extra, 0), full=None,
-                       full_signs=None)
+        X = _unset(self.n, N, K)
+        X[..., cols] = self.X
+        F = np.zeros((self.n, N, K), bool)
+        F[..., cols] = self.F
+        for j, (v, c, s, f) in self.pending.items():       # written here, not copied first
+            X[0, j][:, cols] = v
+            if c is not None:
+                X[1, j][:, cols], X[2, j][:, cols] = c, s
+            if f is not None:
+                F[j][:, cols] = f
+        ok = np.zeros((N, K), bool)
+        ok[:, cols] = self.ok
+        extra = {}
+        for j, v in self.extra.items():
+            extra[j] = np.zeros((N, K) + v.shape[2:], v.dtype)
+            extra[j][:, cols] = v
+        return self._with(X=X, F=F, ok=ok, signs=self.full_signs, parent=np.arange(K),
+                          extra=extra, full=None, full_signs=None, pending={})
 
     def relabel(self, joint: int, label: str) -> "Branches":
-        """Every slot's sign for ``joint`` set to ``label`` (a value the target leaves open).
-
-        Parameters
-        ----------
-        joint : int
-            The joint (0-based).
-        label : str
-            Its sign label in every slot (e.g. ``"any"``), replacing any the steps gave.
-
-        Returns
-        -------
-        Branches
-            A copy with the new signs (and full-layout signs).
-        """
+        """A copy with every slot's sign for ``joint`` (0-based) set to ``label`` (e.g.
+        ``"any"``: a value the target leaves open), replacing any the steps gave, in the
+        signs and the full layout's signs."""
         def new(signs):
             return tuple(tuple(p for p in sg if p[0] != joint) + ((joint, label),)
                          for sg in signs)
         return self._with(signs=new(self.signs),
-                       full_signs=None if self.full_signs is None else new(self.full_signs))
+                          full_signs=None if self.full_signs is None else new(self.full_signs))
 
     def with_extra(self, name: str, value) -> "Branches":
-        """A per-slot quantity the engine needs at the end, carried through later steps.
-
-        Parameters
-        ----------
-        name : str
-            Its key in ``extra`` (``"continuum"``, ``"parallel continuum"``, ``"psi"``, ...).
-        value : array_like (N, K, ...)
-            One value per slot (SI).
-
-        Returns
-        -------
-        Branches
-            A copy with ``extra[name] = value``.
-        """
+        """A copy with ``extra[name] = value``: a per-slot quantity ``(N, K, ...)`` (SI) the
+        engine needs at the end (``"continuum"``, ``"parallel continuum"``, ``"psi"``),
+        carried through later steps."""
         extra = dict(self.extra)
         extra[name] = np.asarray(value)
         return self._with(extra=extra)
@@ -289,7 +338,7 @@ class Branches:
         value : ndarray (N, K)
             Its value (rad or m).
         c, s : ndarray (N, K), optional
-            Its cosine and sine (revolute joints; give both or neither).
+            Its cosine and sine (revolute joints; give both or neither; default: kept).
         ok : ndarray (N, K) of bool, optional
             Narrows the live slots (and-ed with ``self.ok``).
         free : ndarray (N, K) of bool, optional
@@ -300,61 +349,30 @@ class Branches:
         Branches
             A copy, the same ``K`` slots (``parent`` the identity).
         """
-        v, cs, sn = self._gather(None)
-        v[joint] = value
-        if c is not None:
-            cs[joint], sn[joint] = c, s
-        fr = dict(self.free)
-        if free is not None:
-            fr[joint] = free
-        return self._with(value=v, cos=cs, sin=sn, free=fr,
-                       ok=self.ok if ok is None else self.ok & ok,
-                       parent=np.arange(self.K))
+        shape = self.ok.shape
+        def fix(a):
+            return a if a is None or np.shape(a) == shape else np.broadcast_to(a, shape)
+        was = self.pending.get(joint, (None,) * 4)
+        row = (fix(value), fix(c) if c is not None else was[1],
+               fix(s) if c is not None else was[2], fix(free) if free is not None else was[3])
+        return self._with(pending={**self.pending, joint: row},
+                          ok=self.ok if ok is None else self.ok & ok, parent=_identity(self.K))
 
     def note(self, label: str, value, kind: str = "none") -> "Branches":
-        """Record an intermediate quantity for ``--explain`` (nothing without ``explain``).
-
-        Parameters
-        ----------
-        label : str
-            What it is.
-        value : array_like (N, K, ...)
-            Its value at the current slots (SI).
-        kind : str
-            ``"length"``, ``"angle"``, ``"none"`` or ``"joint:I"`` (for rendering).
-
-        Returns
-        -------
-        Branches
-            A copy with the :class:`Note` added.
-        """
+        """A copy with a :class:`Note` of an intermediate quantity for ``--explain``
+        (``self`` without ``explain``): ``label`` what it is, ``value (N, K, ...)`` its value
+        at the current slots (SI), ``kind`` ``"length"``, ``"angle"``, ``"none"`` or
+        ``"joint:I"`` (for rendering)."""
         if not self.explain:
             return self
         return self._with(notes=self.notes + (Note(label, np.asarray(value, float), kind,
                                                       len(self.lineage) - 1),))
 
     def dead_end(self, joint: int, phase, need, where, what: str) -> "Branches":
-        """Record the slots for which ``joint`` had no real root (``--all-branches``).
-
-        Nothing is recorded without ``explain`` or when ``where`` is all False.
-
-        Parameters
-        ----------
-        joint : int
-            The joint (0-based) of the step.
-        phase, need : array_like, broadcast to (N, K)
-            The equation ``cos(joint - phase) = need`` it had to solve (``phase`` rad; a
-            ``need`` beyond [-1, 1] is the reason).
-        where : ndarray (N, K) of bool
-            The slots it failed for.
-        what : str
-            The quantity placed (a sentence fragment).
-
-        Returns
-        -------
-        Branches
-            A copy with the :class:`DeadEnd` added.
-        """
+        """A copy with a :class:`DeadEnd`: the slots ``where (N, K)`` for which ``joint``
+        (0-based) had no real root of ``cos(joint - phase) = need`` (``phase`` rad, ``need``;
+        both broadcast to (N, K); a ``need`` beyond [-1, 1] is the reason), ``what`` the
+        quantity placed (``--all-branches``). ``self`` without ``explain`` or failures."""
         if not self.explain or not np.any(where):
             return self
         return self._with(dead_ends=self.dead_ends + (
@@ -374,8 +392,9 @@ class Branches:
         Branches
             A copy with the joints renumbered and negated (cosines kept, sines negated).
         """
+        if self.pending:
+            return self.flushed().reversed_chain()
         n = self.n
-        m = lambda j: n - 1 - j  # noqa: E731
         extra = dict(self.extra)
         if "continuum" in extra:               # (mask, i, j, sign, total)
             c = extra["continuum"].copy()
@@ -385,85 +404,89 @@ class Branches:
             c = extra["parallel continuum"].copy()
             c[..., 2] = -c[..., 2]
             extra["parallel continuum"] = c
-        return self._with(value={m(j): -v for j, v in self.value.items()},
-                       cos=dict((m(j), c) for j, c in self.cos.items()),
-                       sin={m(j): -v for j, v in self.sin.items()},
-                       free={m(j): f for j, f in self.free.items()},
-                       signs=tuple(tuple((m(j), lab) for j, lab in sg) for sg in self.signs),
-                       extra=extra)
-
-    def _gather(self, parent):
-        if parent is None:
-            return dict(self.value), dict(self.cos), dict(self.sin)
-        return ({j: v[:, parent] for j, v in self.value.items()},
-                {j: v[:, parent] for j, v in self.cos.items()},
-                {j: v[:, parent] for j, v in self.sin.items()})
+        X = self.X[:, ::-1] * np.array([-1.0, 1.0, -1.0])[:, None, None, None]
+        return self._with(X=X, F=self.F[::-1].copy(), extra=extra,
+                          signs=tuple(tuple((n - 1 - j, lab) for j, lab in sg)
+                                      for sg in self.signs))
 
     def q(self) -> np.ndarray:
-        """The joint values of every slot.
-
-        Returns
-        -------
-        ndarray (N, K, n)
-            Rad or m; 0 where a joint was never set.
-        """
-        out = np.zeros((self.N, self.K, self.n))
-        for j, v in self.value.items():
-            out[:, :, j] = v
-        return out
+        """``(N, K, n)``: the joint values of every slot (rad or m; 0 where never set)."""
+        return np.moveaxis(self.flushed().X[0], 0, -1).copy()
 
     def joint_major(self) -> tuple:
         """The candidates joint by joint, for the FK check (which walks the chain joint-major).
 
         Returns
         -------
-        c, s, x : ndarray (n, N K), contiguous
+        c, s, x : ndarray (n, N K), contiguous, read-only views of the branches' arrays
             The cosine and sine of every revolute joint (1 and 0 for prismatic joints and
             joints never set) and every joint's value (rad or m; 0 where never set); column
             ``i K + k`` is slot k of pose i.
         """
-        M = self.N * self.K
-        c, s, x = np.ones((self.n, M)), np.zeros((self.n, M)), np.zeros((self.n, M))
-        for j, v in self.cos.items():
-            c[j] = v.ravel()
-        for j, v in self.sin.items():
-            s[j] = v.ravel()
-        for j, v in self.value.items():
-            x[j] = v.ravel()
-        return c, s, x
+        X = np.ascontiguousarray(self.flushed().X).reshape(3, self.n, self.N * self.K)
+        X = X.view()
+        X.flags.writeable = False
+        return X[1], X[2], X[0]
 
     def free_mask(self) -> np.ndarray:
-        """The joints left free in each slot.
-
-        Returns
-        -------
-        ndarray (N, K, n) of bool
-            True where a singular target leaves the joint undetermined.
-        """
-        out = np.zeros((self.N, self.K, self.n), bool)
-        for j, f in self.free.items():
-            out[:, :, j] = f
-        return out
+        """``(N, K, n)`` bool: True where a singular target leaves the joint undetermined."""
+        return np.moveaxis(self.flushed().F, 0, -1).copy()
 
     def final_index(self, at: int) -> np.ndarray:
-        """For each final slot, its slot at lineage step ``at`` (for notes, dead ends).
-
-        Parameters
-        ----------
-        at : int
-            The index into ``lineage`` (a :class:`Note`'s or :class:`DeadEnd`'s ``at``).
-
-        Returns
-        -------
-        ndarray (K,) of int
-            The slot index at that step.
-        """
+        """``(K,)``: for each final slot, its slot at lineage step ``at`` (the index into
+        ``lineage`` of a :class:`Note` or :class:`DeadEnd`)."""
         idx = np.arange(self.K)
         for parent in reversed(self.lineage[at + 1:]):
             idx = parent[idx]
         return idx
 
 
-def _per_unknown(sols):
-    """``sols.free`` once per unknown of the subproblem (the mask is per slot)."""
-    return [sols.free] * len(sols.theta)
+_ZERO = np.zeros(1, np.intp)
+_ZERO.flags.writeable = False
+
+
+def _unset(n: int, N: int, K: int) -> np.ndarray:
+    """``X (3, n, N, K)`` of joints not set: values 0, cosines 1, sines 0."""
+    X = np.zeros((3, n, N, K))
+    X[1] = 1.0
+    return X
+
+
+@lru_cache(maxsize=256)
+def _parents(K: int, k: int) -> np.ndarray:
+    """``(K k,)``: the slot each of the ``K k`` slots of a ``k``-way split came from
+    (read-only; shared)."""
+    out = np.repeat(np.arange(K), k)
+    out.flags.writeable = False
+    return out
+
+
+@lru_cache(maxsize=256)
+def _identity(K: int) -> np.ndarray:
+    """``arange(K)``, read-only and shared."""
+    out = np.arange(K)
+    out.flags.writeable = False
+    return out
+
+
+@lru_cache(maxsize=4096)
+def _split_signs(signs: tuple, k: int, labels: tuple, first: int) -> tuple:
+    """The sign table after each slot of ``signs`` splits into ``k`` roots labelled
+    ``labels`` (None: no label) for joint ``first``."""
+    return tuple(sg + (((first, labels[r]),) if labels[r] else ())
+                 for sg in signs for r in range(k))
+
+
+class _Rows:
+    """``value``, ``cos``, ``sin`` or ``free`` with :attr:`~Branches.pending` joints."""
+
+    __slots__ = ("br", "i")
+
+    def __init__(self, br: Branches, i: int):
+        self.br, self.i = br, i
+
+    def __getitem__(self, j: int) -> np.ndarray:
+        row = self.br.pending.get(j)
+        if row is not None and row[self.i] is not None:
+            return row[self.i]
+        return self.br.F[j] if self.i == 3 else self.br.X[self.i, j]

@@ -7,7 +7,6 @@ of the structured robot meet (a singular pose)."""
 
 from __future__ import annotations
 
-from dataclasses import replace
 
 import numpy as np
 
@@ -61,9 +60,7 @@ def on_true_robot(robot, family, targets, q, candidate, br):
         q = q.copy()
         q[idx] = refine(robot, q[idx], targets.T[idx[0]], mode=mode,
                         approach=None if targets.approach is None else targets.approach[idx[0]])
-    free = {j: np.zeros_like(f) for j, f in br.free.items()}
-    extra = {k: v for k, v in br.extra.items() if "continuum" not in k}
-    br = replace(br, free=free, extra=extra)
+    br = br.without_free()
     move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
     method = (f"{family.description}; the axes have this structure only to within "
               f"{move:.2g} m and {turn:.2g} rad, so it was solved for the nearest robot "
@@ -74,13 +71,7 @@ def on_true_robot(robot, family, targets, q, candidate, br):
         Qg, okg = solve_general_6r_batch(robot, targets.T)
         q = np.concatenate([q, Qg], axis=1)
         candidate = np.concatenate([candidate, okg], axis=1)
-        G = Qg.shape[1]
-        br = replace(br, ok=candidate,
-                     signs=br.signs + tuple(() for _ in range(G)),
-                     free={j: np.concatenate([f, np.zeros((N, G), bool)], axis=1)
-                           for j, f in br.free.items()},
-                     extra={k: np.concatenate([v, np.zeros((N, G) + v.shape[2:])], axis=1)
-                            for k, v in br.extra.items()})
+        br = br.appended(okg)
         method += ", and joined with the general 6R elimination's solutions"
     q = np.where(robot.is_revolute, wrap(q), q)
     return q, candidate, br, method

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..subproblems import sp1, sp3, sp5
+from ..subproblems import sp1, sp3, sp4, sp5
 from ..subproblems.solutions import Solutions, angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp4 import from_abc
@@ -166,44 +166,41 @@ def _reference_point(S: Screws, a: int, b: int) -> np.ndarray:
 
 # --- the invariants of joint a ---------------------------------------------------------
 
-def _invariants(S: Screws, P: Plan, f):
-    """The two invariants of joint a at points ``f (..., 3)``: ``(2, ...)``."""
+def _invariants(S: Screws, P: Plan, f) -> tuple:
+    """The two invariants of joint a at points ``f (..., 3)``: two arrays ``(...)``."""
     a = P.joints[0]
     if S.revolute[a]:
         d = f - P.o
-        return np.stack([d @ S.axis[a], dot(d, d)])
-    return np.stack([f @ P.e[0], f @ P.e[1]])
+        return d @ S.axis[a], dot(d, d)
+    return f @ P.e[0], f @ P.e[1]
 
 
-def _coefficients(S: Screws, P: Plan, g):
-    """``(alpha, beta, gamma)``, each ``(2, ...)``: the invariants of ``f = E_b(x_b) g`` for
-    points ``g (..., 3)`` as ``alpha + beta B1(x_b) + gamma B2(x_b)``, with ``(B1, B2)``
-    ``(cos, sin)`` for a revolute b and ``(x, x^2)`` for a prismatic one.
+def _coefficients(S: Screws, P: Plan, g, only: int | None = None):
+    """``(alpha, beta, gamma)``, each ``(2, ...)`` (with ``only``, 0 or 1, that invariant's:
+    ``(...)``): the invariants of ``f = E_b(x_b) g`` for points ``g (..., 3)`` as ``alpha +
+    beta B1 + gamma B2``, ``(B1, B2) = (cos x_b, sin x_b)`` (revolute b) or ``(x_b, x_b^2)``.
 
     A revolute b moves g on a circle, ``f = m + cos(x_b) e1 + sin(x_b) e2`` (``m`` its
     centre on axis b, ``e1`` g's offset from it, ``e2 = k_b x e1``, as long as ``e1`` and
     normal to it); a prismatic b along its axis, ``f = g + x_b k_b``. The invariants are
     linear in f (heights, components) or ``|f - o|^2``, which on the circle is
     ``|m - o|^2 + |e1|^2 + 2 cos(x_b) (m - o) . e1 + 2 sin(x_b) (m - o) . e2``."""
+    if only is None:
+        parts = [_coefficients(S, P, g, i) for i in (0, 1)]
+        return tuple(np.stack([x, y]) for x, y in zip(*parts))
     a, b = P.joints[0], P.joints[1]
     k = S.axis[b]
     m, e1, e2 = _circle(S, b, g) if S.revolute[b] else (g, k, None)
-    shape = (2,) + np.shape(g)[:-1]
-    al, be, ga = np.empty(shape), np.empty(shape), np.empty(shape)
+    zero = np.zeros(np.shape(g)[:-1])
+    if S.revolute[a] and only == 1:           # |f - o|^2
+        m = m - P.o
+        if S.revolute[b]:
+            return dot(m, m) + dot(e1, e1), 2.0 * dot(m, e1), 2.0 * dot(m, e2)
+        return dot(m, m), 2.0 * (m @ k) + zero, 1.0 + zero
+    n = S.axis[a] if S.revolute[a] else P.e[only]
     if S.revolute[a]:
         m = m - P.o
-        lines = (S.axis[a],)
-        al[1] = dot(m, m)
-        if S.revolute[b]:
-            al[1] += dot(e1, e1)
-            be[1], ga[1] = 2.0 * dot(m, e1), 2.0 * dot(m, e2)
-        else:
-            be[1], ga[1] = 2.0 * (m @ k), 1.0
-    else:
-        lines = P.e
-    for i, n in enumerate(lines):
-        al[i], be[i], ga[i] = m @ n, e1 @ n, 0.0 if e2 is None else e2 @ n
-    return al, be, ga
+    return m @ n, e1 @ n + zero, zero if e2 is None else e2 @ n
 
 
 def _circle(S: Screws, b: int, g):
@@ -215,8 +212,7 @@ def _circle(S: Screws, b: int, g):
 
 
 def _targets(S: Screws, P: Plan, PT):
-    """The invariants of the targets, ``(N, K, 2)``."""
-    return np.moveaxis(_invariants(S, P, PT), 0, -1)
+    return np.stack(_invariants(S, P, PT), -1)          # the targets' invariants (N, K, 2)
 
 
 # --- the steps ------------------------------------------------------------------------
@@ -228,10 +224,11 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[c]:
         sol = from_abc(A, B, C, t, scale)
-        br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
-                         ~sol.exact[..., 0] & br.ok, what)
-        return note_equation(br, c, _measure(S, P, P.k), P.joints[0], A, B, C, t).branch(
-            [c], sol)
+        if br.explain:
+            br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
+                             ~sol.exact[..., 0] & br.ok, what)
+            br = note_equation(br, c, _measure(S, P, P.k), P.joints[0], A, B, C, t)
+        return br.branch([c], sol)
     return br.branch([c], quadratic(A, B, C - t, scale), labels=("root 1", "root 2"))
 
 
@@ -239,13 +236,14 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
     """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``:
     the target's value of it)."""
     b = P.joints[1]
-    al, be, ga = (v[m] for v in _coefficients(S, P, g))
+    al, be, ga = _coefficients(S, P, g, m)
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[b]:
         sol = from_abc(be, ga, al, t, scale)
-        br = br.dead_end(b, np.arctan2(ga, be), (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
-                         ~sol.exact[..., 0] & br.ok, what)
         if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
+            br = br.dead_end(b, np.arctan2(ga, be),
+                             (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
+                             ~sol.exact[..., 0] & br.ok, what)
             centre, e1, _ = _circle(S, b, g)
             sides = (np.sqrt(dot(centre - P.o, centre - P.o)), np.sqrt(dot(e1, e1)))
             br = note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t, sides)
@@ -253,10 +251,12 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
     return br.branch([b], quadratic(ga, be, al - t, scale), labels=("-", "+"))
 
 
-def _solve_a(S: Screws, P: Plan, br, g) -> Branches:
-    """x_a: turn (or slide) the point before joint a onto the targets ``g (N, K, 3)``."""
+def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
+    """x_a: turn (or slide) the point before joint a, ``f (N, K, 3)`` (default: ``p0`` moved
+    by the joints after a), onto the targets ``g (N, K, 3)``."""
     a = P.joints[0]
-    f = _point_before_a(S, P, br)
+    if f is None:
+        f = _point_before_a(S, P, br)
     if S.revolute[a]:
         sol = sp1(f - S.point[a], g - S.point[a], S.axis[a])
         br = note_turn(S, br, a, f, g)
@@ -275,19 +275,20 @@ def _point_before_a(S: Screws, P: Plan, br):
     """``E_b(x_b) E_c(x_c) p0`` for every slot (N, K, 3)."""
     f = np.broadcast_to(P.p0, (br.N, br.K, 3))
     for j in reversed(P.joints[1:]):
-        f = S.move(j, br.value[j], br.cos.get(j, 1.0), br.sin.get(j, 0.0), f)
+        f = S.move(j, br.value[j], br.cos[j], br.sin[j], f)
     return f
 
 
 def _decoupled(S: Screws, P: Plan, br, PT, what) -> Branches:
     """One invariant free of x_b: x_c from it, x_b from the other, then x_a."""
-    t = _targets(S, P, PT)
-    br = _solve_c(S, P, br, t[..., P.k], what)
-    PT, t = br.take(PT), br.take(t)
-    c = P.joints[2]
+    t = _invariants(S, P, PT)
+    br = _solve_c(S, P, br, t[P.k], what)
+    PT, t = br.take(PT), br.take(t[1 - P.k])
+    b, c = P.joints[1], P.joints[2]
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
-    br = _solve_b(S, P, br, g, t[..., 1 - P.k], 1 - P.k, what)
-    return _solve_a(S, P, br, br.take(PT))
+    br = _solve_b(S, P, br, g, t, 1 - P.k, what)
+    f = S.move(b, br.value[b], br.cos[b], br.sin[b], br.take(g))
+    return _solve_a(S, P, br, br.take(PT), f)
 
 
 def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
@@ -296,7 +297,7 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     w, h, kc = S.axis[a], S.axis[b], S.axis[c]
     oa, ob, oc = S.point[a], S.point[b], S.point[c]
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
-    first = _sp4_negated(h, PT - oa, w, h @ (P.p0 - oa), S.scale)
+    first = sp4(h, PT - oa, w, h @ (P.p0 - oa)).negated()
     br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
     if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
         p, hw = PT - oa, h @ w
@@ -304,14 +305,15 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
                            hw * (p @ w), h @ (P.p0 - oa))
     br = br.branch([a], first)
     # the target seen before joint a, in the plane normal to h
-    q = S.turn(a, br.cos[a], -br.sin[a], br.take(PT) - oa) + oa - ob
-    q = q - (q @ h)[..., None] * h
-    u = (oc - ob) - ((oc - ob) @ h) * h
-    v = (P.p0 - oc) - ((P.p0 - oc) @ h) * h
+    pt = br.take(PT) - oa
+    q = S.turn(a, br.cos[a], -br.sin[a], pt) + (oa - ob)
+    q = q - dot(q, h)[..., None] * h
+    u, v = S.constant(("shoulder sides", P.joints, tuple(P.p0)), lambda: (
+        (oc - ob) - ((oc - ob) @ h) * h, (P.p0 - oc) - ((P.p0 - oc) @ h) * h))
     # joint c: |u + R(h, x_c) v| = |q| (law of cosines)
     # q came from the target, rounded to its size: a stretched or folded elbow within
     # that rounding is the double root itself
-    reach = (S.scale + np.sqrt(dot(br.take(PT) - oa, br.take(PT) - oa))) ** 2
+    reach = (S.scale + np.sqrt(dot(pt, pt))) ** 2
     third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach)
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
@@ -327,21 +329,13 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
                   free=second.free[..., 0])
 
 
-def _sp4_negated(h, p, k, d, scale) -> Solutions:
-    """Subproblem 4 for ``h . R(k, -x) p = d``: the roots' angles negated."""
-    from ..subproblems import sp4
-    sol = sp4(h, p, k, d)
-    return Solutions((-sol.theta[0],), sol.c, (-sol.s[0],), sol.ok, sol.exact, sol.free)
-
-
 def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Three revolute joints: subproblem 5 on ``R_a^T (pt - o_a) = (o_b - o_a) +
     R_b ((o_c - o_b) + R_c (p0 - o_c))``."""
     a, b, c = P.joints
     oa, ob, oc = S.point[a], S.point[b], S.point[c]
     sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
-    sol = Solutions((-sol.theta[0], sol.theta[1], sol.theta[2]),
-                    sol.c, (-sol.s[0], sol.s[1], sol.s[2]), sol.ok, sol.exact, sol.free)
+    sol = sol.negated(0)
     br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
     return _polish(S, P, br, br.take(PT))
 

@@ -82,6 +82,12 @@ class Screws:
             and ``c, s``.
         """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
+        if v.ndim == 1 and c.shape == s.shape:          # one vector, turned by every angle
+            B = self.rodrigues(i) @ v                                       # (9,)
+            out = B[3:6, None] * c.reshape(-1)
+            out += B[0:3, None]
+            out += B[6:9, None] * s.reshape(-1)
+            return out.T.reshape(c.shape + (3,))
         shape = v.shape[:-1]
         if c.shape == s.shape and shape[:c.ndim] == c.shape:
             c, s = c.reshape(-1), s.reshape(-1)

@@ -17,7 +17,7 @@ import numpy as np
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
 from ..subproblems.cone import cone, cone_constants
-from ..subproblems.solutions import Solutions, dot
+from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
 from .place import place
 from .screws import Screws
@@ -54,15 +54,11 @@ def _mtv(R, v) -> np.ndarray:
 
 
 def _back(S: Screws, br: Branches, j: int, x) -> np.ndarray:
-    """``E_j^-1 x`` for points ``x (N, K, 3)``: joint j's motion undone."""
+    """``E_j^-1 x`` for points ``x (N, K, 3)`` (or one point ``(3,)``): joint j's motion
+    undone, ``(N, K, 3)``."""
     if S.revolute[j]:
         return S.point[j] + S.turn(j, br.cos[j], -br.sin[j], x - S.point[j])
     return x - br.value[j][..., None] * S.axis[j]
-
-
-def _negated(sol: Solutions) -> Solutions:
-    """A subproblem's solutions for the opposite angle (it solved for ``R(k, -x)``)."""
-    return Solutions((-sol.theta[0],), sol.c, (-sol.s[0],), sol.ok, sol.exact, sol.free)
 
 
 def _one(sol: Solutions, i: int = 0):
@@ -73,7 +69,7 @@ def _one(sol: Solutions, i: int = 0):
 def _angle_about(h, e, Rv, tol=0.0):
     """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
     vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``."""
-    return _one(sp1(np.broadcast_to(e, Rv.shape), Rv - dot(Rv, h)[..., None] * h, h, tol=tol))
+    return _one(sp1(e, Rv - dot(Rv, h)[..., None] * h, h, tol=tol))
 
 
 # --- six joints --------------------------------------------------------------------
@@ -98,7 +94,9 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     c0 = S.constant("wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
     ct = tool_point(S, T, c0)
     br = place(S, br, (0, 1, 2), c0, ct, what="the wrist centre")
-    br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct), "length")
+    if br.explain:
+        br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct),
+                     "length")
     Rt = target_rotation(S, T)
     e = S.constant("normal to axis 6", lambda: normal_to(S.axis[5]))
     ke = S.constant("axis 6 and its normal", lambda: np.stack([S.axis[5], e], -1))   # (3, 2)
@@ -138,7 +136,7 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
-    br = br.branch([0], _negated(sp4(h, ct - o1, k1, h @ (c56 - o1))))
+    br = br.branch([0], sp4(h, ct - o1, k1, h @ (c56 - o1)).negated())
     Rt = br.take(target_rotation(S, T))                                         # (N, K, 3, 3)
     # joint 5: h . R5 k6 = h . v, v = R1^T R_t k6 (axis 6 with joint 1 undone)
     v = S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, k6))
@@ -146,27 +144,26 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
         "cone of joint 5", lambda: cone_constants(h, k6, k5))))
     Rt, v = br.take(Rt), br.take(v)
     aligned = br.free[4]
-    br = br.set(4, br.value[4], br.cos[4], br.sin[4], free=np.zeros_like(aligned))
+    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     # joint 6: R6 (R_t^T R1 h) = R5^T h (projected: both are small near the singularity)
-    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], np.broadcast_to(h, v.shape)))
-    b = S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(h, v.shape))
+    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h))
+    b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
                   tol=0.0))[0]
     arcs, ok_arcs = _singular_q6(S, br, T, Rt, sigma, aligned)
-    q6 = np.stack([np.where(aligned, arcs[..., 0], t6), arcs[..., 1]], -1)
-    ok6 = np.stack([np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1]], -1)
-    free6 = np.stack([aligned, aligned], -1)
+    q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
+    ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
+    free6 = pair(aligned, aligned)
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6, free6),
                    labels=(None, "other arc"))
     Rt, sigma = br.take(Rt), br.take(sigma)
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
     e = S.constant("normal to h", lambda: normal_to(h))
-    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4],
-                                                 np.broadcast_to(e, (br.N, br.K, 3))))
+    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, r)))[0]
     # where joints 2, 3 put axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
-    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], (br.N, br.K, 3)))
+    p4 = _back(S, br, 4, S.point[3])
     p4 = _back(S, br, 0, _tool_point_of(S, T, _back(S, br, 5, p4)))
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
@@ -174,7 +171,7 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     psi, sigma = br.extra["psi"], br.extra["sigma"]
     q4 = s4 * (psi - br.value[1] - s3 * br.value[2])
     br = br.set(3, q4, np.cos(q4), np.sin(q4))
-    if br.free[5].any():
+    if np.count_nonzero(br.free[5]):
         total = br.value[1] + s3 * br.value[2] + s4 * q4 + sigma * br.value[5]
         br = br.with_extra("parallel continuum", np.stack(
             [br.free[5].astype(float), sigma, total], -1))
@@ -192,7 +189,7 @@ def _singular_q6(S: Screws, br: Branches, T, Rt, sigma, aligned):
     """Joint 6's representatives at the wrist singularity, two arcs per slot:
     ``(q6 (N, K, 2), ok (N, K, 2))`` (:func:`~kincalc.ik.wrists.parallel_wrist_q6`)."""
     N, K = aligned.shape
-    if not aligned.any():
+    if not np.count_nonzero(aligned):
         return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
     h = S.axis[1]
     # axis 6's point, and axis 4's point at q6 = 0, with joint 1 undone, across h
@@ -228,11 +225,11 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     br = br.branch([4], sp4(h, k6, k5, dot(h, _mv(Rt, k6))[:, :, None].squeeze(-1)))
     Rt = br.take(Rt.repeat(1, 1))
     a = np.broadcast_to(_mtv(Rt, h), (br.N, br.K, 3))
-    b = S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(h, a.shape))
+    b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6, c6, s6 = _one(sp1(a, b, k6))
     br = br.set(5, t6, c6, s6)
     e = S.constant("normal to h", lambda: normal_to(h))
-    r = S.turn(5, c6, -s6, S.turn(4, br.cos[4], -br.sin[4], np.broadcast_to(e, a.shape)))
+    r = S.turn(5, c6, -s6, S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, _mv(Rt, r))[0]
     p4 = _back(S, br, 4, np.broadcast_to(S.point[3], a.shape))
     p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
@@ -380,7 +377,7 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     pt = T[:, None, :3, 3]
     a = (targets.approach if targets.kind == "approach" else T[:, :3, 2])[:, None, :]
-    br = br.branch([0], _negated(sp4(h, pt - o1, k1, h @ (p0 - o1))))
+    br = br.branch([0], sp4(h, pt - o1, k1, h @ (p0 - o1)).negated())
     a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
     p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
     psi, cps, sps = _one(sp1(np.broadcast_to(a0, a1.shape), a1, h))

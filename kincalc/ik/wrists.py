@@ -100,20 +100,22 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     br = br.branch([j2], middle, least_squares=True)
     v, w = br.take(v), br.take(w)
     aligned = br.free[j2]
-    br = br.set(j2, br.value[j2], br.cos[j2], br.sin[j2],
-                free=np.zeros_like(aligned))            # the free joint is the first
-    third = S.turn(j2, br.cos[j2], br.sin[j2], np.broadcast_to(k3, v.shape))   # R2 k3
+    br = br.set(j2, br.value[j2], free=np.zeros_like(aligned))   # the free joint is the first
+    third = S.turn(j2, br.cos[j2], br.sin[j2], k3)   # R2 k3
     # both projected on the plane normal to k1: next to the singularity their normal
     # parts are tiny, and v's component along k1 times the rounding would swamp them
     first = sp1(third, v - dot(v, k1)[..., None] * k1, k1, tol=0.0)
-    c1 = np.where(aligned, 1.0, first.c[0][..., 0])
-    s1 = np.where(aligned, 0.0, first.s[0][..., 0])
-    br = br.set(j1, np.arctan2(s1, c1), c1, s1, free=aligned)
+    t1, c1, s1 = first.theta[0][..., 0], first.c[0][..., 0], first.s[0][..., 0]
+    singular = np.count_nonzero(aligned)
+    if singular:
+        c1, s1 = np.where(aligned, 1.0, c1), np.where(aligned, 0.0, s1)
+        t1 = np.arctan2(s1, c1)
+    br = br.set(j1, t1, c1, s1, free=aligned)
     z = S.turn(j2, br.cos[j2], -br.sin[j2], S.turn(j1, c1, -s1, w))
-    last = sp1(np.broadcast_to(e, z.shape), z - dot(z, k3)[..., None] * k3, k3, tol=0.0)
+    last = sp1(e, z - dot(z, k3)[..., None] * k3, k3, tol=0.0)
     t3 = last.theta[0][..., 0]
     br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
-    if aligned.any():
+    if singular:
         sigma = np.where(dot(k1, third) > 0, 1.0, -1.0)
         br = br.with_extra("continuum", np.stack([
             aligned.astype(float), np.full(aligned.shape, j1), np.full(aligned.shape, j3),

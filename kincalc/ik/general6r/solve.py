@@ -167,7 +167,6 @@ def general_6r(robot, targets, br):
     ValueError
         If ``robot`` does not have exactly 6 revolute joints.
     """
-    from dataclasses import replace as _replace
     from ...errors import UnsupportedRobot
     if targets.kind != "pose":
         raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
@@ -178,8 +177,7 @@ def general_6r(robot, targets, br):
     Q = np.take_along_axis(Q, order[..., None], axis=1)
     ok = np.take_along_axis(ok, order, axis=1)
     K = Q.shape[1]
-    out = _replace(br, ok=ok & br.ok[:, :1], parent=np.zeros(K, int),
-                   signs=tuple(((2, f"root {k + 1}"),) for k in range(K)))
+    out = br.with_slots(ok, tuple(((2, f"root {k + 1}"),) for k in range(K)))
     for j in range(6):
         out = out.set(j, Q[..., j], np.cos(Q[..., j]), np.sin(Q[..., j]))
     return out
