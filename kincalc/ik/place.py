@@ -438,17 +438,15 @@ def _poly_fit_matrix() -> np.ndarray:
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Two joints: x_b from the invariants, then x_a."""
-    t = _targets(S, P, PT)
-    g = np.broadcast_to(P.p0, PT.shape)
-    if P.both:          # both fix (cos x_b, sin x_b): the one solution of two equations
-        al, be, ga = _coefficients(S, P, g)
-        al = al - np.moveaxis(t, -1, 0)
-        D = be[0] * ga[1] - be[1] * ga[0]
-        theta, c, s = angles((-al[0] * ga[1] + al[1] * ga[0]) / D,
-                             (-be[0] * al[1] + be[1] * al[0]) / D)
+    t = _invariants(S, P, PT)              # the point is p0 itself: its coefficients are
+    if P.both:                             # constants; both fix (cos x_b, sin x_b)
+        (a0, b0, g0), (a1, b1, g1) = (_coefficients(S, P, P.p0, i) for i in (0, 1))
+        a0, a1 = a0 - t[0], a1 - t[1]
+        D = b0 * g1 - b1 * g0
+        theta, c, s = angles((-a0 * g1 + a1 * g0) / D, (-b0 * a1 + b1 * a0) / D)
         br = br.set(P.joints[1], theta, c, s)
     else:
-        br = _solve_b(S, P, br, g, t[..., P.k], P.k, what)
+        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what)
     return _solve_a(S, P, br, br.take(PT))
 
 
