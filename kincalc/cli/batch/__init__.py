@@ -44,7 +44,8 @@ read becomes its error record and the run goes on; the exit status then says so 
 The rooms: :mod:`~kincalc.cli.batch.records` reads a record, :mod:`~kincalc.cli.batch.runner`
 cuts the input into chunks and runs them (processes, order, progress),
 :mod:`~kincalc.cli.batch.chunks` solves a chunk through the core and
-:mod:`~kincalc.cli.batch.formats` writes it.
+:mod:`~kincalc.cli.batch.formats` writes it (the joint values of ik answers by
+:mod:`~kincalc.cli.batch.numtext`, many numbers at once).
 """
 
 from .runner import run, run_command

@@ -4,7 +4,9 @@ worker process)."""
 
 from __future__ import annotations
 
-from .formats import csv_rows, ik_json, rounded, solutions_json, strict_json
+from typing import NamedTuple
+
+from .formats import csv_rows, ik_lines, rounded, strict_json
 from .records import parse_records
 
 #: pose forms solved in one vectorised step (others go through build_target per record)
@@ -19,21 +21,23 @@ def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> t
     worker process. Numbers that come out NaN or infinite make their record an error
     (each chunk function checks its results), so floating-point warnings are not shown.
     ``locks`` (ik): joints held for every record, ``{index: value}`` (SI)."""
-    from functools import partial
-
     import numpy as np
     start, lines = item
     parsed = parse_records(header, robot, start, lines)
-    if kind != "ik":
-        parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
-                  if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
-    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk,
-             "ik": partial(_ik_chunk, fmt=fmt, locks=locks or {})}[kind]
+    if kind == "ik":
+        with np.errstate(all="ignore"):
+            answers, errors, no = _ik_chunk(robot, units, parsed, locks or {})
+        if fmt == "jsonl":
+            return _ik_text(start, len(parsed), answers, errors), bool(errors), no
+        return csv_rows(kind, robot, _merge(_ik_records(answers), errors)), bool(errors), no
+    parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
+              if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
+    solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}[kind]
     with np.errstate(all="ignore"):
         records, no = solve(robot, units, parsed, frame)
     bad = any("error" in r for r in records)
     if fmt == "jsonl":
-        dump = ik_json if kind == "ik" else strict_json().encode
+        dump = strict_json().encode
         text = "".join(dump(r) + "\n" for r in records)
     else:
         text = csv_rows(kind, robot, records)
@@ -159,7 +163,7 @@ def _poses(robot, units, parsed):
             else:
                 if target.orientation and target.tcv is None and target.approach is None:
                     full.append((i, kw))
-                    Ts.append(target.T)
+                    Ts.append(np.asarray(target.T, float).reshape(1, 4, 4))
                 else:
                     partial.append((i, kw, target))
                 continue
@@ -190,11 +194,14 @@ def _poses(robot, units, parsed):
                 except KincalcError as exc:
                     msg = str(exc)
                 errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {msg}"}))
-            items = [it for it, b in zip(items, bad) if not b]
-            T = targets.T[~bad]
+            if bad.any():
+                items = [it for it, b in zip(items, bad) if not b]
+                T = targets.T[~bad]
+            else:
+                T = targets.T
         full += items
-        Ts.extend(T)
-    T = np.array(Ts, float).reshape(-1, 4, 4)
+        Ts.append(np.asarray(T, float).reshape(-1, 4, 4))
+    T = np.concatenate(Ts) if Ts else np.zeros((0, 4, 4))
     return full, T, partial, errors
 
 
@@ -222,34 +229,93 @@ def _pose_matrix(flat):
     return np.full((4, 4), np.nan)
 
 
-def _ik_chunk(robot, units, parsed, frame, fmt="jsonl", locks=None):
-    """IK records of one chunk, grouped by the joints they hold (``locks``, SI, for every
-    record, and each record's own ``lock``, which adds to them and wins for a joint both
-    name): each group solved on the chain its locks leave, in one batch."""
+def _ik_chunk(robot, units, parsed, locks=None):
+    """``(answers, error records, any pose without a solution)`` of the IK records of one
+    chunk, grouped by the joints they hold (``locks``, SI, for every record, and each
+    record's own ``lock``, which adds to them and wins for a joint both name): each group
+    solved on the chain its locks leave, in one batch."""
     from ...errors import KincalcError
     groups, errors = {}, []
+    common = tuple(sorted((locks or {}).items()))
     for i, kw, err in parsed:
-        held = dict(locks or {})
+        held = common
         if err is None and "lock" in kw:
             try:
-                held.update(_record_locks(robot, units, kw["lock"]))
+                held = tuple(sorted({**dict(common),
+                                     **_record_locks(robot, units, kw["lock"])}.items()))
             except KincalcError as exc:
                 errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {exc}"}))
                 continue
             kw = {k: v for k, v in kw.items() if k != "lock"}
-        groups.setdefault(tuple(sorted(held.items())), []).append((i, kw, err))
-    recs, no = [], False
+        groups.setdefault(held, []).append((i, kw, err))
+    blocks, no = [], False
     for held, items in groups.items():
         try:
-            r, e, n = _ik_group(robot, units, items, fmt, dict(held))
+            b, e, n = _ik_group(robot, units, items, dict(held))
         except KincalcError as exc:        # locks this arm cannot take: every record says so
-            r, n = [], False
+            b, n = [], False
             e = [(i, {**_head(i, kw), "error": err or f"record {i + 1}: {_words(exc)}"})
                  for i, kw, err in items]
-        recs += r
+        blocks += b
         errors += e
         no |= n
-    return _merge(recs, errors), no
+    return Answers.joined(blocks, robot.dof), errors, no
+
+
+class Answers(NamedTuple):
+    """The solved IK records of a chunk: ``heads [(index, keywords)]`` the records;
+    ``q (s, n)`` the joint values of all their solutions, in display units rounded to 12
+    decimals (-0.0 as 0.0); ``labels (s,)`` the branch words; ``within (s,)`` bool, within
+    the limits; ``owner (s,)`` the record (position in ``heads``) of each solution,
+    ascending."""
+
+    heads: list
+    q: object
+    labels: list
+    within: object
+    owner: object
+
+    @staticmethod
+    def joined(blocks, n: int) -> "Answers":
+        """One Answers of ``blocks`` in their order (``n`` joints)."""
+        import numpy as np
+        if len(blocks) == 1:
+            return blocks[0]
+        offsets = np.cumsum([0] + [len(b.heads) for b in blocks])
+        return Answers([h for b in blocks for h in b.heads],
+                       np.concatenate([b.q for b in blocks] + [np.zeros((0, n))]),
+                       [lab for b in blocks for lab in b.labels],
+                       np.concatenate([b.within for b in blocks] + [np.zeros(0, bool)]),
+                       np.concatenate([b.owner + o for b, o in zip(blocks, offsets)]
+                                      + [np.zeros(0, np.intp)]))
+
+
+def _ik_text(start: int, count: int, answers: Answers, errors) -> str:
+    """The JSON lines of a chunk of ``count`` records from record ``start``: the answers'
+    lines and the error records, in the input's order."""
+    out = [None] * count
+    lines = ik_lines([_head(i, kw) for i, kw in answers.heads], answers.q, answers.labels,
+                     answers.within, answers.owner)
+    for (i, _), line in zip(answers.heads, lines):
+        out[i - start] = line
+    encode = strict_json().encode
+    for i, rec in errors:
+        out[i - start] = encode(rec)
+    return "\n".join(out) + "\n" if out else ""
+
+
+def _ik_records(answers: Answers) -> list:
+    """The answers as output records (dicts, for the CSV rows)."""
+    import numpy as np
+    q, within = answers.q.tolist(), answers.within.tolist()
+    ends = np.searchsorted(answers.owner, np.arange(1, len(answers.heads) + 1)).tolist()
+    recs, start = [], 0
+    for (i, kw), end in zip(answers.heads, ends):
+        sols = [{"q": q[j], "branch": answers.labels[j], "within_limits": within[j]}
+                for j in range(start, end)]
+        recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
+        start = end
+    return recs
 
 
 def _record_locks(robot, units, pairs) -> dict:
@@ -269,9 +335,10 @@ def _record_locks(robot, units, pairs) -> dict:
     return out
 
 
-def _ik_group(robot, units, parsed, fmt, held):
-    """``(records, errors, any pose without a solution)`` of IK records that hold the
-    joints ``held`` (SI; none: the robot itself)."""
+def _ik_group(robot, units, parsed, held):
+    """``(answer blocks, errors, any pose without a solution)`` of IK records that hold the
+    joints ``held`` (SI; none: the robot itself): the poses ik_batch solves in one block,
+    the others (partial poses, a robot without a batched solver) pose by pose in another."""
     import numpy as np
 
     from ...errors import KincalcError
@@ -286,7 +353,7 @@ def _ik_group(robot, units, parsed, fmt, held):
         chain = locked_robot(robot, held)
         check_lock(robot, chain, held)
     qdisp = np.where(robot.is_revolute, units.a, units.l)
-    recs, no = [], False
+    blocks, no = [], False
     try:
         B = chain.ik_batch(T) if len(T) else None
     except UnsupportedRobot:
@@ -299,31 +366,28 @@ def _ik_group(robot, units, parsed, fmt, held):
             q = with_held(robot, q, held)
             within = within & held_within(robot, q, held)
         owner, _ = np.nonzero(valid)
-        labels = B.labels[valid].tolist()
-        counts = valid.sum(axis=1)
-        # each pose's solutions: written as JSON in bulk, or as dicts for the CSV rows
-        if fmt == "jsonl":
-            sols_of = solutions_json(np.round(q * qdisp, 12) + 0.0, labels, within, owner,
-                                      len(full))
-        else:
-            sols_of = [[] for _ in full]
-            for o, ql, lab, w in zip(owner.tolist(), rounded(q * qdisp), labels, within.tolist()):
-                sols_of[o].append({"q": ql, "branch": lab, "within_limits": w})
-        for ((i, kw), c, sols) in zip(full, counts.tolist(), sols_of):
-            no |= not c
-            recs.append({**_head(i, kw), "reachable": bool(c), "solutions": sols})
+        no = not valid.any(axis=1).all()
+        blocks.append(Answers(full, np.round(q * qdisp, 12) + 0.0, B.labels[valid].tolist(),
+                              within, owner))
+    heads, q, labels, within, owner = [], [], [], [], []
     for i, kw, target in partial:
         try:
             result = solve_locked(robot, target, held) if held else solve(robot, target)
         except KincalcError as exc:        # a question this robot cannot take: its record
             errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"}))
             continue
-        sols = [{"q": rounded(np.asarray(s.q) * qdisp), "branch": s.branch,
-                 "within_limits": not s.violations} for s in result.solutions
-                if np.isfinite(s.q).all()]
+        sols = [s for s in result.solutions if np.isfinite(s.q).all()]
         no |= not sols
-        recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
-    return recs, errors, no
+        owner += [len(heads)] * len(sols)
+        heads.append((i, kw))
+        q += [s.q for s in sols]
+        labels += [s.branch for s in sols]
+        within += [not s.violations for s in sols]
+    if heads:
+        q = np.array(q, float).reshape(-1, robot.dof) * qdisp
+        blocks.append(Answers(heads, np.round(q, 12) + 0.0, labels, np.array(within, bool),
+                              np.array(owner, np.intp)))
+    return blocks, errors, no
 
 
 def _reach_chunk(robot, units, parsed, frame):
