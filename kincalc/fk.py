@@ -151,7 +151,8 @@ def forward_kinematics(chain, q) -> np.ndarray:
     q, flat = joint_batch(chain, q)
     N = flat.shape[0]
     if N <= FEW:
-        return prefixes_few(chain, flat)[:, -1].reshape(q.shape[:-1] + (4, 4))
+        P = _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
+        return P[-1].reshape(q.shape[:-1] + (4, 4))
     out = np.zeros((N, 4, 4))
     out[:, 3, 3] = 1.0
     for start in range(0, N, CHUNK):
@@ -176,10 +177,10 @@ def _coefficients(chain, flat) -> np.ndarray:
 
 
 def _motions(chain, coef) -> np.ndarray:
-    """The joint motions ``J_i`` of ``coef (4, N, n)`` (:func:`_coefficients`), shape
-    ``(N, n, 4, 4)``: one product with :attr:`~kincalc.chain.Chain.motion_basis`."""
+    """The joint motions ``J_i`` of ``coef (4, N, n)`` (:func:`_coefficients`), joint-major:
+    ``(n, N, 4, 4)``, one product with :attr:`~kincalc.chain.Chain.motion_basis`."""
     _, N, n = coef.shape
-    return (coef.transpose(1, 2, 0)[..., None, :] @ chain.motion_basis).reshape(N, n, 4, 4)
+    return (coef.T[:, :, None, :] @ chain.motion_basis[:, None]).reshape(n, N, 4, 4)
 
 
 def prefixes_few(chain, flat):
@@ -201,17 +202,19 @@ def prefixes_few(chain, flat):
         ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
         axis, its origin on that axis) and ``P_n`` the tool pose ``T_world_tool``.
     """
-    return _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
+    P = _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
+    return np.ascontiguousarray(P.transpose(1, 0, 2, 3))
 
 
 def _prefixes(chain, motions):
-    """:func:`prefixes_few` from the joint motions ``(N, n, 4, 4)`` of :func:`_motions`."""
-    N, n = motions.shape[:2]
-    links = motions @ chain.fixed[1:]
-    P = np.empty((N, n + 1, 4, 4))
-    P[:, 0] = chain.fixed[0]
+    """The prefixes of :func:`prefixes_few`, joint-major ``(n + 1, N, 4, 4)``, from the joint
+    motions ``(n, N, 4, 4)`` of :func:`_motions` (each product on contiguous stacks)."""
+    n, N = motions.shape[:2]
+    links = motions @ chain.fixed[1:, None]
+    P = np.empty((n + 1, N, 4, 4))
+    P[0] = chain.fixed[0]
     for i in range(n):
-        np.matmul(P[:, i], links[:, i], out=P[:, i + 1])
+        np.matmul(P[i], links[i], out=P[i + 1])
     return P
 
 
@@ -248,7 +251,7 @@ def tool_from_cs(chain, c, s, x):
         coef[1] = (s * co[:, None] + c * so[:, None]).T
         coef[2] = x.T + chain.offset
         coef[3] = 1.0
-        T = _prefixes(chain, _motions(chain, coef))[:, -1]
+        T = _prefixes(chain, _motions(chain, coef))[-1]
         return [T[:, :3, j].T for j in range(3)], T[:, :3, 3].T
     F = chain.fixed
     cols, p = _start(F[0], M)
@@ -371,8 +374,8 @@ def frames_and_tool(chain, q):
     if N <= FEW:
         motions = _motions(chain, _coefficients(chain, flat))
         P = _prefixes(chain, motions)
-        frames = P[:, :-1] @ motions
-        return frames.reshape(lead + (n, 4, 4)), P[:, -1].reshape(lead + (4, 4))
+        frames = np.ascontiguousarray((P[:-1] @ motions).transpose(1, 0, 2, 3))
+        return frames.reshape(lead + (n, 4, 4)), P[-1].reshape(lead + (4, 4))
     out = np.zeros((N, n, 4, 4))
     out[..., 3, 3] = 1.0
     F = chain.fixed
@@ -390,3 +393,66 @@ def frames_and_tool(chain, q):
         tool[:, :3, j] = cols[j].T
     tool[:, :3, 3] = p.T
     return out.reshape(lead + (n, 4, 4)), tool.reshape(lead + (4, 4))
+
+
+def entry_frames(chain, q, *, coefficients: bool = False):
+    """The joint frames and the tool pose, entry by entry: each entry of every frame of every
+    configuration in one array, so that a vector of the frames (an axis, an origin) is a
+    ``(3, M)`` block and the same vector of all frames a ``(3, n + 1, M)`` one.
+
+    The frames of :func:`frames_and_tool` (the same numbers): stacked 4x4 products for up to
+    :data:`FEW` configurations, the column walk beyond.
+
+    Parameters
+    ----------
+    chain : Chain
+        From ``robot.chain``.
+    q : array_like (M, n)
+        Joint values, rad / m.
+    coefficients : bool
+        Also return each joint's ``cos x, sin x, x`` with ``x = q_i + c_i`` (its offset
+        added), ``(3, M, n)``.
+
+    Returns
+    -------
+    ndarray (3, 4, n + 1, M)
+        ``A[r, c, i, m]``: row r, column c of frame i of configuration m (world frame, m): the
+        frames of :func:`chain_frames` for ``i < n`` (column 2 joint i's axis, column 3 a
+        point on it), the tool pose ``T_world_tool`` for ``i = n``. The bottom rows (0 0 0 1)
+        are left out. With ``coefficients``, ``(A, coefficients)``.
+
+    Raises
+    ------
+    ValueError
+        ``q`` is not of shape ``(M, n)``.
+    """
+    q, flat = joint_batch(chain, q)
+    if q.ndim != 2:
+        raise ValueError(f"expected joint values of shape (M, {chain.dof}), got {q.shape}")
+    N, n = flat.shape
+    out = np.empty((3, 4, n + 1, N))
+    if N <= FEW:
+        coef = _coefficients(chain, flat)
+        motions = _motions(chain, coef)
+        P = _prefixes(chain, motions)
+        out[:, :, :n] = (P[:-1] @ motions)[:, :, :3].transpose(2, 3, 0, 1)
+        out[:, :, n] = P[-1, :, :3].transpose(1, 2, 0)
+        return (out, coef[:3]) if coefficients else out
+    if coefficients:
+        qq = flat + chain.offset
+        return entry_frames(chain, flat), np.stack((np.cos(qq), np.sin(qq), qq))
+    F = chain.fixed
+    for start in range(0, N, CHUNK):
+        sl = slice(start, min(start + CHUNK, N))
+        qq = flat[sl] + chain.offset
+        cols, p = _start(F[0], len(qq))
+        for i in range(n + 1):
+            if i < n:
+                cols, p = _move(chain, i, cols, p, qq[:, i])
+            for j in range(3):
+                out[:, j, i, sl] = cols[j]
+            out[:, 3, i, sl] = p
+            if i < n:
+                cols, p = _apply_fixed(cols, p, F[i + 1])
+    return out
+

@@ -19,6 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from .fk import CHUNK, FEW, joint_batch, walk, prefixes_few
+from .spatial import LEVI_CIVITA
+from .tolerances import SINGULAR_TOL
 
 
 def jacobian_and_pose(chain, q):
@@ -299,7 +301,6 @@ def scaled_ranks(J, revolute, length: float):
     rank, position_rank : ndarray of int (...,)
         The rank of ``J`` and of its rows ``vx vy vz``; zeros when ``J`` is empty.
     """
-    from .tolerances import SINGULAR_TOL
     J = np.array(J, dtype=float)
     if J.size == 0:
         z = np.zeros(J.shape[:-2], int)
@@ -311,3 +312,65 @@ def scaled_ranks(J, revolute, length: float):
         s = np.linalg.svd(M, compute_uv=False)
         return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
     return rank(J), rank(J[..., :3, :])
+
+
+def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
+    """Is the Jacobian's rank below the generic rank (a singular configuration) at each of
+    ``m`` configurations given by their frames?
+
+    The rank test of :func:`scaled_ranks` (same tolerance), with the SVD taken only where the
+    determinant does not prove the full rank of a 6-joint arm (``s_min >= |det| /
+    |J|_F^5``).
+
+    Parameters
+    ----------
+    frames : ndarray (3, 4, n + 1, m)
+        The joint frames and the tool pose entry by entry (:func:`kincalc.fk.entry_frames`,
+        world frame, m).
+    revolute : ndarray (n,) of bool
+        True for revolute joints.
+    length : float
+        The length scale (m, ``robot.characteristic_length``).
+    ranks : tuple of int
+        ``(rank, position rank)`` of the Jacobian at a generic configuration
+        (``robot.generic_ranks``).
+
+    Returns
+    -------
+    ndarray (m,) of bool
+        Either rank below the generic one (the linear rows against the position rank).
+    """
+    n, m = frames.shape[2] - 1, frames.shape[3]
+    z = frames[:, 2, :n]
+    d = frames[:, 3, n:] - frames[:, 3, :n]                   # (3, n, m): origin to tool
+    # the transposed Jacobian (6, n, m) joint by joint, rows (z x d / L, z) of a revolute
+    # joint and (z L, 0) of a prismatic one: it has the same singular values
+    J = np.empty((6, n, m))
+    np.matmul(LEVI_CIVITA, (z[:, None] * d).reshape(9, -1), out=J[:3].reshape(3, -1))
+    J[:3] *= 1.0 / length
+    J[3:] = z
+    if not np.logical_and.reduce(revolute):
+        rev = revolute[:, None]
+        J[:3] = np.where(rev, J[:3], z * length)
+        J[3:] = np.where(rev, z, 0.0)
+    J = J.transpose(2, 1, 0)                                  # (m, n, 6)
+    full, full_pos = ranks
+
+    def rank(M):
+        sv = np.linalg.svd(M, compute_uv=False)
+        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
+    out = np.zeros(m, bool)
+    todo = slice(None)
+    if n == 6 == full and full_pos == 3:
+        fro = np.sqrt(np.add.reduce(J * J, axis=(1, 2)))
+        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) * fro ** 5
+        if not np.count_nonzero(todo):
+            return out
+    M = J[todo]
+    rJ = rank(M)
+    sub = rJ < full
+    rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
+    if np.count_nonzero(rest):
+        sub[rest] |= rank(M[rest, :, :3]) < full_pos
+    out[todo] = sub
+    return out

@@ -27,14 +27,16 @@ import numpy as np
 
 from ..errors import TargetMismatch, UnsupportedRobot
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE,
-                          LIMIT_TOL, SINGULAR_TOL)
+                          LIMIT_TOL)
 from .branches import Branches
 from .cache import per_robot
-from .families import TARGET_FAMILIES, TCV, Family, plan  # noqa: F401 (TCV: the API)
+from ..fk import FEW, entry_frames, tool_from_cs
+from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa: F401 (TCV: the API)
+                       plan)
+from ..jacobian import rank_deficient
 from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
-from ..subproblems.solutions import cross
 from .target import Targets
 
 
@@ -54,7 +56,7 @@ class Solved:
 
     :attr:`labels` (branch labels of the candidates) and :attr:`singular` (the singular flag of the
     valid solutions) are computed when first asked for: a batch that only needs the joint values
-    does not pay for them.
+    does not pay for them; a single pose's come from the frames its check evaluated (``memo``).
     """
 
     family: str
@@ -80,37 +82,25 @@ class Solved:
         return self.valid.sum(axis=1)
 
     def _frames(self, mask):
-        """Joint frames and tool poses of the slots ``mask (N, K)`` (within the candidates).
-
-        A few candidates (a single pose) are evaluated once, all together, for both the labels and
-        the singular flags; a large batch evaluates what each asks for."""
-        from ..fk import FEW, frames_and_tool
-        count = int(np.count_nonzero(self.candidate))
-        if 0 < count <= FEW:
-            if "frames" not in self.memo:
-                self.memo["frames"] = frames_and_tool(self.robot.chain, self.q[self.candidate])
-            F, tool = self.memo["frames"]
-            pick = mask[self.candidate]
-            return F[pick], tool[pick]
-        Q = self.q[mask]
-        if not len(Q):
-            n = self.q.shape[-1]
-            return np.zeros((0, n, 4, 4)), np.zeros((0, 4, 4))
-        return frames_and_tool(self.robot.chain, Q)
+        """The slots ``mask (N, K)`` (candidates), :data:`FLAGS` at a time: ``(rows, frames)``,
+        their flat indices into the ``N K`` slots and their frames entry by entry ``(3, 4, n +
+        1, m)`` (:func:`kincalc.fk.entry_frames`, world frame, m): those the check evaluated
+        for a few candidates (a single pose), else evaluated now, a block at a time."""
+        A, rows = self.memo.get("frames"), mask.reshape(-1).nonzero()[0]
+        for start in range(0, len(rows), FLAGS):
+            r = rows[start:start + FLAGS]
+            yield r, (entry_frames(self.robot.chain, self.q.reshape(mask.size, -1)[r])
+                      if A is None else A if len(r) == mask.size else A[..., r])
 
     @property
     def labels(self) -> np.ndarray:
         """``(N, K)`` object array: the branch label of every candidate slot."""
         if "labels" not in self.memo:
-            lab = np.empty(self.candidate.shape, object)
-            idx = np.nonzero(self.candidate)
-            if len(idx[0]):
-                from ..fk import FEW, columns_of, frame_columns
-                cols = (columns_of(self._frames(self.candidate)[0]) if len(idx[0]) <= FEW
-                        else frame_columns(self.robot.chain, self.q[self.candidate]))
-                lab[idx] = labels(self.robot, self.spec.name, cols, self.signs, idx[1],
-                                  self.free[idx])
-            self.memo["labels"] = lab
+            N, K = self.candidate.shape
+            lab, free = np.empty(N * K, object), self.free.reshape(N * K, -1)
+            for rows, A in self._frames(self.candidate):
+                lab[rows] = labels(self.robot, self.spec.name, A, self.signs, rows % K, free[rows])
+            self.memo["labels"] = lab.reshape(N, K)
         return self.memo["labels"]
 
     @property
@@ -118,13 +108,17 @@ class Solved:
         """``(N, K)`` bool: valid solutions at a singular configuration (the rank test of
         :func:`singular`, or a joint the target leaves free)."""
         if "singular" not in self.memo:
-            sing = np.zeros(self.valid.shape, bool)
-            if self.valid.any():
-                F, tool = self._frames(self.valid)
-                sing[self.valid] = singular(self.robot, self.q[self.valid], F, tool)
-            self.memo["singular"] = sing | (self.valid & self.free.any(-1))
+            r, sing = self.robot, self.valid & np.logical_or.reduce(self.free, axis=-1)
+            flat = sing.reshape(-1)
+            for rows, A in self._frames(self.valid):
+                flat[rows] |= rank_deficient(A, r.is_revolute, r.characteristic_length,
+                                             r.generic_ranks)
+            self.memo["singular"] = sing
         return self.memo["singular"]
 
+
+#: slots whose labels and singular flags are evaluated together (their frames stay in cache)
+FLAGS = 2048
 
 #: targets solved together (memory: a few kB per target and slot)
 CHUNK = 2048
@@ -244,7 +238,6 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
         An approach target for a family not in ``APPROACH_FAMILIES``, or a position target
         for one that needs the orientation.
     """
-    from .families import APPROACH_FAMILIES
     five = family.name in APPROACH_FAMILIES
     if targets.kind in TARGET_FAMILIES:
         return
@@ -256,61 +249,59 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
 
 def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
     """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
-    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`)."""
-    from ..fk import tool_from_cs
+    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`).
+
+    A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
+    normalised joint values, kept for the labels and the singular test; many by the column walk
+    from the solver's cosines and sines."""
     c, s, x = joints
     N, K = candidate.shape
     n = robot.dof
-    L = max(robot.characteristic_length, 1e-12)
-    cols, p = tool_from_cs(robot.chain, c, s, x)
-    T = targets.T
-    pe = _distance(p, np.repeat(T[:, :3, 3], K, axis=0).T)
-    oe = _orientation_error(targets, cols, K)
-    o_tol = ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION
-    reach = pe <= ACCEPT_POSITION * L
-    if oe is not None:
-        reach &= oe <= o_tol
-    with np.errstate(invalid="ignore"):            # dead slots may hold anything
-        valid = candidate & reach.reshape(N, K)
     q = normalise(robot, np.where(candidate[..., None], x.T.reshape(N, K, n), 0.0))
-    valid &= ~duplicates(robot, q, valid, (c, s))
+    memo = {}
+    if N * K <= FEW:
+        A, f = entry_frames(robot.chain, q.reshape(-1, n), coefficients=True)
+        tool, f, memo["frames"] = A[:, :, n], f.transpose(0, 2, 1), A
+    else:
+        cols, p = tool_from_cs(robot.chain, c, s, x)
+        tool, f = np.stack(cols + [p], 1), (c, s, x)
+    pe, oe = _errors(targets, tool.reshape(3, 4, N, K))
+    reach = pe <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)
+    if oe is not None:
+        reach &= oe <= (ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION)
+    valid = candidate & reach
+    valid &= ~duplicates(robot, q, valid, f)
     viol = violations(robot, q)
     return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
                   candidate=candidate, valid=valid,
-                  position_error=np.where(candidate, pe.reshape(N, K), 0.0),
+                  position_error=np.where(candidate, pe, 0.0),
                   orientation_error=np.full((N, K), np.nan) if oe is None else
-                  np.where(candidate, oe.reshape(N, K), np.nan),
-                  violation=viol, within=~(viol != 0).any(-1), free=br.free_mask(),
-                  signs=br.signs, continuum=br.extra.get("continuum"), branches=br)
+                  np.where(candidate, oe, np.nan),
+                  violation=viol, within=np.logical_and.reduce(viol == 0.0, axis=-1),
+                  free=br.free_mask(), signs=br.signs, continuum=br.extra.get("continuum"),
+                  branches=br, memo=memo)
 
 
-def _distance(a, b):
-    """``|a - b|`` of structure-of-arrays points ``(3, M)``."""
-    d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
-    return np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-
-
-def _orientation_error(targets: Targets, cols, K):
-    """Angle (rad) between each slot's orientation (rotation columns ``cols``, three ``(3, M)``)
-    and its target's, for the components the target gives: the whole rotation (from
-    ``|R_a - R_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate for small angles), or the approach
-    (tool z)."""
-    if targets.kind == "position":
-        return None
-    if targets.kind in ("approach", "tcv"):
-        a = np.repeat(targets.approach, K, axis=0).T
-        z = cols[2]
-        c = z[0] * a[0] + z[1] * a[1] + z[2] * a[2]
-        x = z[1] * a[2] - z[2] * a[1]
-        y = z[2] * a[0] - z[0] * a[2]
-        w = z[0] * a[1] - z[1] * a[0]
-        return np.arctan2(np.sqrt(x * x + y * y + w * w), c)
-    R = targets.T[:, :3, :3]
-    f2 = 0.0
-    for j in range(3):
-        d = cols[j] - np.repeat(R[:, :, j], K, axis=0).T
-        f2 = f2 + d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-    return 2.0 * np.arcsin(np.minimum(np.sqrt(f2) / (2.0 * np.sqrt(2.0)), 1.0))
+def _errors(targets: Targets, tool) -> tuple:
+    """Position error (m) and orientation error (rad) of each slot's tool pose ``tool (3, 4, N,
+    K)`` (its top rows entry by entry, world frame) against its target, each ``(N, K)``; the
+    orientation error None for a position target. The angle is that between the orientations
+    for the components the target gives: the whole rotation (from ``|R_a - R_b|_F = 2 sqrt(2)
+    sin(angle / 2)``, accurate for small angles), or the approach (tool z)."""
+    T = targets.T[:, :3].transpose(1, 2, 0)[..., None]      # (3, 4, N, 1)
+    if targets.kind in ("approach", "tcv", "position"):
+        d = tool[:, 3] - T[:, 3]
+        pe = np.sqrt(np.add.reduce(d * d, 0))
+        if targets.kind == "position":
+            return pe, None
+        z, a = tool[:, 2], targets.approach.T[..., None]
+        w = np.array([z[1] * a[2] - z[2] * a[1], z[2] * a[0] - z[0] * a[2],
+                      z[0] * a[1] - z[1] * a[0]])
+        return pe, np.arctan2(np.sqrt(np.add.reduce(w * w, 0)), np.add.reduce(z * a, 0))
+    d = tool - T
+    d = d * d
+    chord = np.sqrt(np.add.reduce(d[:, :3], axis=(0, 1))) / (2.0 * 2.0 ** 0.5)
+    return np.sqrt(np.add.reduce(d[:, 3], 0)), 2.0 * np.arcsin(np.minimum(chord, 1.0))
 
 
 def normalise(robot, Q) -> np.ndarray:
@@ -328,24 +319,64 @@ def normalise(robot, Q) -> np.ndarray:
     -------
     ndarray (..., n), a new array
     """
-    Q = np.array(Q, float)
-    rev = robot.is_revolute
-    if Q.size == 0 or not rev.any():
-        return Q
-    turn, tol = 2 * np.pi, LIMIT_TOL
-    lo, hi = robot.limits[rev].T
-    x = wrap(Q[..., rev])
-    inside = ((lo - tol <= -np.pi) & (hi + tol >= np.pi)) | ((x >= lo - tol) & (x <= hi + tol))
-    if not inside.all():
-        with np.errstate(invalid="ignore"):          # an infinite limit: x is inside
-            up = x + turn * np.ceil((lo - tol - x) / turn)     # the first turn above lo
-        up = np.where(np.isfinite(up), up, x)
-        below = up - turn
-        pick = np.where(up <= hi + tol, up,
-                        np.where(_miss(below, lo, hi) <= _miss(up, lo, hi), below, up))
+    Q = np.asarray(Q, float)
+    rev, every = _revolute(robot)
+    if Q.size == 0 or rev is None:
+        return Q.copy()
+    x = wrap(Q if every else Q[..., rev])
+    lo, hi, lo_t, hi_t, lo_in, hi_in, turn, finite = _limits(robot, x.shape, every)
+    inside = (x >= lo_in) & (x <= hi_in)       # lo_in, hi_in: -inf, inf where every angle is
+    if np.count_nonzero(inside) < inside.size:
+        up = x + turn * np.ceil((lo_t - x) / turn)             # the first turn above lo
+        if not finite:                                          # an infinite limit: x is inside
+            up = np.where(np.isfinite(up), up, x)
+        below = up - turn                       # below lo; up, if beyond hi, the nearer?
+        pick = np.where(up <= hi_t, up, np.where(lo - below <= up - hi, below, up))
         x = np.where(inside, x, pick)
+    if every:
+        return x
+    Q = Q.copy()
     Q[..., rev] = x
     return Q
+
+
+@per_robot
+def _revolute(robot) -> tuple:
+    """``(index of the revolute joints or None when there is none, all joints revolute)``.
+    Cached per robot."""
+    rev = robot.is_revolute
+    return (np.flatnonzero(rev) if rev.any() else None), bool(rev.all())
+
+
+#: values up to this many are given limits of their own shape (:func:`_limits`): numpy
+#: broadcasts an ``(n,)`` array against them at twice the cost of an operand of their shape
+TILED = 512
+
+
+@per_robot
+def _limits(robot, shape: tuple, every: bool) -> tuple:
+    """The limits :func:`normalise` and :func:`violations` compare with, cached per robot and
+    shape (for values of up to :data:`TILED` entries; ``(n,)`` arrays beyond).
+
+    ``every``: of all joints (``shape (..., n)``), else of the revolute ones. Returns ``(lo, hi,
+    lo - tol, hi + tol, lo_in, hi_in, turn, lower limits finite)``: ``tol`` is ``LIMIT_TOL`` (rad,
+    or times the arm's size for prismatic joints), ``lo_in, hi_in`` the widened limits with
+    -inf, inf for a revolute joint whose limits hold every angle, ``turn`` 2 pi (rad)."""
+    n = len(robot.is_revolute)
+    if len(shape) and int(np.prod(shape)) > TILED:
+        return _limits(robot, (shape[-1],), every)
+    rev = robot.is_revolute if not every else np.ones(n, bool)
+    lo, hi = robot.limits[rev].T
+    tol = np.where(robot.is_revolute[rev], LIMIT_TOL,
+                   LIMIT_TOL * max(robot.characteristic_length, 1e-12))
+    lo_t, hi_t = lo - tol, hi + tol
+    whole = robot.is_revolute[rev] & (lo_t <= -np.pi) & (hi_t >= np.pi)
+    out = [np.ascontiguousarray(np.broadcast_to(a, shape)) for a in (
+        lo, hi, lo_t, hi_t, np.where(whole, -np.inf, lo_t), np.where(whole, np.inf, hi_t),
+        np.full(len(lo), 2 * np.pi))]
+    for a in out:
+        a.setflags(write=False)
+    return (*out, bool(np.isfinite(lo).all()))
 
 
 def within_limits(robot, Q) -> np.ndarray:
@@ -363,10 +394,6 @@ def within_limits(robot, Q) -> np.ndarray:
     return ~(violations(robot, normalise(robot, Q)) != 0).any(-1)
 
 
-def _miss(x, lo, hi):
-    return np.maximum(np.maximum(lo - x, x - hi), 0.0)
-
-
 def violations(robot, q) -> np.ndarray:
     """How far each joint of ``q`` is beyond its limits, beyond ``LIMIT_TOL``.
 
@@ -379,23 +406,12 @@ def violations(robot, q) -> np.ndarray:
     -------
     ndarray (..., n), ``q - lower`` below the lower limit, ``q - upper`` above the upper, else 0
     """
-    lo, hi, lo_band, hi_band = _limit_bands(robot)
-    below = np.where(q < lo_band, q - lo, 0.0)
-    above = np.where(q > hi_band, q - hi, 0.0)
-    return below + above
+    q = np.asarray(q, float)
+    lo, hi, lo_band, hi_band = _limits(robot, q.shape, True)[:4]
+    return np.where(q < lo_band, q - lo, np.where(q > hi_band, q - hi, 0.0))
 
 
-@per_robot
-def _limit_bands(robot) -> tuple:
-    """``(lo, hi, lo - tol, hi + tol)``, each ``(n,)``: the limits and the limits widened by
-    ``LIMIT_TOL`` (rad, or times the arm's size for prismatic joints). Cached per robot."""
-    lo, hi = robot.limits[:, 0], robot.limits[:, 1]
-    tol = np.where(robot.is_revolute, LIMIT_TOL, LIMIT_TOL * max(robot.characteristic_length,
-                                                                 1e-12))
-    return lo, hi, lo - tol, hi + tol
-
-
-def duplicates(robot, q, valid, cs=None) -> np.ndarray:
+def duplicates(robot, q, valid, f=None) -> np.ndarray:
     """Valid slots whose every joint is within ``DUPLICATE`` (wrapped) of an earlier kept one.
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
@@ -408,7 +424,8 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     robot : Robot
     q : ndarray (N, K, n), joint values (rad / m)
     valid : ndarray (N, K) of bool
-    cs : tuple of ndarray (n, N K), optional: the joints' cosines and sines, joint-major
+    f : three ndarray (n, N K), optional: the joints' cosines, sines and values, joint-major
+        (of ``q`` plus any constant per joint, such as the chain's offsets)
 
     Returns
     -------
@@ -416,27 +433,27 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
     """
     N, K, n = q.shape
     drop = np.zeros((N, K), bool)
-    if K < 2 or not valid.any():
+    if K < 2 or np.count_nonzero(valid) < 2:
         return drop
-    rev = robot.is_revolute
-    x = q.reshape(-1, n).T
-    c, s = (np.cos(x), np.sin(x)) if cs is None else cs
-    w_cos, w_sin, w_x, reach = _duplicate_key(robot)
-    key = (w_cos @ c + w_sin @ s + w_x @ x).reshape(N, K)
+    if f is None:
+        x = q.reshape(-1, n).T
+        f = np.cos(x), np.sin(x), x
+    w, reach = _duplicate_key(robot)
+    key = (w[0] @ f[0] + w[1] @ f[1] + w[2] @ f[2]).reshape(N, K)
     # poses with two valid keys within reach: neighbours once each pose's keys are sorted
-    with np.errstate(invalid="ignore"):
-        ordered = np.sort(np.where(valid, key, np.nan), axis=1)      # NaN (invalid) last
-        suspect = (np.diff(ordered, axis=1) <= reach).any(1)
-    if not suspect.any():
+    ordered = np.where(valid, key, np.nan)
+    ordered.sort(axis=1)                                             # NaN (invalid) last
+    suspect = ordered[:, 1:] - ordered[:, :-1] <= reach              # NaN: False
+    if not np.count_nonzero(suspect):
         return drop
-    poses = np.flatnonzero(suspect)
+    poses = np.flatnonzero(suspect.any(1))
     kv, ok = key[poses], valid[poses]
     near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
         & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
     pose, j, i = np.nonzero(near)
     pose = poses[pose]
     d = q[pose, j] - q[pose, i]                                    # (pairs, n)
-    d[:, rev] = wrap(d[:, rev])
+    d[:, robot.is_revolute] = wrap(d[:, robot.is_revolute])
     same = (np.abs(d) < DUPLICATE).all(-1)
     pose, j, i = pose[same], j[same], i[same]
     for slot in np.unique(j).tolist():          # ascending: a slot's verdict before later ones
@@ -448,12 +465,14 @@ def duplicates(robot, q, valid, cs=None) -> np.ndarray:
 
 @per_robot
 def _duplicate_key(robot) -> tuple:
-    """The weights of :func:`duplicates`' screening key (of the cosines, sines and values)
-    and how far apart the keys of two duplicates can be. Cached per robot."""
+    """The weights ``(3, n)`` of :func:`duplicates`' screening key (of the cosines, the
+    sines and the values) and how far apart the keys of two duplicates can be. Cached per
+    robot."""
     rev = robot.is_revolute
     w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
     reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
-    return np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0), np.where(rev, 0.0, w), reach
+    return np.array([np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0),
+                     np.where(rev, 0.0, w)]), reach
 
 
 def singular(robot, Q, F, tool) -> np.ndarray:
@@ -469,32 +488,11 @@ def singular(robot, Q, F, tool) -> np.ndarray:
     Returns
     -------
     ndarray (m,) of bool
-        Lengths in units of the arm's size; the linear rows tested against the position rank.
+        :func:`rank_deficient` of these frames.
     """
-    m, n = Q.shape
-    rev = robot.is_revolute[:, None]
-    L = robot.characteristic_length
-    z = F[:, :, :3, 2]
-    lin = cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L
-    # the transposed Jacobian (m, n, 6), joint by joint: it has the same singular values
-    J = np.empty((m, n, 6))
-    J[..., :3] = np.where(rev, lin, z * L)
-    J[..., 3:] = np.where(rev, z, 0.0)
-    full, full_pos = robot.generic_ranks
-
-    def rank(M):
-        sv = np.linalg.svd(M, compute_uv=False)
-        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
-    out, todo = np.zeros(m, bool), np.ones(m, bool)
-    if n == 6 == full and full_pos == 3:   # s_min >= |det| / |J|_F^5: full rank, no SVD
-        fro = np.sqrt((J * J).sum(axis=(1, 2)))
-        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) * fro ** 5
-    if todo.any():
-        M = J[todo]
-        rJ = rank(M)
-        sub = rJ < full
-        rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
-        if rest.any():
-            sub[rest] |= rank(M[rest, :, :3]) < full_pos
-        out[todo] = sub
-    return out
+    m, n = np.shape(Q)
+    A = np.empty((3, 4, n + 1, m))
+    A[:, :, :n] = np.asarray(F)[..., :3, :].transpose(2, 3, 1, 0)
+    A[:, :, n] = np.asarray(tool)[:, :3].transpose(1, 2, 0)
+    return rank_deficient(A, robot.is_revolute, robot.characteristic_length,
+                          robot.generic_ranks)

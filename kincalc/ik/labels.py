@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..spatial import LEVI_CIVITA
 from .cache import per_robot
 
 
@@ -79,16 +80,20 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
     The points of the rules (the wrist centre of a spherical wrist, where axes 5 and 6
     meet on a UR arm, the axis or tool point a planar arm reaches) are fixed in a link, so
     they are carried from their coordinates there (:func:`geometry`) instead of being
-    found anew for every solution.
+    found anew for every solution. The words of all solutions are taken together, in a
+    few array operations (:func:`rules`): the vectors of the rules and their differences
+    are one product with a matrix of 0 and +-1 (exact: each entry is a vector or the
+    difference of two), the cross products another (with the Levi-Civita symbol, of the
+    vectors' outer products), then the dot products.
 
     Parameters
     ----------
     robot : Robot
     family : str
         The family's name; only those of :data:`WORDED` have words.
-    frames : list of (tuple of 3 ndarray (3, k), ndarray (3, k))
-        Per joint, its rotation's columns and origin (world frame, m), as
-        :func:`kincalc.fk.frame_columns` gives them.
+    frames : ndarray (3, 4, n(+1), k)
+        Their joint frames entry by entry, as :func:`kincalc.fk.entry_frames` gives them
+        (world frame, m; a last frame, the tool, is not read).
 
     Returns
     -------
@@ -97,64 +102,133 @@ def branch_geometry(robot, family: str, frames) -> np.ndarray:
         ... for the first, second, ... word of :data:`WORDS` (rules: ``man kincalc-ik``,
         BRANCH LABELS).
     """
-    k = frames[0][1].shape[1] if frames else 0
-    codes = np.zeros((k, 3), np.int8)
+    k = frames.shape[-1]
+    codes = np.zeros((3, k), np.int8)
+    R = rules(robot, family)
+    if R is None or k == 0:
+        return codes.T
+    codes[R.words] = _words(R, robot.dof, frames)
+    return codes.T
+
+
+def _words(R, n: int, frames) -> np.ndarray:
+    """The codes ``(words, k)`` of :func:`branch_geometry` for the words of ``R``."""
+    k = frames.shape[-1]
+    # the vectors (m, 3, k): the frames' axes and origins, then the carried points
+    V = np.empty((R.selection.shape[1], 3, k))
+    V[:2 * n].reshape(2, n, 3, k)[...] = frames[:, 2:, :n].transpose(1, 2, 0, 3)
+    np.add.reduce(frames[:, :, R.point_frames] * R.point_local, axis=1,
+                  out=V[2 * n:].transpose(1, 0, 2))
+    Y = (R.selection @ V.reshape(len(V), -1)).reshape(-1, 3, k)  # operands, differences
+    c = R.crosses
+    X = LEVI_CIVITA @ (Y[:c, :, None] * Y[c:2 * c, None]).reshape(c, 9, k)   # (c, 3, k)
+    dots = np.add.reduce(Y[2 * c:3 * c + R.lin] * np.concatenate((X, Y[3 * c + R.lin:])),
+                         axis=1)                                    # (c + lin, k)
+    word = dots[:len(R.words)] * R.dot_sign
+    if R.spatial_elbow:
+        # the elbow against the shoulder-to-target line in the plane of the parallel axes:
+        # (l' x v') . (l' x z1') / |l'|^2 with l = W - S, v = E - S and z1 projected along
+        # the elbow's axis h, that is ((l x v) . h) ((l x z1) . h) / (|l|^2 - (l . h)^2);
+        # the turn sense (alt) where the elbow is on the line
+        lv, lz, ll, lh = dots[len(R.words):]
+        up = lv * lz / np.maximum(ll - lh * lh, 1e-300) * R.upward
+        e = R.elbow_row
+        word[e] = np.where(np.abs(up) < R.on_line, word[e], up)
+    return R.first + (word < 0)
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The vectors and products :func:`branch_geometry` evaluates for one robot and family.
+
+    The vectors ``V`` are the frames' axes (``j``) and origins (``n + j``), then the carried
+    points (``point_frames``, ``point_local``: their frames, and their coordinates there
+    followed by 1, ``(4, p, 1)``). ``selection @ V`` gives, in this order, the ``crosses``
+    left and right operands, then the left operands of their dot products (a cross product
+    is dotted with one vector), then the ``lin`` pairs of vectors dotted together. The first
+    dot products are the words' (``words``: shoulder 0, elbow 1, wrist 2): word ``i`` is its
+    ``first[i]`` word where ``dot_sign[i]`` times the product is >= 0, else the next; a spatial
+    elbow's four more products follow.
+    """
+
+    point_frames: np.ndarray
+    point_local: np.ndarray
+    selection: np.ndarray
+    crosses: int
+    lin: int
+    dot_sign: np.ndarray             # (words, 1)
+    words: np.ndarray
+    first: np.ndarray                # (words, 1)
+    spatial_elbow: bool = False
+    elbow_row: int = 0
+    upward: float = 1.0
+    on_line: float = 0.0
+
+
+@per_robot
+def rules(robot, family: str) -> Rules | None:
+    """The plan of :func:`branch_geometry` from :func:`geometry` (robot-level). Cached per
+    robot.
+
+    Parameters
+    ----------
+    robot : Robot
+    family : str
+
+    Returns
+    -------
+    Rules or None
+        None for a family not in :data:`WORDED`.
+    """
     geo = geometry(robot, family)
-    if geo is None or k == 0:
-        return codes
-    z = [cols[2] for cols, _ in frames]
-    o = [p for _, p in frames]
-    if geo.shoulder is not None:
-        side = geo.upward * _dot(_carried(frames, geo.shoulder) - o[0], _cross(z[0], z[1]))
-        codes[:, 0] = (np.where(side >= 0, 1, 2) if geo.front == 0 else
-                       np.where(geo.front * side >= 0, 3, 4))
+    if geo is None:
+        return None
+    n = robot.dof
+    pts = [p for p in (geo.shoulder, geo.wrist_point if geo.elbow else None) if p is not None]
+    pts = list({(f, tuple(local)): (f, local) for f, local in pts}.values())
+    at = {(f, tuple(local)): 2 * n + i for i, (f, local) in enumerate(pts)}
+    point = lambda p: (at[p[0], tuple(p[1])],)  # noqa: E731
+    z, o = (lambda j: (j,)), (lambda j: (n + j,))
+    minus = lambda a, b: a + (-b[0] - 1,)        # noqa: E731  (index -1 - i: minus vector i)
+    crossed, lin, words, first, sign = [], [], [], [], []
+    extra = []
+    if geo.shoulder is not None:       # (P - O_1) . (z_1 x z_2)
+        crossed.append((z(0), z(1), minus(point(geo.shoulder), o(0))))
+        words.append(0)
+        first.append(1 if geo.front == 0 else 3)
+        sign.append(geo.upward * (geo.front or 1))
     if geo.elbow is not None:
-        codes[:, 1] = np.where(_elbow_up(robot, geo, z, o, _carried(frames, geo.wrist_point)),
-                               1, 2)
-    if geo.wrist:
-        codes[:, 2] = np.where(_dot(_cross(z[3], z[5]), z[4]) >= 0, 1, 2)
-    return codes
-
-
-def _carried(frames, point):
-    """A point fixed in a link, ``(frame, local)``, in the world: ``(3, k)``."""
-    f, local = point
-    cols, o = frames[f]
-    return cols[0] * local[0] + cols[1] * local[1] + cols[2] * local[2] + o
-
-
-def _elbow_up(robot, geo: Geometry, z, o, tgt):
-    """``(k,)`` bool: the elbow is up (``man kincalc-ik``, BRANCH LABELS)."""
-    j = geo.elbow[0]
-    sh, el, h = o[j], o[j + 1], z[j] * geo.elbow_upward
-    if not geo.spatial:
-        # a planar elbow: on the counterclockwise side of the shoulder-to-wrist line, seen
-        # from above (the tip of the axes turned up; (W - S) x (E - S) . h: components
-        # along h drop out)
-        return _dot(_cross(tgt - sh, el - sh), h) >= 0
-    # the elbow against the shoulder-to-target line, in the plane of the parallel axes:
-    # up on the side axis 1 points to, axis 1 turned to point up in the world
-    line = tgt - sh
-    line = line - h * _dot(h, line)
-    v = el - sh
-    v = v - h * _dot(h, v)
-    ll = np.maximum(_dot(line, line), 1e-300)
-    perp = v - line * (_dot(v, line) / ll)
-    up = _dot(perp, z[0]) * geo.upward
-    # the elbow on the line (stretched or folded): the turn sense decides
-    alt = _dot(_cross(el - sh, tgt - el), h)
-    return np.where(np.abs(up) < 1e-9 * robot.characteristic_length, alt, up) >= 0
-
-
-def _dot(a, b):
-    """``a . b`` of vectors stored as ``(3, k)`` columns."""
-    return (a * b).sum(0)
-
-
-def _cross(a, b):
-    """``a x b`` of vectors stored as ``(3, k)`` columns."""
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                     a[0] * b[1] - a[1] * b[0]])
+        j, w = geo.elbow[0], point(geo.wrist_point)
+        ws, es = minus(w, o(j)), minus(o(j + 1), o(j))
+        if geo.spatial:                # the turn sense, and the products of the elbow's side
+            crossed.append((es, minus(w, o(j + 1)), z(j)))
+            extra = [(ws, es, z(j)), (ws, z(0), z(j))]
+            lin = [(ws, ws), (ws, z(j))]
+        else:                          # planar: (W - S) x (E - S) . h, seen from above
+            crossed.append((ws, es, z(j)))
+        words.append(1)
+        first.append(1)
+        sign.append(geo.elbow_upward)
+    if geo.wrist:                      # (z_4 x z_6) . z_5
+        crossed.append((z(3), z(5), z(4)))
+        words.append(2)
+        first.append(1)
+        sign.append(1.0)
+    crossed += extra
+    rows = ([a for a, _, _ in crossed] + [b for _, b, _ in crossed] + [d for _, _, d in crossed]
+            + [a for a, _ in lin] + [b for _, b in lin])
+    S = np.zeros((len(rows), 2 * n + len(pts)))
+    for r, terms in enumerate(rows):
+        for t in terms:
+            S[r, t if t >= 0 else -1 - t] += 1.0 if t >= 0 else -1.0
+    S.setflags(write=False)
+    return Rules(point_frames=np.array([f for f, _ in pts], np.intp),
+                 point_local=np.array([[*local, 1.0] for _, local in pts]).reshape(-1, 4).T[
+                     :, :, None], selection=S, crosses=len(crossed), lin=len(lin),
+                 dot_sign=np.array(sign, float)[:, None], words=np.array(words, np.intp),
+                 first=np.array(first, np.int8)[:, None], spatial_elbow=bool(extra),
+                 elbow_row=words.index(1) if 1 in words else 0, upward=geo.upward,
+                 on_line=1e-9 * robot.characteristic_length)
 
 
 @per_robot
@@ -289,8 +363,10 @@ def _meeting_point(robot, F, first: int):
 def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     """The branch label of each of ``s`` solutions.
 
-    A string is made once per robot and distinct combination of words, signs and free
-    joints, not per solution.
+    A label is a function of the slot (its signs, :class:`~kincalc.ik.branches.Branches`' sign
+    table) and the solution's geometric words: each string is made once per robot, sign table
+    and combination, then looked up in a table of ``45 len(signs)`` entries (the free joints,
+    rarely any, are put in afterwards).
 
     Parameters
     ----------
@@ -298,8 +374,8 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     family : str
         The family's name (words only for :data:`WORDED`: a ``reversed-`` family has its
         wrist at the base, and the words' rules read joints 4-6 as the wrist).
-    frames : list of (tuple of 3 ndarray (3, s), ndarray (3, s))
-        Their joint frames (:func:`kincalc.fk.frame_columns`, world frame, m).
+    frames : ndarray (3, 4, n(+1), s)
+        Their joint frames entry by entry (:func:`kincalc.fk.entry_frames`, world frame, m).
     signs : tuple
         The family's sign table: per slot, a tuple of ``(joint, label)`` for each step with
         more than one root.
@@ -313,24 +389,43 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     ndarray (s,) of object
         The labels (str); ``"unique"`` when there is nothing to tell.
     """
-    out = np.empty(len(slot), object)
     if len(slot) == 0:
-        return out
-    codes = branch_geometry(robot, family, frames).astype(np.int64)
-    bits = np.asarray(free, bool) @ (1 << np.arange(robot.dof, dtype=np.int64))
-    code = ((codes @ np.array([9, 3, 1])) * len(signs) + slot) << robot.dof | bits
-    distinct, inverse = np.unique(code, return_inverse=True)
-    texts = _texts(robot, family)
-    made = []
-    for c in distinct.tolist():
-        b, rest = c & ((1 << robot.dof) - 1), c >> robot.dof
-        k, sg = rest // len(signs), signs[rest % len(signs)]
-        key = (k, sg, b)
-        if key not in texts:
-            texts[key] = _text(robot, family, (k // 9, k // 3 % 3, k % 3), sg, b)
-        made.append(texts[key])
-    out[:] = np.array(made, object)[inverse.ravel()]
+        return np.empty(0, object)
+    table, known, weights = _table(robot, family, signs)
+    S = len(signs)
+    code = weights @ branch_geometry(robot, family, frames).T + slot
+    if np.count_nonzero(known[code]) < len(code):
+        for c in np.unique(code).tolist():
+            k, g = divmod(c, S)
+            table[c] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], 0)
+            known[c] = True
+    out = table[code]
+    free = np.asarray(free, bool)
+    if np.count_nonzero(free):                       # a joint left free: rare
+        bits = free @ (1 << np.arange(robot.dof, dtype=np.int64))
+        for i in bits.nonzero()[0].tolist():
+            k, g = divmod(int(code[i]), S)
+            out[i] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], int(bits[i]))
     return out
+
+
+@per_robot
+def _table(robot, family: str, signs: tuple) -> tuple:
+    """The labels of ``robot`` solved as ``family`` with the sign table ``signs`` and no free
+    joint, by code ``(9 shoulder + 3 elbow + wrist) len(signs) + slot``: ``(texts (45
+    len(signs),) of object, made (45 len(signs),) of bool, the code's weights (3,))``, filled
+    as they are met."""
+    S = len(signs)
+    return np.empty(45 * S, object), np.zeros(45 * S, bool), np.array([9 * S, 3 * S, S])
+
+
+def _label(robot, family, words, signs, free_bits) -> str:
+    """:func:`_text`, made once per robot and combination (:func:`_texts`)."""
+    texts = _texts(robot, family)
+    key = (words, signs, free_bits)
+    if key not in texts:
+        texts[key] = _text(robot, family, words, signs, free_bits)
+    return texts[key]
 
 
 @per_robot

@@ -207,33 +207,32 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
 
 def _solutions(robot, sv: Solved, explain: bool):
     """``(solutions, rejected candidates)`` of the engine's single target."""
-    oe_given = not np.isnan(sv.orientation_error[0]).all()
-    slots = np.flatnonzero(sv.candidate[0])
-    if not len(slots):
+    slots = [k for k, c in enumerate(sv.candidate[0].tolist()) if c]
+    if not slots:
         return [], []
-    q = sv.q[0, slots]
-    pe = sv.position_error[0, slots].tolist()
-    oe = sv.orientation_error[0, slots].tolist() if oe_given else [None] * len(slots)
-    valid = sv.valid[0, slots].tolist()
-    branch = sv.labels[0, slots].tolist()
+    q = sv.q[0]
+    pe = sv.position_error[0].tolist()
+    oe = sv.orientation_error[0].tolist()
+    if all(oe[k] != oe[k] for k in slots):          # NaN: no orientation checked
+        oe = [None] * len(oe)
+    valid = sv.valid[0].tolist()
+    branch = sv.labels[0].tolist()
     if any(valid):
-        singular = sv.singular[0, slots].tolist()
-        free = sv.free[0, slots]
-        free_any = free.any(-1).tolist()
-        violation = sv.violation[0, slots]
-        broken = (violation != 0).any(-1).tolist()
+        singular = sv.singular[0].tolist()
+        free = sv.free[0].tolist()
+        violation = sv.violation[0].tolist()
     sols, rejected = [], []
-    for i, k in enumerate(slots.tolist()):
-        if not valid[i]:
+    for k in slots:
+        if not valid[k]:
             if not _is_copy(robot, sv, k):
-                rejected.append({"q": q[i], "branch": branch[i], "position_error": pe[i],
-                                 "orientation_error": oe[i], "reason": Missed(pe[i], oe[i])})
+                rejected.append({"q": q[k], "branch": branch[k], "position_error": pe[k],
+                                 "orientation_error": oe[k], "reason": Missed(pe[k], oe[k])})
             continue
-        viol = _violation_list(violation[i]) if broken[i] else []
-        joints = tuple(np.flatnonzero(free[i]).tolist()) if free_any[i] else ()
-        sols.append(IKSolution(q=q[i], branch=branch[i], position_error=pe[i],
-                               orientation_error=oe[i], within_limits=not viol, violations=viol,
-                               singular=singular[i], free=joints,
+        viol = _violation_list(violation[k]) if any(violation[k]) else []
+        joints = tuple(j for j, f in enumerate(free[k]) if f) if any(free[k]) else ()
+        sols.append(IKSolution(q=q[k], branch=branch[k], position_error=pe[k],
+                               orientation_error=oe[k], within_limits=not viol, violations=viol,
+                               singular=singular[k], free=joints,
                                continuum=_continuum(robot, sv, k) if joints else None,
                                trace=_trace(sv, k) if explain else []))
     return sols, rejected
@@ -269,9 +268,10 @@ def violation_list(robot, q) -> list:
 
 
 def _violation_list(v) -> list:
-    """``(joint, amount, side)`` for the nonzero entries of ``v (n,)`` (engine.violations)."""
+    """``(joint, amount, side)`` for the nonzero entries of ``v (n,)`` (engine.violations; an
+    array or a list)."""
     return [(i, float(-x if x < 0 else x), "lower" if x < 0 else "upper")
-            for i, x in enumerate(v.tolist()) if x != 0.0]
+            for i, x in enumerate(v.tolist() if isinstance(v, np.ndarray) else v) if x != 0.0]
 
 
 def _continuum(robot, sv: Solved, k: int):

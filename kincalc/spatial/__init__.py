@@ -25,7 +25,8 @@ vector forms), :mod:`~kincalc.spatial.angles` (RPY and Euler angles) and
 
 from .angles import (euler_xyz_from_matrix, euler_zyz_from_matrix, matrix_from_euler_xyz,
                      matrix_from_euler_zyz, matrix_from_rpy, rpy_from_matrix)
-from .rotations import (TURN, axis_angle_from_matrix, cross, matrix_from_axis_angle,
+from .rotations import (LEVI_CIVITA, TURN, axis_angle_from_matrix, cross,
+                        matrix_from_axis_angle,
                         matrix_from_quaternion, matrix_from_rotvec, matrix_from_unit_axis_angle,
                         quaternion_from_matrix, rot_x, rot_y, rot_z, rotation_angle,
                         rotation_error, rotvec_from_matrix, skew, turn_toward, wrap)
@@ -33,7 +34,7 @@ from .transforms import (TCV_MAX_ROLL, adjoint, invert_transform, log_transform,
                          tcv_from_transform, transform, transform_from_tcv)
 
 __all__ = [
-    "wrap", "turn_toward", "TURN", "TCV_MAX_ROLL",
+    "wrap", "turn_toward", "TURN", "TCV_MAX_ROLL", "LEVI_CIVITA",
     "rot_x", "rot_y", "rot_z", "transform", "invert_transform", "cross", "skew",
     "matrix_from_rpy", "rpy_from_matrix",
     "matrix_from_euler_zyz", "euler_zyz_from_matrix",

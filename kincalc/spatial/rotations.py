@@ -38,9 +38,15 @@ def wrap(x) -> np.ndarray:
         of ``x`` (~|x| 1e-16): the upper end is not clamped. Non-finite ``x`` gives nan.
     """
     x = np.asarray(x, float)
+    if not np.count_nonzero(np.abs(x) >= math.pi):     # already within: no turn (-0 is 0)
+        y = x + 0.0
+        return y if y.ndim else np.asarray(y)
     y = x - TURN * np.rint(x / TURN)
-    # far from zero the rounded remainder can land a few ulps outside (-pi, pi]
-    return np.where(y <= -math.pi, y + TURN, np.where(y > math.pi, y - TURN, y))
+    # far from zero the rounded remainder can land a few ulps outside (-pi, pi], and a half
+    # turn must come out as +pi: both have |y| >= pi (rare: tested before fixed)
+    if np.count_nonzero(np.abs(y) >= math.pi):
+        return np.where(y <= -math.pi, y + TURN, np.where(y > math.pi, y - TURN, y))
+    return y if y.ndim else np.asarray(y)
 
 
 def turn_toward(x, near, lo, hi) -> np.ndarray:
@@ -156,6 +162,16 @@ def cross(a, b) -> np.ndarray:
     return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
                      a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
                      a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
+#: ``(3, 9)``: the cross product from the outer product, ``(a x b)_i = eps_ijm (a_j b_m)`` with
+#: ``a_j b_m`` at ``3 j + m`` (unitless). A product with it adds two of the outer product's
+#: entries, with their signs, and nothing else: the same numbers as the formula
+#: ``a_1 b_2 - a_2 b_1, ...`` for a batch of vectors in one matrix product.
+LEVI_CIVITA = np.zeros((3, 9))
+for _i, _j, _m in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+    LEVI_CIVITA[_i, 3 * _j + _m], LEVI_CIVITA[_i, 3 * _m + _j] = 1.0, -1.0
+LEVI_CIVITA.setflags(write=False)
 
 
 def skew(v) -> np.ndarray:

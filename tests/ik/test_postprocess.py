@@ -1,0 +1,179 @@
+"""The IK engine's post-processing of a pose's candidates, piece by piece, against values
+computed here another way: the frames entry by entry, the cross product of the Levi-Civita
+symbol, the label words (their rules written out per solution), the angle wrap and the
+limits' normalisation on small and large batches, the duplicate screen with the chain's
+offsets in its cosines."""
+
+import numpy as np
+import pytest
+
+from kincalc import load_robot
+from kincalc.fk import FEW, chain_frames, entry_frames, frames_and_tool
+from kincalc.ik.engine import duplicates, normalise, singular, violations
+from kincalc.ik.labels import branch_geometry, geometry
+from kincalc.ik.selftest import sample_configurations
+from kincalc.model import Joint, Robot
+from kincalc.spatial import LEVI_CIVITA, wrap
+
+
+def _chain_product(chain, q):
+    """Frames after each joint's motion and the tool pose, multiplied out one by one."""
+    T, frames = chain.fixed[0].copy(), []
+    for i in range(chain.dof):
+        x = q[i] + chain.offset[i]
+        J = np.eye(4)
+        if chain.revolute[i]:
+            J[:2, :2] = [[np.cos(x), -np.sin(x)], [np.sin(x), np.cos(x)]]
+        else:
+            J[2, 3] = x
+        T = T @ J
+        frames.append(T)
+        T = T @ chain.fixed[i + 1]
+    return np.array(frames + [T])
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford_arm", "ur5_poe", "puma560_mdh"])
+@pytest.mark.parametrize("m", [3, FEW + 5])
+def test_entry_frames_are_the_chain_product(name, m):
+    """Both evaluations (stacked products for a few, the walk for many) give the frames of
+    the chain multiplied out, entry by entry, and the joints' cosines, sines and values."""
+    r = load_robot(name)
+    Q = np.random.default_rng(1).uniform(-2, 2, (m, r.dof))
+    A, f = entry_frames(r.chain, Q, coefficients=True)
+    want = np.array([_chain_product(r.chain, q) for q in Q])          # (m, n + 1, 4, 4)
+    assert A.shape == (3, 4, r.dof + 1, m)
+    assert np.allclose(A, want[:, :, :3].transpose(2, 3, 1, 0), atol=1e-13)
+    x = Q + r.chain.offset
+    assert np.allclose(f, [np.cos(x), np.sin(x), x], atol=1e-15)
+    assert np.array_equal(entry_frames(r.chain, Q), A)
+    F, tool = frames_and_tool(r.chain, Q)                 # the same numbers, not just close
+    assert np.array_equal(A[:, :, :-1], F[..., :3, :].transpose(2, 3, 1, 0))
+    assert np.array_equal(A[:, :, -1], tool[:, :3].transpose(1, 2, 0))
+
+
+def test_levi_civita_gives_the_cross_product_exactly():
+    rng = np.random.default_rng(2)
+    a, b = rng.normal(size=(2, 3, 50)) * 10.0 ** rng.integers(-8, 8, (2, 1, 50))
+    got = LEVI_CIVITA @ (a[:, None] * b).reshape(9, -1)
+    want = np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+    assert np.array_equal(got, want)
+    assert np.allclose(got.T, np.cross(a.T, b.T), rtol=1e-14, atol=0)
+
+
+def _words(robot, family, F):
+    """The words of one solution from its frames ``F (n, 4, 4)``, as ``man kincalc-ik``
+    states the rules (codes as :func:`branch_geometry`)."""
+    geo = geometry(robot, family)
+    z, o = F[:, :3, 2], F[:, :3, 3]
+    at = lambda p: F[p[0], :3, :3] @ p[1] + F[p[0], :3, 3]  # noqa: E731
+    out = [0, 0, 0]
+    if geo.shoulder is not None:
+        side = geo.upward * np.dot(at(geo.shoulder) - o[0], np.cross(z[0], z[1]))
+        out[0] = (1 if side >= 0 else 2) if geo.front == 0 else (3 if geo.front * side >= 0
+                                                                   else 4)
+    if geo.elbow is not None:
+        j = geo.elbow[0]
+        S, E, W, h = o[j], o[j + 1], at(geo.wrist_point), z[j] * geo.elbow_upward
+        if geo.spatial:
+            line, v = W - S - h * np.dot(h, W - S), E - S - h * np.dot(h, E - S)
+            perp = v - line * np.dot(v, line) / np.dot(line, line)
+            up = np.dot(perp, z[0]) * geo.upward
+            if abs(up) < 1e-9 * robot.characteristic_length:
+                up = np.dot(np.cross(E - S, W - E), h)
+        else:
+            up = np.dot(np.cross(W - S, E - S), h)
+        out[1] = 1 if up >= 0 else 2
+    if geo.wrist:
+        out[2] = 1 if np.dot(np.cross(z[3], z[5]), z[4]) >= 0 else 2
+    return out
+
+
+@pytest.mark.parametrize("name", ["puma560", "kuka_kr16", "ur5", "abb_irb140", "stanford_arm",
+                                  "fanuc_m10ia", "planar_3r", "fer_rrpr", "spong_scara"])
+def test_label_words_are_their_rules(name):
+    """The batched words (a matrix of differences, the Levi-Civita products, the spatial
+    elbow's side from two triple products) against the rules evaluated per solution."""
+    from kincalc.ik.families import plan
+    r = load_robot(name)
+    family = plan(r)[1].name
+    Q = sample_configurations(r, 200, np.random.default_rng(3))
+    F = chain_frames(r.chain, Q)
+    got = branch_geometry(r, family, entry_frames(r.chain, Q))
+    want = np.array([_words(r, family, f) for f in F])
+    assert got.shape == (len(Q), 3) and np.array_equal(got, want)
+    for word, applies in enumerate(_applies(geometry(r, family))):
+        assert len(np.unique(got[:, word])) == (2 if applies else 1), word    # both, or none
+
+
+def _applies(geo):
+    return geo.shoulder is not None, geo.elbow is not None, geo.wrist
+
+
+def test_wrap_of_angles_within_a_half_turn_is_a_copy():
+    x = np.array([-0.0, 0.5, -3.1, 3.1, np.nan])
+    y = wrap(x)
+    assert y is not x and np.array_equal(y[:4], x[:4]) and np.isnan(y[4])
+    assert np.signbit(y[0]) == np.signbit(wrap(np.array([-2 * np.pi]))[0]) == False  # noqa: E712
+    assert wrap(-np.pi) == np.pi and wrap(7.0) == pytest.approx(7.0 - 2 * np.pi)
+    assert isinstance(wrap(0.5), np.ndarray) and wrap(0.5).shape == ()
+
+
+def _limited(limits):
+    joints = tuple(Joint(f"j{i + 1}", "revolute", alpha=np.pi / 2, a=0.1, d=0.2, theta=0.0,
+                         limits=lim) for i, lim in enumerate(limits))
+    return Robot("limited", "dh", joints)
+
+
+@pytest.mark.parametrize("robot", [
+    _limited([(-np.pi, np.pi), (0.0, 2 * np.pi), (-0.5, 0.5), (2.0, 5.0), None,
+              (-7.0, 7.0)]),
+    load_robot("stanford_arm"), load_robot("puma560")])
+def test_normalise_is_the_same_on_few_and_many(robot):
+    """Small batches compare with limits of their own shape, large ones broadcast: the same
+    numbers, and each the turn the rule picks (within the limits, else missing them least)."""
+    rng = np.random.default_rng(4)
+    Q = rng.uniform(-9, 9, (700, robot.dof))
+    many = normalise(robot, Q)
+    few = np.array([normalise(robot, q[None])[0] for q in Q])
+    assert np.array_equal(many, few) and not np.shares_memory(many, Q)
+    lo, hi = robot.limits.T
+    rev = robot.is_revolute
+    turns = Q[:, :, None] + 2 * np.pi * np.arange(-4, 5)              # every representative
+    miss = np.maximum(np.maximum(lo[:, None] - turns, turns - hi[:, None]), 0.0)
+    best = np.take_along_axis(miss, np.argmin(miss, -1)[..., None], -1)[..., 0]
+    d = np.abs(wrap(many - Q))
+    assert (d[:, rev] < 1e-9).all() and np.array_equal(many[:, ~rev], Q[:, ~rev])
+    got = np.maximum(np.maximum(lo - many, many - hi), 0.0)
+    assert np.allclose(got[:, rev], best[:, rev], atol=1e-9)
+    assert np.array_equal(violations(robot, many) != 0, got > 1e-9 * np.where(
+        rev, 1.0, robot.characteristic_length))
+
+
+def test_duplicate_screen_takes_cosines_with_offsets():
+    """The key may be of q plus the chain's offsets (the cosines the FK check has): the
+    same slots dropped."""
+    r = load_robot("stanford_arm")
+    rng = np.random.default_rng(5)
+    q = np.repeat(rng.uniform(-3, 3, (40, 1, 6)), 4, axis=1)
+    q[:, 1:] += rng.choice([0.0, 3e-7, 1e-3], (40, 3, 6))
+    valid = rng.random((40, 4)) < 0.9
+    x = q.reshape(-1, 6).T + r.chain.offset[:, None]
+    f = np.cos(x), np.sin(x), x
+    assert np.array_equal(duplicates(r, q, valid, f), duplicates(r, q, valid))
+    assert duplicates(r, q, valid).any()
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "bk_rrp"])
+def test_singular_from_frames_is_the_jacobians_rank(name):
+    """The rank test on the frames entry by entry (the SVD only where the determinant does
+    not prove full rank) against the Jacobian's own scaled ranks."""
+    from kincalc.jacobian import scaled_ranks
+    r = load_robot(name)
+    rng = np.random.default_rng(6)
+    Q = rng.uniform(-3, 3, (60, r.dof))
+    Q[:20, min(4, r.dof - 1)] = 0.0
+    F, tool = frames_and_tool(r.chain, Q)
+    rank, position_rank = scaled_ranks(r.jacobian(Q), r.is_revolute, r.characteristic_length)
+    full, full_pos = r.generic_ranks
+    assert np.array_equal(singular(r, Q, F, tool), (rank < full) | (position_rank < full_pos))
