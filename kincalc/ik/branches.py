@@ -411,7 +411,7 @@ class Branches:
 
     def q(self) -> np.ndarray:
         """``(N, K, n)``: the joint values of every slot (rad or m; 0 where never set)."""
-        return np.moveaxis(self.flushed().X[0], 0, -1).copy()
+        return self.flushed().X[0].transpose(1, 2, 0).copy()
 
     def joint_major(self) -> tuple:
         """The candidates joint by joint, for the FK check (which walks the chain joint-major).
@@ -430,7 +430,7 @@ class Branches:
 
     def free_mask(self) -> np.ndarray:
         """``(N, K, n)`` bool: True where a singular target leaves the joint undetermined."""
-        return np.moveaxis(self.flushed().F, 0, -1).copy()
+        return self.flushed().F.transpose(1, 2, 0).copy()
 
     def final_index(self, at: int) -> np.ndarray:
         """``(K,)``: for each final slot, its slot at lineage step ``at`` (the index into

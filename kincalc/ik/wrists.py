@@ -183,7 +183,8 @@ def parallel_wrist_q6(S: Screws, a, b, sigma):
     reach = flat | (lo <= hi + 1e-12)
     two = ~flat & (c_out < 1.0) & (c_in > -1.0)
     zero_in = flat | ((cos0 >= lo - 1e-12) & (cos0 <= hi + 1e-12))
-    phim = np.arccos(np.clip(c_mid, lo, np.maximum(lo, hi)))
+    # (where the elbow cannot reach axis 4 at all, lo > 1: any angle stands in, unused)
+    phim = np.arccos(np.minimum(np.clip(c_mid, lo, np.maximum(lo, hi)), 1.0))
     side = np.where(sin0 >= 0, 1.0, -1.0)
     phi0 = np.arctan2(sin0, cos0)
     q6 = np.stack([np.where(zero_in, 0.0, sigma * (phi0 - side * phim)),
