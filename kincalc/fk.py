@@ -371,28 +371,11 @@ def frames_and_tool(chain, q):
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
     lead = q.shape[:-1]
-    if N <= FEW:
-        motions = _motions(chain, _coefficients(chain, flat))
-        P = _prefixes(chain, motions)
-        frames = np.ascontiguousarray((P[:-1] @ motions).transpose(1, 0, 2, 3))
-        return frames.reshape(lead + (n, 4, 4)), P[-1].reshape(lead + (4, 4))
-    out = np.zeros((N, n, 4, 4))
+    A = entry_frames(chain, flat)                                  # (3, 4, n + 1, N)
+    out = np.zeros((N, n + 1, 4, 4))
+    out[..., :3, :] = A.transpose(3, 2, 0, 1)
     out[..., 3, 3] = 1.0
-    F = chain.fixed
-    qq = flat + chain.offset
-    cols, p = _start(F[0], N)
-    for i in range(n):
-        cols, p = _move(chain, i, cols, p, qq[:, i])
-        for j in range(3):
-            out[:, i, :3, j] = cols[j].T
-        out[:, i, :3, 3] = p.T
-        cols, p = _apply_fixed(cols, p, F[i + 1])
-    tool = np.zeros((N, 4, 4))
-    tool[:, 3, 3] = 1.0
-    for j in range(3):
-        tool[:, :3, j] = cols[j].T
-    tool[:, :3, 3] = p.T
-    return out.reshape(lead + (n, 4, 4)), tool.reshape(lead + (4, 4))
+    return out[:, :n].reshape(lead + (n, 4, 4)), out[:, n].reshape(lead + (4, 4))
 
 
 def entry_frames(chain, q, *, coefficients: bool = False):

@@ -307,11 +307,14 @@ def scaled_ranks(J, revolute, length: float):
         return z, z
     J[..., :3, :] /= length
     J[..., :, ~np.asarray(revolute)] *= length
+    return _rank(J), _rank(J[..., :3, :])
 
-    def rank(M):
-        s = np.linalg.svd(M, compute_uv=False)
-        return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
-    return rank(J), rank(J[..., :3, :])
+
+def _rank(M) -> np.ndarray:
+    """The numerical rank of each matrix of ``M (..., r, c)``: its singular values above
+    ``SINGULAR_TOL`` times the largest (floored at 1)."""
+    s = np.linalg.svd(M, compute_uv=False)
+    return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
 
 
 def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
@@ -355,10 +358,6 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
         J[3:] = np.where(rev, z, 0.0)
     J = J.transpose(2, 1, 0)                                  # (m, n, 6)
     full, full_pos = ranks
-
-    def rank(M):
-        sv = np.linalg.svd(M, compute_uv=False)
-        return np.sum(sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0), axis=-1)
     out = np.zeros(m, bool)
     todo = slice(None)
     if n == 6 == full and full_pos == 3:
@@ -367,10 +366,10 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
         if not np.count_nonzero(todo):
             return out
     M = J[todo]
-    rJ = rank(M)
+    rJ = _rank(M)
     sub = rJ < full
     rest = ~((rJ == 6) & (n == 6) & (full_pos == 3))
     if np.count_nonzero(rest):
-        sub[rest] |= rank(M[rest, :, :3]) < full_pos
+        sub[rest] |= _rank(M[rest, :, :3]) < full_pos
     out[todo] = sub
     return out

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..spatial import LEVI_CIVITA
 
 @dataclass(frozen=True)
 class Solutions:
@@ -177,10 +178,9 @@ def pair(a, b) -> np.ndarray:
 
 #: ``(3,)`` ones: ``(M, 3) @ ONES`` sums each row (a BLAS call, on any batch size)
 _ONES = np.ones(3)
-#: ``(3, 3, 3)``: ``SKEW @ a`` is the cross-product matrix of ``a`` (``[a]_x b = a x b``)
-_SKEW = np.zeros((3, 3, 3))
-for _i, _j, _k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-    _SKEW[_i, _k, _j], _SKEW[_i, _j, _k] = 1.0, -1.0
+#: ``(3, 3, 3)``: ``_SKEW @ a`` is the cross-product matrix of ``a`` (``[a]_x b = a x b``),
+#: the Levi-Civita symbol ``eps_ijm`` with ``[a]_x[i, m] = eps_ijm a_j``
+_SKEW = LEVI_CIVITA.reshape(3, 3, 3).transpose(0, 2, 1)
 
 
 def dot(a, b) -> np.ndarray:
