@@ -160,7 +160,7 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
     if dist_free <= POSITION_TOL * L:
-        from ..ik.engine import normalise
+        from ..ik.joint_limits import normalise
         from ..ik.solve import violation_list
         viol = violation_list(robot, normalise(robot, q_free))
         blocked = [_violation_dict(robot, v, units) for v in viol]

@@ -158,8 +158,8 @@ def with_held(robot: Robot, q, locks: dict) -> np.ndarray:
 
 def held_within(robot: Robot, q, joints) -> np.ndarray:
     """``(...)`` bool: the ``joints`` of the arm's configurations ``q (..., n)`` are within
-    their limits (the engine's test, :func:`kincalc.ik.engine.violations`)."""
-    from ..ik.engine import violations
+    their limits (the engine's test, :func:`kincalc.ik.joint_limits.violations`)."""
+    from ..ik.joint_limits import violations
     return (violations(robot, np.asarray(q, float))[..., list(joints)] == 0).all(-1)
 
 

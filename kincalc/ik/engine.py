@@ -9,7 +9,7 @@ and flags every candidate in one pass:
    its position to ``ACCEPT_POSITION`` of the arm's size, the components the family controls to
    ``ACCEPT_ORIENTATION`` rad, other components a target gives to ``CHECK_ORIENTATION``;
 2. revolute joints moved by whole turns to the representative nearest their limits
-   (:func:`normalise`);
+   (:func:`~kincalc.ik.joint_limits.normalise`);
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first;
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
@@ -26,14 +26,14 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from ..errors import TargetMismatch, UnsupportedRobot
-from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE,
-                          LIMIT_TOL)
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, tool_from_cs
 from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa: F401 (TCV: the API)
                        plan)
 from ..jacobian import rank_deficient
+from .joint_limits import normalise, violations, within_limits  # noqa: F401 (the API)
 from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
@@ -302,113 +302,6 @@ def _errors(targets: Targets, tool) -> tuple:
     d = d * d
     chord = np.sqrt(np.add.reduce(d[:, :3], axis=(0, 1))) / (2.0 * 2.0 ** 0.5)
     return np.sqrt(np.add.reduce(d[:, 3], 0)), 2.0 * np.arcsin(np.minimum(chord, 1.0))
-
-
-def normalise(robot, Q) -> np.ndarray:
-    """``Q`` with each revolute joint moved by whole turns to the value nearest its limits.
-
-    In (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn within them (the
-    lowest, for limits wider than a turn), else the one that misses them least; prismatic kept.
-
-    Parameters
-    ----------
-    robot : Robot
-    Q : array_like (..., n), joint values (rad / m)
-
-    Returns
-    -------
-    ndarray (..., n), a new array
-    """
-    Q = np.asarray(Q, float)
-    rev, every = _revolute(robot)
-    if Q.size == 0 or rev is None:
-        return Q.copy()
-    x = wrap(Q if every else Q[..., rev])
-    lo, hi, lo_t, hi_t, lo_in, hi_in, turn, finite = _limits(robot, x.shape, every)
-    inside = (x >= lo_in) & (x <= hi_in)       # lo_in, hi_in: -inf, inf where every angle is
-    if np.count_nonzero(inside) < inside.size:
-        up = x + turn * np.ceil((lo_t - x) / turn)             # the first turn above lo
-        if not finite:                                          # an infinite limit: x is inside
-            up = np.where(np.isfinite(up), up, x)
-        below = up - turn                       # below lo; up, if beyond hi, the nearer?
-        pick = np.where(up <= hi_t, up, np.where(lo - below <= up - hi, below, up))
-        x = np.where(inside, x, pick)
-    if every:
-        return x
-    Q = Q.copy()
-    Q[..., rev] = x
-    return Q
-
-
-@per_robot
-def _revolute(robot) -> tuple:
-    """``(index of the revolute joints or None when there is none, all joints revolute)``.
-    Cached per robot."""
-    rev = robot.is_revolute
-    return (np.flatnonzero(rev) if rev.any() else None), bool(rev.all())
-
-
-#: values up to this many are given limits of their own shape (:func:`_limits`): numpy
-#: broadcasts an ``(n,)`` array against them at twice the cost of an operand of their shape
-TILED = 512
-
-
-@per_robot
-def _limits(robot, shape: tuple, every: bool) -> tuple:
-    """The limits :func:`normalise` and :func:`violations` compare with, cached per robot and
-    shape (for values of up to :data:`TILED` entries; ``(n,)`` arrays beyond).
-
-    ``every``: of all joints (``shape (..., n)``), else of the revolute ones. Returns ``(lo, hi,
-    lo - tol, hi + tol, lo_in, hi_in, turn, lower limits finite)``: ``tol`` is ``LIMIT_TOL`` (rad,
-    or times the arm's size for prismatic joints), ``lo_in, hi_in`` the widened limits with
-    -inf, inf for a revolute joint whose limits hold every angle, ``turn`` 2 pi (rad)."""
-    n = len(robot.is_revolute)
-    if len(shape) and int(np.prod(shape)) > TILED:
-        return _limits(robot, (shape[-1],), every)
-    rev = robot.is_revolute if not every else np.ones(n, bool)
-    lo, hi = robot.limits[rev].T
-    tol = np.where(robot.is_revolute[rev], LIMIT_TOL,
-                   LIMIT_TOL * max(robot.characteristic_length, 1e-12))
-    lo_t, hi_t = lo - tol, hi + tol
-    whole = robot.is_revolute[rev] & (lo_t <= -np.pi) & (hi_t >= np.pi)
-    out = [np.ascontiguousarray(np.broadcast_to(a, shape)) for a in (
-        lo, hi, lo_t, hi_t, np.where(whole, -np.inf, lo_t), np.where(whole, np.inf, hi_t),
-        np.full(len(lo), 2 * np.pi))]
-    for a in out:
-        a.setflags(write=False)
-    return (*out, bool(np.isfinite(lo).all()))
-
-
-def within_limits(robot, Q) -> np.ndarray:
-    """Is each configuration within the limits, revolute joints allowing whole turns?
-
-    Parameters
-    ----------
-    robot : Robot
-    Q : array_like (..., n), joint values (rad / m)
-
-    Returns
-    -------
-    ndarray (...) of bool, :func:`normalise` puts it within them (-170 deg passes [0, 360] deg)
-    """
-    return ~(violations(robot, normalise(robot, Q)) != 0).any(-1)
-
-
-def violations(robot, q) -> np.ndarray:
-    """How far each joint of ``q`` is beyond its limits, beyond ``LIMIT_TOL``.
-
-    Parameters
-    ----------
-    robot : Robot, its limits (``LIMIT_TOL``: rad, or times the arm's size for prismatic)
-    q : ndarray (..., n), joint values (rad / m), not wrapped
-
-    Returns
-    -------
-    ndarray (..., n), ``q - lower`` below the lower limit, ``q - upper`` above the upper, else 0
-    """
-    q = np.asarray(q, float)
-    lo, hi, lo_band, hi_band = _limits(robot, q.shape, True)[:4]
-    return np.where(q < lo_band, q - lo, np.where(q > hi_band, q - hi, 0.0))
 
 
 def duplicates(robot, q, valid, f=None) -> np.ndarray:

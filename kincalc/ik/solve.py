@@ -263,12 +263,12 @@ def violation_list(robot, q) -> list:
         ``(joint, amount, side)`` per broken limit, sorted by joint: the amount (rad / m,
         positive) beyond it, ``side`` ``"lower"`` or ``"upper"``.
     """
-    from .engine import violations
+    from .joint_limits import violations
     return _violation_list(violations(robot, np.asarray(q, float)))
 
 
 def _violation_list(v) -> list:
-    """``(joint, amount, side)`` for the nonzero entries of ``v (n,)`` (engine.violations; an
+    """``(joint, amount, side)`` for the nonzero entries of ``v (n,)`` (joint_limits.violations; an
     array or a list)."""
     return [(i, float(-x if x < 0 else x), "lower" if x < 0 else "upper")
             for i, x in enumerate(v.tolist() if isinstance(v, np.ndarray) else v) if x != 0.0]
@@ -353,7 +353,8 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
     """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``."""
     if target.approach is not None:
         raise TargetMismatch(robot.name, "not approach", why=why)
-    from .engine import singular, violations
+    from .engine import singular
+    from .joint_limits import violations
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near
     full = robot.generic_ranks[0]

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import kincalc.analysis.workspace as ws
-from kincalc.ik.engine import within_limits
+from kincalc.ik.joint_limits import within_limits
 from kincalc.cli.main import main
 from kincalc.conventions.library import load
 
