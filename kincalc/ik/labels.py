@@ -125,6 +125,9 @@ def _words(R, n: int, frames) -> np.ndarray:
     dots = np.add.reduce(Y[2 * c:3 * c + R.lin] * np.concatenate((X, Y[3 * c + R.lin:])),
                          axis=1)                                    # (c + lin, k)
     word = dots[:len(R.words)] * R.dot_sign
+    # on the boundary (a stretched elbow, a wrist at q5 = 0): the first word, whatever the
+    # rounding of this batch's products
+    word[np.abs(word) <= R.zero] = 0.0
     if R.spatial_elbow:
         # the elbow against the shoulder-to-target line in the plane of the parallel axes:
         # (l' x v') . (l' x z1') / |l'|^2 with l = W - S, v = E - S and z1 projected along
@@ -157,6 +160,8 @@ class Rules:
     crosses: int
     lin: int
     dot_sign: np.ndarray             # (words, 1)
+    #: (words, 1): a product this close to 0 is 0 (1e-9 of its size: m, m^2, 1)
+    zero: np.ndarray
     words: np.ndarray
     first: np.ndarray                # (words, 1)
     spatial_elbow: bool = False
@@ -190,13 +195,15 @@ def rules(robot, family: str) -> Rules | None:
     point = lambda p: (at[p[0], tuple(p[1])],)  # noqa: E731
     z, o = (lambda j: (j,)), (lambda j: (n + j,))
     minus = lambda a, b: a + (-b[0] - 1,)        # noqa: E731  (index -1 - i: minus vector i)
-    crossed, lin, words, first, sign = [], [], [], [], []
+    crossed, lin, words, first, sign, size = [], [], [], [], [], []
+    L = robot.characteristic_length
     extra = []
     if geo.shoulder is not None:       # (P - O_1) . (z_1 x z_2)
         crossed.append((z(0), z(1), minus(point(geo.shoulder), o(0))))
         words.append(0)
         first.append(1 if geo.front == 0 else 3)
         sign.append(geo.upward * (geo.front or 1))
+        size.append(L)
     if geo.elbow is not None:
         j, w = geo.elbow[0], point(geo.wrist_point)
         ws, es = minus(w, o(j)), minus(o(j + 1), o(j))
@@ -209,11 +216,13 @@ def rules(robot, family: str) -> Rules | None:
         words.append(1)
         first.append(1)
         sign.append(geo.elbow_upward)
+        size.append(L * L)
     if geo.wrist:                      # (z_4 x z_6) . z_5
         crossed.append((z(3), z(5), z(4)))
         words.append(2)
         first.append(1)
         sign.append(1.0)
+        size.append(1.0)
     crossed += extra
     rows = ([a for a, _, _ in crossed] + [b for _, b, _ in crossed] + [d for _, _, d in crossed]
             + [a for a, _ in lin] + [b for _, b in lin])
@@ -225,7 +234,8 @@ def rules(robot, family: str) -> Rules | None:
     return Rules(point_frames=np.array([f for f, _ in pts], np.intp),
                  point_local=np.array([[*local, 1.0] for _, local in pts]).reshape(-1, 4).T[
                      :, :, None], selection=S, crosses=len(crossed), lin=len(lin),
-                 dot_sign=np.array(sign, float)[:, None], words=np.array(words, np.intp),
+                 dot_sign=np.array(sign, float)[:, None],
+                 zero=1e-9 * np.array(size, float)[:, None], words=np.array(words, np.intp),
                  first=np.array(first, np.int8)[:, None], spatial_elbow=bool(extra),
                  elbow_row=words.index(1) if 1 in words else 0, upward=geo.upward,
                  on_line=1e-9 * robot.characteristic_length)
@@ -266,7 +276,8 @@ def geometry(robot, family: str) -> Geometry | None:
         third = elbow is not None and elbow[1] + 1 < n and rev[elbow[1] + 1] \
             and parallel(elbow[1], elbow[1] + 1)
         point = wrist = (elbow[1] + 1, np.zeros(3)) if third else tool
-    shoulder = point if rev[0] and n >= 2 and not parallel(0, 1) and point is not None else None
+    shoulder = point if rev[0] and n >= 2 and not parallel(0, 1) and point is not None \
+        and _leaves_plane(robot, point) else None
     front = 0
     if shoulder is not None:
         P = F[shoulder[0], :3, :3] @ shoulder[1] + F[shoulder[0], :3, 3]
@@ -338,6 +349,27 @@ def _front(robot, point, upward: float) -> int:
         if abs(side) > 1e-6 * L:
             return 1 if side > 0 else -1
     return 1
+
+
+def _leaves_plane(robot, point) -> bool:
+    """Does the shoulder word's point leave the plane of axes 1 and 2 (through axis 1)?
+
+    Its side of that plane is the word; an arm that keeps the point in the plane whatever
+    its joints (an RPR arm whose prismatic joint and last axis move in it) has no such
+    word. Judged at the home joints and two fixed generic configurations: the side's
+    expression is a trigonometric polynomial of the joints, which is not zero at such
+    values unless it is zero everywhere."""
+    from ..fk import chain_frames
+    L = max(robot.characteristic_length, 1e-12)
+    n = robot.dof
+    unit = np.where(robot.is_revolute, 1.0, L)
+    for q in (np.asarray(robot.home, float), unit * (0.31 + 0.47 * np.arange(n)),
+              unit * (1.13 - 0.29 * np.arange(n))):
+        F = chain_frames(robot.chain, q)
+        P = F[point[0], :3, :3] @ point[1] + F[point[0], :3, 3]
+        if abs((P - F[0, :3, 3]) @ np.cross(F[0, :3, 2], F[1, :3, 2])) > 1e-9 * L:
+            return True
+    return False
 
 
 def _upward(k) -> float:

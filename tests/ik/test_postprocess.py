@@ -178,3 +178,52 @@ def test_singular_from_frames_is_the_jacobians_rank(name):
     rank, position_rank = scaled_ranks(r.jacobian(Q), r.is_revolute, r.characteristic_length)
     full, full_pos = r.generic_ranks
     assert np.array_equal(singular(r, Q, F, tool), (rank < full) | (position_rank < full_pos))
+
+
+@pytest.mark.parametrize("name", ["ur5", "mycobot_280", "bk_offset_wrist"])
+def test_slot_layout_whatever_the_batch(name):
+    """The engine checks only the slots some pose of the batch keeps and puts the family's
+    layout back: a pose solved alone (a three-parallel arm's "other arc" slots all empty, so
+    not checked) and in a batch with singular poses (those slots live) lays its solutions
+    out in the same slots, with the same values, labels and flags; an empty slot holds no
+    candidate."""
+    robot = load_robot(name)
+    Q = sample_configurations(robot, 12, np.random.default_rng(5))
+    Q[::2, min(4, robot.dof - 1)] = 0.0                  # wrist singular (UR: q5 = 0)
+    Q[1::4, min(2, robot.dof - 1)] = 0.0                 # elbow stretched or folded
+    T = robot.fk(Q)
+    together = robot.ik_batch(T)
+    for i in range(len(T)):
+        alone = robot.ik_batch(T[i])
+        assert alone.q.shape[1:] == together.q.shape[1:]
+        assert alone.signs == together.signs
+        v = alone.valid[0]
+        assert np.array_equal(v, together.valid[i])
+        np.testing.assert_allclose(alone.q[0][v], together.q[i][v], atol=1e-9)
+        assert alone.labels[0][v].tolist() == together.labels[i][v].tolist()
+        assert np.array_equal(alone.singular[0], together.singular[i])
+        assert np.array_equal(alone.within[0][v], together.within[i][v])
+        assert np.array_equal(alone.free[0][v], together.free[i][v])
+        # every solution reaches its pose (FK, not the engine's own check)
+        assert np.allclose(robot.fk(alone.q[0][v]), T[i], atol=1e-8)
+    assert together.valid.any(axis=1).all()
+
+
+@pytest.mark.parametrize("name, has", [("bk_rpr", False), ("puma560", True), ("ur5", True),
+                                       ("kuka_kr16", True), ("siciliano_arm", True)])
+def test_shoulder_word_only_where_the_point_leaves_the_plane(name, has):
+    """The shoulder word is the side of its point P of the plane of axes 1 and 2: an arm
+    that keeps P in that plane whatever its joints (Example 4.4's RPR arm: products of
+    1e-16 m at every seeded configuration, a word of rounding) has none."""
+    robot = load_robot(name)
+    family = {"bk_rpr": "position-3", "ur5": "three-parallel",
+              "siciliano_arm": "position-3"}.get(name, "spherical-wrist")
+    geo = geometry(robot, family)
+    Q = sample_configurations(robot, 200, np.random.default_rng(2))
+    A = entry_frames(robot.chain, Q)
+    z1, z2, o1 = A[:, 2, 0], A[:, 2, 1], A[:, 3, 0]
+    f, local = geo.placed
+    P = np.einsum("abm,b->am", A[:, :3, f], local) + A[:, 3, f]
+    side = np.einsum("am,am->m", P - o1, np.cross(z1, z2, axis=0))
+    assert (geo.shoulder is not None) == has
+    assert (np.abs(side).max() > 1e-6 * robot.characteristic_length) == has
