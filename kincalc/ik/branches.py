@@ -384,8 +384,8 @@ class Branches:
 
         For a chain reversed by :meth:`Screws.reversed <kincalc.ik.screws.Screws.reversed>`:
         joint k of the reversed chain is joint n - 1 - k turned the other way
-        (``q = -q'[::-1]``); signs, free joints and a continuum's relation follow. Called on
-        expanded branches (the full layout's sign table is not remapped).
+        (``q = -q'[::-1]``); signs (of the slots and of the full layout), free joints and a
+        continuum's relation follow.
 
         Returns
         -------
@@ -405,9 +405,11 @@ class Branches:
             c[..., 2] = -c[..., 2]
             extra["parallel continuum"] = c
         X = self.X[:, ::-1] * np.array([-1.0, 1.0, -1.0])[:, None, None, None]
-        return self._with(X=X, F=self.F[::-1].copy(), extra=extra,
-                          signs=tuple(tuple((n - 1 - j, lab) for j, lab in sg)
-                                      for sg in self.signs))
+        def renumbered(signs):
+            return tuple(tuple((n - 1 - j, lab) for j, lab in sg) for sg in signs)
+        return self._with(X=X, F=self.F[::-1].copy(), extra=extra, signs=renumbered(self.signs),
+                          full_signs=None if self.full_signs is None else
+                          renumbered(self.full_signs))
 
     def q(self) -> np.ndarray:
         """``(N, K, n)``: the joint values of every slot (rad or m; 0 where never set)."""

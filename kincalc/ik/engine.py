@@ -89,8 +89,24 @@ class Solved:
         A, rows = self.memo.get("frames"), mask.reshape(-1).nonzero()[0]
         for start in range(0, len(rows), FLAGS):
             r = rows[start:start + FLAGS]
-            yield r, (entry_frames(self.robot.chain, self.q.reshape(mask.size, -1)[r])
-                      if A is None else A if len(r) == mask.size else A[..., r])
+            if A is None:
+                yield r, entry_frames(self.robot.chain, self.q.reshape(mask.size, -1)[r])
+                continue
+            at, K = self.memo.get("at"), mask.shape[1]      # A: the slots the check kept
+            c = r if at is None else r // K * (A.shape[-1] // mask.shape[0]) + at[r % K]
+            yield r, A if len(c) == A.shape[-1] else A[..., c]
+
+    def slot_extra(self, name: str):
+        """The solver's per-slot quantity ``name`` (``Branches.extra``: ``"parallel
+        continuum"``, ...) in these slots, ``(N, K, ...)`` (0 in a slot no target kept), or
+        None."""
+        x = None if self.branches is None else self.branches.extra.get(name)
+        at = self.memo.get("at")
+        if x is None or at is None:
+            return x
+        out = np.zeros(x.shape[:1] + at.shape + x.shape[2:], x.dtype)
+        out[:, at >= 0] = x
+        return out
 
     @property
     def labels(self) -> np.ndarray:
@@ -206,10 +222,12 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = general_6r(robot, targets, br)
     elif family.reverse:
         br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
-        br = br.expanded().reversed_chain()
+        br = br.flushed().reversed_chain()
     else:
         br = SOLVERS[family.solver](S, targets, br)
-    br = br.expanded()
+    # an exact family's candidates are checked in the slots some target keeps (the others,
+    # half of a three-parallel arm's, are put back empty at the end)
+    br = br.flushed() if family.exact else br.expanded()
     candidate = br.ok.copy()
     method = family.description
     if family.exact:
@@ -220,7 +238,8 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
                                                  br)
         x = np.ascontiguousarray(q.reshape(-1, n).T)
         c, s = np.cos(x), np.sin(x)
-    return _check(robot, family, method, targets, (c, s, x), candidate, br)
+    sv = _check(robot, family, method, targets, (c, s, x), candidate, br)
+    return sv if br.full is None else _in_layout(robot, sv, br.full, br.full_signs)
 
 
 def check_kind(robot, family: Family, targets: Targets) -> None:
@@ -280,6 +299,34 @@ def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
                   violation=viol, within=np.logical_and.reduce(viol == 0.0, axis=-1),
                   free=br.free_mask(), signs=br.signs, continuum=br.extra.get("continuum"),
                   branches=br, memo=memo)
+
+
+def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
+    """``sv``, checked on the slots ``cols (K',)`` some target keeps, in the family's layout of
+    ``K = len(signs)`` slots (``signs`` its sign table), so that every batch lays its slots out
+    alike: the other slots hold no candidate and the joints of an unset slot (all 0,
+    normalised)."""
+    N, _, n = sv.q.shape
+    K = len(signs)
+    dead = np.ones(K, bool)
+    dead[cols] = False
+    q0 = normalise(robot, np.zeros(n))
+    v0 = violations(robot, q0)
+
+    def put(a, fill):
+        out = np.empty((N, K) + a.shape[2:], a.dtype)
+        out[:, cols] = a
+        out[:, dead] = fill
+        return out
+    at = np.full(K, -1)
+    at[cols] = np.arange(len(cols))
+    return replace(sv, q=put(sv.q, q0), candidate=put(sv.candidate, False),
+                   valid=put(sv.valid, False), position_error=put(sv.position_error, 0.0),
+                   orientation_error=put(sv.orientation_error, np.nan),
+                   violation=put(sv.violation, v0), within=put(sv.within, not v0.any()),
+                   free=put(sv.free, False), signs=signs,
+                   continuum=None if sv.continuum is None else put(sv.continuum, 0.0),
+                   memo={**sv.memo, "at": at})
 
 
 def _errors(targets: Targets, tool) -> tuple:

@@ -277,12 +277,12 @@ def _violation_list(v) -> list:
 def _continuum(robot, sv: Solved, k: int):
     """The relation a singular target leaves free in slot ``k``, as an object with
     ``text`` (:class:`~kincalc.ik.families.Continuum`, ``ParallelContinuum``)."""
-    extra = sv.branches.extra
-    if "continuum" in extra and extra["continuum"][0, k, 0]:
-        _, i, j, sign, total = extra["continuum"][0, k].tolist()
+    if sv.continuum is not None and sv.continuum[0, k, 0]:
+        _, i, j, sign, total = sv.continuum[0, k].tolist()
         return Continuum(int(i), int(j), int(sign), float(total))
-    if "parallel continuum" in extra and extra["parallel continuum"][0, k, 0]:
-        _, sigma, total = extra["parallel continuum"][0, k].tolist()
+    parallel = sv.slot_extra("parallel continuum")
+    if parallel is not None and parallel[0, k, 0]:
+        _, sigma, total = parallel[0, k].tolist()
         S = plan(robot)[0]
         S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
         h = S.axis[1]

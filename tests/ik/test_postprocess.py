@@ -209,6 +209,23 @@ def test_slot_layout_whatever_the_batch(name):
     assert together.valid.any(axis=1).all()
 
 
+def test_continuum_of_a_slot_after_dropped_ones():
+    """UR5 at q5 = 0: each solution's continuum is the parallel joints' sum at that solution,
+    read from the slot the check kept (slots no target kept, before it, are not counted)."""
+    robot = load_robot("ur5")
+    Q = sample_configurations(robot, 6, np.random.default_rng(5))
+    Q[:, 4] = 0.0
+    for q in Q:
+        T = robot.fk(q)
+        assert not robot.ik_batch(T).candidate.all()       # some slots are dropped
+        sols = [s for s in robot.ik(T).solutions if s.continuum is not None]
+        assert sols and all(s.singular for s in sols)
+        for s in sols:
+            c = s.continuum
+            total = sum(sign * s.q[j] for j, sign in zip(c.joints, c.signs))
+            assert abs(wrap(total - c.total)) < 1e-9
+
+
 @pytest.mark.parametrize("name, has", [("bk_rpr", False), ("puma560", True), ("ur5", True),
                                        ("kuka_kr16", True), ("siciliano_arm", True)])
 def test_shoulder_word_only_where_the_point_leaves_the_plane(name, has):
