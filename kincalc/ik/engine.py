@@ -33,6 +33,7 @@ from ..fk import FEW, entry_frames, tool_from_cs
 from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa: F401 (TCV: the API)
                        plan)
 from ..jacobian import rank_deficient
+from .free_joints import orient_free
 from .joint_limits import normalise, violations, within_limits  # noqa: F401 (the API)
 from .labels import labels
 from ..spatial import wrap
@@ -225,6 +226,8 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = br.flushed().reversed_chain()
     else:
         br = SOLVERS[family.solver](S, targets, br)
+    if not family.needs_orientation and family.exact:
+        br = orient_free(robot, targets, br)
     # an exact family's candidates are checked in the slots some target keeps (the others,
     # half of a three-parallel arm's, are put back empty at the end)
     br = br.flushed() if family.exact else br.expanded()
