@@ -292,11 +292,12 @@ def as_vectors(*vs):
         When an input's last axis is not of length 3, or the leading shapes do not
         broadcast together.
     """
-    arrays = [np.asarray(v, dtype=float) for v in vs]
+    arrays = [v if type(v) is np.ndarray and v.dtype == np.float64 else np.asarray(v, float)
+              for v in vs]
     for a in arrays:
         if a.shape[-1:] != (3,):
             raise ValueError(f"expected vectors of shape (..., 3), got {a.shape}")
-    shapes = {a.shape for a in arrays}
+    shapes = {a.shape for a in arrays if a.ndim > 1}     # a single vector broadcasts
     if len(shapes) > 1:
         np.broadcast_shapes(*shapes)    # raises when the leading shapes do not broadcast
     return arrays
