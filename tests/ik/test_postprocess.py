@@ -180,7 +180,9 @@ def test_singular_from_frames_is_the_jacobians_rank(name):
     assert np.array_equal(singular(r, Q, F, tool), (rank < full) | (position_rank < full_pos))
 
 
-@pytest.mark.parametrize("name", ["ur5", "mycobot_280", "bk_offset_wrist"])
+@pytest.mark.parametrize("name", ["ur5", "mycobot_280", "bk_offset_wrist", "puma560", "kuka_kr16",
+                                  "stanford_arm", "adept_cobra600", "siciliano_arm",
+                                  "lynxmotion_al5d", "kinova_gen3_6dof", "spong_cylindrical"])
 def test_slot_layout_whatever_the_batch(name):
     """The engine checks only the slots some pose of the batch keeps and puts the family's
     layout back: a pose solved alone (a three-parallel arm's "other arc" slots all empty, so
