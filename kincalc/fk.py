@@ -197,13 +197,12 @@ def prefixes_few(chain, flat):
 
     Returns
     -------
-    ndarray (N, n + 1, 4, 4)
-        ``P``, world frame (m): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so that
-        ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
+    ndarray (n + 1, N, 4, 4)
+        ``P``, joint-major, world frame (m): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so
+        that ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
         axis, its origin on that axis) and ``P_n`` the tool pose ``T_world_tool``.
     """
-    P = _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
-    return np.ascontiguousarray(P.transpose(1, 0, 2, 3))
+    return _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
 
 
 def _prefixes(chain, motions):

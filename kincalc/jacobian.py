@@ -78,19 +78,25 @@ def jacobian_and_pose(chain, q):
 
 def _few(chain, flat):
     """:func:`jacobian_and_pose` of ``flat (N, n)`` from the stacked frames of
-    :func:`kincalc.fk.prefixes_few` (for a few configurations: ~25 numpy calls in all)."""
-    P = prefixes_few(chain, flat)
-    z = np.swapaxes(P[:, :-1, :3, 2], -1, -2)                    # (N, 3, n) joint axes
-    d = P[:, -1, :3, 3, None] - np.swapaxes(P[:, :-1, :3, 3], -1, -2)
-    lin = np.stack([z[:, 1] * d[:, 2] - z[:, 2] * d[:, 1],
-                    z[:, 2] * d[:, 0] - z[:, 0] * d[:, 2],
-                    z[:, 0] * d[:, 1] - z[:, 1] * d[:, 0]], axis=1)
+    :func:`kincalc.fk.prefixes_few` (for a few configurations: ~20 numpy calls in all).
+    ``J (N, 6, n)`` is made C-contiguous: the products of Newton's steps then take the same
+    BLAS path (and give the same bits) as the column walk's."""
+    P = prefixes_few(chain, flat)                                  # (n + 1, N, 4, 4)
+    n, N = P.shape[0] - 1, P.shape[1]
+    z = P[:-1, :, :3, 2]                                           # (n, N, 3) joint axes
+    d = P[-1, :, :3, 3] - P[:-1, :, :3, 3]                         # axis point to tool point
+    lin = (z[..., :, None] * d[..., None, :]).reshape(n, N, 9) @ _CROSS   # z x d
     rev = chain.revolute
-    if rev.all():
-        J = np.concatenate([lin, z], axis=1)
+    if np.logical_and.reduce(rev):
+        J = np.concatenate([lin, z], axis=-1)
     else:
-        J = np.concatenate([np.where(rev, lin, z), np.where(rev, z, 0.0)], axis=1)
-    return J, P[:, -1]
+        r = rev[:, None, None]
+        J = np.concatenate([np.where(r, lin, z), np.where(r, z, 0.0)], axis=-1)
+    return np.ascontiguousarray(J.transpose(1, 2, 0)), P[-1]
+
+
+#: ``(z_b d_c) (9,) @ _CROSS`` is ``z x d`` (the signed entries of the Levi-Civita symbol)
+_CROSS = np.ascontiguousarray(LEVI_CIVITA.T)
 
 
 def jacobian_base(chain, q) -> np.ndarray:

@@ -75,22 +75,23 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
     for it in range(iterations + 1):
         if not len(rows):
             break
-        e, jacobian = evaluate(x[rows], rows)
-        r = np.abs(e).max(axis=-1) if e.shape[-1] else np.zeros(len(rows))
+        # the first pass evaluates every row: x itself (evaluate does not modify it)
+        e, jacobian = evaluate(x[rows] if it else x, rows)
+        r = np.maximum.reduce(np.abs(e), axis=-1) if e.shape[-1] else np.zeros(len(rows))
         go = r >= tol
         if stall and it:
             go &= ~((r < stall) & (r > 0.5 * res[rows]))
         if it in give_up:
             go &= r < give_up[it]
         res[rows] = r
-        if it == iterations or not go.any():
+        if it == iterations or not np.count_nonzero(go):
             break
         J = jacobian(go)
         rows, e = rows[go], e[go]
         moved[rows] = True
         dx = _step(J, e, damping)
-        if np.isfinite(max_step):
-            big = np.maximum(np.abs(dx).max(axis=-1), 1e-300)
+        if max_step < np.inf:
+            big = np.maximum(np.maximum.reduce(np.abs(dx), axis=-1), 1e-300)
             dx *= np.minimum(1.0, max_step / big)[:, None]
         x[rows] += dx
     return x, res, moved
@@ -107,8 +108,8 @@ def _step(J, e, damping: float) -> np.ndarray:
         Jt = np.swapaxes(J, -1, -2)
         H = Jt @ J
         n = H.shape[-1]
-        lam = damping * np.trace(H, axis1=-2, axis2=-1) + 1e-300
-        H[..., np.arange(n), np.arange(n)] += lam[..., None]
+        diag = H.reshape(H.shape[:-2] + (n * n,))[..., ::n + 1]          # a view of H
+        diag += (damping * np.add.reduce(diag, axis=-1) + 1e-300)[..., None]
         return np.linalg.solve(H, Jt @ e[..., None])[..., 0]
     U, s, Vt = np.linalg.svd(J, full_matrices=False)
     keep = s > np.finfo(float).eps * max(J.shape[-2:]) * s[..., :1]

@@ -86,13 +86,12 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
     moved : ndarray (m,) of bool
         The candidates that took a step.
     """
-    tp, tR = T[:, :, 3], T[:, :, :3]
-
     def evaluate(q, rows):
         J, F = jacobian_and_pose(chain, q)
-        ep = tp[rows] - F[:, :3, 3]
-        R = tR[rows] @ F[:, :3, :3].transpose(0, 2, 1)
+        Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
+        R = Tr[:, :, :3] @ np.swapaxes(F[:, :3, :3], -1, -2)
         v, c2 = skew_trace(R)
-        return np.concatenate([ep, rotation_log(v, c2, R)], axis=1), lambda keep: J[keep]
+        return (np.concatenate([Tr[:, :, 3] - F[:, :3, 3], rotation_log(v, c2, R)], axis=1),
+                lambda keep: J[keep])
     return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
                   stall=1e-2 * ACCEPT_TOL, give_up=GIVE_UP, max_step=STEP_MAX)
