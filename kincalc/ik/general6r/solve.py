@@ -92,9 +92,7 @@ def _solve_block(data, T, Q_out, ok):
         good = np.zeros((M, S), bool)
         Qd[pose, rank] = Qp
         good[pose, rank] = True
-        d = np.abs(Qd[:, :, None] - Qd[:, None])
-        near = reduce_all((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL), axis=3)
-        dup = np.logical_or.reduce(near & _EARLIER[:S, :S] & good[:, None, :], axis=2)
+        dup = _duplicates(Qd, good)
         if nnz(dup):
             new = ~dup[pose, rank]
             pose, Qp = pose[new], Qp[new]
@@ -107,6 +105,21 @@ def _solve_block(data, T, Q_out, ok):
         pose = rows[pose]
     Q_out[pose, rank] = Qp
     ok[pose, rank] = True
+
+
+def _duplicates(Qd, good):
+    """``(M, S)``: slot i of a pose is within MERGE_TOL (wrapped, every joint) of a good slot
+    j < i of it; ``Qd (M, S, 6)`` wrapped to (-pi, pi], ``good (M, S)``. The pairs are
+    screened by their first joint (a pose's slots rarely share it)."""
+    M, S = good.shape
+    d = np.abs(Qd[:, :, None, 0] - Qd[:, None, :, 0])
+    pose, i, j = np.nonzero(((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL))
+                            & _EARLIER[:S, :S] & good[:, None, :])
+    d = np.abs(Qd[pose, i] - Qd[pose, j])
+    same = reduce_all((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL), axis=1)
+    dup = np.zeros((M, S), bool)
+    dup[pose[same], i[same]] = True
+    return dup
 
 
 # [i, j]: slot j comes before slot i (a pose has at most 64 candidates: 2 x 32 in the last resort)
