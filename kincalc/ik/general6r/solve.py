@@ -180,17 +180,20 @@ def general_6r(robot, targets, br):
     ValueError
         If ``robot`` does not have exactly 6 revolute joints.
     """
-    from ...errors import UnsupportedRobot
     if targets.kind != "pose":
+        from ...errors import UnsupportedRobot
         raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
     Q, ok = solve_general_6r_batch(robot, targets.T)
-    key3 = np.where(ok, Q[..., 2], np.inf)
-    key1 = np.where(ok, Q[..., 0], np.inf)
-    order = np.lexsort((key1, key3), axis=-1)
-    Q = np.take_along_axis(Q, order[..., None], axis=1)
-    ok = np.take_along_axis(ok, order, axis=1)
-    K = Q.shape[1]
-    out = br.with_slots(ok, tuple(((2, f"root {k + 1}"),) for k in range(K)))
+    order = np.lexsort((np.where(ok, Q[..., 0], np.inf), np.where(ok, Q[..., 2], np.inf)),
+                       axis=-1)
+    at = np.arange(len(Q))[:, None]
+    Q, ok = Q[at, order], ok[at, order]
+    c, s = np.cos(Q), np.sin(Q)
+    out = br.with_slots(ok, _ROOTS)
     for j in range(6):
-        out = out.set(j, Q[..., j], np.cos(Q[..., j]), np.sin(Q[..., j]))
+        out = out.set(j, Q[..., j], c[..., j], s[..., j])
     return out
+
+
+#: the signs of the slots of :func:`general_6r`: slot k is ``root k + 1`` of joint 3
+_ROOTS = tuple(((2, f"root {k + 1}"),) for k in range(BATCH_SLOTS))
