@@ -151,8 +151,8 @@ def _eigenvectors(model, Sig, Ai, ok):
         all_ok = False
         DE[~ok] = 0.0
         lam, yv = np.linalg.eig(DE[:, :16])
-    lam = lam.astype(complex)
-    yv = yv.astype(complex)
+    lam = lam.astype(complex, copy=False)             # real when every eigenvalue is
+    yv = yv.astype(complex, copy=False)
     # the companion matrix's eigenvectors U y + Wo (lam + Mo) E y / (1 + lam^2)
     c = 1.0 / (1.0 + lam * lam)
     Ey = (DE[:, 16:] @ yv.view(float)).view(complex)  # (M, 8, 16), real BLAS products
@@ -266,7 +266,7 @@ def split_clusters(v, phi, keep, Sig):
         keep2 (P, n))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
         vector that goes with own slot j"""
     M, n = phi.shape
-    key = np.where(keep, phi.real, np.inf)
+    key = np.where(keep, phi.real, _PAST[:n])     # past every angle, far apart (no inf - inf)
     sk = np.sort(key, axis=1)
     if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
         return keep, None                                # no cluster (the common case)
@@ -315,6 +315,10 @@ def split_clusters(v, phi, keep, Sig):
         phi2[pgk, members] = mean[:, None]
         keep2[pgk, members] = kept[:, k:]
     return keep, (rows, v2, phi2, keep2)
+
+
+#: the sort key of a slot that is not a candidate: beyond pi, 10 apart
+_PAST = 10.0 * np.arange(1, 33)
 
 
 def _structure_residual(V):
