@@ -91,8 +91,9 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         moved[rows] = True
         dx = _step(J, e, damping)
         if max_step < np.inf:
-            big = np.maximum(np.maximum.reduce(np.abs(dx), axis=-1), 1e-300)
-            dx *= np.minimum(1.0, max_step / big)[:, None]
+            big = np.maximum.reduce(np.abs(dx), axis=-1)
+            if np.count_nonzero(big > max_step):          # else every factor below is 1
+                dx *= np.minimum(1.0, max_step / np.maximum(big, 1e-300))[:, None]
         x[rows] += dx
     return x, res, moved
 
