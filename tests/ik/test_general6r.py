@@ -587,3 +587,32 @@ def test_pose_no_candidate_reaches_after_polishing():
                                 0.5 * sum(np.cross(T[:3, i], Tq[:3, i]) for i in range(3))])
             q = q - np.linalg.lstsq(chain.jacobian(q), e, rcond=None)[0]
         assert residual(chain, T, q[None])[0] > 1e-6
+
+
+def test_merge_screen_finds_every_duplicate_pair():
+    """The merge of _solve_block screens a pose's pairs by their first joint before comparing
+    all six: the same verdicts as comparing every pair in full (its own loop here), with
+    duplicates planted across the +-pi seam and near misses in one joint."""
+    from kincalc.ik.general6r.common import MERGE_TOL
+    from kincalc.ik.general6r.solve import _duplicates
+    rng = np.random.default_rng(31)
+    M, S = 40, 12
+    Qd = rng.uniform(-np.pi, np.pi, (M, S, 6))
+    for m in range(M):
+        i, j = sorted(rng.choice(S, 2, replace=False))
+        Qd[m, j] = Qd[m, i] + rng.uniform(-0.5, 0.5, 6) * MERGE_TOL     # a duplicate of i
+        if m % 3 == 0:                                                     # across the seam
+            Qd[m, i, 0], Qd[m, j, 0] = np.pi - 1e-8, -np.pi + 1e-8
+        if m % 4 == 0:                                 # same first joint, another differs
+            k = (j + 1) % S
+            Qd[m, k] = Qd[m, i]
+            Qd[m, k, rng.integers(1, 6)] += 3 * MERGE_TOL
+    good = rng.random((M, S)) < 0.85
+    expected = np.zeros((M, S), bool)
+    for m in range(M):
+        for i in range(S):
+            for j in range(i):
+                d = np.abs(wrap(Qd[m, i] - Qd[m, j]))
+                expected[m, i] |= good[m, j] and bool(np.all(d < MERGE_TOL))
+    assert expected.sum() >= 20
+    assert np.array_equal(_duplicates(wrap(Qd), good), expected)
