@@ -147,6 +147,14 @@ BAD_FILES = [
     # --- top level ----------------------------------------------------------
     BadFile("top-level-list", "- name: arm3\n- convention: dh\n", ("must be a mapping", "list")),
     BadFile("top-level-scalar", "arm3\n", ("must be a mapping", "'arm3'")),
+    # a file that is no robot file (a key, a .env) is one text over its lines: the message
+    # names line 1 and echoes nothing of the lines after it
+    BadFile("top-level-text-over-lines", "-----BEGIN KEY-----\nS3CRET-LINE-2\nS3CRET-LINE-3\n",
+            ("must be a mapping", "a text over lines 1-3"), forbid=("S3CRET", "BEGIN")),
+    BadFile("number-over-two-lines", sub(DH, "alpha: 90,", 'alpha: "90 +\n      S3CRET",'),
+            ("joint 1", "'alpha'", "a text over lines"), at="- {name: q1", forbid=("S3CRET",)),
+    BadFile("block-text-as-convention", sub(DH, "convention: dh", "convention: |\n  S3CRET"),
+            ("'convention'", "a text over lines"), at="convention:", forbid=("S3CRET",)),
     BadFile("missing-name", drop_line(DH, "name:"), ("'name' is missing",)),
     BadFile("missing-convention", drop_line(DH, "convention:"), ("'convention' is missing",)),
     BadFile("missing-units", drop_line(DH, "units:"), ("'units' is missing",)),

@@ -1591,3 +1591,19 @@ def test_ik_item_lock_errors_name_the_line():
         with pytest.raises(Exception) as e:
             parse_sheet(text, "hw.yaml", ".")
         assert words in str(e.value) and "hw.yaml:" in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("text, line", [
+    ("-----BEGIN KEY-----\nS3CRET\n", 1),
+    ("kincalc-sheet: 1\nrobot: bk_rr\nitems:\n  - {id: a, kind: jacobian, q: [0, 0],\n"
+     "     frame: 'base\n     S3CRET', answer: {rank: 2}}\n", 5),
+    ("kincalc-sheet: 1\nrobot: bk_rr\nitems:\n  - id: a\n    kind: fk\n    q: [0, 0]\n"
+     "    answer: {xyz: [\"1 +\n       S3CRET\", 0, 0]}\n", 7),
+])
+def test_a_sheet_error_echoes_no_other_line(text, line):
+    """A value written over several lines is named by its lines, never quoted: the one
+    line a message names is all of the file it shows."""
+    with pytest.raises(SheetError) as info:
+        parse_sheet(text, "hw.yaml", ".")
+    assert info.value.line == line and "S3CRET" not in str(info.value), str(info.value)
+    assert "a text over lines" in str(info.value)

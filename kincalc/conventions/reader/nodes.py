@@ -330,7 +330,43 @@ class NodeReader:
             return "a mapping"
         if isinstance(node, yaml.SequenceNode):
             return "a list"
-        return quote(node.value) if node.value != "" else "empty"
+        return NodeReader.shown(node) if node.value != "" else "empty"
+
+    @staticmethod
+    def shown(node) -> str:
+        """A scalar's text for a message: quoted (cut to ``MAX_QUOTE`` characters) when it
+        lies on one line of the file, else only the lines it runs over. A message names
+        one line, and echoes nothing of the file but that line: a file that is no robot
+        file (a key, a ``.env``) read as one must not show its second line.
+
+        Parameters
+        ----------
+        node : yaml.ScalarNode
+
+        Returns
+        -------
+        str
+            ``'text'``, or ``a text over lines A-B``.
+        """
+        first, last = NodeReader.lines(node)
+        return f"a text over lines {first}-{last}" if last > first else quote(node.value)
+
+    @staticmethod
+    def lines(node) -> tuple[int, int]:
+        """The first and the last 1-based line of the file ``node`` is written on.
+
+        Parameters
+        ----------
+        node : yaml.Node
+
+        Returns
+        -------
+        (int, int)
+            Equal for a node on one line (a block text ``|`` starts on the line of its
+            ``|``).
+        """
+        end = node.end_mark
+        return node.start_mark.line + 1, end.line + (1 if end.column > 0 else 0)
 
     def sequence(self, node, what: str, length: int | None = None) -> list:
         """The items of a list node.

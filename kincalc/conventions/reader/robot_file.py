@@ -163,22 +163,22 @@ class RobotReader(Reader):
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")
         if not NAME_RE.match(name):
-            self.fail(top["name"], f"'name' {quote(name)} must start with a letter (A-Z, a-z) and "
+            self.fail(top["name"], f"'name' {self.shown(top['name'])} must start with a letter (A-Z, a-z) and "
                                    "contain only such letters, digits, '_', '-' and '.'")
         convention = self.text(top["convention"], "'convention'")
         if convention not in CONVENTIONS:
             self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "
                                          "(dh = standard, mdh = modified/Craig), not "
-                                         f"{quote(convention)}")
+                                         f"{self.shown(top['convention'])}")
         units = self.mapping(top["units"], "'units'", {"length": True, "angle": True})
         length_unit = self.text(units["length"], "'units.length'")
         if length_unit not in LENGTH_UNITS:
             self.fail(units["length"], f"'units.length' must be one of {', '.join(LENGTH_UNITS)}, "
-                                       f"not {quote(length_unit)}")
+                                       f"not {self.shown(units['length'])}")
         angle_unit = self.text(units["angle"], "'units.angle'")
         if angle_unit not in ANGLE_UNITS:
             self.fail(units["angle"], f"'units.angle' must be one of {', '.join(ANGLE_UNITS)}, "
-                                      f"not {quote(angle_unit)}")
+                                      f"not {self.shown(units['angle'])}")
         self.L = LENGTH_UNITS[length_unit]
         self.A = ANGLE_UNITS[angle_unit]
 
@@ -342,7 +342,7 @@ class RobotReader(Reader):
             self.fail(fields["name"], "'name' must not be empty")
         jtype = self.text(fields["type"], "'type'")
         if jtype not in JOINT_TYPES:
-            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {quote(jtype)}")
+            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {self.shown(fields['type'])}")
         revolute = jtype == "revolute"
         limits = None
         if "limits" in fields:

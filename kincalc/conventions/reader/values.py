@@ -54,17 +54,17 @@ class Reader(NodeReader):
             except ValueError:
                 value = self.expression(node, what)
             except OverflowError:
-                self.fail(node, f"{what} is too large a number: {quote(node.value)}")
+                self.fail(node, f"{what} is too large a number: {self.shown(node)}")
         elif tag == "bool":
-            self.fail(node, f"{what} must be a number, not {quote(node.value)}")
+            self.fail(node, f"{what} must be a number, not {self.shown(node)}")
         elif tag == "null" or node.value.strip() == "":
             self.fail(node, f"{what} is empty; give a number")
         else:
             value = self.expression(node, what)
         if not math.isfinite(value):
-            self.fail(node, f"{what} must be a finite number, not {quote(node.value)}")
+            self.fail(node, f"{what} must be a finite number, not {self.shown(node)}")
         if abs(value) > MAX_MAGNITUDE:
-            self.fail(node, f"{what} is too large: {quote(node.value)} (kincalc takes numbers "
+            self.fail(node, f"{what} is too large: {self.shown(node)} (kincalc takes numbers "
                             f"up to {MAX_MAGNITUDE:g} in size)")
         return value
 
@@ -87,28 +87,32 @@ class Reader(NodeReader):
         Raises
         ------
         RobotFileError
-            (By :meth:`fail`.) Longer than ``MAX_EXPRESSION`` characters, not an
-            expression, anything else in it, an unknown name, ``pi`` in a file in degrees,
+            (By :meth:`fail`.) Longer than ``MAX_EXPRESSION`` characters, over more
+            than one line, not an expression, anything else in it, an unknown name, ``pi`` in a file in degrees,
             a division by zero, an overflow, nesting too deep.
         """
         src = node.value
         if len(src) > MAX_EXPRESSION:
             self.fail(node, f"{what}: expression longer than {MAX_EXPRESSION} characters")
+        first, last = self.lines(node)
+        if last > first:        # its message would quote lines other than the one it names
+            self.fail(node, f"{what} must be a number or an expression on one line, not "
+                            f"{self.shown(node)}")
         try:
             tree = ast.parse(src.strip(), mode="eval")
         except SyntaxError:
             self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', "
-                            f"not {quote(src)}")
+                            f"not {self.shown(node)}")
         except (RecursionError, MemoryError, ValueError):
             self.fail(node, f"{what}: expression too deeply nested")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
-            self.fail(node, f"{what}: {exc} in {quote(src)}")
+            self.fail(node, f"{what}: {exc} in {self.shown(node)}")
         except ZeroDivisionError:
-            self.fail(node, f"{what}: division by zero in {quote(src)}")
+            self.fail(node, f"{what}: division by zero in {self.shown(node)}")
         except OverflowError:
-            self.fail(node, f"{what}: number too large in {quote(src)}")
+            self.fail(node, f"{what}: number too large in {self.shown(node)}")
         except RecursionError:
             self.fail(node, f"{what}: expression too deeply nested")
 

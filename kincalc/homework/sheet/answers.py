@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...conventions.reader import node_line
-from ...limits import MAX_IK_SETS, quote
+from ...limits import MAX_IK_SETS
 
 
 class AnswerReader:
@@ -21,7 +21,7 @@ class AnswerReader:
                 self.fail(node, "'answer' must be yes or no")
             v = str(node.value).strip().lower()
             if v not in ("yes", "no", "true", "false", "y", "n"):
-                self.fail(node, f"'answer' must be yes or no, not {quote(node.value)}")
+                self.fail(node, f"'answer' must be yes or no, not {self.shown(node)}")
             return v in ("yes", "true", "y")
         if kind == "link":
             return self.matrix(node, "'answer'", [(4, 4), (3, 4)])
@@ -95,7 +95,7 @@ class AnswerReader:
         conv = self.text(f["convention"], "'answer.convention'").strip()
         if conv not in ("dh", "mdh"):
             self.fail(f["convention"], f"'answer.convention' must be dh or mdh, not "
-                                       f"{quote(conv)}")
+                                       f"{self.shown(f['convention'])}")
         if ("table" in f) == ("joints" in f):
             self.fail(node, "'answer' needs either 'table' (rows of cells) or 'joints' (mappings)")
         joints, signs, variables = [], [], []
@@ -126,7 +126,7 @@ class AnswerReader:
                 jtype = self.text(jf["type"], "'type'").strip()
                 if jtype not in ("revolute", "prismatic"):
                     self.fail(jf["type"], f"'type' must be revolute or prismatic, not "
-                                          f"{quote(jtype)}")
+                                          f"{self.shown(jf['type'])}")
                 name = self.text(jf["name"], "'name'").strip() if "name" in jf else f"q{k}"
                 joints.append(Joint(
                     name=name, type=jtype, alpha=self.angle(jf["alpha"], "'alpha'"),
@@ -188,7 +188,7 @@ class AnswerReader:
             sign = c1 - c0
             if abs(abs(sign) - 1.0) > 1e-9 or abs(self._at(cnode, var, 7.0) - (c0 + 7 * sign)) > 1e-9:
                 self.fail(cnode, f"row {k}, {c}: the joint variable {var} must appear as {var} or "
-                                 f"-{var} plus a constant, not {quote(cnode.value)}")
+                                 f"-{var} plus a constant, not {self.shown(cnode)}")
             values[c] = c0 * scale
         self.params = dict(self.length_params)
         joint = Joint(name=var, type="revolute" if col == "theta" else "prismatic",

@@ -133,7 +133,7 @@ class _SheetReader(AnswerReader, Reader):
             version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")
             if version.strip() != "1":
                 self.fail(top["kincalc-sheet"], f"this kincalc reads sheet format 1, not "
-                                                f"{quote(version)}")
+                                                f"{self.shown(top['kincalc-sheet'])}")
         robot = self.robot_ref(top["robot"])
         self.robot_ = robot
         units = {}
@@ -144,13 +144,13 @@ class _SheetReader(AnswerReader, Reader):
                 units["angle"] = self.text(u["angle"], "'units.angle'")
                 if units["angle"] not in ANGLE_UNITS:
                     self.fail(u["angle"], f"'units.angle' must be deg or rad, not "
-                                          f"{quote(units['angle'])}")
+                                          f"{self.shown(u['angle'])}")
             if "length" in u:
                 units["length"] = self.text(u["length"], "'units.length'")
                 if units["length"] not in LENGTH_UNITS:
                     self.fail(u["length"], f"'units.length' must be one of "
                                            f"{', '.join(LENGTH_UNITS)}, not "
-                                           f"{quote(units['length'])}")
+                                           f"{self.shown(u['length'])}")
                 if (units["length"] == "unitless") != (robot.length_unit == "unitless"):
                     self.fail(u["length"], f"robot {quote(robot.name)} is "
                               + ("unitless" if robot.length_unit == "unitless" else
@@ -273,7 +273,7 @@ class _SheetReader(AnswerReader, Reader):
             kind = raw["kind"].value
             if kind not in KINDS:
                 self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not "
-                                       f"{quote(kind)}")
+                                       f"{self.shown(raw['kind'])}")
         keys = dict(ITEM_KEYS, **KIND_KEYS.get(kind, {}))
         f = self.mapping(node, "the item", keys)
         ident = self.text(f["id"], "'id'").strip()
@@ -302,17 +302,19 @@ class _SheetReader(AnswerReader, Reader):
         if kind == "jacobian" and "frame" in f:
             item["frame"] = self.text(f["frame"], "'frame'").strip()
             if item["frame"] not in ("base", "tool"):
-                self.fail(f["frame"], f"'frame' must be base or tool, not {quote(item['frame'])}")
+                self.fail(f["frame"], f"'frame' must be base or tool, not {self.shown(f['frame'])}")
         for key in ("tool", "base"):
             if key in f:
                 v = self.text(f[key], f"'{key}'").strip()
                 if v not in ("compare", "ignore"):
-                    self.fail(f[key], f"'{key}' must be compare or ignore, not {quote(v)}")
+                    self.fail(f[key], f"'{key}' must be compare or ignore, not "
+                                      f"{self.shown(f[key])}")
                 item[key] = v
         if kind == "ik" and "limits" in f:
             v = self.text(f["limits"], "'limits'").strip()
             if v not in ("respect", "ignore"):
-                self.fail(f["limits"], f"'limits' must be respect or ignore, not {quote(v)}")
+                self.fail(f["limits"], f"'limits' must be respect or ignore, not "
+                                       f"{self.shown(f['limits'])}")
             item["limits"] = v == "respect"
         if "lock" in f:
             item["lock"] = self.locks(f["lock"])
