@@ -124,12 +124,15 @@ def display_units(robot, deg: bool, unit: str | None):
 
 
 def parse_joints(tokens: list[str] | None, robot, units, option: str | None = None):
-    """Joint values from the command line, converted to SI; home when none are given.
+    """Joint values from the command line, converted to SI; home when none are given as
+    Q arguments.
 
-    ``option`` names the option the values came with, for error messages."""
+    ``option`` names the option (``--near``, ``--from-q``) or record field (``q``) the
+    values came with, for error messages; given one, no values at all (``--from-q ''``,
+    ``{"q": []}``) are too few values, not the home configuration."""
     import numpy as np
     where = f"{option}: " if option else ""
-    if not tokens:
+    if not tokens and option is None:
         return np.array(robot.home, dtype=float)
     values = []
     for tok in tokens:

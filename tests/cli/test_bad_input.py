@@ -428,6 +428,14 @@ BAD_COMMANDS = [
                ("bk_rr has 2 joints", "got 3 joint values")),
     BadCommand("too-few-joint-values-jacobian", ("jacobian", "puma560", "0", "-45"),
                ("puma560 has 6 joints", "got 2 joint values")),
+    # an option given no joint values is too few values, not the home configuration
+    # (--from-q "$Q" with Q unset must not answer for the home pose)
+    BadCommand("from-q-empty", ("ik", "puma560", "--from-q", ""),
+               ("--from-q", "puma560 has 6 joints", "got 0 joint values")),
+    BadCommand("from-q-blank-reach", ("reach", "puma560", "--from-q", " , "),
+               ("--from-q", "got 0 joint values")),
+    BadCommand("near-empty", ("ik", "bk_rr", "--xyz", "12", "2", "0", "--near", ""),
+               ("--near", "bk_rr has 2 joints", "got 0 joint values")),
     BadCommand("non-numeric-joint-value", ("fk", "bk_rr", "30", "abc"),
                ("joint value 'abc'", "not a number")),
     BadCommand("joint-value-nan", ("fk", "bk_rr", "30", "nan"), ("finite",)),

@@ -190,6 +190,18 @@ def test_bad_records_become_error_records_and_exit_2(tmp_path, capsys):
     assert "zero quaternion" in recs[0]["error"] and "record 3: rpy" in recs[2]["error"]
 
 
+@pytest.mark.parametrize("command", ["ik", "reach"])
+def test_a_pose_record_with_no_joint_values_is_an_error_not_home(command, tmp_path, capsys):
+    """``{"q": []}`` is a record with too few joint values, as in fk: it was answered for the
+    home configuration, as if the record had asked for it."""
+    path = write(tmp_path, "q.jsonl", ['{"q": []}\n', '{"q": [0, 90, -90, 0, 0, 0]}\n'])
+    code, out, err = run(capsys, command, "puma560", "--batch", path)
+    recs = lines(out)
+    assert code == 2 and [r["index"] for r in recs] == [0, 1]
+    assert recs[0]["error"].startswith("record 1: q: puma560 has 6 joints")
+    assert "got 0 joint values" in recs[0]["error"] and "error" not in recs[1]
+
+
 def test_unreachable_poses_exit_1(tmp_path, capsys):
     rows = [{"xyz": [5, 0, 0], "rpy": [0, 0, 0]}, {"q": [0, -45, 180, 0, 45, 0]}]
     code, out, err = run(capsys, "ik", "puma560", "--batch", write(tmp_path, "u.jsonl", rows))
