@@ -48,12 +48,19 @@ REFUSED = {"floating": "a floating joint (6 DOF) is not a serial joint",
 
 @dataclass
 class Element:
-    """One XML element: its tag, attributes, 1-based line and children."""
+    """One XML element: its tag, attributes, 1-based line and children, and the first and
+    last line of each attribute (a start tag may run over several lines)."""
 
     tag: str
     attrs: dict
     line: int
     children: list = field(default_factory=list)
+    attr_lines: dict = field(default_factory=dict)
+
+    def lines_of(self, name: str) -> tuple[int, int]:
+        """The first and last 1-based line of attribute ``name`` (the element's line when
+        it has none)."""
+        return self.attr_lines.get(name, (self.line, self.line))
 
     def first(self, tag: str):
         """The first child element named ``tag``, or None."""
@@ -102,8 +109,12 @@ def parse_xml(text: str, file: str) -> Element:
     root: list[Element] = []
     stack: list[Element] = []
 
+    data = text.encode("utf-8")       # what expat parses: its byte indexes are into it
+
     def start(tag, attrs):
-        node = Element(tag, attrs, parser.CurrentLineNumber)
+        node = Element(tag, attrs, parser.CurrentLineNumber,
+                       attr_lines=_attribute_lines(data, parser.CurrentByteIndex,
+                                                   parser.CurrentLineNumber))
         (stack[-1].children if stack else root).append(node)
         stack.append(node)
 
@@ -129,6 +140,24 @@ def parse_xml(text: str, file: str) -> Element:
     return root[0]
 
 
+#: a start tag as expat has accepted it, and one attribute in it
+_START_TAG = re.compile(rb"""<[^\s/>]+(?:\s+[^\s=/>]+\s*=\s*(?:"[^"]*"|'[^']*'))*\s*/?>""")
+_ATTRIBUTE = re.compile(rb"""([^\s=/>]+)\s*=\s*("[^"]*"|'[^']*')""")
+
+
+def _attribute_lines(data: bytes, at: int, line: int) -> dict:
+    """``{attribute: (first line, last line)}`` of the start tag at byte ``at`` of ``data``,
+    whose ``<`` is on ``line``."""
+    tag = _START_TAG.match(data, at)
+    if tag is None:
+        return {}
+    out = {}
+    for m in _ATTRIBUTE.finditer(data, at, tag.end()):
+        first = line + data.count(b"\n", at, m.start(2))
+        out[m.group(1).decode("utf-8", "replace")] = (first, first + m.group(2).count(b"\n"))
+    return out
+
+
 def _cut_tag(tag: str) -> str:
     return tag if len(tag) <= 40 else tag[:37] + "..."
 
@@ -140,8 +169,18 @@ class _Reader:
     def __init__(self, file: str):
         self.file = file
 
-    def fail(self, node: Element, message: str):
-        raise RobotFileError(self.file, node.line, message)
+    def fail(self, node: Element, message: str, attr: str | None = None):
+        """Raise the error ``message`` at ``node``, on the line of its attribute ``attr``
+        when given."""
+        line = node.lines_of(attr)[0] if attr is not None else node.line
+        raise RobotFileError(self.file, line, message)
+
+    @staticmethod
+    def shown(node: Element, name: str) -> str:
+        """Attribute ``name`` quoted for a message, or, when its value runs over several
+        lines, those lines only (a message shows the file's line it names, no other)."""
+        first, last = node.lines_of(name)
+        return f"a value over lines {first}-{last}" if last > first else quote(node.attrs[name])
 
     def attr(self, node: Element, name: str, default=None) -> str:
         if name in node.attrs:
@@ -158,12 +197,14 @@ class _Reader:
         except ValueError:
             hint = " (an unexpanded xacro expression? expand the file first)" \
                 if "$" in text else ""
-            self.fail(node, f"<{node.tag} {name}> {quote(text)} is not {count} numbers{hint}")
+            self.fail(node, f"<{node.tag} {name}> {self.shown(node, name)} is not "
+                            f"{_count(count)}{hint}", name)
         if len(values) != count:
-            self.fail(node, f"<{node.tag} {name}> needs {count} numbers, got {len(values)}")
+            self.fail(node, f"<{node.tag} {name}> needs {_count(count)}, got {len(values)}",
+                      name)
         if not all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in values):
             self.fail(node, f"<{node.tag} {name}> holds a number that is not finite or is "
-                            f"larger than {MAX_MAGNITUDE:g}")
+                            f"larger than {MAX_MAGNITUDE:g}", name)
         return np.array(values)
 
     def joint(self, node: Element) -> UrdfJoint:
@@ -171,8 +212,9 @@ class _Reader:
         kind = self.attr(node, "type")
         where = f"joint {quote(name)}"
         if kind not in MOVING and kind != "fixed" and kind not in REFUSED:
-            self.fail(node, f"{where}: type {quote(kind)} is not a URDF joint type "
-                            "(revolute, continuous, prismatic, fixed, floating, planar)")
+            self.fail(node, f"{where}: type {self.shown(node, 'type')} is not a URDF joint "
+                            "type (revolute, continuous, prismatic, fixed, floating, planar)",
+                      "type")
         links = {}
         for tag in ("parent", "child"):
             sub = node.first(tag)
@@ -206,6 +248,10 @@ class _Reader:
             limits = (float(lo), float(hi))
         return UrdfJoint(name, kind, links["parent"], links["child"], T, axis, limits,
                          node.first("mimic") is not None, node.line)
+
+
+def _count(n: int) -> str:
+    return "a number" if n == 1 else f"{n} numbers"
 
 
 def load_urdf(path, display_name: str | None = None, base_link: str | None = None,

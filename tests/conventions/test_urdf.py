@@ -268,6 +268,26 @@ def test_bad_urdfs_are_one_line_naming_file_and_line(text, words):
     assert words in msg
 
 
+@pytest.mark.parametrize("old, new, line, words", [
+    # an attribute on a continuation line of its start tag is reported on its own line
+    ('<limit lower="-1" upper="1"/>', '<limit lower="-1"\n       upper="oops"/>', 2,
+     "<limit upper> 'oops' is not a number"),
+    ('<origin xyz="1 0 0"/>', '<origin\n  rpy = \'0 0\'\n  xyz="1 0 0"/>', 2,
+     "<origin rpy> needs 3 numbers, got 2"),
+    # a value over several lines is named by its lines, never quoted
+    ('xyz="1 0 0"', 'xyz="1 0\nS3CRET"', 1, "<origin xyz> a value over lines 1-2 is not 3"),
+    ('type="revolute"><parent link="a"/>', 'type="revo\nS3CRET"><parent link="a"/>', 1,
+     "type a value over lines 1-2 is not a URDF joint type"),
+])
+def test_an_attribute_error_names_the_attributes_line_and_shows_no_other(old, new, line,
+                                                                         words):
+    text = _chain_text().replace(old, new, 1)
+    with pytest.raises(RobotFileError) as e:
+        parse_urdf_text(text, "bad.urdf")
+    assert e.value.line == line and words in str(e.value), str(e.value)
+    assert "S3CRET" not in str(e.value)
+
+
 def test_a_floating_joint_off_the_chain_is_ignored():
     text = _chain_text(extra='<link name="w"/><joint name="free" type="floating">'
                              '<parent link="w"/><child link="a"/></joint>')
