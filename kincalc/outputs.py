@@ -143,13 +143,16 @@ def check_target(target) -> str:
     Raises
     ------
     InputError
-        No file name, a missing folder, a folder, one of the command's inputs, an existing
-        file without ``force``, or anything but a regular file.
+        No file name, a NUL character in it, a missing folder, a folder, one of the
+        command's inputs, an existing file without ``force``, or anything but a regular
+        file.
     """
     t = as_target(target)
     path = str(t.path)
     if not path:
         raise InputError(f"{t.option}: give a file name")
+    if "\0" in path:               # no such name reaches a real argv, but main() takes any
+        t.fail("is not a valid file name (it holds a NUL character)")
     if path.endswith(("/", os.sep)):
         t.fail("names a folder; give a file name")
     folder = os.path.dirname(os.path.abspath(path))

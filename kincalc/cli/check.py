@@ -241,6 +241,8 @@ def _feedback_targets(folder: str, sheets, force: bool, inputs) -> list:
     from ..outputs import Target, check_target, shown_path
     from ..errors import InputError
     where = f"--feedback-dir {shown_path(folder)}"
+    if "\0" in folder:
+        raise InputError(f"{where}: not a valid folder name (it holds a NUL character)")
     if os.path.lexists(folder) and not os.path.isdir(folder):
         raise InputError(f"{where}: not a folder")
     if not os.path.isdir(folder) and not os.path.isdir(os.path.dirname(os.path.abspath(folder))):

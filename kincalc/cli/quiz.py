@@ -191,6 +191,9 @@ def _roster_targets(folder: str, keys: str, ids, force: bool, robot: str, roster
 
     from ..outputs import check_target, shown_path
     for path in (folder, keys):
+        if "\0" in path:
+            raise InputError(f"--output {shown_path(path)}: not a valid folder name (it holds "
+                             "a NUL character)")
         if os.path.lexists(path) and not os.path.isdir(path):
             raise InputError(f"--output {shown_path(path)}: not a folder (with --roster, -o "
                              "names the folder of the sheets)")

@@ -216,6 +216,25 @@ def _existing(argv):
     return "old" + SUFFIX.get(argv[0], ".png")
 
 
+#: every output option, file or folder: {out} is the name (a folder for the last two)
+OUTPUTS = [argv for argv, _ in WRITERS] + [
+    ["check", "sheet.yaml", "--format", "json", "-o", "{out}"],
+    ["check", "sheet.yaml", "--gradebook", "{out}"],
+    ["check", "sheet.yaml", "--feedback-dir", "{out}"],
+    ["quiz", "robot.svg", "--roster", "roster.csv", "--salt", "s", "-o", "{out}"],
+]
+
+
+@pytest.mark.parametrize("argv", OUTPUTS, ids=" ".join)
+def test_a_nul_in_an_output_name_is_bad_input(argv, folder):
+    """No shell passes a NUL, but main() takes any list: a name holding one was an
+    internal error (ValueError from the file system, exit 3)."""
+    (folder / "sheet.yaml").write_bytes((ROOT / "examples" / "bk_example_4_2.yaml").read_bytes())
+    (folder / "roster.csv").write_text("id\ns1\n")
+    status, out, err = run(_argv(argv, "a\0b.png"), folder)
+    assert status == 2 and "NUL character" in err and "\\x00" in err, err
+
+
 @pytest.mark.parametrize("argv, option", WRITERS, ids=IDS)
 def test_writer_refuses_its_own_robot_file_even_with_force(argv, option, folder):
     for force in ([], ["--force"]):
