@@ -106,9 +106,9 @@ def resolve(robot: str) -> tuple[Path, str]:
         candidate = library_dir() / f"{robot}.yaml"
         if os.path.isfile(candidate):
             return candidate, robot
-    p = Path(robot)
-    if looks_like_path or os.path.exists(p):
-        return p, robot  # the loader reports "no such file" or "is a directory"
+    # the name as given: Path("") is "." (the working folder, "is a directory")
+    if looks_like_path or os.path.exists(robot):
+        return Path(robot), robot  # the loader reports "no such file" or "is a directory"
     close = difflib.get_close_matches(robot, bundled_names(), n=3, cutoff=0.6)
     raise RobotNotFoundError(robot, close)
 

@@ -418,6 +418,10 @@ BAD_COMMANDS = [
                ("'pum560'", "did you mean 'puma560'")),
     BadCommand("unknown-robot-name-jacobian", ("jacobian", "ur5ee"),
                ("'ur5ee'", "did you mean 'ur5e'")),
+    # an empty name is no robot; it was the working folder ('.: is a directory')
+    BadCommand("empty-robot-name", ("fk", ""), ("no robot named ''",), forbid=("directory",)),
+    BadCommand("empty-robot-name-show", ("robots", "show", ""), ("no robot named ''",),
+               forbid=("directory", "'.'")),
     BadCommand("robots-show-missing-file", ("robots", "show", "nope.yaml"),
                ("nope.yaml", "no such file")),
     BadCommand("robots-show-unknown-name", ("robots", "show", "stanfrod_arm"),
