@@ -1607,3 +1607,16 @@ def test_a_sheet_error_echoes_no_other_line(text, line):
         parse_sheet(text, "hw.yaml", ".")
     assert info.value.line == line and "S3CRET" not in str(info.value), str(info.value)
     assert "a text over lines" in str(info.value)
+
+
+@pytest.mark.parametrize("kind, shown", [("[fk]", "a list"), ("{answer: 1}", "a mapping")])
+@pytest.mark.parametrize("answer", ["", "    answer: {xyz: [1, 0, 0]}\n"])
+def test_a_kind_that_is_no_text_is_an_invalid_sheet(kind, shown, answer):
+    """A list or mapping as 'kind' was let through as "no kind": the item's answer then
+    reached an assertion (an internal error, exit 3) instead of a sheet error."""
+    text = (f"kincalc-sheet: 1\nrobot: bk_rr\nitems:\n  - id: a\n    kind: {kind}\n"
+            f"    q: [0, 0]\n{answer}")
+    with pytest.raises(SheetError) as info:
+        parse_sheet(text, "hw.yaml", ".")
+    assert info.value.line == 5 and "'kind' must be one of" in str(info.value)
+    assert str(info.value).endswith(f"not {shown}")

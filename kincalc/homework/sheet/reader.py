@@ -269,11 +269,11 @@ class _SheetReader(AnswerReader, Reader):
         if "id" in raw and self.is_scalar(raw["id"]):
             self.item = str(raw["id"].value)
         kind = None
-        if "kind" in raw and self.is_scalar(raw["kind"]):
-            kind = raw["kind"].value
+        if "kind" in raw:           # a list or a mapping is no kind either
+            kind = raw["kind"].value if self.is_scalar(raw["kind"]) else None
             if kind not in KINDS:
                 self.fail(raw["kind"], f"'kind' must be one of {', '.join(KINDS)}, not "
-                                       f"{self.shown(raw['kind'])}")
+                                       f"{self.kind(raw['kind'])}")
         keys = dict(ITEM_KEYS, **KIND_KEYS.get(kind, {}))
         f = self.mapping(node, "the item", keys)
         ident = self.text(f["id"], "'id'").strip()
