@@ -88,8 +88,9 @@ class Reader(NodeReader):
         ------
         RobotFileError
             (By :meth:`fail`.) Longer than ``MAX_EXPRESSION`` characters, over more
-            than one line, not an expression, anything else in it, an unknown name, ``pi`` in a file in degrees,
-            a division by zero, an overflow, nesting too deep.
+            than one line, not an expression, anything else in it, an unknown name,
+            ``pi`` in a file in degrees, a division by zero, an overflow, nesting too
+            deep.
         """
         src = node.value
         if len(src) > MAX_EXPRESSION:
