@@ -163,8 +163,9 @@ class RobotReader(Reader):
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")
         if not NAME_RE.match(name):
-            self.fail(top["name"], f"'name' {self.shown(top['name'])} must start with a letter (A-Z, a-z) and "
-                                   "contain only such letters, digits, '_', '-' and '.'")
+            self.fail(top["name"], f"'name' {self.shown(top['name'])} must start with a letter "
+                                   "(A-Z, a-z) and contain only such letters, digits, '_', '-' "
+                                   "and '.'")
         convention = self.text(top["convention"], "'convention'")
         if convention not in CONVENTIONS:
             self.fail(top["convention"], f"'convention' must be one of {', '.join(CONVENTIONS)} "
@@ -342,7 +343,8 @@ class RobotReader(Reader):
             self.fail(fields["name"], "'name' must not be empty")
         jtype = self.text(fields["type"], "'type'")
         if jtype not in JOINT_TYPES:
-            self.fail(fields["type"], f"'type' must be revolute or prismatic, not {self.shown(fields['type'])}")
+            self.fail(fields["type"], "'type' must be revolute or prismatic, not "
+                                      f"{self.shown(fields['type'])}")
         revolute = jtype == "revolute"
         limits = None
         if "limits" in fields:
