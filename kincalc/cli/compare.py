@@ -30,7 +30,8 @@ SamplesOpt = Annotated[int, typer.Option(
     help="Random configurations of ROBOT_A (within its limits) on which the answer is "
          "checked by forward kinematics, besides q = 0.")]
 SeedOpt = Annotated[int, typer.Option(
-    "--seed", metavar="S", help="Seed of those configurations.")]
+    "--seed", metavar="S", min=0, help="Seed of those configurations (a non-negative "
+                                      "integer).")]
 
 
 def compare(

@@ -422,6 +422,9 @@ BAD_COMMANDS = [
     BadCommand("empty-robot-name", ("fk", ""), ("no robot named ''",), forbid=("directory",)),
     BadCommand("empty-robot-name-show", ("robots", "show", ""), ("no robot named ''",),
                forbid=("directory", "'.'")),
+    # a negative seed reached numpy (ValueError: an internal error, exit 3)
+    BadCommand("compare-negative-seed", ("compare", "bk_rr", "bk_rr", "--seed", "-1"),
+               ("--seed", "-1", "x>=0")),
     BadCommand("robots-show-missing-file", ("robots", "show", "nope.yaml"),
                ("nope.yaml", "no such file")),
     BadCommand("robots-show-unknown-name", ("robots", "show", "stanfrod_arm"),
