@@ -285,9 +285,13 @@ def _continuum(robot, sv: Solved, k: int):
         _, sigma, total = parallel[0, k].tolist()
         S = plan(robot)[0]
         S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
-        h = S.axis[1]
-        s3, s4 = (1 if float(S.axis[i] @ h) > 0 else -1 for i in (2, 3))
-        c = ParallelContinuum((1, 2, 3, 5), (1, s3, s4, int(sigma)), 5, float(total))
+        # the revolute joints about h: 2-4 of a three-parallel arm, the three of 1-4 of an
+        # offset-wrist arm (h the axis of joint 4), and joint 6 (sigma)
+        about = (1, 2, 3) if sv.spec.solver == "three-parallel" else \
+            tuple(i for i in range(4) if S.revolute[i])
+        h = S.axis[about[-1] if sv.spec.solver != "three-parallel" else 1]
+        signs = tuple(1 if float(S.axis[i] @ h) > 0 else -1 for i in about)
+        c = ParallelContinuum(about + (5,), signs + (int(sigma),), 5, float(total))
         if sv.spec.reverse:
             c = replace(c.reversed(robot.dof), total=float(total))
         return c

@@ -151,7 +151,7 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
                   tol=0.0))[0]
-    arcs, ok_arcs = _singular_q6(S, br, T, Rt, sigma, aligned)
+    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     free6 = pair(aligned, aligned)
@@ -185,19 +185,25 @@ def _tool_point_of(S: Screws, T, x) -> np.ndarray:
     return (T[:, None, :3, :3] @ local[..., None])[..., 0] + T[:, None, :3, 3]
 
 
-def _singular_q6(S: Screws, br: Branches, T, Rt, sigma, aligned):
+def _singular_q6(S: Screws, br: Branches, T, sigma, aligned, elbow=(1, 2, 3)):
     """Joint 6's representatives at the wrist singularity, two arcs per slot:
-    ``(q6 (N, K, 2), ok (N, K, 2))`` (:func:`~kincalc.ik.wrists.parallel_wrist_q6`)."""
+    ``(q6 (N, K, 2), ok (N, K, 2))`` (:func:`~kincalc.ik.wrists.parallel_wrist_q6`, its
+    ``elbow``: a three-parallel arm's joints 2-4, with joint 1 undone; an offset-wrist arm's
+    two revolute joints of 1-3 and joint 4, where a prismatic joint along h moves nothing
+    across h)."""
     N, K = aligned.shape
     if not np.count_nonzero(aligned):
         return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
-    h = S.axis[1]
-    # axis 6's point, and axis 4's point at q6 = 0, with joint 1 undone, across h
-    W = _back(S, br, 0, np.broadcast_to(tool_point(S, T, S.point[5]), (N, K, 3)))
+    h = S.axis[elbow[0]]
+    # joint 1 undone when it is not the elbow's (about another axis, or sliding along h)
+    undo1 = (lambda x: _back(S, br, 0, x)) if elbow[0] == 1 else (lambda x: x)
+    # axis 6's point, and axis 4's point at q6 = 0, across h
+    W = undo1(np.broadcast_to(tool_point(S, T, S.point[5]), (N, K, 3)))
     P0 = _back(S, br, 4, np.broadcast_to(S.point[3], (N, K, 3)))
-    P0 = _back(S, br, 0, _tool_point_of(S, T, P0))
+    P0 = undo1(_tool_point_of(S, T, P0))
     perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
-    q6, ok, _ = parallel_wrist_q6(S, perp(W - S.point[1]), perp(P0 - W), sigma)
+    q6, ok, _ = parallel_wrist_q6(S, perp(W - S.point[elbow[0]]), perp(P0 - W), sigma,
+                                  elbow=elbow)
     return q6, ok
 
 
@@ -206,8 +212,14 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
 
     Three revolute joints and one prismatic (the textbook's offset-wrist arm): rotations
     about parallel axes add up, so joint 5 comes from the component of axis 6 along h
-    (subproblem 4), joint 6 and the sum of the revolute angles about h from subproblem 1;
-    joints 1-3 then place axis 4's point, and joint 4 closes the sum.
+    (the cone form of subproblem 4), joint 6 and the sum of the revolute angles about h
+    from subproblem 1; joints 1-3 then place axis 4's point, and joint 4 closes the sum.
+
+    At the wrist singularity (axis 6 parallel to h) only the signed sum of the revolute
+    angles about h and ``sigma q6`` is fixed, as for a three-parallel arm: joint 6 takes
+    the representatives of :func:`~kincalc.ik.wrists.parallel_wrist_q6` (the elbow of the
+    two revolute joints among 1-3), marked free, with the sum kept as the slot's
+    continuum (``extra["parallel continuum"]``: mask, sigma, total in rad).
 
     Parameters
     ----------
@@ -222,23 +234,41 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     T = targets.T
     h, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
     Rt = target_rotation(S, T)
-    br = br.branch([4], sp4(h, k6, k5, dot(h, _mv(Rt, k6))[:, :, None].squeeze(-1)))
-    Rt = br.take(Rt.repeat(1, 1))
-    a = np.broadcast_to(_mtv(Rt, h), (br.N, br.K, 3))
+    v = np.broadcast_to(_mv(Rt, k6), (br.N, br.K, 3))
+    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
+        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
+    Rt, v = br.take(Rt.repeat(1, 1)), br.take(v)
+    aligned = br.free[4]
+    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
+    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
+    # joint 6: R6 (R_t^T h) = R5^T h (projected: both are small near the singularity)
+    a = _mtv(Rt, np.broadcast_to(h, v.shape))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6, c6, s6 = _one(sp1(a, b, k6))
-    br = br.set(5, t6, c6, s6)
+    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
+                  tol=0.0))[0]
+    elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
+    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
+    q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
+    ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
+    br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
+                                  pair(aligned, aligned)), labels=(None, "other arc"))
+    Rt, sigma = br.take(Rt), br.take(sigma)
     e = S.constant("normal to h", lambda: normal_to(h))
-    r = S.turn(5, c6, -s6, S.turn(4, br.cos[4], -br.sin[4], e))
+    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, _mv(Rt, r))[0]
-    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], a.shape))
+    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], r.shape))
     p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
-    br = br.with_extra("psi", psi)
+    br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
     sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
     partial = sum(sign[i] * br.value[i] for i in range(3) if S.revolute[i])
     q4 = (br.extra["psi"] - partial) * sign[3]
-    return br.set(3, q4, np.cos(q4), np.sin(q4))
+    br = br.set(3, q4, np.cos(q4), np.sin(q4))
+    if np.count_nonzero(br.free[5]):
+        total = br.extra["psi"] + br.extra["sigma"] * br.value[5]
+        br = br.with_extra("parallel continuum", np.stack(
+            [br.free[5].astype(float), br.extra["sigma"], total], -1))
+    return br
 
 
 # --- fewer joints ------------------------------------------------------------------

@@ -123,7 +123,7 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     return br
 
 
-def parallel_wrist_q6(S: Screws, a, b, sigma):
+def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):
     """Representative values of joint 6 at the wrist singularity of a three-parallel arm.
 
     There joints 2, 3, 4 and 6 turn about parallel axes (direction ``h``). All
@@ -150,6 +150,11 @@ def parallel_wrist_q6(S: Screws, a, b, sigma):
         From axis 6 to axis 4 at ``q6 = 0``, normal to h (m).
     sigma : array_like (...)
         +1 when axis 6 points along h, -1 when it points against it.
+    elbow : tuple of 3 int
+        The joints (0-based) whose axes are the elbow's: its first and second revolute
+        joints about h and the joint whose axis it must reach, ``h`` the axis of the first
+        (three-parallel: 2, 3 and 4; an offset-wrist arm of joints 1-4 about or along one
+        direction: its two revolute joints before joint 4, and joint 4).
 
     Returns
     -------
@@ -162,10 +167,11 @@ def parallel_wrist_q6(S: Screws, a, b, sigma):
         The angle (rad) about h from ``a`` to axis 4's offset, whose sign tells the two
         arcs apart.
     """
-    h = S.axis[1]
+    i2, i3, i4 = elbow
+    h = S.axis[i2]
     perp = lambda x: x - (x @ h) * h  # noqa: E731
-    l2 = float(np.linalg.norm(perp(S.point[2] - S.point[1])))
-    l3 = float(np.linalg.norm(perp(S.point[3] - S.point[2])))
+    l2 = float(np.linalg.norm(perp(S.point[i3] - S.point[i2])))
+    l3 = float(np.linalg.norm(perp(S.point[i4] - S.point[i3])))
     lo_r, hi_r = abs(l2 - l3), l2 + l3
     mid_r = 0.5 * (lo_r + hi_r)
     a, b = np.asarray(a, float), np.asarray(b, float)

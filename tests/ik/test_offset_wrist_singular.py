@@ -1,0 +1,117 @@
+"""Offset-wrist arms (joints 1-4 about or along one direction h, axes 5 and 6 meeting) at
+their wrist singularity.
+
+When axis 6 is parallel to h (q5 = 0 or 180 deg on the textbook's R-P-R-R-R-R arm), the
+three revolute joints of 1-4 and joint 6 all turn about parallel axes:
+
+    R_h(s1 q1 + s3 q3 + s4 q4) R5 R(k6, q6) = R_h(s1 q1 + s3 q3 + s4 q4 + sigma q6) R5,
+
+(``s_i``, ``sigma`` = +-1 the directions of the axes along h), so the pose fixes q5, the
+prismatic joint and only that signed sum; turning q6 swings axis 4 about axis 6 and the
+planar elbow follows. The arm has a one-parameter continuum of solutions there, and IK
+used to answer none at all. Every check is made from FK and the joint frames of the
+robot as given: the solutions reproduce the pose, the generating configuration satisfies
+the reported relation, and moving the free joint along the continuum (Newton on the other
+joints, a brute-force follower) keeps reaching the pose.
+"""
+
+import numpy as np
+import pytest
+
+from kincalc import load_robot
+from kincalc.conventions import mdh_to_dh, to_poe
+from kincalc.fk import chain_frames
+from kincalc.spatial import wrap
+
+
+def _robot(convention):
+    r = load_robot("bk_offset_wrist")                     # modified DH in its file
+    return {"mdh": r, "dh": mdh_to_dh(r), "poe": to_poe(r)}[convention]
+
+
+def _singular_configurations(robot, m, rng):
+    """``m`` configurations with q5 = 0 or 180 deg (axis 6 along axis 4 for this arm,
+    checked from the frames) and the other joints random within the limits."""
+    lo, hi = robot.limits.T
+    lo = np.where(np.isfinite(lo), lo, -np.pi)
+    hi = np.where(np.isfinite(hi), hi, np.pi)
+    Q = rng.uniform(lo, hi, (m, robot.dof))
+    Q[:, 4] = rng.choice([0.0, np.pi], m)
+    F = chain_frames(robot.chain, Q)
+    z4, z6 = F[:, 3, :3, 2], F[:, 5, :3, 2]
+    assert np.allclose(np.abs(np.einsum("mi,mi->m", z4, z6)), 1.0, atol=1e-12)
+    return Q
+
+
+def _follow(robot, T, q, j, value, steps=20):
+    """Move joint ``j`` of the solution ``q`` to ``value`` in steps, Gauss-Newton on the
+    other joints against the pose ``T`` after each (finite differences): the end point."""
+    q = q.astype(float).copy()
+    others = [k for k in range(robot.dof) if k != j]
+    L = robot.characteristic_length
+
+    def err(x):
+        F = robot.fk(x)
+        return np.concatenate([(F[:3, 3] - T[:3, 3]) / L, (F[:3, :3] - T[:3, :3]).ravel()])
+    start = q[j]
+    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
+        q[j] = start + t * wrap(value - start)
+        for _ in range(20):
+            e = err(q)
+            if np.abs(e).max() < 1e-13:
+                break
+            J = np.empty((len(e), len(others)))
+            for c, k in enumerate(others):
+                x = q.copy()
+                x[k] += 1e-7
+                J[:, c] = (err(x) - e) / 1e-7
+            q[others] -= np.linalg.lstsq(J, e, rcond=None)[0]
+    return q, np.abs(err(q)).max()
+
+
+@pytest.mark.parametrize("convention", ["mdh", "dh", "poe"])
+def test_wrist_singular_poses_have_their_continuum(convention):
+    robot = _robot(convention)
+    rng = np.random.default_rng(606)
+    Q = _singular_configurations(robot, 12, rng)
+    T = robot.fk(Q)
+    sv = robot.ik_batch(T)
+    for i, q0 in enumerate(Q):
+        res = robot.ik(T[i])
+        assert res.solutions, f"no solution for the pose of {q0}"
+        assert int(sv.valid[i].sum()) == len(res.solutions)
+        on = []
+        for s in res.solutions:
+            assert np.allclose(robot.fk(s.q), T[i], atol=1e-9 * robot.characteristic_length)
+            assert s.singular and s.free == (5,)
+            c = s.continuum
+            assert c.joints == (0, 2, 3, 5)
+            # the relation, evaluated on the generating configuration
+            total = sum(sg * q0[k] for k, sg in zip(c.joints, c.signs))
+            on.append(abs(wrap(total - c.total)) < 1e-9 and abs(s.q[1] - q0[1]) < 1e-9)
+        assert any(on), (q0, [s.q for s in res.solutions])
+        # joint 6 is free: the others follow it (a small turn: an arc of the continuum
+        # ends where the elbow stretches or folds), keeping the relation
+        for s in res.solutions:
+            c, ends = s.continuum, []
+            for dq in (0.01, -0.01):
+                q, miss = _follow(robot, T[i], s.q, 5, s.q[5] + dq)
+                total = sum(sg * q[k] for k, sg in zip(c.joints, c.signs))
+                ends.append(miss < 1e-10 and abs(wrap(total - c.total)) < 1e-8)
+            assert any(ends), (q0, s.q)
+
+def test_near_the_singularity_the_pose_is_still_solved():
+    """Just off the singularity (q5 within 1e-12 to 1e-6 of 0 or 180 deg) the solutions
+    reproduce the pose and the generating configuration is among them, up to the
+    conditioning there (``sqrt`` of the distance to the singularity)."""
+    robot = load_robot("bk_offset_wrist")
+    rng = np.random.default_rng(607)
+    for eps in (1e-12, 1e-9, 1e-6):
+        Q = _singular_configurations(robot, 6, rng)
+        Q[:, 4] += eps
+        for q0 in Q:
+            T = robot.fk(q0)
+            res = robot.ik(T)
+            assert res.solutions
+            for s in res.solutions:
+                assert np.allclose(robot.fk(s.q), T, atol=1e-9 * robot.characteristic_length)
