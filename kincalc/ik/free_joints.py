@@ -14,6 +14,12 @@ and leaves the point where it is. The ``delta`` nearest the target's orientation
 (subproblem 1 in its least-squares form, over the three axes of the tool frame). The
 candidate then reaches the orientation when any value of the joint does, and the joint
 is no longer free; the engine's check judges it like any other candidate.
+
+Two free joints ``a`` before ``b`` whose lines both hold the point (the point where
+axes 1 and 2 meet: a spherical arm's slide at 0, an elbow of equal links folded) turn
+the tool by ``R(k_a, delta_a) R(k_b, delta_b)``. Axis ``b`` is left where it is by its
+own turn, so ``R(k_a, delta_a) k_b = E k_b`` (subproblem 1) gives ``delta_a``, and
+``delta_b`` is the turn about ``k_b`` nearest ``R(k_a, delta_a)^T E`` as above.
 """
 
 from __future__ import annotations
@@ -22,14 +28,16 @@ import numpy as np
 
 from ..fk import entry_frames
 from ..spatial import wrap
+from ..subproblems import sp1
 from .branches import Branches
 from .target import Targets
 
 
 def orient_free(robot, targets: Targets, br: Branches) -> Branches:
-    """``br`` with each slot's one free revolute joint turned to its target's orientation.
+    """``br`` with each slot's free revolute joints (one or two) turned to its target's
+    orientation.
 
-    Only a joint whose line holds the tool point (turning it moves the tool's orientation
+    Only joints whose lines hold the tool point (turning them moves the tool's orientation
     alone) in a slot with no other free joint and no continuum relation (a relation ties
     the joint to another, which the orientation already fixes).
 
@@ -47,33 +55,69 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
     -------
     Branches
         The same slots; a turned joint's value (rad), cosine and sine changed and its free
-        mask cleared.
+        mask cleared (world frame, SI throughout).
     """
     br = br.flushed()
     F = br.F                                                         # (n, N, K)
     if targets.kind != "pose" or not np.count_nonzero(F):
         return br
     n, (N, K) = br.n, br.ok.shape
-    alone = np.add.reduce(F, axis=0) == 1
+    count = np.add.reduce(F, axis=0)
+    related = np.zeros((N, K), bool)
     for name in ("continuum", "parallel continuum"):
         if name in br.extra:
-            alone &= br.extra[name][..., 0] == 0
+            related |= br.extra[name][..., 0] != 0
     q = br.q()
     A = entry_frames(robot.chain, q.reshape(-1, n))                  # (3, 4, n + 1, N K)
     R, p = A[:, :3, n], A[:, 3, n]                                   # tool rotation, point
     Rt = np.repeat(targets.T[:, :3, :3], K, axis=0)                  # (N K, 3, 3)
     E = np.einsum("mac,bcm->mab", Rt, R)                             # R_target R_tool^T
-    e = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]])
-    trace = np.einsum("mii->m", E)
     tol = 1e-9 * max(robot.characteristic_length, 1e-12)
+    turn = {}                         # joint -> its slots holding the tool point (N K,)
     for j in np.flatnonzero(robot.is_revolute & F.reshape(n, -1).any(axis=1)).tolist():
         k, o = A[:, 2, j], A[:, 3, j]                                # (3, N K)
         on_line = np.linalg.norm(np.cross(k, p - o, axis=0), axis=0) <= tol
-        turn = (F[j] & alone).reshape(-1) & on_line
-        if not np.count_nonzero(turn):
-            continue
-        kEk = np.einsum("am,mab,bm->m", k, E, k)
-        delta = np.where(turn, np.arctan2(np.einsum("am,am->m", k, e), trace - kEk), 0.0)
-        value = wrap(q[..., j] + delta.reshape(N, K))
-        br = br.set(j, value, np.cos(value), np.sin(value), free=F[j] & ~turn.reshape(N, K))
+        turn[j] = (F[j] & ~related).reshape(-1) & on_line
+    delta = {j: np.zeros(N * K) for j in turn}
+    done = {j: turn[j] & (count == 1).reshape(-1) for j in turn}     # one free joint
+    for j in turn:
+        if np.count_nonzero(done[j]):
+            delta[j] = np.where(done[j], _one_turn(A[:, 2, j], E), 0.0)
+    for a, b in ((a, b) for a in turn for b in turn if a < b):       # two: a before b
+        t = turn[a] & turn[b] & (count == 2).reshape(-1)
+        if np.count_nonzero(t):
+            da, db = _two_turns(A[:, 2, a], A[:, 2, b], E)
+            delta[a], delta[b] = np.where(t, da, delta[a]), np.where(t, db, delta[b])
+            done[a], done[b] = done[a] | t, done[b] | t
+    for j in turn:
+        if np.count_nonzero(done[j]):
+            value = wrap(q[..., j] + delta[j].reshape(N, K))
+            br = br.set(j, value, np.cos(value), np.sin(value),
+                        free=F[j] & ~done[j].reshape(N, K))
     return br.flushed()
+
+
+def _one_turn(k, E) -> np.ndarray:
+    """``delta (m,)`` maximising ``tr(R(k, delta)^T E)``: the turn about unit ``k (3, m)``
+    nearest the rotation ``E (m, 3, 3)`` (module docstring)."""
+    e = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]])
+    kEk = np.einsum("am,mab,bm->m", k, E, k)
+    return np.arctan2(np.einsum("am,am->m", k, e), np.einsum("mii->m", E) - kEk)
+
+
+def _two_turns(ka, kb, E) -> tuple:
+    """``(delta_a, delta_b)``, each ``(m,)``, with ``R(ka, delta_a) R(kb, delta_b) = E``
+    for unit axes ``ka, kb (3, m)`` (world frame) and rotations ``E (m, 3, 3)``: ``kb`` is
+    left where it is by its own turn, so ``R(ka, delta_a) kb = E kb`` (subproblem 1, its
+    least-squares angle when ``E`` is not of that form), then ``delta_b`` the turn about
+    ``kb`` nearest ``R(ka, delta_a)^T E``."""
+    Ekb = np.einsum("mab,bm->ma", E, kb)
+    da = sp1(kb.T, Ekb, ka.T, tol=0.0).theta[0][..., 0]
+    c, s = np.cos(da), np.sin(da)
+    z = np.zeros_like(c)
+    x, y, w = ka
+    K = np.stack([np.stack([z, -w, y]), np.stack([w, z, -x]), np.stack([-y, x, z])])
+    K = K.transpose(2, 0, 1)                                         # [ka]x, (m, 3, 3)
+    Ra = c[:, None, None] * np.eye(3) + s[:, None, None] * K \
+        + (1.0 - c)[:, None, None] * np.einsum("am,bm->mab", ka, ka)
+    return da, _one_turn(kb, np.einsum("mba,mbc->mac", Ra, E))

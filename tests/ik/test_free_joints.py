@@ -84,3 +84,52 @@ def test_turn_is_the_nearest_orientation(name):
             least = _angle(robot.fk(fine)[:, :3, :3], T[i, :3, :3]).min()
             assert _angle(tool[:3, :3], T[i, :3, :3]) <= least + 1e-9
             assert not turned.F[0, i, k]
+
+
+
+def _shoulder_robot(rng):
+    """A random elbow arm (standard DH, random base and tool) whose folded elbow puts the
+    tool point where axes 1 and 2 meet: a1 = 0, a2 = a3, d2 + d3 = 0, alpha2 = 0; the
+    tool frame's origin at frame 3's."""
+    from randrobots import random_pose
+    from kincalc.model import Joint, Robot
+    a, d = rng.uniform(0.2, 0.5), rng.uniform(-0.3, 0.3)
+    rows = [(rng.uniform(0.4, 2.7), 0.0, rng.uniform(-0.3, 0.3)), (0.0, a, d),
+            (rng.uniform(-3, 3), a, -d)]
+    joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=al, a=ln, d=off,
+                         theta=rng.uniform(-np.pi, np.pi), limits=(-np.pi, np.pi))
+                   for i, (al, ln, off) in enumerate(rows))
+    tool = random_pose(rng)
+    tool[:3, 3] = 0.0
+    return Robot("shoulder", "dh", joints, base=random_pose(rng), tool=tool)
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_two_free_joints_are_turned_to_the_orientation(convention):
+    """The tool point where axes 1 and 2 meet (a folded elbow of equal links) leaves both
+    joints free for its position. For the whole pose FK gave, IK used to answer
+    'orientation out of reach'; both joints are now set by the orientation: the generating
+    configuration is the one solution (FK round trip, joint distance), not free, flagged
+    singular; for the position alone both stay free."""
+    from kincalc.conventions import dh_to_mdh, to_poe
+    from kincalc.fk import chain_frames
+    rng = np.random.default_rng(12)
+    for robot in [load_robot("siciliano_arm")] + [_shoulder_robot(rng) for _ in range(4)]:
+        Q = rng.uniform(-np.pi, np.pi, (10, 3))
+        Q[:, 2] = wrap(np.pi - robot.joints[2].theta)                 # the elbow folded
+        robot = {"dh": robot, "mdh": dh_to_mdh(robot), "poe": to_poe(robot)}[convention]
+        T = robot.fk(Q)
+        F = chain_frames(robot.chain, Q)
+        for j in (0, 1):                       # the tool point on axes 1 and 2 (frames)
+            k, o = F[:, j, :3, 2], F[:, j, :3, 3]
+            assert np.linalg.norm(np.cross(k, T[:, :3, 3] - o), axis=1).max() < 1e-12
+        sv = robot.ik_batch(T)
+        for i in range(len(Q)):
+            v = sv.valid[i]
+            assert v.sum() == 1, (robot.name, i, v.sum())
+            q = sv.q[i][v][0]
+            assert np.abs(wrap(q - Q[i])).max() < 1e-8
+            assert not sv.free[i][v].any() and sv.singular[i][v].all()
+            assert np.allclose(robot.fk(q), T[i], atol=1e-9)
+        res = robot.ik(T[0], orientation=False)
+        assert res.solutions and all(set(s.free) == {0, 1} for s in res.solutions)
