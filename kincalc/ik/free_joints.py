@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fk import entry_frames
-from ..spatial import wrap
+from ..spatial import matrix_from_axis_angle, wrap
 from ..subproblems import sp1
 from .branches import Branches
 from .target import Targets
@@ -113,11 +113,5 @@ def _two_turns(ka, kb, E) -> tuple:
     ``kb`` nearest ``R(ka, delta_a)^T E``."""
     Ekb = np.einsum("mab,bm->ma", E, kb)
     da = sp1(kb.T, Ekb, ka.T, tol=0.0).theta[0][..., 0]
-    c, s = np.cos(da), np.sin(da)
-    z = np.zeros_like(c)
-    x, y, w = ka
-    K = np.stack([np.stack([z, -w, y]), np.stack([w, z, -x]), np.stack([-y, x, z])])
-    K = K.transpose(2, 0, 1)                                         # [ka]x, (m, 3, 3)
-    Ra = c[:, None, None] * np.eye(3) + s[:, None, None] * K \
-        + (1.0 - c)[:, None, None] * np.einsum("am,bm->mab", ka, ka)
+    Ra = matrix_from_axis_angle(ka.T, da)                            # (m, 3, 3)
     return da, _one_turn(kb, np.einsum("mba,mbc->mac", Ra, E))
