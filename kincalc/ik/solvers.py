@@ -131,33 +131,13 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    h, k1, k5, k6 = S.axis[1], S.axis[0], S.axis[4], S.axis[5]
+    h, k1 = S.axis[1], S.axis[0]
     o1 = S.point[0]
     c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     br = br.branch([0], sp4(h, ct - o1, k1, h @ (c56 - o1)).negated())
-    Rt = br.take(target_rotation(S, T))                                         # (N, K, 3, 3)
-    # joint 5: h . R5 k6 = h . v, v = R1^T R_t k6 (axis 6 with joint 1 undone)
-    v = S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, k6))
-    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
-        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
-    Rt, v = br.take(Rt), br.take(v)
-    aligned = br.free[4]
-    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
-    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
-    # joint 6: R6 (R_t^T R1 h) = R5^T h (projected: both are small near the singularity)
-    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h))
-    b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
-                  tol=0.0))[0]
-    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned)
-    q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
-    ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
-    free6 = pair(aligned, aligned)
-    br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6, free6),
-                   labels=(None, "other arc"))
-    Rt, sigma = br.take(Rt), br.take(sigma)
+    br, Rt, sigma = _parallel_wrist(S, T, br, br.take(target_rotation(S, T)), h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
     e = S.constant("normal to h", lambda: normal_to(h))
     r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
@@ -176,6 +156,46 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
         br = br.with_extra("parallel continuum", np.stack(
             [br.free[5].astype(float), sigma, total], -1))
     return br
+
+
+def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
+    """Joints 5 and 6 of an arm whose axes ``elbow`` (the revolute joints turning about the
+    direction ``h`` before joint 5, the last of them joint 4) are parallel and whose axes 5
+    and 6 meet: the three-parallel and parallel-four-wrist families.
+
+    Joint 5 puts axis 6 at its angle to h, ``h . R5 k6 = h . v`` with ``v = R_t k6`` (the
+    cone form of subproblem 4); joint 6 turns ``R_t^T h`` onto ``R5^T h`` (subproblem 1 on
+    the vectors projected across axis 6: both are small near the singularity). On a
+    three-parallel arm joint 1 turns about another axis and is undone first (``R_t`` read
+    as ``R1^T R_t``). At the wrist singularity (axis 6 along h) joint 6 takes the
+    representatives of :func:`~kincalc.ik.wrists.parallel_wrist_q6`, one slot per arc of
+    the continuum (the second labelled ``other arc``), marked free.
+
+    ``T (N, 4, 4)`` the targets, ``br`` with the joints before joint 5 not about h solved,
+    ``Rt (N, K or 1, 3, 3)`` R_t at its slots, ``h (3,)`` (world frame at q = 0, SI).
+    Returns ``(br, Rt, sigma)``: joints 5 and 6 set, ``Rt`` at the new slots, ``sigma (N,
+    K')`` +1 where axis 6 points along h, else -1.
+    """
+    k5, k6 = S.axis[4], S.axis[5]
+    first = elbow[0] == 1                              # joint 1 turns about another axis
+    v = _mv(Rt, k6)
+    v = S.turn(0, br.cos[0], -br.sin[0], v) if first else np.broadcast_to(v, br.ok.shape + (3,))
+    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
+        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
+    Rt, v = br.take(Rt), br.take(v)
+    aligned = br.free[4]
+    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
+    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
+    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.broadcast_to(h, v.shape))
+    b = S.turn(4, br.cos[4], -br.sin[4], h)
+    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
+                  tol=0.0))[0]
+    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
+    q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
+    ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
+    br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
+                                  pair(aligned, aligned)), labels=(None, "other arc"))
+    return br, br.take(Rt), br.take(sigma)
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
@@ -232,27 +252,9 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    h, k5, k6 = S.axis[3], S.axis[4], S.axis[5]
-    Rt = target_rotation(S, T)
-    v = np.broadcast_to(_mv(Rt, k6), (br.N, br.K, 3))
-    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
-        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
-    Rt, v = br.take(Rt.repeat(1, 1)), br.take(v)
-    aligned = br.free[4]
-    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
-    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
-    # joint 6: R6 (R_t^T h) = R5^T h (projected: both are small near the singularity)
-    a = _mtv(Rt, np.broadcast_to(h, v.shape))
-    b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
-                  tol=0.0))[0]
+    h = S.axis[3]
     elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
-    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
-    q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
-    ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
-    br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
-                                  pair(aligned, aligned)), labels=(None, "other arc"))
-    Rt, sigma = br.take(Rt), br.take(sigma)
+    br, Rt, sigma = _parallel_wrist(S, T, br, target_rotation(S, T), h, elbow)
     e = S.constant("normal to h", lambda: normal_to(h))
     r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, _mv(Rt, r))[0]
