@@ -616,3 +616,29 @@ def test_merge_screen_finds_every_duplicate_pair():
                 expected[m, i] |= good[m, j] and bool(np.all(d < MERGE_TOL))
     assert expected.sum() >= 20
     assert np.array_equal(_duplicates(wrap(Qd), good), expected)
+
+
+@pytest.mark.parametrize("name", ["manocha_canny_6r", "kinova_gen3_lite"])
+def test_root_labels_alone_and_in_a_batch(name):
+    """A general 6R solution's label is its rank (``root k`` of joint 3): the same whether
+    its pose is solved alone (``robot.ik``) or in a batch, also at poses with joints at 0,
+    +-90 and 180 deg, where several solutions share a joint-3 value or sit at +-pi and the
+    last bits of the values differ between the two."""
+    from kincalc.ik.selftest import sample_configurations
+    from kincalc.spatial import wrap
+    robot = load_robot(name)
+    rng = np.random.default_rng(11)
+    Q = sample_configurations(robot, 40, rng)
+    special = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi])
+    Q = np.where(rng.random(Q.shape) < 0.5, special[rng.integers(0, 4, Q.shape)], Q)
+    T = robot.fk(Q)
+    batch = robot.ik_batch(T)
+    compared = 0
+    for i in range(len(T)):
+        for s in robot.ik(T[i]).solutions:
+            d = np.where(batch.valid[i], np.abs(wrap(batch.q[i] - s.q)).max(-1), np.inf)
+            k = int(np.argmin(d))
+            assert d[k] < 1e-7
+            assert batch.labels[i][k] == s.branch
+            compared += 1
+    assert compared > 100

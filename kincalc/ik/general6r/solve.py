@@ -184,8 +184,14 @@ def general_6r(robot, targets, br):
         from ...errors import UnsupportedRobot
         raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
     Q, ok = solve_general_6r_batch(robot, targets.T)
-    order = np.lexsort((np.where(ok, Q[..., 0], np.inf), np.where(ok, Q[..., 2], np.inf)),
-                       axis=-1)
+    # ranked by joint 3, then joints 1, 2, 4, 5, 6, each on a grid of RANK_STEP rad in
+    # (-pi, pi] (a value within a step of -pi counts as pi): a rank (the label) then does
+    # not depend on the last bits of the values, which differ between a pose solved alone
+    # and in a batch (equal joint-3 values at a singular pose, a joint at +-pi)
+    W = wrap(Q)
+    W = np.where(W <= RANK_STEP - np.pi, np.pi, W)
+    key = np.where(ok[..., None], np.round(W / RANK_STEP), np.inf)
+    order = np.lexsort(tuple(key[..., j] for j in (5, 4, 3, 1, 0, 2)), axis=-1)
     at = np.arange(len(Q))[:, None]
     Q, ok = Q[at, order], ok[at, order]
     c, s = np.cos(Q), np.sin(Q)
@@ -194,6 +200,9 @@ def general_6r(robot, targets, br):
         out = out.set(j, Q[..., j], c[..., j], s[..., j])
     return out
 
+
+#: the grid (rad) on which :func:`general_6r` compares joint values to rank its solutions
+RANK_STEP = 1e-9
 
 #: the signs of the slots of :func:`general_6r`: slot k is ``root k + 1`` of joint 3
 _ROOTS = tuple(((2, f"root {k + 1}"),) for k in range(BATCH_SLOTS))
