@@ -1,0 +1,64 @@
+"""The pieces the family solvers (:mod:`kincalc.ik.solvers`, :mod:`kincalc.ik.small_arms`)
+are composed of: the target's rotation and points in the product of exponentials'
+terms, a joint's motion undone, the angle of one subproblem 1.
+
+``S`` is a family's :class:`~kincalc.ik.screws.Screws` (world frame at q = 0, SI);
+``R_t = R_T R_M^T`` is the rotation of the product of exponentials (``T = E_1 ... E_n M``),
+and ``E_j^-1`` undoes joint j's motion.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..subproblems import sp1
+from ..subproblems.solutions import Solutions, dot
+from .branches import Branches
+from .screws import Screws
+
+
+def inverse_home(S: Screws) -> np.ndarray:
+    """``M^-1 (4, 4)``: the inverse of the tool pose at q = 0, computed once."""
+    return S.constant("M^-1", S.inverse_M)
+
+
+def target_rotation(S: Screws, T) -> np.ndarray:
+    """``R_t (N, 1, 3, 3)``: the rotation ``E_1 ... E_n`` must give."""
+    return (T[:, :3, :3] @ inverse_home(S)[:3, :3])[:, None]
+
+
+def tool_point(S: Screws, T, p) -> np.ndarray:
+    """Where the point ``p`` (world frame at q = 0, moving with the tool) is at the
+    poses ``T (N, 4, 4)``: ``(N, 1, 3)``."""
+    Minv = inverse_home(S)
+    local = Minv[:3, :3] @ p + Minv[:3, 3]
+    return (T[:, :3, :3] @ local + T[:, :3, 3])[:, None, :]
+
+
+def rotate(R, v) -> np.ndarray:
+    """``R v`` for ``R (..., 3, 3)``, ``v (..., 3)`` or ``(3,)``."""
+    return (R @ np.asarray(v)[..., None])[..., 0]
+
+
+def rotate_back(R, v) -> np.ndarray:
+    """``R^T v``."""
+    return (np.swapaxes(R, -1, -2) @ np.asarray(v)[..., None])[..., 0]
+
+
+def back(S: Screws, br: Branches, j: int, x) -> np.ndarray:
+    """``E_j^-1 x`` for points ``x (N, K, 3)`` (or one point ``(3,)``): joint j's motion
+    undone, ``(N, K, 3)``."""
+    if S.revolute[j]:
+        return S.point[j] + S.turn(j, br.cos[j], -br.sin[j], x - S.point[j])
+    return x - br.value[j][..., None] * S.axis[j]
+
+
+def one_root(sol: Solutions, i: int = 0):
+    """``(theta, c, s)`` of a one-slot subproblem's unknown ``i``, each ``(N, K)``."""
+    return sol.theta[i][..., 0], sol.c[i][..., 0], sol.s[i][..., 0]
+
+
+def angle_about(h, e, Rv, tol=0.0):
+    """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
+    vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``."""
+    return one_root(sp1(e, Rv - dot(Rv, h)[..., None] * h, h, tol=tol))
