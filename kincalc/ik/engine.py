@@ -34,7 +34,8 @@ from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa:
                        plan)
 from ..jacobian import rank_deficient
 from .free_joints import orient_free
-from .joint_limits import normalise, violations, within_limits  # noqa: F401 (the API)
+from .joint_limits import (normalise, open_joints, open_values, violations,  # noqa: F401
+                           within_limits)
 from .labels import labels
 from ..spatial import wrap
 from .solvers import SOLVERS
@@ -123,9 +124,12 @@ class Solved:
     @property
     def singular(self) -> np.ndarray:
         """``(N, K)`` bool: valid solutions at a singular configuration (the rank test of
-        :func:`singular`, or a joint the target leaves free)."""
+        :func:`singular`, or a joint the target leaves free, other than one it leaves open:
+        labelled ``any``, a value it does not ask for)."""
         if "singular" not in self.memo:
-            r, sing = self.robot, self.valid & np.logical_or.reduce(self.free, axis=-1)
+            r, n = self.robot, self.free.shape[-1]
+            sing = self.valid & np.logical_or.reduce(self.free & ~open_joints(self.signs, n),
+                                                     axis=-1)
             flat = sing.reshape(-1)
             for rows, A in self._frames(self.valid):
                 flat[rows] |= rank_deficient(A, r.is_revolute, r.characteristic_length,
@@ -228,6 +232,7 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         br = SOLVERS[family.solver](S, targets, br)
     if not family.needs_orientation and family.exact:
         br = orient_free(robot, targets, br)
+    br = open_values(robot, br)
     # an exact family's candidates are checked in the slots some target keeps (the others,
     # half of a three-parallel arm's, are put back empty at the end)
     br = br.flushed() if family.exact else br.expanded()

@@ -28,7 +28,8 @@ import numpy as np
 
 from ..fk import entry_frames
 from ..spatial import matrix_from_axis_angle, wrap
-from ..subproblems import sp1
+from ..subproblems import sp1, sp2
+from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .target import Targets
 
@@ -46,20 +47,22 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
     robot : Robot
         The robot whose chain the branches solve (world frame, SI).
     targets : Targets
-        ``N`` targets; only whole poses (``kind == "pose"``) give an orientation to turn
-        to, otherwise ``br`` is returned as it is.
+        ``N`` targets; whole poses (``kind == "pose"``) give an orientation to turn to,
+        tool configuration vectors (``"tcv"``) an approach (:func:`_to_approach`),
+        otherwise ``br`` is returned as it is.
     br : Branches
         The solved branches, ``K`` slots per target.
 
     Returns
     -------
     Branches
-        The same slots; a turned joint's value (rad), cosine and sine changed and its free
+        The same slots (for a TCV, two free joints split a slot in two: the second root of
+        subproblem 2); a turned joint's value (rad), cosine and sine changed and its free
         mask cleared (world frame, SI throughout).
     """
     br = br.flushed()
     F = br.F                                                         # (n, N, K)
-    if targets.kind != "pose" or not np.count_nonzero(F):
+    if targets.kind not in ("pose", "tcv") or not np.count_nonzero(F):
         return br
     n, (N, K) = br.n, br.ok.shape
     count = np.add.reduce(F, axis=0)
@@ -78,15 +81,17 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
         k, o = A[:, 2, j], A[:, 3, j]                                # (3, N K)
         on_line = np.linalg.norm(np.cross(k, p - o, axis=0), axis=0) <= tol
         turn[j] = (F[j] & ~related).reshape(-1) & on_line
+    if targets.kind == "tcv":
+        return _to_approach(targets, br, A, turn, count)
     delta = {j: np.zeros(N * K) for j in turn}
     done = {j: turn[j] & (count == 1).reshape(-1) for j in turn}     # one free joint
     for j in turn:
         if np.count_nonzero(done[j]):
-            delta[j] = np.where(done[j], _one_turn(A[:, 2, j], E), 0.0)
+            delta[j] = np.where(done[j], nearest_turn(A[:, 2, j], E), 0.0)
     for a, b in ((a, b) for a in turn for b in turn if a < b):       # two: a before b
         t = turn[a] & turn[b] & (count == 2).reshape(-1)
         if np.count_nonzero(t):
-            da, db = _two_turns(A[:, 2, a], A[:, 2, b], E)
+            da, db = two_turns(A[:, 2, a], A[:, 2, b], E)
             delta[a], delta[b] = np.where(t, da, delta[a]), np.where(t, db, delta[b])
             done[a], done[b] = done[a] | t, done[b] | t
     for j in turn:
@@ -97,7 +102,7 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
     return br.flushed()
 
 
-def _one_turn(k, E) -> np.ndarray:
+def nearest_turn(k, E) -> np.ndarray:
     """``delta (m,)`` maximising ``tr(R(k, delta)^T E)``: the turn about unit ``k (3, m)``
     nearest the rotation ``E (m, 3, 3)`` (module docstring)."""
     e = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]])
@@ -105,7 +110,7 @@ def _one_turn(k, E) -> np.ndarray:
     return np.arctan2(np.einsum("am,am->m", k, e), np.einsum("mii->m", E) - kEk)
 
 
-def _two_turns(ka, kb, E) -> tuple:
+def two_turns(ka, kb, E) -> tuple:
     """``(delta_a, delta_b)``, each ``(m,)``, with ``R(ka, delta_a) R(kb, delta_b) = E``
     for unit axes ``ka, kb (3, m)`` (world frame) and rotations ``E (m, 3, 3)``: ``kb`` is
     left where it is by its own turn, so ``R(ka, delta_a) kb = E kb`` (subproblem 1, its
@@ -114,4 +119,54 @@ def _two_turns(ka, kb, E) -> tuple:
     Ekb = np.einsum("mab,bm->ma", E, kb)
     da = sp1(kb.T, Ekb, ka.T, tol=0.0).theta[0][..., 0]
     Ra = matrix_from_axis_angle(ka.T, da)                            # (m, 3, 3)
-    return da, _one_turn(kb, np.einsum("mba,mbc->mac", Ra, E))
+    return da, nearest_turn(kb, np.einsum("mba,mbc->mac", Ra, E))
+
+
+def _to_approach(targets: Targets, br: Branches, A, turn: dict, count) -> Branches:
+    """The free joints of ``turn`` (joint -> its slots holding the tool point, ``(N K,)``)
+    turned so that the tool's z axis (``A[:, 2, n]``, world frame, of the frames ``A (3, 4,
+    n + 1, N K)``) reaches the target's approach (a TCV: the last joint, the roll, is
+    given). One joint ``j``: ``R(k_j, x) z = a`` (subproblem 1, least squares); two, ``a``
+    before ``b``: ``R(k_a, x) R(k_b, y) z = a`` (subproblem 2: two roots, each slot split
+    in two, the second empty where it has none). A joint stays free where its turn leaves
+    the approach where it is (``z`` along its axis)."""
+    n, (N, K) = br.n, br.ok.shape
+    z = A[:, 2, n].T                                                 # (N K, 3)
+    a = np.repeat(targets.approach, K, axis=0)
+    q = br.q()
+    for j in turn:
+        one = (turn[j] & (count == 1).reshape(-1)).reshape(N, K)
+        if np.count_nonzero(one):
+            sol = sp1(z, a, A[:, 2, j].T, tol=0.0)
+            v = wrap(q[..., j] + np.where(one, sol.theta[0][:, 0].reshape(N, K), 0.0))
+            still = sol.free[:, 0].reshape(N, K)
+            br = br.set(j, v, np.cos(v), np.sin(v), free=br.F[j] & ~(one & ~still))
+    br = br.flushed()
+    for ja, jb in ((ja, jb) for ja in turn for jb in turn if ja < jb):
+        t = (turn[ja] & turn[jb] & (count == 2).reshape(-1)).reshape(N, K)
+        if not np.count_nonzero(t):
+            continue
+        sol = sp2(z, a, A[:, 2, ja].T, A[:, 2, jb].T)
+        t2 = t[..., None]
+        x, y = (wrap(q[..., j][..., None] + np.where(t2, d.reshape(N, K, 2), 0.0))
+                for j, d in ((ja, sol.theta[0]), (jb, sol.theta[1])))
+        ok = np.where(t2, sol.ok.reshape(N, K, 2), np.array([True, False]))
+        still = pair_free(t & sol.free.reshape(N, K, 2).any(-1), z.reshape(N, K, 3),
+                          a.reshape(N, K, 3), A[:, 2, ja].T.reshape(N, K, 3),
+                          A[:, 2, jb].T.reshape(N, K, 3))
+        for j, f in zip((ja, jb), still):
+            br = br.set(j, q[..., j], free=(br.F[j] & ~t) | f)
+        br = br.branch([ja, jb], Solutions((x, y), (np.cos(x), np.cos(y)), (np.sin(x), np.sin(y)),
+                                           ok, np.ones_like(ok), np.zeros_like(ok)),
+                       labels=(None, None)).flushed()
+    return br.flushed()
+
+
+def pair_free(free, p1, p2, k1, k2) -> tuple:
+    """Which angle of subproblem 2, ``R(k1, x) R(k2, y) p1 = p2``, is undetermined where it
+    is ill-posed (``free (...)``, bool), for unit vectors ``p1, p2, k1, k2 (..., 3)``: ``y``
+    where ``p1`` is along ``k2``, ``x`` where ``p2`` is along ``k1``, both otherwise.
+    Returns ``(free_x, free_y)``, each ``(...)`` bool."""
+    on2 = np.linalg.norm(np.cross(p1, k2), axis=-1) < 1e-9
+    on1 = np.linalg.norm(np.cross(p2, k1), axis=-1) < 1e-9
+    return free & (on1 | ~on2), free & (on2 | ~on1)

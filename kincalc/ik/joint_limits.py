@@ -120,3 +120,47 @@ def violations(robot, q) -> np.ndarray:
     q = np.asarray(q, float)
     lo, hi, lo_band, hi_band = _limits(robot, q.shape, True)[:4]
     return np.where(q < lo_band, q - lo, np.where(q > hi_band, q - hi, 0.0))
+
+
+def open_joints(signs, n: int) -> np.ndarray:
+    """``(K, n)`` bool: the joints each of ``K`` slots leaves open, labelled ``any`` in its
+    ``signs`` (a tuple of ``K`` tuples of ``(joint, label)``): a value the target does not
+    ask for moves nothing it asks for (the roll of a five-joint arm given an approach)."""
+    out = np.zeros((len(signs), n), bool)
+    for k, sg in enumerate(signs):
+        for j, label in sg:
+            if label == "any":
+                out[k, j] = True
+    return out
+
+
+def open_values(robot, br):
+    """``br`` with each open joint (:func:`open_joints`) at the value nearest 0 within its
+    limits: 0 where that is within them (whole turns allowed), else the nearer limit (for a
+    revolute joint, nearer 0 by the wrapped distance).
+
+    Parameters
+    ----------
+    robot : Robot, its limits (rad / m)
+    br : Branches, the solved slots (:class:`~kincalc.ik.branches.Branches`)
+
+    Returns
+    -------
+    Branches, the open joints' values (rad / m), cosines and sines set; ``br`` itself when
+    no joint is open or 0 is within the limits of every open one
+    """
+    opened = open_joints(br.signs, br.n)
+    if not opened.any():
+        return br
+    n = br.n
+    zero = np.zeros(n)
+    lo, hi = robot.limits.T
+    fine = violations(robot, normalise(robot, zero)) == 0.0
+    lo_w, hi_w = (np.where(np.isfinite(x), np.abs(wrap(np.where(np.isfinite(x), x, 0.0))),
+                           np.inf) for x in (lo, hi))
+    near = np.where(lo_w <= hi_w, lo, hi)           # 0 outside: a finite limit is nearer
+    near = np.where(robot.is_revolute, near, np.clip(0.0, lo, hi))
+    for j in np.flatnonzero(opened.any(axis=0) & ~fine).tolist():
+        v = np.where(opened[:, j], near[j], br.value[j])
+        br = br.set(j, v, np.cos(v), np.sin(v))
+    return br

@@ -475,7 +475,8 @@ def _text(robot, family, words, signs, free_bits) -> str:
     geo = geometry(robot, family)
     named = set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
     parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs) if j not in named]
-    if free_bits:
-        parts.append("(" + ", ".join(names[j] for j in range(robot.dof) if free_bits >> j & 1)
-                     + " free)")
+    said = {j for j, lab in signs if lab == "any"}          # open: "any" says it already
+    free = [names[j] for j in range(robot.dof) if free_bits >> j & 1 and j not in said]
+    if free:
+        parts.append("(" + ", ".join(free) + " free)")
     return " ".join(parts) if parts else "unique"

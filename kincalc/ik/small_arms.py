@@ -16,6 +16,7 @@ import numpy as np
 
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
+from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
                      target_rotation, tool_point)
@@ -103,7 +104,97 @@ def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
     -------
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
-    return _last_axis_roll(S, targets, br, (0, 1, 2))
+    br = _last_axis_roll(S, targets, br, (0, 1, 2))
+    return _roll_with_free(S, targets, br)
+
+
+def _meeting_pairs(S: Screws) -> tuple:
+    """The pairs ``(a, b)``, ``a < b``, of revolute joints among 1-3 whose axes meet (not
+    parallel): both lines can hold axis 4's point, both joints then free. Cached."""
+    def make():
+        from ..structure import common_point
+        rev = [j for j in range(3) if S.revolute[j]]
+        tol = 1e-9 * max(S.scale, 1.0)
+        return tuple((a, b) for a in rev for b in rev if a < b
+                     and np.linalg.norm(np.cross(S.axis[a], S.axis[b])) > 1e-9
+                     and common_point(S.point[[a, b]], S.axis[[a, b]], tol) is not None)
+    return S.constant("meeting pairs of joints 1-3", make)
+
+
+def _frame(S: Screws, br: Branches, upto: int):
+    """``(R^T (N, K, 3, 3), u (n, N, K, 3))``: the rotation ``R = E_1 ... E_upto`` of
+    each slot (its rows are ``R``'s columns) and every joint's axis there, ``u_j = R_1 ...
+    R_{j-1} k_j`` (world frame at q = 0)."""
+    shape = br.ok.shape
+    X = np.broadcast_to(np.eye(3), shape + (3, 3))
+    u = []
+    for j in range(S.n):
+        v = np.broadcast_to(S.axis[j], shape + (3,))
+        for i in range(j - 1, -1, -1):
+            v = S.turn(i, br.cos[i], br.sin[i], v) if S.revolute[i] else v
+        u.append(v)
+    for i in range(upto - 1, -1, -1):
+        X = S.turn(i, br.cos[i], br.sin[i], X) if S.revolute[i] else X
+    return X, np.stack(u)
+
+
+def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
+    """Joints of 1-3 left free by the placement (axis 4's point on their lines) turned,
+    with joint 4, to the target's orientation; turning them keeps that point, so the tool
+    reaches the pose when its rotation does.
+
+    With ``E = R_t R^T`` the rotation still missing (``R`` the slot's ``E_1 ... E_4``), and
+    ``u`` the slot's axes: one free joint ``a`` gives ``R(u_a, x) R(u_4, z) = E``
+    (:func:`~kincalc.ik.free_joints.two_turns`, no longer free unless ``u_a`` is along
+    ``u_4``); two, ``a`` and ``b`` on meeting axes, ``R(u_a, x) R(u_b, y) R(u_4, z) = E``:
+    ``(x, y)`` turn ``u_4`` onto ``E u_4`` (subproblem 2, two roots, the second a slot of
+    its own) and ``z`` the turn about ``u_4`` left
+    (:func:`~kincalc.ik.free_joints.nearest_turn`). Slots with no free joint keep their
+    values (the second root of the pair's step is then empty).
+    """
+    from ..spatial import matrix_from_axis_angle, wrap
+    from .free_joints import nearest_turn, pair_free, two_turns
+    F = np.stack([br.free[j] for j in range(3)]) & S.revolute[:3, None, None]
+    count = F.sum(0)
+    pairs = _meeting_pairs(S)
+    if not np.count_nonzero(count) and not pairs:
+        return br
+    N, K = br.ok.shape
+    Rt = np.broadcast_to(target_rotation(S, targets.T), (N, K, 3, 3))
+    X, u = _frame(S, br, 4)
+    E = Rt @ X                                                      # R_t R^T
+    flat = lambda x: x.reshape(N * K, *x.shape[2:])  # noqa: E731
+    for a in range(3):
+        one = F[a] & (count == 1)
+        if np.count_nonzero(one):
+            x, z = (d.reshape(N, K) for d in two_turns(flat(u[a]).T, flat(u[3]).T, flat(E)))
+            keep = np.linalg.norm(np.cross(u[a], u[3]), axis=-1) < 1e-9
+            v = wrap(br.value[a] + np.where(one, x, 0.0))
+            w = wrap(br.value[3] + np.where(one, z, 0.0))
+            br = br.set(a, v, np.cos(v), np.sin(v), free=F[a] & ~(one & ~keep))
+            br = br.set(3, w, np.cos(w), np.sin(w))
+    for a, b in pairs:
+        two = F[a] & F[b] & (count == 2)                             # (N, K)
+        sol = sp2(u[3], (E @ u[3][..., None])[..., 0], u[a], u[b])
+        x, y = sol.theta[0], sol.theta[1]                            # (N, K, 2)
+        Ra = matrix_from_axis_angle(u[a][..., None, :], x)
+        Rb = matrix_from_axis_angle(u[b][..., None, :], y)
+        rest = np.swapaxes(Ra @ Rb, -1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
+        z = nearest_turn(np.broadcast_to(u[3][..., None, :], x.shape + (3,)).reshape(-1, 3).T,
+                         rest.reshape(-1, 3, 3)).reshape(x.shape)
+        t2 = two[..., None]
+        q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))
+                  for j, d in ((a, x), (b, y), (3, z)))
+        ok = np.where(t2, sol.ok, np.array([True, False]))
+        still = pair_free(two & sol.free.any(-1), u[3], (E @ u[3][..., None])[..., 0], u[a],
+                          u[b])                                      # degenerate: free
+        for j, f in zip((a, b), still):
+            br = br.set(j, br.value[j], free=(br.free[j] & ~two) | f)
+        br = br.branch([a, b, 3], Solutions(q, tuple(np.cos(t) for t in q),
+                                            tuple(np.sin(t) for t in q), ok,
+                                            np.ones_like(ok), np.zeros_like(ok)),
+                       labels=(None, None))
+    return br
 
 
 def position_approach(S: Screws, targets, br: Branches) -> Branches:
@@ -138,9 +229,14 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
 def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     """Five joints, axes 2-4 parallel and joint 5 rolling the tool about its approach.
 
-    Joint 1 from the position (subproblem 4), the pitch sum from the approach (subproblem
-    1), joints 2-3 planar, joint 5 from the orientation (any value, 0, for an approach
-    alone: labelled ``any``).
+    Joint 1 from the position (subproblem 4), or from the approach where the tool point is
+    on axis 1 (:func:`base_angle`), the pitch sum from the approach (subproblem 1), joints
+    2-3 planar, joint 5 from the orientation. For an approach alone joint 5 is open: free,
+    labelled ``any``, shown as 0 (the engine moves it to the value nearest 0 within its
+    limits). Where joint 1 is still free for a whole pose (the tool point and its approach
+    both on axis 1, which is then joint 5's line) only ``q1 + sigma q5`` is fixed: joint 1
+    shows 0 and the relation is the slot's continuum (``extra["continuum"]``: mask, 0, 4,
+    sigma, total in rad).
 
     Parameters
     ----------
@@ -153,12 +249,12 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    h, k1 = S.axis[1], S.axis[0]
+    h = S.axis[1]
     o1 = S.point[0]
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     pt = T[:, None, :3, 3]
     a = (targets.approach if targets.kind == "approach" else T[:, :3, 2])[:, None, :]
-    br = br.branch([0], sp4(h, pt - o1, k1, h @ (p0 - o1)).negated())
+    br = br.branch([0], base_angle(S, pt, a))
     a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
     p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
     psi, cps, sps = _one(sp1(np.broadcast_to(a0, a1.shape), a1, h))
@@ -171,15 +267,59 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     sgn = [float(np.sign(S.axis[i] @ h)) for i in (1, 2, 3)]
     q4 = (br.extra["psi"] - sgn[0] * br.value[1] - sgn[1] * br.value[2]) * sgn[2]
     br = br.set(3, q4, np.cos(q4), np.sin(q4))
-    if targets.kind == "approach":        # the roll was not asked for: 0 stands for any
+    if targets.kind == "approach":        # the roll was not asked for: open, 0 stands for any
         z = np.zeros_like(q4)
-        br = br.set(4, z, np.ones_like(z), z)
+        br = br.set(4, z, np.ones_like(z), z, free=np.ones(z.shape, bool))
         return br.relabel(4, "any")
     k5 = S.axis[4]
     e = S.constant("normal to axis 5", lambda: normal_to(k5))
     Rt = target_rotation(S, T)
-    return br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
+    br = br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
         _mv(Rt, e), (br.N, br.K, 3)))))
+    return _base_and_roll(S, br)
+
+
+def base_angle(S: Screws, pt, a) -> Solutions:
+    """Joint 1 of a pitch-roll arm: ``(N, 1, 2)`` roots (rad).
+
+    Undone, joint 1 must bring the tool point ``pt (N, 1, 3)`` into the plane of the
+    pitch joints, ``h . R(k1, -q1)(pt - o1) = h . (p0 - o1)`` (subproblem 4; ``h`` the
+    pitch axes, ``k1``, ``o1`` axis 1, ``p0`` the tool point at q = 0, world frame at q =
+    0, m). Where ``pt`` is on axis 1 every angle does (a free root), and the approach
+    ``a (N, 1, 3)`` (unit) decides instead: the pitch joints turn the approach about
+    ``h``, so ``h . R(k1, -q1) a = h . a0`` (two roots, or free again when ``a`` is along
+    axis 1). The slot lives where the position's equation holds; an approach out of the
+    arm's plane leaves its least-squares angle, for the FK check to judge.
+    """
+    h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    at = sp4(h, pt - o1, k1, h @ (p0 - o1)).negated()
+    on = at.free[..., :1]                                          # pt on axis 1
+    if not np.count_nonzero(on):
+        return at
+    by = sp4(h, a, k1, h @ a0).negated()
+    pick = lambda x, y: np.where(on, x, y)  # noqa: E731
+    return Solutions((pick(by.theta[0], at.theta[0]),), (pick(by.c[0], at.c[0]),),
+                     (pick(by.s[0], at.s[0]),), pick(by.ok, at.ok), at.exact,
+                     pick(by.free, at.free))
+
+
+def _base_and_roll(S: Screws, br: Branches) -> Branches:
+    """A pitch-roll arm's slots whose joint 1 is still free for a whole pose (the tool
+    point and its approach on axis 1, joint 5's line then): the relation ``q1 + sigma q5
+    = total`` kept as their continuum (:class:`~kincalc.ik.families.Continuum`),
+    ``sigma = sign(k1 . k5)`` with joint 5's axis ``k5`` at the slot (world frame)."""
+    free = br.free[0]
+    if not np.count_nonzero(free):
+        return br
+    k5 = np.broadcast_to(S.axis[4], br.ok.shape + (3,))
+    for j in (3, 2, 1, 0):                                        # R1 R2 R3 R4 k5
+        k5 = S.turn(j, br.cos[j], br.sin[j], k5)
+    sigma = np.where(k5 @ S.axis[0] >= 0.0, 1.0, -1.0)
+    total = br.value[0] + sigma * br.value[4]
+    c = np.stack([free.astype(float), np.zeros_like(total), np.full_like(total, 4.0),
+                  sigma, total], -1)
+    return br.with_extra("continuum", c)
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
