@@ -125,8 +125,9 @@ def _words(R, n: int, frames) -> np.ndarray:
     dots = np.add.reduce(Y[2 * c:3 * c + R.lin] * np.concatenate((X, Y[3 * c + R.lin:])),
                          axis=1)                                    # (c + lin, k)
     word = dots[:len(R.words)] * R.dot_sign
-    # on the boundary (a stretched elbow, a wrist at q5 = 0): the first word, whatever the
-    # rounding of this batch's products
+    # on the boundary (a stretched elbow, a wrist at q5 = 0, the point on axis 1) the word
+    # tells nothing: none (code 0), whatever the rounding of this batch's products, so the
+    # label shows the +/- of the steps it would name
     word[np.abs(word) <= R.zero] = 0.0
     if R.spatial_elbow:
         # the elbow against the shoulder-to-target line in the plane of the parallel axes:
@@ -137,7 +138,7 @@ def _words(R, n: int, frames) -> np.ndarray:
         up = lv * lz / np.maximum(ll - lh * lh, 1e-300) * R.upward
         e = R.elbow_row
         word[e] = np.where(np.abs(up) < R.on_line, word[e], up)
-    return R.first + (word < 0)
+    return np.where(word == 0.0, 0, R.first + (word < 0)).astype(np.int8)
 
 
 @dataclass(frozen=True)
