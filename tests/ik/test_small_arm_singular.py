@@ -168,7 +168,12 @@ def test_pitch_roll_bundled_tool_point_on_axis_1(name):
         cases.append(np.array([0.618392, np.pi / 2, 0.0, 0.672294, np.pi]))
     for q0 in cases:
         T = robot.fk(q0)
-        _found(robot, solve(robot, Target(T)), q0, _pose_ok(robot, T))
+        res = solve(robot, Target(T))
+        _found(robot, res, q0, _pose_ok(robot, T))
+        # the shoulder word is on its boundary (the point on axis 1): the two solutions,
+        # q1 and q1 + 180 deg, are told apart by joint 1's sign instead
+        labels = [s.branch for s in res.solutions]
+        assert len(set(labels)) == len(labels), labels
         _found(robot, solve(robot, Target(T, False, approach=T[:3, 2])), q0,
                _approach_ok(robot, T))
 
