@@ -393,7 +393,7 @@ def _meeting_point(robot, F, first: int):
     return first - 1, local
 
 
-def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
+def labels(robot, family: str, frames, signs, slot, free, every_sign: bool = False) -> tuple:
     """The branch label of each of ``s`` solutions.
 
     A label is a function of the slot (its signs, :class:`~kincalc.ik.branches.Branches`' sign
@@ -417,64 +417,76 @@ def labels(robot, family: str, frames, signs, slot, free) -> np.ndarray:
     free : array_like (s, n) of bool
         The joints each leaves free.
 
+    every_sign : bool
+        Show the +/- of every step, also of those the words name: for solutions of one pose
+        that the words and the other signs do not tell apart (rare: see
+        :meth:`Solved.labels <kincalc.ik.engine.Solved.labels>`).
+
     Returns
     -------
-    ndarray (s,) of object
+    texts : ndarray (s,) of object
         The labels (str); ``"unique"`` when there is nothing to tell.
+    ids : ndarray (s,) of int
+        A number per distinct text (per robot and family): equal labels, equal numbers.
     """
     if len(slot) == 0:
-        return np.empty(0, object)
-    table, known, weights = _table(robot, family, signs)
+        return np.empty(0, object), np.empty(0, np.int64)
+    table, ids, weights = _table(robot, family, signs, every_sign)
     S = len(signs)
     code = weights @ branch_geometry(robot, family, frames).T + slot
-    if np.count_nonzero(known[code]) < len(code):
+    if np.count_nonzero(ids[code] >= 0) < len(code):
         for c in np.unique(code).tolist():
             k, g = divmod(c, S)
-            table[c] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], 0)
-            known[c] = True
-    out = table[code]
+            table[c], ids[c] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], 0,
+                                      every_sign)
+    out, out_ids = table[code], ids[code]
     free = np.asarray(free, bool)
     if np.count_nonzero(free):                       # a joint left free: rare
         bits = free @ (1 << np.arange(robot.dof, dtype=np.int64))
         for i in bits.nonzero()[0].tolist():
             k, g = divmod(int(code[i]), S)
-            out[i] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], int(bits[i]))
-    return out
+            out[i], out_ids[i] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g],
+                                        int(bits[i]), every_sign)
+    return out, out_ids
 
 
 @per_robot
-def _table(robot, family: str, signs: tuple) -> tuple:
+def _table(robot, family: str, signs: tuple, every_sign: bool) -> tuple:
     """The labels of ``robot`` solved as ``family`` with the sign table ``signs`` and no free
     joint, by code ``(9 shoulder + 3 elbow + wrist) len(signs) + slot``: ``(texts (45
-    len(signs),) of object, made (45 len(signs),) of bool, the code's weights (3,))``, filled
-    as they are met."""
+    len(signs),) of object, their ids (45 len(signs),), -1 where not made yet, the code's
+    weights (3,))``, filled as they are met."""
     S = len(signs)
-    return np.empty(45 * S, object), np.zeros(45 * S, bool), np.array([9 * S, 3 * S, S])
+    return np.empty(45 * S, object), np.full(45 * S, -1, np.int64), np.array([9 * S, 3 * S, S])
 
 
-def _label(robot, family, words, signs, free_bits) -> str:
-    """:func:`_text`, made once per robot and combination (:func:`_texts`)."""
-    texts = _texts(robot, family)
-    key = (words, signs, free_bits)
+def _label(robot, family, words, signs, free_bits, every_sign) -> tuple:
+    """``(text, id)``: :func:`_text`, made once per robot and combination, and the number of
+    the text among those of the robot and family (:func:`_texts`)."""
+    texts, numbers = _texts(robot, family)
+    key = (words, signs, free_bits, every_sign)
     if key not in texts:
-        texts[key] = _text(robot, family, words, signs, free_bits)
-    return texts[key]
+        text = texts[key] = _text(robot, family, words, signs, free_bits, every_sign)
+        numbers.setdefault(text, len(numbers))
+    return texts[key], numbers[texts[key]]
 
 
 @per_robot
-def _texts(robot, family: str) -> dict:
-    """The labels made so far for ``robot`` solved as ``family``: (geometric code, signs,
-    free bits) -> text."""
-    return {}
+def _texts(robot, family: str) -> tuple:
+    """The labels made so far for ``robot`` solved as ``family``: ``((geometric code, signs,
+    free bits, every sign) -> text, text -> id)``."""
+    return {}, {}
 
 
-def _text(robot, family, words, signs, free_bits) -> str:
+def _text(robot, family, words, signs, free_bits, every_sign=False) -> str:
     """One label: the geometric ``words`` (codes of :data:`WORDS`), the ``signs`` of the
-    steps they do not name, the free joints (bit j: joint j)."""
+    steps they do not name (``every_sign``: of every step), the free joints (bit j: joint
+    j)."""
     names = [j.name for j in robot.joints]
     parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
     geo = geometry(robot, family)
-    named = set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
+    named = set() if every_sign else \
+        set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
     parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs) if j not in named]
     said = {j for j, lab in signs if lab == "any"}          # open: "any" says it already
     free = [names[j] for j in range(robot.dof) if free_bits >> j & 1 and j not in said]
