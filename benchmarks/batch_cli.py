@@ -34,7 +34,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
-from kincalc.cli.batch import chunks, formats, records, runner  # noqa: E402
+from kincalc.cli.batch import chunks, records, runner  # noqa: E402
+from kincalc.cli.batch.poses import record_poses  # noqa: E402
 from kincalc.ik.selftest import sample_configurations  # noqa: E402
 from kincalc.spatial import rpy_from_matrix  # noqa: E402
 
@@ -135,15 +136,16 @@ def stages_in_process(r, path, poses):
 
     for k in range(0, len(lines), runner.CHUNK_LINES):
         chunk = lines[k:k + runner.CHUNK_LINES]
-        parsed = timed("read JSON records", records.parse_records, None, r, k, chunk)
-        full, Tq, _, _ = timed("build poses (vectorised)", chunks._poses, r, units, parsed)
+        parsed, together = timed("read JSON records", records.parse_chunk, None, r, k, chunk)
+        full, Tq, _, _ = timed("build poses (vectorised)", record_poses, r, units, parsed,
+                               together, k)
         B = timed("ik_batch", r.ik_batch, Tq)
         q = np.round(B.q[B.valid] * qdisp, 12) + 0.0
         owner, _ = np.nonzero(B.valid)
         within = timed("limit flags + branch labels", lambda: B.within[B.valid])
         labels = timed("limit flags + branch labels", lambda: B.labels[B.valid].tolist())
-        heads = [{"index": i} for i, _ in full]
-        timed("write JSON lines", formats.ik_lines, heads, q, labels, within, owner)
+        answers = chunks.Answers(full, q, labels, within, owner)
+        timed("write JSON lines", chunks._ik_text, k, len(chunk), answers, [])
     # the whole of the same work (chunks parsed, solved and written as the CLI does)
     t0 = time.perf_counter()
     for k in range(0, len(lines), runner.CHUNK_LINES):

@@ -6,30 +6,27 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .formats import csv_rows, ik_lines, rounded, strict_json
-from .records import parse_records
+from .formats import ANSWER, answer_line, csv_rows, ik_solutions, rounded, strict_json
+from .poses import head, record_poses, words
+from .records import parse_chunk, parse_records
 
-#: pose forms solved in one vectorised step (others go through build_target per record)
-FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
-               frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
-               frozenset({"T"}), frozenset({"q"})}
-
-
-def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> tuple[str, bool, bool]:
+def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> tuple:
     """Parse, solve and format one chunk ``item = (first index, lines)``; returns
-    ``(text, any record bad, any pose without a solution)``. Pure: safe to run in a
+    ``(text, any record bad, any pose without a solution)``, the text str, or ASCII bytes
+    for ik's JSON lines. Pure: safe to run in a
     worker process. Numbers that come out NaN or infinite make their record an error
     (each chunk function checks its results), so floating-point warnings are not shown.
     ``locks`` (ik): joints held for every record, ``{index: value}`` (SI)."""
     import numpy as np
     start, lines = item
-    parsed = parse_records(header, robot, start, lines)
     if kind == "ik":
+        parsed, together = parse_chunk(header, robot, start, lines)
         with np.errstate(all="ignore"):
-            answers, errors, no = _ik_chunk(robot, units, parsed, locks or {})
+            answers, errors, no = _ik_chunk(robot, units, parsed, locks or {}, together, start)
         if fmt == "jsonl":
-            return _ik_text(start, len(parsed), answers, errors), bool(errors), no
+            return _ik_text(start, len(lines), answers, errors), bool(errors), no
         return csv_rows(kind, robot, _merge(_ik_records(answers), errors)), bool(errors), no
+    parsed = parse_records(header, robot, start, lines)
     parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
               if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}[kind]
@@ -42,10 +39,6 @@ def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> t
     else:
         text = csv_rows(kind, robot, records)
     return text, bad, no
-
-
-def _head(i, kw):
-    return {"index": i} if kw is None or "id" not in kw else {"index": i, "id": kw["id"]}
 
 
 def _joint_rows(robot, units, parsed, what):
@@ -63,7 +56,7 @@ def _joint_rows(robot, units, parsed, what):
                 err = (f"record {i + 1}: {robot.name} has {robot.dof} joints, got "
                        f"{len(kw['q'])} values")
         if err is not None:
-            errors.append((i, {**_head(i, kw), "error": err}))
+            errors.append((i, {**head(i, kw), "error": err}))
             continue
         good.append((i, kw))
         qs.append(kw["q"])
@@ -91,7 +84,7 @@ def _finite_rows(good, arrays, errors):
         return good, arrays
     for k in np.flatnonzero(~ok):
         i, kw = good[k]
-        errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: the result is not a "
+        errors.append((i, {**head(i, kw), "error": f"record {i + 1}: the result is not a "
                            "finite number for these values"}))
     return [g for g, o in zip(good, ok) if o], [a[ok] for a in arrays]
 
@@ -106,7 +99,7 @@ def _fk_chunk(robot, units, parsed, frame):
     from ...ik.engine import within_limits
     within = within_limits(robot, q)
     Tl, xyz, rpyl = rounded(T), rounded(T[:, :3, 3]), rounded(rpy)
-    recs = [{**_head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
+    recs = [{**head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
              "within_limits": bool(within[k])} for k, (i, kw) in enumerate(good)]
     return _merge(recs, errors), False
 
@@ -131,109 +124,18 @@ def _jacobian_chunk(robot, units, parsed, frame):
         else np.zeros(0)
     good, (Jd, manip, rank, singular) = _finite_rows(good, (Jd, manip, rank, singular), errors)
     Jl = rounded(Jd)
-    recs = [{**_head(i, kw), "J": Jl[k], "rank": int(rank[k]),
+    recs = [{**head(i, kw), "J": Jl[k], "rank": int(rank[k]),
              "manipulability": float(manip[k]), "singular": bool(singular[k])}
             for k, (i, kw) in enumerate(good)]
     return _merge(recs, errors), False
 
 
-def _poses(robot, units, parsed):
-    """Group records by how they are solved: ``(full [(index, kw)], T (m, 4, 4) SI,
-    partial [(index, kw, Target)], error records)``. Full poses of the common forms are
-    built in one vectorised step per form (:func:`kincalc.ik.target.targets_from`); the
-    rest go through build_target one by one."""
-    import numpy as np
-
-    from ...errors import KincalcError
-    from ...ik.target import defect_text, targets_from, to_si
-    from ..common import check_numbers
-    from ..targets import pose_values, build_target
-    groups, partial, errors = {}, [], []
-    full, Ts = [], []
-    for i, kw, err in parsed:
-        if err is None:
-            form = frozenset(kw) - {"id"}
-            if form in FAST_FORMS and (form != {"q"} or len(kw["q"]) == robot.dof):
-                groups.setdefault(form, []).append((i, kw))
-                continue
-            try:
-                target = build_target(robot, units, **{k: v for k, v in kw.items() if k != "id"})
-            except KincalcError as exc:
-                err = f"record {i + 1}: {_words(exc)}"
-            else:
-                if target.orientation and target.tcv is None and target.approach is None:
-                    full.append((i, kw))
-                    Ts.append(np.asarray(target.T, float).reshape(1, 4, 4))
-                else:
-                    partial.append((i, kw, target))
-                continue
-        errors.append((i, {**_head(i, kw), "error": err}))
-    for form, items in groups.items():
-        if form == {"q"}:
-            q = np.array([kw["q"] for _, kw in items]) / np.where(robot.is_revolute, units.a,
-                                                                  units.l)
-            T = robot.fk(q)
-        else:
-            key = "T" if form == {"T"} else next(iter(form - {"xyz"}))
-            xyz = None
-            if key == "T":
-                v = np.array([_pose_matrix(kw["T"]).ravel() for _, kw in items])
-            else:
-                v = np.array([kw[key] for _, kw in items], float)
-                xyz = np.array([kw["xyz"] for _, kw in items], float).reshape(-1, 3) / units.l
-            targets, defect = targets_from(key, to_si(key, v, units), xyz)
-            bad = ~np.isfinite(v).all(-1) | (defect != None)  # noqa: E711
-            for k in np.flatnonzero(bad):
-                i, kw = items[k]
-                try:
-                    if key == "T":           # a wrong count, or a number beyond the limits
-                        pose_values(np.array(kw["T"], float), "T")
-                    else:
-                        check_numbers(v[k], key)
-                    msg = defect_text(key, defect[k], key)
-                except KincalcError as exc:
-                    msg = str(exc)
-                errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {msg}"}))
-            if bad.any():
-                items = [it for it, b in zip(items, bad) if not b]
-                T = targets.T[~bad]
-            else:
-                T = targets.T
-        full += items
-        Ts.append(np.asarray(T, float).reshape(-1, 4, 4))
-    T = np.concatenate(Ts) if Ts else np.zeros((0, 4, 4))
-    return full, T, partial, errors
-
-
-#: how a batch record names the parts of an IK target, for the core's messages about
-#: them (:class:`kincalc.errors.TargetMismatch`)
-RECORD_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
-                "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
-                               "or q)"}
-
-
-def _words(exc) -> str:
-    """A core error's message for a record, its fields named as records name them."""
-    from ...errors import TargetMismatch
-    return exc.words(RECORD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
-
-
-def _pose_matrix(flat):
-    """A record's ``T`` (16 or 12 numbers) as a 4x4 matrix, NaN for another count."""
-    import numpy as np
-    a = np.array(flat, float)
-    if a.size == 16:
-        return a.reshape(4, 4)
-    if a.size == 12:
-        return np.vstack([a.reshape(3, 4), [0, 0, 0, 1]])
-    return np.full((4, 4), np.nan)
-
-
-def _ik_chunk(robot, units, parsed, locks=None):
+def _ik_chunk(robot, units, parsed, locks=None, together=None, start: int = 0):
     """``(answers, error records, any pose without a solution)`` of the IK records of one
     chunk, grouped by the joints they hold (``locks``, SI, for every record, and each
     record's own ``lock``, which adds to them and wins for a joint both name): each group
-    solved on the chain its locks leave, in one batch."""
+    solved on the chain its locks leave, in one batch. ``together``: records read together
+    (from record ``start``), which hold no joints of their own."""
     from ...errors import KincalcError
     groups, errors = {}, []
     common = tuple(sorted((locks or {}).items()))
@@ -244,18 +146,23 @@ def _ik_chunk(robot, units, parsed, locks=None):
                 held = tuple(sorted({**dict(common),
                                      **_record_locks(robot, units, kw["lock"])}.items()))
             except KincalcError as exc:
-                errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {exc}"}))
+                errors.append((i, {**head(i, kw), "error": f"record {i + 1}: {exc}"}))
                 continue
             kw = {k: v for k, v in kw.items() if k != "lock"}
         groups.setdefault(held, []).append((i, kw, err))
+    if together is not None:
+        groups.setdefault(common, [])
     blocks, no = [], False
     for held, items in groups.items():
+        rows = together if held == common else None
         try:
-            b, e, n = _ik_group(robot, units, items, dict(held))
+            b, e, n = _ik_group(robot, units, items, dict(held), rows, start)
         except KincalcError as exc:        # locks this arm cannot take: every record says so
             b, n = [], False
-            e = [(i, {**_head(i, kw), "error": err or f"record {i + 1}: {_words(exc)}"})
+            e = [(i, {**head(i, kw), "error": err or f"record {i + 1}: {words(exc)}"})
                  for i, kw, err in items]
+            e += [(i, {"index": i, "error": f"record {i + 1}: {words(exc)}"})
+                  for i in ([] if rows is None else (rows.at + start).tolist())]
         blocks += b
         errors += e
         no |= n
@@ -290,18 +197,27 @@ class Answers(NamedTuple):
                                       + [np.zeros(0, np.intp)]))
 
 
-def _ik_text(start: int, count: int, answers: Answers, errors) -> str:
-    """The JSON lines of a chunk of ``count`` records from record ``start``: the answers'
-    lines and the error records, in the input's order."""
+def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
+    """The JSON lines (ASCII) of a chunk of ``count`` records from record ``start``: the
+    answers' lines and the error records, in the input's order. When every record is an
+    answer with solutions and no id, in order (records read together), the lines are one
+    formatting of one template."""
+    heads = answers.heads
+    sols = ik_solutions(answers.q, answers.labels, answers.within, answers.owner, len(heads))
+    if not errors and len(heads) == count and None not in sols and \
+            all(kw is None or "id" not in kw for _, kw in heads) and \
+            [i for i, _ in heads] == list(range(start, start + count)):
+        args = [None] * (2 * count)
+        args[::2] = range(start, start + count)
+        args[1::2] = sols
+        return (ANSWER + b"\n") * count % tuple(args)
     out = [None] * count
-    lines = ik_lines([_head(i, kw) for i, kw in answers.heads], answers.q, answers.labels,
-                     answers.within, answers.owner)
-    for (i, _), line in zip(answers.heads, lines):
-        out[i - start] = line
+    for (i, kw), text in zip(heads, sols):
+        out[i - start] = answer_line(i, None if kw is None else head(i, kw), text)
     encode = strict_json().encode
     for i, rec in errors:
-        out[i - start] = encode(rec)
-    return "\n".join(out) + "\n" if out else ""
+        out[i - start] = encode(rec).encode("ascii")
+    return b"\n".join(out) + b"\n" if out else b""
 
 
 def _ik_records(answers: Answers) -> list:
@@ -313,7 +229,7 @@ def _ik_records(answers: Answers) -> list:
     for (i, kw), end in zip(answers.heads, ends):
         sols = [{"q": q[j], "branch": answers.labels[j], "within_limits": within[j]}
                 for j in range(start, end)]
-        recs.append({**_head(i, kw), "reachable": bool(sols), "solutions": sols})
+        recs.append({**head(i, kw), "reachable": bool(sols), "solutions": sols})
         start = end
     return recs
 
@@ -335,17 +251,18 @@ def _record_locks(robot, units, pairs) -> dict:
     return out
 
 
-def _ik_group(robot, units, parsed, held):
+def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
     """``(answer blocks, errors, any pose without a solution)`` of IK records that hold the
-    joints ``held`` (SI; none: the robot itself): the poses ik_batch solves in one block,
-    the others (partial poses, a robot without a batched solver) pose by pose in another."""
+    joints ``held`` (SI; none: the robot itself), with the records read ``together`` (or
+    None; from record ``start``): the poses ik_batch solves in one block, the others
+    (partial poses, a robot without a batched solver) pose by pose in another."""
     import numpy as np
 
     from ...errors import KincalcError
     from ...errors import UnsupportedRobot
     from ...ik import Target
     from ...ik.solve import solve
-    full, T, partial, errors = _poses(robot, units, parsed)
+    full, T, partial, errors = record_poses(robot, units, parsed, together, start)
     chain = robot
     if held:
         from ...analysis.redundancy import (check_lock, held_within, locked_robot,
@@ -374,7 +291,7 @@ def _ik_group(robot, units, parsed, held):
         try:
             result = solve_locked(robot, target, held) if held else solve(robot, target)
         except KincalcError as exc:        # a question this robot cannot take: its record
-            errors.append((i, {**_head(i, kw), "error": f"record {i + 1}: {_words(exc)}"}))
+            errors.append((i, {**head(i, kw), "error": f"record {i + 1}: {words(exc)}"}))
             continue
         sols = [s for s in result.solutions if np.isfinite(s.q).all()]
         no |= not sols
@@ -400,22 +317,22 @@ def _reach_chunk(robot, units, parsed, frame):
     from ..targets import build_target
     out, no = [], False
     for index, kw, error in parsed:
-        head = _head(index, kw)
+        first = head(index, kw)
         if error is None:
             try:
                 pose = {k: v for k, v in kw.items() if k != "id"}
                 result = reach(robot, build_target(robot, units, **pose), units=units)
             except KincalcError as exc:
-                error = f"record {index + 1}: {_words(exc)}"
+                error = f"record {index + 1}: {words(exc)}"
         if error is not None:
-            out.append({**head, "error": error})
+            out.append({**first, "error": error})
             continue
         if result.distance is not None and not math.isfinite(result.distance):
-            out.append({**head, "error": f"record {index + 1}: the distance is not a finite "
+            out.append({**first, "error": f"record {index + 1}: the distance is not a finite "
                         "number for this pose"})
             continue
         no |= not result.reachable
-        out.append({**head, "reachable": result.reachable, "verdict": result.verdict,
+        out.append({**first, "reachable": result.reachable, "verdict": result.verdict,
                     "distance": None if result.distance is None else
                     json_numbers(result.distance * units.l),
                     "solutions": result.solutions,

@@ -57,13 +57,24 @@ def ik_lines(heads, q, labels, within, owner) -> list:
 
     Every joint value is written as ``"%.12g" % x`` (12 significant digits, as ik output
     lines have always written them), the rest as the strict JSON encoder writes it; an
-    answer with no solution is ``"reachable": false, "solutions": []``. The solutions of
-    all answers are written at once, as rows of one byte grid: ``{"q": [`` and the cells of
-    :func:`~kincalc.cli.batch.numtext.g12_cells`, then the rest of the solution by a table
-    of its branch word and limit flag, then ", " or, after an answer's last solution, a
-    newline; the zero bytes of the grid removed, the text cut at the newlines. (Formatting
-    per solution in Python was the largest cost of a batch run; ``%.12g`` a number at a
-    time, 150 ns, more than half of that.)
+    answer with no solution is ``"reachable": false, "solutions": []`` (the text of the
+    solutions by :func:`ik_solutions`).
+    """
+    sols = ik_solutions(q, labels, within, owner, len(heads))
+    return [answer_line(h["index"], h, t).decode("ascii") for h, t in zip(heads, sols)]
+
+
+def ik_solutions(q, labels, within, owner, count: int) -> list:
+    """The text (ASCII bytes) of the solutions of each of ``count`` ik answers, between the
+    brackets of ``"solutions": [...]``, or None for an answer without a solution (the
+    arguments as :func:`ik_lines`').
+
+    The solutions of all answers are written at once, as rows of one byte grid: ``{"q": [``
+    and the cells of :func:`~kincalc.cli.batch.numtext.g12_cells`, then the rest of the
+    solution by a table of its branch word and limit flag, then ", " or, after an answer's
+    last solution, a newline; the zero bytes of the grid removed, the text cut at the
+    newlines. (Formatting per solution in Python was the largest cost of a batch run;
+    ``%.12g`` a number at a time, 150 ns, more than half of that.)
     """
     import numpy as np
 
@@ -82,29 +93,38 @@ def ik_lines(heads, q, labels, within, owner) -> list:
     last = np.ones(s, bool)                                     # an answer's last solution
     last[:-1] = owner[1:] != owner[:-1]
     grid = np.empty((min(s, ROWS), 2 + CELL // 8 * n + width), "<u8")   # one, kept cached
-    body = "".join([_rows(grid[:min(ROWS, s - k)], q[k:k + ROWS], tails[k:k + ROWS],
-                          last[k:k + ROWS]) for k in range(0, s, ROWS)]).split("\n")
-    sols = [None] * len(heads)                                  # each answer's solutions
+    body = b"".join([_rows(grid[:min(ROWS, s - k)], q[k:k + ROWS], tails[k:k + ROWS],
+                           last[k:k + ROWS]) for k in range(0, s, ROWS)]).split(b"\n")
+    body.pop()
+    if len(body) == count:                                      # every answer has some
+        return body
+    sols = [None] * count
     for k, text in zip(owner[last].tolist(), body):
         sols[k] = text
-    return [f'{{"index": {h["index"]}, "reachable": true, "solutions": [{t}]}}'
-            if t is not None and len(h) == 1 else _line(h, t) for h, t in zip(heads, sols)]
+    return sols
 
 
-def _line(head: dict, sols) -> str:
-    """An ik answer's line from its head fields and the text of its solutions (None: no
+#: an ik answer's line with solutions, from its index and their text
+ANSWER = b'{"index": %d, "reachable": true, "solutions": [%b]}'
+
+
+def answer_line(index: int, head, sols) -> bytes:
+    """An ik answer's line (ASCII bytes) from its index, its head fields (``{"index":
+    index[, "id": id]}``; None: the index alone) and the text of its solutions (None: no
     solution)."""
-    head = strict_json().encode(head)[:-1]
+    if sols is not None and (head is None or len(head) == 1):
+        return ANSWER % (index, sols)
+    head = strict_json().encode(head or {"index": index})[:-1].encode("ascii")
     if sols is None:
-        return f'{head}, "reachable": false, "solutions": []}}'
-    return f'{head}, "reachable": true, "solutions": [{sols}]}}'
+        return head + b', "reachable": false, "solutions": []}'
+    return head + b', "reachable": true, "solutions": [' + sols + b"]}"
 
 
 #: solutions written a block at a time (the block's grid stays in the cache)
 ROWS = 1024
 
 
-def _rows(grid, q, tails, last) -> str:
+def _rows(grid, q, tails, last) -> bytes:
     """The text of the solutions ``q (r, n)`` (their rest ``tails (r, w)``, uint64 words of
     text and zero bytes), each followed by ", " or, where ``last (r,)``, a newline; written
     in ``grid (r, 2 + CELL // 8 * n + w)``, uint64."""
@@ -119,7 +139,7 @@ def _rows(grid, q, tails, last) -> str:
     grid[:, 1 + c * n:-1] = tails
     grid[:, -1] = np.where(last, _word(b"\n"), _word(b", "))
     flat = grid.view(np.uint8).ravel()
-    return flat[flat != 0].tobytes().decode("ascii")
+    return flat[flat != 0].tobytes()
 
 
 def _word(text: bytes, at: int = 0):

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import heapq
+import itertools
 import math
 
 from ...limits import MAX_MAGNITUDE, MAX_RECORD_BYTES, quote, size_text
@@ -33,8 +35,56 @@ def parse_records(header, robot, start: int, lines) -> list:
     None for a line over the length limit), the first being record ``start``. ``header``
     is None for JSON lines, the column names for CSV, or the reason the CSV header cannot
     be used."""
-    if header is None:
-        return _json_records(start, lines)
+    parsed, together = parse_chunk(header, robot, start, lines)
+    if together is None:
+        return parsed
+    keys = [key for key, _ in together.fields]
+    ends = list(itertools.accumulate(count for _, count in together.fields))
+    spans = list(zip(keys, [0] + ends[:-1], ends))
+    read = [(start + k, {key: tuple(row[a:b]) for key, a, b in spans}, None)
+            for k, row in zip(together.at.tolist(), together.values.tolist())]
+    return list(heapq.merge(parsed, read, key=lambda r: r[0]))
+
+
+def parse_chunk(header, robot, start: int, lines) -> tuple:
+    """:func:`parse_records` with the JSON lines read together
+    (:mod:`~kincalc.cli.batch.uniform`) kept as arrays: ``(parsed, together)``, the
+    records of the other lines and a :class:`~kincalc.cli.batch.uniform.Together` (its
+    ``at`` the positions of its lines in ``lines``) or None."""
+    if header is not None:
+        return _csv_records(header, robot, start, lines), None
+    from .uniform import read_together
+    together = read_together(lines, lambda line: _together_fields(line, robot))
+    if together is None:
+        return _json_records(range(start, start + len(lines)), lines), None
+    if len(together.at) == len(lines):
+        return [], together
+    taken = set(together.at.tolist())
+    rest = [k for k in range(len(lines)) if k not in taken]
+    return _json_records([start + k for k in rest], [lines[k] for k in rest]), together
+
+
+#: the pose forms whose records may be read together: those ik solves in one vectorised
+#: step (kincalc.cli.batch.chunks.FAST_FORMS) but T (its rows may be nested)
+TOGETHER_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
+                  frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
+                  frozenset({"q"})}
+
+
+def _together_fields(line, robot):
+    """The fields ``((key, count), ...)`` of a line to read together with the lines of its
+    shape (:func:`~kincalc.cli.batch.uniform.read_together`): a good record of a form of
+    TOGETHER_FORMS (``q`` of one value a joint), else None."""
+    try:
+        kw = _pose_keywords(_json_object(_text(line)))
+    except RecordError:
+        return None
+    if frozenset(kw) not in TOGETHER_FORMS or ("q" in kw and len(kw["q"]) != robot.dof):
+        return None
+    return tuple((key, len(value)) for key, value in kw.items())
+
+
+def _csv_records(header, robot, start: int, lines) -> list:
     out = []
     if isinstance(header, str):
         reason, layout = header, None
@@ -50,13 +100,14 @@ def parse_records(header, robot, start: int, lines) -> list:
     return out
 
 
-def _json_records(start: int, lines) -> list:
-    """:func:`parse_records` of JSON lines. The objects are read one by one; their fields
-    are checked together for the records that have the same fields, when those are pose
-    fields of a fixed count and ``id`` (:func:`_fields_together`), else record by record
-    (:func:`_pose_keywords`, which also says what is wrong)."""
+def _json_records(indices, lines) -> list:
+    """:func:`parse_records` of JSON lines, record ``indices[k]`` being ``lines[k]``. The
+    objects are read one by one; their fields are checked together for the records that
+    have the same fields, when those are pose fields of a fixed count and ``id``
+    (:func:`_fields_together`), else record by record (:func:`_pose_keywords`, which also
+    says what is wrong)."""
     out, same = [], {}
-    for i, line in enumerate(lines, start):
+    for i, line in zip(indices, lines):
         try:
             rec = _json_object(_text(line))
         except RecordError as exc:

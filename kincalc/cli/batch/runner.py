@@ -388,15 +388,17 @@ class _Output:
         else:
             raise KeyboardInterrupt
 
-    def write(self, text: str) -> None:
+    def write(self, text) -> None:
+        """Write ``text``: str, or bytes of ASCII text."""
         import os
         self._writing = True
         try:
             if self._fd is None:
-                sys.stdout.write(text)
+                sys.stdout.write(text if isinstance(text, str) else text.decode("ascii"))
                 sys.stdout.flush()
             else:
-                view = memoryview(text.encode(self._encoding, "backslashreplace"))
+                view = memoryview(text if isinstance(text, bytes) else
+                                  text.encode(self._encoding, "backslashreplace"))
                 while view:
                     view = view[os.write(self._fd, view):]
         except BrokenPipeError:
