@@ -1,7 +1,7 @@
 """The text of many numbers at once: ``"%.12g" % x`` for a whole array, as bytes in a grid.
 
 Python's float formatting costs ~150 ns a number, and an ik batch writes about fifty numbers
-a pose. :func:`g12_cells` writes a whole array with a few dozen numpy operations (~55 ns a
+a pose. :func:`g12_cells` writes a whole array with a few dozen numpy operations (~40 ns a
 number, the zero bytes removed) and gives exactly the text of ``"%.12g" % x``: 12
 significant digits, trailing zeros and a bare point dropped, ``e`` notation below 1e-4 and
 from 1e12 on, ``-0``, ``nan``, ``inf``. For ``a = |x|`` with decimal exponent ``X``
@@ -15,7 +15,11 @@ side of a half-integer as the exact product, or on it; only then (``s`` a half-i
 exact product's side found, by Dekker's error-free product (T. J. Dekker, "A floating-point
 technique for extending the available precision", Numer. Math. 18, 1971). Values outside
 those exponents, not finite, or rounding up to the next power of ten (9.9999999999995) are
-written by ``"%.12g"`` itself, one by one: the same text by definition.
+written by ``"%.12g"`` itself, one by one: the same text by definition (zeros apart: "0").
+
+The work is on flat arrays, with everything that depends on the exponent alone in tables
+indexed by it, and integer division by constants (numpy divides by a scalar without a
+division instruction, not so in ``divmod``): 25 % less time than the first version.
 """
 
 from __future__ import annotations
@@ -35,25 +39,37 @@ _SPLIT = 134217729.0                              # 2^27 + 1, Veltkamp's splitte
 
 def _tables():
     """The lookup tables: the four digit characters of each group 0000..9999 (a little-endian
-    uint32, first character lowest), its trailing zeros (4 for 0000), and by byte count k
-    (0..16) the masks of the first k bytes of two words and a point placed after them."""
+    uint32, first character lowest; and the same 32 bits up), its trailing zeros (4 for
+    0000); by byte count k (0..16) the masks of the first k bytes of two words; and by
+    ``i = X + 5`` (X the decimal exponent, -5..12; -5 and 12 for a value written by
+    "%.12g" itself): the scale 10^(11 - X), the digits before the point (16: no point in
+    the digit words), the masks of those digits in the two words, the point after them, and
+    the word before the digits ("0.000" .. "0." for X < 0), without and with a sign."""
     g = np.arange(10000)
     chars = (ord("0") + g[:, None] // np.array([1000, 100, 10, 1]) % 10).astype(np.uint8)
     four = chars.view("<u4").ravel().astype("<u8")
-    trailing = sum((g % p == 0).astype(np.int8) for p in (10, 100, 1000, 10000))
+    trailing = sum((g % p == 0).astype(np.intp) for p in (10, 100, 1000, 10000))
     first = np.zeros((17, 16), np.uint8)           # the first k bytes of two words
     dot = np.zeros((17, 16), np.uint8)             # "." as byte k
     for k in range(17):
         first[k, :k] = 0xFF
         if k < 16:
             dot[k, k] = ord(".")
-    before = np.zeros((16, 8), np.uint8)           # exponent X = -4 .. 11: "0.000" .. "0." ..
+    first, dot = first.view("<u8"), dot.view("<u8")
+    X = np.arange(-5, 13)
+    lead = np.where((X < 0) | (X >= 11), 16, X + 1)
+    scale = 10.0 ** np.clip(11 - X, 0, 15)         # exact: every power of ten to 1e22 is
+    scale[[0, -1]] = 0.0                           # a double (out of range: 0 digits)
+    before = np.zeros((18, 2, 8), np.uint8)
+    before[:, 1, 0] = ord("-")
     for x in range(-4, 0):
         text = ("0." + "0" * (-x - 1)).encode()
-        before[x + 4, 6 - len(text):6] = list(text)
-    first, dot = first.view("<u8"), dot.view("<u8")
-    return (four, trailing, first[:, 0].copy(), first[:, 1].copy(), dot[:, 0].copy(),
-            dot[:, 1].copy(), before.view("<u8").ravel())
+        before[x + 5, :, 6 - len(text):6] = list(text)
+    return dict(four=four, four_up=four << np.uint64(32), trailing=trailing,
+                first0=first[:, 0].copy(), first1=first[:, 1].copy(), scale=scale,
+                lead=lead, keep0=first[lead, 0].copy(), keep1=first[lead, 1].copy(),
+                move0=~first[lead, 0], move1=~first[lead, 1], dot0=dot[lead, 0].copy(),
+                dot1=dot[lead, 1].copy(), before=before.view("<u8").ravel())
 
 
 _TABLES = None
@@ -92,43 +108,57 @@ def g12_cells(x, out=None) -> np.ndarray:
 def _cells(x, out):
     """Fill ``out (..., 3)`` uint64, the cells of ``x (...)``: a word of the sign and the
     zeros before the digits, two words of the digits and the point."""
-    four, trailing, first0, first1, dot0, dot1, before = _TABLES
+    t = _TABLES
+    shape = x.shape
+    x = x.reshape(-1)
     a = np.abs(x)
-    e = np.floor(np.log10(a))                     # NaN, -inf for 0, inf: not in range
-    zero = a == 0
-    ok = (e >= -4) & (e <= 11)
-    X = np.where(ok, e, 0).astype(np.intp)
-    s = a * _P10[11 - X]                          # the exact product, rounded once
+    e = np.log10(a)                               # NaN, -inf for 0, inf: out of range
+    np.floor(e, out=e)
+    i = (np.fmax(np.fmin(e, 12.0), -5.0) + 5.0).astype(np.intp)   # X + 5 (NaN: 17)
+    s = a * t["scale"][i]                         # the exact product, rounded once
     D = np.rint(s)
-    near = np.nonzero(s - np.floor(s) == 0.5)
-    if len(near[0]):                              # on a half: the exact product's side
-        D[near] = _round_exact(a[near], _P10[11 - X[near]], s[near])
-    ok &= (D >= 1e11) & (D < 1e12)                # log10 a step off, or 10^12 after rounding
-    ok |= zero
-    D = np.where(ok & ~zero, D, 0).astype(np.int64)
-    X[zero] = 0
+    d = s - D
+    near = np.flatnonzero(np.abs(d, out=d) == 0.5)
+    if len(near):                                 # on a half: the exact product's side
+        D[near] = _round_exact(a[near], t["scale"][i[near]], s[near])
+    ok = (D >= 1e11) & (D < 1e12)                 # log10 a step off, 10^12 after rounding,
+    every = ok.all()                              # out of range, 0, NaN: written apart
+    if not every:
+        D[~ok] = 0
+    D = D.astype(np.int64)
     hi = D // 100000000
-    rest = D - hi * 100000000
-    mid = rest // 10000
-    lo = rest - mid * 10000
-    w0 = four[hi] | (four[mid] << np.uint64(32))            # digits 1-8
-    w1 = four[lo]                                          # digits 9-12
-    zeros = np.where(lo != 0, trailing[lo], 4 + np.where(mid != 0, trailing[mid],
-                                                         4 + trailing[hi]))
-    kept = np.maximum(12 - zeros, X + 1)                    # digits written (0 -> "0")
-    lead = np.where((X < 0) | (X == 11), 16, X + 1)        # digits before the point
-    shown = kept + (kept > lead)                            # characters from the digits on
-    m0, m1 = first0[lead], first1[lead]
-    # the digits from `lead` on move up a byte, the point goes between
-    u0 = w0 & ~m0
-    out[..., 1] = ((w0 & m0) | (u0 << np.uint64(8)) | dot0[lead]) & first0[shown]
-    out[..., 2] = ((w1 & m1) | ((w1 & ~m1) << np.uint64(8)) | (u0 >> np.uint64(56))
-                   | dot1[lead]) & first1[shown]
-    out[..., 0] = before[X + 4] | np.signbit(x).astype("<u8") * np.uint64(ord("-"))
-    odd = np.nonzero(~ok)
-    if len(odd[0]):                               # the rest: by "%.12g" itself
-        text = b"".join(b"%-24.12g" % v for v in x[odd].tolist()).replace(b" ", b"\0")
-        out[odd] = np.frombuffer(text, "<u8").reshape(-1, 3)
+    D -= hi * 100000000
+    mid = D // 10000
+    lo = D - mid * 10000
+    w0 = t["four"][hi] | t["four_up"][mid]        # digits 1-8
+    w1 = t["four"][lo]                            # digits 9-12
+    zeros = t["trailing"][lo]
+    few = np.flatnonzero(zeros == 4)
+    if len(few):                                  # digits 9-12 all zero
+        zeros[few] += np.where(mid[few] != 0, t["trailing"][mid[few]],
+                               4 + t["trailing"][hi[few]])
+    kept = np.maximum(12 - zeros, i - 4)          # digits written (X + 1 at least)
+    shown = kept + (kept > t["lead"][i])          # characters from the digits on
+    # the digits from the point's place on move up a byte, the point goes between
+    u0 = w0 & t["move0"][i]
+    out[..., 1] = (((w0 & t["keep0"][i]) | (u0 << np.uint64(8)) | t["dot0"][i])
+                   & t["first0"][shown]).reshape(shape)
+    out[..., 2] = (((w1 & t["keep1"][i]) | ((w1 & t["move1"][i]) << np.uint64(8))
+                    | (u0 >> np.uint64(56)) | t["dot1"][i]) & t["first1"][shown]).reshape(shape)
+    out[..., 0] = t["before"][2 * i + np.signbit(x)].reshape(shape)
+    if not every:
+        _odd(x.reshape(shape), a.reshape(shape) == 0, ~ok.reshape(shape), out)
+
+
+def _odd(x, zero, odd, out):
+    """The cells of the values ``odd`` of ``x`` that the digit words do not write: "0" and
+    "-0" for a zero (its sign word is written), the others by "%.12g" itself."""
+    zero &= odd
+    out[..., 1][zero] = ord("0")
+    out[..., 2][zero] = 0
+    odd = np.nonzero(odd & ~zero)
+    text = b"".join(b"%-24.12g" % v for v in x[odd].tolist()).replace(b" ", b"\0")
+    out[odd] = np.frombuffer(text, "<u8").reshape(-1, 3)
 
 
 def _round_exact(a, p, s):
