@@ -202,11 +202,12 @@ def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
     answers' lines and the error records, in the input's order. When every record is an
     answer with solutions and no id, in order (records read together), the lines are one
     formatting of one template."""
+    from operator import itemgetter
     heads = answers.heads
     sols = ik_solutions(answers.q, answers.labels, answers.within, answers.owner, len(heads))
     if not errors and len(heads) == count and None not in sols and \
-            all(kw is None or "id" not in kw for _, kw in heads) and \
-            [i for i, _ in heads] == list(range(start, start + count)):
+            list(map(itemgetter(1), heads)).count(None) == count and \
+            list(map(itemgetter(0), heads)) == list(range(start, start + count)):
         args = [None] * (2 * count)
         args[::2] = range(start, start + count)
         args[1::2] = sols
