@@ -41,11 +41,12 @@ given twice is an error.
 Values are in the command's units (``--deg/--rad``, ``--unit``). A record that cannot be
 read becomes its error record and the run goes on; the exit status then says so (2).
 
-The rooms: :mod:`~kincalc.cli.batch.records` reads a record, :mod:`~kincalc.cli.batch.runner`
-cuts the input into chunks and runs them (processes, order, progress),
-:mod:`~kincalc.cli.batch.chunks` solves a chunk through the core and
-:mod:`~kincalc.cli.batch.formats` writes it (the joint values of ik answers by
-:mod:`~kincalc.cli.batch.numtext`, many numbers at once).
+The rooms: :mod:`~kincalc.cli.batch.records` reads a record (and
+:mod:`~kincalc.cli.batch.uniform` the JSON lines of a chunk written alike, together),
+:mod:`~kincalc.cli.batch.runner` cuts the input into chunks and runs them (processes, order,
+progress), :mod:`~kincalc.cli.batch.chunks` solves a chunk through the core (its IK targets
+built by :mod:`~kincalc.cli.batch.poses`) and :mod:`~kincalc.cli.batch.formats` writes it (the
+joint values of ik answers by :mod:`~kincalc.cli.batch.numtext`, many numbers at once).
 """
 
 from .runner import run, run_command

@@ -372,6 +372,10 @@ class _Output:
             sys.stdout.flush()
             self._fd = sys.stdout.fileno()
             self._encoding = sys.stdout.encoding or "utf-8"
+            ascii_text = bytes(range(128)).decode("ascii")
+            # ASCII text as bytes goes out as it is where the encoding writes ASCII so
+            self._ascii = ascii_text.encode(self._encoding, "backslashreplace") == \
+                ascii_text.encode("ascii")
         except (AttributeError, OSError, ValueError):   # a test's in-memory stdout
             self._fd = None
         try:
@@ -397,6 +401,8 @@ class _Output:
                 sys.stdout.write(text if isinstance(text, str) else text.decode("ascii"))
                 sys.stdout.flush()
             else:
+                if isinstance(text, bytes) and not self._ascii:
+                    text = text.decode("ascii")
                 view = memoryview(text if isinstance(text, bytes) else
                                   text.encode(self._encoding, "backslashreplace"))
                 while view:
