@@ -279,7 +279,8 @@ def _continuum(robot, sv: Solved, k: int):
     ``text`` (:class:`~kincalc.ik.families.Continuum`, ``ParallelContinuum``)."""
     if sv.continuum is not None and sv.continuum[0, k, 0]:
         _, i, j, sign, total = sv.continuum[0, k].tolist()
-        return Continuum(int(i), int(j), int(sign), float(total))
+        return _on_the_line(robot, sv.q[0, k], sv.free[0, k],
+                            Continuum(int(i), int(j), int(sign), float(total)))
     parallel = sv.slot_extra("parallel continuum")
     if parallel is not None and parallel[0, k, 0]:
         _, sigma, total = parallel[0, k].tolist()
@@ -296,6 +297,29 @@ def _continuum(robot, sv: Solved, k: int):
             c = replace(c.reversed(robot.dof), total=float(total))
         return c
     return None
+
+
+def _on_the_line(robot, q, free, c: Continuum):
+    """``c``, or where another free revolute joint turns about the same line as joints
+    ``c.i`` and ``c.j`` at ``q`` (a wrist at q5 = 0 whose line is axis 1: the wrist centre
+    on it too), the relation of all three, ``q_f s_f + q_i + sign q_j`` (a
+    :class:`~kincalc.ik.families.ParallelContinuum`, joint f free)."""
+    others = [f for f in np.flatnonzero(free).tolist()
+              if f not in (c.i, c.j) and robot.is_revolute[f]]
+    if not others:
+        return c
+    from ..fk import chain_frames
+    F = chain_frames(robot.chain, q)
+    z, o = F[:, :3, 2], F[:, :3, 3]
+    tol = 1e-9 * max(robot.characteristic_length, 1e-12)
+    for f in others:
+        if np.linalg.norm(np.cross(z[f], z[c.i])) <= 1e-9 \
+                and np.linalg.norm(np.cross(o[f] - o[c.i], z[c.i])) <= tol:
+            s_f = 1 if float(z[f] @ z[c.i]) > 0 else -1
+            terms = sorted([(f, s_f), (c.i, 1), (c.j, c.sign)])
+            return ParallelContinuum(tuple(j for j, _ in terms), tuple(x for _, x in terms), f,
+                                     c.total + s_f * float(q[f]))
+    return c
 
 
 def _trace(sv: Solved, k: int) -> list:

@@ -437,3 +437,22 @@ def test_near_the_singularity_solutions_are_isolated_and_exact(name, r, q5s, eps
         assert_reproduces(r, bs, Tk)
         assert generating_found(r, bs, q), (name, q, bs)
         assert same_set(r, bs, sols, wrist_tolerance(r, q))
+
+
+def test_wrist_line_on_axis_1_relates_three_joints():
+    """kawasaki_rs007n standing straight up with q5 = 0 (the hunt's pose q = [135.2 deg, 0,
+    180 deg, 180 deg, 0, -77.4 deg]): axes 1, 4 and 6 are one line, so only JT1 + JT4 + JT6
+    is fixed. The reported relation holds for the solution and for the configuration the
+    pose came from, whatever its JT1 and JT6 (it said JT1 free and JT4 + JT6 = total)."""
+    robot = load_robot("kawasaki_rs007n")
+    rng = np.random.default_rng(17)
+    for a, b in rng.uniform(-np.pi, np.pi, (6, 2)):
+        q0 = np.array([a, 0.0, np.pi, np.pi, 0.0, b])
+        res = robot.ik(robot.fk(q0))
+        assert res.solutions
+        for s in res.solutions:
+            c = s.continuum
+            assert c is not None and set(c.joints) == {0, 3, 5}, c
+            total = lambda q: sum(sg * q[j] for j, sg in zip(c.joints, c.signs))  # noqa: E731
+            assert abs(wrap(total(s.q) - c.total)) < 1e-9
+            assert abs(wrap(total(q0) - c.total)) < 1e-9
