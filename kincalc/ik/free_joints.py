@@ -6,20 +6,13 @@ joint free and gives it a representative value: every value places the point. Wh
 target also gives an orientation that the arm does not control, the joint is not free
 for that target. Turning it by ``delta`` turns the tool about its line,
 ``R_tool' = R(k, delta) R_tool`` (``k`` the joint's axis at the candidate, world frame),
-and leaves the point where it is. The ``delta`` nearest the target's orientation
-``R_target`` maximises ``tr(R(k, delta)^T E)`` with ``E = R_target R_tool^T``:
-
-    delta = atan2(k . e, tr E - k^T E k),  e = (E32 - E23, E13 - E31, E21 - E12)
-
-(subproblem 1 in its least-squares form, over the three axes of the tool frame). The
-candidate then reaches the orientation when any value of the joint does, and the joint
-is no longer free; the engine's check judges it like any other candidate.
-
-Two free joints ``a`` before ``b`` whose lines both hold the point (the point where
-axes 1 and 2 meet: a spherical arm's slide at 0, an elbow of equal links folded) turn
-the tool by ``R(k_a, delta_a) R(k_b, delta_b)``. Axis ``b`` is left where it is by its
-own turn, so ``R(k_a, delta_a) k_b = E k_b`` (subproblem 1) gives ``delta_a``, and
-``delta_b`` is the turn about ``k_b`` nearest ``R(k_a, delta_a)^T E`` as above.
+and leaves the point where it is: the turn nearest the target's orientation
+(:func:`~kincalc.subproblems.turns.nearest_turn` of ``E = R_target R_tool^T``) is the
+joint's value for that target. Two free joints whose lines both hold the point (the
+point where axes 1 and 2 meet: a spherical arm's slide at 0, an elbow of equal links
+folded) take :func:`~kincalc.subproblems.turns.two_turns`. The candidate then reaches
+the orientation when any value of the joints does, and they are no longer free; the
+engine's check judges it like any other candidate.
 """
 
 from __future__ import annotations
@@ -27,8 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..fk import entry_frames
-from ..spatial import matrix_from_axis_angle, wrap
+from ..spatial import wrap
 from ..subproblems import sp1, sp2
+from ..subproblems.sp2 import free_angles
+from ..subproblems.turns import nearest_turn, two_turns
 from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .target import Targets
@@ -87,11 +82,11 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
     done = {j: turn[j] & (count == 1).reshape(-1) for j in turn}     # one free joint
     for j in turn:
         if np.count_nonzero(done[j]):
-            delta[j] = np.where(done[j], nearest_turn(A[:, 2, j], E), 0.0)
+            delta[j] = np.where(done[j], nearest_turn(A[:, 2, j].T, E), 0.0)
     for a, b in ((a, b) for a in turn for b in turn if a < b):       # two: a before b
         t = turn[a] & turn[b] & (count == 2).reshape(-1)
         if np.count_nonzero(t):
-            da, db = two_turns(A[:, 2, a], A[:, 2, b], E)
+            da, db = two_turns(A[:, 2, a].T, A[:, 2, b].T, E)
             delta[a], delta[b] = np.where(t, da, delta[a]), np.where(t, db, delta[b])
             done[a], done[b] = done[a] | t, done[b] | t
     for j in turn:
@@ -100,26 +95,6 @@ def orient_free(robot, targets: Targets, br: Branches) -> Branches:
             br = br.set(j, value, np.cos(value), np.sin(value),
                         free=F[j] & ~done[j].reshape(N, K))
     return br.flushed()
-
-
-def nearest_turn(k, E) -> np.ndarray:
-    """``delta (m,)`` maximising ``tr(R(k, delta)^T E)``: the turn about unit ``k (3, m)``
-    nearest the rotation ``E (m, 3, 3)`` (module docstring)."""
-    e = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]])
-    kEk = np.einsum("am,mab,bm->m", k, E, k)
-    return np.arctan2(np.einsum("am,am->m", k, e), np.einsum("mii->m", E) - kEk)
-
-
-def two_turns(ka, kb, E) -> tuple:
-    """``(delta_a, delta_b)``, each ``(m,)``, with ``R(ka, delta_a) R(kb, delta_b) = E``
-    for unit axes ``ka, kb (3, m)`` (world frame) and rotations ``E (m, 3, 3)``: ``kb`` is
-    left where it is by its own turn, so ``R(ka, delta_a) kb = E kb`` (subproblem 1, its
-    least-squares angle when ``E`` is not of that form), then ``delta_b`` the turn about
-    ``kb`` nearest ``R(ka, delta_a)^T E``."""
-    Ekb = np.einsum("mab,bm->ma", E, kb)
-    da = sp1(kb.T, Ekb, ka.T, tol=0.0).theta[0][..., 0]
-    Ra = matrix_from_axis_angle(ka.T, da)                            # (m, 3, 3)
-    return da, nearest_turn(kb, np.einsum("mba,mbc->mac", Ra, E))
 
 
 def _to_approach(targets: Targets, br: Branches, A, turn: dict, count) -> Branches:
@@ -151,22 +126,12 @@ def _to_approach(targets: Targets, br: Branches, A, turn: dict, count) -> Branch
         x, y = (wrap(q[..., j][..., None] + np.where(t2, d.reshape(N, K, 2), 0.0))
                 for j, d in ((ja, sol.theta[0]), (jb, sol.theta[1])))
         ok = np.where(t2, sol.ok.reshape(N, K, 2), np.array([True, False]))
-        still = pair_free(t & sol.free.reshape(N, K, 2).any(-1), z.reshape(N, K, 3),
+        still = free_angles(t & sol.free.reshape(N, K, 2).any(-1), z.reshape(N, K, 3),
                           a.reshape(N, K, 3), A[:, 2, ja].T.reshape(N, K, 3),
                           A[:, 2, jb].T.reshape(N, K, 3))
         for j, f in zip((ja, jb), still):
             br = br.set(j, q[..., j], free=(br.F[j] & ~t) | f)
         br = br.branch([ja, jb], Solutions((x, y), (np.cos(x), np.cos(y)), (np.sin(x), np.sin(y)),
                                            ok, np.ones_like(ok), np.zeros_like(ok)),
-                       labels=(None, None)).flushed()
+                       labels=(None, None))
     return br.flushed()
-
-
-def pair_free(free, p1, p2, k1, k2) -> tuple:
-    """Which angle of subproblem 2, ``R(k1, x) R(k2, y) p1 = p2``, is undetermined where it
-    is ill-posed (``free (...)``, bool), for unit vectors ``p1, p2, k1, k2 (..., 3)``: ``y``
-    where ``p1`` is along ``k2``, ``x`` where ``p2`` is along ``k1``, both otherwise.
-    Returns ``(free_x, free_y)``, each ``(...)`` bool."""
-    on2 = np.linalg.norm(np.cross(p1, k2), axis=-1) < 1e-9
-    on1 = np.linalg.norm(np.cross(p2, k1), axis=-1) < 1e-9
-    return free & (on1 | ~on2), free & (on2 | ~on1)

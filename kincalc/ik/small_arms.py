@@ -14,9 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..spatial import matrix_from_axis_angle, wrap
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
 from ..subproblems.solutions import Solutions
+from ..subproblems.sp2 import free_angles
+from ..subproblems.turns import nearest_turn, two_turns
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
                      target_rotation, tool_point)
@@ -145,15 +148,13 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
 
     With ``E = R_t R^T`` the rotation still missing (``R`` the slot's ``E_1 ... E_4``), and
     ``u`` the slot's axes: one free joint ``a`` gives ``R(u_a, x) R(u_4, z) = E``
-    (:func:`~kincalc.ik.free_joints.two_turns`, no longer free unless ``u_a`` is along
+    (:func:`~kincalc.subproblems.turns.two_turns`, no longer free unless ``u_a`` is along
     ``u_4``); two, ``a`` and ``b`` on meeting axes, ``R(u_a, x) R(u_b, y) R(u_4, z) = E``:
     ``(x, y)`` turn ``u_4`` onto ``E u_4`` (subproblem 2, two roots, the second a slot of
     its own) and ``z`` the turn about ``u_4`` left
-    (:func:`~kincalc.ik.free_joints.nearest_turn`). Slots with no free joint keep their
+    (:func:`~kincalc.subproblems.turns.nearest_turn`). Slots with no free joint keep their
     values (the second root of the pair's step is then empty).
     """
-    from ..spatial import matrix_from_axis_angle, wrap
-    from .free_joints import nearest_turn, pair_free, two_turns
     F = np.stack([br.free[j] for j in range(3)]) & S.revolute[:3, None, None]
     count = F.sum(0)
     pairs = _meeting_pairs(S)
@@ -163,11 +164,10 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
     Rt = np.broadcast_to(target_rotation(S, targets.T), (N, K, 3, 3))
     X, u = _frame(S, br, 4)
     E = Rt @ X                                                      # R_t R^T
-    flat = lambda x: x.reshape(N * K, *x.shape[2:])  # noqa: E731
     for a in range(3):
         one = F[a] & (count == 1)
         if np.count_nonzero(one):
-            x, z = (d.reshape(N, K) for d in two_turns(flat(u[a]).T, flat(u[3]).T, flat(E)))
+            x, z = two_turns(u[a], u[3], E)
             keep = np.linalg.norm(np.cross(u[a], u[3]), axis=-1) < 1e-9
             v = wrap(br.value[a] + np.where(one, x, 0.0))
             w = wrap(br.value[3] + np.where(one, z, 0.0))
@@ -180,13 +180,12 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
         Ra = matrix_from_axis_angle(u[a][..., None, :], x)
         Rb = matrix_from_axis_angle(u[b][..., None, :], y)
         rest = np.swapaxes(Ra @ Rb, -1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
-        z = nearest_turn(np.broadcast_to(u[3][..., None, :], x.shape + (3,)).reshape(-1, 3).T,
-                         rest.reshape(-1, 3, 3)).reshape(x.shape)
+        z = nearest_turn(u[3][..., None, :], rest)
         t2 = two[..., None]
         q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))
                   for j, d in ((a, x), (b, y), (3, z)))
         ok = np.where(t2, sol.ok, np.array([True, False]))
-        still = pair_free(two & sol.free.any(-1), u[3], (E @ u[3][..., None])[..., 0], u[a],
+        still = free_angles(two & sol.free.any(-1), u[3], (E @ u[3][..., None])[..., 0], u[a],
                           u[b])                                      # degenerate: free
         for j, f in zip((a, b), still):
             br = br.set(j, br.value[j], free=(br.free[j] & ~two) | f)

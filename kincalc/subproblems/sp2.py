@@ -16,7 +16,8 @@ of ``p2`` as the axes allow (both slots when the directions can be matched, else
 nearest height along ``k1`` by subproblem 4's least squares, then subproblem 1's).
 
 Ill-posed (``free``): ``theta2`` undetermined (``p1`` on ``k2``, or ``k1`` along
-``k2``) or ``theta1`` undetermined (the rotated point on ``k1``).
+``k2``) or ``theta1`` undetermined (the rotated point on ``k1``); :func:`free_angles`
+tells which.
 """
 
 from __future__ import annotations
@@ -75,3 +76,24 @@ def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
     return Solutions((t1, second.theta[0]), (c1, second.c[0]), (s1, second.s[0]), second.ok,
                      second.exact & first.exact[..., 0] & same[..., None],
                      second.free | first.free[..., 0])
+
+
+def free_angles(free, p1, p2, k1, k2) -> tuple:
+    """Which angle of subproblem 2 is undetermined where it is ill-posed.
+
+    Parameters
+    ----------
+    free : ndarray (...) of bool
+        The problems that are ill-posed (``sp2(...).free`` of a slot).
+    p1, p2, k1, k2 : ndarray (..., 3)
+        Unit vectors of ``R(k1, theta1) R(k2, theta2) p1 = p2``.
+
+    Returns
+    -------
+    free1, free2 : ndarray (...) of bool
+        ``theta2`` where ``p1`` is along ``k2``, ``theta1`` where ``p2`` is along ``k1``,
+        both otherwise (``k1`` along ``k2``).
+    """
+    on2 = np.linalg.norm(np.cross(p1, k2), axis=-1) < 1e-9
+    on1 = np.linalg.norm(np.cross(p2, k1), axis=-1) < 1e-9
+    return free & (on1 | ~on2), free & (on2 | ~on1)

@@ -203,3 +203,14 @@ def test_a_shared_axis_broadcasts_against_per_problem_points():
     rng = np.random.default_rng(502)
     k1 = unit(rng)
     check_batching(sp2, mixed_batch(rng, k1), 2, 2, shared={2: k1})
+
+
+def test_free_angles_names_the_undetermined_angle():
+    """p1 on k2: theta2 is undetermined; p2 on k1: theta1; k1 along k2: both."""
+    from kincalc.subproblems.sp2 import free_angles
+    x, y, z = np.eye(3)
+    yes = np.array(True)
+    assert free_angles(yes, z, x, y, z) == (False, True)          # p1 on k2
+    assert free_angles(yes, x, z, z, y) == (True, False)          # p2 on k1
+    assert free_angles(yes, x, y, z, z) == (True, True)           # k1 along k2
+    assert free_angles(np.array(False), z, x, y, z) == (False, False)
