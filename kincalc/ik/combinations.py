@@ -2,7 +2,7 @@
 paired the way a student pairs the +/- roots of each step, each with why it fails.
 
 A textbook solves an arm in groups: the first joints place a point (the wrist centre,
-the tool point, ...; :func:`~kincalc.ik.labels.placed_point` finds it from the axes), the
+the tool point, ...; :func:`~kincalc.ik.words.placed_point` finds it from the axes), the
 others (the wrist) then set the orientation from them. A student who pairs a root of one
 step with a root of another from the wrong branch gets a combination that does not reach
 the target (Bingul & Kucuk, Example 4.2: zeta1 and zeta4). Within each group the values
@@ -27,7 +27,7 @@ import itertools
 import numpy as np
 
 from ..spatial import rotation_error, wrap
-from .labels import placed_point
+from .words import placed_point
 from .reasons import ArmMissed, Missed
 
 #: --all-branches lists combinations only up to this many

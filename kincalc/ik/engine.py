@@ -119,18 +119,19 @@ class Solved:
         if "labels" not in self.memo:
             N, K = self.candidate.shape
             lab, free = np.empty(N * K, object), self.free.reshape(N * K, -1)
+            q = self.q.reshape(N * K, -1)
             ids = -1 - np.arange(N * K)                  # distinct where no solution
-            for rows, A in self._frames(self.candidate):
-                lab[rows], i = labels(self.robot, self.spec.name, A, self.signs, rows % K,
-                                      free[rows])
-                ids[rows] = np.where(self.valid.reshape(-1)[rows], i, ids[rows])
+            rows = self.candidate.reshape(-1).nonzero()[0]
+            lab[rows], i = labels(self.robot, self.spec.name, q[rows], self.signs, rows % K,
+                                  free[rows])
+            ids[rows] = np.where(self.valid.reshape(-1)[rows], i, ids[rows])
             ids = ids.reshape(N, K)
             order = np.sort(ids, axis=1)
             if np.count_nonzero(order[:, 1:] == order[:, :-1]):          # rare
                 same = (ids[:, :, None] == ids[:, None, :]).sum(-1) > 1    # (N, K)
-                for rows, A in self._frames(same):
-                    lab[rows] = labels(self.robot, self.spec.name, A, self.signs, rows % K,
-                                       free[rows], every_sign=True)[0]
+                rows = same.reshape(-1).nonzero()[0]
+                lab[rows] = labels(self.robot, self.spec.name, q[rows], self.signs, rows % K,
+                                   free[rows], every_sign=True)[0]
             self.memo["labels"] = lab.reshape(N, K)
         return self.memo["labels"]
 

@@ -11,7 +11,7 @@ from kincalc import load_robot
 from kincalc.fk import FEW, chain_frames, entry_frames, frames_and_tool
 from kincalc.ik.engine import duplicates, singular
 from kincalc.ik.joint_limits import normalise, violations
-from kincalc.ik.labels import branch_geometry, geometry
+from kincalc.ik.words import branch_geometry, geometry
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
 from kincalc.spatial import LEVI_CIVITA, wrap
@@ -100,7 +100,7 @@ def test_label_words_are_their_rules(name):
     family = plan(r)[1].name
     Q = sample_configurations(r, 200, np.random.default_rng(3))
     F = chain_frames(r.chain, Q)
-    got = branch_geometry(r, family, entry_frames(r.chain, Q))
+    got = branch_geometry(r, family, Q)
     want = np.array([_words(r, family, f) for f in F])
     assert got.shape == (len(Q), 3) and np.array_equal(got, want)
     for word, applies in enumerate(_applies(geometry(r, family))):
