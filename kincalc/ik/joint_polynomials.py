@@ -14,7 +14,8 @@ quantities of many configurations from the cosines and sines of those joints alo
 array operations, instead of every configuration's frames.
 
 The fit is exact, not an approximation: its degrees are found from samples of each joint
-over a whole turn (a DFT of :data:`SCAN` points tells frequencies 0 to 4 apart), its
+over a whole turn (a discrete Fourier transform of :data:`SCAN` points tells frequencies
+0 to 4 apart), its
 coefficients solve the square system on a grid of the joints involved, and it is checked
 against the quantities at :data:`CHECKS` seeded random configurations (agreement to
 ``1e-11`` of each quantity's size). A fit that fails the check (never seen: the degrees
@@ -120,7 +121,8 @@ def _degrees(quantities, revolute, L, base, sizes):
         Q[:, j, :, j] = theta if revolute[j] else L * x
     values = quantities(Q.reshape(-1, n)).reshape(-1, b, n, SCAN)  # (r, b, n, SCAN)
     scale = np.maximum(sizes, np.abs(values).max((1, 2, 3)))
-    F = np.abs(np.fft.rfft(values, axis=-1)) / SCAN                 # (r, b, n, 5)
+    k = np.arange(SCAN // 2 + 1)[:, None] * theta                    # the DFT, frequencies 0..4
+    F = np.hypot(values @ np.cos(k).T, values @ np.sin(k).T) / SCAN  # (r, b, n, 5)
     P = np.abs(values @ np.linalg.inv(np.vander(x, SCAN, increasing=True)).T)  # powers 0..7
     big = lambda c: c > 1e-12 * scale[:, None, None]  # noqa: E731  (r, n, k)
     rev = big(F.max(1))[..., 1:]                     # frequencies 1..4
