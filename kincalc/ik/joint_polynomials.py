@@ -14,12 +14,12 @@ quantities of many configurations from the cosines and sines of those joints alo
 array operations, instead of every configuration's frames.
 
 The fit is exact, not an approximation: its degrees are found from samples of each joint
-over a whole turn (a discrete Fourier transform of :data:`SCAN` points tells frequencies
-0 to 4 apart), its
-coefficients solve the square system on a grid of the joints involved, and it is checked
-against the quantities at :data:`CHECKS` seeded random configurations (agreement to
-``1e-11`` of each quantity's size). A fit that fails the check (never seen: the degrees
-are bounded as above) is None, and the caller evaluates the frames.
+over a whole turn (a discrete Fourier transform of :data:`SCAN` points tells frequencies 0
+to 4 apart), its coefficients solve the square system on a grid of the joints involved,
+and it is checked against the quantities at :data:`CHECKS` configurations spread over
+every joint's range (agreement to ``1e-11`` of each quantity's size). A fit that fails the
+check (never seen: the degrees are bounded as above) is None, and the caller evaluates the
+frames.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 #: samples per joint when finding the degrees: a DFT of 8 points separates frequencies 0-4
 #: (degree 3 is the most a product of three vectors has; 4 would show a wrong model)
 SCAN = 8
-#: random configurations the fit is checked at
+#: configurations the fit is checked at
 CHECKS = 32
 #: agreement of the fit with the quantities, relative to each one's size
 AGREE = 1e-11
@@ -66,7 +66,7 @@ class JointPolynomials:
         return out
 
 
-def fit(quantities, revolute, length: float, sizes, rng=None) -> JointPolynomials | None:
+def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
     """The quantities ``quantities(Q) -> (r, m)`` as polynomials of the joint values.
 
     Parameters
@@ -79,18 +79,16 @@ def fit(quantities, revolute, length: float, sizes, rng=None) -> JointPolynomial
         ``+-length``.
     sizes : array_like (r,)
         Each quantity's natural size (its unit: m, m^2, 1): the scale of "negligible".
-    rng : numpy Generator, optional
-        For the base configurations and the check (default: seeded, the same every time).
 
     Returns
     -------
     JointPolynomials, or None when the fit does not reproduce the quantities
     """
-    rng = np.random.default_rng(20261205) if rng is None else rng
     revolute = np.asarray(revolute, bool)
     n, L = len(revolute), max(float(length), 1e-12)
     span = np.where(revolute, np.pi, L)
-    base = rng.uniform(-1.0, 1.0, (3, n)) * span
+    points = _spread(3 + CHECKS, n) * span
+    base = points[:3]
     degrees, scale = _degrees(quantities, revolute, L, base, np.asarray(sizes, float))
     model = JointPolynomials(len(degrees), revolute, L, ())
     groups = {}
@@ -104,9 +102,24 @@ def fit(quantities, revolute, length: float, sizes, rng=None) -> JointPolynomial
         C = np.linalg.solve(Phi.T, quantities(grid)[rows].T)
         out.append(Group(joints, deg, np.array(rows, np.intp), C))
     model = JointPolynomials(len(degrees), revolute, L, tuple(out))
-    Q = rng.uniform(-1.0, 1.0, (CHECKS, n)) * span
+    Q = points[3:]
     miss = np.abs(model(Q) - quantities(Q)).max(-1)
     return model if np.all(miss <= AGREE * scale) else None
+
+
+def _spread(m: int, n: int) -> np.ndarray:
+    """``m`` points of ``[-1, 1)^n`` spread evenly and the same every time (Kronecker's
+    sequence: point k is ``k (sqrt(p_j) mod 1)`` mod 1 for the j-th prime, scaled), generic:
+    no coordinate is a rational multiple of another's. (Not numpy.random: its import is
+    10 ms of every command's start.)"""
+    primes = []
+    k = 2
+    while len(primes) < n:
+        if all(k % p for p in primes):
+            primes.append(k)
+        k += 1
+    alpha = np.sqrt(np.array(primes, float)) % 1.0
+    return 2.0 * ((np.arange(1, m + 1)[:, None] * alpha + 0.5) % 1.0) - 1.0
 
 
 def _degrees(quantities, revolute, L, base, sizes):

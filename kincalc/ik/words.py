@@ -285,7 +285,8 @@ def geometry(robot, family: str) -> Geometry | None:
     parallel = lambda a, b: float(np.sum(np.cross(z[a], z[b]) ** 2)) < 1e-12  # noqa: E731
     tool = (n - 1, robot.chain.fixed[n][:3, 3])
     sixes = family in ("spherical-wrist", "three-parallel")
-    elbow = next(((j, j + 1) for j in (0, 1) if j + 1 < n and rev[j] and rev[j + 1] and parallel(j, j + 1)), None)
+    elbow = next(((j, j + 1) for j in (0, 1)
+                  if j + 1 < n and rev[j] and rev[j + 1] and parallel(j, j + 1)), None)
     if family == "spherical-wrist":
         point = wrist = _meeting_point(robot, F, 3)
     elif family == "three-parallel":
