@@ -43,6 +43,7 @@ import numpy as np
 from .chain import Chain
 from .fk import chain_frames, forward_kinematics
 from .jacobian import jacobian_base, jacobian_tool, scaled_ranks
+from .samples import spread
 from .spatial import invert_transform, rot_x, rot_z, transform
 
 CONVENTIONS = ("dh", "mdh", "poe")
@@ -236,13 +237,12 @@ class Robot:
 
         A planar arm has rank 2 or 3, a SCARA 4: a configuration is singular
         when either rank drops below these. Taken as the largest rank over a
-        few seeded random configurations within the limits.
+        few configurations spread within the limits (:func:`kincalc.samples.spread`).
         """
-        rng = np.random.default_rng(12345)
         lo, hi = self.limits.T
         lo = np.where(np.isfinite(lo), lo, -np.pi)
         hi = np.where(np.isfinite(hi), hi, np.pi)
-        J = self.jacobian(rng.uniform(lo, hi, (5, self.dof)))
+        J = self.jacobian(spread(5, lo, hi))
         rank, position_rank = scaled_ranks(J, self.is_revolute, self.characteristic_length)
         return int(rank.max()), int(position_rank.max())
 

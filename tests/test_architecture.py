@@ -25,8 +25,10 @@ PACKAGE = Path(__file__).resolve().parent.parent / "kincalc"
 #: the layers, bottom up: (name, what lives there, module prefixes)
 LAYERS = [
     ("base", "the version, exceptions, named tolerances, units, input limits, safe output "
-             "files", ["kincalc.version", "kincalc.errors", "kincalc.tolerances",
-                       "kincalc.units", "kincalc.limits", "kincalc.outputs"]),
+             "files, evenly spread samples", ["kincalc.version", "kincalc.errors",
+                                              "kincalc.tolerances", "kincalc.units",
+                                              "kincalc.limits", "kincalc.outputs",
+                                              "kincalc.samples"]),
     ("geometry", "rotations and rigid transforms", ["kincalc.spatial"]),
     ("chain", "the uniform chain F_0 J_1 F_1 ... J_n F_n, as data", ["kincalc.chain"]),
     ("evaluation", "forward kinematics, Jacobians, the axes' structure",

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..samples import spread
+
 #: samples per joint when finding the degrees: a DFT of 8 points separates frequencies 0-4
 #: (degree 3 is the most a product of three vectors has; 4 would show a wrong model)
 SCAN = 8
@@ -85,9 +87,9 @@ def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
     JointPolynomials, or None when the fit does not reproduce the quantities
     """
     revolute = np.asarray(revolute, bool)
-    n, L = len(revolute), max(float(length), 1e-12)
+    L = max(float(length), 1e-12)
     span = np.where(revolute, np.pi, L)
-    points = _spread(3 + CHECKS, n) * span
+    points = spread(3 + CHECKS, -span, span)
     base = points[:3]
     degrees, scale = _degrees(quantities, revolute, L, base, np.asarray(sizes, float))
     model = JointPolynomials(len(degrees), revolute, L, ())
@@ -105,21 +107,6 @@ def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
     Q = points[3:]
     miss = np.abs(model(Q) - quantities(Q)).max(-1)
     return model if np.all(miss <= AGREE * scale) else None
-
-
-def _spread(m: int, n: int) -> np.ndarray:
-    """``m`` points of ``[-1, 1)^n`` spread evenly and the same every time (Kronecker's
-    sequence: point k is ``k (sqrt(p_j) mod 1)`` mod 1 for the j-th prime, scaled), generic:
-    no coordinate is a rational multiple of another's. (Not numpy.random: its import is
-    10 ms of every command's start.)"""
-    primes = []
-    k = 2
-    while len(primes) < n:
-        if all(k % p for p in primes):
-            primes.append(k)
-        k += 1
-    alpha = np.sqrt(np.array(primes, float)) % 1.0
-    return 2.0 * ((np.arange(1, m + 1)[:, None] * alpha + 0.5) % 1.0) - 1.0
 
 
 def _degrees(quantities, revolute, L, base, sizes):

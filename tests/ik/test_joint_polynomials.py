@@ -62,3 +62,19 @@ def test_words_from_the_frames_where_no_fit(monkeypatch):
     fitted = L.branch_geometry(r, family, Q)
     monkeypatch.setattr(L, "_fitted", lambda robot, fam: None)
     assert np.array_equal(L.branch_geometry(r, family, Q), fitted)
+
+
+def test_spread_points_fill_the_box_evenly_and_repeat():
+    """Every coordinate within its box, no two points alike, each joint's values spread
+    over its range (a quarter of the points in each quarter, to one point), the same twice."""
+    from kincalc.samples import spread
+    lo = np.array([-np.pi, 0.0, -2.0, 5.0, -1, -1, -1])
+    hi = np.array([np.pi, 0.3, 2.0, 6.0, 1, 1, 1])
+    P = spread(400, lo, hi)
+    assert P.shape == (400, 7) and np.all((P >= lo) & (P < hi))
+    assert np.array_equal(P, spread(400, lo, hi))
+    u = (P - lo) / (hi - lo)
+    for j in range(7):
+        counts = np.histogram(u[:, j], bins=4, range=(0, 1))[0]
+        assert np.all(np.abs(counts - 100) <= 2), (j, counts)
+    assert len(np.unique(np.round(u, 12), axis=0)) == 400
