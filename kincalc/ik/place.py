@@ -40,7 +40,7 @@ import numpy as np
 from ..subproblems import sp1, sp3, sp4, sp5
 from ..subproblems.solutions import Solutions, angles, cross, dot
 from ..subproblems.roots import quadratic
-from ..subproblems.sp4 import from_abc
+from ..subproblems.sp4 import ROUNDING, from_abc
 from .branches import Branches
 from .newton import polish
 from .screws import Screws
@@ -229,7 +229,10 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
                              ~sol.exact[..., 0] & br.ok, what)
             br = note_equation(br, c, _measure(S, P, P.k), P.joints[0], A, B, C, t)
         return br.branch([c], sol)
-    return br.branch([c], quadratic(A, B, C - t, scale), labels=("root 1", "root 2"))
+    # a target within rounding of the invariant's extreme (the slide that puts the point
+    # where axes a and b meet) is the tangent, as from_abc's: the double root to rounding
+    return br.branch([c], quadratic(A, B, C - t, scale, tangent=ROUNDING * scale),
+                     labels=("root 1", "root 2"))
 
 
 def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
@@ -248,7 +251,8 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
             sides = (np.sqrt(dot(centre - P.o, centre - P.o)), np.sqrt(dot(e1, e1)))
             br = note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t, sides)
         return br.branch([b], sol)
-    return br.branch([b], quadratic(ga, be, al - t, scale), labels=("-", "+"))
+    return br.branch([b], quadratic(ga, be, al - t, scale, tangent=ROUNDING * scale),
+                     labels=("-", "+"))
 
 
 def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:

@@ -52,7 +52,7 @@ def polynomial_roots(coeffs) -> np.ndarray:
     return np.linalg.eigvals(comp)
 
 
-def quadratic(A, B, C, scale) -> Solutions:
+def quadratic(A, B, C, scale, *, tangent=0.0) -> Solutions:
     """The real roots of ``A x^2 + B x + C = 0`` for each problem.
 
     Parameters
@@ -60,6 +60,10 @@ def quadratic(A, B, C, scale) -> Solutions:
     A, B, C : array_like, broadcast together to ``(...)``
     scale : float or array_like, the size of ``B^2`` below which a slightly negative
         discriminant (rounding) counts as a double root
+    tangent : float or array_like ``(...)``, in the unit of ``C``: an extreme value ``C -
+        B^2 / (4 A)`` within it of 0 is 0, the tangent (the rounding of the terms): one
+        double root ``-B / (2 A)`` to rounding, not two either side, ~sqrt(rounding)
+        apart, as a slightly positive discriminant would give (default 0: none)
 
     Returns
     -------
@@ -78,6 +82,7 @@ def quadratic(A, B, C, scale) -> Solutions:
         zero = np.zeros_like(x)
         return Solutions((np.where(ok, x, 0.0),), (zero,), (zero,), ok, ok, np.zeros_like(ok))
     disc = B * B - 4 * A * C
+    disc = np.where(np.abs(disc) <= 4 * np.abs(A) * tangent, 0.0, disc)
     real = disc >= -1e-12 * np.maximum(B * B, scale ** 2)
     sq = np.sqrt(np.maximum(disc, 0.0))
     Aq = np.where(linear, 1.0, A)

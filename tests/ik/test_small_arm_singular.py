@@ -234,10 +234,6 @@ def _rrpr_cases(robot, rng, m):
     return out
 
 
-@pytest.mark.xfail(strict=False, reason="the R-R-P placement (place.py, 'decoupled') does not "
-                   "mark joints 1 and 2 free when axis 4's point is at their meeting point to "
-                   "rounding only (a general arm): it solves joint 2 from noise; fer_rrpr's "
-                   "exact structure passes")
 @pytest.mark.parametrize("convention", CONVENTIONS)
 @pytest.mark.parametrize("seed", range(3))
 def test_point_plus_roll_slide_at_the_meeting_point(convention, seed):
