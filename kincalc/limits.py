@@ -128,6 +128,8 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
     TooLarge
         When the file holds more than ``limit`` bytes (read stops at ``limit + 1``,
         so an endless device such as /dev/zero is refused, not read).
+    NoWriter
+        A named pipe no process had open for writing (:func:`open_input`).
     OSError
         As ``open`` raises it (missing file, a directory, permission, a name too long).
     ValueError
@@ -137,11 +139,66 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
     if path == "-":
         data = sys.stdin.buffer.read(limit + 1)
     else:
-        with open(path, "rb") as fh:
+        with open_input(path) as fh:
             data = fh.read(limit + 1)
+            if not data and _is_pipe(fh):
+                raise NoWriter()
     if len(data) > limit:
         raise TooLarge(limit)
     return data
+
+
+def open_input(path, buffering: int = -1):
+    """``path`` opened for reading, binary, without waiting for a writer.
+
+    ``open`` of a named pipe (FIFO) blocks until some process opens it for writing, for
+    ever if none does. Opened non-blocking, then set back to blocking reads, a pipe nobody
+    writes to reads as empty at once, while a pipe with a writer (``kincalc fk <(...)``,
+    ``/dev/stdin``) is read as before, each read waiting for its data. Regular files are
+    unaffected.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    buffering : int
+        As ``open``'s: -1 (default) buffered, ``read(n)`` gives ``n`` bytes unless the
+        file ends first; 0 unbuffered, ``read(n)`` gives what one read returns.
+
+    Returns
+    -------
+    file object (``rb``)
+
+    Raises
+    ------
+    OSError, ValueError
+        As ``os.open`` raises them (missing file, permission, a NUL in the name, ...); a
+        directory opens and raises IsADirectoryError on its first read.
+    """
+    import os
+    nonblock = getattr(os, "O_NONBLOCK", 0)
+    fd = os.open(path, os.O_RDONLY | nonblock | getattr(os, "O_BINARY", 0))
+    try:
+        if nonblock:
+            os.set_blocking(fd, True)
+        return open(fd, "rb", buffering=buffering)
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def _is_pipe(fh) -> bool:
+    import os
+    import stat
+    return stat.S_ISFIFO(os.fstat(fh.fileno()).st_mode)
+
+
+class NoWriter(OSError):
+    """A named pipe that no process had open for writing: kincalc does not wait for one
+    (:func:`open_input`)."""
+
+    def __init__(self):
+        super().__init__(errno.ENXIO, "a named pipe that no process writes to (kincalc does "
+                                      "not wait for a writer)")
 
 
 class TooLarge(Exception):

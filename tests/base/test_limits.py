@@ -119,3 +119,54 @@ def test_selftest_chunks_draw_the_same_configurations(planar, monkeypatch):
     for m in (a, b):
         m.pop("time_per_pose_ms")
     assert a == b
+
+
+# --- named pipes: read when a process writes, never waited for --------------------------
+
+needs_fifo = pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"),
+                                reason="no named pipes on this platform")
+
+
+@needs_fifo
+def test_a_named_pipe_without_a_writer_is_refused_at_once(tmp_path):
+    import os
+    import threading
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    done = []
+    worker = threading.Thread(target=lambda: done.append(_outcome(fifo)), daemon=True)
+    worker.start()
+    worker.join(10)                       # open() of a FIFO used to block here for ever
+    assert done and isinstance(done[0], limits.NoWriter)
+    assert "named pipe that no process writes to" in limits.os_error_text(done[0])
+
+
+def _outcome(path):
+    try:
+        return limits.read_bounded(path)
+    except Exception as exc:              # the test looks at which
+        return exc
+
+
+@needs_fifo
+def test_a_named_pipe_with_a_writer_is_read_whole(tmp_path):
+    """More than a pipe's buffer (64 KiB), written slowly: every byte, once."""
+    import os
+    import threading
+    import time
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    data = bytes(range(256)) * 1000
+    fd = os.open(fifo, os.O_RDWR)          # a writer that has the pipe open already
+
+    def write():
+        for k in range(0, len(data), 50_000):
+            os.write(fd, data[k:k + 50_000])
+            time.sleep(0.05)
+        os.close(fd)
+    threading.Thread(target=write, daemon=True).start()
+    got = []
+    reader = threading.Thread(target=lambda: got.append(_outcome(fifo)), daemon=True)
+    reader.start()
+    reader.join(20)
+    assert got and got[0] == data

@@ -20,6 +20,7 @@ messages: a case that fails here is a bug to fix in the CLI, not in the test.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -87,6 +88,7 @@ def drop_line(text: str, start: str) -> str:
 DIRECTORY = object()  # the "file" is a directory
 MISSING = object()    # the file does not exist
 ENDLESS = object()    # the "file" is a symbolic link to /dev/zero
+PIPE = object()       # the "file" is a named pipe no process writes to
 
 
 @dataclass(frozen=True)
@@ -118,6 +120,7 @@ BAD_FILES = [
     BadFile("file-beyond-the-size-limit", padded(DH, MAX_FILE_BYTES + 1),
             ("the file is larger than 1 MiB, kincalc's limit for a robot file",)),
     BadFile("endless-file", ENDLESS, ("larger than 1 MiB",)),
+    BadFile("pipe-without-writer", PIPE, ("a named pipe that no process writes to",)),
 
     # --- YAML syntax --------------------------------------------------------
     BadFile("yaml-syntax-error", sub(DH, "convention: dh", "convention: dh: mdh"),
@@ -321,6 +324,9 @@ def _write(tmp_path: Path, case: BadFile) -> tuple[Path, str]:
         return path, ""
     if case.content is ENDLESS:
         path.symlink_to("/dev/zero")
+        return path, ""
+    if case.content is PIPE:
+        os.mkfifo(path)
         return path, ""
     data = case.content
     if isinstance(data, str):

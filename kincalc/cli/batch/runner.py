@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sys
 
-from ...limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES, quote, size_text
+from ...limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES, open_input, quote, size_text
 from .chunks import process_chunk
 from .formats import csv_header
 from .records import BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, read_header
@@ -141,7 +141,7 @@ class _Source:
                 else:
                     self._read = lambda n: os.read(fd, n)
             else:
-                self._file = open(src, "rb", buffering=0)
+                self._file = open_input(src, buffering=0)
                 fd = self._file.fileno()
                 self._read = self._file.read
             mode = None if fd is None else os.fstat(fd).st_mode
