@@ -100,6 +100,16 @@ a single pose is a batch of one).
 Batches of more than 512 poses are solved 512 at a time (their arrays then
 stay in the processor's cache; larger blocks are slower per pose).
 
+A pose's answer has the same bits whatever else is in its batch (alone, in a block,
+in any order). That matters at degenerate poses: where a pose has a continuum of
+solutions, or the pencil is nearly singular, the eigenvalues and Newton's landing
+points amplify a difference in the last bit into different solutions and labels. So
+no step rounds a pose differently by the batch's size: products are taken per pose
+(stacked, never one matrix product over the poses, whose BLAS kernel depends on the
+row count), an exactly singular matrix is inverted on its own (numpy's batched
+``inv`` fails for all), and Newton evaluates the chain in the same order for any
+number of candidates (:func:`~.polish.jacobian_and_pose_bitwise`).
+
 Choice of pivot joint and special geometry
 ------------------------------------------
 The closure ``A_1 ... A_6 = T'`` can be rotated cyclically into

@@ -13,16 +13,36 @@ from .common import (CLUSTER_TOL, COND_BAD, COND_GOOD, DELTAS, IMAG_TOL, INV_PAD
 # --- the elimination, for a batch of poses -----------------------------------
 
 def _inv_cond(A):
-    """``(A^-1, |A|_F |A^-1|_F)`` of ``A (..., n, n)``; an exactly singular ``A`` gets a
-    zero inverse and an infinite estimate (numpy's inv raises for the whole batch)."""
+    """``(A^-1, |A|_F |A^-1|_F)`` of ``A (..., n, n)``; a matrix that LU finds exactly
+    singular gets its pseudo-inverse (and an infinite estimate if the SVD finds it singular
+    too).
+
+    numpy's inv raises for the whole batch when one matrix is singular; the batch is then
+    halved until the singular matrices are alone, so that every matrix gets the same inverse
+    (the same bits) as in any other batch, or alone."""
+    shape = A.shape
+    A = A.reshape((-1,) + shape[-2:])
+    Ai, cond = np.empty_like(A), np.empty(len(A))
+    _invert_into(A, Ai, cond)
+    return Ai.reshape(shape), cond.reshape(shape[:-2])
+
+
+def _invert_into(A, Ai, cond):
+    """``Ai[:] = A^-1`` and ``cond[:]`` its estimate for ``A (m, n, n)`` (:func:`_inv_cond`)."""
     try:
-        Ai = np.linalg.inv(A)
+        Ai[:] = np.linalg.inv(A)
     except np.linalg.LinAlgError:
+        if len(A) > 1:
+            half = len(A) // 2
+            _invert_into(A[:half], Ai[:half], cond[:half])
+            _invert_into(A[half:], Ai[half:], cond[half:])
+            return
         Uu, s, Vt = np.linalg.svd(A)
         si = np.where(s > 0.0, 1.0 / np.where(s > 0.0, s, 1.0), 0.0)
-        Ai = np.swapaxes(Vt, -1, -2) @ (np.swapaxes(Uu, -1, -2) * si[..., None])
-        return Ai, np.where(s[..., -1] > 0.0, _frobenius_cond(A, Ai), np.inf)
-    return Ai, _frobenius_cond(A, Ai)
+        Ai[:] = np.swapaxes(Vt, -1, -2) @ (np.swapaxes(Uu, -1, -2) * si[..., None])
+        cond[:] = _frobenius_cond(A, Ai) if s[0, -1] > 0.0 else np.inf
+        return
+    cond[:] = _frobenius_cond(A, Ai)
 
 
 def _frobenius_cond(A, Ai):
@@ -184,7 +204,7 @@ def _candidate_angles(model, pose, v, th3, Ri, G8, W):
     L7 = np.concatenate([np.take(Ri, _X2_SEL, axis=1), Gw[:, 1:].transpose(0, 2, 1) @ Ri], axis=1)
     X = (Y[:, None, :] @ np.take((L7 @ G8).transpose(0, 2, 1), pose, axis=0))[:, 0]   # (C, 7)
     if model.C35.ndim == 2:
-        R35 = Y @ model.C35
+        R35 = (Y[:, None, :] @ model.C35)[:, 0]        # per candidate (bits not batch-dependent)
     else:                                                 # one model per pose
         R35 = (Y[:, None, :] @ np.take(model.C35, pose, axis=0))[:, 0]
     u = ((X[:, None, 4:] + np.take(Gw[:, None, 0], pose, axis=0)) @ R35.reshape(C, 3, 3))[:, 0]

@@ -94,7 +94,9 @@ class Model:
         if self.cubic is not None:
             u = np.take(W.reshape(M, 16), U_IDX, axis=1)
             m = ((u[:, :, None] * u[:, None, :]).reshape(M, 49, 1) * u[:, None, :])
-            return (np.take(m.reshape(M, 343), CUBIC_IDX, axis=1) @ self.cubic).reshape(M, 9, 14)
+            # one product per pose (not one (M, 84) matrix product: a pose's bits then do not
+            # depend on how many poses are solved with it)
+            return (np.take(m.reshape(M, 1, 343), CUBIC_IDX, axis=2) @ self.cubic).reshape(M, 9, 14)
         lp = self.N12 @ W[:, None, :, 2:]                 # (M, 9, 4, 2): [l 0; p 1] per grid point
         return VINV2 @ f14(lp[..., :3, 0], lp[..., :3, 1])
 

@@ -1,0 +1,149 @@
+"""The general 6R solver at degenerate poses: a pose's answers do not depend on its batch.
+
+Degenerate poses come from configurations with joints at 0, +-90 and 180 deg: several
+solutions share a joint value, axes line up, a pose has a continuum of solutions. There the
+eigenvalues and Newton's landing points amplify a difference in the last bit, so any step
+that rounds a pose differently by the size of its batch (a matrix product over the poses,
+a batched inverse that falls back for all poses, a chain evaluation chosen by the number of
+candidates) shows as different solutions and labels alone and in a batch. Checked against
+independent values: FK round trips, the generating configuration, each pose solved alone.
+"""
+
+import numpy as np
+import pytest
+
+from kincalc import load_robot
+from kincalc.fk import FEW
+from kincalc.ik.general6r.elimination import _inv_cond
+from kincalc.ik.general6r.polish import jacobian_and_pose_bitwise, polish_candidates
+from kincalc.ik.general6r.robot import robot_data
+from kincalc.jacobian import jacobian_and_pose
+from kincalc.spatial import rotation_error, wrap
+
+SPECIAL = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi])
+
+
+def special_configurations(n, rng):
+    """Joints at 0, +-90, 180 deg; in half of them about a third of the joints random."""
+    Q = SPECIAL[rng.integers(0, 4, (n, 6))]
+    mixed = (rng.random(n) < 0.5)[:, None] & (rng.random((n, 6)) < 0.35)
+    return np.where(mixed, rng.uniform(-np.pi, np.pi, (n, 6)), Q)
+
+
+def singular(robot, q):
+    J = robot.jacobian(q)
+    J[:3] /= robot.characteristic_length
+    s = np.linalg.svd(J, compute_uv=False)
+    return s[-1] < 1e-7 * s[0]
+
+
+def valid_set(res, i):
+    v = res.valid[i]
+    return res.q[i][v], list(res.labels[i][v]), res.free[i][v], res.singular[i][v], \
+        res.within[i][v]
+
+
+def assert_same(a, b):
+    assert len(a[0]) == len(b[0])
+    if len(a[0]):
+        assert np.max(np.abs(wrap(a[0] - b[0]))) <= 1e-12
+    assert a[1] == b[1]
+    for x, y in zip(a[2:], b[2:]):
+        assert np.array_equal(x, y)
+
+
+def assert_round_trip(robot, T, Q):
+    if len(Q):
+        Tq = robot.fk(Q)
+        L = robot.characteristic_length
+        assert np.max(np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1)) <= 1e-9 * L
+        assert np.max(rotation_error(Tq[:, :3, :3], T[:3, :3])) <= 1e-9
+
+
+@pytest.mark.parametrize("name", ["fanuc_crx10ia", "kinova_gen3_lite", "yaskawa_hc10",
+                                  "kinova_jaco2_6dof"])
+def test_degenerate_poses_alone_and_in_a_batch(name):
+    """200 degenerate poses: each solved alone (``ik_batch(T[None])``) has the same valid
+    solutions, labels and flags as in the batch of all of them and in the reversed batch;
+    every solution reproduces its pose; the generating configuration is among them unless
+    it is singular (a continuum, or a root the others approach only linearly)."""
+    robot = load_robot(name)
+    Q = special_configurations(200, np.random.default_rng(17))
+    T = robot.fk(Q)
+    batch, reverse = robot.ik_batch(T), robot.ik_batch(T[::-1])
+    found = regular = 0
+    for i in range(len(T)):
+        alone = valid_set(robot.ik_batch(T[i][None]), 0)
+        assert_same(alone, valid_set(batch, i))
+        assert_same(alone, valid_set(reverse, len(T) - 1 - i))
+        assert_round_trip(robot, T[i], alone[0])
+        if not singular(robot, Q[i]):
+            regular += 1
+            found += len(alone[0]) > 0 and np.min(np.max(np.abs(wrap(alone[0] - Q[i])),
+                                                         axis=1)) < 1e-6
+    assert regular >= 40 and found >= 0.95 * regular, (found, regular)
+
+
+def test_a_singular_matrix_does_not_change_the_others_inverses():
+    """numpy's batched inv fails for the whole batch when one matrix is singular: the
+    others still get the inverse they get alone, the singular one an infinite estimate."""
+    rng = np.random.default_rng(3)
+    A = rng.standard_normal((9, 12, 12))
+    A[4, 7] = 0.0                                          # exactly singular
+    A[6, :, 2] = A[6, :, 5]                                # exactly singular columns
+    Ai, cond = _inv_cond(A)
+    for i in range(len(A)):
+        one, c1 = _inv_cond(A[i:i + 1])
+        assert np.array_equal(one[0], Ai[i]) and np.array_equal(c1[0], cond[i])
+        if i in (4, 6):
+            assert np.isfinite(Ai[i]).all() and cond[i] > 1e12
+        else:
+            assert np.array_equal(Ai[i], np.linalg.inv(A[i]))
+            assert np.isfinite(cond[i])
+
+
+def test_right_side_is_per_pose():
+    """The right side's coefficients (one product per pose with the per-robot cubic map):
+    the same bits for a pose alone as in a batch."""
+    robot = load_robot("manocha_canny_6r")
+    model = robot_data(robot).model
+    T = robot.fk(np.random.default_rng(4).uniform(-np.pi, np.pi, (300, 6)))
+    W = model.left @ T @ model.right
+    R = model.right_side(W)
+    for i in (0, 1, 57, 299):
+        assert np.array_equal(model.right_side(W[i:i + 1])[0], R[i])
+    assert np.array_equal(model.right_side(W[100:133]), R[100:133])
+
+
+@pytest.mark.parametrize("name", ["fanuc_crx10ia", "manocha_canny_6r"])
+def test_newton_chain_has_the_same_bits_for_any_number_of_rows(name):
+    """:func:`jacobian_and_pose_bitwise`: each row's bits do not depend on how many rows
+    are evaluated (below and above FEW and the elementwise limit); it is the walk of
+    :func:`jacobian_and_pose` beyond FEW and agrees with its stacked products below."""
+    chain = robot_data(load_robot(name)).chain
+    q = np.random.default_rng(8).uniform(-4.0, 4.0, (600, 6))
+    J, F = jacobian_and_pose_bitwise(chain, q)
+    Jw, Fw = jacobian_and_pose(chain, q)
+    assert np.array_equal(J, Jw) and np.array_equal(F[:, :3], Fw[:, :3])
+    for lo, n in ((0, 1), (5, 2), (40, FEW), (90, FEW + 1), (10, 256), (300, 257)):
+        Jn, Fn = jacobian_and_pose_bitwise(chain, q[lo:lo + n])
+        assert np.array_equal(Jn, J[lo:lo + n]) and np.array_equal(Fn[:, :3], F[lo:lo + n, :3])
+    Js, Fs = jacobian_and_pose(chain, q[:FEW])                 # stacked 4x4 products
+    assert np.allclose(J[:FEW], Js, rtol=0, atol=1e-13)
+    assert np.allclose(F[:FEW, :3], Fs[:, :3], rtol=0, atol=1e-13)
+
+
+def test_newton_lands_alike_alone_and_with_other_candidates():
+    """Candidates of degenerate poses (fanuc_crx10ia, continua of solutions: Newton
+    amplifies the last bit) polished pose by pose and all together: the same bits."""
+    robot = load_robot("fanuc_crx10ia")
+    data = robot_data(robot)
+    T = robot.fk(special_configurations(60, np.random.default_rng(2)))
+    pose, _, cand, _ = data.candidates(T)
+    Tt = (T[:, :3] / data.scale)[pose]
+    Q, res, _ = polish_candidates(data.chain, Tt, cand)
+    for i in range(len(T)):
+        at = pose == i
+        Qi, ri, _ = polish_candidates(data.chain, Tt[at], cand[at])
+        assert np.array_equal(Qi, Q[at]) and np.array_equal(ri, res[at])
+
