@@ -1,4 +1,5 @@
-"""The general 6R solver at degenerate poses: a pose's answers do not depend on its batch.
+"""The general 6R solver at degenerate poses: a pose's answers do not depend on its batch,
+and a folded arm outside its limits is solved.
 
 Degenerate poses come from configurations with joints at 0, +-90 and 180 deg: several
 solutions share a joint value, axes line up, a pose has a continuum of solutions. There the
@@ -17,6 +18,7 @@ from kincalc.fk import FEW
 from kincalc.ik.general6r.elimination import _inv_cond
 from kincalc.ik.general6r.polish import jacobian_and_pose_bitwise, polish_candidates
 from kincalc.ik.general6r.robot import robot_data
+from kincalc.ik.reasons import Blocked
 from kincalc.jacobian import jacobian_and_pose
 from kincalc.spatial import rotation_error, wrap
 
@@ -147,3 +149,27 @@ def test_newton_lands_alike_alone_and_with_other_candidates():
         Qi, ri, _ = polish_candidates(data.chain, Tt[at], cand[at])
         assert np.array_equal(Qi, Q[at]) and np.array_equal(ri, res[at])
 
+
+def test_folded_kinova_outside_its_limits_is_solved():
+    """kinova_gen3_lite at q2 = 180 deg (beyond its +-158 deg): FK's pose has solutions, the
+    generating one among them flagged outside the limits (the pose blocked if all are). With the arm folded too (q3 = q5 = 0) every pivot of the
+    elimination degenerates; the last resort's candidates start ~1e-2 rad away and the
+    solution is singular (Newton converges linearly): ten steps left it at 1e-9 and the
+    pose came out unreachable."""
+    robot = load_robot("kinova_gen3_lite")
+    rng = np.random.default_rng(9)
+    Q = rng.uniform(-2.5, 2.5, (20, 6))
+    Q[:3] = np.radians([[0.0, 0, 0, 0, 0, 0], [75.11, 0, 0, 0, 0, 180], [-67.41, 0, 0, 180, 0, 0]])
+    Q[:, 1] = np.pi
+    for q in Q:
+        T = robot.fk(q)
+        res = robot.ik(T)
+        assert res.solutions                     # not OutOfReach
+        assert res.reachable or isinstance(res.reason, Blocked)
+        S = np.array([s.q for s in res.solutions])
+        assert_round_trip(robot, T, S)
+        d = np.max(np.abs(wrap(S - q)), axis=1)
+        k = int(np.argmin(d))
+        # a singular root is found only to about the cube root of the acceptance
+        assert d[k] < (1e-2 if singular(robot, q) else 1e-6)
+        assert not res.solutions[k].within_limits

@@ -84,13 +84,17 @@ a single pose is a batch of one).
    monomial structure are kept (see :func:`~.elimination.split_clusters`; all clusters of
    one size are treated together, their extra vectors take slots 16-31 of
    their pose).
-6. **Polishing.** Every candidate gets up to 10 damped Newton steps on the
+6. **Polishing.** Every candidate gets up to 20 damped Newton steps on the
    *given* robot (``robot.chain``, so the DH model above only has to be
    close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame
    geometric Jacobian (:func:`kincalc.jacobian.jacobian_and_pose` on the
    chain with lengths divided by L), steps limited to 0.5 rad
    (:func:`kincalc.ik.newton.polish`), the rotation log from the skew part
-   below 90 degrees.
+   below 90 degrees. Most candidates converge in two or three steps or are given up
+   after three or six; the later steps serve solutions at a singular configuration,
+   where Newton converges only linearly (kinova_gen3_lite folded at q2 = 180 deg, a
+   pose every pivot degenerates at: the last resort's candidates start some 1e-2 rad
+   away and were still at 1e-9 after ten steps, so the pose came out unreachable).
    Candidates whose final residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are
    dropped, the rest are wrapped to (-pi, pi] and merged (per pose) when
    within 1e-6 rad of a solution from an earlier slot (only needed when some

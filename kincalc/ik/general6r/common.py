@@ -40,7 +40,7 @@ COND_BAD = 1e10          # above this for every delta: the standard form degener
 _RANK_BAD = 1e9           # condition estimate of Q's R above which Q has lost rank
 LIMITS = np.array([COND_GOOD, _RANK_BAD])
 STEP_MAX = 0.5
-NEWTON_ITERS = 10
+NEWTON_ITERS = 20
 GIVE_UP = {3: 1e-2, 6: 1e-6}      # after this many steps, drop candidates still above
 # the two matrices inverted together per pose: A (12x12) and Q's R (8x8, padded with I)
 INV_PAD = np.zeros((2, 12, 12))
