@@ -20,29 +20,32 @@ def _inv_cond(A):
     numpy's inv raises for the whole batch when one matrix is singular; the batch is then
     halved until the singular matrices are alone, so that every matrix gets the same inverse
     (the same bits) as in any other batch, or alone."""
-    shape = A.shape
-    A = A.reshape((-1,) + shape[-2:])
-    Ai, cond = np.empty_like(A), np.empty(len(A))
-    _invert_into(A, Ai, cond)
-    return Ai.reshape(shape), cond.reshape(shape[:-2])
+    try:
+        Ai = np.linalg.inv(A)
+    except np.linalg.LinAlgError:
+        flat = A.reshape((-1,) + A.shape[-2:])
+        Ai, singular = np.empty_like(flat), np.zeros(len(flat), bool)
+        _invert_into(flat, Ai, singular)
+        Ai = Ai.reshape(A.shape)
+        return Ai, np.where(singular.reshape(A.shape[:-2]), np.inf, _frobenius_cond(A, Ai))
+    return Ai, _frobenius_cond(A, Ai)
 
 
-def _invert_into(A, Ai, cond):
-    """``Ai[:] = A^-1`` and ``cond[:]`` its estimate for ``A (m, n, n)`` (:func:`_inv_cond`)."""
+def _invert_into(A, Ai, singular):
+    """``Ai[:] = A^-1`` for ``A (m, n, n)``, the pseudo-inverse for a matrix LU finds
+    singular (``singular`` set where the SVD does too), each as if alone (:func:`_inv_cond`)."""
     try:
         Ai[:] = np.linalg.inv(A)
     except np.linalg.LinAlgError:
         if len(A) > 1:
             half = len(A) // 2
-            _invert_into(A[:half], Ai[:half], cond[:half])
-            _invert_into(A[half:], Ai[half:], cond[half:])
+            _invert_into(A[:half], Ai[:half], singular[:half])
+            _invert_into(A[half:], Ai[half:], singular[half:])
             return
         Uu, s, Vt = np.linalg.svd(A)
         si = np.where(s > 0.0, 1.0 / np.where(s > 0.0, s, 1.0), 0.0)
         Ai[:] = np.swapaxes(Vt, -1, -2) @ (np.swapaxes(Uu, -1, -2) * si[..., None])
-        cond[:] = _frobenius_cond(A, Ai) if s[0, -1] > 0.0 else np.inf
-        return
-    cond[:] = _frobenius_cond(A, Ai)
+        singular[:] = not s[0, -1] > 0.0
 
 
 def _frobenius_cond(A, Ai):
