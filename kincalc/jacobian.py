@@ -23,9 +23,13 @@ from .spatial import LEVI_CIVITA
 from .tolerances import SINGULAR_TOL
 
 
-def jacobian_and_pose(chain, q):
+def jacobian_and_pose(chain, q, *, column_walk: bool = False):
     """The world-frame Jacobian and the tool pose from one walk of the chain (for
     Newton-type searches, which need both).
+
+    Up to :data:`~kincalc.fk.FEW` configurations are evaluated as stacked 4x4 products,
+    more by the column walk (:func:`kincalc.fk.walk`): the two round differently in the
+    last bits.
 
     Parameters
     ----------
@@ -33,6 +37,12 @@ def jacobian_and_pose(chain, q):
         From ``robot.chain``.
     q : array_like (..., n)
         Joint values, rad / m.
+    column_walk : bool
+        The column walk's arithmetic for any number of configurations: each one's bits then
+        do not depend on how many are evaluated together (a Newton search whose answers must
+        not depend on the rest of its batch). Up to :data:`ROWS_ALONG` configurations of a
+        revolute chain take the walk's products and sums in its order on ``(4, 5, N)``
+        arrays (:func:`_walk_rows`: the same bits in fewer numpy calls).
 
     Returns
     -------
@@ -48,8 +58,11 @@ def jacobian_and_pose(chain, q):
     """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
-    if N <= FEW:
+    if N <= FEW and not column_walk:
         J, T = _few(chain, flat)
+        return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
+    if column_walk and N <= ROWS_ALONG and np.logical_and.reduce(chain.revolute):
+        J, T = _walk_rows(chain, flat)
         return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
     J = np.zeros((N, 6, n))
     T = np.zeros((N, 4, 4))
@@ -74,6 +87,44 @@ def jacobian_and_pose(chain, q):
             T[sl, :3, j] = cols[j].T
         T[sl, :3, 3] = pe.T
     return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
+
+
+#: configurations up to which :func:`_walk_rows` stands in for the column walk (beyond, the
+#: walk's own loop is faster)
+ROWS_ALONG = 256
+_XYZXY = np.array([0, 1, 2, 0, 1])
+
+
+def _walk_rows(chain, flat):
+    """:func:`jacobian_and_pose` of a revolute chain at ``flat (N, n)`` with the column
+    walk's bits, each frame a ``(4, 5, N)`` array: its products, and its sums in its order
+    (a zero term adds nothing, the origin is added last), in two numpy calls per joint
+    instead of the walk's dozen. The rows are ``x y z x y`` (the repeats make the cross
+    products of the Jacobian slices)."""
+    N, n = flat.shape
+    F = chain.fixed
+    x = flat + chain.offset
+    cs = np.empty((3, n, 1, N))                  # cos, sin, -sin of each joint
+    np.cos(x.T, out=cs[0, :, 0])
+    np.sin(x.T, out=cs[1, :, 0])
+    np.negative(cs[1], out=cs[2])
+    A = np.empty((n + 1, 4, 5, N))               # A[i, j]: column j of the frame before
+    A[0] = F[0, _XYZXY].T[:, :, None]            # joint i (the tool's for i = n)
+    for a, b, ci, si, link in zip(A[:-1], A[1:], cs[0], cs[1:].swapaxes(0, 1),
+                                  F[1:, :, :, None, None]):
+        # columns 0, 1 turned (c0 c + c1 s, c1 c - c0 s; written over the frame's, which
+        # the Jacobian does not read), then times the fixed link
+        np.add(a[:2] * ci, a[1::-1] * si, out=a[:2])
+        np.add.reduce(a[:, None] * link, axis=0, out=b)
+    z, d = A[:n, 2], A[n, 3] - A[:n, 3]          # (n, 5, N): x y z x y
+    J = np.empty((N, 6, n))                      # z_i x (p_tool - p_i), z_i; zeros +0
+    np.add((z[:, 1:4] * d[:, 2:5] - z[:, 2:5] * d[:, 1:4]).transpose(2, 1, 0), 0.0,
+           out=J[:, :3])
+    np.add(z[:, :3].transpose(2, 1, 0), 0.0, out=J[:, 3:])
+    T = np.zeros((N, 4, 4))
+    T[:, :3] = A[n, :, :3].transpose(2, 1, 0)
+    T[:, 3, 3] = 1.0
+    return J, T
 
 
 def _few(chain, flat):

@@ -112,7 +112,7 @@ no step rounds a pose differently by the batch's size: products are taken per po
 (stacked, never one matrix product over the poses, whose BLAS kernel depends on the
 row count), an exactly singular matrix is inverted on its own (numpy's batched
 ``inv`` fails for all), and Newton evaluates the chain in the same order for any
-number of candidates (:func:`~.polish.jacobian_and_pose_bitwise`).
+number of candidates (the column walk of :func:`kincalc.jacobian.jacobian_and_pose`).
 
 Choice of pivot joint and special geometry
 ------------------------------------------
