@@ -8,6 +8,8 @@ prismatic joints), for every path that answers IK: ``robot.ik``, ``ik --batch``,
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..spatial import wrap
@@ -122,15 +124,19 @@ def violations(robot, q) -> np.ndarray:
     return np.where(q < lo_band, q - lo, np.where(q > hi_band, q - hi, 0.0))
 
 
+@lru_cache(maxsize=1024)
 def open_joints(signs, n: int) -> np.ndarray:
     """``(K, n)`` bool: the joints each of ``K`` slots leaves open, labelled ``any`` in its
     ``signs`` (a tuple of ``K`` tuples of ``(joint, label)``): a value the target does not
-    ask for moves nothing it asks for (the roll of a five-joint arm given an approach)."""
+    ask for moves nothing it asks for (the roll of a five-joint arm given an approach).
+
+    Made once per sign table (a family has a few; every call asks twice): read-only, shared."""
     out = np.zeros((len(signs), n), bool)
     for k, sg in enumerate(signs):
         for j, label in sg:
             if label == "any":
                 out[k, j] = True
+    out.flags.writeable = False
     return out
 
 
