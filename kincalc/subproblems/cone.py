@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, pair, principal
+from .solutions import Solutions, as_vectors, cross, dot, norm, two_roots, two_slots
 from .sp4 import from_abc
 
 #: the sine of the angle between ``v`` and the line of ``h`` below which a wrist counts
@@ -127,10 +127,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
         cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
         sd = np.where(aligned, 0.0, sd)
         exact = exact | aligned
-    ccd, scd, csd, ssd = cb * cd, sb * cd, cb * sd, sb * sd
-    c = pair(ccd - ssd, ccd + ssd)
-    s = pair(scd + csd, scd - csd)
-    theta = principal(np.arctan2(s, c))
+    theta, c, s = two_roots(cb, sb, cd, sd)
     # one root where the cones only touch (delta 0 or pi: both roots are one
     # configuration), or a single aligned value; next to the singularity, where the cone
     # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
@@ -138,8 +135,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     touch = sd <= 1e-9
     if np.count_nonzero(touch):
         two &= ~(touch & np.where(cd > 0, top > gap, bottom > gap))
-    sol = Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
-                    pair(aligned, aligned))
+    sol = Solutions((theta,), (c,), (s,), *two_slots(two, exact, aligned))
     if some_degenerate:
         plain = from_abc(A, B, C, f, 1.0)
         pick = lambda x, y: np.where(degenerate[..., None], y, x)  # noqa: E731

@@ -144,6 +144,60 @@ def angles(c, s) -> tuple:
     return principal(np.arctan2(sn, cn)), cn, sn
 
 
+#: ``(+1, -1)``: the signs of the two roots ``base +- delta`` (a product with it is exact)
+_PLUS_MINUS = np.array([1.0, -1.0])
+
+
+def two_roots(cb, sb, cd, sd) -> tuple:
+    """The roots ``base + delta`` and ``base - delta`` from the cosines and sines of ``base``
+    and ``delta``, without trigonometry but the angles' ``arctan2``.
+
+    ``cos(base -+ ... )`` as the sums of products the addition theorems give; ``(cd, +-sd)``
+    is one product with ``(1, -1)`` (exact), so both slots are computed at once.
+
+    Parameters
+    ----------
+    cb, sb : ndarray (...)
+        Cosine and sine of ``base``.
+    cd, sd : ndarray (...)
+        Cosine and sine (>= 0) of ``delta``; all four shapes broadcast.
+
+    Returns
+    -------
+    theta : ndarray (..., 2)
+        ``base + delta`` and ``base - delta`` (rad), in (-pi, pi].
+    c, s : ndarray (..., 2)
+        Their cosines and sines.
+    """
+    cb, sb, cd = cb[..., None], sb[..., None], cd[..., None]
+    sd = sd[..., None] * _PLUS_MINUS
+    c = cb * cd - sb * sd
+    s = sb * cd + cb * sd
+    return principal(np.arctan2(s, c)), c, s
+
+
+def two_slots(two, exact, free) -> tuple:
+    """The masks ``(ok, exact, free)``, each ``(..., 2)`` bool, of a subproblem with the roots
+    ``base +- delta``: slot 0 always holds an answer, slot 1 where ``two``; ``exact`` and
+    ``free (...)`` the same for both. Views of one new array (written once, four copies).
+
+    Parameters
+    ----------
+    two, exact, free : ndarray (...) of bool
+        The shapes broadcast against that of ``two``, the largest.
+
+    Returns
+    -------
+    tuple of three ndarray (..., 2) of bool
+    """
+    out = np.empty((3,) + two.shape + (2,), bool)
+    out[0, ..., 0] = True
+    out[0, ..., 1] = two
+    out[1] = exact[..., None]
+    out[2] = free[..., None]
+    return out[0], out[1], out[2]
+
+
 def pair(a, b) -> np.ndarray:
     """``np.stack([a, b], -1)`` for two arrays that broadcast together.
 

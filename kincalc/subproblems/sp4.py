@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, pair, principal
+from .solutions import Solutions, as_vectors, cross, dot, norm, two_roots, two_slots
 
 #: rounding of a cosine computed from lengths of size ``scale``, per unit of
 #: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
@@ -139,10 +139,6 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
     if rr is not r:
         cd = np.where(free, 1.0, cd)
     sd = np.sqrt(1.0 - cd * cd)
-    ccd, scd, csd, ssd = cb * cd, sb * cd, cb * sd, sb * sd
-    c = pair(ccd - ssd, ccd + ssd)
-    s = pair(scd + csd, scd - csd)
-    theta = principal(np.arctan2(s, c))
+    theta, c, s = two_roots(cb, sb, cd, sd)
     two = exact & ~free & (sd > 0.0)
-    return Solutions((theta,), (c,), (s,), pair(True, two), pair(exact, exact),
-                     pair(free, free))
+    return Solutions((theta,), (c,), (s,), *two_slots(two, exact, free))
