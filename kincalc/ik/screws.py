@@ -90,22 +90,22 @@ class Screws:
             return out.T.reshape(c.shape + (3,))
         shape = v.shape[:-1]
         if c.shape == s.shape and shape[:c.ndim] == c.shape:
-            c, s = c.reshape(-1), s.reshape(-1)
-            if c.size and v.size != 3 * c.size:       # several vectors per angle
-                per = v.size // (3 * c.size)
-                c, s = np.repeat(c, per), np.repeat(s, per)
+            # several vectors per angle: (3, M) read as (3, angles, per)
+            per = v.size // (3 * c.size) if c.size else 1
+            c, s = c.reshape(-1, 1), s.reshape(-1, 1)
         else:
             shape = np.broadcast_shapes(shape, c.shape, s.shape)
             v = np.broadcast_to(v, shape + (3,))
-            c, s = np.broadcast_to(c, shape).reshape(-1), np.broadcast_to(s, shape).reshape(-1)
-        B = self.rodrigues(i) @ v.reshape(-1, 3).T                       # (9, M)
+            c, s, per = (np.broadcast_to(c, shape).reshape(-1, 1),
+                         np.broadcast_to(s, shape).reshape(-1, 1), 1)
+        B = (self.rodrigues(i) @ v.reshape(-1, 3).T).reshape(9, -1, per)   # (9, M / per, per)
         out = B[3:6]
         out *= c
         out += B[0:3]
         sk = B[6:9]
         sk *= s
         out += sk
-        return out.T.reshape(shape + (3,))
+        return out.reshape(3, -1).T.reshape(shape + (3,))
 
     def rodrigues(self, i: int) -> np.ndarray:
         """``[I + K^2; -K^2; K]`` of joint ``i``'s axis ``k`` (``K`` its cross-product matrix).
@@ -121,12 +121,15 @@ class Screws:
         -------
         ndarray (9, 3), contiguous
         """
-        def make():
-            k = self.axis[i]
-            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-            K2 = K @ K
-            return np.ascontiguousarray(np.concatenate([np.eye(3) + K2, -K2, K]))
-        return self.constant(("rodrigues", i), make)
+        try:
+            return self.cache["rodrigues"][i]
+        except KeyError:
+            def make(k):
+                K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+                K2 = K @ K
+                return np.concatenate([np.eye(3) + K2, -K2, K])
+            self.cache["rodrigues"] = np.array([make(k) for k in self.axis])   # (n, 9, 3)
+            return self.cache["rodrigues"][i]
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points moved by joint ``i``: turned about its line, or slid along it.
