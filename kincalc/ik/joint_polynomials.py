@@ -155,13 +155,13 @@ def _basis(model: JointPolynomials, Q, joints, degrees, bases=None) -> np.ndarra
     (``x = d_j / length``), the last joint's index running fastest. ``bases``: a dict that
     keeps each joint's rows for the next call on the same ``Q``."""
     bases = {} if bases is None else bases
-    Phi = np.ones((1, len(Q)))
+    Phi = None                      # the empty product, 1: the first joint's rows themselves
     for j, d in zip(joints, degrees):
         B = bases.get((j, d))
         if B is None:
             B = bases[j, d] = _joint_basis(model, Q[:, j], j, d)
-        Phi = (Phi[:, None] * B).reshape(-1, len(Q))
-    return Phi
+        Phi = B if Phi is None else (Phi[:, None] * B).reshape(-1, len(Q))
+    return np.ones((1, len(Q))) if Phi is None else Phi
 
 
 def _joint_basis(model: JointPolynomials, x, j: int, d: int) -> np.ndarray:
