@@ -349,12 +349,10 @@ class Branches:
         Branches
             A copy, the same ``K`` slots (``parent`` the identity).
         """
-        shape = self.ok.shape
-        def fix(a):
-            return a if a is None or np.shape(a) == shape else np.broadcast_to(a, shape)
         was = self.pending.get(joint, (None,) * 4)
-        row = (fix(value), fix(c) if c is not None else was[1],
-               fix(s) if c is not None else was[2], fix(free) if free is not None else was[3])
+        row = (_fit(value, self.ok), was[1] if c is None else _fit(c, self.ok),
+               was[2] if c is None else _fit(s, self.ok),
+               was[3] if free is None else _fit(free, self.ok))
         return self._with(pending={**self.pending, joint: row},
                           ok=self.ok if ok is None else self.ok & ok, parent=_identity(self.K))
 
@@ -445,6 +443,13 @@ class Branches:
 
 _ZERO = np.zeros(1, np.intp)
 _ZERO.flags.writeable = False
+
+
+def _fit(a, ok: np.ndarray) -> np.ndarray:
+    """``a`` (broadcasting to the slots ``ok (N, K)``) of their shape (else a read-only view)."""
+    if type(a) is np.ndarray and a.shape == ok.shape:
+        return a
+    return np.broadcast_to(a, ok.shape)
 
 
 def _unset(n: int, N: int, K: int) -> np.ndarray:
