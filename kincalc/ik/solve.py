@@ -230,11 +230,13 @@ def _solutions(robot, sv: Solved, explain: bool):
             continue
         viol = _violation_list(violation[k]) if any(violation[k]) else []
         joints = tuple(j for j, f in enumerate(free[k]) if f) if any(free[k]) else ()
-        sols.append(IKSolution(q=q[k], branch=branch[k], position_error=pe[k],
-                               orientation_error=oe[k], within_limits=not viol, violations=viol,
-                               singular=singular[k], free=joints,
-                               continuum=_continuum(robot, sv, k) if joints else None,
-                               trace=_trace(sv, k) if explain else []))
+        sol = object.__new__(IKSolution)        # every field, without a frozen __setattr__ each
+        sol.__dict__.update(q=q[k], branch=branch[k], position_error=pe[k],
+                            orientation_error=oe[k], within_limits=not viol, violations=viol,
+                            singular=singular[k], free=joints,
+                            continuum=_continuum(robot, sv, k) if joints else None,
+                            trace=_trace(sv, k) if explain else [], change=None)
+        sols.append(sol)
     return sols, rejected
 
 
