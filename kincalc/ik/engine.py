@@ -332,8 +332,7 @@ def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
     K = len(signs)
     dead = np.ones(K, bool)
     dead[cols] = False
-    q0 = normalise(robot, np.zeros(n))
-    v0 = violations(robot, q0)
+    q0, v0 = _unset_slot(robot)
 
     def put(a, fill):
         out = np.empty((N, K) + a.shape[2:], a.dtype)
@@ -349,6 +348,16 @@ def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
                    free=put(sv.free, False), signs=signs,
                    continuum=None if sv.continuum is None else put(sv.continuum, 0.0),
                    memo={**sv.memo, "at": at})
+
+
+@per_robot
+def _unset_slot(robot) -> tuple:
+    """The joints of a slot no target kept, all 0 normalised ``(n,)`` (rad / m), and their
+    limit violations ``(n,)`` (:func:`_in_layout`). Cached per robot (read-only)."""
+    q0 = normalise(robot, np.zeros(robot.dof))
+    v0 = violations(robot, q0)
+    q0.flags.writeable = v0.flags.writeable = False
+    return q0, v0
 
 
 def _errors(targets: Targets, tool) -> tuple:
