@@ -15,7 +15,7 @@ import pytest
 
 from kincalc import load_robot
 from kincalc.fk import FEW
-from kincalc.ik.general6r.elimination import _inv_cond
+from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters
 from kincalc.ik.general6r.polish import polish_candidates
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.ik.reasons import Blocked
@@ -172,3 +172,96 @@ def test_folded_kinova_outside_its_limits_is_solved():
         # a singular root is found only to about the cube root of the acceptance
         assert d[k] < (1e-2 if singular(robot, q) else 1e-6)
         assert not res.solutions[k].within_limits
+
+
+# --- chains of clustered eigenvalues --------------------------------------------
+
+#: kinova_gen3_lite configurations (deg) whose pivot angle is an exact double or triple root
+#: chained (within CLUSTER_TOL, 1e-3 rad) to distinct roots some 1e-4 rad away: the chain's
+#: mean missed the multiple root, and these regular configurations were not found
+CHAINED = [(-57.8, 180.0, 63.6, 0.0, -90.0, 0.0), (180.0, 180.0, 90.0, 180.0, -90.0, 90.0),
+           (0.0, 0.0, 90.0, 180.0, 90.0, -90.0), (0.0, 180.0, 146.75, 180.0, 90.0, 49.65),
+           (180.0, 180.0, 90.0, 180.0, 102.35, -65.93), (0.0, 180.0, 90.0, 180.0, -90.0, -90.0),
+           (0.0, 0.0, 90.0, 180.0, 90.0, 90.0)]
+
+
+def test_a_chained_cluster_keeps_its_exact_multiple_root():
+    """Each configuration of CHAINED: regular, and among the solutions of its pose (alone and
+    in a batch of all of them, the same), which all reproduce the pose, without duplicates."""
+    robot = load_robot("kinova_gen3_lite")
+    Q = np.radians(CHAINED)
+    T = robot.fk(Q)
+    batch = robot.ik_batch(T)
+    for i, q in enumerate(Q):
+        assert not singular(robot, q)
+        alone = valid_set(robot.ik_batch(T[i][None]), 0)
+        assert_same(alone, valid_set(batch, i))
+        S = alone[0]
+        assert_round_trip(robot, T[i], S)
+        assert np.min(np.max(np.abs(wrap(S - q)), axis=1)) < 1e-6
+        D = np.max(np.abs(wrap(S[:, None] - S[None])), axis=2)
+        assert np.all(D[~np.eye(len(S), dtype=bool)] > 1e-6)
+        # the exact solution is not flagged singular
+        assert not alone[3][np.argmin(np.max(np.abs(wrap(S - q)), axis=1))]
+
+
+def _solved_by_a_pivot(robot, T):
+    """Some pivot of the elimination applies at the pose (not the last resort, which
+    perturbs the robot and can lose solutions near a singular configuration)."""
+    data = robot_data(robot)
+    return not all(data.raw(T[None], s)[3][0] for s in data.shifts)
+
+
+@pytest.mark.parametrize("name,seed", [("kinova_gen3_lite", 2), ("xarm6", 1)])
+def test_every_regular_generating_configuration_is_found(name, seed):
+    """400 degenerate poses: the generating configuration is among the solutions whenever it
+    is regular and a pivot of the elimination applies. kinova_gen3_lite (seed 2) has chains
+    with an exact multiple root; xarm6 (seed 1) has multiple roots that rounding splits into
+    a polygon around an exact one (a real angle and a conjugate pair at 3.7e-4 rad of an
+    exact triple root), whose chain must stay one cluster (its mean is the root)."""
+    robot = load_robot(name)
+    Q = special_configurations(400, np.random.default_rng(seed))
+    T = robot.fk(Q)
+    res = robot.ik_batch(T)
+    regular, lost = 0, []
+    for i, q in enumerate(Q):
+        if singular(robot, q):
+            continue
+        regular += 1
+        S = res.q[i][res.valid[i]]
+        assert_round_trip(robot, T[i], S)
+        if not (len(S) and np.min(np.max(np.abs(wrap(S - q)), axis=1)) < 1e-6):
+            if _solved_by_a_pivot(robot, T[i]):
+                lost.append(np.degrees(q).round(2).tolist())
+    assert regular >= 200 and not lost, lost
+
+
+def test_tight_subclusters_of_a_chain():
+    """Synthetic angles (rad): an exact double (triple) root chained to distinct roots 3e-4
+    away is a tight sub-cluster; a defective triple root split by rounding into a real angle
+    and a conjugate pair (a triangle) has none (the pair's real parts are equal, but not its
+    angles), while an exact root at the triangle's centre is one; a pattern at rounding level
+    is not torn apart."""
+    base = 0.5
+    pair = [base + 1.85e-4 + 3.2e-4j, base + 1.85e-4 - 3.2e-4j]
+    cases = {
+        "chain": ([base - 3e-4, base, base, base + 2e-4], [[1, 2]]),
+        "triple": ([base - 3e-4, base, base, base, base + 2e-4], [[1, 2, 3]]),
+        "triangle": ([base - 3.7e-4] + pair, []),
+        "centre": ([base - 3.7e-4] + pair + [base, base, base], [[3, 4, 5]]),
+        "rounding": ([base - 2e-13, base, base + 1e-15, base + 1e-13], []),
+    }
+    for name, (angles, want) in cases.items():
+        k = len(angles)
+        phi = np.full((1, 16), 10.0 + 0j)
+        phi[0, :k] = angles
+        order = np.argsort(phi.real, axis=1, kind="stable")
+        start = np.zeros((1, 16), bool)
+        start[0, 0] = True
+        start[0, k:] = True
+        run = np.where(np.arange(16) < k, k, 1)[None]
+        found = _tight_subclusters(phi, order, start, run, [k])
+        got = sorted(sorted(np.real(phi[0, s]).round(12).tolist()) for _, m in found.items()
+                     for s in m[1])
+        expect = sorted(sorted(np.real(np.array(angles)[w]).round(12).tolist()) for w in want)
+        assert got == expect, name

@@ -83,7 +83,13 @@ a single pose is a batch of one).
    by x4" and "multiply by x5" shift operators; the vectors closest to
    monomial structure are kept (see :func:`~.elimination.split_clusters`; all clusters of
    one size are treated together, their extra vectors take slots 16-31 of
-   their pose).
+   their pose). A cluster is a chain, so an exact multiple root can share it
+   with distinct roots some 1e-4 rad away and the mean misses it: each
+   *tight* sub-cluster of a chain (diameter times 10 below its distance, above
+   1e-5 rad, to the chain's other eigenvalues, in the complex plane) gets the
+   same treatment at its own mean as well (slots 32-47); the chain's own mean
+   stays (a defective root that rounding splits into a polygon, real angle and
+   conjugate pair, has its root at the polygon's centre).
 6. **Polishing.** Every candidate gets up to 20 damped Newton steps on the
    *given* robot (``robot.chain``, so the DH model above only has to be
    close): error ``[(p* - p) / L; log(R* R^T)]`` against the base-frame

@@ -80,7 +80,8 @@ def eliminate(model, T):
         The poses where the elimination does not apply (``Q`` loses rank, an equation
         vanishes, or ``A`` is singular for every shift delta).
     width : int
-        16, or 32 when a pose has a cluster (whose extra vectors take slots 16-31).
+        16, or 32 when a pose has a cluster (whose extra vectors take slots 16-31), or 48
+        when a cluster is a chain with a tight sub-cluster (its vectors: slots 32-47).
     """
     with np.errstate(all="ignore"):
         W, G, Sig, Ai, Ri, ok, delta = _matrix_polynomial(model, T)
@@ -93,14 +94,14 @@ def eliminate(model, T):
         pose, slot = np.nonzero(keep)
         vs, th3 = v[pose, :, slot], phi.real[pose, slot]
         width = 16
-        if extra is not None:                             # clusters: extra slots 16-31
+        if extra is not None:                             # clusters: extra slots 16-31 (47)
             rows, v2, phi2, keep2 = extra
             p2, s2 = np.nonzero(keep2)
             order = np.lexsort((np.r_[slot, s2 + 16], np.r_[pose, rows[p2]]))
             pose, slot = np.r_[pose, rows[p2]][order], np.r_[slot, s2 + 16][order]
             vs = np.concatenate([vs, v2[p2, :, s2]])[order]
             th3 = np.r_[th3, phi2.real[p2, s2]][order]
-            width = 32
+            width = 16 + v2.shape[2]
         if isinstance(delta, np.ndarray):
             th3 = th3 + delta[pose, 0]
         q = _candidate_angles(model, pose, vs, th3, Ri, G[:, :8], W)
@@ -267,14 +268,16 @@ def split_clusters(v, phi, keep, Sig):
     mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so each cluster of m eigenvalues
     (real parts of the angles within CLUSTER_TOL of the next; this includes a conjugate pair with a
     small imaginary part, which is how a near-double real root often comes out) gets the mean angle
-    and, as its space, the m smallest right singular vectors ``N`` of ``Sigma`` there. In that space
-    the true vectors ``v = N c`` are those of monomials, so ``c`` is a common eigenvector of the
-    shift operators "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply by x5"; these m x m
-    operators come from least squares on the Moebius-shifted form
-    ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a fixed combination of
-    the two is diagonalised. The cluster's own eigenvectors compete (they are right when its
+    and, as its space, the m smallest right singular vectors ``N`` of ``Sigma`` there (see
+    :func:`_subspace_vectors`). The cluster's own eigenvectors compete (they are right when its
     eigenvalues are distinct roots that merely lie close): of the 2m vectors, those within 1e-3 of a
     monomial vector are kept, and at least the m closest. The subspace vectors get the mean angle.
+
+    A cluster is a chain (single linkage), so an exact multiple root may share it with distinct
+    roots some 1e-4 rad away: the mean then misses the multiple root by that much, its eigenvectors
+    are mixtures, and the solutions it stands for were lost. So each tight sub-cluster of a chain
+    (:func:`_tight_subclusters`) also gets its own mean and subspace vectors, in a second set of
+    extra slots (kept all; Newton drops what does not converge, and the merge what duplicates).
 
     Parameters
     ----------
@@ -285,9 +288,10 @@ def split_clusters(v, phi, keep, Sig):
     Returns
     -------
     keep : ndarray (M, n) of bool, updated for the clusters' own vectors
-    extra : None (no cluster: the common case) or ``(rows (P,), v2 (P, 12, n), phi2 (P, n),
-        keep2 (P, n))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
-        vector that goes with own slot j"""
+    extra : None (no cluster: the common case) or ``(rows (P,), v2 (P, 12, w), phi2 (P, w),
+        keep2 (P, w))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
+        vector that goes with own slot j, and (``w = 2n`` when a chain has a tight sub-cluster,
+        else ``w = n``) slot n + j that of its tight sub-cluster"""
     M, n = phi.shape
     key = np.where(keep, phi.real, _PAST[:n])     # past every angle, far apart (no inf - inf)
     sk = np.sort(key, axis=1)
@@ -304,29 +308,17 @@ def split_clusters(v, phi, keep, Sig):
     rows = np.flatnonzero(np.logical_or.reduce(start & (run >= 2), axis=1))
     at = np.zeros(M, int)
     at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
-    v2 = np.zeros((len(rows), 12, n), complex)
+    sizes = np.unique(run[start & (run >= 2)])
+    tight = _tight_subclusters(phi, order, start, run, sizes[sizes >= 3])
+    w = 2 * n if tight else n
+    v2 = np.zeros((len(rows), 12, w), complex)
     v2[:, 0] = 1.0
-    phi2 = np.zeros((len(rows), n), complex)
-    keep2 = np.zeros((len(rows), n), bool)
-    for k in np.unique(run[start & (run >= 2)]):
+    phi2 = np.zeros((len(rows), w), complex)
+    keep2 = np.zeros((len(rows), w), bool)
+    for k in sizes:
         pg, j0 = np.nonzero(start & (run == k))
         members = order[pg[:, None], j0[:, None] + np.arange(k)]       # (p, k) slots
-        mean = np.mean(phi.real[pg[:, None], members], axis=1)
-        y = np.tan(mean / 2.0)
-        small = (np.abs(y) <= 1.0)[:, None, None]
-        with np.errstate(all="ignore"):
-            w = np.where(small[:, 0, 0], 0.0, 1.0 / y)[:, None, None]
-        yy = np.where(small[:, 0, 0], y, 0.0)[:, None, None]
-        Sp = Sig[pg]
-        Cm, Bm, Am = Sp[:, :, :12], Sp[:, :, 12:24], Sp[:, :, 24:]
-        S = np.where(small, (Am * yy + Bm) * yy + Cm, Am + (Bm + Cm * w) * w)
-        Nsub = np.swapaxes(np.linalg.svd(S)[2][:, -k:, :], -1, -2)     # (p, 12, k)
-        Mop = np.zeros((len(pg), k, k))
-        for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
-            lhs = Nsub[:, lo] + _TAU * Nsub[:, hi]
-            rhs = Nsub[:, hi] - _TAU * Nsub[:, lo]
-            Mop = Mop + wgt * (np.linalg.pinv(lhs, rcond=np.finfo(float).eps * len(lo)) @ rhs)
-        sub = Nsub @ np.linalg.eig(Mop)[1]                              # (p, 12, k)
+        mean, sub = _subspace_vectors(phi, Sig, pg, members)
         own = np.take_along_axis(v[pg], members[:, None, :], axis=2)    # (p, 12, k)
         both = np.concatenate([own, sub], axis=2)                       # (p, 12, 2k)
         res = _structure_residual(np.swapaxes(both, 1, 2).reshape(-1, 12)).reshape(-1, 2 * k)
@@ -337,7 +329,90 @@ def split_clusters(v, phi, keep, Sig):
         v2[pgk, :, members] = np.swapaxes(sub, 1, 2)
         phi2[pgk, members] = mean[:, None]
         keep2[pgk, members] = kept[:, k:]
+    for k, (pg, members) in tight.items():       # tight sub-clusters of chains: slots n + j
+        mean, sub = _subspace_vectors(phi, Sig, pg, members)
+        pgk, slots = at[pg][:, None], members + n
+        v2[pgk, :, slots] = np.swapaxes(sub, 1, 2)
+        phi2[pgk, slots] = mean[:, None]
+        keep2[pgk, slots] = True
     return keep, (rows, v2, phi2, keep2)
+
+
+#: a sub-cluster of a chain is tight when its diameter times this is below its distance to the
+#: chain's other angles (complex plane) ...
+TIGHT_RATIO = 10.0
+#: ... and its distance to the rest exceeds this (rad): below, the pattern is rounding's
+TIGHT_GAP = 1e-5
+
+
+def _tight_subclusters(phi, order, start, run, sizes):
+    """The tight sub-clusters of the clusters (runs) of ``sizes`` (each at least 3), by size.
+
+    A proper sub-run (in sorted order, at least two) of a run is tight when ``TIGHT_RATIO``
+    times its diameter is below its distance to the run's other angles, and that distance is
+    above ``TIGHT_GAP``, both in the complex plane: the pattern of a multiple root split by
+    rounding (equal angles to ~1e-13; a regular polygon of a defective one, e.g. a real angle
+    and a conjugate pair) is not torn apart. Tight sub-runs are nested or disjoint; the largest
+    ones are taken. Per pose and run (Python loops: chains are rare, and a pose's sub-clusters
+    depend on its angles alone).
+
+    Parameters
+    ----------
+    phi : ndarray (M, n) complex, the angles (rad)
+    order : ndarray (M, n) of int, the slots sorted by the real part of the angle
+    start, run : ndarray (M, n), the first positions of the runs (sorted order) and their sizes
+    sizes : the run sizes to look at
+
+    Returns
+    -------
+    dict
+        size m -> ``(pg (p,), members (p, m))``: poses and the slots of each sub-cluster.
+    """
+    found = {}
+    for k in sizes:
+        for pose, j0 in zip(*np.nonzero(start & (run == k))):
+            x = phi[pose, order[pose, j0:j0 + k]]
+            D = np.abs(x[:, None] - x[None, :])
+            taken = np.zeros(k, bool)
+            for m in range(k - 1, 1, -1):                     # largest first
+                for i in range(k - m + 1):
+                    inner = slice(i, i + m)
+                    gap = np.min(D[inner][:, np.r_[0:i, i + m:k]])
+                    if (not taken[inner].any() and gap > TIGHT_GAP
+                            and TIGHT_RATIO * np.max(D[inner, inner]) < gap):
+                        taken[inner] = True
+                        found.setdefault(m, []).append((pose, order[pose, j0 + i:j0 + i + m]))
+    return {m: (np.array([pose for pose, _ in subs]), np.array([slots for _, slots in subs]))
+            for m, subs in sorted(found.items())}
+
+
+def _subspace_vectors(phi, Sig, pg, members):
+    """The mean angle ``(p,)`` and monomial vectors ``(p, 12, k)`` of the clusters ``members
+    (p, k)`` (eigenvalue slots) of poses ``pg (p,)``.
+
+    At the mean, the k smallest right singular vectors ``N`` of ``Sigma`` span the space of the
+    cluster's vectors; the true vectors ``v = N c`` are those of monomials, so ``c`` is a common
+    eigenvector of the shift operators "multiply by x4" (``v[j+1, k] = x4 v[j, k]``) and "multiply
+    by x5"; these k x k operators come from least squares on the Moebius-shifted form
+    ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a fixed combination of
+    the two is diagonalised."""
+    k = members.shape[1]
+    mean = np.mean(phi.real[pg[:, None], members], axis=1)
+    y = np.tan(mean / 2.0)
+    small = (np.abs(y) <= 1.0)[:, None, None]
+    with np.errstate(all="ignore"):
+        w = np.where(small[:, 0, 0], 0.0, 1.0 / y)[:, None, None]
+    yy = np.where(small[:, 0, 0], y, 0.0)[:, None, None]
+    Sp = Sig[pg]
+    Cm, Bm, Am = Sp[:, :, :12], Sp[:, :, 12:24], Sp[:, :, 24:]
+    S = np.where(small, (Am * yy + Bm) * yy + Cm, Am + (Bm + Cm * w) * w)
+    Nsub = np.swapaxes(np.linalg.svd(S)[2][:, -k:, :], -1, -2)     # (p, 12, k)
+    Mop = np.zeros((len(pg), k, k))
+    for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
+        lhs = Nsub[:, lo] + _TAU * Nsub[:, hi]
+        rhs = Nsub[:, hi] - _TAU * Nsub[:, lo]
+        Mop = Mop + wgt * (np.linalg.pinv(lhs, rcond=np.finfo(float).eps * len(lo)) @ rhs)
+    return mean, Nsub @ np.linalg.eig(Mop)[1]                       # (p, 12, k)
 
 
 #: the sort key of a slot that is not a candidate: beyond pi, 10 apart

@@ -122,8 +122,9 @@ def _duplicates(Qd, good):
     return dup
 
 
-# [i, j]: slot j comes before slot i (a pose has at most 64 candidates: 2 x 32 in the last resort)
-_EARLIER = np.tri(4 * BATCH_SLOTS, k=-1, dtype=bool)
+# [i, j]: slot j comes before slot i (a pose has at most 96 candidates: 2 x 48 in the last
+# resort)
+_EARLIER = np.tri(6 * BATCH_SLOTS, k=-1, dtype=bool)
 
 
 def solve_general_6r(robot, T) -> np.ndarray:
