@@ -4,6 +4,8 @@ the eigenvectors, with near-double roots split into clusters."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .common import (CLUSTER_TOL, COND_BAD, COND_GOOD, DELTAS, IMAG_TOL, INV_PAD, LIMITS,
@@ -353,8 +355,8 @@ def _tight_subclusters(phi, order, start, run, sizes):
     above ``TIGHT_GAP``, both in the complex plane: the pattern of a multiple root split by
     rounding (equal angles to ~1e-13; a regular polygon of a defective one, e.g. a real angle
     and a conjugate pair) is not torn apart. Tight sub-runs are nested or disjoint; the largest
-    ones are taken. Per pose and run (Python loops: chains are rare, and a pose's sub-clusters
-    depend on its angles alone).
+    ones are taken. Vectorised over the runs of a size (a Python loop only over the runs that
+    have a tight sub-run: rare); a pose's sub-clusters depend on its angles alone.
 
     Parameters
     ----------
@@ -370,20 +372,35 @@ def _tight_subclusters(phi, order, start, run, sizes):
     """
     found = {}
     for k in sizes:
-        for pose, j0 in zip(*np.nonzero(start & (run == k))):
-            x = phi[pose, order[pose, j0:j0 + k]]
-            D = np.abs(x[:, None] - x[None, :])
+        pg, j0 = np.nonzero(start & (run == k))
+        x = phi[pg[:, None], order[pg[:, None], j0[:, None] + np.arange(k)]]      # (p, k)
+        D = np.abs(x[:, :, None] - x[:, None, :]).reshape(len(pg), 1, k * k)
+        lo, size, pair, cross = _subruns(k)
+        diam = reduce_max(np.where(pair, D, 0.0), axis=2)                     # (p, subruns)
+        gap = reduce_min(np.where(cross, D, np.inf), axis=2)
+        for r in np.flatnonzero(np.logical_or.reduce((gap > TIGHT_GAP)
+                                                     & (TIGHT_RATIO * diam < gap), axis=1)):
             taken = np.zeros(k, bool)
-            for m in range(k - 1, 1, -1):                     # largest first
-                for i in range(k - m + 1):
-                    inner = slice(i, i + m)
-                    gap = np.min(D[inner][:, np.r_[0:i, i + m:k]])
-                    if (not taken[inner].any() and gap > TIGHT_GAP
-                            and TIGHT_RATIO * np.max(D[inner, inner]) < gap):
-                        taken[inner] = True
-                        found.setdefault(m, []).append((pose, order[pose, j0 + i:j0 + i + m]))
-    return {m: (np.array([pose for pose, _ in subs]), np.array([slots for _, slots in subs]))
+            for t in np.flatnonzero((gap[r] > TIGHT_GAP) & (TIGHT_RATIO * diam[r] < gap[r])):
+                i, m = lo[t], size[t]                     # the largest first (sorted so)
+                if not taken[i:i + m].any():
+                    taken[i:i + m] = True
+                    found.setdefault(m, []).append((pg[r], order[pg[r], j0[r] + i:j0[r] + i + m]))
+    return {m: (np.array([sub[0] for sub in subs]), np.array([sub[1] for sub in subs]))
             for m, subs in sorted(found.items())}
+
+
+@functools.lru_cache(maxsize=None)
+def _subruns(k):
+    """The proper sub-runs (at least two) of a run of k, the largest first: their first
+    positions and sizes, and masks ``(subruns, k * k)`` of the pairs inside one and of the
+    pairs (inside, outside)."""
+    lo, size = zip(*[(i, m) for m in range(k - 1, 1, -1) for i in range(k - m + 1)])
+    lo, size = np.array(lo), np.array(size)
+    inner = (np.arange(k) >= lo[:, None]) & (np.arange(k) < (lo + size)[:, None])
+    pair = (inner[:, :, None] & inner[:, None, :]).reshape(len(lo), k * k)
+    cross = (inner[:, :, None] & ~inner[:, None, :]).reshape(len(lo), k * k)
+    return lo, size, pair, cross
 
 
 def _subspace_vectors(phi, Sig, pg, members):
