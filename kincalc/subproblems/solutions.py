@@ -152,8 +152,8 @@ def two_roots(cb, sb, cd, sd) -> tuple:
     """The roots ``base + delta`` and ``base - delta`` from the cosines and sines of ``base``
     and ``delta``, without trigonometry but the angles' ``arctan2``.
 
-    ``cos(base -+ ... )`` as the sums of products the addition theorems give; ``(cd, +-sd)``
-    is one product with ``(1, -1)`` (exact), so both slots are computed at once.
+    The cosines and sines of ``base +- delta`` by the addition theorems; ``+-sd`` is one
+    product with ``(1, -1)`` (exact), so both slots are computed at once.
 
     Parameters
     ----------
