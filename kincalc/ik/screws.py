@@ -110,7 +110,8 @@ class Screws:
     def rodrigues(self, i: int) -> np.ndarray:
         """``[I + K^2; -K^2; K]`` of joint ``i``'s axis ``k`` (``K`` its cross-product matrix).
 
-        ``rodrigues @ v`` stacks the three terms of :meth:`turn`; computed once per joint.
+        ``rodrigues @ v`` stacks the three terms of :meth:`turn`; computed once for all the
+        joints (:meth:`constant`).
 
         Parameters
         ----------
@@ -121,15 +122,11 @@ class Screws:
         -------
         ndarray (9, 3), contiguous
         """
-        try:
-            return self.cache["rodrigues"][i]
-        except KeyError:
-            def make(k):
-                K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-                K2 = K @ K
-                return np.concatenate([np.eye(3) + K2, -K2, K])
-            self.cache["rodrigues"] = np.array([make(k) for k in self.axis])   # (n, 9, 3)
-            return self.cache["rodrigues"][i]
+        def one(k):
+            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+            K2 = K @ K
+            return np.concatenate([np.eye(3) + K2, -K2, K])
+        return self.constant("rodrigues", lambda: np.array([one(k) for k in self.axis]))[i]
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points moved by joint ``i``: turned about its line, or slid along it.
