@@ -52,6 +52,15 @@ class Chain:
         return np.cos(self.offset), np.sin(self.offset)
 
     @cached_property
+    def fixed_terms(self) -> tuple:
+        """The nonzero entries of each ``F_i``, for the column walk of :mod:`kincalc.fk`:
+        ``fixed_terms[i][j]`` lists ``(k, F_i[k, j])`` (a float) for the rows k < 3 of column
+        j (3: the translation) where the entry is not 0. Computed once per chain and cached.
+        """
+        return tuple(tuple(tuple((k, float(F[k, j])) for k in range(3) if F[k, j] != 0.0)
+                           for j in range(4)) for F in self.fixed)
+
+    @cached_property
     def motion_basis(self) -> np.ndarray:
         """``(n, 4, 16)``, read-only: joint i's motion ``J_i(x)`` (4x4, flattened) is
         ``[cos x, sin x, x, 1] @ motion_basis[i]``: ``Rz(x)`` for a revolute joint, ``Tz(x)``

@@ -1,19 +1,24 @@
 """Forward kinematics on a :class:`~kincalc.chain.Chain`, vectorised over poses.
 
-The chain ``F_0 J_1(q_1) F_1 ... J_n(q_n) F_n`` is evaluated column-wise on
-structure-of-arrays data: the running pose is kept as three column vectors
-and a position, each of shape ``(3, N)``. A joint rotation mixes two
-columns, a joint translation shifts the position along the z column, and a
-constant ``F_i`` is applied as a sparse linear combination that skips its
-zero entries and does not multiply by +-1 (DH links are mostly permutations
-and sign flips). Poses are processed in cache-sized chunks.
+There is one chain product, ``F_0 J_1(q_1) F_1 ... J_n(q_n) F_n``, evaluated in one of two
+layouts chosen by the number of configurations:
 
-For a few configurations (up to :data:`FEW`: a single ``robot.fk(q)``, an IK call's
-candidates) the same product is taken as stacked 4x4 matrices instead: all joint
-motions from one product of ``[cos x, sin x, x, 1]`` with the chain's
-:attr:`~kincalc.chain.Chain.motion_basis`, then one matrix product per joint
-(:func:`prefixes_few`). That costs a fixed ~n + 10 numpy calls where the walk costs
-~10 per joint. Units: rad and m (or the robot's own unit for unitless robots).
+* **the column walk** (:func:`_walk`, many configurations): the running pose is kept as
+  three column vectors and a position, each of shape ``(3, N)``. A joint rotation mixes two
+  columns, a joint translation shifts the position along the z column, and a constant
+  ``F_i`` is applied as a sparse linear combination that skips its zero entries and does
+  not multiply by +-1 (DH links are mostly permutations and sign flips). Every operation is
+  elementwise along the configurations, so a configuration's bits do not depend on how many
+  are walked together (the general 6R solver's Newton steps rely on that:
+  ``column_walk=True`` of :func:`entry_frames` walks any number). Poses are processed in
+  cache-sized chunks.
+* **stacked 4x4 products** (up to :data:`FEW` configurations: a single ``robot.fk(q)``, an
+  IK call's candidates): all joint motions from one product of ``[cos x, sin x, x, 1]``
+  with the chain's :attr:`~kincalc.chain.Chain.motion_basis`, then one matrix product per
+  joint (:func:`_prefixes`). That costs a fixed ~n + 10 numpy calls where the walk costs
+  ~10 per joint; the two agree to rounding (tests/evaluation/test_fk.py).
+
+Units: rad and m (or the robot's own unit for unitless robots).
 """
 
 from __future__ import annotations
@@ -25,31 +30,37 @@ import numpy as np
 CHUNK = 8192
 
 #: up to this many configurations the chain is evaluated by multiplying stacked 4x4
-#: matrices (:func:`prefixes_few`: about n + 10 numpy calls, ~15 us for one configuration
-#: of a 6-joint arm); above it, by the column-wise walk (~10 numpy calls per joint, each
-#: on all configurations: four times faster for thousands). Both evaluate the same
-#: product F_0 J_1 F_1 ... J_n F_n; tests/evaluation/test_fk.py checks them against each other.
+#: matrices (about n + 10 numpy calls, ~15 us for one configuration of a 6-joint arm);
+#: above it, by the column walk (~10 numpy calls per joint, each on all configurations:
+#: four times faster for thousands).
 FEW = 32
 
 
-def _combine(cols, coeffs):
-    """``sum_k coeffs[k] * cols[k]`` skipping zero coefficients; ``None`` if all zero."""
+def _combine(cols, terms):
+    """``sum_k c_k cols[k]`` over the ``terms (k, c_k)`` (nonzero), in their order, without
+    multiplying by +-1 (``a + (-v)`` is ``a - v`` exactly); ``None`` when there is none."""
     acc = None
-    for c, v in zip(coeffs, cols):
-        if c == 0.0:
-            continue
-        term = v if c == 1.0 else (-v if c == -1.0 else c * v)
-        acc = term if acc is None else acc + term
+    for k, c in terms:
+        v = cols[k]
+        if acc is None:
+            acc = v if c == 1.0 else (-v if c == -1.0 else c * v)
+        elif c == 1.0:
+            acc = acc + v
+        elif c == -1.0:
+            acc = acc - v
+        else:
+            acc = acc + c * v
     return acc
 
 
-def _apply_fixed(cols, p, F):
-    """Post-multiply the running pose ``[cols | p]`` by the constant transform ``F``."""
+def _apply_fixed(cols, p, terms):
+    """Post-multiply the running pose ``[cols | p]`` by a constant transform, given by its
+    nonzero entries ``terms`` (:attr:`~kincalc.chain.Chain.fixed_terms`)."""
     new_cols = []
     for j in range(3):
-        c = _combine(cols, F[:3, j])
+        c = _combine(cols, terms[j])
         new_cols.append(c if c is not None else 0.0 * cols[0])
-    shift = _combine(cols, F[:3, 3])
+    shift = _combine(cols, terms[3])
     return new_cols, (p if shift is None else p + shift)
 
 
@@ -59,45 +70,58 @@ def _start(F0, size):
     return cols, p
 
 
-def _move(chain, i, cols, p, x):
-    """Post-multiply the running pose by joint i's motion ``J_i(x)`` (x already offset)."""
-    if chain.revolute[i]:
-        c, s = np.cos(x), np.sin(x)
-        c0, c1 = cols[0], cols[1]
-        return [c0 * c + c1 * s, c1 * c - c0 * s, cols[2]], p
-    return cols, p + cols[2] * x
-
-
-def walk(chain, q, on_joint=None):
-    """Run the chain over ``q (N, n)``; return the final ``(cols, p)``.
+def _walk(chain, c, s, x, frames=None):
+    """The column walk over ``M`` configurations; returns the tool pose ``(cols, p)``.
 
     Parameters
     ----------
     chain : Chain
         From ``robot.chain``.
-    q : ndarray (N, n)
-        Joint values, rad / m (a float array, not checked: see :func:`joint_batch`).
-    on_joint : callable, optional
-        ``on_joint(i, cols, p)`` is called with the frame just before joint i's
-        motion (whose z column is joint i's axis in the world frame, and whose origin
-        ``p (3, N)`` is on that axis).
+    c, s : ndarray (n, M), or sequences of n rows (M,)
+        Joint-major cosines and sines of the revolute joints' angles, offsets included
+        (``x = q_i + c_i``). Rows of prismatic joints: any finite values.
+    x : ndarray (n, M), or a sequence of n rows (M,)
+        The prismatic joints' travel, offsets included (m). Rows of revolute joints: any
+        finite values.
+    frames : ndarray (3, 4, n + 1, M), optional
+        Receives each joint's frame just after its motion and the tool pose, entry by entry
+        (the layout of :func:`entry_frames`).
 
     Returns
     -------
-    cols : list of three ndarray (3, N)
+    cols : list of three ndarray (3, M)
         The columns of the rotation of ``T_world_tool``.
-    p : ndarray (3, N)
+    p : ndarray (3, M)
         Its position, world frame (m).
     """
-    F = chain.fixed
-    cols, p = _start(F[0], q.shape[0])
-    qq = q + chain.offset
+    cols, p = _start(chain.fixed[0], len(x[0]))
+    terms = chain.fixed_terms
     for i in range(chain.dof):
-        if on_joint is not None:
-            on_joint(i, cols, p)
-        cols, p = _move(chain, i, cols, p, qq[:, i])
-        cols, p = _apply_fixed(cols, p, F[i + 1])
+        if chain.revolute[i]:
+            c0, c1 = cols[0], cols[1]
+            cols = [c0 * c[i] + c1 * s[i], c1 * c[i] - c0 * s[i], cols[2]]
+        else:
+            p = p + cols[2] * x[i]
+        if frames is not None:
+            _put(frames, i, cols, p)
+        cols, p = _apply_fixed(cols, p, terms[i + 1])
+    if frames is not None:
+        _put(frames, chain.dof, cols, p)
     return cols, p
+
+
+def _put(frames, i, cols, p) -> None:
+    """Frame ``i`` of ``frames (3, 4, n + 1, M)`` from its columns and origin ``(3, M)``."""
+    for j in range(3):
+        frames[:, j, i] = cols[j]
+    frames[:, 3, i] = p
+
+
+def _angles(chain, flat) -> tuple:
+    """``(cos x, sin x, x)`` of ``x = q_i + c_i`` (offsets added) for ``flat (M, n)``, each
+    joint-major ``(n, M)`` (the arguments of :func:`_walk`)."""
+    x = np.ascontiguousarray((flat + chain.offset).T)
+    return np.cos(x), np.sin(x), x
 
 
 def joint_batch(chain, q):
@@ -157,7 +181,7 @@ def forward_kinematics(chain, q) -> np.ndarray:
     out[:, 3, 3] = 1.0
     for start in range(0, N, CHUNK):
         sl = slice(start, min(start + CHUNK, N))
-        cols, p = walk(chain, flat[sl])
+        cols, p = _walk(chain, *_angles(chain, flat[sl]))
         for j in range(3):
             out[sl, :3, j] = cols[j].T
         out[sl, :3, 3] = p.T
@@ -183,31 +207,11 @@ def _motions(chain, coef) -> np.ndarray:
     return (coef.T[:, :, None, :] @ chain.motion_basis[:, None]).reshape(n, N, 4, 4)
 
 
-def prefixes_few(chain, flat):
-    """The chain's prefix products, by stacked 4x4 products.
-
-    For a few configurations (any number gives the right answer).
-
-    Parameters
-    ----------
-    chain : Chain
-        From ``robot.chain``.
-    flat : ndarray (N, n)
-        Joint values, rad / m (not checked: see :func:`joint_batch`).
-
-    Returns
-    -------
-    ndarray (n + 1, N, 4, 4)
-        ``P``, joint-major, world frame (m): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so
-        that ``P_{i-1}`` is the frame just before joint i's motion (its z column joint i's
-        axis, its origin on that axis) and ``P_n`` the tool pose ``T_world_tool``.
-    """
-    return _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
-
-
 def _prefixes(chain, motions):
-    """The prefixes of :func:`prefixes_few`, joint-major ``(n + 1, N, 4, 4)``, from the joint
-    motions ``(n, N, 4, 4)`` of :func:`_motions` (each product on contiguous stacks)."""
+    """The chain's prefix products by stacked 4x4 products, joint-major ``(n + 1, N, 4, 4)``,
+    from the joint motions ``(n, N, 4, 4)`` of :func:`_motions` (each product on contiguous
+    stacks): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so that ``P_n`` is the tool pose
+    ``T_world_tool`` (world frame, m)."""
     n, N = motions.shape[:2]
     links = motions @ chain.fixed[1:, None]
     P = np.empty((n + 1, N, 4, 4))
@@ -252,73 +256,10 @@ def tool_from_cs(chain, c, s, x):
         coef[3] = 1.0
         T = _prefixes(chain, _motions(chain, coef))[-1]
         return [T[:, :3, j].T for j in range(3)], T[:, :3, 3].T
-    F = chain.fixed
-    cols, p = _start(F[0], M)
-    for i in range(chain.dof):
-        if chain.revolute[i]:
-            ci, si = c[i], s[i]
-            if chain.offset[i] != 0.0:
-                ci, si = ci * co[i] - si * so[i], si * co[i] + ci * so[i]
-            c0, c1 = cols[0], cols[1]
-            cols = [c0 * ci + c1 * si, c1 * ci - c0 * si, cols[2]]
-        else:
-            p = p + cols[2] * (x[i] + chain.offset[i])
-        cols, p = _apply_fixed(cols, p, F[i + 1])
-    return cols, p
-
-
-def frame_columns(chain, q) -> list:
-    """The frames of :func:`chain_frames` as a structure of arrays.
-
-    For many configurations this is several times faster than the ``(M, n, 4, 4)``
-    stack, which it never builds.
-
-    Parameters
-    ----------
-    chain : Chain
-        From ``robot.chain``.
-    q : array_like (M, n)
-        Joint values, rad / m (any leading shape, flattened to ``(M, n)``).
-
-    Returns
-    -------
-    list of n tuples ``(cols, p)``
-        Per joint, its frame's rotation columns ``cols`` (three arrays ``(3, M)``; the
-        z column is the joint's axis) and origin ``p (3, M)``, world frame, m.
-    """
-    q = np.asarray(q, dtype=float)
-    if q.shape[-1:] != (chain.dof,):
-        raise ValueError(f"expected joint values of shape (..., {chain.dof}), got {q.shape}")
-    q = q.reshape(-1, chain.dof)
-    if len(q) <= FEW:
-        return columns_of(chain_frames(chain, q))
-    F = chain.fixed
-    qq = q + chain.offset
-    cols, p = _start(F[0], q.shape[0])
-    out = []
-    for i in range(chain.dof):
-        cols, p = _move(chain, i, cols, p, qq[:, i])
-        out.append((cols, p))
-        cols, p = _apply_fixed(cols, p, F[i + 1])
-    return out
-
-
-def columns_of(frames) -> list:
-    """Stacked frames as the structure of arrays of :func:`frame_columns`.
-
-    Parameters
-    ----------
-    frames : ndarray (M, n, 4, 4)
-        Poses, e.g. those of :func:`chain_frames`.
-
-    Returns
-    -------
-    list of n tuples ``(cols, p)``
-        Per frame, its rotation columns (three ``(3, M)``) and origin ``(3, M)``, all
-        views into ``frames``.
-    """
-    return [([frames[:, i, :3, j].T for j in range(3)], frames[:, i, :3, 3].T)
-            for i in range(frames.shape[1])]
+    c, s = list(c), list(s)              # the offsets turned in, without trigonometry
+    for i in np.flatnonzero(chain.revolute & (chain.offset != 0.0)).tolist():
+        c[i], s[i] = c[i] * co[i] - s[i] * so[i], s[i] * co[i] + c[i] * so[i]
+    return _walk(chain, c, s, x + chain.offset[:, None])
 
 
 def chain_frames(chain, q) -> np.ndarray:
@@ -377,7 +318,7 @@ def frames_and_tool(chain, q):
     return out[:, :n].reshape(lead + (n, 4, 4)), out[:, n].reshape(lead + (4, 4))
 
 
-def entry_frames(chain, q, *, coefficients: bool = False):
+def entry_frames(chain, q, *, coefficients: bool = False, column_walk: bool = False):
     """The joint frames and the tool pose, entry by entry: each entry of every frame of every
     configuration in one array, so that a vector of the frames (an axis, an origin) is a
     ``(3, M)`` block and the same vector of all frames a ``(3, n + 1, M)`` one.
@@ -394,6 +335,9 @@ def entry_frames(chain, q, *, coefficients: bool = False):
     coefficients : bool
         Also return each joint's ``cos x, sin x, x`` with ``x = q_i + c_i`` (its offset
         added), ``(3, M, n)``.
+    column_walk : bool
+        The column walk for any number of configurations: each one's bits then do not
+        depend on how many are evaluated together.
 
     Returns
     -------
@@ -413,28 +357,16 @@ def entry_frames(chain, q, *, coefficients: bool = False):
         raise ValueError(f"expected joint values of shape (M, {chain.dof}), got {q.shape}")
     N, n = flat.shape
     out = np.empty((3, 4, n + 1, N))
-    if N <= FEW:
+    if N <= FEW and not column_walk:
         coef = _coefficients(chain, flat)
         motions = _motions(chain, coef)
         P = _prefixes(chain, motions)
         out[:, :, :n] = (P[:-1] @ motions)[:, :, :3].transpose(2, 3, 0, 1)
         out[:, :, n] = P[-1, :, :3].transpose(1, 2, 0)
         return (out, coef[:3]) if coefficients else out
-    if coefficients:
-        qq = flat + chain.offset
-        return entry_frames(chain, flat), np.stack((np.cos(qq), np.sin(qq), qq))
-    F = chain.fixed
+    coef = np.empty((3, n, N))                    # joint-major cos x, sin x, x
     for start in range(0, N, CHUNK):
         sl = slice(start, min(start + CHUNK, N))
-        qq = flat[sl] + chain.offset
-        cols, p = _start(F[0], len(qq))
-        for i in range(n + 1):
-            if i < n:
-                cols, p = _move(chain, i, cols, p, qq[:, i])
-            for j in range(3):
-                out[:, j, i, sl] = cols[j]
-            out[:, 3, i, sl] = p
-            if i < n:
-                cols, p = _apply_fixed(cols, p, F[i + 1])
-    return out
-
+        coef[:, :, sl] = _angles(chain, flat[sl])
+        _walk(chain, *coef[:, :, sl], frames=out[..., sl])
+    return (out, coef.transpose(0, 2, 1)) if coefficients else out

@@ -18,18 +18,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fk import CHUNK, FEW, joint_batch, walk, prefixes_few
-from .spatial import LEVI_CIVITA
+from .fk import entry_frames, joint_batch
 from .tolerances import SINGULAR_TOL
 
 
 def jacobian_and_pose(chain, q, *, column_walk: bool = False):
-    """The world-frame Jacobian and the tool pose from one walk of the chain (for
+    """The world-frame Jacobian and the tool pose from one evaluation of the chain (for
     Newton-type searches, which need both).
-
-    Up to :data:`~kincalc.fk.FEW` configurations are evaluated as stacked 4x4 products,
-    more by the column walk (:func:`kincalc.fk.walk`): the two round differently in the
-    last bits.
 
     Parameters
     ----------
@@ -38,16 +33,16 @@ def jacobian_and_pose(chain, q, *, column_walk: bool = False):
     q : array_like (..., n)
         Joint values, rad / m.
     column_walk : bool
-        The column walk's arithmetic for any number of configurations: each one's bits then
-        do not depend on how many are evaluated together (a Newton search whose answers must
-        not depend on the rest of its batch). Up to :data:`ROWS_ALONG` configurations of a
-        revolute chain take the walk's products and sums in its order on ``(4, 5, N)``
-        arrays (:func:`_walk_rows`: the same bits in fewer numpy calls).
+        Evaluate the chain by the column walk for any number of configurations
+        (:func:`kincalc.fk.entry_frames`): each one's bits then do not depend on how many are
+        evaluated together (a Newton search whose answers must not depend on the rest of
+        its batch). By default up to :data:`~kincalc.fk.FEW` configurations are evaluated as
+        stacked 4x4 products, which round differently in the last bits.
 
     Returns
     -------
     J : ndarray (..., 6, n)
-        :func:`jacobian_base`.
+        :func:`jacobian_base`, C-contiguous.
     T : ndarray (..., 4, 4)
         ``T_world_tool`` (m).
 
@@ -58,96 +53,47 @@ def jacobian_and_pose(chain, q, *, column_walk: bool = False):
     """
     q, flat = joint_batch(chain, q)
     N, n = flat.shape
-    if N <= FEW and not column_walk:
-        J, T = _few(chain, flat)
-        return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
-    if column_walk and N <= ROWS_ALONG and np.logical_and.reduce(chain.revolute):
-        J, T = _walk_rows(chain, flat)
-        return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
-    J = np.zeros((N, 6, n))
+    A = entry_frames(chain, flat, column_walk=column_walk)          # (3, 4, n + 1, N)
+    J = np.ascontiguousarray(frames_jacobian(A, chain.revolute).transpose(2, 0, 1))
     T = np.zeros((N, 4, 4))
+    T[:, :3] = A[:, :, n].transpose(2, 0, 1)
     T[:, 3, 3] = 1.0
-    for start in range(0, N, CHUNK):
-        sl = slice(start, min(start + CHUNK, N))
-        axes, points = [], []
-
-        def record(i, cols, p):
-            axes.append(cols[2])
-            points.append(p)
-
-        cols, pe = walk(chain, flat[sl], on_joint=record)
-        for i in range(n):
-            z = axes[i]
-            if chain.revolute[i]:
-                J[sl, :3, i] = np.cross(z, pe - points[i], axis=0).T
-                J[sl, 3:, i] = z.T
-            else:
-                J[sl, :3, i] = z.T
-        for j in range(3):
-            T[sl, :3, j] = cols[j].T
-        T[sl, :3, 3] = pe.T
     return J.reshape(q.shape[:-1] + (6, n)), T.reshape(q.shape[:-1] + (4, 4))
 
 
-#: configurations up to which :func:`_walk_rows` stands in for the column walk (beyond, the
-#: walk's own loop is faster)
-ROWS_ALONG = 256
-_XYZXY = np.array([0, 1, 2, 0, 1])
+def frames_jacobian(frames, revolute) -> np.ndarray:
+    """The geometric Jacobian (world frame) from the joint frames, joint-major.
 
+    Column i is ``[z_i x (p_e - o_i); z_i]`` for a revolute joint and ``[z_i; 0]`` for a
+    prismatic one (Siciliano et al. 2009, eq. 3.30), ``z_i`` and ``o_i`` the axis and origin
+    of frame i, ``p_e`` the tool's origin.
 
-def _walk_rows(chain, flat):
-    """:func:`jacobian_and_pose` of a revolute chain at ``flat (N, n)`` with the column
-    walk's bits, each frame a ``(4, 5, N)`` array: its products, and its sums in its order
-    (a zero term adds nothing, the origin is added last), in two numpy calls per joint
-    instead of the walk's dozen. The rows are ``x y z x y`` (the repeats make the cross
-    products of the Jacobian slices)."""
-    N, n = flat.shape
-    F = chain.fixed
-    x = flat + chain.offset
-    cs = np.empty((3, n, 1, N))                  # cos, sin, -sin of each joint
-    np.cos(x.T, out=cs[0, :, 0])
-    np.sin(x.T, out=cs[1, :, 0])
-    np.negative(cs[1], out=cs[2])
-    A = np.empty((n + 1, 4, 5, N))               # A[i, j]: column j of the frame before
-    A[0] = F[0, _XYZXY].T[:, :, None]            # joint i (the tool's for i = n)
-    for a, b, ci, si, link in zip(A[:-1], A[1:], cs[0], cs[1:].swapaxes(0, 1),
-                                  F[1:, :, :, None, None]):
-        # columns 0, 1 turned (c0 c + c1 s, c1 c - c0 s; written over the frame's, which
-        # the Jacobian does not read), then times the fixed link
-        np.add(a[:2] * ci, a[1::-1] * si, out=a[:2])
-        np.add.reduce(a[:, None] * link, axis=0, out=b)
-    z, d = A[:n, 2], A[n, 3] - A[:n, 3]          # (n, 5, N): x y z x y
-    J = np.empty((N, 6, n))                      # z_i x (p_tool - p_i), z_i; zeros +0
-    np.add((z[:, 1:4] * d[:, 2:5] - z[:, 2:5] * d[:, 1:4]).transpose(2, 1, 0), 0.0,
-           out=J[:, :3])
-    np.add(z[:, :3].transpose(2, 1, 0), 0.0, out=J[:, 3:])
-    T = np.zeros((N, 4, 4))
-    T[:, :3] = A[n, :, :3].transpose(2, 1, 0)
-    T[:, 3, 3] = 1.0
-    return J, T
+    Parameters
+    ----------
+    frames : ndarray (3, 4, n + 1, M)
+        The joint frames and the tool pose entry by entry (:func:`kincalc.fk.entry_frames`,
+        world frame, m).
+    revolute : ndarray (n,) of bool
+        True for revolute joints.
 
-
-def _few(chain, flat):
-    """:func:`jacobian_and_pose` of ``flat (N, n)`` from the stacked frames of
-    :func:`kincalc.fk.prefixes_few` (for a few configurations: ~20 numpy calls in all).
-    ``J (N, 6, n)`` is made C-contiguous: the products of Newton's steps then take the same
-    BLAS path (and give the same bits) as the column walk's."""
-    P = prefixes_few(chain, flat)                                  # (n + 1, N, 4, 4)
-    n, N = P.shape[0] - 1, P.shape[1]
-    z = P[:-1, :, :3, 2]                                           # (n, N, 3) joint axes
-    d = P[-1, :, :3, 3] - P[:-1, :, :3, 3]                         # axis point to tool point
-    lin = (z[..., :, None] * d[..., None, :]).reshape(n, N, 9) @ _CROSS   # z x d
-    rev = chain.revolute
-    if np.logical_and.reduce(rev):
-        J = np.concatenate([lin, z], axis=-1)
-    else:
-        r = rev[:, None, None]
-        J = np.concatenate([np.where(r, lin, z), np.where(r, z, 0.0)], axis=-1)
-    return np.ascontiguousarray(J.transpose(1, 2, 0)), P[-1]
-
-
-#: ``(z_b d_c) (9,) @ _CROSS`` is ``z x d`` (the signed entries of the Levi-Civita symbol)
-_CROSS = np.ascontiguousarray(LEVI_CIVITA.T)
+    Returns
+    -------
+    ndarray (6, n, M)
+        ``J[r, i, m]``: row r (vx vy vz wx wy wz) of column i at configuration m (rad/s and
+        m/s to m/s and rad/s).
+    """
+    n = frames.shape[2] - 1
+    z = frames[:, 2, :n]                                          # (3, n, M) the axes
+    d = frames[:, 3, n:] - frames[:, 3, :n]                       # origin to tool point
+    J = np.empty((6,) + z.shape[1:])
+    for r, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
+        np.subtract(z[a] * d[b], z[b] * d[a], out=J[r])
+    J[3:] = z
+    if not np.logical_and.reduce(revolute):
+        rev = revolute[:, None]
+        J[:3] = np.where(rev, J[:3], z)
+        J[3:] = np.where(rev, z, 0.0)
+    return J
 
 
 def jacobian_base(chain, q) -> np.ndarray:
@@ -401,18 +347,10 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
         Either rank below the generic one (the linear rows against the position rank).
     """
     n, m = frames.shape[2] - 1, frames.shape[3]
-    z = frames[:, 2, :n]
-    d = frames[:, 3, n:] - frames[:, 3, :n]                   # (3, n, m): origin to tool
-    # the transposed Jacobian (6, n, m) joint by joint, rows (z x d / L, z) of a revolute
-    # joint and (z L, 0) of a prismatic one: it has the same singular values
-    J = np.empty((6, n, m))
-    np.matmul(LEVI_CIVITA, (z[:, None] * d).reshape(9, -1), out=J[:3].reshape(3, -1))
-    J[:3] *= 1.0 / length
-    J[3:] = z
-    if not np.logical_and.reduce(revolute):
-        rev = revolute[:, None]
-        J[:3] = np.where(rev, J[:3], z * length)
-        J[3:] = np.where(rev, z, 0.0)
+    # the transposed Jacobian (6, n, m) joint by joint, its linear rows divided by L (times L
+    # for a prismatic joint): it has the same singular values
+    J = frames_jacobian(frames, revolute)
+    J[:3] *= np.where(revolute, 1.0 / length, length)[:, None]
     J = J.transpose(2, 1, 0)                                  # (m, n, 6)
     full, full_pos = ranks
     out = np.zeros(m, bool)

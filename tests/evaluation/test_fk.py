@@ -265,7 +265,7 @@ def test_stacked_and_walked_evaluations_agree(name):
     """FK, the Jacobian, the FK check from cosines and sines, and the frames' columns,
     each for FEW configurations (stacked 4x4 products) and FEW + 8 (the column walk):
     the same numbers, on revolute and prismatic joints in every convention."""
-    from kincalc.fk import FEW, chain_frames, frame_columns, frames_and_tool, tool_from_cs
+    from kincalc.fk import FEW, chain_frames, entry_frames, frames_and_tool, tool_from_cs
     r = load_robot(name)
     Q = np.random.default_rng(5).uniform(-2, 2, (FEW + 8, r.dof))
     few, many = slice(0, FEW), slice(0, FEW + 8)
@@ -283,20 +283,20 @@ def test_stacked_and_walked_evaluations_agree(name):
         F, T = frames_and_tool(r.chain, Q[part])
         assert np.allclose(T, r.fk(Q[part]), atol=1e-14)
         assert np.allclose(F, chain_frames(r.chain, Q[part]), atol=1e-14)
-    a, b = frame_columns(r.chain, Q[few]), frame_columns(r.chain, Q[many])
-    for (ca, pa), (cb, pb) in zip(a, b):
-        assert np.allclose(pa, pb[:, few], atol=1e-13)
-        assert all(np.allclose(u, v[:, few], atol=1e-14) for u, v in zip(ca, cb))
+    stacked = entry_frames(r.chain, Q[few])
+    walked = entry_frames(r.chain, Q[few], column_walk=True)
+    assert np.allclose(stacked, walked, atol=1e-14)
+    assert np.array_equal(walked, entry_frames(r.chain, Q[many])[..., few])
 
 
-def test_frame_columns_refuses_joint_values_of_the_wrong_length():
-    """(2, 3) values for a 6-joint chain were read as one configuration."""
-    from kincalc.fk import frame_columns
+def test_entry_frames_refuses_joint_values_of_the_wrong_length():
+    """(2, 3) values for a 6-joint chain are not one configuration."""
+    from kincalc.fk import entry_frames
     r = load_robot("puma560")
-    with pytest.raises(ValueError, match=r"\(\.\.\., 6\)"):
-        frame_columns(r.chain, np.zeros((2, 3)))
-    cols = frame_columns(r.chain, np.zeros((2, 6)))
-    assert len(cols) == 6 and cols[0][1].shape == (3, 2)
+    for walk in (False, True):
+        with pytest.raises(ValueError, match=r"\(\.\.\., 6\)"):
+            entry_frames(r.chain, np.zeros((2, 3)), column_walk=walk)
+        assert entry_frames(r.chain, np.zeros((2, 6)), column_walk=walk).shape == (3, 4, 7, 2)
 
 
 @pytest.mark.parametrize("seed", range(6))

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 
 from kincalc import load_robot
-from kincalc.fk import FEW
+from kincalc.fk import CHUNK, FEW
 from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters
 from kincalc.ik.general6r.polish import polish_candidates
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.ik.reasons import Blocked
-from kincalc.jacobian import ROWS_ALONG, jacobian_and_pose
+from kincalc.jacobian import jacobian_and_pose
 from kincalc.spatial import rotation_error, wrap
 
 SPECIAL = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi])
@@ -120,13 +120,13 @@ def test_right_side_is_per_pose():
 @pytest.mark.parametrize("name", ["fanuc_crx10ia", "manocha_canny_6r"])
 def test_newton_chain_has_the_same_bits_for_any_number_of_rows(name):
     """:func:`jacobian_and_pose` with ``column_walk``: each row's bits do not depend on how many
-    rows are evaluated (below and above FEW and the walk's chunk), and agree with the
-    stacked products below FEW to rounding."""
+    rows are evaluated (below and above FEW and across the walk's chunks), and agree with
+    the stacked products below FEW to rounding."""
     chain = robot_data(load_robot(name)).chain
-    q = np.random.default_rng(8).uniform(-4.0, 4.0, (600, 6))
+    q = np.random.default_rng(8).uniform(-4.0, 4.0, (CHUNK + 600, 6))
     J, F = jacobian_and_pose(chain, q, column_walk=True)
-    for lo, n in ((0, 1), (5, 2), (40, FEW), (90, FEW + 1), (10, ROWS_ALONG),
-                  (300, ROWS_ALONG + 1)):
+    for lo, n in ((0, 1), (5, 2), (40, FEW), (90, FEW + 1), (10, 256), (300, 257),
+                  (CHUNK - 40, 100)):
         Jn, Fn = jacobian_and_pose(chain, q[lo:lo + n], column_walk=True)
         assert np.array_equal(Jn, J[lo:lo + n]) and np.array_equal(Fn[:, :3], F[lo:lo + n, :3])
     Js, Fs = jacobian_and_pose(chain, q[:FEW])                 # stacked 4x4 products
