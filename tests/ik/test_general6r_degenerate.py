@@ -15,6 +15,7 @@ import pytest
 
 from kincalc import load_robot
 from kincalc.fk import CHUNK, FEW
+from kincalc.ik.general6r import solve_general_6r
 from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters
 from kincalc.ik.general6r.polish import polish_candidates
 from kincalc.ik.general6r.robot import robot_data
@@ -140,7 +141,7 @@ def test_newton_lands_alike_alone_and_with_other_candidates():
     robot = load_robot("fanuc_crx10ia")
     data = robot_data(robot)
     T = robot.fk(special_configurations(60, np.random.default_rng(2)))
-    pose, _, cand, _ = data.candidates(T)
+    pose, _, cand, _, _ = data.candidates(T)
     Tt = (T[:, :3] / data.scale)[pose]
     Q, res, _ = polish_candidates(data.chain, Tt, cand)
     for i in range(len(T)):
@@ -205,35 +206,64 @@ def test_a_chained_cluster_keeps_its_exact_multiple_root():
         assert not alone[3][np.argmin(np.max(np.abs(wrap(S - q)), axis=1))]
 
 
-def _solved_by_a_pivot(robot, T):
-    """Some pivot of the elimination applies at the pose (not the last resort, which
-    perturbs the robot and can lose solutions near a singular configuration)."""
+def _every_pivot_degenerates(robot, T):
+    """No pivot of the elimination applies at the pose ``T (4, 4)``: the last resort (the
+    perturbed robots) solves it."""
     data = robot_data(robot)
-    return not all(data.raw(T[None], s)[3][0] for s in data.shifts)
+    return all(data.raw(T[None], s)[3][0] for s in data.shifts)
 
 
-@pytest.mark.parametrize("name,seed", [("kinova_gen3_lite", 2), ("xarm6", 1)])
+@pytest.mark.parametrize("name,seed", [("kinova_gen3_lite", 2), ("kinova_jaco2_6dof", 3),
+                                       ("xarm6", 1)])
 def test_every_regular_generating_configuration_is_found(name, seed):
-    """400 degenerate poses: the generating configuration is among the solutions whenever it
-    is regular and a pivot of the elimination applies. kinova_gen3_lite (seed 2) has chains
-    with an exact multiple root; xarm6 (seed 1) has multiple roots that rounding splits into
-    a polygon around an exact one (a real angle and a conjugate pair at 3.7e-4 rad of an
-    exact triple root), whose chain must stay one cluster (its mean is the root)."""
+    """400 degenerate poses: each has solutions, all reproducing it, and the generating
+    configuration is among them whenever it is regular, also where every pivot of the
+    elimination degenerates (the last resort: some 100 of the kinova poses). kinova_gen3_lite
+    (seed 2) has chains with an exact multiple root, and lost 7 regular configurations to the
+    last resort's close pairs (one Newton landing point for both) before its restarts;
+    kinova_jaco2_6dof (seed 3) lost 3, and 2 folded poses had no solution (Newton gave up on
+    their singular roots); xarm6 (seed 1) has multiple roots that rounding splits into a
+    polygon around an exact one (a real angle and a conjugate pair at 3.7e-4 rad of an exact
+    triple root), whose chain must stay one cluster (its mean is the root)."""
     robot = load_robot(name)
     Q = special_configurations(400, np.random.default_rng(seed))
     T = robot.fk(Q)
     res = robot.ik_batch(T)
-    regular, lost = 0, []
+    regular, lost, none = 0, [], []
     for i, q in enumerate(Q):
+        S = res.q[i][res.valid[i]]
+        assert_round_trip(robot, T[i], S)
+        if not len(S):
+            none.append(np.degrees(q).round(2).tolist())
         if singular(robot, q):
             continue
         regular += 1
-        S = res.q[i][res.valid[i]]
-        assert_round_trip(robot, T[i], S)
         if not (len(S) and np.min(np.max(np.abs(wrap(S - q)), axis=1)) < 1e-6):
-            if _solved_by_a_pivot(robot, T[i]):
-                lost.append(np.degrees(q).round(2).tolist())
-    assert regular >= 200 and not lost, lost
+            lost.append(np.degrees(q).round(2).tolist())
+    assert regular >= 200 and not lost and not none, (lost, none)
+
+
+def test_the_last_resort_finds_both_solutions_of_a_close_pair():
+    """kinova_gen3_lite at (83.29, 90, 90, 0, 0, 101.4) deg: every pivot degenerates, and the
+    pose has a close pair of regular solutions (the other at q4 = 4.09, q6 = 96.27 deg, 0.09
+    rad away, the same pivot angle q3). Both perturbed robots turn the pair into a double or
+    complex pair whose two candidates lie near its midpoint, on the partner's side, or on the
+    partner: Newton took every one there and the generating configuration was lost. Now
+    both are found, alone and in a batch, each reproducing the pose."""
+    robot = load_robot("kinova_gen3_lite")
+    q = np.radians([83.29, 90.0, 90.0, 0.0, 0.0, 101.4])
+    partner = np.radians([84.334, 90.0, 90.0, 4.091, 0.0, 96.265])
+    T = robot.fk(q)
+    assert _every_pivot_degenerates(robot, T) and not singular(robot, q)
+    S = solve_general_6r(robot, T)
+    assert_round_trip(robot, T, S)
+    d = np.max(np.abs(wrap(S - q)), axis=1)
+    assert np.min(d) < 1e-6
+    near = S[(d < 0.2) & (d > 1e-6)]                       # the partner, and only it
+    assert len(near) == 1 and np.max(np.abs(wrap(near[0] - partner))) < 1e-4
+    other = robot.fk(np.random.default_rng(5).uniform(-np.pi, np.pi, (7, 6)))
+    batch = robot.ik_batch(np.concatenate([other[:3], T[None], other[3:]]))
+    assert_same(valid_set(robot.ik_batch(T[None]), 0), valid_set(batch, 3))
 
 
 def test_tight_subclusters_of_a_chain():

@@ -42,6 +42,9 @@ LIMITS = np.array([COND_GOOD, _RANK_BAD])
 STEP_MAX = 0.5
 NEWTON_ITERS = 20
 GIVE_UP = {3: 1e-2, 6: 1e-6}      # after this many steps, drop candidates still above
+#: the same for the last resort's candidates, which start 1e-3 .. 1e-2 rad away, where a
+#: close pair of solutions (a nearly singular Jacobian) makes Newton converge linearly
+GIVE_UP_LAST = {3: 1e-2, 10: 1e-4}
 # the two matrices inverted together per pose: A (12x12) and Q's R (8x8, padded with I)
 INV_PAD = np.zeros((2, 12, 12))
 INV_PAD[1, 8:, 8:] = np.eye(4)

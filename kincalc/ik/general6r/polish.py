@@ -8,7 +8,8 @@ import numpy as np
 from ...jacobian import jacobian_and_pose
 from ...spatial import rotvec_from_matrix
 from ..newton import polish
-from .common import ACCEPT_TOL, GIVE_UP, NEWTON_ITERS, STEP_MAX, nnz, reduce_sum
+from .common import (ACCEPT_TOL, GIVE_UP, GIVE_UP_LAST, NEWTON_ITERS, STEP_MAX, nnz,
+                     reduce_sum)
 
 
 # --- Newton polishing on the real robot -----------------------------------
@@ -57,7 +58,7 @@ def rotation_log(v, c2, R):
     return w
 
 
-def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
+def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP):
     """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T`` for the candidates ``Q``.
 
     A candidate stops when its residual ``max(|dp| / L, |dw|)`` is at rounding level (below
@@ -76,6 +77,9 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
         The starts (rad).
     iters : int
         Newton steps at most (steps of at most ``STEP_MAX`` rad).
+    give_up : dict
+        ``{step: bound}``: after that many steps, drop the candidates whose residual is
+        still above ``bound``.
 
     Returns
     -------
@@ -96,4 +100,46 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS):
         return (np.concatenate([Tr[:, :, 3] - F[:, :3, 3], rotation_log(v, c2, R)], axis=1),
                 lambda keep: J[keep])
     return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
-                  stall=1e-2 * ACCEPT_TOL, give_up=GIVE_UP, max_step=STEP_MAX)
+                  stall=1e-2 * ACCEPT_TOL, give_up=give_up, max_step=STEP_MAX)
+
+
+def polish_last_resort(chain, T, Q):
+    """Newton for the candidates of the last resort (the perturbed robots), from both sides.
+
+    The real robot's solutions lie some 1e-3 .. 1e-2 rad from these candidates. Where two of
+    them are close (a nearly singular Jacobian, common at the special poses that need the last
+    resort: e.g. kinova_gen3_lite's two wrist solutions 0.09 rad apart sharing the pivot
+    angle), the perturbation is large against their separation: a perturbed robot's pair
+    merges or turns into a complex pair, whose candidates (its real part, twice) lie near the
+    real pair's midpoint, or the pair moves onto one of them. Newton's basins part near the
+    midpoint, so every run lands on the same solution and the other was lost. So each
+    candidate ``c`` that converged to a solution ``q`` is also started from its reflection
+    ``2 c - q`` across its start: where ``c`` lay between the pair, nearer ``q``, that point
+    lies beyond the midpoint, on the other one's side. The first pass gives up later than
+    :func:`polish_candidates` by default (``GIVE_UP_LAST``): between a close pair Newton
+    converges only linearly until it is nearer one of them than their separation, and from
+    these starts that takes more than six steps (the restarts keep the default).
+
+    Parameters
+    ----------
+    chain : Chain
+        The robot's, with lengths divided by its length scale L.
+    T : ndarray (m, 3, 4)
+        Each candidate's target (as for :func:`polish_candidates`).
+    Q : ndarray (m, 6)
+        The starts (rad).
+
+    Returns
+    -------
+    q : ndarray (m + r, 6)
+        Rad, not wrapped: the m candidates, then the r reflected starts.
+    residual : ndarray (m + r,)
+    moved : ndarray (m + r,) of bool
+    src : ndarray (r,) of int
+        The candidate each reflected start comes from.
+    """
+    q, res, moved = polish_candidates(chain, T, Q, give_up=GIVE_UP_LAST)
+    src = np.flatnonzero(res < ACCEPT_TOL)
+    q2, res2, moved2 = polish_candidates(chain, T[src], 2.0 * Q[src] - q[src])
+    return np.concatenate([q, q2]), np.concatenate([res, res2]), \
+        np.concatenate([moved, moved2]), src

@@ -145,7 +145,8 @@ class _Robot6R:
         """Raw candidates for the given poses, each pose with the first ranked shift that works.
 
         A pose where every shift degenerates is solved with both perturbed models (the second
-        one's slots after the first's).
+        one's slots after the first's): the last resort, whose candidates Newton must take
+        from both sides (:func:`~.polish.polish_last_resort`).
 
         Parameters
         ----------
@@ -159,8 +160,11 @@ class _Robot6R:
         q : ndarray (C, 6)
             Rad, in the robot's joint order, not wrapped.
         width : int
+        resort : ndarray (M,) of bool, or None
+            The poses solved by the last resort; None when there are none.
         """
         todo = np.arange(len(T))
+        resort = None
         pieces = []
         for shift in self.shifts:
             pose, slot, q, bad, width = self.raw(T[todo] if len(pieces) else T, shift)
@@ -169,17 +173,20 @@ class _Robot6R:
             if len(todo) == 0:
                 break
         else:
+            resort = np.zeros(len(T), bool)
+            resort[todo] = True
             offset = 0
             for model in self.perturbed:
                 pose, slot, q, _, width = eliminate(model, T[todo])
                 pieces.append((todo[pose], slot + offset, q, offset + width))
                 offset += width
         if len(pieces) == 1:
-            return pieces[0]
+            return pieces[0] + (resort,)
         pose = np.concatenate([p[0] for p in pieces])
         order = np.lexsort((np.concatenate([p[1] for p in pieces]), pose))
         return (pose[order], np.concatenate([p[1] for p in pieces])[order],
-                np.concatenate([p[2] for p in pieces])[order], max(p[3] for p in pieces))
+                np.concatenate([p[2] for p in pieces])[order], max(p[3] for p in pieces),
+                resort)
 
 
 @per_robot

@@ -7,7 +7,7 @@ import numpy as np
 
 from ...spatial import wrap
 from .common import ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, nnz, reduce_all, reduce_max
-from .polish import polish_candidates
+from .polish import polish_candidates, polish_last_resort
 from .robot import robot_data
 
 
@@ -31,9 +31,11 @@ def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
     ok : ndarray (N, BATCH_SLOTS) bool
         The valid slots, first in each row: each reproduces its pose by FK to 1e-10
         relative to ``robot.characteristic_length`` (position) and 1e-10 rad, after
-        Newton polishing on ``robot.chain``; duplicates within MERGE_TOL are merged. A
-        pose outside the workspace, a non-finite pose, or (not reached by any robot of
-        the library) a pose where every pivot and the last resort degenerate, gets none.
+        Newton polishing on ``robot.chain`` (the last resort's candidates also from a
+        second start each, past their solution: a close pair's other one); duplicates
+        within MERGE_TOL are merged. A pose outside the workspace, a non-finite pose, or
+        (not reached by any robot of the library) a pose where every pivot and the last
+        resort degenerate, gets none.
 
     Raises
     ------
@@ -75,9 +77,12 @@ def _solve_block(data, T, Q_out, ok):
     M = len(Tr)
     if M == 0:
         return
-    pose, slot, cand, width = data.candidates(Tr)
+    pose, slot, cand, width, resort = data.candidates(Tr)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
-    Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
+    if resort is None:
+        Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
+    else:
+        pose, Qp, res, moved = _polish_with_last_resort(data.chain, Tt, pose, cand, resort)
     acc = res < ACCEPT_TOL
     pose, Qp = pose[acc], wrap(Qp[acc])
     if not len(pose):                   # no candidate reaches its pose: no solution
@@ -107,6 +112,21 @@ def _solve_block(data, T, Q_out, ok):
     ok[pose, rank] = True
 
 
+def _polish_with_last_resort(chain, Tt, pose, cand, resort):
+    """Newton for candidates of which those of the poses ``resort (M,)`` come from the last
+    resort (:func:`~.polish.polish_last_resort`: patient, and restarted past each landing
+    point). Returns ``pose, q, residual, moved``, sorted by pose (stable: a pose's candidates
+    in slot order, then its restarts in the order of the candidates they come from)."""
+    last = resort[pose]
+    rows, lrows = np.flatnonzero(~last), np.flatnonzero(last)
+    q1, r1, m1 = polish_candidates(chain, np.take(Tt, pose[rows], axis=0), cand[rows])
+    q2, r2, m2, src = polish_last_resort(chain, np.take(Tt, pose[lrows], axis=0), cand[lrows])
+    pose = np.concatenate([pose[rows], pose[lrows], pose[lrows[src]]])
+    order = np.argsort(pose, kind="stable")
+    return (pose[order], np.concatenate([q1, q2])[order], np.concatenate([r1, r2])[order],
+            np.concatenate([m1, m2])[order])
+
+
 def _duplicates(Qd, good):
     """``(M, S)``: slot i of a pose is within MERGE_TOL (wrapped, every joint) of a good slot
     j < i of it; ``Qd (M, S, 6)`` wrapped to (-pi, pi], ``good (M, S)``. The pairs are
@@ -122,9 +142,9 @@ def _duplicates(Qd, good):
     return dup
 
 
-# [i, j]: slot j comes before slot i (a pose has at most 96 candidates: 2 x 48 in the last
-# resort)
-_EARLIER = np.tri(6 * BATCH_SLOTS, k=-1, dtype=bool)
+# [i, j]: slot j comes before slot i (a pose has at most 192 candidates: 2 x 48 in the last
+# resort, and as many restarts)
+_EARLIER = np.tri(12 * BATCH_SLOTS, k=-1, dtype=bool)
 
 
 def solve_general_6r(robot, T) -> np.ndarray:
