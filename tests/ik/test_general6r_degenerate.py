@@ -16,7 +16,8 @@ import pytest
 from kincalc import load_robot
 from kincalc.fk import CHUNK, FEW
 from kincalc.ik.general6r import solve_general_6r
-from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters
+from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters, eliminate
+from kincalc.ik.general6r.model import Model
 from kincalc.ik.general6r.polish import polish_candidates
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.ik.reasons import Blocked
@@ -264,6 +265,21 @@ def test_the_last_resort_finds_both_solutions_of_a_close_pair():
     other = robot.fk(np.random.default_rng(5).uniform(-np.pi, np.pi, (7, 6)))
     batch = robot.ik_batch(np.concatenate([other[:3], T[None], other[3:]]))
     assert_same(valid_set(robot.ik_batch(T[None]), 0), valid_set(batch, 3))
+
+
+def test_a_chain_of_more_than_twelve_eigenvalues_keeps_its_own_vectors():
+    """A perturbed fanuc_crx10ia (every scaled DH parameter moved by 0.5 .. 1e-4, the last
+    resort's kind of model, another seed) at a folded pose: its 16 eigenvalues form one chain
+    (a pencil all but singular), wider than Sigma's null space can be (12): the elimination
+    raised a broadcasting ValueError. It now keeps the chain's own vectors."""
+    robot = load_robot("fanuc_crx10ia")
+    m = robot_data(robot).model
+    rng = np.random.default_rng(1009)
+    dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * 1e-4
+    model = Model(m.B, m.E, m.L, m.offset, m.d + dd, m.a + da, m.alpha + dal)
+    T = robot.fk(np.radians([-90.0, 0.0, -90.0, 180.0, 180.0, 90.0]))
+    pose, slot, q, degenerate, width = eliminate(model, T[None])
+    assert np.isfinite(q).all() and np.all(pose == 0) and np.all(slot < width)
 
 
 def test_tight_subclusters_of_a_chain():

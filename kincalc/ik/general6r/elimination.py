@@ -299,18 +299,16 @@ def split_clusters(v, phi, keep, Sig):
     sk = np.sort(key, axis=1)
     if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
         return keep, None                                # no cluster (the common case)
-    order = np.argsort(key, axis=1)
-    close = np.diff(np.take_along_axis(key, order, axis=1), axis=1) < CLUSTER_TOL
-    # runs of close neighbours in sorted order: group id per sorted position
-    gid = np.concatenate([np.zeros((M, 1), int), np.cumsum(~close, axis=1)], axis=1)
-    flat = (np.arange(M)[:, None] * n + gid).ravel()
-    size = np.bincount(flat, minlength=M * n)
-    start = np.concatenate([np.ones((M, 1), bool), ~close], axis=1)     # a run begins here
-    run = size[flat].reshape(M, n)
-    rows = np.flatnonzero(np.logical_or.reduce(start & (run >= 2), axis=1))
+    order, start, run = _runs(key)
+    # Sigma (12 x 12) has a null space at a cluster's mean only up to 12 wide: a longer chain
+    # (a pencil all but singular, e.g. a perturbed robot at a degenerate pose) keeps its vectors
+    treat = start & (run >= 2) & (run <= 12)
+    rows = np.flatnonzero(np.logical_or.reduce(treat, axis=1))
+    if not len(rows):
+        return keep, None
     at = np.zeros(M, int)
     at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
-    sizes = np.unique(run[start & (run >= 2)])
+    sizes = np.unique(run[treat])
     tight = _tight_subclusters(phi, order, start, run, sizes[sizes >= 3])
     w = 2 * n if tight else n
     v2 = np.zeros((len(rows), 12, w), complex)
@@ -338,6 +336,20 @@ def split_clusters(v, phi, keep, Sig):
         phi2[pgk, slots] = mean[:, None]
         keep2[pgk, slots] = True
     return keep, (rows, v2, phi2, keep2)
+
+
+def _runs(key):
+    """The runs of close neighbours (within CLUSTER_TOL) of the sorted ``key (M, n)``: the
+    sort ``order (M, n)``, whether a run begins at a sorted position ``start (M, n)`` and the
+    size of the run at each ``run (M, n)``."""
+    M, n = key.shape
+    order = np.argsort(key, axis=1)
+    close = np.diff(np.take_along_axis(key, order, axis=1), axis=1) < CLUSTER_TOL
+    gid = np.concatenate([np.zeros((M, 1), int), np.cumsum(~close, axis=1)], axis=1)
+    flat = (np.arange(M)[:, None] * n + gid).ravel()          # group id per sorted position
+    size = np.bincount(flat, minlength=M * n)
+    start = np.concatenate([np.ones((M, 1), bool), ~close], axis=1)
+    return order, start, size[flat].reshape(M, n)
 
 
 #: a sub-cluster of a chain is tight when its diameter times this is below its distance to the
