@@ -68,11 +68,14 @@ def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:
     rest = [j for j in range(robot.dof) if j not in arm]
     groups = [(arm, None)] if not rest else \
         [(arm, None)] + [(rest, members) for members in _same(Q, arm, rev)]
+    # counted before any is built: 8 solutions of a general 6R give 8**6 combinations,
+    # and building each one (a Python-level comparison with every solution) took 16 s
+    count = sum(combination_count(Q if m is None else Q[m], g, rev) for g, m in groups)
+    if count > MAX_COMBINATIONS:
+        return [], (f"{count} combinations of the solutions' joint values: too many to "
+                    f"list (at most {MAX_COMBINATIONS})")
     combos = [(g, m, c) for g, m in groups
               for c in _combinations(Q if m is None else Q[m], g, rev)]
-    if len(combos) > MAX_COMBINATIONS:
-        return [], (f"{len(combos)} combinations of the solutions' joint values: too many to "
-                    f"list (at most {MAX_COMBINATIONS})")
     out = []
     for joints, members, values in combos:
         if members is None and rest:
@@ -116,6 +119,23 @@ def _same(Q, joints, rev) -> list:
         else:
             groups.append([i])
     return groups
+
+
+def combination_count(Q, joints, rev) -> int:
+    """How many combinations :func:`_combinations` gives for the same arguments, without
+    building them: the product of the numbers of distinct values of ``joints``, less the
+    combinations that a row of ``Q (m, n)`` has (a value tuple within :data:`SAME` of the
+    row's, joint by joint)."""
+    values = [_distinct(Q[:, j], rev[j]) for j in joints]
+    total = 1
+    for v in values:
+        total *= len(v)
+    taken = set()
+    for q in Q:
+        near = [[k for k, u in enumerate(v) if _gap(q[j], u, rev[j]) < SAME]
+                for j, v in zip(joints, values)]
+        taken.update(itertools.product(*near))
+    return total - len(taken)
 
 
 def _combinations(Q, joints, rev) -> list:

@@ -104,3 +104,35 @@ def test_numerical_robots_say_there_are_no_branches():
     res = solve(r, Target(r.fk(np.array([0.2, 0.3, 0.4]))), all_branches=True)
     assert res.family == "numerical" and res.rejected == [] and res.dead_ends == []
     assert "numerical" in res.note
+
+
+def test_the_count_is_the_product_less_the_solutions():
+    """``combination_count`` (what decides "too many to list" before anything is built)
+    against a hand count on seeded random value tables: values on a grid, so that the
+    distinct values of a joint and the distinct rows are plain to count."""
+    from kincalc.ik.combinations import combination_count
+    rng = np.random.default_rng(20240611)
+    for _ in range(300):
+        m, n = rng.integers(1, 9), rng.integers(1, 7)
+        Q = rng.integers(-3, 4, size=(m, n)) * 0.25
+        rev = rng.random(n) < 0.7
+        joints = sorted(rng.choice(n, size=rng.integers(1, n + 1), replace=False).tolist())
+        sub = Q[:, joints]
+        expect = int(np.prod([len(set(sub[:, k])) for k in range(len(joints))])) \
+            - len({tuple(r) for r in sub})
+        assert combination_count(Q, joints, rev) == expect
+
+
+def test_too_many_combinations_are_counted_not_built(monkeypatch):
+    """A general 6R (xArm 6) has 8 solutions with 8 values of every joint: 8**6 - 8 arm
+    combinations. --all-branches says there are too many to list; it built each one
+    first (a comparison with every solution each: 16 s a pose), now it counts them."""
+    import kincalc.ik.combinations as combinations
+    calls = []
+    real = combinations._equal
+    monkeypatch.setattr(combinations, "_equal", lambda *a: calls.append(1) or real(*a))
+    r = load_robot("xarm6")
+    res = solve(r, Target(r.fk(np.radians([10, 20, 30, 40, 50, 60]))), all_branches=True)
+    assert len(res.solutions) == 8
+    assert res.rejected == [] and res.note.startswith("262136 combinations")
+    assert len(calls) < 1000
