@@ -59,19 +59,22 @@ def dump_robot(robot) -> str:
 
     Raises
     ------
+    InputError
+        The text would not read back: a number of it is beyond what a robot file may
+        hold (:data:`~kincalc.limits.MAX_MAGNITUDE`; a point of a poe joint, summed
+        from lengths at the limit, can be).
     ValueError
         A number that is not finite (:func:`num`).
     KeyError
         A ``length_unit`` or ``angle_unit`` not in :data:`~kincalc.units.LENGTH_UNITS` /
         :data:`~kincalc.units.ANGLE_UNITS`.
     """
-    from .reader import parse_robot_text
     numeric: set[tuple[int, str]] = set()
     for _ in range(2):
         text = _text(robot, numeric)
+        back = _read_back(text, robot)
         if robot.convention == "poe" or not robot.expressions:
             return text
-        back = parse_robot_text(text, "<written>")
         wrong = {(i, f) for i, (j, k) in enumerate(zip(robot.joints, back.joints))
                  for f in _DH_FIELDS
                  if not _close(getattr(j, f), getattr(k, f))}
@@ -79,6 +82,20 @@ def dump_robot(robot) -> str:
             return text
         numeric |= wrong
     return text
+
+
+def _read_back(text: str, robot):
+    """``text`` read as a robot file; a text that does not read is an :class:`InputError`
+    naming the field (a file kincalc writes is one it reads)."""
+    from ..errors import InputError, RobotFileError
+    from .reader import parse_robot_text
+    try:
+        return parse_robot_text(text, "<written>")
+    except RobotFileError as exc:
+        who = "" if exc.joint is None else \
+            f"joint {exc.joint}" + (f" ({exc.joint_name})" if exc.joint_name else "") + ": "
+        raise InputError(f"{robot.name} in {robot.convention} cannot be written as a robot "
+                         f"file: {who}{exc.detail}") from None
 
 
 def _close(a: float, b: float) -> bool:

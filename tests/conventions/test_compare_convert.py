@@ -130,6 +130,39 @@ def test_general_base_and_tool_are_written_exactly():
         assert match(r, back).same
 
 
+#: lengths at the magnitude limit whose sum (a poe point, the tool) is beyond it
+AT_THE_LIMIT = """name: big
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 0, a: 1e9, d: 0, theta: 0}
+  - {name: q2, type: revolute, alpha: 0, a: 1, d: 0, theta: 0}
+"""
+
+
+def test_a_robot_that_would_not_read_back_is_not_written():
+    """A dh robot with a = 1e9 (the largest number a robot file may hold) and another
+    link: its poe tool is at 1e9 + 1, which the reader refuses. The writer wrote the file
+    anyway (exit 0, a file kincalc cannot read); it now says which field is too large."""
+    from kincalc.errors import InputError
+    r = convert(parse_robot_text(AT_THE_LIMIT), "poe")
+    with pytest.raises(InputError, match=r"big in poe cannot be written as a robot file: "
+                                         r"'tool'.xyz\[0\] is too large"):
+        dump_robot(r)
+    # the dh form itself reads back
+    assert match(parse_robot_text(dump_robot(parse_robot_text(AT_THE_LIMIT))),
+                 parse_robot_text(AT_THE_LIMIT)).same
+
+
+def test_cli_a_conversion_beyond_the_limit_is_one_line_and_no_file(capsys, tmp_path):
+    (tmp_path / "big.yaml").write_text(AT_THE_LIMIT)
+    out = tmp_path / "out.yaml"
+    assert main(["convert", str(tmp_path / "big.yaml"), "--to", "poe", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cannot be written as a robot file" in err
+    assert not out.exists()
+
+
 # --- kincalc convert ------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", ROBOTS)
