@@ -178,9 +178,10 @@ class Branches:
         F = np.concatenate([self.F, np.zeros((self.n, N, G), bool)], axis=-1)
         extra = {k: np.concatenate([v, np.zeros((N, G) + v.shape[2:])], axis=1)
                  for k, v in self.extra.items()}
+        new = (np.r_[np.arange(self.K), np.full(G, -1)],) if self.explain else ()  # no step's
         return self._with(X=X, F=F, ok=np.concatenate([self.ok, ok], axis=1),
                           signs=self.signs + ((),) * G, extra=extra,
-                          parent=np.arange(self.K + G))
+                          parent=np.arange(self.K + G), lineage=self.lineage + new)
 
     def without_free(self) -> "Branches":
         """These branches with no joint free and no continuum (solutions refined on another
@@ -434,10 +435,10 @@ class Branches:
 
     def final_index(self, at: int) -> np.ndarray:
         """``(K,)``: for each final slot, its slot at lineage step ``at`` (the index into
-        ``lineage`` of a :class:`Note` or :class:`DeadEnd`)."""
+        ``lineage`` of a :class:`Note` or :class:`DeadEnd`), -1 if :meth:`appended` after."""
         idx = np.arange(self.K)
         for parent in reversed(self.lineage[at + 1:]):
-            idx = parent[idx]
+            idx = np.where(idx >= 0, parent[np.maximum(idx, 0)], -1)
         return idx
 
 

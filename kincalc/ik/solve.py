@@ -330,6 +330,8 @@ def _trace(sv: Solved, k: int) -> list:
     out = []
     for note in br.notes:
         slot = br.final_index(note.at)[k] if note.at < len(br.lineage) else k
+        if slot < 0:                # a slot appended after this step (nearly.py)
+            continue
         value = note.value[0, slot] if note.value.ndim >= 2 else note.value
         out.append((note.label, value.tolist() if isinstance(value, np.ndarray) else float(value),
                     note.kind))

@@ -212,3 +212,28 @@ def test_a_structure_tolerance_that_is_no_number_is_refused(value):
     status, out, err = run_cli(["ik", "puma560", "--from-q", "1 2 3 4 5 6",
                                 "--structure-tol", value])
     assert status == 2 and out == "" and "--structure-tol" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("size", [1e-7, 1e-5])
+def test_explain_on_a_nearly_structured_6r(size):
+    """explain (``ik --explain``) on a six-joint robot only nearly of its family: the
+    general 6R elimination's solutions are appended as more slots after the closed form's
+    steps, and tracing a solution back through those steps indexed past their slots
+    (IndexError, exit status 3, for every pose of such a robot). Each solution now has the
+    closed form's steps, or none when it came from the elimination alone."""
+    rng = np.random.default_rng(8)
+    robot = perturbed(load_robot("puma560"), rng, size)
+    for q in rng.uniform(-2, 2, (5, 6)):
+        T = robot.fk(q)
+        res = solve(robot, Target(T), explain=True)
+        assert "joined with the general 6R elimination" in str(res.method)
+        assert_complete(robot, q, T, res)
+        assert all(s.trace for s in res.solutions)
+
+
+def test_slots_appended_come_from_no_step():
+    """:meth:`Branches.appended` slots trace back to no slot (-1) of the earlier steps."""
+    from kincalc.ik.branches import Branches
+    br = Branches.start(1, 6, explain=True).appended(np.ones((1, 2), bool))
+    assert br.K == 3 and br.final_index(0).tolist() == [0, -1, -1]
+    assert br.final_index(len(br.lineage) - 1).tolist() == [0, 1, 2]
