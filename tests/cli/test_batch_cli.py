@@ -190,6 +190,22 @@ def test_bad_records_become_error_records_and_exit_2(tmp_path, capsys):
     assert "zero quaternion" in recs[0]["error"] and "record 3: rpy" in recs[2]["error"]
 
 
+@pytest.mark.parametrize("header, fault", [
+    ("q1,q2,q3,q4,q5,q6,null\n", "unknown column 'null'"),
+    ("x,x\n", "column 'x' appears twice"),
+])
+def test_a_bad_csv_header_without_records_is_said_once(header, fault, tmp_path, capsys):
+    """A CSV header that cannot be used makes every record an error record; with no record
+    after it, it was silence and exit status 0 (the same header with one record: exit 2)."""
+    path = write(tmp_path, "h.csv", [header])
+    code, out, err = run(capsys, "fk", "puma560", "--batch", path)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and f"{path}: line 1: {fault}" in err
+    code, out, err = run(capsys, "fk", "puma560", "--batch", write(tmp_path, "ok.csv",
+                                                                  ["q1,q2,q3,q4,q5,q6\n"]))
+    assert (code, out, err) == (0, "", "")
+
+
 @pytest.mark.parametrize("command", ["ik", "reach"])
 def test_a_pose_record_with_no_joint_values_is_an_error_not_home(command, tmp_path, capsys):
     """``{"q": []}`` is a record with too few joint values, as in fk: it was answered for the

@@ -84,6 +84,12 @@ def _together_fields(line, robot):
     return tuple((key, len(value)) for key, value in kw.items())
 
 
+def header_problem(header, robot) -> str | None:
+    """Why the CSV header ``header`` (from :func:`read_header`: the column names, or the
+    reason it cannot be read) cannot be used for ``robot``'s records, or None."""
+    return header if isinstance(header, str) else _csv_layout(header, robot)[1]
+
+
 def _csv_records(header, robot, start: int, lines) -> list:
     out = []
     if isinstance(header, str):

@@ -9,7 +9,7 @@ import sys
 from ...limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES, open_input, quote, size_text
 from .chunks import process_chunk
 from .formats import csv_header
-from .records import BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, read_header
+from .records import BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
 
 #: the most bytes one read of the input takes
 READ_BYTES = 1 << 16
@@ -67,6 +67,7 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     import gc
     source = _Source(src)
     bad = no = False
+    answered = 0                        # chunks answered
     pool = None
     # the objects alive now (modules, the robot) and after the first chunk (the modules it
     # imports) are left alone by the collector until the end: its full passes over them
@@ -84,12 +85,12 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
                 contextlib.closing(_ordered_map(work, chunks, pool, jobs)) as results:
             if fmt == "csv":
                 out.write(csv_header(kind, robot))
-            for k, (text, b, n) in enumerate(results):
+            for answered, (text, b, n) in enumerate(results, 1):
                 out.write(text)
                 bad |= b
                 no |= n
                 advance(source.position)
-                if not k:
+                if answered == 1:
                     gc.freeze()
     finally:
         gc.unfreeze()
@@ -101,6 +102,9 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         raise InputError(f"--batch {_shown(src)}: record {source.stopped} runs on for more than "
                          f"{size_text(MAX_BATCH_SKIP_BYTES)} without a newline (not a file of "
                          "lines?); reading stopped there")
+    if not answered and header is not None and header_problem(header, robot):
+        # a header no record follows: its fault is said once (each record says it otherwise)
+        raise InputError(f"--batch {_shown(src)}: line 1: {header_problem(header, robot)}")
     return 2 if bad else 1 if no else 0
 
 
