@@ -53,7 +53,8 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         halves (rounding reached before ``tol``); 0 disables.
     give_up : dict, optional
         ``{step: bound}``: after that many steps drop candidates whose residual is still
-        above ``bound`` (spurious starts).
+        above ``bound`` (spurious starts); ``bound`` a float, or an ``(M,)`` array of one
+        bound per candidate.
     max_step : float
         Steps are shortened to at most this in the largest component.
 
@@ -82,7 +83,8 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         if stall and it:
             go &= ~((r < stall) & (r > 0.5 * res[rows]))
         if it in give_up:
-            go &= r < give_up[it]
+            bound = give_up[it]
+            go &= r < (bound[rows] if np.ndim(bound) else bound)
         res[rows] = r
         if it == iterations or not np.count_nonzero(go):
             break

@@ -188,7 +188,7 @@ def test_standard_form_with_the_pivot_at_pi():
         data = robot_data(robot)
         q = rng.uniform(-np.pi, np.pi, 6)
         q[2] = wrap(np.pi - data.model.offset[2])
-        _, _, c, degenerate, _ = data.raw(robot.fk(q)[None], 0)
+        _, _, c, degenerate, _, _ = data.raw(robot.fk(q)[None], 0)
         assert not degenerate[0]
         assert distance(c, q).min() < 1e-6
 
@@ -202,7 +202,7 @@ def test_raw_eigenproblem_candidates_are_accurate_before_newton():
         for _ in range(5):
             q = rng.uniform(-np.pi, np.pi, 6)
             T = robot.fk(q)
-            _, _, raw, degenerate, _ = robot_data(robot).raw(T[None], 0)
+            _, _, raw, degenerate, _, _ = robot_data(robot).raw(T[None], 0)
             assert not degenerate[0]
             raw = wrap(raw[residual(robot, T, raw) < 1e-6])
             distinct = [c for i, c in enumerate(raw)
@@ -382,7 +382,7 @@ def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
     rng = np.random.default_rng(18)
     qs = rng.uniform(-np.pi, np.pi, (80, 6))
     Ts = robot.fk(qs)
-    pose, _, c, degenerate, _ = data.raw(Ts, 5)        # cyclic shift 5: pivot joint 2
+    pose, _, c, degenerate, _, _ = data.raw(Ts, 5)        # cyclic shift 5: pivot joint 2
     assert not degenerate.any()
     assert sizes.count(2) >= 40 and max(sizes) >= 3, sizes   # pairs, and larger clusters
     found = total = 0

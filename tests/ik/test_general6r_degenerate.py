@@ -278,7 +278,7 @@ def test_a_chain_of_more_than_twelve_eigenvalues_keeps_its_own_vectors():
     dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * 1e-4
     model = Model(m.B, m.E, m.L, m.offset, m.d + dd, m.a + da, m.alpha + dal)
     T = robot.fk(np.radians([-90.0, 0.0, -90.0, 180.0, 180.0, 90.0]))
-    pose, slot, q, degenerate, width = eliminate(model, T[None])
+    pose, slot, q, degenerate, width, _ = eliminate(model, T[None])
     assert np.isfinite(q).all() and np.all(pose == 0) and np.all(slot < width)
 
 
@@ -311,3 +311,49 @@ def test_tight_subclusters_of_a_chain():
                      for s in m[1])
         expect = sorted(sorted(np.real(np.array(angles)[w]).round(12).tolist()) for w in want)
         assert got == expect, name
+
+
+@pytest.mark.parametrize("name, q, isolated", [
+    # joints 1 and 4 lined up (q2 = 180, q3 = 0): a self-motion at the pivot angle; the
+    # continuum filled all 16 slots and the two isolated solutions were lost
+    ("yaskawa_hc10", [0.0, 180.0, 0.0, 90.0, 90.0, 7.59716],
+     [[180.0, 180.0, 35.904649, 90.0, -90.0, -136.498192],
+      [0.0, 180.0, -35.904649, -90.0, -90.0, -136.498192]]),
+    ("yaskawa_hc10", [0.0, 0.0, 180.0, 0.0, -90.0, 0.0],
+     [[90.0, 0.0, 144.095351, -90.0, 90.0, 144.095351],
+      [-90.0, 0.0, -144.095351, 90.0, 90.0, 144.095351]]),
+    # more than 16 solutions converge (the continuum's points first): the regular ones were
+    # cut by the slot cap until regular solutions took the slots first
+    ("yaskawa_hc10", [90.0, 0.0, 0.0, -90.0, 90.0, 90.0],
+     [[90.0, 0.0, 35.904649, 90.0, -90.0, -54.095351],
+      [-90.0, 0.0, -35.904649, -90.0, -90.0, -54.095351]]),
+    ("fanuc_crx10ia", [180.0, 0.0, 90.0, -90.0, -90.0, 0.0],
+     [[180.0, 0.0, 58.951778, 90.0, 90.0, -148.951778],
+      [0.0, 0.0, 121.048222, -90.0, 90.0, -148.951778]]),
+])
+def test_isolated_solutions_beside_a_continuum_at_the_pivot_angle(name, q, isolated):
+    """A pose with a continuum of solutions (singular) at one angle of the pivot (joint 2)
+    and isolated regular solutions at the same angle: Sigma's null space there holds a
+    curve of monomial vectors, the cluster's vectors are mixtures, and the isolated
+    solutions were missed although the pivot passed its tests. The cluster marks the pose
+    and the perturbed robots' candidates find them, and regular solutions take the 16 slots
+    before the continuum's points; each reproduces the pose, is regular (so not on the
+    continuum) and is found alone and in a batch."""
+    robot = load_robot(name)
+    T = robot.fk(np.radians(q))
+    isolated = np.radians(isolated)
+    data = robot_data(robot)
+    shift = data.shifts[0]
+    assert not data.raw(T[None], shift)[3][0] and data.raw(T[None], shift)[5][0]
+    for x in isolated:
+        J = robot.jacobian(x)
+        J[:3] /= robot.characteristic_length
+        s = np.linalg.svd(J, compute_uv=False)
+        assert s[-1] > 1e-2 * s[0]                               # isolated and regular
+    S = solve_general_6r(robot, T)
+    assert_round_trip(robot, T, S)
+    for x in isolated:
+        assert np.min(np.max(np.abs(wrap(S - x)), axis=1)) < 1e-6
+    other = robot.fk(np.random.default_rng(5).uniform(-np.pi, np.pi, (5, 6)))
+    batch = robot.ik_batch(np.concatenate([other[:2], T[None], other[2:]]))
+    assert_same(valid_set(robot.ik_batch(T[None]), 0), valid_set(batch, 2))

@@ -103,7 +103,7 @@ a single pose is a batch of one).
    away and were still at 1e-9 after ten steps, so the pose came out unreachable).
    The last resort's candidates (see below) are given up only after ten steps (above
    1e-4), and each one that converged is started once more from the reflection of its
-   solution across its start (:func:`~.polish.polish_last_resort`).
+   solution across its start (:func:`~.polish.polish_from_both_sides`).
    Candidates whose final residual ``max(|dp| / L, |dw|)`` exceeds 1e-10 are
    dropped, the rest are wrapped to (-pi, pi] and merged (per pose) when
    within 1e-6 rad of a solution from an earlier slot (only needed when some
@@ -188,13 +188,26 @@ Limitations
   resort's restarts find a close pair's second solution when a candidate lies
   between the two; one whose candidates all lie beyond one of them can still
   lose the other (not seen on the special poses above).
-* At a pose with a continuum of solutions (a self-motion) and isolated ones
-  besides, the elimination is ill-posed although a pivot passes its tests, and
-  isolated regular solutions can be missed (or not fit in the 16 slots): on the
-  same 2,000 special poses, yaskawa_hc10 misses some 390 well-conditioned
-  solutions at 220 such poses and fanuc_crx10ia 120 at 76, all of them poses a
-  pivot solves, none the generating configuration (found by solving perturbed
-  robots there and polishing).
+* At a pose with a continuum of solutions (a self-motion) at one pivot angle and
+  isolated regular solutions at the same angle (yaskawa_hc10, fanuc_crx10ia with joints
+  1 and 4 lined up), Sigma's null space there holds a curve of monomial vectors and the
+  cluster's vectors are mixtures, although the pivot passes its tests: the isolated
+  solutions were missed (on the 2,000 special poses above, 389 at 220 poses of
+  yaskawa_hc10 and 121 at 76 of fanuc_crx10ia, every one regular: smallest singular value
+  of the scaled Jacobian at least 2e-4 of the largest). Such a cluster (four or more
+  eigenvalues without a monomial vector, or a chain longer than 12; see
+  :func:`~.elimination.split_clusters`) now marks the pose, which gets the perturbed
+  robots' candidates besides the pivot's; where a pose then has more than 16 solutions,
+  the regular ones take the slots first (the continuum's points are samples with a
+  singular Jacobian). The same measurement now misses none. The continuum itself is
+  reported only as the points Newton lands on (flagged singular).
+* A close pair of solutions sharing the pivot angle (a nearly singular Jacobian) whose
+  cluster's vectors both land on one of the two can lose the other: one kinova_gen3_lite
+  pose of the 2,000, (165.48, -89.67, -90, 0, 180, 180) deg, whose partner 0.07 rad away
+  is missed. A later give-up alone does not find it (the cluster's candidate then
+  converges to the found one); the last resort's restart from the reflection does, but
+  applied to every cluster's vectors it costs some 10 % on generic poses (a cluster is
+  common there: any conjugate pair near the real axis), so it is not done.
 * The 1e-10 acceptance is relative to ``robot.characteristic_length``; a
   pose outside the workspace gets no solution.
 * Robots with a prismatic joint are not handled (ValueError).

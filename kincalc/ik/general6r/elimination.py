@@ -84,6 +84,10 @@ def eliminate(model, T):
     width : int
         16, or 32 when a pose has a cluster (whose extra vectors take slots 16-31), or 48
         when a cluster is a chain with a tight sub-cluster (its vectors: slots 32-47).
+    continuum : ndarray (M,) of bool
+        Poses (not degenerate) with a cluster that isolated solutions do not explain, the
+        mark of a continuum of solutions at one pivot angle (see :func:`split_clusters`):
+        their candidates may miss isolated solutions at that angle.
     """
     with np.errstate(all="ignore"):
         W, G, Sig, Ai, Ri, ok, delta = _matrix_polynomial(model, T)
@@ -92,7 +96,7 @@ def eliminate(model, T):
         keep = np.abs(phi.imag) < IMAG_TOL
         if not all_ok:
             keep &= ok[:, None]
-        keep, extra = split_clusters(v, phi, keep, Sig)
+        keep, extra, continuum = split_clusters(v, phi, keep, Sig)
         pose, slot = np.nonzero(keep)
         vs, th3 = v[pose, :, slot], phi.real[pose, slot]
         width = 16
@@ -110,7 +114,9 @@ def eliminate(model, T):
         fin = np.isfinite(reduce_sum(q, axis=1))
     if nnz(fin) < len(fin):
         pose, slot, q = pose[fin], slot[fin], q[fin]
-    return pose, slot, q, ~ok, width
+    if continuum is None:
+        continuum = np.zeros(len(ok), bool)
+    return pose, slot, q, ~ok, width, continuum & ok
 
 
 def _matrix_polynomial(model, T):
@@ -293,19 +299,22 @@ def split_clusters(v, phi, keep, Sig):
     extra : None (no cluster: the common case) or ``(rows (P,), v2 (P, 12, w), phi2 (P, w),
         keep2 (P, w))`` for the P poses with a cluster, slot j of ``v2`` holding the subspace
         vector that goes with own slot j, and (``w = 2n`` when a chain has a tight sub-cluster,
-        else ``w = n``) slot n + j that of its tight sub-cluster"""
+        else ``w = n``) slot n + j that of its tight sub-cluster
+    continuum : None (no cluster) or ndarray (M,) of bool, the poses with a cluster of which
+        ``UNEXPLAINED`` eigenvalues lack a monomial vector, or a chain over 12: a continuum"""
     M, n = phi.shape
     key = np.where(keep, phi.real, _PAST[:n])     # past every angle, far apart (no inf - inf)
     sk = np.sort(key, axis=1)
     if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
-        return keep, None                                # no cluster (the common case)
+        return keep, None, None                          # no cluster (the common case)
     order, start, run = _runs(key)
     # Sigma (12 x 12) has a null space at a cluster's mean only up to 12 wide: a longer chain
     # (a pencil all but singular, e.g. a perturbed robot at a degenerate pose) keeps its vectors
     treat = start & (run >= 2) & (run <= 12)
+    continuum = np.logical_or.reduce(start & (run > 12), axis=1)
     rows = np.flatnonzero(np.logical_or.reduce(treat, axis=1))
     if not len(rows):
-        return keep, None
+        return keep, None, continuum
     at = np.zeros(M, int)
     at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
     sizes = np.unique(run[treat])
@@ -325,6 +334,7 @@ def split_clusters(v, phi, keep, Sig):
         rank = np.argsort(np.argsort(res, axis=1, kind="stable"), axis=1, kind="stable")
         kept = (res < 1e-3) | (rank < k)
         keep[pg[:, None], members] = kept[:, :k]
+        continuum[pg[k - nnz(res < 1e-3, axis=1) >= UNEXPLAINED]] = True
         pgk = at[pg][:, None]
         v2[pgk, :, members] = np.swapaxes(sub, 1, 2)
         phi2[pgk, members] = mean[:, None]
@@ -335,7 +345,7 @@ def split_clusters(v, phi, keep, Sig):
         v2[pgk, :, slots] = np.swapaxes(sub, 1, 2)
         phi2[pgk, slots] = mean[:, None]
         keep2[pgk, slots] = True
-    return keep, (rows, v2, phi2, keep2)
+    return keep, (rows, v2, phi2, keep2), continuum
 
 
 def _runs(key):
@@ -357,6 +367,14 @@ def _runs(key):
 TIGHT_RATIO = 10.0
 #: ... and its distance to the rest exceeds this (rad): below, the pattern is rounding's
 TIGHT_GAP = 1e-5
+#: eigenvalues of one cluster without a monomial vector (own or subspace, within 1e-3) that
+#: mark a continuum of solutions at its angle (a self-motion with the pivot fixed, e.g. two
+#: joint axes lined up): Sigma's null space there holds a curve of monomial vectors, not one
+#: per eigenvalue, the shift operators do not commute and the subspace vectors are mixtures,
+#: so isolated solutions at that angle are lost. On special poses of yaskawa_hc10 and
+#: fanuc_crx10ia such clusters have 8 to 12 eigenvalues, 4 to 11 of them unexplained; a
+#: cluster of isolated roots leaves at most 2 (a complex pair in the chain).
+UNEXPLAINED = 4
 
 
 def _tight_subclusters(phi, order, start, run, sizes):

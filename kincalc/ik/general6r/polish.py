@@ -103,20 +103,22 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP):
                   stall=1e-2 * ACCEPT_TOL, give_up=give_up, max_step=STEP_MAX)
 
 
-def polish_last_resort(chain, T, Q):
-    """Newton for the candidates of the last resort (the perturbed robots), from both sides.
+def polish_from_both_sides(chain, T, Q, patient):
+    """Newton for candidates of which the ``patient`` ones (the last resort's, from the
+    perturbed robots) are given up later and also started past their landing point.
 
-    The real robot's solutions lie some 1e-3 .. 1e-2 rad from these candidates. Where two of
-    them are close (a nearly singular Jacobian, common at the special poses that need the last
-    resort: e.g. kinova_gen3_lite's two wrist solutions 0.09 rad apart sharing the pivot
-    angle), the perturbation is large against their separation: a perturbed robot's pair
-    merges or turns into a complex pair, whose candidates (its real part, twice) lie near the
-    real pair's midpoint, or the pair moves onto one of them. Newton's basins part near the
-    midpoint, so every run lands on the same solution and the other was lost. So each
-    candidate ``c`` that converged to a solution ``q`` is also started from its reflection
-    ``2 c - q`` across its start: where ``c`` lay between the pair, nearer ``q``, that point
-    lies beyond the midpoint, on the other one's side. The first pass gives up later than
-    :func:`polish_candidates` by default (``GIVE_UP_LAST``): between a close pair Newton
+    The real robot's solutions lie some 1e-3 .. 1e-2 rad from the perturbed robots'
+    candidates. Where two of them are close (a nearly singular Jacobian, common at the
+    special poses that need the last resort: e.g. kinova_gen3_lite's two wrist solutions
+    0.09 rad apart sharing the pivot angle), the perturbation is large against their
+    separation: a perturbed robot's pair merges or turns into a complex pair, whose
+    candidates (its real part, twice) lie near the real pair's midpoint, or the pair moves
+    onto one of them. Newton's basins part near the midpoint, so every run lands on the same
+    solution and the other was lost. So each patient candidate ``c`` that converged to a
+    solution ``q`` is also started from its reflection ``2 c - q`` across its start: where
+    ``c`` lay between the pair, nearer ``q``, that point lies beyond the midpoint, on the
+    other one's side. The patient candidates are given up later (``GIVE_UP_LAST``, per
+    candidate; the others ``GIVE_UP``, in the same Newton run): between a close pair Newton
     converges only linearly until it is nearer one of them than their separation, and from
     these starts that takes more than six steps (the restarts keep the default).
 
@@ -128,6 +130,8 @@ def polish_last_resort(chain, T, Q):
         Each candidate's target (as for :func:`polish_candidates`).
     Q : ndarray (m, 6)
         The starts (rad).
+    patient : ndarray (m,) of bool
+        The candidates given up later and restarted.
 
     Returns
     -------
@@ -138,8 +142,12 @@ def polish_last_resort(chain, T, Q):
     src : ndarray (r,) of int
         The candidate each reflected start comes from.
     """
-    q, res, moved = polish_candidates(chain, T, Q, give_up=GIVE_UP_LAST)
-    src = np.flatnonzero(res < ACCEPT_TOL)
+    give_up = {step: np.where(patient, GIVE_UP_LAST.get(step, np.inf), GIVE_UP.get(step, np.inf))
+               for step in sorted(set(GIVE_UP) | set(GIVE_UP_LAST))}
+    q, res, moved = polish_candidates(chain, T, Q, give_up=give_up)
+    src = np.flatnonzero(patient & (res < ACCEPT_TOL))
+    if not len(src):
+        return q, res, moved, src
     q2, res2, moved2 = polish_candidates(chain, T[src], 2.0 * Q[src] - q[src])
     return np.concatenate([q, q2]), np.concatenate([res, res2]), \
         np.concatenate([moved, moved2]), src

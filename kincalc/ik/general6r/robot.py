@@ -55,7 +55,7 @@ class _Robot6R:
         Ts = robot.fk(qs)
         keys = []
         for k in range(6):
-            pose, _, cand, bad, _ = self.raw(Ts, k)
+            pose, _, cand, bad, _, _ = self.raw(Ts, k)
             worst = np.inf
             if not bad.any() and np.all(np.bincount(pose, minlength=3) > 0):
                 dist = np.max(np.abs(wrap(cand - qs[pose])), axis=1)
@@ -131,22 +131,28 @@ class _Robot6R:
         degenerate : ndarray (M,) of bool
             Poses where this pivot's elimination does not apply.
         width : int
-            Slots per pose (16, or 32 with a cluster).
+            Slots per pose (16, or 32 / 48 with a cluster).
+        continuum : ndarray (M,) of bool
+            Poses this pivot solves whose eigenvalues show a continuum of solutions at one
+            pivot angle (:func:`~.elimination.split_clusters`).
         """
         if shift == 0:
             return eliminate(self.model, T)
         model, order = self.shifted_model(T, shift)
-        pose, slot, c, bad, width = eliminate(model, np.broadcast_to(np.eye(4), T.shape))
+        pose, slot, c, bad, width, cont = eliminate(model, np.broadcast_to(np.eye(4), T.shape))
         out = np.empty_like(c)
         out[:, order] = c
-        return pose, slot, out, bad, width
+        return pose, slot, out, bad, width, cont
 
     def candidates(self, T):
         """Raw candidates for the given poses, each pose with the first ranked shift that works.
 
         A pose where every shift degenerates is solved with both perturbed models (the second
-        one's slots after the first's): the last resort, whose candidates Newton must take
-        from both sides (:func:`~.polish.polish_last_resort`).
+        one's slots after the first's): the last resort. A pose whose pivot shows a continuum
+        of solutions at one pivot angle (``continuum`` of :meth:`raw`) gets the perturbed
+        models' candidates too, in slots after the pivot's: the isolated solutions that share
+        that angle are lost in the pivot's cluster, and a nearby generic robot has them as
+        isolated roots.
 
         Parameters
         ----------
@@ -156,37 +162,41 @@ class _Robot6R:
         Returns
         -------
         pose, slot : ndarray (C,) of int
-            Sorted by pose (then slot), ``slot < width``.
+            Sorted by pose (then slot), ``slot < width``; the perturbed models' slots come
+            after every slot of a pivot.
         q : ndarray (C, 6)
             Rad, in the robot's joint order, not wrapped.
         width : int
-        resort : ndarray (M,) of bool, or None
-            The poses solved by the last resort; None when there are none.
+        resort : ndarray (C,) of bool, or None
+            The perturbed models' candidates, which Newton takes from both sides
+            (:func:`~.polish.polish_from_both_sides`); None when there are none.
         """
         todo = np.arange(len(T))
-        resort = None
+        more = []                        # poses a pivot solves on a continuum
         pieces = []
         for shift in self.shifts:
-            pose, slot, q, bad, width = self.raw(T[todo] if len(pieces) else T, shift)
+            pose, slot, q, bad, width, cont = self.raw(T[todo] if len(pieces) else T, shift)
             pieces.append((todo[pose] if pieces else pose, slot, q, width))
+            more.append(todo[cont])
             todo = todo[bad]
             if len(todo) == 0:
                 break
-        else:
-            resort = np.zeros(len(T), bool)
-            resort[todo] = True
-            offset = 0
+        todo = np.concatenate([todo] + more)
+        lo = None
+        if len(todo):
+            # after every pivot slot (a pose's order of slots does not depend on the batch)
+            lo = offset = max((p[3] for p in pieces), default=0)
             for model in self.perturbed:
-                pose, slot, q, _, width = eliminate(model, T[todo])
+                pose, slot, q, _, width, _ = eliminate(model, T[todo])
                 pieces.append((todo[pose], slot + offset, q, offset + width))
                 offset += width
         if len(pieces) == 1:
-            return pieces[0] + (resort,)
+            return pieces[0] + (None,)
         pose = np.concatenate([p[0] for p in pieces])
-        order = np.lexsort((np.concatenate([p[1] for p in pieces]), pose))
-        return (pose[order], np.concatenate([p[1] for p in pieces])[order],
-                np.concatenate([p[2] for p in pieces])[order], max(p[3] for p in pieces),
-                resort)
+        slot = np.concatenate([p[1] for p in pieces])
+        order = np.lexsort((slot, pose))
+        return (pose[order], slot[order], np.concatenate([p[2] for p in pieces])[order],
+                max(p[3] for p in pieces), None if lo is None else slot[order] >= lo)
 
 
 @per_robot

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...jacobian import jacobian_and_pose
 from ...spatial import wrap
 from .common import ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, nnz, reduce_all, reduce_max
-from .polish import polish_candidates, polish_last_resort
+from .polish import polish_candidates, polish_from_both_sides
 from .robot import robot_data
 
 
@@ -81,8 +82,13 @@ def _solve_block(data, T, Q_out, ok):
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     if resort is None:
         Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
-    else:
-        pose, Qp, res, moved = _polish_with_last_resort(data.chain, Tt, pose, cand, resort)
+    else:                       # the perturbed models' candidates: patient, from both sides
+        Qp, res, moved, src = polish_from_both_sides(data.chain, np.take(Tt, pose, axis=0),
+                                                     cand, resort)
+        # a pose's candidates in slot order, then its restarts in the order of their sources
+        pose = np.concatenate([pose, pose[src]])
+        order = np.argsort(pose, kind="stable")
+        pose, Qp, res, moved = pose[order], Qp[order], res[order], moved[order]
     acc = res < ACCEPT_TOL
     pose, Qp = pose[acc], wrap(Qp[acc])
     if not len(pose):                   # no candidate reaches its pose: no solution
@@ -102,29 +108,39 @@ def _solve_block(data, T, Q_out, ok):
             new = ~dup[pose, rank]
             pose, Qp = pose[new], Qp[new]
             rank = np.arange(len(pose)) - np.searchsorted(pose, pose)
-    # valid slots first, in slot order, at most K
+    # valid slots first, in slot order, at most K (regular solutions first)
     if len(rank) and reduce_max(rank) >= K:
-        first = rank < K
+        first = _first_regular(data.chain, pose, rank, Qp, K)
         pose, rank, Qp = pose[first], rank[first], Qp[first]
+        rank = np.arange(len(pose)) - np.searchsorted(pose, pose)
     if rows is not None:
         pose = rows[pose]
     Q_out[pose, rank] = Qp
     ok[pose, rank] = True
 
 
-def _polish_with_last_resort(chain, Tt, pose, cand, resort):
-    """Newton for candidates of which those of the poses ``resort (M,)`` come from the last
-    resort (:func:`~.polish.polish_last_resort`: patient, and restarted past each landing
-    point). Returns ``pose, q, residual, moved``, sorted by pose (stable: a pose's candidates
-    in slot order, then its restarts in the order of the candidates they come from)."""
-    last = resort[pose]
-    rows, lrows = np.flatnonzero(~last), np.flatnonzero(last)
-    q1, r1, m1 = polish_candidates(chain, np.take(Tt, pose[rows], axis=0), cand[rows])
-    q2, r2, m2, src = polish_last_resort(chain, np.take(Tt, pose[lrows], axis=0), cand[lrows])
-    pose = np.concatenate([pose[rows], pose[lrows], pose[lrows[src]]])
-    order = np.argsort(pose, kind="stable")
-    return (pose[order], np.concatenate([q1, q2])[order], np.concatenate([r1, r2])[order],
-            np.concatenate([m1, m2])[order])
+def _first_regular(chain, pose, rank, Qp, K):
+    """The solutions kept where a pose has more than K: ``(C,) bool`` over the solutions
+    ``Qp (C, 6)`` of poses ``pose (C,)`` (sorted, ``rank`` their order within the pose).
+
+    A 6R has at most 16 isolated solutions; more come from a continuum (a self-motion), whose
+    points are arbitrary samples with a rank-deficient Jacobian. So the regular solutions (the
+    smallest singular value of the length-scaled Jacobian above ``SINGULAR_RATIO`` times the
+    largest) come first, then the rest, each in slot order; a pose's first K are kept."""
+    rows = np.flatnonzero(np.bincount(pose)[pose] > K)
+    J, _ = jacobian_and_pose(chain, Qp[rows], column_walk=True)
+    sv = np.linalg.svd(J, compute_uv=False)
+    singular = np.zeros(len(pose), bool)
+    singular[rows] = sv[:, -1] <= SINGULAR_RATIO * sv[:, 0]
+    order = np.lexsort((rank, singular, pose))
+    keep = np.zeros(len(pose), bool)
+    keep[order[(np.arange(len(pose)) - np.searchsorted(pose[order], pose[order])) < K]] = True
+    return keep
+
+
+#: smallest / largest singular value of the length-scaled Jacobian at or below which a
+#: solution counts as singular (where a pose has more solutions than slots)
+SINGULAR_RATIO = 1e-8
 
 
 def _duplicates(Qd, good):
@@ -142,9 +158,9 @@ def _duplicates(Qd, good):
     return dup
 
 
-# [i, j]: slot j comes before slot i (a pose has at most 192 candidates: 2 x 48 in the last
-# resort, and as many restarts)
-_EARLIER = np.tri(12 * BATCH_SLOTS, k=-1, dtype=bool)
+# [i, j]: slot j comes before slot i (a pose has at most 240 candidates: 48 of a pivot, 2 x 48
+# of the perturbed models, and as many restarts)
+_EARLIER = np.tri(16 * BATCH_SLOTS, k=-1, dtype=bool)
 
 
 def solve_general_6r(robot, T) -> np.ndarray:
