@@ -18,7 +18,7 @@ from kincalc.fk import CHUNK, FEW
 from kincalc.ik.general6r import solve_general_6r
 from kincalc.ik.general6r.elimination import _inv_cond, _tight_subclusters, eliminate
 from kincalc.ik.general6r.model import Model
-from kincalc.ik.general6r.polish import polish_candidates
+from kincalc.ik.general6r.polish import polish_candidates, polish_from_both_sides
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.ik.reasons import Blocked
 from kincalc.jacobian import jacobian_and_pose
@@ -357,3 +357,23 @@ def test_isolated_solutions_beside_a_continuum_at_the_pivot_angle(name, q, isola
     other = robot.fk(np.random.default_rng(5).uniform(-np.pi, np.pi, (5, 6)))
     batch = robot.ik_batch(np.concatenate([other[:2], T[None], other[2:]]))
     assert_same(valid_set(robot.ik_batch(T[None]), 0), valid_set(batch, 2))
+
+
+def test_a_restart_that_lands_on_a_singular_root_is_not_a_second_solution():
+    """The last resort's restart from ``2 c - q`` is for a close pair's regular partner. Near
+    a singular root (kinova_gen3_lite folded, q = (180, 180, 180, -90, 180, 180) deg, its
+    Jacobian rank-deficient) it landed on that root again, 1e-6 .. 1e-3 rad from where its
+    source had landed: a second copy of one solution. A restart's landing point is kept only
+    where the Jacobian has full rank (the engine's test, checked here by an SVD)."""
+    robot = load_robot("kinova_gen3_lite")
+    data = robot_data(robot)
+    q0 = np.radians([180.0, 180.0, 180.0, -90.0, 180.0, 180.0])
+    T = robot.fk(q0)
+    assert singular(robot, q0)
+    starts = q0 + np.random.default_rng(4).normal(0.0, 3e-3, (12, 6))
+    Tt = np.repeat((T[:3] / data.scale)[None], len(starts), axis=0)
+    q, res, _, src = polish_from_both_sides(data.chain, Tt, starts, np.ones(len(starts), bool))
+    kept = q[len(starts):][res[len(starts):] < 1e-10]
+    assert len(src) > 0 and all(not singular(robot, x) for x in kept)
+    for x in q[:len(starts)][res[:len(starts)] < 1e-10]:      # the first landings: the root
+        assert_round_trip(robot, T, x[None])

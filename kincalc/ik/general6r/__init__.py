@@ -187,7 +187,9 @@ Limitations
   a near-singular pair somewhat more often than generic ones. The last
   resort's restarts find a close pair's second solution when a candidate lies
   between the two; one whose candidates all lie beyond one of them can still
-  lose the other (not seen on the special poses above).
+  lose the other (not seen on the special poses above). A restart's landing point is
+  kept only where it is regular (the engine's singular test): at a singular root it
+  lands on its source's root again, 1e-6 .. 1e-3 rad off, beyond the merge tolerance.
 * At a pose with a continuum of solutions (a self-motion) at one pivot angle and
   isolated regular solutions at the same angle (yaskawa_hc10, fanuc_crx10ia with joints
   1 and 4 lined up), Sigma's null space there holds a curve of monomial vectors and the
@@ -199,7 +201,7 @@ Limitations
   :func:`~.elimination.split_clusters`) now marks the pose, which gets the perturbed
   robots' candidates besides the pivot's; where a pose then has more than 16 solutions,
   the regular ones take the slots first (the continuum's points are samples with a
-  singular Jacobian). The same measurement now misses none. The continuum itself is
+  singular Jacobian; regular by the engine's test, :func:`~.polish.regular`). The same measurement now misses none. The continuum itself is
   reported only as the points Newton lands on (flagged singular).
 * A close pair of solutions sharing the pivot angle (a nearly singular Jacobian) whose
   cluster's vectors both land on one of the two can lose the other: one kinova_gen3_lite

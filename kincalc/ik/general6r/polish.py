@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...jacobian import jacobian_and_pose
+from ...jacobian import jacobian_and_pose, scaled_ranks
 from ...spatial import rotvec_from_matrix
 from ..newton import polish
 from .common import (ACCEPT_TOL, GIVE_UP, GIVE_UP_LAST, NEWTON_ITERS, STEP_MAX, nnz,
@@ -140,7 +140,8 @@ def polish_from_both_sides(chain, T, Q, patient):
     residual : ndarray (m + r,)
     moved : ndarray (m + r,) of bool
     src : ndarray (r,) of int
-        The candidate each reflected start comes from.
+        The candidate each reflected start comes from (a restart that lands at a singular
+        solution has residual inf: it is its source's root again).
     """
     give_up = {step: np.where(patient, GIVE_UP_LAST.get(step, np.inf), GIVE_UP.get(step, np.inf))
                for step in sorted(set(GIVE_UP) | set(GIVE_UP_LAST))}
@@ -149,5 +150,30 @@ def polish_from_both_sides(chain, T, Q, patient):
     if not len(src):
         return q, res, moved, src
     q2, res2, moved2 = polish_candidates(chain, T[src], 2.0 * Q[src] - q[src])
+    # a restart is for a regular partner: one landing at a singular solution lands, within
+    # the merge tolerance or just beyond it, on the root its source found
+    landed = np.flatnonzero(res2 < ACCEPT_TOL)
+    res2[landed[~regular(chain, q2[landed])]] = np.inf
     return np.concatenate([q, q2]), np.concatenate([res, res2]), \
         np.concatenate([moved, moved2]), src
+
+
+def regular(chain, Q) -> np.ndarray:
+    """Is each configuration regular (the Jacobian of full rank, by the engine's test:
+    :func:`kincalc.jacobian.scaled_ranks`, singular values against ``SINGULAR_TOL``)?
+
+    Parameters
+    ----------
+    chain : Chain
+        The robot's, with lengths divided by its length scale (so the Jacobian is scaled).
+    Q : ndarray (m, 6)
+        Joint values (rad).
+
+    Returns
+    -------
+    ndarray (m,) of bool
+    """
+    if not len(Q):
+        return np.zeros(0, bool)
+    J, _ = jacobian_and_pose(chain, Q, column_walk=True)
+    return scaled_ranks(J, chain.revolute, 1.0)[0] == 6

@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...jacobian import jacobian_and_pose
 from ...spatial import wrap
 from .common import ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, nnz, reduce_all, reduce_max
-from .polish import polish_candidates, polish_from_both_sides
+from .polish import polish_candidates, polish_from_both_sides, regular
 from .robot import robot_data
 
 
@@ -124,23 +123,16 @@ def _first_regular(chain, pose, rank, Qp, K):
     ``Qp (C, 6)`` of poses ``pose (C,)`` (sorted, ``rank`` their order within the pose).
 
     A 6R has at most 16 isolated solutions; more come from a continuum (a self-motion), whose
-    points are arbitrary samples with a rank-deficient Jacobian. So the regular solutions (the
-    smallest singular value of the length-scaled Jacobian above ``SINGULAR_RATIO`` times the
-    largest) come first, then the rest, each in slot order; a pose's first K are kept."""
+    points are arbitrary samples with a rank-deficient Jacobian. So the regular solutions
+    (:func:`~.polish.regular`, the engine's singular test) come first, then the rest, each
+    in slot order; a pose's first K are kept."""
     rows = np.flatnonzero(np.bincount(pose)[pose] > K)
-    J, _ = jacobian_and_pose(chain, Qp[rows], column_walk=True)
-    sv = np.linalg.svd(J, compute_uv=False)
     singular = np.zeros(len(pose), bool)
-    singular[rows] = sv[:, -1] <= SINGULAR_RATIO * sv[:, 0]
+    singular[rows] = ~regular(chain, Qp[rows])
     order = np.lexsort((rank, singular, pose))
     keep = np.zeros(len(pose), bool)
     keep[order[(np.arange(len(pose)) - np.searchsorted(pose[order], pose[order])) < K]] = True
     return keep
-
-
-#: smallest / largest singular value of the length-scaled Jacobian at or below which a
-#: solution counts as singular (where a pose has more solutions than slots)
-SINGULAR_RATIO = 1e-8
 
 
 def _duplicates(Qd, good):
