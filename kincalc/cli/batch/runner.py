@@ -83,9 +83,9 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         pool = _pool(jobs) if jobs > 1 else None
         with _Output() as out, _progress(source) as advance, \
                 contextlib.closing(_ordered_map(work, chunks, pool, jobs)) as results:
-            if fmt == "csv":
-                out.write(csv_header(kind, robot))
             for answered, (text, b, n) in enumerate(results, 1):
+                if fmt == "csv" and answered == 1:
+                    out.write(csv_header(kind, robot))
                 out.write(text)
                 bad |= b
                 no |= n
@@ -105,6 +105,8 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     if not answered and header is not None and header_problem(header, robot):
         # a header no record follows: its fault is said once (each record says it otherwise)
         raise InputError(f"--batch {_shown(src)}: line 1: {header_problem(header, robot)}")
+    if not answered and fmt == "csv":           # no record: the output's header alone
+        sys.stdout.write(csv_header(kind, robot))
     return 2 if bad else 1 if no else 0
 
 
