@@ -80,7 +80,7 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
     -------
     ndarray (6, n, M)
         ``J[r, i, m]``: row r (vx vy vz wx wy wz) of column i at configuration m (rad/s and
-        m/s to m/s and rad/s).
+        m/s to m/s and rad/s); a zero entry is +0.0.
     """
     n = frames.shape[2] - 1
     z = frames[:, 2, :n]                                          # (3, n, M) the axes
@@ -93,6 +93,7 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
         rev = revolute[:, None]
         J[:3] = np.where(rev, J[:3], z)
         J[3:] = np.where(rev, z, 0.0)
+    J += 0.0                                  # -0.0 (a product of signed zeros) as 0.0
     return J
 
 

@@ -330,3 +330,13 @@ def test_dh_frames_are_dh_frames(seed):
         assert abs(A[2, 0]) < 1e-9                              # x_i is normal to z_{i-1}
         theta = np.arctan2(A[1, 0], A[0, 0])
         assert abs(-A[0, 3] * np.sin(theta) + A[1, 3] * np.cos(theta)) < 1e-9  # meets z_{i-1}
+
+
+@pytest.mark.parametrize("count", [1, 40])
+def test_jacobian_zeros_are_positive(count):
+    """A zero of the Jacobian is +0.0 in both evaluations (z_a d_b - z_b d_a of signed zeros
+    gave -0.0, which numpy prints as '-0.')."""
+    r = load_robot("puma560")
+    q = np.tile([1.2174, -1.4296, 1.4390, 2.8684, -0.6245, 1.8170], (count, 1))
+    for J in (r.jacobian(q), r.jacobian(q, frame="tool")):
+        assert not np.signbit(J[J == 0.0]).any()
