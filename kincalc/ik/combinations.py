@@ -123,27 +123,33 @@ def _same(Q, joints, rev) -> list:
 
 def combination_count(Q, joints, rev) -> int:
     """How many combinations :func:`_combinations` gives for the same arguments, without
-    building them: the product of the numbers of distinct values of ``joints``, less the
-    combinations that a row of ``Q (m, n)`` has (a value tuple within :data:`SAME` of the
-    row's, joint by joint)."""
-    values = [_distinct(Q[:, j], rev[j]) for j in joints]
+    building them."""
+    values, taken = _table(Q, joints, rev)
     total = 1
     for v in values:
         total *= len(v)
-    taken = set()
-    for q in Q:
-        near = [[k for k, u in enumerate(v) if _gap(q[j], u, rev[j]) < SAME]
-                for j, v in zip(joints, values)]
-        taken.update(itertools.product(*near))
     return total - len(taken)
 
 
 def _combinations(Q, joints, rev) -> list:
     """The combinations of the distinct values of ``joints`` in ``Q (m, n)`` that no row
     of ``Q`` has, each an array ``(len(joints),)``."""
+    values, taken = _table(Q, joints, rev)
+    return [np.array([v[k] for v, k in zip(values, idx)])
+            for idx in itertools.product(*(range(len(v)) for v in values)) if idx not in taken]
+
+
+def _table(Q, joints, rev) -> tuple:
+    """``(values, taken)``: the distinct values of each of ``joints`` in ``Q (m, n)``
+    (:func:`_distinct`), and the index tuples of the combinations a row of ``Q`` has (within
+    :data:`SAME` of the row's value, joint by joint)."""
     values = [_distinct(Q[:, j], rev[j]) for j in joints]
-    return [np.array(c) for c in itertools.product(*values)
-            if not any(_equal(c, q[joints], rev[joints]) for q in Q)]
+    taken = set()
+    for q in Q:
+        near = [[k for k, u in enumerate(v) if _gap(q[j], u, rev[j]) < SAME]
+                for j, v in zip(joints, values)]
+        taken.update(itertools.product(*near))
+    return values, taken
 
 
 def _arm_combination(robot, placed, Q, arm, values) -> dict:
