@@ -105,7 +105,9 @@ class RobotFileError(KincalcError):
         who = ""
         if joint is not None:
             who = f"joint {joint}" + (f" ({joint_name})" if joint_name else "") + ": "
-        super().__init__(f"{where}: {who}{message}")
+        #: what is wrong and with which joint, without the file's name and line
+        self.what = who + message
+        super().__init__(f"{where}: {self.what}")
 
 
 class InputError(KincalcError):

@@ -92,10 +92,8 @@ def _read_back(text: str, robot):
     try:
         return parse_robot_text(text, "<written>")
     except RobotFileError as exc:
-        who = "" if exc.joint is None else \
-            f"joint {exc.joint}" + (f" ({exc.joint_name})" if exc.joint_name else "") + ": "
         raise InputError(f"{robot.name} in {robot.convention} cannot be written as a robot "
-                         f"file: {who}{exc.detail}") from None
+                         f"file: {exc.what}") from None
 
 
 def _close(a: float, b: float) -> bool:
