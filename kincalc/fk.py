@@ -248,18 +248,16 @@ def tool_from_cs(chain, c, s, x):
     """
     M = c.shape[1]
     co, so = chain.offset_cos_sin
-    if M <= FEW:
-        coef = np.empty((4, M, chain.dof))
-        coef[0] = (c * co[:, None] - s * so[:, None]).T
-        coef[1] = (s * co[:, None] + c * so[:, None]).T
-        coef[2] = x.T + chain.offset
-        coef[3] = 1.0
-        T = _prefixes(chain, _motions(chain, coef))[-1]
-        return [T[:, :3, j].T for j in range(3)], T[:, :3, 3].T
     c, s = list(c), list(s)              # the offsets turned in, without trigonometry
     for i in np.flatnonzero(chain.revolute & (chain.offset != 0.0)).tolist():
         c[i], s[i] = c[i] * co[i] - s[i] * so[i], s[i] * co[i] + c[i] * so[i]
-    return _walk(chain, c, s, x + chain.offset[:, None])
+    x = x + chain.offset[:, None]
+    if M > FEW:
+        return _walk(chain, c, s, x)
+    coef = np.empty((4, M, chain.dof))
+    coef[0], coef[1], coef[2], coef[3] = np.transpose(c), np.transpose(s), x.T, 1.0
+    T = _prefixes(chain, _motions(chain, coef))[-1]
+    return [T[:, :3, j].T for j in range(3)], T[:, :3, 3].T
 
 
 def chain_frames(chain, q) -> np.ndarray:
