@@ -24,7 +24,8 @@ of subproblems:
   ``x_b`` and ``x_a`` by back-substitution, and Gauss-Newton on the point equations.
 * two joints (``pair``): the invariant that depends on ``x_b`` the most gives ``x_b`` (both together
   when they fix its cosine and sine), then ``x_a``; the third equation is left to the caller's check
-  (two joints reach a surface).
+  (two joints reach a surface). Also three joints whose third turns about a line through ``p0``:
+  the third does not move the point, and is left free at 0.
 
 A joint a target leaves undetermined (the point on the axis) gets 0 and is marked free. Solutions
 are the roots of exact equations: a target out of reach gives none (the step that failed is recorded
@@ -38,18 +39,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..subproblems import sp1, sp3, sp4, sp5
-from ..subproblems.solutions import Solutions, angles, cross, dot
+from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp4 import ROUNDING, from_abc
 from .branches import Branches
 from .newton import polish
+from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_turn
 
-#: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
-TRIG_SAMPLES = 16
-#: polynomial degree bound of the resultant in a prismatic joint c's travel
-POLY_DEGREE = 8
 
 
 @dataclass(frozen=True)
@@ -64,6 +62,7 @@ class Plan:
     k: int = 0              # decoupled: the invariant free of x_b; pair: the one to use
     abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants)
     both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
+    still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
 
 
 def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
@@ -83,9 +82,12 @@ def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -
     Branches, with ``joints`` set: a slot per root, dead where there is no real one
     """
     P = plan(S, tuple(joints), tuple(np.asarray(p0, float)))
-    return {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
-            "resultant": _resultant, "pair": _pair}[P.mode](S, P, br, np.asarray(PT, float),
-                                                           what)
+    br = {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
+          "resultant": _resultant, "pair": _pair}[P.mode](S, P, br, np.asarray(PT, float), what)
+    if P.still:
+        zero = np.zeros(br.ok.shape)
+        br = br.set(P.joints[2], zero, zero + 1.0, zero, free=np.ones(br.ok.shape, bool))
+    return br
 
 
 def plan(S: Screws, joints: tuple, p0: tuple) -> Plan:
@@ -98,12 +100,7 @@ def plan(S: Screws, joints: tuple, p0: tuple) -> Plan:
 def _make_plan(S: Screws, joints, p0) -> Plan:
     a, b = joints[0], joints[1]
     o = _reference_point(S, a, b)
-    e = None
-    if not S.revolute[a]:
-        w = S.axis[a]
-        e1 = np.cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
-        e1 /= np.linalg.norm(e1)
-        e = np.stack([e1, np.cross(w, e1)])
+    e = None if S.revolute[a] else _across(S.axis[a], S.axis[b], S.revolute[b])
     base = Plan("", tuple(joints), p0, o, e)
     scale = S.scale + float(np.linalg.norm(p0))
     # the invariants' coefficients in x_b over samples of x_c (or at p0 for two joints)
@@ -111,7 +108,10 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
         g = p0[None]
     else:
         c = joints[2]
-        g = S.move_point(c, _samples(S, c), p0)
+        g = S.move_point(c, samples(S, c), p0)
+        if np.abs(g - p0).max() <= 1e-9 * scale:      # p0 on axis c: joints a, b place it
+            pair = _make_plan(S, joints[:2], p0)
+            return Plan("pair", tuple(joints), p0, o, e, k=pair.k, both=pair.both, still=True)
     al, be, ga = _coefficients(S, base, g)                      # (2, m), with pt = 0
     dep = np.maximum(np.abs(be), np.abs(ga)).max(-1) > 1e-9 * scale ** 2
     if len(joints) == 2:
@@ -133,19 +133,28 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
     return Plan("resultant", tuple(joints), p0, o, e)
 
 
-def _samples(S: Screws, c: int) -> np.ndarray:
-    """Values of joint c at which the coefficients are sampled."""
-    if S.revolute[c]:
-        return 2 * np.pi * np.arange(TRIG_SAMPLES) / TRIG_SAMPLES
-    span = 4.0 * S.scale
-    n = 2 * POLY_DEGREE + 1
-    return span * np.cos(np.pi * (np.arange(n) + 0.5) / n)
+def _across(w, kb, revolute_b: bool) -> np.ndarray:
+    """Two unit vectors across a prismatic joint a's axis ``w`` (3,), the directions of its
+    invariants, ``(2, 3)``.
+
+    The first is, where one exists, the direction across ``w`` in which joint b (axis ``kb``)
+    moves no point: ``kb`` itself when a revolute b's axis is across ``w`` (its circles lie in
+    planes normal to ``kb``), ``w x kb`` for a prismatic b. That invariant is then free of
+    ``x_b`` and the plan decoupled; any other pair of directions would mix both invariants
+    with ``x_b`` in proportion, which no elimination of ``x_b`` can undo. Otherwise (and
+    where the plan finds the invariant not free after all) the directions are only a basis.
+    """
+    n = kb - (kb @ w) * w if revolute_b else np.cross(w, kb)
+    if np.linalg.norm(n) < 1e-9:                        # b along a: any basis
+        n = np.cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
+    e1 = n / np.linalg.norm(n)
+    return np.stack([e1, np.cross(w, e1)])
 
 
 def _fit_c(S: Screws, c: int, values) -> tuple:
     """An invariant free of x_b as a function of x_c, from its samples: ``(A, B, C)`` of
     ``A cos + B sin + C`` (revolute c) or of ``A x^2 + B x + C`` (prismatic c)."""
-    x = _samples(S, c)
+    x = samples(S, c)
     if S.revolute[c]:
         F = np.fft.rfft(values) / len(values)
         return 2 * F[1].real, -2 * F[1].imag, F[0].real
@@ -350,12 +359,12 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     a, b, c = P.joints
     al_s, be_s, ga_s = S.constant(                                         # (2, m)
         ("resultant samples", P.joints, tuple(P.p0)),
-        lambda: _coefficients(S, P, S.move_point(c, _samples(S, c), P.p0)))
+        lambda: _coefficients(S, P, S.move_point(c, samples(S, c), P.p0)))
     t = _targets(S, P, PT)                                                 # (N, K, 2)
     al = al_s[:, None, None, :] - np.moveaxis(t, -1, 0)[..., None]          # (2, N, K, m)
-    R = _eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
+    R = eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
                    np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300))
-    br = br.branch([c], _roots_in_c(S, c, R))
+    br = br.branch([c], roots_in_c(S, c, R))
     PT, t = br.take(PT), br.take(t)
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
     al, be, ga = _coefficients(S, P, g)
@@ -368,76 +377,10 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
                                (-be[0] * al[1] + be[1] * al[0]) / D)
         br = br.set(b, theta, cb, sb, ok=good)
     else:
-        x, good = _common_root(al, be, ga)
+        x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
     br = _solve_a(S, P, br, PT)
     return _polish(S, P, br, PT)
-
-
-def _eliminate(revolute_b: bool, al, be, ga, linear):
-    """The resultant of the two invariants in x_b, on the samples ``(N, K, m)``;
-    ``linear (2,)``: which invariants are linear in a prismatic x_b (robot-level)."""
-    if revolute_b:
-        D = be[0] * ga[1] - be[1] * ga[0]
-        P = al[0] * ga[1] - al[1] * ga[0]
-        Q = be[0] * al[1] - be[1] * al[0]
-        return P * P + Q * Q - D * D
-    # two polynomials a x^2 + b x + c in x_b (a = gamma, b = beta, c = alpha); the
-    # Sylvester resultant vanishes identically when both are linear, so that case (and
-    # one linear, one quadratic) is written out
-    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
-    if linear.all():
-        return b1 * c2 - b2 * c1
-    if linear[0]:
-        return b1 * b1 * c2 - b1 * b2 * c1 + a2 * c1 * c1
-    if linear[1]:
-        return b2 * b2 * c1 - b2 * b1 * c2 + a1 * c2 * c2
-    return (a1 * c2 - a2 * c1) ** 2 - (a1 * b2 - a2 * b1) * (b1 * c2 - b2 * c1)
-
-
-def _common_root(al, be, ga):
-    """The common root of ``gamma_i x^2 + beta_i x + alpha_i`` (i = 0, 1) at a root of
-    their resultant: ``x = -(a1 c2 - a2 c1) / (a1 b2 - a2 b1)``, or of the linear one."""
-    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
-    den = a1 * b2 - a2 * b1
-    big = np.maximum(np.abs(b1) + np.abs(b2), 1e-300)
-    quad = np.abs(den) > 1e-12 * big * np.maximum(np.abs(a1) + np.abs(a2), 1e-300)
-    lin = np.where(np.abs(b1) >= np.abs(b2), -c1 / np.where(b1 == 0, 1.0, b1),
-                   -c2 / np.where(b2 == 0, 1.0, b2))
-    x = np.where(quad, -(a1 * c2 - a2 * c1) / np.where(quad, den, 1.0), lin)
-    return x, np.isfinite(x)
-
-
-def _roots_in_c(S: Screws, c: int, R) -> Solutions:
-    """The real roots of the resultant sampled at :func:`_samples`, ``R (N, K, m)``: up to
-    eight slots, ascending."""
-    from ..subproblems.roots import polynomial_roots
-    if S.revolute[c]:
-        F = np.fft.fft(R, axis=-1) / R.shape[-1]
-        K = 4
-        coeffs = np.stack([F[..., k % R.shape[-1]] for k in range(K, -K - 1, -1)], -1)
-        z = polynomial_roots(coeffs)
-        ok = np.isfinite(z) & (np.abs(np.abs(z) - 1.0) < 1e-3)
-        x = np.angle(np.where(ok, z, 1.0))
-    else:
-        span = 4.0 * S.scale
-        coeffs = R @ _poly_fit_matrix().T                                  # highest first
-        y = polynomial_roots(coeffs)
-        ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
-        x = span * np.where(ok, y.real, 0.0)
-    order = np.argsort(np.where(ok, x, np.inf), axis=-1)
-    x, ok = np.take_along_axis(x, order, -1), np.take_along_axis(ok, order, -1)
-    x = np.where(ok, x, 0.0)
-    return Solutions((x,), (np.cos(x),), (np.sin(x),), ok, ok, np.zeros_like(ok))
-
-
-def _poly_fit_matrix() -> np.ndarray:
-    """``(POLY_DEGREE + 1, samples)``: samples of a polynomial of that degree in ``y = x / span``
-    at the Chebyshev points of :func:`_samples` -> its coefficients, highest degree first."""
-    n = 2 * POLY_DEGREE + 1
-    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
-    V = np.vander(y, POLY_DEGREE + 1)                                      # highest first
-    return np.linalg.pinv(V)
 
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:

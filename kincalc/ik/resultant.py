@@ -1,0 +1,96 @@
+"""The algebra of the ``resultant`` placement (:mod:`kincalc.ik.place`): joint c's values
+sampled, joint b eliminated from the two invariants of joint a, the real roots in x_c.
+
+The invariants of joint a are ``alpha + beta B1 + gamma B2`` in ``(B1, B2) = (cos x_b, sin x_b)``
+(revolute b) or ``(x_b, x_b^2)`` (prismatic b), with coefficients depending on x_c. Their
+resultant in x_b is a trigonometric polynomial of degree <= 4 in x_c (revolute c) or a
+polynomial of degree <= :data:`POLY_DEGREE` in its travel (prismatic c): sampled at
+:func:`samples`, fitted, and solved through a companion matrix per target.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..subproblems.solutions import Solutions
+from .screws import Screws
+
+#: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
+TRIG_SAMPLES = 16
+#: polynomial degree bound of the resultant in a prismatic joint c's travel
+POLY_DEGREE = 8
+
+
+def samples(S: Screws, c: int) -> np.ndarray:
+    """Values of joint c at which the coefficients are sampled."""
+    if S.revolute[c]:
+        return 2 * np.pi * np.arange(TRIG_SAMPLES) / TRIG_SAMPLES
+    span = 4.0 * S.scale
+    n = 2 * POLY_DEGREE + 1
+    return span * np.cos(np.pi * (np.arange(n) + 0.5) / n)
+
+
+def eliminate(revolute_b: bool, al, be, ga, linear):
+    """The resultant of the two invariants in x_b, on the samples ``(N, K, m)``;
+    ``linear (2,)``: which invariants are linear in a prismatic x_b (robot-level)."""
+    if revolute_b:
+        D = be[0] * ga[1] - be[1] * ga[0]
+        P = al[0] * ga[1] - al[1] * ga[0]
+        Q = be[0] * al[1] - be[1] * al[0]
+        return P * P + Q * Q - D * D
+    # two polynomials a x^2 + b x + c in x_b (a = gamma, b = beta, c = alpha); the
+    # Sylvester resultant vanishes identically when both are linear, so that case (and
+    # one linear, one quadratic) is written out
+    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
+    if linear.all():
+        return b1 * c2 - b2 * c1
+    if linear[0]:
+        return b1 * b1 * c2 - b1 * b2 * c1 + a2 * c1 * c1
+    if linear[1]:
+        return b2 * b2 * c1 - b2 * b1 * c2 + a1 * c2 * c2
+    return (a1 * c2 - a2 * c1) ** 2 - (a1 * b2 - a2 * b1) * (b1 * c2 - b2 * c1)
+
+
+def common_root(al, be, ga):
+    """The common root of ``gamma_i x^2 + beta_i x + alpha_i`` (i = 0, 1) at a root of
+    their resultant: ``x = -(a1 c2 - a2 c1) / (a1 b2 - a2 b1)``, or of the linear one."""
+    (a1, a2), (b1, b2), (c1, c2) = ga, be, al
+    den = a1 * b2 - a2 * b1
+    big = np.maximum(np.abs(b1) + np.abs(b2), 1e-300)
+    quad = np.abs(den) > 1e-12 * big * np.maximum(np.abs(a1) + np.abs(a2), 1e-300)
+    lin = np.where(np.abs(b1) >= np.abs(b2), -c1 / np.where(b1 == 0, 1.0, b1),
+                   -c2 / np.where(b2 == 0, 1.0, b2))
+    x = np.where(quad, -(a1 * c2 - a2 * c1) / np.where(quad, den, 1.0), lin)
+    return x, np.isfinite(x)
+
+
+def roots_in_c(S: Screws, c: int, R) -> Solutions:
+    """The real roots of the resultant sampled at :func:`samples`, ``R (N, K, m)``: up to
+    eight slots, ascending."""
+    from ..subproblems.roots import polynomial_roots
+    if S.revolute[c]:
+        F = np.fft.fft(R, axis=-1) / R.shape[-1]
+        K = 4
+        coeffs = np.stack([F[..., k % R.shape[-1]] for k in range(K, -K - 1, -1)], -1)
+        z = polynomial_roots(coeffs)
+        ok = np.isfinite(z) & (np.abs(np.abs(z) - 1.0) < 1e-3)
+        x = np.angle(np.where(ok, z, 1.0))
+    else:
+        span = 4.0 * S.scale
+        coeffs = R @ _poly_fit_matrix().T                                  # highest first
+        y = polynomial_roots(coeffs)
+        ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
+        x = span * np.where(ok, y.real, 0.0)
+    order = np.argsort(np.where(ok, x, np.inf), axis=-1)
+    x, ok = np.take_along_axis(x, order, -1), np.take_along_axis(ok, order, -1)
+    x = np.where(ok, x, 0.0)
+    return Solutions((x,), (np.cos(x),), (np.sin(x),), ok, ok, np.zeros_like(ok))
+
+
+def _poly_fit_matrix() -> np.ndarray:
+    """``(POLY_DEGREE + 1, samples)``: samples of a polynomial of that degree in ``y = x / span``
+    at the Chebyshev points of :func:`samples` -> its coefficients, highest degree first."""
+    n = 2 * POLY_DEGREE + 1
+    y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    V = np.vander(y, POLY_DEGREE + 1)                                      # highest first
+    return np.linalg.pinv(V)
