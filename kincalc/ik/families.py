@@ -257,6 +257,27 @@ def _moves_along(S: Screws, idx, h, tol: float) -> bool:
     return all(_parallel(S.axis[i], h, tol) for i in idx)
 
 
+def _independent_motions(S: Screws, joints, p) -> bool:
+    """Do those of ``joints`` that move the point ``p`` (world frame at q = 0, m) move it in
+    independent directions, at some of a few seeded configurations? Not when three
+    parallel or three concurrent axes place it (on a plane, on a sphere, with a turn to
+    spare that the orientation must decide). A joint that never moves it (an axis through
+    it) does not count."""
+    def placed(x):
+        y = np.asarray(p, float)
+        for j, v in zip(reversed(joints), reversed(x)):
+            y = S.move(j, v, np.cos(v), np.sin(v), y)
+        return y
+    h, per = 1e-6, np.where(S.revolute[list(joints)], max(S.scale, 1e-12), 1.0)[:, None]
+    for x in np.random.default_rng(7).uniform(-2.0, 2.0, (3, len(joints))):
+        rates = np.array([placed(x + h * e) - placed(x - h * e) for e in np.eye(len(joints))])
+        rates /= 2 * h * per                                  # per radian, in units of scale
+        moving = rates[np.linalg.norm(rates, axis=1) > 1e-6]
+        if np.linalg.matrix_rank(moving, tol=1e-6) == len(moving):
+            return True
+    return False
+
+
 def classify(robot, S: Screws) -> tuple[Family | None, str]:
     """The family of ``robot`` (or None) and a sentence saying why.
 
@@ -385,7 +406,7 @@ def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
     tol = point_tol * max(S.scale, 1.0)
     c = common_point(S.point[3:], S.axis[3:], tol)
     if c is not None and float(np.linalg.norm(cross(p0 - c, a0))) < tol \
-            and not _parallel(S.axis[4], a0, 1e-6):
+            and not _parallel(S.axis[4], a0, 1e-6) and _independent_motions(S, (0, 1, 2), c):
         return Family("position-approach",
                       "five joints, axes 4 and 5 meeting on the tool's approach line: joints 1-3 "
                       "place the point where they meet, joints 4 and 5 turn the approach "

@@ -25,7 +25,7 @@ from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _m
                      target_rotation, tool_point)
 from .place import place
 from .screws import Screws
-from .wrists import normal_to, undo
+from .wrists import normal_to, spherical, undo
 
 
 def position_3(S: Screws, targets, br: Branches) -> Branches:
@@ -220,9 +220,59 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
     ct = (T[:, :3, 3] - d * a)[:, None, :]
     br = place(S, br, (0, 1, 2), c0, ct, what="the point where axes 4 and 5 meet")
+    if S.constant("axis 3 through the wrist point", lambda: float(np.linalg.norm(np.cross(
+            c0 - S.point[2], S.axis[2]))) <= 1e-9 * max(S.scale, 1.0)):
+        return _three_joint_wrist(S, targets, br, a)
     v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
-    return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
-                     least_squares=True)
+    br = br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
+                   least_squares=True)
+    if targets.kind == "pose" and np.count_nonzero(br.free[3]):
+        br = _roll_by_joint_4(S, T, br)
+    return br
+
+
+def _roll_by_joint_4(S: Screws, T, br: Branches) -> Branches:
+    """A whole pose whose approach lies along axis 4 (joint 5 at 0 or 180 deg): subproblem 2
+    leaves joint 4 free, yet joint 4 then turns the tool about its approach, and the pose fixes
+    that roll. Joint 4 from it, in the slots subproblem 2 left it free: ``R4 (R5 e) = (R1 R2
+    R3)^T R_t e`` for a fixed ``e`` normal to the approach at q = 0 (``R5 e`` is then normal to
+    axis 4: subproblem 1). Joints 4 and 5 are then no longer free there.
+
+    ``T (N, 4, 4)`` the poses, ``br`` with joints 1-5 set (world frame at q = 0, SI)."""
+    k4, free = S.axis[3], br.free[3]
+    e = S.constant("normal to the approach", lambda: normal_to(S.M[:3, 2]))
+    x = S.turn(4, br.cos[4], br.sin[4], e)                                   # R5 e
+    y = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(target_rotation(S, T), e), x.shape))
+    t4, c4, s4 = _one(sp1(x - (x @ k4)[..., None] * k4, y - (y @ k4)[..., None] * k4, k4,
+                          tol=0.0))
+    br = br.set(3, np.where(free, t4, br.value[3]), np.where(free, c4, br.cos[3]),
+                np.where(free, s4, br.sin[3]), free=np.zeros_like(free))
+    return br.set(4, br.value[4], free=br.free[4] & ~free)
+
+
+def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
+    """Axes 3, 4 and 5 all meet at the wrist point: joints 1 and 2 place it, joint 3 (left free
+    by the placement: it does not move the point) is the first joint of a spherical wrist.
+
+    A whole pose: the wrist takes its orientation (:func:`~kincalc.ik.wrists.spherical`). An
+    approach ``a (N, 3)`` alone leaves a turn open: joint 3 stays free, at the representative
+    that puts ``k4 . R3^T a`` (the approach seen from joint 4) at the middle of the values
+    ``k4 . R5 a0`` joint 5 can give, ``(k4 . k5) (k5 . a0)`` (or as near as joint 3 can:
+    subproblem 4), where joints 4 and 5 turn ``a0`` onto it (subproblem 2) with the most room.
+    """
+    if targets.kind == "pose":
+        Rt = target_rotation(S, targets.T)
+        e = S.constant("normal to axis 5", lambda: normal_to(S.axis[4]))
+        vw = np.empty((br.N, br.K, 2, 3))
+        vw[...] = np.swapaxes(Rt @ np.stack([S.axis[4], e], -1), -1, -2)   # R_t k5, R_t e
+        vw = undo(S, br, (0, 1), vw)
+        return spherical(S, br, (2, 3, 4), vw[..., 0, :], vw[..., 1, :], e)
+    k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
+    v = undo(S, br, (0, 1), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
+    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0)).negated())
+    br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
+    v = S.turn(2, c3, -s3, v)
+    return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, k4, k5), least_squares=True)
 
 
 def pitch_roll(S: Screws, targets, br: Branches) -> Branches:

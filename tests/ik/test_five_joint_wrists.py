@@ -1,0 +1,129 @@
+"""Five-joint arms whose axes 4 and 5 meet on the tool's approach line (``position-approach``)
+asked for a whole pose where subproblem 2 has a continuum, and the same arms with axis 3
+through that point too (a three-joint spherical wrist after two placing joints).
+
+Both were found by an independent random-robot campaign, each answering "orientation not
+reachable" for poses the arm reaches:
+
+* the approach along axis 4 (joint 5 at 0 or 180 deg between two axes at right angles):
+  subproblem 2 leaves joint 4 free, but joint 4 then rolls the tool about its approach, and
+  a whole pose fixes that roll; joint 4 was left at a representative 0;
+* axes 3, 4 and 5 through one point: the placement leaves joint 3 free (it does not move
+  the point) and joints 4 and 5 alone cannot take the orientation that joints 3-5 take.
+
+Checked by FK on seeded random arms of each kind in dh, mdh and poe: every answer reaches
+the target, and the generating configuration is among the answers.
+"""
+
+import numpy as np
+import pytest
+
+from kincalc.conventions import dh_to_mdh, to_poe
+from kincalc.ik import Target, solve
+from kincalc.ik.families import plan
+from kincalc.ik.selftest import sample_configurations
+from kincalc.model import Joint, Robot
+from kincalc.spatial import matrix_from_rpy, rot_z, transform, wrap
+
+CONVENTIONS = ["dh", "mdh", "poe"]
+
+
+def _arm(rng, wrist_of_three: bool, convention: str):
+    """Joints 1-3 random (revolute or prismatic; revolute 3 for the wrist of three), axes 4
+    and 5 at right angles meeting at a point, the tool looking along axis 5's normal from a
+    point on that line; with ``wrist_of_three`` axis 3 through the point as well."""
+    t = lambda: rng.uniform(0.3, 2.8) * rng.choice([-1, 1])  # noqa: E731
+    u = lambda: rng.uniform(0.1, 0.4) * rng.choice([-1, 1])  # noqa: E731
+    kinds = [rng.choice(["revolute", "prismatic"], p=[0.8, 0.2]) for _ in range(2)]
+    rows = [(k, t(), u(), u(), rng.uniform(-3, 3)) for k in kinds]
+    if wrist_of_three:
+        rows += [("revolute", t(), 0.0, u(), rng.uniform(-3, 3)),
+                 ("revolute", rng.choice([-1, 1]) * np.pi / 2, 0.0, 0.0, rng.uniform(-3, 3))]
+    else:
+        rows += [(rng.choice(["revolute", "prismatic"], p=[0.8, 0.2]), t(), u(), u(),
+                  rng.uniform(-3, 3)),
+                 ("revolute", rng.choice([-1, 1]) * np.pi / 2, 0.0, u(), rng.uniform(-3, 3))]
+    rows.append(("revolute", rng.choice([-1, 1]) * np.pi / 2, 0.0, 0.0, 0.0))
+    joints = tuple(Joint(f"q{i + 1}", k, alpha=al, a=a, d=d, theta=th,
+                         limits=(-np.pi, np.pi) if k == "revolute" else (-0.5, 0.5))
+                   for i, (k, al, a, d, th) in enumerate(rows))
+    base = transform(matrix_from_rpy(rng.uniform(-np.pi, np.pi, 3)), rng.uniform(-.3, .3, 3))
+    tool = transform(rot_z(rng.uniform(-3, 3)), [0, 0, rng.uniform(0.05, 0.2)])
+    r = Robot(name="five", convention="dh", joints=joints, base=base, tool=tool)
+    return {"dh": r, "mdh": dh_to_mdh(r), "poe": to_poe(r)}[convention]
+
+
+def _same(robot, p, q, joints=slice(None)) -> bool:
+    d = np.where(robot.is_revolute, wrap(p - q), p - q)[joints]
+    return bool(np.all(np.abs(d) < 1e-6))
+
+
+def _reaches(robot, s, T) -> bool:
+    return bool(np.allclose(robot.fk(s.q), T, atol=1e-9))
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+def test_whole_pose_with_the_approach_along_axis_4(convention):
+    rng = np.random.default_rng(31 + CONVENTIONS.index(convention))
+    found = trials = 0
+    for _ in range(10):
+        r = _arm(rng, False, convention)
+        assert plan(r)[1].name == "position-approach"
+        for q in sample_configurations(r, 10, rng):
+            q[4] = rng.choice([0.0, np.pi])
+            T = r.fk(q)
+            res = solve(r, Target(T))
+            assert all(_reaches(r, s, T) for s in res.solutions)
+            trials += 1
+            found += any(_same(r, s.q, q) and 3 not in s.free for s in res.solutions)
+    assert found == trials, (found, trials)
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+def test_three_joint_wrist_after_two_placing_joints(convention):
+    rng = np.random.default_rng(41 + CONVENTIONS.index(convention))
+    found = trials = found_approach = 0
+    for _ in range(10):
+        r = _arm(rng, True, convention)
+        assert plan(r)[1].name == "position-approach"
+        for q in sample_configurations(r, 10, rng):
+            T = r.fk(q)
+            res = solve(r, Target(T))
+            assert all(_reaches(r, s, T) for s in res.solutions)
+            trials += 1
+            found += any(_same(r, s.q, q) for s in res.solutions)
+            # the approach alone: the roll is open, joint 3 a representative of it
+            P = T.copy()
+            P[:3, :3] = np.eye(3)
+            res = solve(r, Target(P, orientation=False, approach=T[:3, 2]))
+            for s in res.solutions:
+                Tq = r.fk(s.q)
+                assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) < 1e-9
+                assert np.linalg.norm(Tq[:3, 2] - T[:3, 2]) < 1e-9
+                assert 2 in s.free
+            found_approach += any(_same(r, s.q, q, slice(0, 2)) for s in res.solutions)
+    assert found == trials and found_approach == trials, (found, found_approach, trials)
+
+
+@pytest.mark.parametrize("shoulder", ["parallel", "concurrent"])
+def test_three_placing_axes_with_a_turn_to_spare_are_not_claimed(shoulder):
+    """Axes 1-3 parallel (a plane) or through one point (a sphere) place the wrist point with a
+    turn to spare, which the orientation decides: the family's placement cannot. Such an arm
+    (two of the campaign's, which answered "no solution" for every pose they reach) is not
+    claimed; the numerical solver answers, and says so."""
+    rng = np.random.default_rng(51)
+    if shoulder == "parallel":
+        rows = [(0.0, .3, .1), (0.0, .25, 0.0), (np.pi / 2, .2, .1)]
+    else:
+        rows = [(-0.45, 0.0, 0.0), (np.pi / 2, 0.0, 0.0), (0.0, .17, 0.0)]
+    rows += [(-2.35, 0.0, .2), (np.pi / 2, 0.0, 0.0)]
+    joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=rng.uniform(-3, 3))
+                   for i, (al, a, d) in enumerate(rows))
+    r = Robot(name="five", convention="dh", joints=joints,
+              tool=transform(rot_z(0.4), [0, 0, 0.1]))
+    S, family, why = plan(r)
+    assert family is None and "no analytic solver" in why
+    q = sample_configurations(r, 1, rng)[0]
+    res = solve(r, Target(r.fk(q)))
+    assert "no analytic solver" in res.method and len(res.solutions) == 1
+    assert _reaches(r, res.solutions[0], r.fk(q))
