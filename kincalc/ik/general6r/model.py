@@ -11,6 +11,13 @@ from ...spatial import invert_transform
 from ...structure import dh_frames
 from .common import CUBIC_IDX, GRID, H2, PARALLEL_TOL, U_IDX, VINV2, VINV3, cubic_map, dh, f14
 
+# built once (a model per pose is built for every call that pivots on another joint):
+# the Fourier grid of two and of three angles, flattened (the first angle slowest) ...
+_GRID2 = tuple(m.ravel() for m in np.meshgrid(GRID, GRID, indexing="ij"))
+_GRID3 = tuple(m.ravel() for m in np.meshgrid(GRID, GRID, GRID, indexing="ij"))
+# ... and J = [[0, I], [-I, 0]] (8x8) of the deflation's real form
+_J8 = np.kron(np.array([[0.0, 1.0], [-1.0, 0.0]]), np.eye(4))
+
 
 class Model:
     """A 6R robot as scaled standard DH plus the robot-level half of the elimination.
@@ -53,7 +60,7 @@ class Model:
         self.d, self.a, self.alpha = (np.asarray(v, float) for v in (d, a, alpha))
         d, a, al = (v[..., :, None] for v in (self.d, self.a, self.alpha))   # (..., 6, 1)
         # right side: inverses of A1(g1) A2(g2) on the 3x3 grid
-        g1, g2 = (m.ravel() for m in np.meshgrid(GRID, GRID, indexing="ij"))
+        g1, g2 = _GRID2
         A12 = dh(g1, d[..., 0, :], a[..., 0, :], al[..., 0, :]) \
             @ dh(g2, d[..., 1, :], a[..., 1, :], al[..., 1, :])
         self.N12 = invert_transform(A12)                  # (..., 9, 4, 4)
@@ -62,7 +69,7 @@ class Model:
         self.left = scale[:, None] * self.Binv
         self.right = (self.Einv / scale) @ post
         # left side: l, p of A3 A4 A5 on the 3x3x3 grid -> coefficients
-        g3, g4, g5 = (m.ravel() for m in np.meshgrid(GRID, GRID, GRID, indexing="ij"))
+        g3, g4, g5 = _GRID3
         M = dh(g3, d[..., 2, :], a[..., 2, :], al[..., 2, :]) \
             @ dh(g4, d[..., 3, :], a[..., 3, :], al[..., 3, :]) \
             @ dh(g5, d[..., 4, :], a[..., 4, :], al[..., 4, :])
@@ -133,8 +140,7 @@ class Model:
         Qw, Rw = np.linalg.qr(W, mode="complete")
         Wo, U = Qw[..., :8], Qw[..., 8:]
         Rw = Rw[..., :8, :]
-        J = np.kron(np.array([[0.0, 1.0], [-1.0, 0.0]]), np.eye(4))
-        Mo = Rw @ J @ np.linalg.inv(Rw)
+        Mo = Rw @ _J8 @ np.linalg.inv(Rw)
         top, bot = slice(0, 12), slice(12, 24)
         UT = np.swapaxes(U, -1, -2)
         WT = np.swapaxes(Wo, -1, -2)

@@ -98,7 +98,7 @@ class _Robot6R:
             Their joints' indices in the original order.
         """
         G = self.T0 @ invert_transform(T)                 # (M, 4, 4)
-        order = np.r_[shift:6, 0:shift]
+        order = (np.arange(6) + shift) % 6                # joints shift .. 5, 0 .. shift - 1
         moved = order < shift
         R, t = G[:, None, :3, :3], G[:, None, :3, 3]
         dirs = np.where(moved[:, None], (R @ self.dirs[order][..., None])[..., 0],
