@@ -444,7 +444,7 @@ def _subspace_vectors(phi, Sig, pg, members):
     ``(Hi - t Lo) c = z (Lo + t Hi) c`` (finite even at x = infinity), and a fixed combination of
     the two is diagonalised."""
     k = members.shape[1]
-    mean = np.mean(phi.real[pg[:, None], members], axis=1)
+    mean = reduce_sum(phi.real[pg[:, None], members], axis=1) / k
     y = np.tan(mean / 2.0)
     small = (np.abs(y) <= 1.0)[:, None, None]
     with np.errstate(all="ignore"):

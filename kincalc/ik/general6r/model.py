@@ -130,7 +130,7 @@ class Model:
         """
         lead = P.shape[:-3]
         Sp = (P[..., 1, :, :] + 1j * P[..., 2, :, :]) @ H2             # (..., 14, 9)
-        R = np.linalg.svd(Sp)[2][..., :4, :]                             # its row space
+        R = np.linalg.svd(Sp, full_matrices=False)[2][..., :4, :]        # its row space
         C8 = np.zeros(lead + (8, 12), complex)
         C8[..., :4, :9] = R
         C8[..., 4:, 3:] = R
