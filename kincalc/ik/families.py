@@ -322,15 +322,7 @@ def _classify(robot, S: Screws, point_tol: float, angle_tol: float
         if fam is None:
             # the same structures seen from the tool: a spherical wrist at the base, ...
             fam = _classify_6(S.reversed(), point_tol, angle_tol)
-            if fam is not None:
-                # the facts hold of the same lines: name them by the robot's joints
-                facts = tuple((kind, tuple(sorted(n - 1 - j for j in js)))
-                              for kind, js in fam.structure)
-                fam = Family(f"reversed-{fam.name}",
-                             fam.description + ", found on the chain reversed (the base "
-                             "seen from the tool: joint k of it is joint 7 - k)",
-                             fam.controls, fam.needs_orientation, reverse=True,
-                             structure=facts)
+            fam = None if fam is None else _reversed(fam, n)
         if fam is not None:
             return fam, ""
     if n == 6 and rev.all():
@@ -338,6 +330,15 @@ def _classify(robot, S: Screws, point_tol: float, angle_tol: float
                                      "elimination (Raghavan-Roth, Manocha-Canny)",
                        "position and orientation", True), "")
     return _classify_small(robot, S, point_tol, angle_tol)
+
+
+def _reversed(fam: Family, n: int) -> Family:
+    """``fam``, found on the chain of ``n`` joints reversed, as the robot's family."""
+    # the facts hold of the same lines: name them by the robot's joints
+    facts = tuple((kind, tuple(sorted(n - 1 - j for j in js))) for kind, js in fam.structure)
+    return Family(f"reversed-{fam.name}", fam.description + ", found on the chain reversed "
+                  f"(the base seen from the tool: joint k of it is joint {n + 1} - k)",
+                  fam.controls, fam.needs_orientation, reverse=True, structure=facts)
 
 
 def _classify_6(S: Screws, point_tol: float, par: float) -> Family | None:
@@ -388,10 +389,14 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
         fam = _classify_5(S, point_tol, par)
         if fam is not None:
             return fam, ""
+    roll = Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 from the "
+                  "orientation about its axis", "position and rotation about axis 4", True)
     if n == 4 and rev[3] and pos_rank == 3:
-        return (Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 "
-                                          "from the orientation about its axis",
-                       "position and rotation about axis 4", True), "")
+        return roll, ""
+    if n == 4 and rev[0] and not rev[3]:            # a slide last (an R-R-R-P SCARA)
+        R = S.reversed()
+        if _independent_motions(R, (0, 1, 2), R.point[3]):
+            return _reversed(replace(roll, controls="position and rotation about axis 1"), n), ""
     if n > 6 or (n > 1 and pos_rank == 3 and robot.generic_ranks[0] < n):
         return None, (f"redundant: {n} joints for {robot.generic_ranks[0]} independent pose "
                       "components, so infinitely many solutions")

@@ -29,7 +29,7 @@ WORDS = (("shoulder right", "shoulder left", "shoulder front", "shoulder back"),
 #: the steps of its two joints, the wrist's joint 5's (a ``reversed-`` family has its wrist
 #: at the base, and the other families split their roots otherwise)
 WORDED = {"spherical-wrist", "three-parallel", "position-2", "position-3", "planar-3",
-          "point-plus-roll", "pitch-roll"}
+          "point-plus-roll", "reversed-point-plus-roll", "pitch-roll"}
 
 
 @dataclass(frozen=True)
