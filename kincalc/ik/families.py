@@ -397,9 +397,10 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
         R = S.reversed()
         if _independent_motions(R, (0, 1, 2), R.point[3]):
             return _reversed(replace(roll, controls="position and rotation about axis 1"), n), ""
-    if n > 6 or (n > 1 and pos_rank == 3 and robot.generic_ranks[0] < n):
-        return None, (f"redundant: {n} joints for {robot.generic_ranks[0]} independent pose "
-                      "components, so infinitely many solutions")
+    if n > 6 or (n > 1 and robot.generic_ranks[0] < n):     # more joints than motions
+        r = robot.generic_ranks[0]
+        return None, (f"redundant: {n} joints for {r} independent pose component"
+                      f"{'s' if r != 1 else ''}, so infinitely many solutions")
     why = (f"no analytic solver for this structure yet ({n} joints, "
            f"{''.join('R' if r else 'P' for r in rev)})")
     return None, why

@@ -87,3 +87,17 @@ def test_the_reported_arm_has_its_four_solutions():
     assert len(sols) == 4
     got = sorted(np.round(np.degrees(wrap(s.q[1:])), 6).tolist() for s in sols)
     assert got == sorted([[30.0, 40.0], [-150.0, 20.0], [-30.0, 40.0], [150.0, 20.0]])
+
+
+def test_three_slides_in_one_plane_are_called_redundant():
+    """Three slides whose directions lie in one plane move the tool point in that plane with a
+    direction to spare: infinitely many solutions, said so (it read "no analytic solver for
+    this structure yet")."""
+    dirs = [(1, 0, 0), (0, 1, 0), (np.sqrt(.5), np.sqrt(.5), 0)]
+    joints = tuple(Joint(f"d{i + 1}", "prismatic", axis=k, point=(0, 0, 0), limits=(-1, 1))
+                   for i, k in enumerate(dirs))
+    r = Robot(name="ppp-flat", convention="poe", joints=joints, M=np.eye(4))
+    _, family, why = plan(r)
+    assert family is None
+    assert why == "redundant: 3 joints for 2 independent pose components, so infinitely many " \
+                  "solutions"
