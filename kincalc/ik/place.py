@@ -348,7 +348,7 @@ def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     a, b, c = P.joints
     oa, ob, oc = S.point[a], S.point[b], S.point[c]
     sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
-    sol = sol.negated(0)
+    sol = sol.negated(0).ordered()              # root k: the k-th smallest joint a
     br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
     return _polish(S, P, br, br.take(PT))
 

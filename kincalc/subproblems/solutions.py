@@ -80,6 +80,23 @@ class Solutions:
         return Solutions(flip(self.theta), self.c, flip(self.s), self.ok, self.exact,
                          self.free)
 
+    def ordered(self) -> "Solutions":
+        """These solutions with each problem's slots in ascending order of their angles
+        (the first unknown's, ties to 1e-9 rad broken by the next), the slots that are not
+        ``ok`` last: an order that depends on the answers alone, not on how the solver found
+        them (a "root k" label is then the same for the same robot in any convention).
+
+        Returns
+        -------
+        Solutions
+            The same answers and masks, the slots permuted along the last axis.
+        """
+        keys = [np.round(t / 1e-9) for t in reversed(self.theta)] + [~self.ok]
+        order = np.lexsort(keys, axis=-1)
+        take = lambda t: tuple(np.take_along_axis(x, order, -1) for x in t)  # noqa: E731
+        ok, exact, free = take((self.ok, self.exact, self.free))
+        return Solutions(take(self.theta), take(self.c), take(self.s), ok, exact, free)
+
     def rows(self, index=()) -> list:
         """The answers of one problem as a list of tuples of angles, for reading and testing.
 
