@@ -246,7 +246,7 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
     if isinstance(reason, (Found, Blocked)):    # of the arm's joints and its held values
         reason = limits_reason(sols)
     dead = None if res.dead_ends is None else \
-        [dataclasses.replace(d, joint=keep[d.joint]) for d in res.dead_ends]
+        [d._replace(joint=keep[d.joint]) for d in res.dead_ends]  # NoRoot, a NamedTuple
     chain = ", ".join(f"{k + 1} = {robot.joints[i].name}" for k, i in enumerate(keep))
     return dataclasses.replace(res, robot=robot, solutions=sols,
                                reachable=any(s.within_limits for s in sols),

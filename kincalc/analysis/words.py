@@ -56,7 +56,7 @@ def count_text(count: int, within: int) -> str:
 
 @singledispatch
 def reason_text(reason, robot, units) -> str:
-    """The sentence for ``reason`` (any dataclass of :mod:`kincalc.ik.reasons`)."""
+    """The sentence for ``reason`` (any reason of :mod:`kincalc.ik.reasons`)."""
     raise TypeError(f"no words for {type(reason).__name__}")
 
 

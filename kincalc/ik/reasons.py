@@ -1,38 +1,39 @@
 """Why an IK target has the answer it has, as data: what the engine and the reach search
 found, in SI (m, rad), with joints by index. :mod:`kincalc.analysis.words` renders each in the
 user's units; nothing here is a sentence, and no command-line option is named.
+
+Each reason is a ``NamedTuple``, not a frozen dataclass: eleven of them are defined on
+every ``kincalc ik`` and a dataclass costs about 8 times as much to define (start-up).
+Being tuples, two reasons of different kinds with equal fields compare equal: tell
+them apart by type (``isinstance``, as :mod:`kincalc.analysis.words` dispatches).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 
-@dataclass(frozen=True)
-class Found:
+class Found(NamedTuple):
     """``count`` solutions, ``within`` of them within the joint limits."""
     count: int
     within: int
 
 
-@dataclass(frozen=True)
-class Blocked:
+class Blocked(NamedTuple):
     """Every one of ``count`` solutions breaks a limit; ``worst``: per joint that does,
     ``(joint index, the least amount any solution is beyond it)``, m or rad."""
     count: int
     worst: tuple
 
 
-@dataclass(frozen=True)
-class Missed:
+class Missed(NamedTuple):
     """A candidate that does not reach the target: its position error (m) and
     orientation error (rad, None when no orientation was asked for)."""
     position_error: float
     orientation_error: float | None
 
 
-@dataclass(frozen=True)
-class ArmMissed:
+class ArmMissed(NamedTuple):
     """A combination of the values of the arm's ``joints`` (indices) that puts the point
     they place (``point``: its name, e.g. "wrist centre") ``distance`` (m) from where the
     target needs it; the joints after them do not move it."""
@@ -41,15 +42,13 @@ class ArmMissed:
     joints: tuple
 
 
-@dataclass(frozen=True)
-class NoSolution:
+class NoSolution(NamedTuple):
     """No candidate reaches the target; ``best``: the closest one's miss, or None when
     the arm reaches the position but cannot place its tool at this pose."""
     best: Missed | None = None
 
 
-@dataclass(frozen=True)
-class OrientationOut:
+class OrientationOut(NamedTuple):
     """The position is reachable, the orientation (``what``: 'orientation', 'approach
     direction', or 'approach vector' for a tool configuration vector) is not, for a robot
     that controls ``controls``. ``rolls``: for a five-joint arm that reaches the position
@@ -61,8 +60,7 @@ class OrientationOut:
     closest: tuple | None = None
 
 
-@dataclass(frozen=True)
-class Outside:
+class Outside(NamedTuple):
     """Where a position out of reach of the geometry (limits ignored) lies, from the
     nearest reachable point ``distance`` (m) away: ``where`` is 'beyond-outer-reach',
     'inside-inner-void' or 'outside-workspace'. ``motion``: 'plane' or 'line' when the
@@ -78,23 +76,20 @@ class Outside:
     along: bool = True
 
 
-@dataclass(frozen=True)
-class OutOfReach:
+class OutOfReach(NamedTuple):
     """Out of reach: of the geometry (``outside``), or only within the joint limits
     (``outside`` None; the nearest position reachable within them ``distance`` m away)."""
     outside: Outside | None = None
     distance: float = 0.0
 
 
-@dataclass(frozen=True)
-class NumericFound:
+class NumericFound(NamedTuple):
     """One solution found numerically; ``restart`` > 0 when the start did not converge
     and that seeded restart did."""
     restart: int = 0
 
 
-@dataclass(frozen=True)
-class NumericMissed:
+class NumericMissed(NamedTuple):
     """No solution found numerically from the start and ``restarts`` restarts; the
     closest configuration's miss, and ``controls`` (pose components the robot controls,
     < 6 when an orientation was asked of a robot that cannot set it all, else None)."""
@@ -103,8 +98,7 @@ class NumericMissed:
     controls: int | None = None
 
 
-@dataclass(frozen=True)
-class NoRoot:
+class NoRoot(NamedTuple):
     """A step that found no real root (``all_branches``): joint ``joint`` would need
     ``cos(q - phase) = need`` (phase rad) with ``|need| > 1``, so ``what`` is out of
     reach on that branch; ``reversed_chain`` when solved on the reversed chain."""

@@ -117,7 +117,7 @@ class IKResult:
     controls: str
     solutions: list
     reachable: bool
-    #: why the answer is what it is (a dataclass of :mod:`kincalc.ik.reasons`, SI)
+    #: why the answer is what it is (a reason of :mod:`kincalc.ik.reasons`, SI)
     reason: object
     #: with all_branches: dicts of q, branch, residuals and reason (a ``Missed``)
     rejected: list | None = None

@@ -136,6 +136,18 @@ def test_the_reason_names_the_arms_joints():
     assert set(dict(res.reason.worst)) == broken and 2 not in broken
 
 
+def test_dead_ends_name_the_arms_joints():
+    """--all-branches of a held chain out of reach: each step that found no real root
+    names the arm's joint (iiwa7, A3 held: the chain's joint 3 is the arm's A4)."""
+    r = kincalc.load_robot("iiwa7")
+    T = r.fk(np.zeros(7))
+    T[:3, 3] = [1.5, 0.1, 0.3]
+    res = solve_locked(r, Target(T), {2: 0.0}, all_branches=True)
+    assert res.dead_ends and not res.solutions
+    assert {d.joint for d in res.dead_ends} <= {0, 1, 3, 4, 5, 6}
+    assert 3 in {d.joint for d in res.dead_ends}
+
+
 def test_lock_on_the_command_line():
     from cli_contract import run_cli
     q0 = "20 -30 40 -50 60 30 -20"
