@@ -33,7 +33,6 @@ from ..fk import FEW, entry_frames, tool_from_cs
 from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa: F401 (TCV: the API)
                        plan)
 from ..jacobian import rank_deficient
-from .free_joints import orient_free
 from .joint_limits import (normalise, open_joints, open_values, violations,  # noqa: F401
                            within_limits)
 from .labels import labels
@@ -245,6 +244,7 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
     else:
         br = SOLVERS[family.solver](S, targets, br)
     if not family.needs_orientation and family.exact:
+        from .free_joints import orient_free
         br = orient_free(robot, targets, br)
     br = open_values(robot, br)
     # an exact family's candidates are checked in the slots some target keeps (the others,

@@ -43,7 +43,6 @@ from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp4 import ROUNDING, from_abc
 from .branches import Branches
-from .newton import polish
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_turn
@@ -402,6 +401,7 @@ def _polish(S: Screws, P: Plan, br, PT, iters: int = 3) -> Branches:
     live slot: roots of a quartic or a resultant are good to ~1e-10, three steps reach
     rounding. ``PT (N, K, 3)``."""
     from ..spatial import matrix_from_axis_angle
+    from .newton import polish
     joints = P.joints
     live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)

@@ -19,7 +19,6 @@ import numpy as np
 
 from ..errors import TargetMismatch
 from ..tolerances import ACCEPT_POSITION
-from .combinations import cross_combinations
 from .engine import TCV, Solved, solve_targets  # noqa: F401
 from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
@@ -192,6 +191,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     reason = _reason(robot, family, T, target, sols, rejected)
     result_rejected = note = dead = None
     if all_branches:
+        from .combinations import cross_combinations
         combos, note = cross_combinations(robot, family.name, T, target.orientation, sols)
         result_rejected = []
         for r in rejected + combos:

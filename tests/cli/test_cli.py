@@ -200,6 +200,26 @@ def test_help_and_version_import_no_command_module():
     assert out[:3] == ["[]", "[]", "['compare']"], out
 
 
+def test_closed_form_ik_imports_only_its_path():
+    """`kincalc ik` on a closed-form robot, solutions found, imports none of the modules
+    of other answers (start-up: benchmarks/startup.py): the numerical solver, the nearest
+    reachable point, the cross combinations (--all-branches), the free joints of a
+    position target, the Newton polish, general 6R, the swivel, batches and plots."""
+    code = ("import sys, contextlib, io\nfrom kincalc.cli.main import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    main(['ik', 'puma560', '--from-q', '0 -45 180 0 45 0', '--json'])\n"
+            "print(sorted(m for m in sys.modules if m.startswith('kincalc.')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, timeout=120).stdout
+    lazy = ["kincalc.ik.numeric", "kincalc.ik.nearest", "kincalc.ik.combinations",
+            "kincalc.ik.free_joints", "kincalc.ik.newton", "kincalc.ik.general6r",
+            "kincalc.ik.swivel", "kincalc.cli.batch", "kincalc.analysis.plot",
+            "kincalc.analysis.explain", "kincalc.analysis.redundancy"]
+    loaded = eval(out)
+    assert "kincalc.ik.solve" in loaded, out
+    assert [m for m in lazy if m in loaded] == [], out
+
+
 def test_command_table_short_help_is_each_commands_own():
     """kincalc --help lists COMMANDS' short help without importing the commands; each
     must be the first paragraph of the command's docstring (what click would show)."""
