@@ -23,7 +23,7 @@ from ..subproblems.turns import nearest_turn, two_turns
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
                      target_rotation, tool_point)
-from .place import place
+from .place import place, plan as placement
 from .screws import Screws
 from .wrists import normal_to, spherical, undo
 
@@ -201,7 +201,10 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
 
     ``c = p - d a`` is placed by joints 1-3, then joints 4 and 5 turn the approach
     (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
-    approach). The roll about the approach follows.
+    approach). The roll about the approach follows, except where the approach lies along
+    axis 4: joint 4 then comes from a whole pose's roll (:func:`_roll_by_joint_4`). When
+    axis 3 passes through ``c`` as well, joints 3-5 are a spherical wrist
+    (:func:`_three_joint_wrist`).
 
     Parameters
     ----------
@@ -220,8 +223,7 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
     ct = (T[:, :3, 3] - d * a)[:, None, :]
     br = place(S, br, (0, 1, 2), c0, ct, what="the point where axes 4 and 5 meet")
-    if S.constant("axis 3 through the wrist point", lambda: float(np.linalg.norm(np.cross(
-            c0 - S.point[2], S.axis[2]))) <= 1e-9 * max(S.scale, 1.0)):
+    if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
     v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
     br = br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
