@@ -202,7 +202,8 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     ``c = p - d a`` is placed by joints 1-3, then joints 4 and 5 turn the approach
     (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
     approach). The roll about the approach follows, except where the approach lies along
-    axis 4: joint 4 then comes from a whole pose's roll (:func:`_roll_by_joint_4`). When
+    axis 4, and near it: joints 4 and 5 then come from a whole pose's rotation
+    (:func:`_wrist_from_the_pose`). When
     axis 3 passes through ``c`` as well, joints 3-5 are a spherical wrist
     (:func:`_three_joint_wrist`).
 
@@ -228,28 +229,38 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
     br = br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
                    least_squares=True)
-    if targets.kind == "pose" and np.count_nonzero(br.free[3]):
-        br = _roll_by_joint_4(S, T, br)
-    return br
+    return _wrist_from_the_pose(S, T, br) if targets.kind == "pose" else br
 
 
-def _roll_by_joint_4(S: Screws, T, br: Branches) -> Branches:
-    """A whole pose whose approach lies along axis 4 (joint 5 at 0 or 180 deg): subproblem 2
-    leaves joint 4 free, yet joint 4 then turns the tool about its approach, and the pose fixes
-    that roll. Joint 4 from it, in the slots subproblem 2 left it free: ``R4 (R5 e) = (R1 R2
-    R3)^T R_t e`` for a fixed ``e`` normal to the approach at q = 0 (``R5 e`` is then normal to
-    axis 4: subproblem 1). Joints 4 and 5 are then no longer free there.
+def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
+    """Joints 4 and 5 of a whole pose from its rotation, in the slots where subproblem 2's
+    answer is that one or leaves joint 4 free.
+
+    Subproblem 2 sets joints 4 and 5 from the approach alone. Where the approach lies along
+    axis 4 (joint 5 at 0 or 180 deg between axes at right angles) joint 4 is free for it, yet
+    turns the tool about its approach, a roll the pose fixes; near there subproblem 2's
+    roots are good to about 1e-8 rad only, past the FK check. The rotation left for the two
+    joints, ``W = (R1 R2 R3)^T R_t = R4 R5``, decomposes well: ``R4 k5 = W k5`` (subproblem
+    1 about axis 4), then ``R5 a0 = R4^T W a0`` (subproblem 1 about axis 5). A slot takes it
+    where subproblem 2 left joint 4 free or found it within 1e-6 rad (elsewhere the slot
+    reaches the approach but not the roll: the FK check drops it, and the reason quotes it).
 
     ``T (N, 4, 4)`` the poses, ``br`` with joints 1-5 set (world frame at q = 0, SI)."""
-    k4, free = S.axis[3], br.free[3]
-    e = S.constant("normal to the approach", lambda: normal_to(S.M[:3, 2]))
-    x = S.turn(4, br.cos[4], br.sin[4], e)                                   # R5 e
-    y = undo(S, br, (0, 1, 2), np.broadcast_to(_mv(target_rotation(S, T), e), x.shape))
-    t4, c4, s4 = _one(sp1(x - (x @ k4)[..., None] * k4, y - (y @ k4)[..., None] * k4, k4,
-                          tol=0.0))
-    br = br.set(3, np.where(free, t4, br.value[3]), np.where(free, c4, br.cos[3]),
-                np.where(free, s4, br.sin[3]), free=np.zeros_like(free))
-    return br.set(4, br.value[4], free=br.free[4] & ~free)
+    k4, k5, a0 = S.axis[3], S.axis[4], S.M[:3, 2]
+    Rt = target_rotation(S, T)
+    W = undo(S, br, (0, 1, 2), np.broadcast_to(np.swapaxes(Rt @ np.stack([k5, a0], -1), -1, -2),
+                                               (br.N, br.K, 2, 3)))         # W k5, W a0
+    across = lambda v, k: v - (v @ k)[..., None] * k  # noqa: E731
+    t4, c4, s4 = _one(sp1(across(k5, k4), across(W[..., 0, :], k4), k4, tol=0.0))
+    z = S.turn(3, c4, -s4, W[..., 1, :])                                      # R4^T W a0
+    t5, c5, s5 = _one(sp1(across(a0, k5), across(z, k5), k5, tol=0.0))
+    take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
+                         & (np.abs(wrap(t5 - br.value[4])) < 1e-6))
+    pick = lambda new, old: np.where(take, new, old)  # noqa: E731
+    br = br.set(3, pick(t4, br.value[3]), pick(c4, br.cos[3]), pick(s4, br.sin[3]),
+                free=br.free[3] & ~take)
+    return br.set(4, pick(t5, br.value[4]), pick(c5, br.cos[4]), pick(s5, br.sin[4]),
+                  free=br.free[4] & ~take)
 
 
 def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
