@@ -369,7 +369,7 @@ def base_angle(S: Screws, pt, a) -> Solutions:
 def _base_and_roll(S: Screws, br: Branches) -> Branches:
     """A pitch-roll arm's slots whose joint 1 is still free for a whole pose (the tool
     point and its approach on axis 1, joint 5's line then): the relation ``q1 + sigma q5
-    = total`` kept as their continuum (:class:`~kincalc.ik.families.Continuum`),
+    = total`` kept as their continuum (:class:`~kincalc.ik.continua.Continuum`),
     ``sigma = sign(k1 . k5)`` with joint 5's axis ``k5`` at the slot (world frame)."""
     free = br.free[0]
     if not np.count_nonzero(free):

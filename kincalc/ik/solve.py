@@ -20,7 +20,8 @@ import numpy as np
 from ..errors import TargetMismatch
 from ..tolerances import ACCEPT_POSITION
 from .engine import TCV, Solved, solve_targets  # noqa: F401
-from .families import APPROACH_FAMILIES, Continuum, ParallelContinuum, plan
+from .continua import Continuum, ParallelContinuum
+from .families import APPROACH_FAMILIES, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
 from ..spatial import turn_toward, wrap
@@ -278,7 +279,7 @@ def _violation_list(v) -> list:
 
 def _continuum(robot, sv: Solved, k: int):
     """The relation a singular target leaves free in slot ``k``, as an object with
-    ``text`` (:class:`~kincalc.ik.families.Continuum`, ``ParallelContinuum``)."""
+    ``text`` (:class:`~kincalc.ik.continua.Continuum`, ``ParallelContinuum``)."""
     if sv.continuum is not None and sv.continuum[0, k, 0]:
         _, i, j, sign, total = sv.continuum[0, k].tolist()
         return _on_the_line(robot, sv.q[0, k], sv.free[0, k],
@@ -305,7 +306,7 @@ def _on_the_line(robot, q, free, c: Continuum):
     """``c``, or where another free revolute joint turns about the same line as joints
     ``c.i`` and ``c.j`` at ``q`` (a wrist at q5 = 0 whose line is axis 1: the wrist centre
     on it too), the relation of all three, ``q_f s_f + q_i + sign q_j`` (a
-    :class:`~kincalc.ik.families.ParallelContinuum`, joint f free)."""
+    :class:`~kincalc.ik.continua.ParallelContinuum`, joint f free)."""
     others = [f for f in np.flatnonzero(free).tolist()
               if f not in (c.i, c.j) and robot.is_revolute[f]]
     if not others:
