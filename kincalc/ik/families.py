@@ -20,6 +20,9 @@ on. Families:
   (SCARA, the R-R-P-R spherical arm), joint 4 from the orientation.
 * ``position-approach``, ``pitch-roll``: five joints setting the position and the
   approach direction (tool z).
+* ``planar-shoulder``, ``spherical-shoulder``: five revolute joints, axes 4 and 5 meeting
+  on the approach line and axes 1-3 parallel or through one point, which place that point
+  with a turn to spare: whole poses, the orientation first.
 * ``reversed-...``: the six-joint structures found on the chain seen from the tool.
 * ``general-6r``: 6 revolute joints with no such structure: algebraic elimination
   (:mod:`kincalc.ik.general6r`).
@@ -331,7 +334,7 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
     if n == 2:
         return (Family("position-2", "two joints placing the tool point",
                        "position (on the surface the arm sweeps)", False), "")
-    if n == 5 and rev[3:].all():
+    if n == 5 and rev[3:].all() and robot.generic_ranks[0] == n:     # (else redundant)
         fam = _classify_5(S, point_tol, par)
         if fam is not None:
             return fam, ""
@@ -357,14 +360,17 @@ def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     tol = point_tol * max(S.scale, 1.0)
     c = common_point(S.point[3:], S.axis[3:], tol)
-    if c is not None and float(np.linalg.norm(cross(p0 - c, a0))) < tol \
-            and not _parallel(S.axis[4], a0, 1e-6) and _independent_motions(S, (0, 1, 2), c):
+    pair = c is not None and float(np.linalg.norm(cross(p0 - c, a0))) < tol \
+        and not _parallel(S.axis[4], a0, 1e-6)
+    if pair and _independent_motions(S, (0, 1, 2), c):
         return Family("position-approach",
                       "five joints, axes 4 and 5 meeting on the tool's approach line: joints 1-3 "
                       "place the point where they meet, joints 4 and 5 turn the approach "
                       "direction (subproblem 2); the roll about it follows",
                       "position and approach direction (tool z)", True,
                       structure=(("meet-approach", (3, 4)),))
+    if pair and S.revolute.all():        # joints 1-3 place that point with a turn to spare
+        return _shoulder_5(S, c, tol, par)
     on_axis5 = float(np.linalg.norm(cross(p0 - S.point[4], S.axis[4]))) < tol
     if S.revolute.all() and on_axis5 and _parallel(S.axis[4], a0, par) \
             and _parallel(S.axis[1], S.axis[2], par) and _parallel(S.axis[2], S.axis[3], par) \
@@ -376,6 +382,31 @@ def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
                       "for joints 2 and 3, joint 5 from the orientation",
                       "position, the approach direction within the arm's plane, and the roll "
                       "about it", True, structure=(("parallel", (1, 2, 3)), ("roll", (4,))))
+    return None
+
+
+def _shoulder_5(S: Screws, c, tol: float, par: float) -> Family | None:
+    """Five revolute joints, axes 4 and 5 meeting at ``c`` on the approach line, axes 1-3
+    parallel (a plane) or through one point (a sphere): the shoulder places ``c`` with a turn
+    to spare, which a whole pose's orientation decides."""
+    h = S.axis[0]
+    if _parallel(h, S.axis[1], par) and _parallel(h, S.axis[2], par) \
+            and not _parallel(h, S.axis[3], par):
+        return Family("planar-shoulder",
+                      "five joints, axes 1-3 parallel and axes 4 and 5 meeting on the tool's "
+                      "approach line: joint 4 from the height of axis 5 (subproblem 4), the "
+                      "planar arm's turn and joint 5 from the orientation (subproblem 1), "
+                      "joints 1 and 2 place axis 3, joint 3 completes the turn",
+                      "position and orientation (the poses five joints reach)", True,
+                      structure=(("parallel", (0, 1, 2)), ("meet-approach", (3, 4))))
+    o = common_point(S.point[:3], S.axis[:3], tol)
+    if o is not None and float(np.linalg.norm(c - o)) > tol:
+        return Family("spherical-shoulder",
+                      "five joints, axes 1-3 meeting at one point and axes 4 and 5 meeting on "
+                      "the tool's approach line: joints 4 and 5 turn the wrist point into the "
+                      "pose's frame (subproblem 2), the shoulder takes the orientation left",
+                      "position and orientation (the poses five joints reach)", True,
+                      structure=(("meet", (0, 1, 2)), ("meet-approach", (3, 4))))
     return None
 
 

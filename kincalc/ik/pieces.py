@@ -1,6 +1,6 @@
-"""The pieces the family solvers (:mod:`kincalc.ik.solvers`, :mod:`kincalc.ik.small_arms`)
-are composed of: the target's rotation and points in the product of exponentials'
-terms, a joint's motion undone, the angle of one subproblem 1.
+"""The pieces the family solvers (:mod:`kincalc.ik.solvers`, :mod:`kincalc.ik.small_arms`,
+:mod:`kincalc.ik.five_joints`) are composed of: the target's rotation and points in the
+product of exponentials' terms, a joint's motion undone, the angle of one subproblem 1.
 
 ``S`` is a family's :class:`~kincalc.ik.screws.Screws` (world frame at q = 0, SI);
 ``R_t = R_T R_M^T`` is the rotation of the product of exponentials (``T = E_1 ... E_n M``),

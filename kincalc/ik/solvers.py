@@ -24,8 +24,8 @@ from .pieces import (angle_about as _angle_about, back as _back, inverse_home as
                      tool_point)
 from .place import place
 from .screws import Screws
-from .small_arms import (pitch_roll, planar_3, point_plus_roll, position_2, position_3,
-                         position_approach, tcv)
+from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
+from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
 from .wrists import normal_to, parallel_wrist_q6, spherical, undo
 
 
@@ -248,4 +248,6 @@ SOLVERS = {
     "point-plus-roll": point_plus_roll,
     "position-approach": position_approach,
     "pitch-roll": pitch_roll,
+    "planar-shoulder": planar_shoulder,
+    "spherical-shoulder": spherical_shoulder,
 }

@@ -1,0 +1,297 @@
+"""The closed forms of the five-joint arms, for a batch of targets (see
+:mod:`kincalc.ik.solvers`, whose table :data:`~kincalc.ik.solvers.SOLVERS` names them): the
+arms whose axes 4 and 5 meet on the tool's approach line (``position-approach``, which sets
+the position and the approach; ``planar-shoulder`` and ``spherical-shoulder``, whose first
+three axes are parallel or meet, for whole poses) and the ``pitch-roll`` arms.
+
+Each solver takes the family's screws ``S`` (world frame at q = 0, SI; see
+:mod:`kincalc.ik.screws`), the targets (:class:`~kincalc.ik.target.Targets`) and a
+:class:`~kincalc.ik.branches.Branches` with one slot per target, and returns the
+branches with every joint solved: candidates, which the engine checks by FK, labels
+and flags.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..spatial import wrap
+from ..structure import common_point
+from ..subproblems import sp1, sp2, sp4
+from ..subproblems.solutions import Solutions
+from .branches import Branches
+from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
+                     rotate_back as _mtv, target_rotation)
+from .place import place, plan as placement
+from .screws import Screws
+from .wrists import normal_to, spherical, undo
+
+
+def position_approach(S: Screws, targets, br: Branches) -> Branches:
+    """Five joints, axes 4 and 5 meeting at ``c`` on the approach line.
+
+    ``c = p - d a`` is placed by joints 1-3, then joints 4 and 5 turn the approach
+    (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
+    approach). The roll about the approach follows, except where the approach lies along
+    axis 4, and near it: joints 4 and 5 then come from a whole pose's rotation
+    (:func:`_wrist_from_the_pose`). When
+    axis 3 passes through ``c`` as well, joints 3-5 are a spherical wrist
+    (:func:`_three_joint_wrist`).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions with approaches ``(N, 3)``, or poses (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    T = targets.T
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    d = float((p0 - c0) @ a0)
+    a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
+    ct = (T[:, :3, 3] - d * a)[:, None, :]
+    br = place(S, br, (0, 1, 2), c0, ct, what="the point where axes 4 and 5 meet")
+    if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
+        return _three_joint_wrist(S, targets, br, a)
+    v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
+    br = br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
+                   least_squares=True)
+    return _wrist_from_the_pose(S, T, br) if targets.kind == "pose" else br
+
+
+def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
+    """Joints 4 and 5 of a whole pose from its rotation, in the slots where subproblem 2's
+    answer is that one or leaves joint 4 free.
+
+    Subproblem 2 sets joints 4 and 5 from the approach alone. Where the approach lies along
+    axis 4 (joint 5 at 0 or 180 deg between axes at right angles) joint 4 is free for it, yet
+    turns the tool about its approach, a roll the pose fixes; near there subproblem 2's
+    roots are good to about 1e-8 rad only, past the FK check. The rotation left for the two
+    joints, ``W = (R1 R2 R3)^T R_t = R4 R5``, decomposes well: ``R4 k5 = W k5`` (subproblem
+    1 about axis 4), then ``R5 a0 = R4^T W a0`` (subproblem 1 about axis 5). A slot takes it
+    where subproblem 2 left joint 4 free or found it within 1e-6 rad (elsewhere the slot
+    reaches the approach but not the roll: the FK check drops it, and the reason quotes it).
+
+    ``T (N, 4, 4)`` the poses, ``br`` with joints 1-5 set (world frame at q = 0, SI)."""
+    k4, k5, a0 = S.axis[3], S.axis[4], S.M[:3, 2]
+    Rt = target_rotation(S, T)
+    W = undo(S, br, (0, 1, 2), np.broadcast_to(np.swapaxes(Rt @ np.stack([k5, a0], -1), -1, -2),
+                                               (br.N, br.K, 2, 3)))         # W k5, W a0
+    across = lambda v, k: v - (v @ k)[..., None] * k  # noqa: E731
+    t4, c4, s4 = _one(sp1(across(k5, k4), across(W[..., 0, :], k4), k4, tol=0.0))
+    z = S.turn(3, c4, -s4, W[..., 1, :])                                      # R4^T W a0
+    t5, c5, s5 = _one(sp1(across(a0, k5), across(z, k5), k5, tol=0.0))
+    take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
+                         & (np.abs(wrap(t5 - br.value[4])) < 1e-6))
+    pick = lambda new, old: np.where(take, new, old)  # noqa: E731
+    br = br.set(3, pick(t4, br.value[3]), pick(c4, br.cos[3]), pick(s4, br.sin[3]),
+                free=br.free[3] & ~take)
+    return br.set(4, pick(t5, br.value[4]), pick(c5, br.cos[4]), pick(s5, br.sin[4]),
+                  free=br.free[4] & ~take)
+
+
+def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
+    """Axes 3, 4 and 5 all meet at the wrist point: joints 1 and 2 place it, joint 3 (left free
+    by the placement: it does not move the point) is the first joint of a spherical wrist.
+
+    A whole pose: the wrist takes its orientation (:func:`~kincalc.ik.wrists.spherical`). An
+    approach ``a (N, 3)`` alone leaves a turn open: joint 3 stays free, at the representative
+    that puts ``k4 . R3^T a`` (the approach seen from joint 4) at the middle of the values
+    ``k4 . R5 a0`` joint 5 can give, ``(k4 . k5) (k5 . a0)`` (or as near as joint 3 can:
+    subproblem 4), where joints 4 and 5 turn ``a0`` onto it (subproblem 2) with the most room.
+    """
+    if targets.kind == "pose":
+        Rt = target_rotation(S, targets.T)
+        e = S.constant("normal to axis 5", lambda: normal_to(S.axis[4]))
+        vw = np.empty((br.N, br.K, 2, 3))
+        vw[...] = np.swapaxes(Rt @ np.stack([S.axis[4], e], -1), -1, -2)   # R_t k5, R_t e
+        vw = undo(S, br, (0, 1), vw)
+        return spherical(S, br, (2, 3, 4), vw[..., 0, :], vw[..., 1, :], e)
+    k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
+    v = undo(S, br, (0, 1), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
+    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0)).negated())
+    br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
+    v = S.turn(2, c3, -s3, v)
+    return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, k4, k5), least_squares=True)
+
+
+def _wrist_pair_point(S: Screws, T):
+    """``(c0, ct)``: the point where axes 4 and 5 meet, at q = 0 ``(3,)`` and where the poses
+    ``T (N, 4, 4)`` need it, a fixed distance behind the tool point along the approach,
+    ``(N, 3)`` (world frame, m)."""
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    return c0, T[:, :3, 3] - float((p0 - c0) @ a0) * T[:, :3, 2]
+
+
+def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
+    """Five revolute joints, axes 1-3 parallel (direction ``h``), axes 4 and 5 meeting at a
+    point ``c`` of the approach line; a whole pose.
+
+    The three parallel joints turn the arm by ``psi = q1 + s2 q2 + s3 q3`` about h (``s_i``
+    the sign of axis i along h), so ``R_h(psi) R4 R5 = R_t``. Joint 4 from the height of
+    axis 5 along h, ``h . R4 k5 = h . R_t k5`` (subproblem 4); psi turns ``R4 k5`` onto ``R_t
+    k5``, joint 5 turns ``a0`` onto ``R4^T R_h(-psi) R_t a0`` (subproblem 1 each). Joints 1
+    and 2 then place axis 3's point ``o3`` where ``c_t - R_h(psi) (c0 - o3)`` needs it, and
+    joint 3 completes psi. Up to 4 solutions.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    T = targets.T
+    h, k4, k5, a0, o3 = S.axis[0], S.axis[3], S.axis[4], S.M[:3, 2], S.point[2]
+    s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
+    c0, ct = _wrist_pair_point(S, T)
+    Rt = target_rotation(S, T)
+    u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
+    br = br.branch([3], sp4(h, k5, k4, u @ h))
+    u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
+    across = lambda v, k: v - (v @ k)[..., None] * k  # noqa: E731
+    psi, cp, sp = _one(sp1(across(S.turn(3, br.cos[3], br.sin[3], k5), h), across(u, h), h,
+                           tol=0.0))
+    z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
+    br = br.set(4, *_one(sp1(across(a0, k5), across(z, k5), k5, tol=0.0)))
+    br = br.with_extra("psi", psi)
+    br = place(S, br, (0, 1), o3, ct - S.turn(0, cp, sp, c0 - o3), what="axis 3")
+    q3 = s3 * (br.extra["psi"] - br.value[0] - s2 * br.value[1])
+    return br.set(2, q3, np.cos(q3), np.sin(q3))
+
+
+def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
+    """Five revolute joints, axes 1-3 meeting at a point ``O`` (a spherical shoulder), axes 4
+    and 5 meeting at a point ``c`` of the approach line; a whole pose.
+
+    The shoulder's rotation ``R123 = R_t (R4 R5)^T`` takes ``c0 - O`` to ``c_t - O``, so
+    ``R4 R5 u = c0 - O`` with ``u = R_t^T (c_t - O)`` (subproblem 2), and the shoulder takes
+    the rotation left, ``R_t R5^T R4^T`` (a spherical wrist at the base,
+    :func:`~kincalc.ik.wrists.spherical`). Up to 4 solutions.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    T = targets.T
+    O = S.constant("shoulder point", lambda: common_point(S.point[:3], S.axis[:3], np.inf))
+    c0, ct = _wrist_pair_point(S, T)
+    Rt = target_rotation(S, T)
+    u = _mtv(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
+    br = br.branch([3, 4], sp2(u, np.broadcast_to(c0 - O, u.shape), S.axis[3], S.axis[4]))
+    e = S.constant("normal to axis 3", lambda: normal_to(S.axis[2]))
+    x = np.empty((br.N, br.K, 2, 3))
+    x[...] = np.stack([S.axis[2], e])
+    x = S.turn(4, br.cos[4], -br.sin[4], S.turn(3, br.cos[3], -br.sin[3], x))  # R5^T R4^T
+    vw = np.swapaxes(br.take(Rt) @ np.swapaxes(x, -1, -2), -1, -2)           # R123 k3, R123 e
+    return spherical(S, br, (0, 1, 2), vw[..., 0, :], vw[..., 1, :], e)
+
+
+def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
+    """Five joints, axes 2-4 parallel and joint 5 rolling the tool about its approach.
+
+    Joint 1 from the position (subproblem 4), or from the approach where the tool point is
+    on axis 1 (:func:`base_angle`), the pitch sum from the approach (subproblem 1), joints
+    2-3 planar, joint 5 from the orientation. For an approach alone joint 5 is open: free,
+    labelled ``any``, shown as 0 (the engine moves it to the value nearest 0 within its
+    limits). Where joint 1 is still free for a whole pose (the tool point and its approach
+    both on axis 1, which is then joint 5's line) only ``q1 + sigma q5`` is fixed: joint 1
+    shows 0 and the relation is the slot's continuum (``extra["continuum"]``: mask, 0, 4,
+    sigma, total in rad).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` positions with approaches ``(N, 3)``, or poses (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    T = targets.T
+    h = S.axis[1]
+    o1 = S.point[0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    pt = T[:, None, :3, 3]
+    a = (targets.approach if targets.kind == "approach" else T[:, :3, 2])[:, None, :]
+    br = br.branch([0], base_angle(S, pt, a))
+    a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
+    p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
+    psi, cps, sps = _one(sp1(np.broadcast_to(a0, a1.shape), a1, h))
+    # where axis 4's point must go: p1 + R_h(psi) (p4 - p0)
+    d = S.point[3] - p0
+    ch, sh = cps[..., None], sps[..., None]
+    p4t = p1 + ch * d + sh * np.cross(h, d) + (1 - ch) * (d @ h) * h
+    br = br.with_extra("psi", psi)
+    br = place(S, br, (1, 2), S.point[3], p4t, what="axis 4")
+    sgn = [float(np.sign(S.axis[i] @ h)) for i in (1, 2, 3)]
+    q4 = (br.extra["psi"] - sgn[0] * br.value[1] - sgn[1] * br.value[2]) * sgn[2]
+    br = br.set(3, q4, np.cos(q4), np.sin(q4))
+    if targets.kind == "approach":        # the roll was not asked for: open, 0 stands for any
+        z = np.zeros_like(q4)
+        br = br.set(4, z, np.ones_like(z), z, free=np.ones(z.shape, bool))
+        return br.relabel(4, "any")
+    k5 = S.axis[4]
+    e = S.constant("normal to axis 5", lambda: normal_to(k5))
+    Rt = target_rotation(S, T)
+    br = br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
+        _mv(Rt, e), (br.N, br.K, 3)))))
+    return _base_and_roll(S, br)
+
+
+def base_angle(S: Screws, pt, a) -> Solutions:
+    """Joint 1 of a pitch-roll arm: ``(N, 1, 2)`` roots (rad).
+
+    Undone, joint 1 must bring the tool point ``pt (N, 1, 3)`` into the plane of the
+    pitch joints, ``h . R(k1, -q1)(pt - o1) = h . (p0 - o1)`` (subproblem 4; ``h`` the
+    pitch axes, ``k1``, ``o1`` axis 1, ``p0`` the tool point at q = 0, world frame at q =
+    0, m). Where ``pt`` is on axis 1 every angle does (a free root), and the approach
+    ``a (N, 1, 3)`` (unit) decides instead: the pitch joints turn the approach about
+    ``h``, so ``h . R(k1, -q1) a = h . a0`` (two roots, or free again when ``a`` is along
+    axis 1). The slot lives where the position's equation holds; an approach out of the
+    arm's plane leaves its least-squares angle, for the FK check to judge.
+    """
+    h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    at = sp4(h, pt - o1, k1, h @ (p0 - o1)).negated()
+    on = at.free[..., :1]                                          # pt on axis 1
+    if not np.count_nonzero(on):
+        return at
+    by = sp4(h, a, k1, h @ a0).negated()
+    pick = lambda x, y: np.where(on, x, y)  # noqa: E731
+    return Solutions((pick(by.theta[0], at.theta[0]),), (pick(by.c[0], at.c[0]),),
+                     (pick(by.s[0], at.s[0]),), pick(by.ok, at.ok), at.exact,
+                     pick(by.free, at.free))
+
+
+def _base_and_roll(S: Screws, br: Branches) -> Branches:
+    """A pitch-roll arm's slots whose joint 1 is still free for a whole pose (the tool
+    point and its approach on axis 1, joint 5's line then): the relation ``q1 + sigma q5
+    = total`` kept as their continuum (:class:`~kincalc.ik.continua.Continuum`),
+    ``sigma = sign(k1 . k5)`` with joint 5's axis ``k5`` at the slot (world frame)."""
+    free = br.free[0]
+    if not np.count_nonzero(free):
+        return br
+    k5 = np.broadcast_to(S.axis[4], br.ok.shape + (3,))
+    for j in (3, 2, 1, 0):                                        # R1 R2 R3 R4 k5
+        k5 = S.turn(j, br.cos[j], br.sin[j], k5)
+    sigma = np.where(k5 @ S.axis[0] >= 0.0, 1.0, -1.0)
+    total = br.value[0] + sigma * br.value[4]
+    c = np.stack([free.astype(float), np.zeros_like(total), np.full_like(total, 4.0),
+                  sigma, total], -1)
+    return br.with_extra("continuum", c)
