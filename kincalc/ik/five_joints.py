@@ -24,7 +24,7 @@ from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _m
                      rotate_back as _mtv, target_rotation)
 from .place import place, plan as placement
 from .screws import Screws
-from .wrists import normal_to, spherical, undo
+from .wrists import normal_to, spherical_taking, undo
 
 
 def position_approach(S: Screws, targets, br: Branches) -> Branches:
@@ -34,9 +34,8 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
     approach). The roll about the approach follows, except where the approach lies along
     axis 4, and near it: joints 4 and 5 then come from a whole pose's rotation
-    (:func:`_wrist_from_the_pose`). When
-    axis 3 passes through ``c`` as well, joints 3-5 are a spherical wrist
-    (:func:`_three_joint_wrist`).
+    (:func:`_wrist_from_the_pose`). When axis 3 passes through ``c`` as well, joints 3-5
+    are a spherical wrist (:func:`_three_joint_wrist`).
 
     Parameters
     ----------
@@ -48,13 +47,10 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     -------
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
-    T = targets.T
-    a0, p0 = S.M[:3, 2], S.M[:3, 3]
-    c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
-    d = float((p0 - c0) @ a0)
+    T, a0 = targets.T, S.M[:3, 2]
     a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
-    ct = (T[:, :3, 3] - d * a)[:, None, :]
-    br = place(S, br, (0, 1, 2), c0, ct, what="the point where axes 4 and 5 meet")
+    c0, ct = _wrist_pair_point(S, T, a)
+    br = place(S, br, (0, 1, 2), c0, ct[:, None, :], what="the point where axes 4 and 5 meet")
     if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
     v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
@@ -105,12 +101,7 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     subproblem 4), where joints 4 and 5 turn ``a0`` onto it (subproblem 2) with the most room.
     """
     if targets.kind == "pose":
-        Rt = target_rotation(S, targets.T)
-        e = S.constant("normal to axis 5", lambda: normal_to(S.axis[4]))
-        vw = np.empty((br.N, br.K, 2, 3))
-        vw[...] = np.swapaxes(Rt @ np.stack([S.axis[4], e], -1), -1, -2)   # R_t k5, R_t e
-        vw = undo(S, br, (0, 1), vw)
-        return spherical(S, br, (2, 3, 4), vw[..., 0, :], vw[..., 1, :], e)
+        return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
     t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0)).negated())
@@ -119,13 +110,13 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, k4, k5), least_squares=True)
 
 
-def _wrist_pair_point(S: Screws, T):
-    """``(c0, ct)``: the point where axes 4 and 5 meet, at q = 0 ``(3,)`` and where the poses
-    ``T (N, 4, 4)`` need it, a fixed distance behind the tool point along the approach,
-    ``(N, 3)`` (world frame, m)."""
+def _wrist_pair_point(S: Screws, T, a):
+    """``(c0, ct)``: the point where axes 4 and 5 meet, at q = 0 ``(3,)`` and where the targets
+    ``T (N, 4, 4)`` with approaches ``a (N, 3)`` need it, a fixed distance behind the tool
+    point along the approach, ``(N, 3)`` (world frame, m)."""
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
     c0 = S.constant("wrist point", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
-    return c0, T[:, :3, 3] - float((p0 - c0) @ a0) * T[:, :3, 2]
+    return c0, T[:, :3, 3] - float((p0 - c0) @ a0) * a
 
 
 def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
@@ -152,7 +143,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     T = targets.T
     h, k4, k5, a0, o3 = S.axis[0], S.axis[3], S.axis[4], S.M[:3, 2], S.point[2]
     s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
-    c0, ct = _wrist_pair_point(S, T)
+    c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
     br = br.branch([3], sp4(h, k5, k4, u @ h))
@@ -189,16 +180,11 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     O = S.constant("shoulder point", lambda: common_point(S.point[:3], S.axis[:3], np.inf))
-    c0, ct = _wrist_pair_point(S, T)
+    c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u = _mtv(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
     br = br.branch([3, 4], sp2(u, np.broadcast_to(c0 - O, u.shape), S.axis[3], S.axis[4]))
-    e = S.constant("normal to axis 3", lambda: normal_to(S.axis[2]))
-    x = np.empty((br.N, br.K, 2, 3))
-    x[...] = np.stack([S.axis[2], e])
-    x = S.turn(4, br.cos[4], -br.sin[4], S.turn(3, br.cos[3], -br.sin[3], x))  # R5^T R4^T
-    vw = np.swapaxes(br.take(Rt) @ np.swapaxes(x, -1, -2), -1, -2)           # R123 k3, R123 e
-    return spherical(S, br, (0, 1, 2), vw[..., 0, :], vw[..., 1, :], e)
+    return spherical_taking(S, br, (0, 1, 2), Rt, after=(3, 4))
 
 
 def pitch_roll(S: Screws, targets, br: Branches) -> Branches:

@@ -48,7 +48,6 @@ from .screws import Screws
 from .worked import note_equation, note_turn
 
 
-
 @dataclass(frozen=True)
 class Plan:
     """How joints ``joints`` place ``p0`` (see the module docstring); robot-level."""
@@ -362,7 +361,7 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     t = _targets(S, P, PT)                                                 # (N, K, 2)
     al = al_s[:, None, None, :] - np.moveaxis(t, -1, 0)[..., None]          # (2, N, K, m)
     R = eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
-                   np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300))
+                  np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300))
     br = br.branch([c], roots_in_c(S, c, R))
     PT, t = br.take(PT), br.take(t)
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)

@@ -26,7 +26,7 @@ from .place import place
 from .screws import Screws
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
 from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
-from .wrists import normal_to, parallel_wrist_q6, spherical, undo
+from .wrists import normal_to, parallel_wrist_q6, spherical_taking
 
 
 # --- six joints --------------------------------------------------------------------
@@ -54,13 +54,7 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     if br.explain:
         br = br.note("wrist centre (target)", br.take(ct.repeat(br.K, 1) if br.K else ct),
                      "length")
-    Rt = target_rotation(S, T)
-    e = S.constant("normal to axis 6", lambda: normal_to(S.axis[5]))
-    ke = S.constant("axis 6 and its normal", lambda: np.stack([S.axis[5], e], -1))   # (3, 2)
-    vw = np.empty((br.N, br.K, 2, 3))
-    vw[...] = np.swapaxes(Rt @ ke, -1, -2)                     # R_t k6, R_t e of every slot
-    vw = undo(S, br, (0, 1, 2), vw)
-    return spherical(S, br, (3, 4, 5), vw[..., 0, :], vw[..., 1, :], e)
+    return spherical_taking(S, br, (3, 4, 5), target_rotation(S, T), before=(0, 1, 2))
 
 
 def three_parallel(S: Screws, targets, br: Branches) -> Branches:

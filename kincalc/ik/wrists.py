@@ -123,6 +123,36 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     return br
 
 
+def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -> Branches:
+    """``br`` with the spherical wrist ``joints`` taking the rotation ``R_W = (R_before)^T R_t
+    (R_after)^T`` left for it by the solved joints ``before`` and ``after`` it
+    (:func:`spherical` on ``v = R_W k3``, ``w = R_W e``).
+
+    Parameters
+    ----------
+    S : Screws, the chain (world frame at q = 0, SI)
+    br : Branches, the joints ``before`` and ``after`` solved
+    joints : tuple of int, the wrist's three joints (0-based), base to tip
+    Rt : ndarray (N, 1 or K, 3, 3), the rotation the product of exponentials must give
+    before, after : tuple of int, solved joints (0-based) before and after the wrist
+
+    Returns
+    -------
+    Branches, ``2 K`` slots (fewer once dead ones are dropped), the wrist's joints set
+    """
+    k = S.axis[joints[2]]
+    e = S.constant(("normal to axis", joints[2]), lambda: normal_to(k))
+    ke = np.stack([k, e], -1)                                               # (3, 2)
+    vw = np.empty((br.N, br.K, 2, 3))
+    if after:
+        vw[...] = ke.T
+        vw = np.swapaxes(Rt @ np.swapaxes(undo(S, br, after, vw), -1, -2), -1, -2)
+    else:
+        vw[...] = np.swapaxes(Rt @ ke, -1, -2)
+    vw = undo(S, br, before, vw)
+    return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :], e)
+
+
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):
     """Representative values of joint 6 at the wrist singularity of a three-parallel arm.
 

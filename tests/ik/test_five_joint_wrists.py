@@ -121,7 +121,8 @@ def _newton_roots(robot, T, starts, rng) -> list:
             if np.abs(e).max() < 1e-13:
                 break
             q = q + np.linalg.lstsq(robot.jacobian(q), e, rcond=None)[0]
-        if np.abs(e).max() < 1e-11 and np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1] > 1e-6 \
+        regular = np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1] > 1e-6
+        if np.abs(e).max() < 1e-11 and regular \
                 and not any(np.abs(wrap(q - p)).max() < 1e-6 for p in roots):
             roots.append(wrap(q))
     return roots

@@ -53,7 +53,8 @@ def _same(robot, p, q) -> bool:
 @pytest.mark.parametrize("second, third", [("revolute", "revolute"), ("revolute", "prismatic"),
                                            ("prismatic", "revolute")])
 def test_slide_then_joints_that_move_across_it_in_one_direction(second, third):
-    rng = np.random.default_rng({"revolute": 11, "prismatic": 12}[third] + 10 * (second == "prismatic"))
+    seed = {"revolute": 11, "prismatic": 12}[third] + 10 * (second == "prismatic")
+    rng = np.random.default_rng(seed)
     found = trials = 0
     for _ in range(12):
         r = _arm(rng, third, second)

@@ -80,4 +80,5 @@ def test_ordered_sorts_each_problem_by_its_angles():
     assert sol.theta[0].tolist() == [[-1.0, 0.5, 0.5], [1.0, 2.0, -3.0]]
     assert sol.theta[1].tolist() == [[0.0, -0.2, 0.2], [0.0, 0.0, 0.0]]
     assert sol.ok.tolist() == [[True, True, True], [True, True, False]]
-    assert np.allclose(sol.c[0], np.cos(sol.theta[0])) and np.allclose(sol.s[1], np.sin(sol.theta[1]))
+    assert np.allclose(sol.c[0], np.cos(sol.theta[0]))
+    assert np.allclose(sol.s[1], np.sin(sol.theta[1]))
