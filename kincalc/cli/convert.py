@@ -11,7 +11,7 @@ from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_
 ToOpt = Annotated[str, typer.Option(
     "--to", metavar="dh|mdh|poe", show_default=False,
     help="The convention to write: dh (standard DH), mdh (modified DH, Craig) or poe "
-         "(product of exponentials). poe robots cannot be converted to dh or mdh.")]
+         "(product of exponentials).")]
 OutputOpt = Annotated[Optional[str], typer.Option(
     "-o", "--output", metavar="FILE", show_default=False, click_type=FileName(),
     help="Write the robot file to FILE instead of standard output ('-'). An existing FILE "
@@ -30,8 +30,8 @@ def convert(
     tip_link: TipLinkOpt = None,
     debug: DebugOpt = False,
 ):
-    """Rewrite ROBOT in another convention: standard DH <-> modified DH, or
-    either to product of exponentials (poe).
+    """Rewrite ROBOT in another convention: standard DH, modified DH or product
+    of exponentials (poe; a URDF file reads as poe).
 
     Prints a robot file (YAML) with the same forward kinematics for every
     joint value: same joint names, zeros, directions, limits, home, units and

@@ -48,8 +48,8 @@ COMMANDS = {
     "compare": ("compare", "compare", None,
                 "Are ROBOT_A and ROBOT_B the same robot (same tool pose for every joint value)?"),
     "convert": ("convert", "convert", None,
-                "Rewrite ROBOT in another convention: standard DH <-> modified DH, or either to "
-                "product of exponentials (poe)."),
+                "Rewrite ROBOT in another convention: standard DH, modified DH or product of "
+                "exponentials (poe; a URDF file reads as poe)."),
     "selftest": ("selftest", "selftest", None,
                  "Check IK on random configurations within the limits (IKFast's --iktests "
                  "metrics)."),

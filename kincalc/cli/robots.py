@@ -99,11 +99,13 @@ def show(
     doc["robot"].update(_details(rob, u))
     doc["robot"]["ik"] = _ik_method(rob)
     if rob.convention == "poe":
-        # the DH table of the same axes (a URDF's, or any poe robot's)
-        from ..conventions import convert
-        dh = convert(rob, "dh")
-        doc["robot"]["dh"] = {k: v for k, v in _details(dh, u).items()
-                              if k in ("joints", "base", "tool")}
+        # the DH table of the same axes (a URDF's, or any poe robot's), or why there is none
+        from ..conventions.conversion import dh_of_axes
+        dh, why = dh_of_axes(rob)
+        doc["robot"]["dh"] = None if dh is None else {
+            k: v for k, v in _details(dh, u).items() if k in ("joints", "base", "tool")}
+        if dh is None:
+            doc["robot"]["dh_note"] = why
     if json:
         from .render import emit_json
         emit_json(doc)
@@ -169,9 +171,11 @@ def _show_tables(doc, rob, u, precision):
                  f"numerical ({ik['description']})"))
     c.print(kv_table(meta))
     _joint_table(c, rob, r, u, precision)
-    if rob.convention == "poe":
-        from ..conventions import convert
-        _joint_table(c, convert(rob, "dh"), r["dh"], u, precision,
+    if rob.convention == "poe" and r["dh"] is None:
+        c.print(f"no standard DH table of these axes: {r['dh_note']}")
+    elif rob.convention == "poe":
+        from ..conventions.conversion import dh_of_axes
+        _joint_table(c, dh_of_axes(rob)[0], r["dh"], u, precision,
                      "Standard DH table of the same axes (kincalc convert --to dh)")
     c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
     if rob.notes:

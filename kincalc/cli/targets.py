@@ -138,11 +138,12 @@ def option_name(field: str) -> str:
 
 def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=None,
                  quat=None, axis_angle=None, matrix=None, approach=None, tcv=None, pose=None,
-                 from_q=None, T=None, q=None):
+                 from_q=None, T=None, q=None, record: bool = False):
     """A :class:`~kincalc.ik.Target` from the pose options (user units -> SI).
 
     ``T`` (a 4x4 matrix, or 16 or 12 numbers) and ``q`` (joint values) are the
-    batch-record forms of ``--pose`` and ``--from-q``, named as the records name them."""
+    batch-record forms of ``--pose`` and ``--from-q``. ``record``: the fields come from a
+    batch record, and the messages name them as records do (``quat``, not ``--quat``)."""
     import numpy as np
 
     from ..ik import Target
@@ -150,8 +151,7 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     given = {"xyz": xyz, "rpy": rpy, "euler_zyz": euler_zyz, "euler_xyz": euler_xyz,
              "quat": quat, "axis_angle": axis_angle, "matrix": matrix, "approach": approach,
              "tcv": tcv, "T": T if pose is None else pose, "q": q if from_q is None else from_q}
-    record = {"T": T is not None, "q": q is not None}
-    name = lambda f: f if record.get(f) else option_name(f)  # noqa: E731
+    name = (lambda f: f) if record else option_name
     for f in ("xyz", "rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix",
               "approach", "tcv"):
         if given[f] is not None:

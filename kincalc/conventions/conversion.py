@@ -79,9 +79,68 @@ def convert(robot: Robot, to: str) -> Robot:
         out = dh_to_mdh(robot)
     else:
         out = mdh_to_dh(robot)
+    _check_same_fk(robot, out)
     note = f"(converted from {CONVENTION_NAMES[robot.convention]} by kincalc convert)"
     source = f"{robot.source} {note}" if robot.source else note
     return dataclasses.replace(out, source=source)
+
+
+def dh_of_axes(robot: Robot) -> tuple[Robot | None, str]:
+    """The standard DH table of a poe robot's axes (a URDF's), to show beside its screws.
+
+    Parameters
+    ----------
+    robot : Robot
+        A ``poe`` robot, SI.
+
+    Returns
+    -------
+    (Robot or None, str)
+        The ``dh`` robot with the same FK and "", or None and why DH cannot describe these
+        axes to full accuracy (nearly parallel consecutive axes: :func:`convert` refuses).
+    """
+    try:
+        return convert(robot, "dh"), ""
+    except InputError as exc:
+        return None, str(exc)
+
+
+def _check_same_fk(robot: Robot, out: Robot) -> None:
+    """Refuse a conversion whose FK is not the robot's, to 1e-9 of its length scale (m) and 1e-9
+    rad, on q = 0 and a few configurations spread within the limits.
+
+    Standard and modified DH put a frame on the common normal of consecutive axes; for axes a
+    hair from parallel it lies far away (1e-6 rad apart, 0.5 m off: 500 km), and the offsets
+    that cancel there lose the robot's own lengths to rounding (mm, for a rounded pi)."""
+    from ..samples import spread
+    lo, hi = robot.limits.T
+    L = robot.characteristic_length
+    lo, hi = np.where(np.isfinite(lo), lo, -np.pi), np.where(np.isfinite(hi), hi, np.pi)
+    Q = np.vstack([np.zeros(robot.dof), spread(6, lo, np.maximum(hi, lo + 1e-9))])
+    A, B = robot.fk(Q), out.fk(Q)
+    moved = float(np.abs(A[:, :3, 3] - B[:, :3, 3]).max()) / L
+    turned = float(np.abs(A[:, :3, :3] - B[:, :3, :3]).max())
+    if moved <= 1e-9 and turned <= 1e-9:
+        return
+    from ..units import LENGTH_UNITS
+    u = LENGTH_UNITS[robot.length_unit]
+    near = _nearly_parallel(robot)
+    why = "" if near is None else (
+        f" (the axes of joints {near[0] + 1} and {near[0] + 2} are {near[1]:.2g} rad from "
+        "parallel, so their common normal lies far away)")
+    raise InputError(f"{robot.name} cannot be written in {out.convention} to full accuracy: "
+                     f"its tool would move by up to {moved * L * u:.3g} {robot.length_unit} "
+                     f"and turn by {turned:.2g} rad{why}; keep it in {robot.convention}")
+
+
+def _nearly_parallel(robot: Robot):
+    """``(i, angle)``: the consecutive joint axes i, i + 1 (0-based) nearest to parallel without
+    being parallel (to 1e-12 rad), when that angle is under 1e-3 rad; None otherwise."""
+    axes = np.asarray([j.axis for j in to_poe(robot).joints], float)
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    s = np.linalg.norm(np.cross(axes[:-1], axes[1:]), axis=1)
+    near = [(float(x), i) for i, x in enumerate(s) if 1e-12 < x < 1e-3]
+    return (min(near)[1], min(near)[0]) if near else None
 
 
 def _xa(alpha, a):

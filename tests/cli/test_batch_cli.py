@@ -804,3 +804,22 @@ def test_ik_batch_records_hold_joints(tmp_path, capsys):
     assert "continuum" in lines(out)[2]["error"]
     code, out, err = run(capsys, "reach", "iiwa14", "--batch", src)
     assert code == 2 and "only ik --batch" in lines(out)[1]["error"]
+
+
+@pytest.mark.parametrize("command", ["ik", "reach"])
+def test_record_errors_name_record_fields_and_matrix_takes_rows(command, tmp_path, capsys):
+    """Found by an independent tester: reach --batch worded a record's zero quaternion as
+    '--quat must not be ...', and both commands a T given with xyz as '... with --xyz'
+    (command-line option names for a record's fields); a 'matrix' given as three rows was
+    'expected 9 numbers' although T takes its rows and sheets take the matrix's."""
+    recs = [{"xyz": [0.3, 0, 0.3], "quat": [0, 0, 0, 0]},
+            {"xyz": [0.3, 0, 0.3], "T": np.eye(4).tolist()},
+            {"xyz": [0.3, 0.1, 0.3], "matrix": [[0, -1, 0], [1, 0, 0], [0, 0, 1]]},
+            {"xyz": [0.3, 0.1, 0.3], "matrix": [0, -1, 0, 1, 0, 0, 0, 0, 1]}]
+    f = tmp_path / "recs.jsonl"
+    f.write_text("".join(json.dumps(r) + "\n" for r in recs))
+    assert main([command, "puma560", "--batch", str(f)]) == 2
+    out = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert out[0]["error"] == "record 1: quat must not be the zero quaternion"
+    assert out[1]["error"] == "record 2: T gives the whole pose; do not combine it with xyz"
+    assert "error" not in out[2] and {**out[2], "index": 3} == out[3]

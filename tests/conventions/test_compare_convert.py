@@ -343,3 +343,57 @@ def test_a_number_written_reads_back_and_writes_as_itself():
         assert abs(float(text) - x) <= 1e-13 * max(abs(x), 1e-300) + 1e-300 or \
             abs(x) < 1e-12
     assert num(112.00000045988099) == num(112.000000459881)
+
+
+# --- axes a hair from parallel (found by an independent tester) ----------------------------
+
+NEARLY_PARALLEL = """name: np3
+convention: poe
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, axis: [0, 0, 1], point: [0, 0, 0]}
+  - {name: q2, type: revolute, axis: [0.000001, 0, 1], point: [0.5, 0, 0]}
+  - {name: q3, type: revolute, axis: [0, 1, 0], point: [0.5, 0, 0.3]}
+tool: {xyz: [0.9, 0, 0.3], rpy: [0, 0, 0]}
+"""
+
+
+def test_axes_a_hair_from_parallel_are_not_converted_to_dh(tmp_path, capsys):
+    """Axes 1 and 2 are 1e-6 rad apart and 0.5 m off: their common normal is 500 km away
+    (they meet at z = -0.5 / 1e-6), and the DH offsets d = -500066.58 and 500066.88 that
+    cancel there lost the tool's position to 6.7e-5 m (by hand: the tool is at (0.9, 0,
+    0.3) at q = 0, the written dh file put it at 0.900067). Refused, naming the axes; the
+    POE description and the robot's own DH tables are untouched."""
+    from kincalc.errors import InputError
+    robot = parse_robot_text(NEARLY_PARALLEL)
+    assert np.allclose(robot.fk(np.zeros(3))[:3, 3], [0.9, 0, 0.3], atol=1e-15)
+    for to in ("dh", "mdh"):
+        with pytest.raises(InputError, match=r"np3 cannot be written in " + to + r" to full "
+                           r"accuracy: .* \(the axes of joints 1 and 2 are 1e-06 rad from parallel"):
+            convert(robot, to)
+    (tmp_path / "np3.yaml").write_text(NEARLY_PARALLEL)
+    out = tmp_path / "np3_dh.yaml"
+    assert main(["convert", str(tmp_path / "np3.yaml"), "--to", "dh", "-o", str(out)]) == 2
+    assert capsys.readouterr().err.count("\n") == 1 and not out.exists()
+    # robots show keeps the screws and says why there is no DH table
+    assert main(["robots", "show", str(tmp_path / "np3.yaml"), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)["robot"]
+    assert doc["dh"] is None and "1e-06 rad from parallel" in doc["dh_note"]
+    assert main(["robots", "show", str(tmp_path / "np3.yaml")]) == 0
+    assert "no standard DH table of these axes" in capsys.readouterr().out
+
+
+def test_compare_tolerance_is_not_widened_by_offsets_that_cancel(tmp_path, capsys):
+    """A planar 2R (a = 0.4, 0.3) against the same with d = 400000 and -399999.5 on its
+    parallel axes: by hand the tool is 0.5 m higher. The tolerance was 1e-6 of the larger
+    characteristic length, 0.8 m, and the two were 'the same robot'."""
+    two = "name: {n}\nconvention: dh\nunits: {{length: m, angle: deg}}\njoints:\n" \
+          "  - {{name: q1, type: revolute, alpha: 0, a: 0.4, d: {d1}, theta: 0}}\n" \
+          "  - {{name: q2, type: revolute, alpha: 0, a: 0.3, d: {d2}, theta: 0}}\n"
+    (tmp_path / "a.yaml").write_text(two.format(n="a", d1=0, d2=0))
+    (tmp_path / "b.yaml").write_text(two.format(n="b", d1=400000, d2=-399999.5))
+    b = parse_robot_text(two.format(n="b", d1=400000, d2=-399999.5))
+    assert np.allclose(b.fk(np.zeros(2))[:3, 3], [0.7, 0, 0.5])
+    assert main(["compare", str(tmp_path / "a.yaml"), str(tmp_path / "b.yaml"), "--json"]) == 1
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["same"] is False

@@ -112,8 +112,9 @@ def match(reference, candidate, *, allow_offsets: bool = False, free_base: bool 
     seed : int
         Seed of those samples.
     tol : float
-        Tolerance: positions relative to the length scale (the larger
-        characteristic length of the two robots), angles in rad.
+        Tolerance: positions relative to the length scale (the smaller
+        characteristic length of the two robots: large offsets that cancel in
+        one of them would widen the larger to metres), angles in rad.
 
     Returns
     -------
@@ -129,7 +130,7 @@ def match(reference, candidate, *, allow_offsets: bool = False, free_base: bool 
     if not tol > 0:
         raise ValueError("tol must be positive")
     n_r, n_c = reference.dof, candidate.dof
-    L = max(reference.characteristic_length, candidate.characteristic_length)
+    L = min(reference.characteristic_length, candidate.characteristic_length)
     opts = dict(allow_offsets=allow_offsets, free_base=free_base, free_tool=free_tool,
                 length_scale=L, tol=tol)
     nan = float("nan")

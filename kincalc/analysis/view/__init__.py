@@ -127,7 +127,8 @@ def page_data(robot, units, q=None, ik=None) -> dict:
 def dh_table(robot) -> dict:
     """The robot's DH table for the page: its own (standard or modified DH), or for a
     poe robot (a URDF's) the standard DH table of the same axes (:func:`~kincalc.
-    conventions.conversion.convert`).
+    conventions.conversion.dh_of_axes`; none, with the reason as its note, where DH cannot
+    describe them to full accuracy).
 
     Returns
     -------
@@ -136,8 +137,11 @@ def dh_table(robot) -> dict:
         ``[value, kind, variable]``, the value SI, kind ``"angle"`` or ``"length"``, and
         the joint's name where its variable adds to that entry (else None); ``note``.
     """
-    from ...conventions.conversion import convert
-    table = robot if robot.convention != "poe" else convert(robot, "dh")
+    from ...conventions.conversion import dh_of_axes
+    table, why = (robot, "") if robot.convention != "poe" else dh_of_axes(robot)
+    if table is None:
+        return {"title": "No standard DH table of these axes", "columns": [], "rows": [],
+                "note": why}
     if table.convention == "dh":
         fields = (("theta", "angle"), ("d", "length"), ("a", "length"), ("alpha", "angle"))
         columns = ["\u03b8_i", "d_i", "a_i", "\u03b1_i"]

@@ -322,7 +322,8 @@ def _reach_chunk(robot, units, parsed, frame):
         if error is None:
             try:
                 pose = {k: v for k, v in kw.items() if k != "id"}
-                result = reach(robot, build_target(robot, units, **pose), units=units)
+                result = reach(robot, build_target(robot, units, **pose, record=True),
+                               units=units)
             except KincalcError as exc:
                 error = f"record {index + 1}: {words(exc)}"
         if error is not None:

@@ -52,7 +52,8 @@ def record_poses(robot, units, parsed, together=None, start: int = 0):
                 groups.setdefault(form, []).append((i, kw))
                 continue
             try:
-                target = build_target(robot, units, **{k: v for k, v in kw.items() if k != "id"})
+                target = build_target(robot, units, record=True,
+                                      **{k: v for k, v in kw.items() if k != "id"})
             except KincalcError as exc:
                 err = f"record {i + 1}: {words(exc)}"
             else:

@@ -263,10 +263,10 @@ def _pose_keywords(rec: dict) -> dict:
                 raise RecordError("id must be a string, a finite number, true, false or null")
         elif key == "lock":
             value = _lock(value)
-        elif key == "T":
+        elif key in ("T", "matrix"):                   # 16 or 12 / 9 numbers, or their rows
             if type(value) is list and value and type(value[0]) is list:
                 value = [x for row in value for x in (row if type(row) is list else [row])]
-            value = _numbers(value, 0, "T")
+            value = _numbers(value, _FIELDS[key], key)
         else:
             value = _numbers(value, _FIELDS[key], key)
         out[key] = value
