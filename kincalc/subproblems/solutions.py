@@ -82,8 +82,8 @@ class Solutions:
 
     def ordered(self) -> "Solutions":
         """These solutions with each problem's slots in ascending order of their angles
-        (the first unknown's, ties to 1e-9 rad broken by the next), the slots that are not
-        ``ok`` last: an order that depends on the answers alone, not on how the solver found
+        (the first unknown's, ties to 1e-9 rad broken by the next; -pi counts as pi), the
+        slots that are not ``ok`` last: an order that depends on the answers alone, not on how the solver found
         them (a "root k" label is then the same for the same robot in any convention).
 
         Returns
@@ -91,7 +91,9 @@ class Solutions:
         Solutions
             The same answers and masks, the slots permuted along the last axis.
         """
-        keys = [np.round(t / 1e-9) for t in reversed(self.theta)] + [~self.ok]
+        # an angle within 1e-9 of -pi is pi (the same root, rounded across the wrap)
+        near = [np.where(t < -np.pi + 1e-9, t + 2 * np.pi, t) for t in self.theta]
+        keys = [np.round(t / 1e-9) for t in reversed(near)] + [~self.ok]
         order = np.lexsort(keys, axis=-1)
         take = lambda t: tuple(np.take_along_axis(x, order, -1) for x in t)  # noqa: E731
         ok, exact, free = take((self.ok, self.exact, self.free))

@@ -82,3 +82,13 @@ def test_ordered_sorts_each_problem_by_its_angles():
     assert sol.ok.tolist() == [[True, True, True], [True, True, False]]
     assert np.allclose(sol.c[0], np.cos(sol.theta[0]))
     assert np.allclose(sol.s[1], np.sin(sol.theta[1]))
+
+
+def test_ordered_counts_minus_pi_as_pi():
+    """A root at the wrap, -pi + 1e-13 in one description and pi in another, is one root: it
+    sorts last in both (a reversed chain's 'root k' shifted with it on poses at 180 deg)."""
+    for first in (-np.pi + 1e-13, np.pi):
+        t = np.array([first, 0.5, -1.0])
+        ok = np.ones(3, bool)
+        sol = Solutions((t,), (np.cos(t),), (np.sin(t),), ok, ok, np.zeros(3, bool)).ordered()
+        assert sol.theta[0].tolist() == [-1.0, 0.5, first]
