@@ -3,7 +3,7 @@
 import numpy as np
 
 from kincalc.model import Joint, Robot
-from kincalc.spatial import matrix_from_rpy, transform
+from kincalc.spatial import matrix_from_rpy, transform, wrap
 
 
 def random_pose(rng, scale=0.5):
@@ -30,3 +30,28 @@ def random_robot(rng, convention="dh", n=6, types=None, base_tool=True):
     tool = random_pose(rng) if base_tool else np.eye(4)
     return Robot(name=f"random_{convention}", convention=convention, joints=tuple(joints),
                  base=base, tool=tool, M=M)
+
+
+def newton_roots(robot, T, starts, rng) -> list:
+    """Every configuration reaching the pose ``T (4, 4)`` that Gauss-Newton finds from
+    ``starts`` random starts drawn from ``rng`` (kincalc's FK and Jacobian only, no IK:
+    revolute joints in [-pi, pi), prismatic in [-pi, pi) m; distinct to 1e-6, regular
+    Jacobian), wrapped to (-pi, pi] for revolute joints: the oracle of a solution set."""
+    roots = []
+    for q in rng.uniform(-np.pi, np.pi, (starts, robot.dof)):
+        for _ in range(60):
+            F = robot.fk(q)
+            E = T[:3, :3] @ F[:3, :3].T
+            e = np.r_[T[:3, 3] - F[:3, 3], 0.5 * np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0],
+                                                           E[1, 0] - E[0, 1]])]
+            if np.abs(e).max() < 1e-13:
+                break
+            q = q + np.linalg.lstsq(robot.jacobian(q), e, rcond=None)[0]
+        # the whole pose, not e: a rotation by pi has a zero skew part
+        reached = np.abs(robot.fk(q) - T).max() < 1e-10
+        regular = np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1] > 1e-6
+        if reached and regular \
+                and not any(np.abs(np.where(robot.is_revolute, wrap(q - p), q - p)).max() < 1e-6
+                        for p in roots):
+            roots.append(np.where(robot.is_revolute, wrap(q), q))
+    return roots

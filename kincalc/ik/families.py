@@ -17,7 +17,8 @@ on. Families:
   joint 3 from the orientation.
 * ``position-2``: 2 joints: the tool point (on a plane, a cylinder, ...).
 * ``point-plus-roll``: 4 joints, the last revolute: a point on axis 4 by joints 1-3
-  (SCARA, the R-R-P-R spherical arm), joint 4 from the orientation.
+  (SCARA, the R-R-P-R spherical arm), joint 4 from the orientation; or 3 joints whose tool
+  turns about axis 3, a point of it placed by joints 1-2 on the surface they sweep.
 * ``position-approach``, ``pitch-roll``: five joints setting the position and the
   approach direction (tool z).
 * ``planar-shoulder``, ``spherical-shoulder``: five revolute joints, axes 4 and 5 meeting
@@ -331,6 +332,11 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
                                    "joints 1-2, joint 3 from the orientation",
                        "position in the plane and rotation about the axes", True,
                        structure=(("parallel", (0, 1, 2)),)), "")
+    if n == 3 and rev[2] and robot.generic_ranks[0] == 3 \
+            and _independent_motions(S, (0, 1), S.point[2]):        # the tool turns about axis 3
+        return (Family("point-plus-roll", "a point on axis 3 placed by joints 1-2 (on the "
+                       "surface they sweep), joint 3 from the orientation about its axis",
+                       "position on a surface and rotation about axis 3", True), "")
     if n == 2:
         return (Family("position-2", "two joints placing the tool point",
                        "position (on the surface the arm sweeps)", False), "")

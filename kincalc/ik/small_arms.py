@@ -91,9 +91,11 @@ def planar_3(S: Screws, targets, br: Branches) -> Branches:
 
 
 def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
-    """A point of axis 4 by joints 1-3, joint 4 from the orientation (subproblem 1).
+    """A point of the last axis by the joints before it, the last joint from the orientation
+    (subproblem 1).
 
-    SCARA, the R-R-P-R spherical arm.
+    Four joints: a SCARA, the R-R-P-R spherical arm. Three: an arm whose tool turns about
+    its last axis, joints 1-2 placing a point of it on the surface they sweep.
 
     Parameters
     ----------
@@ -105,21 +107,22 @@ def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
     -------
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
-    br = _last_axis_roll(S, targets, br, (0, 1, 2))
+    br = _last_axis_roll(S, targets, br, tuple(range(S.n - 1)))
     return _roll_with_free(S, targets, br)
 
 
 def _meeting_pairs(S: Screws) -> tuple:
-    """The pairs ``(a, b)``, ``a < b``, of revolute joints among 1-3 whose axes meet (not
-    parallel): both lines can hold axis 4's point, both joints then free. Cached."""
+    """The pairs ``(a, b)``, ``a < b``, of revolute joints before the last whose axes meet
+    (not parallel): both lines can hold the last axis's point, both joints then free.
+    Cached."""
     def make():
         from ..structure import common_point
-        rev = [j for j in range(3) if S.revolute[j]]
+        rev = [j for j in range(S.n - 1) if S.revolute[j]]
         tol = 1e-9 * max(S.scale, 1.0)
         return tuple((a, b) for a in rev for b in rev if a < b
                      and np.linalg.norm(np.cross(S.axis[a], S.axis[b])) > 1e-9
                      and common_point(S.point[[a, b]], S.axis[[a, b]], tol) is not None)
-    return S.constant("meeting pairs of joints 1-3", make)
+    return S.constant("meeting pairs before the last joint", make)
 
 
 def _frame(S: Screws, br: Branches, upto: int):
@@ -140,54 +143,55 @@ def _frame(S: Screws, br: Branches, upto: int):
 
 
 def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
-    """Joints of 1-3 left free by the placement (axis 4's point on their lines) turned,
-    with joint 4, to the target's orientation; turning them keeps that point, so the tool
-    reaches the pose when its rotation does.
+    """Joints before the last (``m = n - 1`` of them) left free by the placement (the last
+    axis's point on their lines) turned, with the last joint, to the target's orientation;
+    turning them keeps that point, so the tool reaches the pose when its rotation does.
 
-    With ``E = R_t R^T`` the rotation still missing (``R`` the slot's ``E_1 ... E_4``), and
-    ``u`` the slot's axes: one free joint ``a`` gives ``R(u_a, x) R(u_4, z) = E``
+    With ``E = R_t R^T`` the rotation still missing (``R`` the slot's ``E_1 ... E_n``), and
+    ``u`` the slot's axes: one free joint ``a`` gives ``R(u_a, x) R(u_n, z) = E``
     (:func:`~kincalc.subproblems.turns.two_turns`, no longer free unless ``u_a`` is along
-    ``u_4``); two, ``a`` and ``b`` on meeting axes, ``R(u_a, x) R(u_b, y) R(u_4, z) = E``:
-    ``(x, y)`` turn ``u_4`` onto ``E u_4`` (subproblem 2, two roots, the second a slot of
-    its own) and ``z`` the turn about ``u_4`` left
+    ``u_n``); two, ``a`` and ``b`` on meeting axes, ``R(u_a, x) R(u_b, y) R(u_n, z) = E``:
+    ``(x, y)`` turn ``u_n`` onto ``E u_n`` (subproblem 2, two roots, the second a slot of
+    its own) and ``z`` the turn about ``u_n`` left
     (:func:`~kincalc.subproblems.turns.nearest_turn`). Slots with no free joint keep their
     values (the second root of the pair's step is then empty).
     """
-    F = np.stack([br.free[j] for j in range(3)]) & S.revolute[:3, None, None]
+    m = S.n - 1
+    F = np.stack([br.free[j] for j in range(m)]) & S.revolute[:m, None, None]
     count = F.sum(0)
     pairs = _meeting_pairs(S)
     if not np.count_nonzero(count) and not pairs:
         return br
     N, K = br.ok.shape
     Rt = np.broadcast_to(target_rotation(S, targets.T), (N, K, 3, 3))
-    X, u = _frame(S, br, 4)
+    X, u = _frame(S, br, S.n)
     E = Rt @ X                                                      # R_t R^T
-    for a in range(3):
+    for a in range(m):
         one = F[a] & (count == 1)
         if np.count_nonzero(one):
-            x, z = two_turns(u[a], u[3], E)
-            keep = np.linalg.norm(np.cross(u[a], u[3]), axis=-1) < 1e-9
+            x, z = two_turns(u[a], u[m], E)
+            keep = np.linalg.norm(np.cross(u[a], u[m]), axis=-1) < 1e-9
             v = wrap(br.value[a] + np.where(one, x, 0.0))
-            w = wrap(br.value[3] + np.where(one, z, 0.0))
+            w = wrap(br.value[m] + np.where(one, z, 0.0))
             br = br.set(a, v, np.cos(v), np.sin(v), free=F[a] & ~(one & ~keep))
-            br = br.set(3, w, np.cos(w), np.sin(w))
+            br = br.set(m, w, np.cos(w), np.sin(w))
     for a, b in pairs:
         two = F[a] & F[b] & (count == 2)                             # (N, K)
-        sol = sp2(u[3], (E @ u[3][..., None])[..., 0], u[a], u[b])
+        sol = sp2(u[m], (E @ u[m][..., None])[..., 0], u[a], u[b])
         x, y = sol.theta[0], sol.theta[1]                            # (N, K, 2)
         Ra = matrix_from_axis_angle(u[a][..., None, :], x)
         Rb = matrix_from_axis_angle(u[b][..., None, :], y)
         rest = np.swapaxes(Ra @ Rb, -1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
-        z = nearest_turn(u[3][..., None, :], rest)
+        z = nearest_turn(u[m][..., None, :], rest)
         t2 = two[..., None]
         q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))
-                  for j, d in ((a, x), (b, y), (3, z)))
+                  for j, d in ((a, x), (b, y), (m, z)))
         ok = np.where(t2, sol.ok, np.array([True, False]))
-        still = free_angles(two & sol.free.any(-1), u[3], (E @ u[3][..., None])[..., 0], u[a],
+        still = free_angles(two & sol.free.any(-1), u[m], (E @ u[m][..., None])[..., 0], u[a],
                           u[b])                                      # degenerate: free
         for j, f in zip((a, b), still):
             br = br.set(j, br.value[j], free=(br.free[j] & ~two) | f)
-        br = br.branch([a, b, 3], Solutions(q, tuple(np.cos(t) for t in q),
+        br = br.branch([a, b, m], Solutions(q, tuple(np.cos(t) for t in q),
                                             tuple(np.sin(t) for t in q), ok,
                                             np.ones_like(ok), np.zeros_like(ok)),
                        labels=(None, None))

@@ -98,10 +98,12 @@ def test_a_wrist_pair_is_its_own_group():
 
 
 def test_numerical_robots_say_there_are_no_branches():
-    """A robot no closed form covers gets one numerical solution; --all-branches says so
-    instead of leaving the lists out."""
-    r = load_robot("craig_rpr")
-    res = solve(r, Target(r.fk(np.array([0.2, 0.3, 0.4]))), all_branches=True)
+    """A robot no closed form covers (here a redundant one; craig_rpr was such a robot until
+    three-joint point-plus-roll arms had their closed form) gets one numerical solution;
+    --all-branches says so instead of leaving the lists out."""
+    r = load_robot("panda")
+    res = solve(r, Target(r.fk(np.array([0.2, 0.3, 0.4, -1.5, 0.5, 1.5, 0.7]))),
+                all_branches=True)
     assert res.family == "numerical" and res.rejected == [] and res.dead_ends == []
     assert "numerical" in res.note
 

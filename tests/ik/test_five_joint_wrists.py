@@ -24,6 +24,7 @@ from kincalc.ik.families import plan
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_rpy, rot_z, transform, wrap
+from randrobots import newton_roots
 
 CONVENTIONS = ["dh", "mdh", "poe"]
 
@@ -108,26 +109,6 @@ def test_three_joint_wrist_after_two_placing_joints(convention):
     assert found == trials and found_approach == trials, (found, found_approach, trials)
 
 
-def _newton_roots(robot, T, starts, rng) -> list:
-    """Every configuration reaching ``T`` that Gauss-Newton finds from ``starts`` seeded
-    random starts (kincalc's FK and Jacobian only; distinct to 1e-6, regular Jacobian)."""
-    roots = []
-    for q in rng.uniform(-np.pi, np.pi, (starts, robot.dof)):
-        for _ in range(60):
-            F = robot.fk(q)
-            E = T[:3, :3] @ F[:3, :3].T
-            e = np.r_[T[:3, 3] - F[:3, 3], 0.5 * np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0],
-                                                           E[1, 0] - E[0, 1]])]
-            if np.abs(e).max() < 1e-13:
-                break
-            q = q + np.linalg.lstsq(robot.jacobian(q), e, rcond=None)[0]
-        regular = np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1] > 1e-6
-        if np.abs(e).max() < 1e-11 and regular \
-                and not any(np.abs(wrap(q - p)).max() < 1e-6 for p in roots):
-            roots.append(wrap(q))
-    return roots
-
-
 @pytest.mark.parametrize("shoulder", ["parallel", "concurrent"])
 def test_three_placing_axes_with_a_turn_to_spare(shoulder):
     """Axes 1-3 parallel (a plane) or through one point (a sphere) place the wrist point with
@@ -154,5 +135,5 @@ def test_three_placing_axes_with_a_turn_to_spare(shoulder):
             T = r.fk(q)
             sols = solve(r, Target(T)).solutions
             assert sols and all(_reaches(r, s, T) for s in sols) and len(sols) <= 4
-            for root in _newton_roots(r, T, 150, rng) + [q]:
+            for root in newton_roots(r, T, 150, rng) + [q]:
                 assert any(_same(r, s.q, root) for s in sols), np.degrees(root)
