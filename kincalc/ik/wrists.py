@@ -142,7 +142,7 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     """
     k = S.axis[joints[2]]
     e = S.constant(("normal to axis", joints[2]), lambda: normal_to(k))
-    ke = np.stack([k, e], -1)                                               # (3, 2)
+    ke = S.constant(("axis and its normal", joints[2]), lambda: np.stack([k, e], -1))  # (3, 2)
     vw = np.empty((br.N, br.K, 2, 3))
     if after:
         vw[...] = ke.T
