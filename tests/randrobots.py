@@ -1,5 +1,7 @@
 """Random robots for property tests (seeded; no robot names, only geometry)."""
 
+import math
+
 import numpy as np
 
 from kincalc.model import Joint, Robot
@@ -55,3 +57,33 @@ def newton_roots(robot, T, starts, rng) -> list:
                         for p in roots):
             roots.append(np.where(robot.is_revolute, wrap(q), q))
     return roots
+
+
+#: twists that make axes parallel, perpendicular, antiparallel, or nearly so
+SPECIAL_TWISTS = [0.0, math.pi / 2, -math.pi / 2, math.pi, math.pi / 2 + 3.5e-7, math.pi - 1e-7]
+
+
+def degenerate_dh_robot(rng, n):
+    """A random standard-DH robot of ``n`` joints, degenerate on purpose: special and
+    nearly special twists, coaxial axes, prismatic joints, rotated base and tool."""
+    joints = []
+    for i in range(n):
+        kind = "revolute" if rng.random() < 0.7 else "prismatic"
+        alpha = float(rng.choice(SPECIAL_TWISTS)) if rng.random() < 0.6 \
+            else rng.uniform(-np.pi, np.pi)
+        a = 0.0 if rng.random() < 0.4 else rng.uniform(-0.5, 0.5)
+        d = 0.0 if rng.random() < 0.3 else rng.uniform(-0.5, 0.5)
+        if rng.random() < 0.25:
+            alpha, a = 0.0, 0.0                      # the next axis is coaxial with this one
+        theta = float(rng.choice([0.0, np.pi / 2, -np.pi / 2])) if rng.random() < 0.5 \
+            else rng.uniform(-np.pi, np.pi)
+        lim = (-np.pi, np.pi) if kind == "revolute" else (0.0, 0.5)
+        joints.append(Joint(f"q{i + 1}", kind, alpha=alpha, a=a, d=d, theta=theta, limits=lim))
+
+    def frame():
+        T = random_pose(rng)
+        if rng.random() < 0.25:
+            T[:3, :3] = np.eye(3)                    # translated only
+        return T
+    return Robot(name="degenerate", convention="dh", joints=tuple(joints), base=frame(),
+                 tool=frame())

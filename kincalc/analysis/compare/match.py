@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...spatial import invert_transform
 from .search import Solution, Solver
 from .words import reason_text
 
@@ -92,6 +93,10 @@ class Match:
     hint_offsets: bool = field(default=False, repr=False)
 
 
+#: the tolerance of a second search when every solution of the first misses FK
+SEARCH_TOL = 1e-6
+
+
 def match(reference, candidate, *, allow_offsets: bool = False, free_base: bool = False,
           free_tool: bool = False, samples: int = 200, seed: int = 0,
           tol: float = 1e-6) -> Match:
@@ -148,18 +153,17 @@ def match(reference, candidate, *, allow_offsets: bool = False, free_base: bool 
                 reason=f"joint {i + 1} ({jr.name}) is {jc.type} in the candidate, "
                        f"{jr.type} in the reference")
 
-    solutions, failure = Solver(reference, candidate, allow_offsets, free_base, free_tool,
-                                L, tol).run()
     q = _samples(reference, samples, seed, L)
+    # the same joint variables first (no sign change, no offset: the best score), so
+    # that the reference's own rows say so where the joints leave offsets undetermined
+    same = _confirmed(reference, candidate, [_same_joints(reference, candidate, free_base,
+                                                          free_tool)], q, L, tol)
+    if same is not None:
+        return _result(reference, *same, None, None, None, opts)
+    search = (reference, candidate, allow_offsets, free_base, free_tool, L)
+    solutions, failure = Solver(*search, tol).run()
     if solutions is not None:
-        for sol in solutions:   # best first; the first that FK confirms is the answer
-            errors = _fk_errors(reference, candidate, sol, q, L)
-            if errors[0] <= tol * L and errors[1] <= tol:
-                return _result(reference, sol, errors, None, None, None, opts)
-        # every axis matched within tol but FK does not (a borderline tolerance): the
-        # differences are reported as the tool's
-        errors = _fk_errors(reference, candidate, solutions[0], q, L)
-        return _result(reference, solutions[0], errors, n_r + 1, errors[1], errors[0], opts)
+        return _solved(search, solutions, q, tol, opts)
     errors = _fk_errors(reference, candidate, failure.solution, q, L)
     hint = not allow_offsets and match(
         reference, candidate, allow_offsets=True, free_base=free_base, free_tool=free_tool,
@@ -178,6 +182,40 @@ def _samples(robot, count, seed, L) -> np.ndarray:
     lo = np.where(np.isfinite(lo), lo, np.where(rev, -np.pi, -L))
     hi = np.where(np.isfinite(hi), hi, np.where(rev, np.pi, L))
     return np.vstack([np.zeros(robot.dof), rng.uniform(lo, hi, (count, robot.dof))])
+
+
+def _solved(search, solutions, q, tol, opts) -> Match:
+    """The Match once the branch search found ``solutions``: the first FK confirms,
+    else (a borderline tolerance) the best, its differences reported as the tool's."""
+    reference, candidate, L, n_r = search[0], search[1], search[5], search[0].dof
+    sol = _confirmed(reference, candidate, solutions, q, L, tol)
+    if sol is None and tol > SEARCH_TOL:
+        # roots within a loose tolerance may miss FK by a few times it (the equations
+        # hold at q = 0, the samples lie far from it): again, strictly
+        sol = _confirmed(reference, candidate, Solver(*search, SEARCH_TOL).run()[0] or [],
+                         q, L, tol)
+    if sol is not None:
+        return _result(reference, *sol, None, None, None, opts)
+    errors = _fk_errors(reference, candidate, solutions[0], q, L)
+    return _result(reference, solutions[0], errors, n_r + 1, errors[1], errors[0], opts)
+
+
+def _confirmed(reference, candidate, solutions, q, L, tol):
+    """The first of ``solutions`` (best first) that FK confirms, with its errors; None."""
+    for sol in solutions:
+        errors = _fk_errors(reference, candidate, sol, q, L)
+        if errors[0] <= tol * L and errors[1] <= tol:
+            return sol, errors
+    return None
+
+
+def _same_joints(reference, candidate, free_base, free_tool) -> Solution:
+    """Signs 1, offsets 0, and the base and tool that make the candidate the reference
+    when their chains from frame 0 to frame n agree."""
+    n = reference.dof
+    base = candidate.base @ invert_transform(reference.base) if free_base else None
+    tool = invert_transform(reference.tool) @ candidate.tool if free_tool else None
+    return Solution(np.ones(n), np.zeros(n), base, tool)
 
 
 def _fk_errors(reference, candidate, sol: Solution, q, L):

@@ -16,7 +16,10 @@ from .screws import (adjoint, align, bracket, exp_screw, hat, line_miss, perpend
                      world_screws)
 
 #: a linearised equation whose singular value is below this (relative) does
-#: not determine the offsets along that direction.
+#: not determine the offsets along that direction; nor does one below the
+#: tolerance (per radian or per length scale): a whole unit along it stays
+#: within the tolerance, so the value a root lands on there is arbitrary and
+#: is left to the later equations (see :meth:`Solver._cut`).
 NULL_TOL = 1e-8
 #: |d residual / d offset| below this: the equation does not depend on it.
 INVARIANT_TOL = 1e-11
@@ -236,6 +239,12 @@ class Solver:
                 a1 = (Z[:3]).ravel() * self.W4
                 a2 = ((Z @ Z)[:3]).ravel() * self.W4
             free, xs, res = _roots_1d(r0, a1, a2, revolute, self.tol)
+            # an equation that hardly depends on the param does not pin it: the
+            # later equations solve for it (a root on rounding noise lands anywhere)
+            weak = (np.linalg.norm(a1) + 2 * np.linalg.norm(a2) if revolute
+                    else np.linalg.norm(a1) * self.L) < self.tol
+            if weak and not free and np.linalg.norm(r0) < self.tol:
+                free, res = True, float(np.linalg.norm(r0))
             if free:
                 if res < self.tol:
                     roots.append((x, s, frozenset()))
@@ -248,8 +257,23 @@ class Solver:
                 if best is None or resk < best[0]:
                     best = (resk, xn, s)
                 if not free and resk < self.tol:
-                    roots.append((xn, s, frozenset([p])))
+                    roots.append((xn, s, frozenset() if weak else frozenset([p])))
         return roots, best
+
+    def _cut(self, sv):
+        """Singular values (of a Jacobian in units of rad and length scale) at or
+        below this leave their direction undetermined: rounding, or a direction
+        along which a whole unit stays within the tolerance."""
+        return max(NULL_TOL * max(1.0, float(sv.max()) if sv.size else 0.0), self.tol)
+
+    def _pinv(self, A):
+        """Pseudo-inverse of the stack ``A (S, m, k)`` without the directions
+        :meth:`_cut` leaves undetermined (np.linalg.pinv's relative cut inverts a
+        column of rounding noise when every column is: the step then explodes)."""
+        U, sv, Vt = np.linalg.svd(A, full_matrices=False)
+        cut = np.array([[self._cut(row)] for row in sv])
+        inv = np.where(sv > cut, 1.0 / np.where(sv > cut, sv, 1.0), 0.0)
+        return np.einsum("sij,si,sli->sjl", Vt, inv, U)
 
     def _solve_many(self, step, V, x, signs, signs_try):
         """Several unknowns. Once the revolute ones are fixed the equations are
@@ -278,7 +302,7 @@ class Solver:
             r, J = self._residuals(X, signs, steps, V, sg)
             if Vp:
                 Jp = J[:, :, Vp]
-                d = -np.einsum("sij,sj->si", np.linalg.pinv(Jp), r)
+                d = -np.einsum("sij,sj->si", self._pinv(Jp * self.L), r) / self.L
                 X[:, [V[i] for i in Vp]] += d
                 r = r + np.einsum("sij,sj->si", Jp, d)
             g = np.einsum("ij,ij->i", r, r)
@@ -302,26 +326,28 @@ class Solver:
             if res[k] >= self.tol:
                 break
             sv, vt = np.linalg.svd(J[k] * scale, full_matrices=True)[1:]
-            rank = int(np.sum(sv > NULL_TOL * max(1.0, sv.max() if sv.size else 0)))
+            rank = int(np.sum(sv > self._cut(sv)))
             null = vt[rank:]
-            # two roots are one branch when they differ only along the directions the
-            # equations leave free (and by whole turns)
+            fixed = np.array([null.shape[0] == 0 or np.linalg.norm(null[:, i]) < 1e-6
+                              for i in range(len(V))], dtype=bool)
+            pinned = frozenset(p for i, p in enumerate(V) if fixed[i])
+            # two roots are one branch when they pin the same params to the same values
+            # (and differ by whole turns, or along the directions the equations leave
+            # free): the later equations solve the params left free afresh
             xk = X[k, V] / scale
             dup = False
-            for j, xj in kept:
-                if sg[j] != sg[k]:
+            for j, xj, pj in kept:
+                if sg[j] != sg[k] or pj != pinned:
                     continue
                 d = np.where(rev, np.remainder(xk - xj + np.pi, 2 * np.pi) - np.pi, xk - xj)
                 if null.shape[0]:
                     d = d - null.T @ (null @ d)
-                if np.max(np.abs(d)) < 1e-7:
+                if not fixed.any() or np.max(np.abs(d[fixed])) < 1e-7:
                     dup = True
                     break
             if dup:
                 continue
-            kept.append((k, xk))
-            pinned = frozenset(p for i, p in enumerate(V)
-                               if null.shape[0] == 0 or np.linalg.norm(null[:, i]) < 1e-6)
+            kept.append((k, xk, pinned))
             roots.append((X[k].copy(), int(sg[k]), pinned))
         return roots, best
 
