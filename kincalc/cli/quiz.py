@@ -16,10 +16,11 @@ SeedOpt = Annotated[Optional[int], typer.Option(
 AnswersOpt = Annotated[bool, typer.Option(
     "--answers", help="Fill in every answer: the key, which 'kincalc check' grades as fully "
                       "correct.")]
-ItemsOpt = Annotated[str, typer.Option(
-    "--items", metavar="KIND,...",
+ItemsOpt = Annotated[Optional[str], typer.Option(
+    "--items", metavar="KIND,...", show_default=False,
     help="The exercises, one item each, in this order (a kind may repeat): dh, link, fk, ik, "
-         "jacobian, reach, singular.")]
+         "jacobian, reach, singular. Default: dh,link,fk,ik,jacobian,singular,reach, less "
+         "the kinds that do not apply or cannot be drawn (each with a note).")]
 OutputOpt = Annotated[Optional[str], typer.Option(
     "-o", "--output", metavar="FILE|DIR", show_default=False, click_type=FileName(),
     help="Write the sheet to FILE instead of standard output ('-'); with --roster, the "
@@ -45,7 +46,7 @@ def quiz(
     robot: RobotArg,
     seed: SeedOpt = None,
     answers: AnswersOpt = False,
-    items: ItemsOpt = "dh,link,fk,ik,jacobian,singular,reach",
+    items: ItemsOpt = None,
     output: OutputOpt = None,
     force: ForceOpt = False,
     deg: SheetDegOpt = None,
@@ -63,7 +64,9 @@ def quiz(
     reachable pose rounded to a few decimals, a pose just beyond the reach, a
     singular configuration. Kinds that do not apply to the robot (dh for a
     product-of-exponentials robot, ik without a closed form) are left out with
-    a note on standard error. With --roster, one sheet and one key per student.
+    a note on standard error; so are, with the default --items, kinds no
+    exercise of which can be drawn for it (a kind asked for by --items is then
+    an error). With --roster, one sheet and one key per student.
 
     ROBOT is a bundled robot's name or a path to a robot YAML file.
     """
@@ -71,11 +74,12 @@ def quiz(
 
     from ..homework.quiz import make_sheet, sheet_yaml, skipped
     kinds = _kinds(items)
+    drawn_notes = [] if items is None else None      # the default kinds: leave out, note
     if output == "-":
         output = None                    # '-o -' is standard output, as for convert
     if roster is not None:
         _roster_quiz(robot, roster, salt, kinds, output, force, deg, seed, answers,
-                     base_link, tip_link)
+                     base_link, tip_link, drawn_notes is not None)
         return
     if salt is not None:
         raise InputError("--salt goes with --roster (the seed of each student's sheet)")
@@ -91,13 +95,15 @@ def quiz(
         seed = secrets.randbelow(1_000_000)
     angle = None if deg is None else ("deg" if deg else "rad")
     ref = _robot_ref(robot, output)
-    sheet = make_sheet(rob, seed, kinds, answers=answers, angle_unit=angle, robot_ref=ref)
+    sheet = make_sheet(rob, seed, kinds, answers=answers, angle_unit=angle, robot_ref=ref,
+                       notes=drawn_notes)
     if drawn:
         sys.stderr.write(f"kincalc: seed {seed} (give --seed {seed} to draw this sheet again)\n")
-    notes = skipped(rob, kinds)
+    notes = skipped(rob, kinds) + (drawn_notes or [])
     for kind, why in notes:
         sys.stderr.write(f"kincalc: note: {kind} left out: {why}\n")
-    text = sheet_yaml(sheet, _comments(robot, seed, kinds, deg, answers, ref, notes))
+    text = sheet_yaml(sheet, _comments(robot, seed, None if items is None else kinds, deg,
+                                       answers, ref, notes))
     if output is None:
         sys.stdout.write(text)
         return
@@ -108,9 +114,11 @@ def quiz(
                      f"{', with answers' if answers else ''})\n")
 
 
-def _kinds(items: str) -> list[str]:
-    """The kinds of --items, checked."""
-    from ..homework.quiz import KINDS
+def _kinds(items: str | None) -> list[str]:
+    """The kinds of --items, checked (None: the default kinds)."""
+    from ..homework.quiz import DEFAULT_KINDS, KINDS
+    if items is None:
+        return list(DEFAULT_KINDS)
     kinds = [k.strip() for k in items.split(",") if k.strip()]
     if not kinds:
         raise InputError(f"--items: give at least one kind ({', '.join(KINDS)})")
@@ -123,10 +131,11 @@ def _kinds(items: str) -> list[str]:
 
 def _comments(robot: str, seed: int, kinds, deg, answers: bool, ref: str, notes,
               student: str | None = None) -> list[str]:
-    """The comment lines on top of a sheet: the command that draws it again, how to grade
-    it, and the kinds left out."""
+    """The comment lines on top of a sheet: the command that draws it again (``kinds``
+    None: the default --items), how to grade it, and the kinds left out."""
     from ..version import __version__
-    command = " ".join(["kincalc quiz", robot, "--seed", str(seed), "--items", ",".join(kinds)]
+    items = [] if kinds is None else ["--items", ",".join(kinds)]
+    command = " ".join(["kincalc quiz", robot, "--seed", str(seed)] + items
                        + ([] if deg is None else ["--deg" if deg else "--rad"])
                        + (["--answers"] if answers else []))
     out = [f"Generated by kincalc {__version__}: {command}"]
@@ -139,7 +148,7 @@ def _comments(robot: str, seed: int, kinds, deg, answers: bool, ref: str, notes,
 
 
 def _roster_quiz(robot: str, roster: str, salt, kinds, output, force: bool, deg, seed,
-                 answers: bool, base_link, tip_link) -> None:
+                 answers: bool, base_link, tip_link, lenient: bool) -> None:
     """``quiz --roster``: a sheet and a key per student, DIR/ID.yaml and DIR/keys/ID.yaml
     (every file checked before any is drawn; the folders made when the first is)."""
     import os
@@ -171,13 +180,18 @@ def _roster_quiz(robot: str, roster: str, salt, kinds, output, force: bool, deg,
         sys.stderr.write(f"kincalc: note: {kind} left out: {why}\n")
     with progress(len(students), "drawing sheets") as step:
         for student, (sheet_file, key_file) in zip(students, targets):
+            drawn = [] if lenient else None
             sheet, key = variant_sheets(rob, student, salt, kinds, angle_unit=angle,
-                                        robot_refs=refs)
+                                        robot_refs=refs, notes=drawn)
+            for kind, why in drawn or []:
+                sys.stderr.write(f"kincalc: note: {kind} left out of {student.id}'s sheet: "
+                                 f"{why}\n")
             os.makedirs(keys, exist_ok=True)
             for doc, target, ref, is_key in ((sheet, sheet_file, refs[0], False),
                                              (key, key_file, refs[1], True)):
                 write_text(target, sheet_yaml(doc, _comments(
-                    robot, doc["seed"], kinds, deg, is_key, ref, notes, student.id)))
+                    robot, doc["seed"], None if lenient else kinds, deg, is_key, ref,
+                    notes + (drawn or []), student.id)))
             step()
     n = len(students)
     sys.stderr.write(f"kincalc: wrote {n} sheet{'s' if n != 1 else ''} in {output} and "

@@ -182,7 +182,7 @@ def read_roster(path: str) -> list[Student]:
 
 
 def variant_sheets(robot, student: Student, salt: str, kinds, *, angle_unit=None,
-                   robot_refs=(None, None)) -> tuple[dict, dict]:
+                   robot_refs=(None, None), notes: list | None = None) -> tuple[dict, dict]:
     """A student's sheet and its key, drawn from :func:`variant_seed`.
 
     Parameters
@@ -197,6 +197,8 @@ def variant_sheets(robot, student: Student, salt: str, kinds, *, angle_unit=None
         As for ``make_sheet``.
     robot_refs : (str or None, str or None)
         What the sheet's and the key's ``robot:`` say (they may lie in different folders).
+    notes : list or None
+        As for ``make_sheet``: the kinds left out because none could be drawn.
 
     Returns
     -------
@@ -207,7 +209,7 @@ def variant_sheets(robot, student: Student, salt: str, kinds, *, angle_unit=None
     from .quiz import make_sheet
     seed = variant_seed(salt, student.id)
     key = make_sheet(robot, seed, kinds, answers=True, angle_unit=angle_unit,
-                     robot_ref=robot_refs[1])
+                     robot_ref=robot_refs[1], notes=notes)
     key = {"kincalc-sheet": key.pop("kincalc-sheet"), "title": key.pop("title"),
            "student": student.id, **key}
     sheet = dict(key, robot=robot_refs[0] or robot.name,

@@ -443,8 +443,11 @@ def test_blank_sheet_is_the_key_without_answers(capsys):
 def test_default_items_are_the_cores():
     import inspect
 
-    from kincalc.cli.quiz import quiz
-    assert inspect.signature(quiz).parameters["items"].default == ",".join(DEFAULT_KINDS)
+    from kincalc.cli.quiz import ItemsOpt, quiz
+    # no --items means the default kinds, drawn leniently (see
+    # test_default_items_leave_out_a_kind_that_cannot_be_drawn)
+    assert inspect.signature(quiz).parameters["items"].default is None
+    assert ",".join(DEFAULT_KINDS) in ItemsOpt.__metadata__[0].help
 
 
 def test_rad_option_and_default_unit(capsys):
@@ -522,3 +525,41 @@ def test_output_dash_is_standard_output_and_a_folder_is_refused(tmp_path, monkey
     assert not (tmp_path / "-").exists()
     assert main(["quiz", "bk_rr", "--seed", "1", "-o", str(tmp_path)]) == 2
     assert "is a folder" in capsys.readouterr().err
+
+
+# a product-of-exponentials robot whose two revolute joints share one axis: every pose
+# it reaches has a singular IK solution, so no fair 'ik' exercise can be drawn
+COAXIAL_POE = """\
+name: coaxial
+convention: poe
+units: {length: cm, angle: rad}
+joints:
+  - {name: j1, type: revolute, axis: [0, 0, 1], point: [0, 0, 21.4082], limits: [-1.086316, 1.533684]}
+  - {name: j2, type: revolute, axis: [0, 0, 1], point: [0, 0, 12.702]}
+tool: {xyz: [-24.9758, 29.8658, 19.9408], rpy: [-2.910514, 0.424365, 0.687004]}
+base: {xyz: [-19.255, -20.1047, -2.2825], rpy: [0.420996, -0.302163, 2.637528]}
+"""
+
+
+def test_default_items_leave_out_a_kind_that_cannot_be_drawn(tmp_path, capsys):
+    (tmp_path / "coaxial.yaml").write_text(COAXIAL_POE, encoding="utf-8")
+    key = tmp_path / "key.yaml"
+    code, _, err = run(capsys, "quiz", tmp_path / "coaxial.yaml", "--seed", 17, "--answers",
+                       "-o", key)
+    assert code == 0, err
+    assert "note: ik left out: could not draw an 'ik' exercise" in err
+    text = key.read_text()
+    assert "# ik left out: could not draw" in text and "--items" not in text.splitlines()[0]
+    items = yaml.safe_load(text)["items"]
+    assert [it["kind"] for it in items] == ["link", "fk", "jacobian", "singular", "reach"]
+    assert [it["id"] for it in items] == ["1", "2", "3", "4", "5"]
+    code, out, _ = run(capsys, "check", key, "-q")
+    assert code == 0 and "(100 %)" in out
+    # the others are the draws they are with --items naming them (own random streams)
+    code, out, _ = run(capsys, "quiz", tmp_path / "coaxial.yaml", "--seed", 17, "--answers",
+                       "--items", "link,fk,jacobian,singular,reach")
+    assert code == 0 and yaml.safe_load(out)["items"] == items
+    # asked for by name, the kind is an error
+    code, _, err = run(capsys, "quiz", tmp_path / "coaxial.yaml", "--seed", 17, "--items",
+                       "link,ik")
+    assert code == 2 and "could not draw an 'ik' exercise" in err and "--items" in err

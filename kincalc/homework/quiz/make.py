@@ -8,7 +8,7 @@ import numpy as np
 from ...errors import InputError
 from .items import item_dh, item_fk, item_jacobian, item_link
 from .poses import item_ik, item_reach
-from .rules import DEFAULT_KINDS, KINDS
+from .rules import DEFAULT_KINDS, KINDS, QuizError
 from .singular import item_singular
 
 
@@ -34,7 +34,8 @@ def skipped(robot, kinds) -> list[tuple[str, str]]:
 
 
 def make_sheet(robot, seed: int, kinds=DEFAULT_KINDS, *, answers: bool = False,
-               angle_unit: str | None = None, robot_ref: str | None = None) -> dict:
+               angle_unit: str | None = None, robot_ref: str | None = None,
+               notes: list | None = None) -> dict:
     """A random exercise sheet for ``robot`` as a dict (sheet format version 1).
 
     Parameters
@@ -52,13 +53,19 @@ def make_sheet(robot, seed: int, kinds=DEFAULT_KINDS, *, answers: bool = False,
     robot_ref : str or None
         What the sheet's ``robot:`` says (a bundled name or a path relative to
         the sheet); default ``robot.name``.
+    notes : list or None
+        None: a kind no exercise of which can be drawn raises :class:`QuizError`
+        (the kinds were asked for). A list (the default kinds): such a kind is
+        left out and ``(kind, why)`` appended to it, as :func:`skipped` gives; the
+        other items keep their draws (each kind has its own random stream).
 
     Raises
     ------
     InputError
         For an unknown kind, a negative seed, or when no requested kind applies.
     QuizError
-        When no exercise of a kind could be drawn in :data:`ATTEMPTS` tries.
+        When no exercise of a kind could be drawn in :data:`ATTEMPTS` tries (and
+        ``notes`` is None), or none of any kind.
     """
     from ...analysis.results import Units
     unknown = [k for k in kinds if k not in KINDS]
@@ -78,14 +85,24 @@ def make_sheet(robot, seed: int, kinds=DEFAULT_KINDS, *, answers: bool = False,
     makers = {"dh": item_dh, "link": item_link, "fk": item_fk, "ik": item_ik,
               "jacobian": item_jacobian, "reach": item_reach, "singular": item_singular}
     items, seen = [], {}
-    for number, kind in enumerate(todo, start=1):
+    for kind in todo:
         k = seen[kind] = seen.get(kind, -1) + 1
         rng = np.random.default_rng([int(seed), KINDS.index(kind), k])
-        item = {"id": str(number), "kind": kind}
-        item.update(makers[kind](robot, rng, units))
+        item = {"id": str(len(items) + 1), "kind": kind}
+        try:
+            item.update(makers[kind](robot, rng, units))
+        except QuizError as err:
+            if notes is None:
+                raise
+            if kind not in [n[0] for n in notes]:
+                notes.append((kind, err.why))
+            continue
         if not answers:
             item.pop("answer")
         items.append(item)
+    if not items:
+        raise QuizError(f"no exercise of the kinds asked for ({', '.join(kinds)}) could be "
+                        f"drawn for {robot.name}")
     title = robot.title or robot.name
     return {
         "kincalc-sheet": 1,

@@ -119,8 +119,7 @@ def item_ik(robot, rng, units) -> dict:
                 "pose": pose,
                 "answer": [number_array(s) for s in sols],
             }
-    raise QuizError(f"could not draw an 'ik' exercise for {robot.name} in {ATTEMPTS} tries "
-                    "(leave it out with --items)")
+    raise QuizError(f"could not draw an 'ik' exercise for {robot.name} in {ATTEMPTS} tries")
 
 
 def _beyond(robot, p, rng, samples) -> np.ndarray | None:
@@ -173,5 +172,4 @@ def item_reach(robot, rng, units) -> dict:
                 }
             if not want:
                 break    # only the rounded form of a pose beyond reach is of interest
-    raise QuizError(f"could not draw a 'reach' exercise for {robot.name} "
-                    "(leave it out with --items)")
+    raise QuizError(f"could not draw a 'reach' exercise for {robot.name}")

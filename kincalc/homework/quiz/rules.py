@@ -29,4 +29,9 @@ IK_SEPARATION = math.radians(1.0)
 
 
 class QuizError(KincalcError):
-    """No exercise of a kind could be drawn for this robot (exit 2)."""
+    """No exercise of a kind could be drawn for this robot (exit 2). ``why`` is the
+    reason without the advice to leave the kind out (the note when it is)."""
+
+    def __init__(self, why: str, advice: str = " (leave it out with --items)"):
+        super().__init__(why + advice)
+        self.why = why
