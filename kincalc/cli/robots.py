@@ -98,6 +98,7 @@ def show(
            "robot": robot_summary(rob), "units": u.to_dict()}
     doc["robot"].update(_details(rob, u))
     doc["robot"]["ik"] = _ik_method(rob)
+    dh = None
     if rob.convention == "poe":
         # the DH table of the same axes (a URDF's, or any poe robot's), or why there is none
         from ..conventions.conversion import dh_of_axes
@@ -110,7 +111,7 @@ def show(
         from .render import emit_json
         emit_json(doc)
         return
-    _show_tables(doc, rob, u, precision)
+    _show_tables(doc, rob, dh, u, precision)
 
 
 def _details(rob, u) -> dict:
@@ -151,7 +152,9 @@ def _var(name, offset, precision, unit):
     return f"{name} {sign} {num(abs(offset), precision)}{unit}"
 
 
-def _show_tables(doc, rob, u, precision):
+def _show_tables(doc, rob, dh, u, precision):
+    """The tables of ``robots show``; ``dh``: a poe robot's standard DH robot (None when
+    there is none, or for a dh or mdh robot)."""
     from .render import console, kv_table, num
     c = console()
     r = doc["robot"]
@@ -174,8 +177,7 @@ def _show_tables(doc, rob, u, precision):
     if rob.convention == "poe" and r["dh"] is None:
         c.print(f"no standard DH table of these axes: {r['dh_note']}")
     elif rob.convention == "poe":
-        from ..conventions.conversion import dh_of_axes
-        _joint_table(c, dh_of_axes(rob)[0], r["dh"], u, precision,
+        _joint_table(c, dh, r["dh"], u, precision,
                      "Standard DH table of the same axes (kincalc convert --to dh)")
     c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
     if rob.notes:

@@ -21,7 +21,7 @@ from ..subproblems import sp1, sp2, sp4
 from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
-                     rotate_back as _mtv, target_rotation)
+                     rotate_back as _mtv, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import normal_to, spherical_taking, undo
@@ -77,10 +77,8 @@ def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
     Rt = target_rotation(S, T)
     W = undo(S, br, (0, 1, 2), np.broadcast_to(np.swapaxes(Rt @ np.stack([k5, a0], -1), -1, -2),
                                                (br.N, br.K, 2, 3)))         # W k5, W a0
-    across = lambda v, k: v - (v @ k)[..., None] * k  # noqa: E731
-    t4, c4, s4 = _one(sp1(across(k5, k4), across(W[..., 0, :], k4), k4, tol=0.0))
-    z = S.turn(3, c4, -s4, W[..., 1, :])                                      # R4^T W a0
-    t5, c5, s5 = _one(sp1(across(a0, k5), across(z, k5), k5, tol=0.0))
+    t4, c4, s4 = turn_onto(k4, k5, W[..., 0, :])
+    t5, c5, s5 = turn_onto(k5, a0, S.turn(3, c4, -s4, W[..., 1, :]))       # onto R4^T W a0
     take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
                          & (np.abs(wrap(t5 - br.value[4])) < 1e-6))
     pick = lambda new, old: np.where(take, new, old)  # noqa: E731
@@ -148,11 +146,9 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
     br = br.branch([3], sp4(h, k5, k4, u @ h))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
-    across = lambda v, k: v - (v @ k)[..., None] * k  # noqa: E731
-    psi, cp, sp = _one(sp1(across(S.turn(3, br.cos[3], br.sin[3], k5), h), across(u, h), h,
-                           tol=0.0))
+    psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
-    br = br.set(4, *_one(sp1(across(a0, k5), across(z, k5), k5, tol=0.0)))
+    br = br.set(4, *turn_onto(k5, a0, z))
     br = br.with_extra("psi", psi)
     br = place(S, br, (0, 1), o3, ct - S.turn(0, cp, sp, c0 - o3), what="axis 3")
     q3 = s3 * (br.extra["psi"] - br.value[0] - s2 * br.value[1])

@@ -58,6 +58,14 @@ def one_root(sol: Solutions, i: int = 0):
     return sol.theta[i][..., 0], sol.c[i][..., 0], sol.s[i][..., 0]
 
 
+def turn_onto(k, x, y):
+    """The angle about the unit axis ``k (3,)`` turning ``x`` onto ``y`` (``(..., 3)``), both
+    projected across ``k`` first (subproblem 1, no threshold): near the axis their normal
+    parts are small, and a component along ``k`` times the rounding would swamp them.
+    ``(theta, c, s)``, each ``(...)``."""
+    return one_root(sp1(x - dot(x, k)[..., None] * k, y - dot(y, k)[..., None] * k, k, tol=0.0))
+
+
 def angle_about(h, e, Rv, tol=0.0):
     """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
     vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``."""

@@ -15,13 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure import common_point
-from ..subproblems import sp1, sp4
+from ..subproblems import sp4
 from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, back as _back, inverse_home as _minv,
-                     one_root as _one, rotate as _mv, rotate_back as _mtv, target_rotation,
-                     tool_point)
+                     rotate as _mv, rotate_back as _mtv, target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
@@ -139,8 +138,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.broadcast_to(h, v.shape))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6 = _one(sp1(a - dot(a, k6)[..., None] * k6, b - dot(b, k6)[..., None] * k6, k6,
-                  tol=0.0))[0]
+    t6 = turn_onto(k6, a, b)[0]
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
