@@ -16,7 +16,7 @@ import numpy as np
 
 from ..spatial import matrix_from_axis_angle, wrap
 from ..subproblems import sp2
-from ..subproblems.solutions import Solutions
+from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
 from .branches import Branches
@@ -171,10 +171,22 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
         if np.count_nonzero(one):
             x, z = two_turns(u[a], u[m], E)
             keep = np.linalg.norm(np.cross(u[a], u[m]), axis=-1) < 1e-9
+            # joint a on the last axis's line: only q_a + sign q_m counts (R(u_a, x) R(u_m, z)
+            # = R(u_m, z + sign x)); joint a keeps its representative (the split two_turns
+            # made there is rounding noise) and the relation is the slot's continuum
+            sign = np.where(dot(u[a], u[m]) > 0, 1.0, -1.0)
+            z = np.where(keep, z + sign * x, z)
+            x = np.where(keep, 0.0, x)
             v = wrap(br.value[a] + np.where(one, x, 0.0))
             w = wrap(br.value[m] + np.where(one, z, 0.0))
             br = br.set(a, v, np.cos(v), np.sin(v), free=F[a] & ~(one & ~keep))
             br = br.set(m, w, np.cos(w), np.sin(w))
+            if np.count_nonzero(one & keep):
+                c = np.stack([(one & keep).astype(float), np.full(one.shape, a),
+                              np.full(one.shape, m), sign, v + sign * w], -1)
+                if "continuum" in br.extra:
+                    c = np.where(br.extra["continuum"][..., :1] > 0, br.extra["continuum"], c)
+                br = br.with_extra("continuum", c)
     for a, b in pairs:
         two = F[a] & F[b] & (count == 2)                             # (N, K)
         sol = sp2(u[m], (E @ u[m][..., None])[..., 0], u[a], u[b])

@@ -287,3 +287,28 @@ def test_tcv_bundled_folded_elbow():
         res = solve(robot, Target(T, False, tcv=(T[:3, 2], float(q0[2]))))
         _found(robot, res, q0, _tcv_ok(robot, T, q0[2]))
         assert all(s.free == (1,) for s in res.solutions)
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+def test_point_plus_roll_joint_on_the_last_axis(convention):
+    """A SCARA whose second axis is the line of its last (a2 = a3 = 0: joints 2 and 4 turn
+    about one line, only their sum counts): joint 2 is free, shown at its representative 0
+    (the split between the two joints was rounding noise that changed with the batch), the
+    same alone and among other poses, and every solution reaches the pose."""
+    rng = np.random.default_rng(41)
+    rows = [("revolute", 0.0, 0.25, 0.0, 0.0), ("revolute", 0.0, 0.0, 0.0, 0.3),
+            ("prismatic", np.pi, 0.0, -0.4, 2.2), ("revolute", 0.0, -0.04, 0.37, -0.3)]
+    tool = transform(matrix_from_rpy(rng.uniform(-np.pi, np.pi, 3)), rng.uniform(-.1, .1, 3))
+    robot = _convert(_dh(rows, [(-np.pi, np.pi)] * 2 + [(-0.1, 0.3), (-np.pi, np.pi)], rng,
+                         tool), convention)
+    Q = np.column_stack([rng.uniform(-3, 3, 40), rng.uniform(-3, 3, 40),
+                         rng.uniform(-0.1, 0.3, 40), rng.uniform(-3, 3, 40)])
+    T = robot.fk(Q)
+    together = robot.ik_batch(T)
+    for k in range(len(Q)):
+        res = solve(robot, Target(T[k]))
+        _found(robot, res, Q[k], _pose_ok(robot, T[k]))
+        alone = sorted(tuple(np.round(s.q, 9)) for s in res.solutions)
+        assert all(s.free == (1,) and s.q[1] == 0.0 for s in res.solutions)
+        assert alone == sorted(tuple(np.round(q, 9))
+                               for q in together.q[k][together.valid[k]]), k
