@@ -12,6 +12,8 @@ only writes them, in the user's units:
   sine term), else ``q = atan2(B, A) ± acos((t - C) / sqrt(A² + B²))``;
 * a joint turning a point onto its target: ``q = atan2(p2, p1) - atan2(f2, f1)`` in the
   plane normal to its axis (the base's x and y for a vertical axis 1);
+* a sliding joint from such an invariant, ``A d² + B d + C = t`` (the quadratic formula),
+  or moving a point onto its target along its axis, ``d = p - f``;
 * a spherical wrist: ``R_3^6 = (R_0^3)^T R`` and, where the wrist's axes are those of ZYZ
   angles in frame 3 (the PUMA's), ``q5 = atan2(±sqrt(r13² + r23²), r33)``,
   ``q4 = atan2(±r23, ±r13)``, ``q6 = atan2(±r32, ∓r31)``.
@@ -63,6 +65,18 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
             j = int(parts[1])
             out.append({"step": names[j], "text": _turn_step(names[j], np.asarray(value),
                                                              solution.q[j], units)})
+        elif parts[0] == "quad":
+            j = int(parts[1])
+            out.append({"step": names[j], "text": _quadratic_step(
+                names[j], parts[2], names[int(parts[3])], np.asarray(value),
+                solution.q[j], units)})
+        elif parts[0] == "slide":
+            j = int(parts[1])
+            g, f = (float(x) * units.l for x in value)
+            out.append({"step": names[j], "text": (
+                f"{names[j]} = p - f = {_n(g)} - {_n(f)} = {_n(g - f)}{_unit(units)} (p: where "
+                f"the point placed must go, f: where {names[j]} = 0 leaves it, along the axis "
+                f"of {names[j]})")})
     if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
         out += _wrist_steps(robot, solution.q, names, T, units)
     return out
@@ -119,12 +133,7 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
         abs(abs(A) - 2 * l1 * l2) <= 1e-9 * max(C, 1e-300) and \
         abs(C - l1 * l1 - l2 * l2) <= 1e-9 * max(C, 1e-300)
     got = _result(q, q_value, units)
-    if what == "distance2":
-        lhs = f"|p - o|², p the point placed, o on the axis of {pivot}"
-    elif what == "height":
-        lhs = f"the height along the axis of {pivot} of p, the point placed"
-    else:
-        lhs = f"p, the point placed, across the axis of {pivot}"
+    lhs = _lhs(what, pivot)
     if abs(B) <= 1e-12 * max(abs(A), 1e-300) and A != 0:
         c = (t - C) / A
         head = f"cos {q} = (t - C) / A = ({_n(t)} - {_n(C)}) / {_n(A)} = {_n(c)} (t: {lhs})"
@@ -140,6 +149,40 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
     return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> "
             f"{q} = atan2(B, A) ± acos((t - C) / sqrt(A² + B²)) = {_angle(np.arctan2(B, A), units)}"
             f" ± {_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}")
+
+
+def _lhs(what, pivot) -> str:
+    """What the invariant ``t`` of a step is, in words."""
+    if what == "distance2":
+        return f"|p - o|², p the point placed, o on the axis of {pivot}"
+    if what == "height":
+        return f"the height along the axis of {pivot} of p, the point placed"
+    return f"p, the point placed, across the axis of {pivot}"
+
+
+def _quadratic_step(d, what, pivot, value, d_value, units) -> str:
+    """``A d² + B d + C = t`` and its roots, in the user's length unit: the equation times
+    ``l^p`` (``l`` the unit's factor, ``p`` the invariant's power of length) has the
+    coefficients ``A l^(p-2)``, ``B l^(p-1)``, ``C l^p`` in the slide ``l d``."""
+    l, p = units.l, 2 if what == "distance2" else 1
+    A, B, C, t = (float(x) for x in value)
+    A, B, C, t = A * l ** (p - 2), B * l ** (p - 1), C * l ** p, t * l ** p
+    big = max(abs(A), abs(B), abs(C), abs(t))
+    A, B, C, t = (0.0 if abs(x) <= 1e-12 * big else x for x in (A, B, C, t))
+    got = f"{d} = {_n(d_value * l)}{_unit(units)}"
+    if A == 0.0:
+        return (f"{_n(B)} {d} {'-' if C < 0 else '+'} {_n(abs(C))} = t = {_n(t)} (t: "
+                f"{_lhs(what, pivot)}) -> {d} = (t - C) / B: {got}")
+    disc = B * B - 4 * A * (C - t)
+    root = np.sqrt(max(disc, 0.0))
+    a = _n(A)
+    head = f"{'' if a == '1' else '-' if a == '-1' else a + ' '}{d}²"
+    for x, w in ((B, f" {d}"), (C, "")):
+        if x != 0.0:
+            head += f" {'-' if x < 0 else '+'} {_n(abs(x))}{w}"
+    return (f"{head} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> {d} = (-B ± sqrt(B² - "
+            f"4 A (C - t))) / (2 A) = {_n((-B - root) / (2 * A))} or "
+            f"{_n((-B + root) / (2 * A))}: {got}")
 
 
 def _turn_step(q, value, q_value, units) -> str:

@@ -45,7 +45,7 @@ from ..subproblems.sp4 import ROUNDING, from_abc
 from .branches import Branches
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
-from .worked import note_equation, note_turn
+from .worked import note_equation, note_quadratic, note_slide, note_turn
 
 
 @dataclass(frozen=True)
@@ -238,6 +238,7 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
         return br.branch([c], sol)
     # a target within rounding of the invariant's extreme (the slide that puts the point
     # where axes a and b meet) is the tangent, as from_abc's: the double root to rounding
+    br = note_quadratic(br, c, _measure(S, P, P.k), P.joints[0], A, B, C, t)
     return br.branch([c], quadratic(A, B, C - t, scale, tangent=ROUNDING * scale),
                      labels=("root 1", "root 2"))
 
@@ -258,6 +259,7 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
             sides = (np.sqrt(dot(centre - P.o, centre - P.o)), np.sqrt(dot(e1, e1)))
             br = note_equation(br, b, _measure(S, P, m), P.joints[0], be, ga, al, t, sides)
         return br.branch([b], sol)
+    br = note_quadratic(br, b, _measure(S, P, m), P.joints[0], ga, be, al, t)
     return br.branch([b], quadratic(ga, be, al - t, scale, tangent=ROUNDING * scale),
                      labels=("-", "+"))
 
@@ -274,6 +276,7 @@ def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
         return br.set(a, sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0],
                       free=sol.free[..., 0])
     x = (g - f) @ S.axis[a]
+    br = note_slide(S, br, a, f, g)
     return br.set(a, x, np.ones_like(x), np.zeros_like(x))
 
 

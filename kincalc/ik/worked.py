@@ -11,7 +11,13 @@ the way a textbook chapter does, in the user's units. Two kinds:
 * ``turn:J`` — joint J turning a point onto its target about its axis (value
   ``(..., 4)``: the target's and the point's coordinates in the plane normal to the
   axis, ``(g1, g2, f1, f2)`` in m, on the basis of :func:`plane_basis`), so
-  ``qJ = atan2(g2, g1) - atan2(f2, f1)``.
+  ``qJ = atan2(g2, g1) - atan2(f2, f1)``;
+* ``quad:J:WHAT:A`` — sliding joint J from ``A dJ^2 + B dJ + C = t`` (value ``(..., 4)``:
+  A, B, C, t), the invariant ``WHAT`` of joint A's motion as for ``abc`` (SI: the
+  invariant in m, or m^2 for ``distance2``, dJ in m);
+* ``slide:J`` — sliding joint J moving a point onto its target along its axis (value
+  ``(..., 2)``: the target's and the point's components along the axis, ``(g, f)`` in m),
+  so ``dJ = g - f``.
 """
 
 from __future__ import annotations
@@ -87,3 +93,23 @@ def note_turn(S, br: Branches, joint: int, f, g) -> Branches:
     e = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
     o = S.point[joint]
     return br.note("turn", np.concatenate([(g - o) @ e.T, (f - o) @ e.T], -1), f"turn:{joint}")
+
+
+def note_quadratic(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -> Branches:
+    """``br`` with ``A d^2 + B d + C = t`` for the sliding ``joint`` noted (``explain``
+    only; ``what`` and ``pivot`` as for :func:`note_equation`; ``A, B, C, t`` broadcast to
+    (N, K), SI)."""
+    if not br.explain:
+        return br
+    value = np.stack(np.broadcast_arrays(A, B, C, t), -1)
+    return br.note("A d^2 + B d + C = t", np.broadcast_to(value, (br.N, br.K, 4)),
+                   f"quad:{joint}:{what}:{pivot}")
+
+
+def note_slide(S, br: Branches, joint: int, f, g) -> Branches:
+    """``br`` with the sliding ``joint``'s move of the points ``f`` onto ``g`` (``(N, K,
+    3)``, m) noted (``explain`` only)."""
+    if not br.explain:
+        return br
+    k = S.axis[joint]
+    return br.note("slide", np.stack([g @ k, f @ k], -1), f"slide:{joint}")

@@ -12,6 +12,7 @@ from kincalc.analysis.results import Units
 from kincalc.ik import Target
 from kincalc.ik.solve import solve
 from kincalc.spatial import wrap
+from randrobots import random_robot
 
 
 def _explained(name, q_deg):
@@ -21,7 +22,8 @@ def _explained(name, q_deg):
 
 
 @pytest.mark.parametrize("name", ["puma560", "puma560_mdh", "kuka_kr16", "abb_irb120",
-                                  "stanford_arm", "bk_scara_euler", "siciliano_arm_6r"])
+                                  "stanford_arm", "bk_scara_euler", "siciliano_arm_6r",
+                                  "spong_spherical_rrp", "stanford_arm_mdh"])
 def test_noted_equations_hold_at_the_solutions(name):
     """Each noted ``A cos q + B sin q + C = t`` holds at the solution's own q, and each noted
     turn is ``q = atan2(p2, p1) - atan2(f2, f1)``: the notes are the steps that made q."""
@@ -45,6 +47,38 @@ def test_noted_equations_hold_at_the_solutions(name):
                     g1, g2, f1, f2 = value
                     x = s.q[int(parts[1])]
                     assert abs(wrap(np.arctan2(g2, g1) - np.arctan2(f2, f1) - x)) < 1e-8
+                elif parts[0] == "quad":
+                    A, B, C, t = value
+                    x = s.q[int(parts[1])]
+                    scale = max(abs(A) * x * x, abs(B * x), abs(C), abs(t), 1e-300)
+                    assert abs(A * x * x + B * x + C - t) < 1e-8 * scale
+                elif parts[0] == "slide":
+                    g, f = value
+                    assert abs(g - f - s.q[int(parts[1])]) < 1e-9
+
+
+@pytest.mark.parametrize("types", ["PRR", "RPR", "RRP", "PRP"])
+def test_noted_slides_hold_on_random_arms(types):
+    """Random three-joint arms with a sliding joint placing a point: each noted slide
+    ``d = p - f`` and quadratic ``A d^2 + B d + C = t`` holds at the solution's own d."""
+    rng = np.random.default_rng(17)
+    noted = set()
+    for _ in range(6):
+        r = random_robot(rng, "dh", n=3, types=types)
+        T = r.fk(rng.uniform(-1, 1, 3))
+        res = solve(r, Target(T, orientation=False), explain=True)
+        for s in res.solutions:
+            for _, value, kind in s.trace:
+                parts = kind.split(":")
+                x = s.q[int(parts[1])]
+                if parts[0] == "quad":
+                    A, B, C, t = value
+                    scale = max(abs(A) * x * x, abs(B * x), abs(C), abs(t), 1e-300)
+                    assert abs(A * x * x + B * x + C - t) < 1e-8 * scale
+                elif parts[0] == "slide":
+                    assert abs(value[0] - value[1] - x) < 1e-9
+                noted.add(parts[0])
+    assert noted & {"quad", "slide"}, noted
 
 
 def test_planar_rr_in_the_chapters_words():
@@ -154,3 +188,22 @@ def test_the_command_line_shows_the_steps():
     trace = json.loads(out)["solutions"][0]["trace"]
     assert [e["step"] for e in trace] == ["theta2", "theta1"]
     assert all(set(e) == {"step", "text"} for e in trace)
+
+
+def test_the_slide_of_a_stanford_arm_is_a_step():
+    """The Stanford arm's d3 from |p_w - o|^2 = d3^2 + d2^2 (o on axis 1, d2 = 0.154 m the
+    shoulder offset; Spong's derivation: d3 = sqrt(r^2 + s^2), r^2 = xc^2 + yc^2 - d2^2):
+    written as the quadratic with its two roots +-d3, in the user's length unit."""
+    r = load_robot("stanford_arm")
+    q = np.radians([10.0, 20.0, 0.0, 30.0, 40.0, 50.0])
+    q[2] = 0.3
+    T = r.fk(q)
+    res = solve(r, Target(T), explain=True)
+    for units, d3 in ((Units("deg", "m"), "0.3"), (Units("deg", "mm"), "300")):
+        for s in res.solutions:
+            steps = worked_steps(r, s, T, units, res.family)
+            assert [e["step"] for e in steps][:2] == ["wrist centre", "d3"]
+            text = steps[1]["text"]
+            c = {"m": 0.154 ** 2, "mm": 154.0 ** 2}[units.length]
+            assert text.startswith(f"d3² + {c:.9g} = t = "), text
+            assert f"= -{d3} or {d3}: d3 = " in text, text
