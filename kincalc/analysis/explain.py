@@ -12,6 +12,8 @@ only writes them, in the user's units:
   sine term), else ``q = atan2(B, A) ± acos((t - C) / sqrt(A² + B²))``;
 * a joint turning a point onto its target: ``q = atan2(p2, p1) - atan2(f2, f1)`` in the
   plane normal to its axis (the base's x and y for a vertical axis 1);
+* the last joint's roll about its axis: ``q = atan2(u2, u1) - atan2(e2, e1)``, a direction
+  across its axis turned where the orientation needs it;
 * a sliding joint from such an invariant, ``A d² + B d + C = t`` (the quadratic formula),
   or moving a point onto its target along its axis, ``d = p - f``;
 * a spherical wrist: ``R_3^6 = (R_0^3)^T R`` and, where the wrist's axes are those of ZYZ
@@ -70,6 +72,10 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
             out.append({"step": names[j], "text": _quadratic_step(
                 names[j], parts[2], names[int(parts[3])], np.asarray(value),
                 solution.q[j], units)})
+        elif parts[0] == "roll":
+            j = int(parts[1])
+            out.append({"step": names[j], "text": _roll_step(names[j], np.asarray(value),
+                                                             solution.q[j], units)})
         elif parts[0] == "slide":
             j = int(parts[1])
             g, f = (float(x) * units.l for x in value)
@@ -171,8 +177,11 @@ def _quadratic_step(d, what, pivot, value, d_value, units) -> str:
     A, B, C, t = (0.0 if abs(x) <= 1e-12 * big else x for x in (A, B, C, t))
     got = f"{d} = {_n(d_value * l)}{_unit(units)}"
     if A == 0.0:
-        return (f"{_n(B)} {d} {'-' if C < 0 else '+'} {_n(abs(C))} = t = {_n(t)} (t: "
-                f"{_lhs(what, pivot)}) -> {d} = (t - C) / B: {got}")
+        b = _n(B)
+        head = f"{'' if b == '1' else '-' if b == '-1' else b + ' '}{d}"
+        head += f" {'-' if C < 0 else '+'} {_n(abs(C))}" if C != 0.0 else ""
+        return (f"{head} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> {d} = (t - C) / B: "
+                f"{got}")
     disc = B * B - 4 * A * (C - t)
     root = np.sqrt(max(disc, 0.0))
     a = _n(A)
@@ -196,6 +205,18 @@ def _turn_step(q, value, q_value, units) -> str:
             f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
             f"{_result(q, q_value, units)} (p: where the point placed must go, f: where "
             f"{q} = 0 leaves it, in the plane normal to the axis of {q})")
+
+
+def _roll_step(q, value, q_value, units) -> str:
+    """``q = atan2(u2, u1) - atan2(e2, e1)`` for directions (the last joint's roll)."""
+    u1, u2, e1, e2 = (0.0 if abs(x) <= 1e-12 else float(x) for x in value)
+    back = np.arctan2(e2, e1)
+    return (f"{q} = atan2(u2, u1) - atan2(e2, e1) = atan2({_n(u2)}, {_n(u1)}) - "
+            f"atan2({_n(e2)}, {_n(e1)}) = {_angle(np.arctan2(u2, u1), units)} "
+            f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
+            f"{_result(q, q_value, units)} (u: a direction across the axis of {q} where the "
+            f"target's orientation needs it, the joints before {q} undone; e: where {q} = 0 "
+            f"leaves it; both in the plane normal to the axis of {q})")
 
 
 def _angle(x, units, digits: int = RESULT_DIGITS) -> str:

@@ -24,6 +24,7 @@ from .pieces import angle_about as _angle_about, rotate as _mv, target_rotation,
 from .place import place
 from .screws import Screws
 from .wrists import normal_to, undo
+from .worked import note_roll
 
 
 def position_3(S: Screws, targets, br: Branches) -> Branches:
@@ -68,8 +69,9 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     Rt = target_rotation(S, T)
     k = S.axis[n - 1]
     e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
-    return br.set(n - 1, *_angle_about(k, e, undo(S, br, first, np.broadcast_to(
-        _mv(Rt, e), (br.N, br.K, 3)))))
+    u = undo(S, br, first, np.broadcast_to(_mv(Rt, e), (br.N, br.K, 3)))
+    br = note_roll(S, br, n - 1, e, u)
+    return br.set(n - 1, *_angle_about(k, e, u))
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:

@@ -15,6 +15,10 @@ the way a textbook chapter does, in the user's units. Two kinds:
 * ``quad:J:WHAT:A`` — sliding joint J from ``A dJ^2 + B dJ + C = t`` (value ``(..., 4)``:
   A, B, C, t), the invariant ``WHAT`` of joint A's motion as for ``abc`` (SI: the
   invariant in m, or m^2 for ``distance2``, dJ in m);
+* ``roll:J`` — joint J turning a fixed direction ``e`` normal to its axis onto the one the
+  target's orientation needs, ``u`` (the joints before it undone): value ``(..., 4)``,
+  ``(u1, u2, e1, e2)`` on the basis of :func:`plane_basis` (unitless), so
+  ``qJ = atan2(u2, u1) - atan2(e2, e1)``;
 * ``slide:J`` — sliding joint J moving a point onto its target along its axis (value
   ``(..., 2)``: the target's and the point's components along the axis, ``(g, f)`` in m),
   so ``dJ = g - f``.
@@ -113,3 +117,13 @@ def note_slide(S, br: Branches, joint: int, f, g) -> Branches:
         return br
     k = S.axis[joint]
     return br.note("slide", np.stack([g @ k, f @ k], -1), f"slide:{joint}")
+
+
+def note_roll(S, br: Branches, joint: int, e, u) -> Branches:
+    """``br`` with joint ``joint``'s turn of the fixed unit ``e (3,)`` (normal to its axis)
+    onto the directions ``u (N, K, 3)`` noted (``explain`` only)."""
+    if not br.explain:
+        return br
+    E = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
+    return br.note("roll", np.concatenate(np.broadcast_arrays(u @ E.T, E @ e), -1),
+                   f"roll:{joint}")

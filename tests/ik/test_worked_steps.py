@@ -23,7 +23,8 @@ def _explained(name, q_deg):
 
 @pytest.mark.parametrize("name", ["puma560", "puma560_mdh", "kuka_kr16", "abb_irb120",
                                   "stanford_arm", "bk_scara_euler", "siciliano_arm_6r",
-                                  "spong_spherical_rrp", "stanford_arm_mdh"])
+                                  "spong_spherical_rrp", "stanford_arm_mdh", "spong_scara",
+                                  "adept_cobra600"])
 def test_noted_equations_hold_at_the_solutions(name):
     """Each noted ``A cos q + B sin q + C = t`` holds at the solution's own q, and each noted
     turn is ``q = atan2(p2, p1) - atan2(f2, f1)``: the notes are the steps that made q."""
@@ -43,7 +44,7 @@ def test_noted_equations_hold_at_the_solutions(name):
                     x = s.q[int(parts[1])]
                     scale = max(abs(A), abs(B), abs(C), abs(t), 1e-300)
                     assert abs(A * np.cos(x) + B * np.sin(x) + C - t) < 1e-8 * scale
-                elif parts[0] == "turn":
+                elif parts[0] in ("turn", "roll"):
                     g1, g2, f1, f2 = value
                     x = s.q[int(parts[1])]
                     assert abs(wrap(np.arctan2(g2, g1) - np.arctan2(f2, f1) - x)) < 1e-8
@@ -207,3 +208,20 @@ def test_the_slide_of_a_stanford_arm_is_a_step():
             c = {"m": 0.154 ** 2, "mm": 154.0 ** 2}[units.length]
             assert text.startswith(f"d3² + {c:.9g} = t = "), text
             assert f"= -{d3} or {d3}: d3 = " in text, text
+
+
+def test_a_scaras_roll_is_a_step():
+    """A SCARA's last joint from the orientation: a line ``theta4 = atan2(u2, u1) -
+    atan2(e2, e1) = ...: theta4 = <its value>`` after the placing joints', in every
+    solution, and d3 from the height, ``-d3 = t`` (Spong's d3 = -z up to the offsets)."""
+    r = load_robot("spong_scara")
+    T = r.fk(np.array([np.radians(30), np.radians(40), 0.1, np.radians(50)]))
+    res = solve(r, Target(T), explain=True)
+    assert len(res.solutions) == 2
+    for s in res.solutions:
+        steps = worked_steps(r, s, T, Units("deg", "m"), res.family)
+        assert [e["step"] for e in steps] == ["d3", "theta2", "theta1", "theta4"]
+        assert steps[0]["text"].startswith("-d3 = t = -0.1 ")
+        want = f"theta4 = {float(wrap(s.q[3])) * 180 / np.pi:.6g}°"
+        assert steps[3]["text"].startswith("theta4 = atan2(u2, u1) - atan2(e2, e1) = ")
+        assert want in steps[3]["text"], (want, steps[3]["text"])
