@@ -444,6 +444,16 @@ def test_blank_lines_crlf_and_the_byte_order_mark():
     assert "byte order mark" in parsed[2][2]
 
 
+def test_a_line_of_form_feeds_or_vertical_tabs_is_a_record():
+    """Blank is spaces, tabs and a CR only (as the man pages say): a line holding a form feed
+    or a vertical tab is a record, its error in the output, so that the output has a line for
+    every input line that is not blank (it was dropped, as blank)."""
+    header, lines = _records(_Bytes(b'{"q": [1, 2]}\n\x0c\n \x0b \n{"q": [3, 4]}\n\x0c'))
+    assert lines == [b'{"q": [1, 2]}', b"\x0c", b" \x0b ", b'{"q": [3, 4]}', b"\x0c"]
+    parsed = records.parse_records(None, load_robot("bk_rr"), 0, lines)
+    assert [e is None for _, _, e in parsed] == [True, False, False, True, False]
+
+
 def test_an_over_long_line_is_its_records_error_and_reading_goes_on():
     """A line beyond MAX_RECORD_BYTES is one record (None, its error), read in bounded
     pieces and skipped to its newline; the next line is the next record, even when the

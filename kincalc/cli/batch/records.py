@@ -22,6 +22,8 @@ FORMAT_OF_SUFFIX = {".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv"}
 #: the first line of a JSON lines input that would otherwise pass for a CSV header
 _JSON_WORDS = {"null", "true", "false", "NaN", "Infinity"}
 BOM = b"\xef\xbb\xbf"
+#: the bytes of a blank line, which is skipped (any other line is a record)
+BLANK = b" \t\r"
 
 
 class RecordError(ValueError):

@@ -9,7 +9,7 @@ import sys
 from ...limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES, open_input, quote, size_text
 from .chunks import process_chunk
 from .formats import csv_header
-from .records import BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
+from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
 
 #: the most bytes one read of the input takes
 READ_BYTES = 1 << 16
@@ -232,10 +232,10 @@ def _blocks(source):
         parts = data.split(b"\n")
         last = parts.pop()
         if len(data) <= MAX_RECORD_BYTES:       # no line too long: the common case
-            lines = [p for p in parts if p.strip()]
+            lines = [p for p in parts if p.strip(BLANK)]
         else:                                   # an over-long line is a record, blank or not
             lines = [p if len(p) <= MAX_RECORD_BYTES else None for p in parts
-                     if len(p) > MAX_RECORD_BYTES or p.strip()]
+                     if len(p) > MAX_RECORD_BYTES or p.strip(BLANK)]
         if len(last) > MAX_RECORD_BYTES:
             lines.append(None)
             skipped = len(last)
@@ -244,7 +244,7 @@ def _blocks(source):
         if lines:
             yield lines, source.ready()
     tail = b"".join(held)
-    if tail.strip():
+    if tail.strip(BLANK):
         yield [tail], False
 
 
