@@ -12,6 +12,7 @@ Nothing here imports beyond the standard library.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 
 #: the largest magnitude of a number in a robot file, a sheet, a batch record or on the
@@ -148,6 +149,37 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
     return data
 
 
+#: the regular files read within :func:`inputs_recorded` (device and inode), or None when
+#: nothing records them: a command's outputs refuse them (:mod:`kincalc.outputs`), so a
+#: file read along the way (the robot a homework sheet names) is never written over
+_inputs_read: set | None = None
+
+
+@contextlib.contextmanager
+def inputs_recorded():
+    """Record the regular files :func:`open_input` opens within the block (a command's run:
+    the CLI runs each command so; a script using the library records nothing)."""
+    global _inputs_read
+    saved, _inputs_read = _inputs_read, set()
+    try:
+        yield
+    finally:
+        _inputs_read = saved
+
+
+def was_read(path) -> bool:
+    """Whether the file at ``path`` is one read within :func:`inputs_recorded` (the same device
+    and inode: a link to it too); False when nothing records or it cannot be stat'ed."""
+    import os
+    if not _inputs_read:
+        return False
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return False
+    return (st.st_dev, st.st_ino) in _inputs_read
+
+
 def open_input(path, buffering: int = -1):
     """``path`` opened for reading, binary, without waiting for a writer.
 
@@ -178,6 +210,11 @@ def open_input(path, buffering: int = -1):
     nonblock = getattr(os, "O_NONBLOCK", 0)
     fd = os.open(path, os.O_RDONLY | nonblock | getattr(os, "O_BINARY", 0))
     try:
+        if _inputs_read is not None:
+            import stat
+            st = os.fstat(fd)
+            if stat.S_ISREG(st.st_mode):
+                _inputs_read.add((st.st_dev, st.st_ino))
         if nonblock:
             os.set_blocking(fd, True)
         return open(fd, "rb", buffering=buffering)

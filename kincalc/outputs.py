@@ -11,7 +11,9 @@ rules (README, "Output files"):
   drawing is not a mistake to make easy);
 * a command's own input (its robot file, --pose file, ...) is refused, ``force`` or not:
   the same file is the same device and inode (:func:`os.path.samefile`), so a hard link
-  or a symbolic link to the input is caught too;
+  or a symbolic link to the input is caught too; so is any file the command read along
+  the way (:func:`kincalc.limits.was_read`: the robot a homework sheet names), at the
+  latest when the output is written;
 * checks come before any work (:func:`check_target`), and again at the end;
 * the data go to a temporary file in the target's folder, which is renamed over the
   target only when complete (:func:`replacing`): a failed or interrupted write leaves the
@@ -31,7 +33,7 @@ import tempfile
 from dataclasses import dataclass
 
 from .errors import InputError
-from .limits import quote
+from .limits import quote, was_read
 
 _KINDS = ((stat.S_ISLNK, "a symbolic link"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
@@ -168,6 +170,9 @@ def check_target(target) -> str:
         if source is not None and same_file(path, source):
             t.fail(f"that is {what}, which this command reads; kincalc never writes over "
                    "its input")
+    if was_read(path):
+        t.fail("that is a file this command read (a robot file a sheet names, ...); kincalc "
+               "never writes over its input")
     if stat.S_ISDIR(st.st_mode):
         t.fail("is a folder, cannot write a file there; give a file name")
     kind = special_kind(st.st_mode)

@@ -194,10 +194,17 @@ def main(argv: list[str] | None = None) -> int:
     import click
 
     from ..errors import KincalcError
+    from ..limits import inputs_recorded
 
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     _quiet_numeric_warnings(debug)
+    with inputs_recorded():             # no output of this run replaces a file it read
+        return _run(args, debug, click, KincalcError)
+
+
+def _run(args: list, debug: bool, click, KincalcError) -> int:
+    """:func:`main`'s run of the command line ``args``: the exit status, every error worded."""
     try:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
         # (and typer turns a KeyboardInterrupt into Exit(130), quietly)

@@ -318,3 +318,22 @@ def test_writer_checks_before_any_work(folder, monkeypatch):
     for argv, _ in WRITERS[2:]:
         status, _, err = run(_argv(argv, _existing(argv)), folder)
         assert status == 2 and "the file exists" in err, err
+
+
+def test_a_file_read_while_recording_is_never_written(tmp_path):
+    """Within limits.inputs_recorded (a command's run) a regular file read through
+    open_input (read_bounded) is refused as an output, force or not, by any name of it;
+    outside it (a script using the library) nothing is recorded."""
+    from kincalc.limits import inputs_recorded, read_bounded
+    src = tmp_path / "robot.yaml"
+    src.write_text("robot")
+    (tmp_path / "hard.yaml").hardlink_to(src)
+    with inputs_recorded():
+        read_bounded(str(src))
+        for name in ("robot.yaml", "hard.yaml"):
+            for force in (False, True):
+                with pytest.raises(InputError, match="that is a file this command read"):
+                    check_target(Target(str(tmp_path / name), "--gradebook", force))
+        check_target(Target(str(tmp_path / "other.csv"), "--gradebook", False))
+    check_target(Target(str(src), "--gradebook", True))
+    assert src.read_text() == "robot"

@@ -238,6 +238,24 @@ def test_output_file_is_never_replaced_without_force(sheets):
     assert (sheets / "key.yaml").read_text() == before
 
 
+def test_no_output_replaces_the_robot_file_a_sheet_names(sheets):
+    """A sheet's robot file is read while grading, not named on the command line: --force
+    replaced it with the gradebook or the report (it now exits 2 and the file stays)."""
+    robot = sheets / "arm.yaml"
+    status, _, err = run_cli(["convert", "bk_rr", "--to", "dh", "-o", robot])
+    assert status == 0, err
+    key = yaml.safe_load((sheets / "key.yaml").read_text())
+    (sheets / "mine.yaml").write_text(yaml.safe_dump(dict(key, robot="arm.yaml"),
+                                                     sort_keys=False))
+    before = robot.read_bytes()
+    for option in (["--gradebook"], ["--format", "json", "-o"]):
+        status, _, err = check(sheets, "mine.yaml", "-q", *option, "arm.yaml", "--force")
+        assert status == 2 and "that is a file this command read" in err, err
+        assert robot.read_bytes() == before
+    status, _, err = check(sheets, "mine.yaml", "-q", "--gradebook", "grades.csv")
+    assert status == 0, err
+
+
 # --- a class: gradebook and feedback -------------------------------------------------------
 
 def class_folder(sheets):
