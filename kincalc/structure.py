@@ -7,7 +7,7 @@ to choose inverse-kinematics solvers later.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -124,8 +124,7 @@ def common_point(points, dirs, tol: float) -> np.ndarray | None:
     return None
 
 
-@dataclass(frozen=True)
-class Wrist:
+class Wrist(NamedTuple):
     """A spherical wrist: the last three joints, revolute, with axes meeting at a point.
 
     The centre at a configuration comes from :func:`wrist_centre`.

@@ -26,12 +26,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
 
-@dataclass(frozen=True)
-class Note:
+class Note(NamedTuple):
     """One intermediate quantity of a step, for ``--explain``: ``value (N, K_at, ...)``
     at the slots of the step that made it (``at``: index into the lineage), SI, of
     ``kind`` ("length", "angle", "none", "joint:I")."""
@@ -42,8 +42,7 @@ class Note:
     at: int
 
 
-@dataclass(frozen=True)
-class DeadEnd:
+class DeadEnd(NamedTuple):
     """A step that found no real root for some slots: ``joint`` (0-based), the equation
     ``cos(joint - phase) = need`` it had to solve (``phase``, ``need (N, K_at)``; a
     ``need`` beyond [-1, 1] is the reason), ``where (N, K_at)`` the slots it failed for,

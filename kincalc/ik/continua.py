@@ -5,13 +5,12 @@ continua the solvers mark (``Branches.extra["continuum"]``, ``["parallel continu
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..spatial import wrap
 
 
-@dataclass(frozen=True)
-class Continuum:
+class Continuum(NamedTuple):
     """At a singular target joints ``i`` and ``j`` (0-based) turn the tool about one
     line: only ``q_i + sign q_j`` is fixed, to ``total`` (rad); ``total`` None when the
     solver does not name the combination."""
@@ -64,8 +63,7 @@ class Continuum:
                 f"{float(wrap(self.total)) * per_rad:.4f} {angle_unit}")
 
 
-@dataclass(frozen=True)
-class ParallelContinuum:
+class ParallelContinuum(NamedTuple):
     """A three-parallel arm at its wrist singularity: joints ``joints`` (0-based) turn
     about parallel axes, so only ``sum(sign_k q_k)`` is fixed, to ``total`` (rad).
     Joint ``free`` can take any value the elbow can follow. The others follow it: the

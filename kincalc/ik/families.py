@@ -35,7 +35,8 @@ that has it (:func:`idealised`) and refined (:mod:`kincalc.ik.nearly`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,8 +49,7 @@ from .cache import per_robot
 from .screws import Screws
 
 
-@dataclass(frozen=True)
-class Family:
+class Family(NamedTuple):
     name: str
     description: str
     controls: str          # which pose components the robot sets
@@ -259,7 +259,7 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
     if family is not None and family.name != "general-6r":
         strict, _ = _classify(robot, S, EXACT_POINT_TOL, EXACT_ANGLE_TOL)
         if strict is None or strict.name != family.name:
-            family = replace(family, exact=False)
+            family = family._replace(exact=False)
     return family, why
 
 
@@ -351,7 +351,7 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
     if n == 4 and rev[0] and not rev[3]:            # a slide last (an R-R-R-P SCARA)
         R = S.reversed()
         if _independent_motions(R, (0, 1, 2), R.point[3]):
-            return _reversed(replace(roll, controls="position and rotation about axis 1"), n), ""
+            return _reversed(roll._replace(controls="position and rotation about axis 1"), n), ""
     if n > 6 or (n > 1 and robot.generic_ranks[0] < n):     # more joints than motions
         r = robot.generic_ranks[0]
         return None, (f"redundant: {n} joints for {r} independent pose component"

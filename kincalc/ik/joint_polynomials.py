@@ -25,6 +25,7 @@ frames.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,8 +40,7 @@ CHECKS = 32
 AGREE = 1e-11
 
 
-@dataclass(frozen=True)
-class Group:
+class Group(NamedTuple):
     """Quantities ``rows`` that depend on the same joints, with a common degree in each."""
 
     joints: tuple            # (0-based)

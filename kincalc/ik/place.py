@@ -34,7 +34,7 @@ as a dead end for ``--all-branches``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,8 +48,7 @@ from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
 
 
-@dataclass(frozen=True)
-class Plan:
+class Plan(NamedTuple):
     """How joints ``joints`` place ``p0`` (see the module docstring); robot-level."""
 
     mode: str

@@ -297,7 +297,7 @@ def _continuum(robot, sv: Solved, k: int):
         signs = tuple(1 if float(S.axis[i] @ h) > 0 else -1 for i in about)
         c = ParallelContinuum(about + (5,), signs + (int(sigma),), 5, float(total))
         if sv.spec.reverse:
-            c = replace(c.reversed(robot.dof), total=float(total))
+            c = c.reversed(robot.dof)._replace(total=float(total))
         return c
     return None
 

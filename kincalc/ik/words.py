@@ -10,7 +10,7 @@ Those products are polynomials of a few joint values, fitted once per robot
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,8 +32,7 @@ WORDED = {"spherical-wrist", "three-parallel", "position-2", "position-3", "plan
           "point-plus-roll", "reversed-point-plus-roll", "pitch-roll"}
 
 
-@dataclass(frozen=True)
-class Geometry:
+class Geometry(NamedTuple):
     """Which words of :data:`WORDS` an arm has and where their points are (robot-level).
 
     A point fixed in a link is ``(frame, local)``: its coordinates ``local (3,)`` (m) in
@@ -146,8 +145,7 @@ def _codes(R, dots) -> np.ndarray:
     return np.where(word == 0.0, 0, R.first + (word < 0)).astype(np.int8)
 
 
-@dataclass(frozen=True)
-class Rules:
+class Rules(NamedTuple):
     """The vectors and products :func:`branch_geometry` evaluates for one robot and family.
 
     The vectors ``V`` are the frames' axes (``j``) and origins (``n + j``), then the carried

@@ -283,8 +283,6 @@ def test_three_cones_placement_at_the_stretched_elbow(monkeypatch):
     elbow, where the polish's J^T J is singular (numpy once raised LinAlgError for the
     whole batch there). The offset-shoulder form is switched off so that KUKA and ABB
     arms take that path; every pose must be answered exactly."""
-    from dataclasses import replace
-
     from test_ik_batch_offset_shoulder import stretched_and_folded
 
     import kincalc.ik.place as place
@@ -292,7 +290,7 @@ def test_three_cones_placement_at_the_stretched_elbow(monkeypatch):
 
     def no_shoulder(S, joints, p0):
         P = real(S, joints, p0)
-        return replace(P, mode="three cones") if P.mode == "shoulder" else P
+        return P._replace(mode="three cones") if P.mode == "shoulder" else P
     monkeypatch.setattr(place, "_make_plan", no_shoulder)
     for name in ("kuka_kr16", "abb_irb6640"):
         r = load_robot(name)
