@@ -6,8 +6,8 @@ an arm with a spherical shoulder and wrist at a swivel angle) and ``--swivel-ran
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass, replace
-from typing import Annotated, Optional
+from dataclasses import replace
+from typing import Annotated, NamedTuple, Optional
 
 import typer
 
@@ -50,8 +50,7 @@ REDUNDANCY_OPTIONS = (("sweep", SweepOpt), ("start", FromOpt), ("stop", ToOpt),
                       ("swivel_range", SwivelRangeOpt))
 
 
-@dataclass(frozen=True)
-class RedundancyOptions:
+class RedundancyOptions(NamedTuple):
     """The redundant-arm options of one command line, as given (user units; None when
     absent)."""
 

@@ -11,8 +11,7 @@ from __future__ import annotations
 import functools
 import inspect
 import typing
-from dataclasses import asdict, dataclass
-from typing import Annotated, Optional, Tuple
+from typing import Annotated, NamedTuple, Optional, Tuple
 
 import typer
 
@@ -69,8 +68,7 @@ POSE_OPTIONS = (("xyz", XyzOpt), ("rpy", RpyOpt), ("euler_zyz", ZyzOpt),
                 ("pose", PoseOpt), ("from_q", FromQOpt))
 
 
-@dataclass(frozen=True)
-class PoseOptions:
+class PoseOptions(NamedTuple):
     """The pose options of one command line, as given (user units; None when absent)."""
 
     xyz: tuple | None = None
@@ -91,7 +89,7 @@ class PoseOptions:
 
     def target(self, robot, units):
         """The :class:`~kincalc.ik.Target` they ask for (SI), by :func:`build_target`."""
-        return build_target(robot, units, **asdict(self))
+        return build_target(robot, units, **self._asdict())
 
 
 def with_pose_options(command):
