@@ -28,7 +28,8 @@ import numpy as np
 
 
 def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float = 0.0,
-           stall: float = 0.0, give_up: dict | None = None, max_step: float = np.inf):
+           stall: float = 0.0, give_up: dict | None = None, max_step: float = np.inf,
+           settle: float | None = None):
     """Gauss-Newton on a batch of candidates, each stopping when it has converged.
 
     Parameters
@@ -57,13 +58,18 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         bound per candidate.
     max_step : float
         Steps are shortened to at most this in the largest component.
+    settle : float, optional
+        A bound ``C`` on the model's second derivatives (every component, anywhere): a step
+        ``dx`` from ``e`` leaves at most ``b = max |e - J dx| + C (|dx|_1 + max |e|) |dx|_1``
+        (Taylor), so one with ``b < tol / 10`` stops with ``b`` as its residual, without the
+        evaluation that would only confirm it. None: every step is evaluated.
 
     Returns
     -------
     x : ndarray (M, n)
         The polished values; a candidate that did not converge holds its last iterate.
     residual : ndarray (M,)
-        Each candidate's last ``max |e|``.
+        Each candidate's last ``max |e|`` (or the bound ``b`` of ``settle``).
     moved : ndarray (M,) bool
         The candidates that took a step.
     """
@@ -97,7 +103,23 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
             if np.count_nonzero(big > max_step):          # else every factor below is 1
                 dx *= np.minimum(1.0, max_step / np.maximum(big, 1e-300))[:, None]
         x[rows] += dx
+        if settle is not None:
+            rows = _unsettled(rows, res, e, J, dx, settle, 0.1 * tol)
     return x, res, moved
+
+
+def _unsettled(rows, res, e, J, dx, C, bound):
+    """The ``rows`` whose step ``dx (m, n)`` from residual ``e (m, r)`` (Jacobian ``J``)
+    may leave a residual of ``bound`` or more (the ``settle`` bound of :func:`polish`, with
+    ``C``); the others get that bound in ``res``."""
+    l1 = np.add.reduce(np.abs(dx), axis=-1)
+    b = np.maximum.reduce(np.abs(e - (J @ dx[..., None])[..., 0]), axis=-1) \
+        + C * (l1 + np.maximum.reduce(np.abs(e), axis=-1)) * l1
+    done = b < bound
+    if not np.count_nonzero(done):
+        return rows
+    res[rows[done]] = b[done]
+    return rows[~done]
 
 
 def _step(J, e, damping: float) -> np.ndarray:

@@ -96,8 +96,9 @@ a single pose is a batch of one).
    geometric Jacobian (:func:`kincalc.jacobian.jacobian_and_pose` on the
    chain with lengths divided by L), steps limited to 0.5 rad
    (:func:`kincalc.ik.newton.polish`), the rotation log from the skew part
-   below 90 degrees. Most candidates converge in two or three steps or are given up
-   after three or six; the later steps serve solutions at a singular configuration,
+   below 90 degrees. Most candidates converge in one to three steps or are given up
+   after three or six; a step whose landing the chain's curvature bounds below 1e-14
+   (quadratic convergence) is not evaluated again (:func:`~.polish.newton_curvature`); the later steps serve solutions at a singular configuration,
    where Newton converges only linearly (kinova_gen3_lite folded at q2 = 180 deg, a
    pose every pivot degenerates at: the last resort's candidates start some 1e-2 rad
    away and were still at 1e-9 after ten steps, so the pose came out unreachable).

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...jacobian import jacobian_and_pose, scaled_ranks
+from ...fk import entry_frames
+from ...jacobian import frames_jacobian, jacobian_and_pose, scaled_ranks
 from ...spatial import rotvec_from_matrix
 from ..newton import polish
 from .common import (ACCEPT_TOL, GIVE_UP, GIVE_UP_LAST, NEWTON_ITERS, STEP_MAX, nnz,
@@ -58,14 +59,35 @@ def rotation_log(v, c2, R):
     return w
 
 
-def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP):
+def newton_curvature(chain) -> float:
+    """A bound on the second derivatives of Newton's residual ``(dp / L, dw)`` on ``chain``
+    (scaled by L), every component, per rad^2: twice the larger of 1 and the chain's length
+    (the sum of its links' translations, a bound on the distance from any joint axis to the
+    tool point; the derivatives of ``z_j x (p - o_j)`` are at most twice that, those of the
+    axes at most 1). The ``settle`` bound of :func:`kincalc.ik.newton.polish`.
+
+    Parameters
+    ----------
+    chain : Chain
+        The robot's, with lengths divided by its length scale L.
+
+    Returns
+    -------
+    float
+    """
+    reach = float(np.sqrt(reduce_sum(chain.fixed[1:, :3, 3] ** 2, axis=1)).sum())
+    return 2.0 * max(1.0, reach)
+
+
+def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP, curvature=None):
     """Newton (:func:`kincalc.ik.newton.polish`) on ``fk(q) = T`` for the candidates ``Q``.
 
     A candidate stops when its residual ``max(|dp| / L, |dw|)`` is at rounding level (below
-    1e-13, or below ACCEPT_TOL / 100 and no longer halving), after ``iters`` steps, or when
-    it is still far after a few (``GIVE_UP``: spurious candidates from complex eigenvalues;
-    the few that would wander into a solution after many steps only find one that a good
-    candidate already gave).
+    1e-13, or below ACCEPT_TOL / 100 and no longer halving, or a step that by the chain's
+    curvature leaves it below 1e-14: quadratic convergence, not evaluated again), after
+    ``iters`` steps, or when it is still far after a few (``GIVE_UP``: spurious candidates
+    from complex eigenvalues; the few that would wander into a solution after many steps
+    only find one that a good candidate already gave).
 
     Parameters
     ----------
@@ -80,30 +102,38 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP):
     give_up : dict
         ``{step: bound}``: after that many steps, drop the candidates whose residual is
         still above ``bound``.
+    curvature : float, optional
+        :func:`newton_curvature` of ``chain`` (computed when not given).
 
     Returns
     -------
     q : ndarray (m, 6)
         Rad, not wrapped.
     residual : ndarray (m,)
-        Each one's last residual: the largest component of ``(dp / L, dw)`` (rad).
+        Each one's last residual: the largest component of ``(dp / L, dw)`` (rad), or for
+        one that stopped after a step without an evaluation, a bound on it (below 1e-14).
     moved : ndarray (m,) of bool
         The candidates that took a step.
     """
     def evaluate(q, rows):
         # the walk for any number of rows: a candidate's bits do not depend on the others'
         # (Newton amplifies the last bit where a pose has a continuum of solutions)
-        J, F = jacobian_and_pose(chain, q, column_walk=True)
+        A = entry_frames(chain, q, column_walk=True)
+        F = np.zeros((len(q), 4, 4))            # the layout of jacobian_and_pose's pose
+        F[:, :3] = A[:, :, 6].transpose(2, 0, 1)
         Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
         R = Tr[:, :, :3] @ np.swapaxes(F[:, :3, :3], -1, -2)
         v, c2 = skew_trace(R)
+        # the Jacobian (that of jacobian_and_pose) only of the candidates that take a step
         return (np.concatenate([Tr[:, :, 3] - F[:, :3, 3], rotation_log(v, c2, R)], axis=1),
-                lambda keep: J[keep])
+                lambda keep: np.ascontiguousarray(
+                    frames_jacobian(A[..., keep], chain.revolute).transpose(2, 0, 1)))
     return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
-                  stall=1e-2 * ACCEPT_TOL, give_up=give_up, max_step=STEP_MAX)
+                  stall=1e-2 * ACCEPT_TOL, give_up=give_up, max_step=STEP_MAX,
+                  settle=newton_curvature(chain) if curvature is None else curvature)
 
 
-def polish_from_both_sides(chain, T, Q, patient):
+def polish_from_both_sides(chain, T, Q, patient, curvature=None):
     """Newton for candidates of which the ``patient`` ones (the last resort's, from the
     perturbed robots) are given up later and also started past their landing point.
 
@@ -132,6 +162,8 @@ def polish_from_both_sides(chain, T, Q, patient):
         The starts (rad).
     patient : ndarray (m,) of bool
         The candidates given up later and restarted.
+    curvature : float, optional
+        :func:`newton_curvature` of ``chain`` (computed when not given).
 
     Returns
     -------
@@ -145,11 +177,14 @@ def polish_from_both_sides(chain, T, Q, patient):
     """
     give_up = {step: np.where(patient, GIVE_UP_LAST.get(step, np.inf), GIVE_UP.get(step, np.inf))
                for step in sorted(set(GIVE_UP) | set(GIVE_UP_LAST))}
-    q, res, moved = polish_candidates(chain, T, Q, give_up=give_up)
+    if curvature is None:
+        curvature = newton_curvature(chain)
+    q, res, moved = polish_candidates(chain, T, Q, give_up=give_up, curvature=curvature)
     src = np.flatnonzero(patient & (res < ACCEPT_TOL))
     if not len(src):
         return q, res, moved, src
-    q2, res2, moved2 = polish_candidates(chain, T[src], 2.0 * Q[src] - q[src])
+    q2, res2, moved2 = polish_candidates(chain, T[src], 2.0 * Q[src] - q[src],
+                                         curvature=curvature)
     # a restart is for a regular partner: one landing at a singular solution lands, within
     # the merge tolerance or just beyond it, on the root its source found
     landed = np.flatnonzero(res2 < ACCEPT_TOL)

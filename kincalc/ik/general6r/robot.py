@@ -11,6 +11,7 @@ from ..cache import per_robot
 from .common import PERTURB
 from .elimination import eliminate
 from .model import Model
+from .polish import newton_curvature
 
 
 # --- per robot ------------------------------------------------------------------
@@ -36,6 +37,7 @@ class _Robot6R:
         #: the chain with lengths divided by L: Newton's position errors and the
         #: Jacobian's linear rows come out scaled
         self.chain = Chain(fixed, robot.chain.revolute, robot.chain.offset)
+        self.curvature = newton_curvature(self.chain)
         self.scale = np.array([[1.0, 1.0, 1.0, self.L]])      # divides a pose's rows 0-2
         self.model = Model.from_lines(self.dirs, self.pts, self.T0, self.L)
         self._perturbed = None

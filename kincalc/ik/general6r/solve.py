@@ -80,10 +80,11 @@ def _solve_block(data, T, Q_out, ok):
     pose, slot, cand, width, resort = data.candidates(Tr)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     if resort is None:
-        Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand)
+        Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand,
+                                           curvature=data.curvature)
     else:                       # the perturbed models' candidates: patient, from both sides
         Qp, res, moved, src = polish_from_both_sides(data.chain, np.take(Tt, pose, axis=0),
-                                                     cand, resort)
+                                                     cand, resort, data.curvature)
         # a pose's candidates in slot order, then its restarts in the order of their sources
         pose = np.concatenate([pose, pose[src]])
         order = np.argsort(pose, kind="stable")
