@@ -14,12 +14,11 @@ A step's subproblem runs on all slots at once and returns ``k`` solutions per sl
 makes the ``K k`` slots of the next step. Quantities a solver computed per slot before
 the step are carried over with :meth:`Branches.take`.
 
-Slots that no pose of the batch keeps (the second arc of a wrist singularity, elbow roots
-a target out of reach has none of, ...) are dropped as they appear, so later steps work
-only on live slots; :meth:`Branches.expanded` puts the slots back in the family's fixed
-layout (``full``: each column's slot there, ``full_signs`` the layout's sign table) once
-the solver is done. With ``explain`` every slot is kept (notes and dead ends refer to
-them).
+Slots that no pose of the batch keeps (the second arc of a wrist singularity, elbow roots a
+target out of reach has none of, ...) are dropped as they appear, so later steps work only
+on live slots; :meth:`Branches.expanded` puts the slots back in the family's fixed layout
+(``full``: each column's slot there, ``full_signs`` the layout's sign table) once the
+solver is done. With ``explain`` every slot is kept (notes and dead ends refer to them).
 """
 
 from __future__ import annotations
@@ -158,14 +157,15 @@ class Branches:
         return Branches(n=n, X=_unset(n, N, 1), F=np.zeros((n, N, 1), bool), ok=alive,
                         signs=((),), parent=_ZERO, explain=explain, lineage=(_ZERO,))
 
-    def with_slots(self, ok, signs) -> "Branches":
-        """Branches with a slot per sign in ``signs`` (a tuple of K tuples of (joint, label)),
-        nothing solved yet, live where ``ok (N, K)`` and this slot are, ``parent`` all 0:
-        made from these one-slot branches by a solver that finds every slot at once."""
+    def with_slots(self, ok, signs, q=None, c=None, s=None) -> "Branches":
+        """A slot per sign of ``signs`` (K tuples of (joint, label)), live where ``ok (N, K)``
+        and this slot are, for a solver that finds every slot at once: nothing solved
+        (``parent`` 0), or every joint's value, cosine, sine ``q, c, s (N, K, n)`` set."""
         K = len(signs)
-        return self._with(X=_unset(self.n, self.N, K), F=np.zeros((self.n, self.N, K), bool),
-                          ok=ok & self.ok[:, :1], signs=tuple(signs),
-                          parent=np.zeros(K, np.intp), pending={})
+        X = _unset(self.n, self.N, K) if q is None else np.moveaxis(np.stack([q, c, s]), -1, 1)
+        return self._with(X=X, F=np.zeros((self.n, self.N, K), bool), ok=ok & self.ok[:, :1],
+                          signs=tuple(signs), pending={},
+                          parent=np.zeros(K, np.intp) if q is None else _identity(K))
 
     def appended(self, ok) -> "Branches":
         """These expanded branches with ``G`` more slots after the last (``ok (N, G)``),

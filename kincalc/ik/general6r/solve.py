@@ -224,11 +224,7 @@ def general_6r(robot, targets, br):
     order = np.lexsort(tuple(key[..., j] for j in (5, 4, 3, 1, 0, 2)), axis=-1)
     at = np.arange(len(Q))[:, None]
     Q, ok = Q[at, order], ok[at, order]
-    c, s = np.cos(Q), np.sin(Q)
-    out = br.with_slots(ok, _ROOTS)
-    for j in range(6):
-        out = out.set(j, Q[..., j], c[..., j], s[..., j])
-    return out
+    return br.with_slots(ok, _ROOTS, Q, np.cos(Q), np.sin(Q))
 
 
 #: the grid (rad) on which :func:`general_6r` compares joint values to rank its solutions
