@@ -317,7 +317,7 @@ def split_clusters(v, phi, keep, Sig):
         return keep, None, continuum
     at = np.zeros(M, int)
     at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
-    sizes = np.unique(run[treat])
+    sizes = np.flatnonzero(np.bincount(run[treat]))    # (not np.unique: it imports numpy.ma)
     tight = _tight_subclusters(phi, order, start, run, sizes[sizes >= 3])
     w = 2 * n if tight else n
     v2 = np.zeros((len(rows), 12, w), complex)
