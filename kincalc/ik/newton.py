@@ -130,7 +130,7 @@ def _step(J, e, damping: float) -> np.ndarray:
     damp keep their accuracy (several times faster than an SVD per candidate). Undamped,
     through the SVD, without squaring the condition number."""
     if damping:
-        Jt = np.swapaxes(J, -1, -2)
+        Jt = J.swapaxes(-1, -2)
         H = Jt @ J
         n = H.shape[-1]
         diag = H.reshape(H.shape[:-2] + (n * n,))[..., ::n + 1]          # a view of H

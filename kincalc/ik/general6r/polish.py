@@ -32,7 +32,7 @@ def skew_trace(R):
     c2 : ndarray (m,)
         ``2 cos(angle)``.
     """
-    g = np.take(R.reshape(-1, 9), _ROT_IDX, axis=1)
+    g = R.reshape(-1, 9).take(_ROT_IDX, axis=1)
     return g[:, :3] - g[:, 3:6], reduce_sum(g[:, 6:], axis=1) - 1.0
 
 
@@ -122,7 +122,7 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP, curvatur
         F = np.zeros((len(q), 4, 4))            # the layout of jacobian_and_pose's pose
         F[:, :3] = A[:, :, 6].transpose(2, 0, 1)
         Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
-        R = Tr[:, :, :3] @ np.swapaxes(F[:, :3, :3], -1, -2)
+        R = Tr[:, :, :3] @ F[:, :3, :3].swapaxes(-1, -2)
         v, c2 = skew_trace(R)
         # the Jacobian (that of jacobian_and_pose) only of the candidates that take a step
         return (np.concatenate([Tr[:, :, 3] - F[:, :3, 3], rotation_log(v, c2, R)], axis=1),

@@ -80,10 +80,10 @@ def _solve_block(data, T, Q_out, ok):
     pose, slot, cand, width, resort = data.candidates(Tr)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     if resort is None:
-        Qp, res, moved = polish_candidates(data.chain, np.take(Tt, pose, axis=0), cand,
+        Qp, res, moved = polish_candidates(data.chain, Tt.take(pose, axis=0), cand,
                                            curvature=data.curvature)
     else:                       # the perturbed models' candidates: patient, from both sides
-        Qp, res, moved, src = polish_from_both_sides(data.chain, np.take(Tt, pose, axis=0),
+        Qp, res, moved, src = polish_from_both_sides(data.chain, Tt.take(pose, axis=0),
                                                      cand, resort, data.curvature)
         # a pose's candidates in slot order, then its restarts in the order of their sources
         pose = np.concatenate([pose, pose[src]])
@@ -218,8 +218,7 @@ def general_6r(robot, targets, br):
     # (-pi, pi] (a value within a step of -pi counts as pi): a rank (the label) then does
     # not depend on the last bits of the values, which differ between a pose solved alone
     # and in a batch (equal joint-3 values at a singular pose, a joint at +-pi)
-    W = wrap(Q)
-    W = np.where(W <= RANK_STEP - np.pi, np.pi, W)
+    W = np.where(Q <= RANK_STEP - np.pi, np.pi, Q)          # (Q is wrapped)
     key = np.where(ok[..., None], np.round(W / RANK_STEP), np.inf)
     order = np.lexsort(tuple(key[..., j] for j in (5, 4, 3, 1, 0, 2)), axis=-1)
     at = np.arange(len(Q))[:, None]
