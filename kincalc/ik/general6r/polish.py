@@ -120,7 +120,7 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP, curvatur
         # (Newton amplifies the last bit where a pose has a continuum of solutions)
         A = entry_frames(chain, q, column_walk=True)
         F = np.zeros((len(q), 4, 4))            # the layout of jacobian_and_pose's pose
-        F[:, :3] = A[:, :, 6].transpose(2, 0, 1)
+        F[:, :3] = A[:, :, -1].transpose(2, 0, 1)
         Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
         R = Tr[:, :, :3] @ F[:, :3, :3].swapaxes(-1, -2)
         v, c2 = skew_trace(R)
