@@ -267,6 +267,11 @@ def _classify(robot, S: Screws, point_tol: float, angle_tol: float
               ) -> tuple[Family | None, str]:
     """:func:`classify` with the given structure tolerances (relative, rad)."""
     n, rev = S.n, S.revolute
+    r = robot.generic_ranks[0]
+    if n > 6 or (n > 1 and r < n):              # more joints than independent motions
+        # (a family's closed form would place isolated points of a continuum, or none)
+        return None, (f"redundant: {n} joints for {r} independent pose component"
+                      f"{'s' if r != 1 else ''}, so infinitely many solutions")
     if n == 6:
         fam = _classify_6(S, point_tol, angle_tol)
         if fam is None:
@@ -332,15 +337,14 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
                                    "joints 1-2, joint 3 from the orientation",
                        "position in the plane and rotation about the axes", True,
                        structure=(("parallel", (0, 1, 2)),)), "")
-    if n == 3 and rev[2] and robot.generic_ranks[0] == 3 \
-            and _independent_motions(S, (0, 1), S.point[2]):        # the tool turns about axis 3
+    if n == 3 and rev[2] and _independent_motions(S, (0, 1), S.point[2]):        # the tool turns about axis 3
         return (Family("point-plus-roll", "a point on axis 3 placed by joints 1-2 (on the "
                        "surface they sweep), joint 3 from the orientation about its axis",
                        "position on a surface and rotation about axis 3", True), "")
     if n == 2:
         return (Family("position-2", "two joints placing the tool point",
                        "position (on the surface the arm sweeps)", False), "")
-    if n == 5 and rev[3:].all() and robot.generic_ranks[0] == n:     # (else redundant)
+    if n == 5 and rev[3:].all():
         fam = _classify_5(S, point_tol, par)
         if fam is not None:
             return fam, ""
@@ -352,10 +356,6 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
         R = S.reversed()
         if _independent_motions(R, (0, 1, 2), R.point[3]):
             return _reversed(roll._replace(controls="position and rotation about axis 1"), n), ""
-    if n > 6 or (n > 1 and robot.generic_ranks[0] < n):     # more joints than motions
-        r = robot.generic_ranks[0]
-        return None, (f"redundant: {n} joints for {r} independent pose component"
-                      f"{'s' if r != 1 else ''}, so infinitely many solutions")
     why = (f"no analytic solver for this structure yet ({n} joints, "
            f"{''.join('R' if r else 'P' for r in rev)})")
     return None, why

@@ -102,3 +102,40 @@ def test_three_slides_in_one_plane_are_called_redundant():
     assert family is None
     assert why == "redundant: 3 joints for 2 independent pose components, so infinitely many " \
                   "solutions"
+
+
+def _dh_robot(name, rows):
+    """A standard-DH robot of ``rows`` (type, alpha, a, d, theta; rad, m)."""
+    joints = tuple(Joint(f"q{i + 1}", t, alpha=al, a=a, d=d, theta=th,
+                         limits=(0.0, 0.5) if t == "prismatic" else (-np.pi, np.pi))
+                   for i, (t, al, a, d, th) in enumerate(rows))
+    return Robot(name=name, convention="dh", joints=joints)
+
+
+@pytest.mark.parametrize("name, rows", [
+    ("two slides along one line", [("prismatic", 0, 0, 0, 0), ("prismatic", 0, 0, 0, 1.57)]),
+    ("six coaxial turns", [("revolute", 0, 0, 0.1 * i, 0) for i in range(6)]),
+    ("a SCARA with joints 2 and 4 on one line",
+     [("revolute", 0, 0.25, 0, 0), ("revolute", 0, 0, 0, 0.3),
+      ("prismatic", np.pi, 0, -0.4, 2.2), ("revolute", 0, 0, 0.37, -0.3)]),
+    ("a spherical wrist on a shoulder of coaxial turns",
+     [("revolute", 0, 0, 0.3, 0), ("revolute", 0, 0, 0.2, 0), ("revolute", 0, 0, 0.1, 0),
+      ("revolute", np.pi / 2, 0, 0.4, 0), ("revolute", -np.pi / 2, 0, 0, 0),
+      ("revolute", 0, 0, 0.1, 0)])])
+def test_fewer_independent_motions_than_joints_is_redundant(name, rows):
+    """A robot whose Jacobian has fewer independent columns than joints everywhere (joints on
+    one line, slides along one direction) has a continuum of solutions at every reachable
+    pose. A family's closed form (position-2, general-6r, point-plus-roll,
+    spherical-wrist) placed none of it: ``ik`` of the robot's own FK pose said "no
+    solution". It is called redundant and solved numerically: one solution, reaching the
+    pose."""
+    r = _dh_robot(name, rows)
+    _, family, why = plan(r)
+    assert family is None and why.startswith(f"redundant: {r.dof} joints for "), why
+    rng = np.random.default_rng(3)
+    lo, hi = r.limits.T
+    for _ in range(5):
+        T = r.fk(rng.uniform(lo, hi))
+        res = solve(r, Target(T))
+        assert res.reachable and res.family == "numerical", res.reason
+        assert np.allclose(r.fk(res.solutions[0].q), T, atol=1e-9)

@@ -291,24 +291,26 @@ def test_tcv_bundled_folded_elbow():
 
 @pytest.mark.parametrize("convention", CONVENTIONS)
 def test_point_plus_roll_joint_on_the_last_axis(convention):
-    """A SCARA whose second axis is the line of its last (a2 = a3 = 0: joints 2 and 4 turn
-    about one line, only their sum counts): joint 2 is free, shown at its representative 0
-    (the split between the two joints was rounding noise that changed with the batch), the
-    same alone and among other poses, and every solution reaches the pose."""
+    """A SCARA of equal links folded (q2 = 180 deg: axis 4 on the line of axis 1): joints 1
+    and 4 turn about one line and only q1 - q4 counts. Joint 1 is free at its
+    representative 0 (the split between the two was rounding noise, which changed with the
+    batch), the relation is the solution's continuum, and the generating configuration
+    satisfies it; the same alone and among other poses."""
     rng = np.random.default_rng(41)
-    rows = [("revolute", 0.0, 0.25, 0.0, 0.0), ("revolute", 0.0, 0.0, 0.0, 0.3),
-            ("prismatic", np.pi, 0.0, -0.4, 2.2), ("revolute", 0.0, -0.04, 0.37, -0.3)]
+    rows = [("revolute", 0.0, 0.3, 0.4, 0.0), ("revolute", np.pi, 0.3, 0.0, 0.0),
+            ("prismatic", 0.0, 0.0, 0.0, 0.0), ("revolute", 0.0, 0.0, 0.1, 0.0)]
     tool = transform(matrix_from_rpy(rng.uniform(-np.pi, np.pi, 3)), rng.uniform(-.1, .1, 3))
-    robot = _convert(_dh(rows, [(-np.pi, np.pi)] * 2 + [(-0.1, 0.3), (-np.pi, np.pi)], rng,
+    robot = _convert(_dh(rows, [(-np.pi, np.pi)] * 2 + [(0.0, 0.3), (-np.pi, np.pi)], rng,
                          tool), convention)
-    Q = np.column_stack([rng.uniform(-3, 3, 40), rng.uniform(-3, 3, 40),
-                         rng.uniform(-0.1, 0.3, 40), rng.uniform(-3, 3, 40)])
+    Q = np.column_stack([rng.uniform(-3, 3, 30), np.full(30, np.pi), rng.uniform(0, 0.3, 30),
+                         rng.uniform(-3, 3, 30)])
     T = robot.fk(Q)
     together = robot.ik_batch(T)
     for k in range(len(Q)):
         res = solve(robot, Target(T[k]))
         _found(robot, res, Q[k], _pose_ok(robot, T[k]))
+        assert res.solutions and all(s.free == (0,) and s.q[0] == 0.0 and s.continuum
+                                     is not None for s in res.solutions)
         alone = sorted(tuple(np.round(s.q, 9)) for s in res.solutions)
-        assert all(s.free == (1,) and s.q[1] == 0.0 for s in res.solutions)
         assert alone == sorted(tuple(np.round(q, 9))
                                for q in together.q[k][together.valid[k]]), k
