@@ -23,6 +23,14 @@ MAX_MAGNITUDE = 1e9
 #: the largest robot file, homework sheet or --pose file kincalc reads, in bytes
 MAX_FILE_BYTES = 1 << 20
 
+#: the most joints a robot file (YAML or URDF chain) may give: a snake of 32 joints takes
+#: up to a minute in ``selftest``, as a seven-joint arm solved numerically does
+MAX_JOINTS = 32
+
+#: the most joints ``--symbolic`` expands: the expressions grow about 1.7 times a joint
+#: (12 joints take ~10 s, 32 would take days)
+MAX_SYMBOLIC_JOINTS = 12
+
 #: the most items one homework sheet may hold
 MAX_SHEET_ITEMS = 200
 

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import RobotFileError
-from ..limits import MAX_MAGNITUDE, quote
+from ..limits import MAX_JOINTS, MAX_MAGNITUDE, quote
 from ..model import Joint, Robot
 from ..spatial import invert_transform, matrix_from_rpy, transform
 from .reader import read_text
@@ -460,6 +460,9 @@ def _robot(reader, root, chain: list, stem: str) -> Robot:
                          point=tuple(T[:3, 3].tolist()), limits=j.limits))
     if not out:
         reader.fail(root, "the chain has no moving joint")
+    if len(out) > MAX_JOINTS:
+        reader.fail(root, f"the chain has {len(out)} moving joints; kincalc takes robots of up "
+                          f"to {MAX_JOINTS}")
     name = root.attrs.get("name", "")
     if not NAME_RE.match(name):
         name = re.sub(r"[^A-Za-z0-9_.\-]", "_", stem) or "urdf"

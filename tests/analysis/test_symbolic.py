@@ -493,3 +493,20 @@ def test_six_joint_derivations_take_seconds(name):
     symbolic_fk(robot)
     symbolic_jacobian(robot)
     assert time.perf_counter() - t0 < 10.0
+
+
+def test_more_joints_than_symbolic_expands_is_one_line():
+    """The expressions grow about 1.7 times a joint (fk --symbolic of 32 joints ran for
+    hours): beyond MAX_SYMBOLIC_JOINTS both commands refuse in one line, before sympy."""
+    from kincalc.errors import InputError
+    from kincalc.limits import MAX_SYMBOLIC_JOINTS
+    n = MAX_SYMBOLIC_JOINTS + 1
+    text = ("name: snake\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n" +
+            "".join(f"  - {{name: q{i + 1}, type: revolute, alpha: 90, a: 0.01, d: 0.01, "
+                    "theta: 0}\n" for i in range(n)))
+    robot = parse_robot_text(text, "snake.yaml")
+    for build, command in ((symbolic_fk, "fk"), (symbolic_jacobian, "jacobian")):
+        with pytest.raises(InputError, match=f"kincalc {command} --symbolic: snake has {n} "
+                                             f"joints; symbolic expressions are expanded for "
+                                             f"up to {MAX_SYMBOLIC_JOINTS} joints"):
+            build(robot)

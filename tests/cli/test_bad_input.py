@@ -28,7 +28,7 @@ import pytest
 
 from kincalc.cli.main import main
 from kincalc.errors import RobotFileError
-from kincalc.limits import MAX_EXPRESSION, MAX_FILE_BYTES
+from kincalc.limits import MAX_EXPRESSION, MAX_FILE_BYTES, MAX_JOINTS
 from yaml_fuzz import bomb, padded
 
 # ---------------------------------------------------------------------------
@@ -201,6 +201,12 @@ BAD_FILES = [
             ("'joints' must be a list", "mapping"), at="joints:"),
     BadFile("joints-empty", sub(DH, JOINTS_DH, "joints: []\n"), ("'joints' is empty",),
             at="joints:"),
+    # 200 joints made quiz, workspace and fk --symbolic run for minutes
+    BadFile("joints-too-many", sub(DH, JOINTS_DH, "joints:\n" + "".join(
+        f"  - {{name: q{i}, type: revolute, alpha: 90, a: 0.01, d: 0, theta: 0}}\n"
+        for i in range(MAX_JOINTS + 1))),
+        (f"'joints' lists {MAX_JOINTS + 1} joints; kincalc takes robots of up to {MAX_JOINTS}",),
+        at="  - {name: q0"),
     BadFile("joint-not-a-mapping",
             sub(DH, "  - {name: q2, type: revolute, alpha: 0, a: l1, d: 0, theta: 0, "
                     "limits: [-90, 90]}", "  - q2"),

@@ -92,7 +92,12 @@ class _Builder:
     """Turns a Robot into exact sympy matrices and simplifies their products."""
 
     def __init__(self, robot, numeric_lengths: bool, length_unit: str | None, command: str):
+        from ...limits import MAX_SYMBOLIC_JOINTS
         from ...units import LENGTH_UNITS
+        if robot.dof > MAX_SYMBOLIC_JOINTS:
+            raise InputError(f"{command}: {robot.name} has {robot.dof} joints; symbolic "
+                             f"expressions are expanded for up to {MAX_SYMBOLIC_JOINTS} "
+                             "joints (they grow about 1.7 times a joint)")
         sp = self.sp = require_sympy(command)
         self.robot = robot
         self.numeric = numeric_lengths

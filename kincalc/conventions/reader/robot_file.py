@@ -9,8 +9,8 @@ import re
 import numpy as np
 
 from ...errors import RobotFileError
-from ...limits import (MAX_FILE_BYTES, TooLarge, cut, os_error_text, quote, read_bounded,
-                       size_text)
+from ...limits import (MAX_FILE_BYTES, MAX_JOINTS, TooLarge, cut, os_error_text, quote,
+                       read_bounded, size_text)
 from ...model import CONVENTIONS, JOINT_TYPES, Joint, Robot
 from ...units import ANGLE_UNITS, LENGTH_UNITS
 from .nodes import compose_yaml
@@ -261,6 +261,9 @@ class RobotReader(Reader):
         jnodes = self.sequence(node, "'joints'")
         if not jnodes:
             self.fail(node, "'joints' is empty; a robot needs at least one joint")
+        if len(jnodes) > MAX_JOINTS:
+            self.fail(node, f"'joints' lists {len(jnodes)} joints; kincalc takes robots of up "
+                            f"to {MAX_JOINTS}")
         joints = []
         seen: dict[str, int] = {}
         for k, jnode in enumerate(jnodes, start=1):
