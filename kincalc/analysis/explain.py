@@ -195,28 +195,30 @@ def _quadratic_step(d, what, pivot, value, d_value, units) -> str:
 
 
 def _turn_step(q, value, q_value, units) -> str:
-    """``q = atan2(p2, p1) - atan2(f2, f1)``."""
-    g1, g2, f1, f2 = (float(x) * units.l for x in value)
-    big = max(abs(g1), abs(g2), abs(f1), abs(f2))
-    g1, g2, f1, f2 = (0.0 if abs(x) <= 1e-12 * big else x for x in (g1, g2, f1, f2))
-    back = np.arctan2(f2, f1)
-    return (f"{q} = atan2(p2, p1) - atan2(f2, f1) = atan2({_n(g2)}, {_n(g1)}) - "
-            f"atan2({_n(f2)}, {_n(f1)}) = {_angle(np.arctan2(g2, g1), units)} "
-            f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
-            f"{_result(q, q_value, units)} (p: where the point placed must go, f: where "
-            f"{q} = 0 leaves it, in the plane normal to the axis of {q})")
+    """``q = atan2(p2, p1) - atan2(f2, f1)``: a point turned onto its target (m)."""
+    return _angle_between(q, "p", "f", [float(x) * units.l for x in value], q_value, units,
+                          f"p: where the point placed must go, f: where {q} = 0 leaves it, in "
+                          f"the plane normal to the axis of {q}")
 
 
 def _roll_step(q, value, q_value, units) -> str:
-    """``q = atan2(u2, u1) - atan2(e2, e1)`` for directions (the last joint's roll)."""
-    u1, u2, e1, e2 = (0.0 if abs(x) <= 1e-12 else float(x) for x in value)
-    back = np.arctan2(e2, e1)
-    return (f"{q} = atan2(u2, u1) - atan2(e2, e1) = atan2({_n(u2)}, {_n(u1)}) - "
-            f"atan2({_n(e2)}, {_n(e1)}) = {_angle(np.arctan2(u2, u1), units)} "
+    """``q = atan2(u2, u1) - atan2(e2, e1)``: a direction turned (the last joint's roll)."""
+    return _angle_between(q, "u", "e", [float(x) for x in value], q_value, units,
+                          f"u: a direction across the axis of {q} where the target's "
+                          f"orientation needs it, the joints before {q} undone; e: where "
+                          f"{q} = 0 leaves it; both in the plane normal to the axis of {q}")
+
+
+def _angle_between(q, to, fro, xy, q_value, units, words) -> str:
+    """``q = atan2(to2, to1) - atan2(fro2, fro1)`` with the coordinates ``xy = (to1, to2,
+    fro1, fro2)`` put in (rounding noise, 1e-12 of the largest, as 0)."""
+    big = max(abs(x) for x in xy)
+    g1, g2, f1, f2 = (0.0 if abs(x) <= 1e-12 * big else x for x in xy)
+    back = np.arctan2(f2, f1)
+    return (f"{q} = atan2({to}2, {to}1) - atan2({fro}2, {fro}1) = atan2({_n(g2)}, {_n(g1)}) - "
+            f"atan2({_n(f2)}, {_n(f1)}) = {_angle(np.arctan2(g2, g1), units)} "
             f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
-            f"{_result(q, q_value, units)} (u: a direction across the axis of {q} where the "
-            f"target's orientation needs it, the joints before {q} undone; e: where {q} = 0 "
-            f"leaves it; both in the plane normal to the axis of {q})")
+            f"{_result(q, q_value, units)} ({words})")
 
 
 def _angle(x, units, digits: int = RESULT_DIGITS) -> str:

@@ -2,7 +2,7 @@
 
 A solver step notes its equation with the numbers it solved (nothing without
 ``explain``: a batch of poses pays nothing); :mod:`kincalc.analysis.explain` writes them
-the way a textbook chapter does, in the user's units. Two kinds:
+the way a textbook chapter does, in the user's units. The kinds:
 
 * ``abc:J:WHAT:A`` — joint J from ``A cos qJ + B sin qJ + C = t`` (value ``(..., 6)``:
   A, B, C, t, and for a distance the triangle's sides l1, l2 or NaN), an invariant of
