@@ -20,6 +20,7 @@ import pytest
 
 from cli_contract import run_cli
 from kincalc.cli.render import num
+from kincalc.limits import MAX_JOINTS
 
 ROOT = Path(__file__).parents[2]
 EXAMPLES = ROOT / "examples"
@@ -27,20 +28,20 @@ P = 4  # the default --precision
 
 Q6 = ["10", "-20", "30", "-90", "40", "80"]
 Q7 = ["10", "-20", "30", "-90", "40", "80", "10"]
-Q50 = [str((7 * i) % 40 - 20) for i in range(50)]
+QS = [str((7 * i) % 40 - 20) for i in range(MAX_JOINTS)]      # the longest robot
 
 NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 
 
-def snake50(folder: Path) -> str:
-    """A 50-joint robot file in ``folder``; returns its name relative to it."""
-    lines = ["name: snake50", "title: A 50-joint test snake", "convention: dh",
+def snake(folder: Path) -> str:
+    """A robot file of MAX_JOINTS joints in ``folder``; returns its name relative to it."""
+    lines = ["name: snake", f"title: A {MAX_JOINTS}-joint test snake", "convention: dh",
              "units: {length: m, angle: deg}", "joints:"]
-    for i in range(50):
+    for i in range(MAX_JOINTS):
         lines.append(f"  - {{name: q{i + 1}, type: revolute, alpha: {90 if i % 2 == 0 else -90}, "
                      "a: 0.05, d: 0.02, theta: 0, limits: [-170, 170]}")
-    (folder / "snake50.yaml").write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return "snake50.yaml"
+    (folder / "snake.yaml").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return "snake.yaml"
 
 
 # --- the numbers each command's table must show -------------------------------
@@ -198,17 +199,17 @@ def joint_names(d):
 CASES = {
     "fk-6": (["fk", "puma560", *Q6], fk_numbers, None),
     "fk-7-frames": (["fk", "panda", *Q7, "--frames"], fk_numbers, None),
-    "fk-50": (["fk", "SNAKE", *Q50], fk_numbers, None),
+    "fk-long": (["fk", "SNAKE", *QS], fk_numbers, None),
     "jacobian-6": (["jacobian", "puma560", "0", "45", "180", "0", "0", "0"],
                    jacobian_numbers, None),
     "jacobian-7": (["jacobian", "panda", *Q7], jacobian_numbers, None),
-    "jacobian-50": (["jacobian", "SNAKE", *Q50], jacobian_numbers, None),
+    "jacobian-long": (["jacobian", "SNAKE", *QS], jacobian_numbers, None),
     "ik-6": (["ik", "puma560", "--from-q", " ".join(Q6)], ik_numbers,
              lambda d: ["#", *[f"q{i}" for i in range(1, 7)], "limits", "singular"]),
     "ik-7": (["ik", "panda", "--from-q", " ".join(Q7)], ik_numbers,
              lambda d: ["#", *[f"joint{i}" for i in range(1, 8)], "limits", "singular"]),
-    "ik-50": (["ik", "SNAKE", "--from-q", " ".join(Q50)], ik_numbers,
-              lambda d: [*[f"q{i}" for i in range(1, 51)], "limits", "singular"]),
+    "ik-long": (["ik", "SNAKE", "--from-q", " ".join(QS)], ik_numbers,
+                lambda d: [*[f"q{i}" for i in range(1, MAX_JOINTS + 1)], "limits", "singular"]),
     "ik-all-branches": (["ik", "bk_rr", "--xyz", "12.99", "2.5", "0", "--all-branches"],
                         ik_numbers, lambda d: ["theta1", "theta2", "why", "limits", "singular"]),
     "ik-6-all-branches": (["ik", "ur5", "--from-q", " ".join(Q6), "--all-branches"], ik_numbers,
@@ -227,7 +228,7 @@ CASES = {
                         lambda d: ["α_{i-1}", "a_{i-1}", "limits"]),
     "robots-show-poe": (["robots", "show", "ur5_poe"], show_numbers,
                         lambda d: ["type", "axis", "point", "limits"]),
-    "robots-show-50": (["robots", "show", "SNAKE"], show_numbers, None),
+    "robots-show-long": (["robots", "show", "SNAKE"], show_numbers, None),
     "check-fer": (["check", str(EXAMPLES / "homework_fer_rrpr.yaml")], check_numbers, None),
     "check-bk": (["check", str(EXAMPLES / "bk_example_4_6_book_answer.yaml")], check_numbers,
                  None),
@@ -241,12 +242,12 @@ CASES = {
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
     d = tmp_path_factory.mktemp("tables")
-    snake50(d)
+    snake(d)
     return d
 
 
 def run(argv, folder, monkeypatch, columns):
-    argv = [snake50(folder) if a == "SNAKE" else a for a in argv]
+    argv = [snake(folder) if a == "SNAKE" else a for a in argv]
     monkeypatch.setenv("COLUMNS", str(columns))
     monkeypatch.delenv("NO_COLOR", raising=False)
     status, out, err = run_cli(argv, cwd=str(folder))
@@ -261,7 +262,7 @@ def documents(folder):
 
     def get(name):
         if name not in cache:
-            argv = [snake50(folder) if a == "SNAKE" else a for a in CASES[name][0]]
+            argv = [snake(folder) if a == "SNAKE" else a for a in CASES[name][0]]
             status, out, err = run_cli([*argv, "--json"], cwd=str(folder))
             assert status in (0, 1), err
             cache[name] = json.loads(out)
