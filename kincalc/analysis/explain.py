@@ -56,33 +56,13 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
     names = [j.name for j in robot.joints]
     centre = [v for label, v, kind in trace if label == "wrist centre (target)"]
     out = [_wrist_centre(np.asarray(centre[0]), T, units)] if centre else []
-    for label, value, kind in trace:
-        parts = kind.split(":")
-        if parts[0] == "abc":
-            j = int(parts[1])
-            out.append({"step": names[j], "text": _cosine_step(
-                names[j], parts[2], names[int(parts[3])], np.asarray(value),
-                solution.q[j], units)})
-        elif parts[0] == "turn":
-            j = int(parts[1])
-            out.append({"step": names[j], "text": _turn_step(names[j], np.asarray(value),
-                                                             solution.q[j], units)})
-        elif parts[0] == "quad":
-            j = int(parts[1])
-            out.append({"step": names[j], "text": _quadratic_step(
-                names[j], parts[2], names[int(parts[3])], np.asarray(value),
-                solution.q[j], units)})
-        elif parts[0] == "roll":
-            j = int(parts[1])
-            out.append({"step": names[j], "text": _roll_step(names[j], np.asarray(value),
-                                                             solution.q[j], units)})
-        elif parts[0] == "slide":
-            j = int(parts[1])
-            g, f = (float(x) * units.l for x in value)
-            out.append({"step": names[j], "text": (
-                f"{names[j]} = p - f = {_n(g)} - {_n(f)} = {_n(g - f)}{_unit(units)} (p: where "
-                f"the point placed must go, f: where {names[j]} = 0 leaves it, along the axis "
-                f"of {names[j]})")})
+    for _, value, kind in trace:
+        step, *extra = kind.split(":")
+        if step in _STEPS:
+            j = int(extra[0])
+            out.append({"step": names[j], "text": _STEPS[step](
+                names[j], [names[int(x)] if x.isdigit() else x for x in extra[1:]],
+                np.asarray(value), solution.q[j], units)})
     if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
         out += _wrist_steps(robot, solution.q, names, T, units)
     return out
@@ -219,6 +199,24 @@ def _angle_between(q, to, fro, xy, q_value, units, words) -> str:
             f"atan2({_n(f2)}, {_n(f1)}) = {_angle(np.arctan2(g2, g1), units)} "
             f"{'-' if back >= 0 else '+'} {_angle(abs(back), units)}: "
             f"{_result(q, q_value, units)} ({words})")
+
+
+def _slide_step(d, value, d_value, units) -> str:
+    """``d = p - f``: a point slid onto its target along the axis (m)."""
+    g, f = (float(x) * units.l for x in value)
+    return (f"{d} = p - f = {_n(g)} - {_n(f)} = {_n(g - f)}{_unit(units)} (p: where the point "
+            f"placed must go, f: where {d} = 0 leaves it, along the axis of {d})")
+
+
+#: the writer of each kind of noted step (:mod:`kincalc.ik.worked`): ``(joint name, the
+#: kind's other fields (what, the pivot joint's name), value, the joint's value, units)``
+_STEPS = {
+    "abc": lambda q, extra, v, x, units: _cosine_step(q, *extra, v, x, units),
+    "quad": lambda q, extra, v, x, units: _quadratic_step(q, *extra, v, x, units),
+    "turn": lambda q, extra, v, x, units: _turn_step(q, v, x, units),
+    "roll": lambda q, extra, v, x, units: _roll_step(q, v, x, units),
+    "slide": lambda q, extra, v, x, units: _slide_step(q, v, x, units),
+}
 
 
 def _angle(x, units, digits: int = RESULT_DIGITS) -> str:
