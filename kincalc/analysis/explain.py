@@ -156,19 +156,15 @@ def _quadratic_step(d, what, pivot, value, d_value, units) -> str:
     big = max(abs(A), abs(B), abs(C), abs(t))
     A, B, C, t = (0.0 if abs(x) <= 1e-12 * big else x for x in (A, B, C, t))
     got = f"{d} = {_n(d_value * l)}{_unit(units)}"
+    # the leading term's coefficient without a 1, later terms only when not 0
+    lead = lambda x, w: {"1": "", "-1": "-"}.get(_n(x), _n(x) + " ") + w  # noqa: E731
+    more = lambda x, w: (f" {'-' if x < 0 else '+'} {_n(abs(x))}{w}"  # noqa: E731
+                         if x != 0.0 else "")
     if A == 0.0:
-        b = _n(B)
-        head = f"{'' if b == '1' else '-' if b == '-1' else b + ' '}{d}"
-        head += f" {'-' if C < 0 else '+'} {_n(abs(C))}" if C != 0.0 else ""
-        return (f"{head} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> {d} = (t - C) / B: "
-                f"{got}")
-    disc = B * B - 4 * A * (C - t)
-    root = np.sqrt(max(disc, 0.0))
-    a = _n(A)
-    head = f"{'' if a == '1' else '-' if a == '-1' else a + ' '}{d}²"
-    for x, w in ((B, f" {d}"), (C, "")):
-        if x != 0.0:
-            head += f" {'-' if x < 0 else '+'} {_n(abs(x))}{w}"
+        return (f"{lead(B, d)}{more(C, '')} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> "
+                f"{d} = (t - C) / B: {got}")
+    root = np.sqrt(max(B * B - 4 * A * (C - t), 0.0))
+    head = f"{lead(A, d + '²')}{more(B, ' ' + d)}{more(C, '')}"
     return (f"{head} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> {d} = (-B ± sqrt(B² - "
             f"4 A (C - t))) / (2 A) = {_n((-B - root) / (2 * A))} or "
             f"{_n((-B + root) / (2 * A))}: {got}")

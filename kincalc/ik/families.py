@@ -337,7 +337,7 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
                                    "joints 1-2, joint 3 from the orientation",
                        "position in the plane and rotation about the axes", True,
                        structure=(("parallel", (0, 1, 2)),)), "")
-    if n == 3 and rev[2] and _independent_motions(S, (0, 1), S.point[2]):        # the tool turns about axis 3
+    if n == 3 and rev[2] and _independent_motions(S, (0, 1), S.point[2]):  # tool turns about axis 3
         return (Family("point-plus-roll", "a point on axis 3 placed by joints 1-2 (on the "
                        "surface they sweep), joint 3 from the orientation about its axis",
                        "position on a surface and rotation about axis 3", True), "")
