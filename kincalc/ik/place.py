@@ -57,7 +57,8 @@ class Plan(NamedTuple):
     o: np.ndarray           # (3,) the origin of joint a's invariants
     e: np.ndarray | None    # (2, 3) across a prismatic a's axis
     k: int = 0              # decoupled: the invariant free of x_b; pair: the one to use
-    abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants)
+    abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants);
+    #                         pair: both invariants' (alpha, beta, gamma) at p0, in x_b
     both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
     still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
 
@@ -108,7 +109,7 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
         g = S.move_point(c, samples(S, c), p0)
         if np.abs(g - p0).max() <= 1e-9 * scale:      # p0 on axis c: joints a, b place it
             pair = _make_plan(S, joints[:2], p0)
-            return Plan("pair", tuple(joints), p0, o, e, k=pair.k, both=pair.both, still=True)
+            return pair._replace(joints=tuple(joints), still=True)
     al, be, ga = _coefficients(S, base, g)                      # (2, m), with pt = 0
     dep = np.maximum(np.abs(be), np.abs(ga)).max(-1) > 1e-9 * scale ** 2
     if len(joints) == 2:
@@ -116,7 +117,8 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
         D = be[0, 0] * ga[1, 0] - be[1, 0] * ga[0, 0]
         both = bool(S.revolute[b] and dep.all()
                     and abs(D) > 1e-9 * max(np.abs(be).max() * np.abs(ga).max(), 1e-300))
-        return Plan("pair", tuple(joints), p0, o, e, k=k, both=both)
+        abc = tuple(_coefficients(S, base, p0, i) for i in (0, 1))     # as _pair needs them
+        return Plan("pair", tuple(joints), p0, o, e, k=k, abc=abc, both=both)
     c = joints[2]
     if not dep.all():
         k = int(np.flatnonzero(~dep)[0])
@@ -242,11 +244,11 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
                      labels=("root 1", "root 2"))
 
 
-def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what) -> Branches:
+def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None) -> Branches:
     """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``:
-    the target's value of it)."""
+    the target's value of it); ``abc``: its coefficients there when already known."""
     b = P.joints[1]
-    al, be, ga = _coefficients(S, P, g, m)
+    al, be, ga = _coefficients(S, P, g, m) if abc is None else abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[b]:
         sol = from_abc(be, ga, al, t, scale)
@@ -387,13 +389,13 @@ def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Two joints: x_b from the invariants, then x_a."""
     t = _invariants(S, P, PT)              # the point is p0 itself: its coefficients are
     if P.both:                             # constants; both fix (cos x_b, sin x_b)
-        (a0, b0, g0), (a1, b1, g1) = (_coefficients(S, P, P.p0, i) for i in (0, 1))
+        (a0, b0, g0), (a1, b1, g1) = P.abc
         a0, a1 = a0 - t[0], a1 - t[1]
         D = b0 * g1 - b1 * g0
         theta, c, s = angles((-a0 * g1 + a1 * g0) / D, (-b0 * a1 + b1 * a0) / D)
         br = br.set(P.joints[1], theta, c, s)
     else:
-        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what)
+        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what, P.abc[P.k])
     return _solve_a(S, P, br, br.take(PT))
 
 
