@@ -20,6 +20,7 @@ Slots that are not ``ok`` hold finite numbers (0) that mean nothing.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -153,6 +154,25 @@ def angles(c, s) -> tuple:
     c, s : ndarray (..., k)
         The normalised cosine and sine of ``theta`` (1 and 0 for the zero vector).
     """
+    return direction(c, s)[:3]
+
+
+def direction(c, s) -> tuple:
+    """:func:`angles` and where the direction was the zero vector.
+
+    Parameters
+    ----------
+    c, s : ndarray (..., k)
+        As :func:`angles`.
+
+    Returns
+    -------
+    theta, c, s : ndarray (..., k)
+        As :func:`angles`.
+    zero : ndarray (..., k) of bool
+        ``(c, s)`` was exactly ``(0, 0)`` (its length ``hypot(c, s)`` is 0 there only):
+        ``theta = 0``, cosine 1, sine 0.
+    """
     n = np.hypot(c, s)
     zero = n == 0.0
     if np.count_nonzero(zero):
@@ -160,7 +180,25 @@ def angles(c, s) -> tuple:
         cn, sn = np.where(zero, 1.0, c / n), np.where(zero, 0.0, s / n)
     else:
         cn, sn = c / n, s / n
-    return principal(np.arctan2(sn, cn)), cn, sn
+    return principal(np.arctan2(sn, cn)), cn, sn, zero
+
+
+@lru_cache(maxsize=64)
+def true_mask(shape: tuple) -> np.ndarray:
+    """A read-only array of ``shape`` that is True everywhere, shared: the mask of a
+    subproblem's slots that always hold an (exact) answer.
+
+    Parameters
+    ----------
+    shape : tuple of int
+
+    Returns
+    -------
+    ndarray of bool, read-only
+    """
+    out = np.ones(shape, bool)
+    out.flags.writeable = False
+    return out
 
 
 #: ``(+1, -1)``: the signs of the two roots ``base +- delta`` (a product with it is exact)

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, angles, as_vectors, cross, dot
+from .solutions import Solutions, angles, as_vectors, cross, direction, dot, true_mask
 
 
 def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
@@ -52,18 +52,18 @@ def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
     h1, h2 = dot(p1, k), dot(p2, k)
     a = p1 - h1[..., None] * k                                  # p1 across the axis
     b = p2 - h2[..., None] * k                                  # p2 across the axis
-    x = dot(a, b)
-    y = dot(cross(k, a), b)
-    if tol > 0.0:
-        band = tol * np.maximum(np.sqrt(np.maximum(dot(p1, p1), dot(p2, p2))), 1e-300)
-        r1, r2 = np.sqrt(dot(a, a)), np.sqrt(dot(b, b))
-        free = (r1 < band) | (r2 < band)
-        exact = (np.abs(h1 - h2) < band) & (np.abs(r1 - r2) < band)
-    else:                   # no threshold: free only where a part across the axis is 0
-        free = (x == 0.0) & (y == 0.0)
-        exact = np.ones(free.shape, bool)
+    x = dot(a, b)[..., None]
+    y = dot(cross(k, a), b)[..., None]
+    if tol <= 0.0:          # no threshold: free only where a part across the axis is 0
+        theta, c, s, free = direction(x, y)     # (x, y) = 0 exactly there
+        one = true_mask(theta.shape)
+        return Solutions((theta,), (c,), (s,), one, one, free)
+    band = tol * np.maximum(np.sqrt(np.maximum(dot(p1, p1), dot(p2, p2))), 1e-300)
+    r1, r2 = np.sqrt(dot(a, a)), np.sqrt(dot(b, b))
+    free = (r1 < band) | (r2 < band)
+    exact = (np.abs(h1 - h2) < band) & (np.abs(r1 - r2) < band)
+    free, exact = free[..., None], exact[..., None]
     if np.count_nonzero(free):
         x, y = np.where(free, 1.0, x), np.where(free, 0.0, y)
-    theta, c, s = angles(x[..., None], y[..., None])
-    one = np.ones(theta.shape, bool)
-    return Solutions((theta,), (c,), (s,), one, exact[..., None], free[..., None])
+    theta, c, s = angles(x, y)
+    return Solutions((theta,), (c,), (s,), true_mask(theta.shape), exact, free)

@@ -117,28 +117,32 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
     A, B, C, d = (np.asarray(v, float) for v in (A, B, C, d))
     scale = np.maximum(scale, 1e-300)
     r = np.sqrt(A * A + B * B)
-    free = r < tol * scale
+    band = tol * scale
+    free = r < band
     dC = d - C
-    if np.count_nonzero(free):          # r = 0: the angle is anyone's; 1 and 0 stand in
+    some_free = np.count_nonzero(free)
+    if some_free:                       # r = 0: the angle is anyone's; 1 and 0 stand in
         rr = np.where(free, 1.0, r)
         cb, sb = np.where(free, 1.0, A / rr), np.where(free, 0.0, B / rr)
         cd = dC / rr
+        far = np.abs(cd)
         # exactness from the cosine as computed, before the tangent band moves it to +-1
-        exact = np.where(free, np.abs(dC) <= 1e-9 * scale,
-                         np.abs(cd) <= 1.0 + tol * scale / rr)
+        exact = np.where(free, np.abs(dC) <= 1e-9 * scale, far <= 1.0 + band / rr)
     else:
         rr = r
         cb, sb, cd = A / r, B / r, dC / r
-        exact = np.abs(cd) <= 1.0 + tol * scale / r
+        far = np.abs(cd)
+        exact = far <= 1.0 + band / r
     # a cosine within rounding of +-1 is the tangent: one (double) root (and beyond +-1
-    # the least-squares end, also +-1)
-    tangent = np.abs(cd) >= 1.0 - ROUNDING * scale / rr
+    # the least-squares end, also +-1); every other cosine is inside (-1, 1) already
+    tangent = far >= 1.0 - ROUNDING * scale / rr
     if np.count_nonzero(tangent):
         cd = np.where(tangent, np.sign(cd), cd)
-    cd = np.minimum(np.maximum(cd, -1.0), 1.0)
-    if rr is not r:
+    if some_free:
         cd = np.where(free, 1.0, cd)
     sd = np.sqrt(1.0 - cd * cd)
     theta, c, s = two_roots(cb, sb, cd, sd)
-    two = exact & ~free & (sd > 0.0)
+    two = exact & (sd > 0.0)
+    if some_free:
+        two &= ~free
     return Solutions((theta,), (c,), (s,), *two_slots(two, exact, free))
