@@ -230,9 +230,9 @@ class Branches:
             ``K k`` slots (fewer once dead ones are dropped), ``parent (K k,)``; the free mask of
             each joint of the step or-ed with the root's ``free``.
         """
-        k = sols.ok.shape[-1]
-        N, K = self.ok.shape
-        parent = _parents(K, k)
+        (N, K), k = self.ok.shape, sols.ok.shape[-1]
+        M = K * k
+        parent, root = _parents(K, k)
         X, F = self.X[..., parent], self.F[..., parent]
         for j, (v, c, s, f) in self.pending.items():
             X[0, j] = v[:, parent]
@@ -240,13 +240,14 @@ class Branches:
                 X[1, j], X[2, j] = c[:, parent], s[:, parent]
             if f is not None:
                 F[j] = f[:, parent]
-        free = sols.free.reshape(N, K * k)
+        free = sols.free.reshape(N, M)
         for j, t, c, s in zip(joints, sols.theta, sols.c, sols.s):
             if j is not None:
-                X[0, j], X[1, j], X[2, j] = (a.reshape(N, K * k) for a in (t, c, s))
+                Xj = X[:, j]
+                Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
                 F[j] |= free
-        ok = self.ok[:, parent] & (sols.ok if least_squares else
-                                   sols.ok & sols.exact).reshape(N, K * k)
+        ok = sols.ok if least_squares else sols.ok & sols.exact
+        ok = self.ok[:, parent] & ok.reshape(N, M)
         if k == 1:                      # one root: nothing to tell apart
             labels = (None,)
         elif labels is None:
@@ -256,7 +257,7 @@ class Branches:
         extra = {name: x[:, parent] for name, x in self.extra.items()}
         full, full_signs = self.full, self.full_signs
         if full is not None:
-            full = np.repeat(full * k, k) + np.tile(np.arange(k), K)
+            full = full[parent] * k + root
             full_signs = _split_signs(full_signs, k, tuple(labels), first)
         out = self._with(X=X, F=F, ok=ok, signs=signs, parent=parent, extra=extra, full=full,
                          full_signs=full_signs, pending={},
@@ -266,18 +267,18 @@ class Branches:
     def _live(self) -> "Branches":
         """These branches without the slots no pose keeps (at least one slot stays)."""
         live = np.logical_or.reduce(self.ok, axis=0)
-        if np.count_nonzero(live) == len(live):
+        count = np.count_nonzero(live)
+        if count == len(live):
             return self
-        if not live.any():
+        if not count:
             live[0] = True
-        cols = np.flatnonzero(live)
-        full = np.arange(self.K) if self.full is None else self.full
+        cols, signs = live.nonzero()[0], self.signs
         return self._with(X=self.X[..., cols], F=self.F[..., cols], ok=self.ok[:, cols],
-                          signs=tuple(self.signs[c] for c in cols.tolist()),
+                          signs=tuple([signs[c] for c in cols.tolist()]),
                           parent=self.parent[cols],
                           extra={j: v[:, cols] for j, v in self.extra.items()},
-                          full=full[cols],
-                          full_signs=self.signs if self.full is None else self.full_signs)
+                          full=cols if self.full is None else self.full[cols],
+                          full_signs=signs if self.full is None else self.full_signs)
 
     def expanded(self) -> "Branches":
         """These branches in the family's full slot layout (once the solver is done).
@@ -460,11 +461,11 @@ def _unset(n: int, N: int, K: int) -> np.ndarray:
 
 
 @lru_cache(maxsize=256)
-def _parents(K: int, k: int) -> np.ndarray:
-    """``(K k,)``: the slot each of the ``K k`` slots of a ``k``-way split came from
-    (read-only; shared)."""
-    out = np.repeat(np.arange(K), k)
-    out.flags.writeable = False
+def _parents(K: int, k: int) -> tuple:
+    """``(K k,)`` twice: the slot each of the ``K k`` slots of a ``k``-way split came from,
+    and the root (0 .. k-1) it took (read-only; shared)."""
+    out = np.repeat(np.arange(K), k), np.tile(np.arange(k), K)
+    out[0].flags.writeable = out[1].flags.writeable = False
     return out
 
 
