@@ -82,8 +82,10 @@ class Screws:
             and ``c, s``.
         """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
+        R = self.cache.get("rodrigues")
+        R = self.rodrigues(i) if R is None else R[i]
         if v.ndim == 1 and c.shape == s.shape:          # one vector, turned by every angle
-            B = self.rodrigues(i) @ v                                       # (9,)
+            B = R @ v                                                       # (9,)
             out = B[3:6, None] * c.reshape(-1)
             out += B[0:3, None]
             out += B[6:9, None] * s.reshape(-1)
@@ -98,7 +100,7 @@ class Screws:
             v = np.broadcast_to(v, shape + (3,))
             c, s, per = (np.broadcast_to(c, shape).reshape(-1, 1),
                          np.broadcast_to(s, shape).reshape(-1, 1), 1)
-        B = (self.rodrigues(i) @ v.reshape(-1, 3).T).reshape(9, -1, per)   # (9, M / per, per)
+        B = (R @ v.reshape(-1, 3).T).reshape(9, -1, per)                   # (9, M / per, per)
         out = B[3:6]
         out *= c
         out += B[0:3]
