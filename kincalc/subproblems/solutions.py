@@ -26,7 +26,7 @@ import numpy as np
 
 from ..spatial import LEVI_CIVITA
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Solutions:
     """The solutions of one subproblem for a batch of problems (see the module).
 
@@ -51,6 +51,12 @@ class Solutions:
     ok: np.ndarray
     exact: np.ndarray
     free: np.ndarray
+
+    def __init__(self, theta, c, s, ok, exact, free):
+        # the fields set directly (a frozen dataclass's __init__ sets each through
+        # object.__setattr__, twice as slow; every subproblem call makes one)
+        d = self.__dict__
+        d["theta"], d["c"], d["s"], d["ok"], d["exact"], d["free"] = theta, c, s, ok, exact, free
 
     @property
     def slots(self) -> int:
@@ -350,7 +356,7 @@ def cross(a, b) -> np.ndarray:
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     if a.ndim == 1 and b.ndim > 1:                  # [a]_x b, as rows: b [a]_x^T
-        return (b.reshape(-1, 3) @ (_SKEW @ a).T).reshape(b.shape)
+        return (b.reshape(-1, 3) @ crossing(a)).reshape(b.shape)
     if b.ndim == 1 and a.ndim > 1:                  # a x b = -[b]_x a, as rows: a [b]_x
         return (a.reshape(-1, 3) @ (_SKEW @ b)).reshape(a.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
@@ -363,6 +369,24 @@ def cross(a, b) -> np.ndarray:
     np.multiply(a0, b1, out=out[..., 2])
     out[..., 2] -= a1 * b0
     return out
+
+
+def crossing(a) -> np.ndarray:
+    """The matrix that crosses rows with the fixed vector ``a``: ``b @ crossing(a) = a x b``.
+
+    ``[a]_x^T`` (``[a]_x`` the cross-product matrix of ``a``); a caller crossing many batches
+    with one ``a`` keeps it (:func:`cross` makes it on every call).
+
+    Parameters
+    ----------
+    a : ndarray (3,)
+
+    Returns
+    -------
+    ndarray (3, 3)
+        A transposed view (the layout :func:`cross` multiplies with).
+    """
+    return (_SKEW @ a).T
 
 
 def norm(a) -> np.ndarray:
@@ -405,10 +429,13 @@ def as_vectors(*vs):
     """
     arrays = [v if type(v) is np.ndarray and v.dtype == np.float64 else np.asarray(v, float)
               for v in vs]
-    for a in arrays:
-        if a.shape[-1:] != (3,):
-            raise ValueError(f"expected vectors of shape (..., 3), got {a.shape}")
-    shapes = {a.shape for a in arrays if a.ndim > 1}     # a single vector broadcasts
+    shapes = set()                                      # of the batches: a single vector
+    for a in arrays:                                    # broadcasts
+        shape = a.shape
+        if shape[-1:] != (3,):
+            raise ValueError(f"expected vectors of shape (..., 3), got {shape}")
+        if len(shape) > 1:
+            shapes.add(shape)
     if len(shapes) > 1:
         np.broadcast_shapes(*shapes)    # raises when the leading shapes do not broadcast
     return arrays

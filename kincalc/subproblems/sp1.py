@@ -60,9 +60,9 @@ def sp1(p1, p2, k, *, tol: float = 1e-9) -> Solutions:
         return Solutions((theta,), (c,), (s,), one, one, free)
     band = tol * np.maximum(np.sqrt(np.maximum(dot(p1, p1), dot(p2, p2))), 1e-300)
     r1, r2 = np.sqrt(dot(a, a)), np.sqrt(dot(b, b))
-    free = (r1 < band) | (r2 < band)
-    exact = (np.abs(h1 - h2) < band) & (np.abs(r1 - r2) < band)
-    free, exact = free[..., None], exact[..., None]
+    free = (np.fmin(r1, r2) < band)[..., None]                  # r1 or r2 below the band
+    # both differences below it (a NaN in either is not: maximum keeps NaN)
+    exact = (np.maximum(np.abs(h1 - h2), np.abs(r1 - r2)) < band)[..., None]
     if np.count_nonzero(free):
         x, y = np.where(free, 1.0, x), np.where(free, 0.0, y)
     theta, c, s = angles(x, y)
