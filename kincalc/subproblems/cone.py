@@ -28,7 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, two_roots, two_slots
+from typing import NamedTuple
+
+from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, two_roots,
+                        two_slots)
 from .sp4 import from_abc
 
 #: the sine of the angle between ``v`` and the line of ``h`` below which a wrist counts
@@ -37,7 +40,24 @@ from .sp4 import from_abc
 ALIGNED_TOL = 1e-10
 
 
-def cone_constants(h, p, k) -> tuple:
+class ConeConstants(NamedTuple):
+    """What :func:`cone` needs of ``h, p, k`` alone (see :func:`cone_constants`)."""
+
+    A: np.ndarray           # (...) the coefficients A cos t + B sin t + C of h . R(k, t) p
+    B: np.ndarray
+    C: np.ndarray
+    rr: np.ndarray          # r = |(A, B)|, 1 where r is 0
+    top: np.ndarray         # the cone's reach of the lines +-h (module docstring)
+    bottom: np.ndarray
+    degenerate: np.ndarray  # (...) bool: r <= 1e-12 ("r = 0")
+    cb: np.ndarray          # cos and sin of the phase atan2(B, A): A / rr, B / rr
+    sb: np.ndarray
+    some_degenerate: bool   # degenerate somewhere; everywhere
+    all_degenerate: bool
+    h_cross: np.ndarray | None  # (3, 3): rows b @ h_cross = h x b, for a single h (else None)
+
+
+def cone_constants(h, p, k) -> ConeConstants:
     """What :func:`cone` needs of ``h, p, k`` alone.
 
     A solver whose ``h, p, k`` are a robot's fixed axes computes these once and passes
@@ -51,11 +71,13 @@ def cone_constants(h, p, k) -> tuple:
 
     Returns
     -------
-    tuple of ndarray (...)
-        ``(A, B, C, rr, top, bottom, degenerate)``: the coefficients ``A cos t + B sin t
-        + C`` of ``h . R(k, t) p``; ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0); the
-        cone's reach ``top`` and ``bottom`` of the lines ``+-h`` (module docstring); and
-        ``degenerate`` (bool), ``r <= 1e-12`` ("``r = 0``").
+    ConeConstants
+        The coefficients ``A cos t + B sin t + C`` of ``h . R(k, t) p`` (each ``(...)``);
+        ``rr`` (``r = |(A, B)|``, 1 where ``r`` is 0); the cone's reach ``top`` and
+        ``bottom`` of the lines ``+-h`` (module docstring); ``degenerate`` (bool),
+        ``r <= 1e-12`` ("``r = 0``"), and whether it is so somewhere, everywhere; the
+        cosine and sine ``A / rr``, ``B / rr`` of the phase; and for a single ``h (3,)``
+        the matrix crossing rows with it (:func:`~kincalc.subproblems.solutions.crossing`).
     """
     beta = np.arctan2(norm(cross(k, h)), dot(k, h))
     gamma = np.arctan2(norm(cross(k, p)), dot(k, p))
@@ -66,7 +88,11 @@ def cone_constants(h, p, k) -> tuple:
     degenerate = r <= 1e-12
     top = 2.0 * np.sin(0.5 * (beta - gamma)) ** 2
     bottom = 2.0 * np.cos(0.5 * (beta + gamma)) ** 2
-    return A, B, dot(h, k) * dot(k, p), np.where(degenerate, 1.0, r), top, bottom, degenerate
+    rr = np.where(degenerate, 1.0, r)
+    some = int(np.count_nonzero(degenerate))
+    return ConeConstants(A, B, dot(h, k) * dot(k, p), rr, top, bottom, degenerate, A / rr,
+                         B / rr, some > 0, some == np.size(degenerate),
+                         crossing(h) if h.ndim == 1 else None)
 
 
 def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutions:
@@ -82,7 +108,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     aligned_tol : float
         The sine of the angle between ``v`` and the line of ``h`` at most which the
         wrist counts as singular (``free``), when the cone holds that line.
-    fixed : tuple, optional
+    fixed : ConeConstants, optional
         :func:`cone_constants` of ``h, p, k``, when the caller has them.
 
     Returns
@@ -104,30 +130,34 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
         broadcast.
     """
     h, p, k, v = as_vectors(h, p, k, v)
-    A, B, C, rr, top, bottom, degenerate = cone_constants(h, p, k) if fixed is None else fixed
+    K = cone_constants(h, p, k) if fixed is None else fixed
+    top, bottom, rr = K.top, K.bottom, K.rr
     f = dot(h, v)
-    some_degenerate = np.count_nonzero(degenerate)
-    if some_degenerate == np.size(degenerate):
-        return from_abc(A, B, C, f, 1.0)
-    cb, sb = A / rr, B / rr
-    P = norm(cross(h, v))
-    near = P * P / (1.0 + np.abs(f))
-    one_minus = np.where(f > 0, near, 1.0 - f)
-    one_plus = np.where(f < 0, near, 1.0 + f)
-    um = one_minus - top                  # r (1 - cos delta)
-    wm = one_plus - bottom                # r (1 + cos delta)
-    exact = (um >= -1e-9 * rr) & (wm >= -1e-9 * rr)
+    if K.all_degenerate:
+        return from_abc(K.A, K.B, K.C, f, 1.0)
+    if K.h_cross is None or v.ndim == 1:
+        hv = cross(h, v)
+    else:                               # h x v for a single h: cross's product, kept matrix
+        hv = (v.reshape(-1, 3) @ K.h_cross).reshape(v.shape)
+    P = np.sqrt(dot(hv, hv))
+    up = f > 0
+    far = 1.0 + np.abs(f)                 # 1 - f (f <= 0) or 1 + f (f >= 0): no cancellation
+    near = P * P / far                    # the other one, exact next to +-h
+    um = np.where(up, near, far) - top                  # r (1 - cos delta)
+    wm = np.where(f < 0, near, far) - bottom            # r (1 + cos delta)
+    low = -1e-9 * rr
+    exact = (um >= low) & (wm >= low)
     u, w = np.maximum(um, 0.0), np.maximum(wm, 0.0)
     n = np.maximum(u + w, 1e-300)
     cd, sd = (w - u) / n, 2.0 * np.sqrt(u * w) / n
     gap = 0.5 * aligned_tol ** 2
     aligned = P <= aligned_tol
     if np.count_nonzero(aligned):
-        aligned &= np.where(f > 0, top <= gap, bottom <= gap)
-        cd = np.where(aligned, np.where(f > 0, 1.0, -1.0), cd)
+        aligned &= np.where(up, top <= gap, bottom <= gap)
+        cd = np.where(aligned, np.where(up, 1.0, -1.0), cd)
         sd = np.where(aligned, 0.0, sd)
         exact = exact | aligned
-    theta, c, s = two_roots(cb, sb, cd, sd)
+    theta, c, s = two_roots(K.cb, K.sb, cd, sd)
     # one root where the cones only touch (delta 0 or pi: both roots are one
     # configuration), or a single aligned value; next to the singularity, where the cone
     # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
@@ -136,9 +166,9 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     if np.count_nonzero(touch):
         two &= ~(touch & np.where(cd > 0, top > gap, bottom > gap))
     sol = Solutions((theta,), (c,), (s,), *two_slots(two, exact, aligned))
-    if some_degenerate:
-        plain = from_abc(A, B, C, f, 1.0)
-        pick = lambda x, y: np.where(degenerate[..., None], y, x)  # noqa: E731
+    if K.some_degenerate:
+        plain = from_abc(K.A, K.B, K.C, f, 1.0)
+        pick = lambda x, y: np.where(K.degenerate[..., None], y, x)  # noqa: E731
         sol = Solutions((pick(sol.theta[0], plain.theta[0]),), (pick(sol.c[0], plain.c[0]),),
                         (pick(sol.s[0], plain.s[0]),), pick(sol.ok, plain.ok),
                         pick(sol.exact, plain.exact), pick(sol.free, plain.free))
