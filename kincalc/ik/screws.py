@@ -82,8 +82,7 @@ class Screws:
             and ``c, s``.
         """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
-        R = self.cache.get("rodrigues")
-        R = self.rodrigues(i) if R is None else R[i]
+        R = self.rodrigues(i)
         if v.ndim == 1 and c.shape == s.shape:          # one vector, turned by every angle
             B = R @ v                                                       # (9,)
             out = B[3:6, None] * c.reshape(-1)
@@ -124,11 +123,11 @@ class Screws:
         -------
         ndarray (9, 3), contiguous
         """
-        def one(k):
-            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-            K2 = K @ K
-            return np.concatenate([np.eye(3) + K2, -K2, K])
-        return self.constant("rodrigues", lambda: np.array([one(k) for k in self.axis]))[i]
+        every = self.cache.get("rodrigues")     # (without a closure per call: as dear)
+        if every is None:
+            every = self.constant("rodrigues",
+                                  lambda: np.array([_rodrigues(k) for k in self.axis]))
+        return every[i]
 
     def move(self, i: int, x, c, s, p) -> np.ndarray:
         """Points moved by joint ``i``: turned about its line, or slid along it.
@@ -285,3 +284,11 @@ class Screws:
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
                       self.revolute[::-1].copy(), Mi, self.scale, self.slack)
+
+
+def _rodrigues(k) -> np.ndarray:
+    """``[I + K^2; -K^2; K] (9, 3)`` of the unit axis ``k (3,)``, ``K`` its cross-product
+    matrix (:meth:`Screws.rodrigues`)."""
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    K2 = K @ K
+    return np.concatenate([np.eye(3) + K2, -K2, K])
