@@ -145,26 +145,26 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     near = P * P / far                    # the other one, exact next to +-h
     um = np.where(up, near, far) - top                  # r (1 - cos delta)
     wm = np.where(f < 0, near, far) - bottom            # r (1 + cos delta)
-    low = -1e-9 * rr
-    exact = (um >= low) & (wm >= low)
+    exact = np.minimum(um, wm) >= -1e-9 * rr          # both (NaN in either: not exact)
     u, w = np.maximum(um, 0.0), np.maximum(wm, 0.0)
     n = np.maximum(u + w, 1e-300)
     cd, sd = (w - u) / n, 2.0 * np.sqrt(u * w) / n
     gap = 0.5 * aligned_tol ** 2
     aligned = P <= aligned_tol
+    # one root where the cones only touch (delta 0 or pi: both roots are one
+    # configuration), or a single aligned value; next to the singularity, where the cone
+    # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
+    two = exact
     if np.count_nonzero(aligned):
         aligned &= np.where(up, top <= gap, bottom <= gap)
         cd = np.where(aligned, np.where(up, 1.0, -1.0), cd)
         sd = np.where(aligned, 0.0, sd)
+        two = exact & ~aligned
         exact = exact | aligned
     theta, c, s = two_roots(K.cb, K.sb, cd, sd)
-    # one root where the cones only touch (delta 0 or pi: both roots are one
-    # configuration), or a single aligned value; next to the singularity, where the cone
-    # of R(k, t) p holds the line of h, delta is tiny but the two roots are two
-    two = exact & ~aligned
     touch = sd <= 1e-9
     if np.count_nonzero(touch):
-        two &= ~(touch & np.where(cd > 0, top > gap, bottom > gap))
+        two = two & ~(touch & np.where(cd > 0, top > gap, bottom > gap))
     sol = Solutions((theta,), (c,), (s,), *two_slots(two, exact, aligned))
     if K.some_degenerate:
         plain = from_abc(K.A, K.B, K.C, f, 1.0)
