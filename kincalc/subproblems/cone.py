@@ -26,9 +26,9 @@ subproblem 4.
 
 from __future__ import annotations
 
-import numpy as np
-
 from typing import NamedTuple
+
+import numpy as np
 
 from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, two_roots,
                         two_slots)
@@ -130,15 +130,15 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
         broadcast.
     """
     h, p, k, v = as_vectors(h, p, k, v)
-    K = cone_constants(h, p, k) if fixed is None else fixed
-    top, bottom, rr = K.top, K.bottom, K.rr
+    fx = cone_constants(h, p, k) if fixed is None else fixed
+    top, bottom, rr = fx.top, fx.bottom, fx.rr
     f = dot(h, v)
-    if K.all_degenerate:
-        return from_abc(K.A, K.B, K.C, f, 1.0)
-    if K.h_cross is None or v.ndim == 1:
+    if fx.all_degenerate:
+        return from_abc(fx.A, fx.B, fx.C, f, 1.0)
+    if fx.h_cross is None or v.ndim == 1:
         hv = cross(h, v)
     else:                               # h x v for a single h: cross's product, kept matrix
-        hv = (v.reshape(-1, 3) @ K.h_cross).reshape(v.shape)
+        hv = (v.reshape(-1, 3) @ fx.h_cross).reshape(v.shape)
     P = np.sqrt(dot(hv, hv))
     up = f > 0
     far = 1.0 + np.abs(f)                 # 1 - f (f <= 0) or 1 + f (f >= 0): no cancellation
@@ -161,14 +161,14 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
         sd = np.where(aligned, 0.0, sd)
         two = exact & ~aligned
         exact = exact | aligned
-    theta, c, s = two_roots(K.cb, K.sb, cd, sd)
+    theta, c, s = two_roots(fx.cb, fx.sb, cd, sd)
     touch = sd <= 1e-9
     if np.count_nonzero(touch):
         two = two & ~(touch & np.where(cd > 0, top > gap, bottom > gap))
     sol = Solutions((theta,), (c,), (s,), *two_slots(two, exact, aligned))
-    if K.some_degenerate:
-        plain = from_abc(K.A, K.B, K.C, f, 1.0)
-        pick = lambda x, y: np.where(K.degenerate[..., None], y, x)  # noqa: E731
+    if fx.some_degenerate:
+        plain = from_abc(fx.A, fx.B, fx.C, f, 1.0)
+        pick = lambda x, y: np.where(fx.degenerate[..., None], y, x)  # noqa: E731
         sol = Solutions((pick(sol.theta[0], plain.theta[0]),), (pick(sol.c[0], plain.c[0]),),
                         (pick(sol.s[0], plain.s[0]),), pick(sol.ok, plain.ok),
                         pick(sol.exact, plain.exact), pick(sol.free, plain.free))

@@ -14,7 +14,8 @@ and returns a :class:`Solutions` with a fixed number ``k`` of slots per problem:
 * ``free (..., k)``: the problem is ill-posed there: an angle is undetermined (a
   point on the axis, ...) and the answer shows one representative, 0.
 
-Slots that are not ``ok`` hold finite numbers (0) that mean nothing.
+Slots that are not ``ok`` hold finite numbers (0) that mean nothing. The arrays are
+not to be modified: a mask that is True everywhere is one shared read-only array.
 """
 
 from __future__ import annotations
