@@ -85,6 +85,9 @@ def _cubic_monomials():
 CUBIC_IDX, _CUBIC_MULT = _cubic_monomials()
 # entries (1, l, p) of the scaled target W (flattened 4x4): W[3,3], W[0:3,2], W[0:3,3]
 U_IDX = np.array([15, 2, 6, 10, 3, 7, 11])
+#: ``(3, 84)``: the three factors ``u_a, u_b, u_c`` of each cubic monomial (:data:`CUBIC_IDX`
+#: order) as entries of the flattened scaled target W, to gather them without the 343 products
+CUBIC_W = U_IDX[np.stack([CUBIC_IDX // 49, CUBIC_IDX // 7 % 7, CUBIC_IDX % 7])]
 _LEVI_CIVITA = np.zeros((3, 3, 3))
 _LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0
 _LEVI_CIVITA[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0

@@ -9,7 +9,7 @@ import numpy as np
 
 from ...spatial import invert_transform
 from ...structure import dh_frames
-from .common import CUBIC_IDX, GRID, H2, PARALLEL_TOL, U_IDX, VINV2, VINV3, cubic_map, dh, f14
+from .common import CUBIC_W, GRID, H2, PARALLEL_TOL, VINV2, VINV3, cubic_map, dh, f14
 
 # built once (a model per pose is built for every call that pivots on another joint):
 # the Fourier grid of two and of three angles, flattened (the first angle slowest) ...
@@ -99,11 +99,12 @@ class Model:
         """
         M = len(W)
         if self.cubic is not None:
-            u = np.take(W.reshape(M, 16), U_IDX, axis=1)
-            m = ((u[:, :, None] * u[:, None, :]).reshape(M, 49, 1) * u[:, None, :])
+            w = W.reshape(M, 1, 16)
+            a, b, c = CUBIC_W                 # the monomials u_a u_b u_c, (u_a u_b) u_c
+            m = w.take(a, axis=2) * w.take(b, axis=2) * w.take(c, axis=2)      # (M, 1, 84)
             # one product per pose (not one (M, 84) matrix product: a pose's bits then do not
             # depend on how many poses are solved with it)
-            return (np.take(m.reshape(M, 1, 343), CUBIC_IDX, axis=2) @ self.cubic).reshape(M, 9, 14)
+            return (m @ self.cubic).reshape(M, 9, 14)
         lp = self.N12 @ W[:, None, :, 2:]                 # (M, 9, 4, 2): [l 0; p 1] per grid point
         return VINV2 @ f14(lp[..., :3, 0], lp[..., :3, 1])
 
