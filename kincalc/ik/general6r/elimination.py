@@ -239,19 +239,17 @@ _TAU = np.tan(0.3)
 
 
 def _ratio_maps():
-    """``(AB (102,), SUM (6, 51))``: rows of a gather whose two halves' product, summed by
-    ``SUM``, gives ``sum lo hi``, ``sum lo^2``, ``sum hi^2`` over the pairs
+    """``(AB (102,), STARTS (6,))``: rows of a gather whose two halves' product, flattened
+    with each entry's real and imaginary parts side by side, summed over the segments that
+    begin at ``STARTS``, gives ``sum lo hi``, ``sum lo^2``, ``sum hi^2`` over the pairs
     (x4^j x5^k, x4^(j+1) x5^k) (9 of them) and (x4^j x5^k, x4^j x5^(k+1)) (8), in the
-    order cr4, cr5, lo4, lo5, hi4, hi5."""
+    order cr4, cr5, lo4, lo5, hi4, hi5 (the real forms ``Re(conj(a) b)``)."""
     lo, hi = np.r_[_LO4, _LO5], np.r_[_HI4, _HI5]
-    SUM = np.zeros((6, 51))
-    for q, (a, b) in enumerate(((0, 9), (9, 17))):
-        for k in range(3):
-            SUM[2 * k + q, 17 * k + a:17 * k + b] = 1.0
-    return np.r_[lo, lo, hi, hi, lo, hi], SUM
+    starts = 2 * np.cumsum([0] + [len(_LO4), len(_LO5)] * 3)[:6]     # 2 floats per entry
+    return np.r_[lo, lo, hi, hi, lo, hi], starts
 
 
-_RATIO_AB, _RATIO_SUM = _ratio_maps()
+_RATIO_AB, _RATIO_STARTS = _ratio_maps()
 
 
 def _ratio_angles(v):
@@ -260,10 +258,13 @@ def _ratio_angles(v):
     least-squares ratios of consecutive entries (``x = sum lo hi / sum lo^2`` over the
     pairs (x4^j x5^k, x4^(j+1) x5^k), resp. (.., x4^j x5^(k+1)), with the real forms
     ``Re(conj(a) b)``), inverted when |x| > 1."""
-    g = np.take(np.ascontiguousarray(v, dtype=complex).view(float).reshape(-1, 12, 2), _RATIO_AB,
-                axis=1)
-    f = reduce_sum(_RATIO_SUM @ (g[:, :51] * g[:, 51:]), axis=2)   # cr4, cr5, lo4, lo5, hi4, hi5
-    cr, dlo, dhi = f[:, 0:2], f[:, 2:4], f[:, 4:6]
+    n = len(v)
+    g = np.ascontiguousarray(v, dtype=complex).view(float).reshape(n, 12, 2).take(_RATIO_AB,
+                                                                                   axis=1)
+    # each candidate's sums on its own (a segment sum per row: no matrix product whose
+    # kernel depends on the number of rows)
+    f = np.add.reduceat((g[:, :51] * g[:, 51:]).reshape(n, 102), _RATIO_STARTS, axis=1)
+    cr, dlo, dhi = f[:, 0:2], f[:, 2:4], f[:, 4:6]    # cr4, cr5, lo4, lo5, hi4, hi5
     return 2.0 * np.where(dlo >= dhi, np.arctan2(cr, dlo), np.arctan2(dhi, cr))
 
 
