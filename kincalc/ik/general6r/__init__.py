@@ -131,9 +131,14 @@ The closure ``A_1 ... A_6 = T'`` can be rotated cyclically into
 problem (joints k+1..6, 1..k; the pose becomes the fixed link between joints
 6 and 1, the target is the identity), whose pivot is joint k + 3 (mod 6). Shift 0
 (pivot joint 3) is the standard form and has its left side and the
-deflation of step 4 precomputed per robot; for the other shifts the DH model,
-left side and deflation are rebuilt per pose from the same axis lines
-(vectorised over the poses that need them).
+deflation of step 4 precomputed per robot; for the other shifts the DH model
+is rebuilt per pose from the same axis lines (vectorised over the poses that
+need them), written in the frame of joints 1..k: their axes stay put, those
+of joints k+1..6 move with the pose. So the DH frames of the shifted chain
+from the first one with both axes fixed on are the same for every pose
+(computed once per shift), and for shift 5 (pivot joint 2) the whole left
+side and its deflation are (joints 2-4 of the robot): per pose only the DH
+frames around the fold and the right side are built.
 
 For robots with special structure the standard form degenerates: with three
 parallel axes (UR arms) or a spherical wrist (PUMA, KUKA, ABB, FANUC) the

@@ -51,9 +51,13 @@ class Model:
         (column ``k * 3 + j``), ``Y @ C35`` the flattened ``R3 R4 R5``.
     U, K, UWb, UWW : (..., 24, 16), (..., 24, 16), (..., 24, 12), (..., 24, 32)
         The deflation of step 4 (see :meth:`_deflation`).
+
+    ``left_of``, a Model with the same joints 3-5 (d, a, alpha), lends its left side
+    (``P27, C35, U, K, UWb, UWW``, then without the leading dimensions) instead of
+    computing it.
     """
 
-    def __init__(self, B, E, L, theta0, d, a, alpha):
+    def __init__(self, B, E, L, theta0, d, a, alpha, left_of=None):
         self.B, self.E, self.L = B, E, L
         self.Binv, self.Einv = invert_transform(B), invert_transform(E)
         self.offset = np.asarray(theta0, float)
@@ -68,18 +72,22 @@ class Model:
         scale = np.array([1.0 / L, 1.0 / L, 1.0 / L, 1.0])
         self.left = scale[:, None] * self.Binv
         self.right = (self.Einv / scale) @ post
+        lead = self.d.shape[:-1]
+        self.cubic = None if lead else cubic_map(self.N12)
+        C12 = (VINV2 @ A12[..., :3, :3].reshape(lead + (9, 9))).reshape(lead + (9, 3, 3))
+        self.C12w = np.ascontiguousarray(np.moveaxis(C12, -2, -3).reshape(lead + (3, 27)))
+        if left_of is not None:         # joints 3-5 the same as another model's: its left side
+            self.P27, self.C35 = left_of.P27, left_of.C35
+            self.U, self.K, self.UWb, self.UWW = left_of.U, left_of.K, left_of.UWb, left_of.UWW
+            return
         # left side: l, p of A3 A4 A5 on the 3x3x3 grid -> coefficients
         g3, g4, g5 = _GRID3
         M = dh(g3, d[..., 2, :], a[..., 2, :], al[..., 2, :]) \
             @ dh(g4, d[..., 3, :], a[..., 3, :], al[..., 3, :]) \
             @ dh(g5, d[..., 4, :], a[..., 4, :], al[..., 4, :])
-        lead = self.d.shape[:-1]
         Pc = VINV3 @ f14(M[..., :3, 2], M[..., :3, 3])  # (..., 27, 14): row k3 * 9 + k4 * 3 + k5
         self.P27 = np.ascontiguousarray(np.swapaxes(Pc, -1, -2))
         P = np.swapaxes(Pc.reshape(lead + (3, 9, 14)), -1, -2)   # P(theta3) = P0 + c3 P1 + s3 P2
-        self.cubic = None if lead else cubic_map(self.N12)
-        C12 = (VINV2 @ A12[..., :3, :3].reshape(lead + (9, 9))).reshape(lead + (9, 3, 3))
-        self.C12w = np.ascontiguousarray(np.moveaxis(C12, -2, -3).reshape(lead + (3, 27)))
         self.C35 = VINV3 @ M[..., :3, :3].reshape(lead + (27, 9))
         self.U, self.K, self.UWb, self.UWW = self._deflation(P)
 
@@ -153,7 +161,7 @@ class Model:
                 np.ascontiguousarray(UWW))
 
     @classmethod
-    def from_lines(cls, dirs, pts, T0, L):
+    def from_lines(cls, dirs, pts, T0, L, known=None):
         """Model of the 6R whose axes at q = 0 are ``pts[..., i, :] + t dirs[..., i, :]``.
 
         Parameters
@@ -164,20 +172,34 @@ class Model:
             The tool pose at q = 0 (SI).
         L : float
             Length scale (m).
+        known : tuple, optional
+            ``(c, F, left)`` for models that share their last axes (the cyclic shifts of
+            :meth:`~.robot._Robot6R.shifted_model`): the DH frames c .. 6 ``F (7 - c, 4, 4)``
+            (:func:`kincalc.structure.dh_frames` of these axes; frame i depends on axes i
+            and i + 1 only, or on frame i - 1 too where those are parallel), so only frames
+            0 .. c - 1 are computed (c >= 2); and a Model whose left side (joints 3-5) these
+            share (c <= 2), or None.
 
         Returns
         -------
         Model
             With the leading dimensions of the arguments.
         """
-        F = dh_frames(dirs, pts, L, PARALLEL_TOL)
+        left_of = None
+        if known is None:
+            F = dh_frames(dirs, pts, L, PARALLEL_TOL)
+        else:
+            c, Fc, left_of = known
+            # frames 0 .. c - 1 from the axes 1 .. c alone (its frame c is not the chain's)
+            first = dh_frames(dirs[..., :c, :], pts[..., :c, :], L, PARALLEL_TOL)[..., :c, :, :]
+            F = np.concatenate([first, np.broadcast_to(Fc, first.shape[:-3] + Fc.shape)], axis=-3)
         G = invert_transform(F[..., :-1, :, :]) @ F[..., 1:, :, :]   # A_i(offset_i) (.., 6, 4, 4)
         theta0 = np.arctan2(G[..., 1, 0], G[..., 0, 0])
         d = G[..., 2, 3]
         a = G[..., 0, 3] * np.cos(theta0) + G[..., 1, 3] * np.sin(theta0)
         alpha = np.arctan2(G[..., 2, 1], G[..., 2, 2])
         E = invert_transform(F[..., 6, :, :]) @ T0
-        return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha)
+        return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha, left_of=left_of)
 
     def perturbed(self, size):
         """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded).

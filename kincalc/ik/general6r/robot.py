@@ -7,8 +7,9 @@ import numpy as np
 
 from ...chain import Chain
 from ...spatial import invert_transform, wrap
+from ...structure import dh_frames
 from ..cache import per_robot
-from .common import PERTURB
+from .common import PARALLEL_TOL, PERTURB
 from .elimination import eliminate
 from .model import Model
 from .polish import newton_curvature
@@ -41,6 +42,9 @@ class _Robot6R:
         self.scale = np.array([[1.0, 1.0, 1.0, self.L]])      # divides a pose's rows 0-2
         self.model = Model.from_lines(self.dirs, self.pts, self.T0, self.L)
         self._perturbed = None
+        #: two poses that find the DH frames of the shifted chains not moving with the pose
+        self._probes = robot.fk(np.random.default_rng(7).uniform(-np.pi, np.pi, (2, 6)))
+        self._known = {}                  # shift -> those frames (and a shared left side)
         self.shifts = self._rank_shifts(robot)
 
     def _rank_shifts(self, robot):
@@ -85,6 +89,13 @@ class _Robot6R:
     def shifted_model(self, T, shift):
         """The 6Rs of the cyclic shift ``shift`` for the given poses, one model per pose.
 
+        ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I`` is written in the frame of joints 1 .. k
+        (k = ``shift``): their axes stay where they are at q = 0 and the axes of joints
+        k+1 .. 6 are moved by ``H = G^-1``, ``G = T0 T^-1``, the chain's tool pose at q = 0
+        (``H G H^-1 = G``). So the last DH frames of the shifted chain, and for shift 5 its
+        left side (joints 3-5: the robot's joints 2-4), are the same for every pose: computed
+        once (:meth:`_known_frames`) and shared by the poses' models.
+
         Parameters
         ----------
         T : ndarray (M, 4, 4)
@@ -99,15 +110,39 @@ class _Robot6R:
         order : ndarray (6,) of int
             Their joints' indices in the original order.
         """
+        dirs, pts, G, order = self._shifted_lines(T, shift)
+        return Model.from_lines(dirs, pts, G, self.L, known=self._known_frames(shift)), order
+
+    def _shifted_lines(self, T, shift):
+        """The axes ``dirs, pts (M, 6, 3)`` of the cyclic shift's 6R at q = 0 (joints
+        ``order``, joints k+1 .. 6 moved by ``G^-1``), its tool pose at q = 0 ``G (M, 4, 4)``
+        and ``order (6,)`` (see :meth:`shifted_model`)."""
         G = self.T0 @ invert_transform(T)                 # (M, 4, 4)
+        H = invert_transform(G)
         order = (np.arange(6) + shift) % 6                # joints shift .. 5, 0 .. shift - 1
-        moved = order < shift
-        R, t = G[:, None, :3, :3], G[:, None, :3, 3]
+        moved = order >= shift
+        R, t = H[:, None, :3, :3], H[:, None, :3, 3]
         dirs = np.where(moved[:, None], (R @ self.dirs[order][..., None])[..., 0],
                         self.dirs[order])
         pts = np.where(moved[:, None], (R @ self.pts[order][..., None])[..., 0] + t,
                        self.pts[order])
-        return Model.from_lines(dirs, pts, G, self.L), order
+        return dirs, pts, G, order
+
+    def _known_frames(self, shift):
+        """``(c, F, left_of)`` of :meth:`Model.from_lines` for the cyclic shift ``shift``:
+        the DH frames that do not move with the pose, found on two probe poses (frame i
+        depends on axes i, i+1, and on frame i-1 where they are parallel: all fixed from
+        the first frame that is the same for both), and, when frames 2 .. 6 are among them,
+        a model whose left side every pose's model shares. Cached per shift."""
+        if shift not in self._known:
+            dirs, pts, G, _ = self._shifted_lines(self._probes, shift)
+            F = dh_frames(dirs, pts, self.L, PARALLEL_TOL)                # (2, 7, 4, 4)
+            same = [np.array_equal(F[0, i], F[1, i]) for i in range(7)]
+            c = 7 - next((i for i, x in enumerate(reversed(same)) if not x), 7)
+            c = max(c, 2)              # frames 0 and 1 come from the first two axes
+            left_of = Model.from_lines(dirs[0], pts[0], G[0], self.L) if c <= 2 else None
+            self._known[shift] = (c, F[0, c:], left_of)
+        return self._known[shift]
 
     def raw(self, T, shift):
         """Raw candidates with the pivot of cyclic shift ``shift``.
