@@ -455,12 +455,20 @@ def _subspace_vectors(phi, Sig, pg, members):
     Cm, Bm, Am = Sp[:, :, :12], Sp[:, :, 12:24], Sp[:, :, 24:]
     S = np.where(small, (Am * yy + Bm) * yy + Cm, Am + (Bm + Cm * w) * w)
     Nsub = np.swapaxes(np.linalg.svd(S)[2][:, -k:, :], -1, -2)     # (p, 12, k)
-    Mop = np.zeros((len(pg), k, k))
-    for lo, hi, wgt in ((_LO4, _HI4, 1.0), (_LO5, _HI5, 0.6180339887)):
-        lhs = Nsub[:, lo] + _TAU * Nsub[:, hi]
-        rhs = Nsub[:, hi] - _TAU * Nsub[:, lo]
-        Mop = Mop + wgt * (np.linalg.pinv(lhs, rcond=np.finfo(float).eps * len(lo)) @ rhs)
+    # both operators' least squares in one pseudo-inverse: (p, 2, 9, k), x5's padded with
+    # a zero row (row 12 of the extended Nsub)
+    Next = np.concatenate([Nsub, np.zeros((len(pg), 1, k))], axis=1)
+    lo, hi = Next[:, _SHIFT_LO], Next[:, _SHIFT_HI]
+    ops = np.linalg.pinv(lo + _TAU * hi, rcond=_SHIFT_RCOND) @ (hi - _TAU * lo)    # (p, 2, k, k)
+    Mop = ops[:, 0] + 0.6180339887 * ops[:, 1]
     return mean, Nsub @ np.linalg.eig(Mop)[1]                       # (p, 12, k)
+
+
+# the pairs (lo, hi) of the shift operators "multiply by x4" (9) and "by x5" (8, padded with
+# the zero row 12), and their pseudo-inverses' cut-offs
+_SHIFT_LO = np.array([_LO4, np.r_[_LO5, 12]])
+_SHIFT_HI = np.array([_HI4, np.r_[_HI5, 12]])
+_SHIFT_RCOND = np.finfo(float).eps * np.array([len(_LO4), len(_LO5)])
 
 
 #: the sort key of a slot that is not a candidate: beyond pi, 10 apart
@@ -472,9 +480,8 @@ def _structure_residual(V):
     R = (V / V[np.arange(len(V)), np.argmax(np.abs(V), axis=1)][:, None]).real
     h = _ratio_angles(R) / 2.0                                          # (n, 2)
     c, s = np.cos(h), np.sin(h)
-    # x4^j x5^k times cos^3(h4) cos^2(h5): bounded also at x = infinity
-    m4 = np.stack([c[:, 0] ** (3 - j) * s[:, 0] ** j for j in range(4)], axis=-1)
-    m5 = np.stack([c[:, 1] ** (2 - j) * s[:, 1] ** j for j in range(3)], axis=-1)
-    W = (m4[:, :, None] * m5[:, None, :]).reshape(-1, 12)
-    cos = np.abs(np.sum(R * W, axis=1)) / (np.linalg.norm(R, axis=1) * np.linalg.norm(W, axis=1))
+    # x4^j x5^k times cos^3(h4) cos^2(h5) (entry j * 3 + k): bounded also at x = infinity
+    W = (c[:, :1] ** (3 - _J4) * s[:, :1] ** _J4) * (c[:, 1:] ** (2 - _J5) * s[:, 1:] ** _J5)
+    cos = np.abs(reduce_sum(R * W, axis=1)) / np.sqrt(reduce_sum(R * R, axis=1)
+                                                      * reduce_sum(W * W, axis=1))
     return np.sqrt(np.maximum(0.0, 1.0 - cos * cos))
