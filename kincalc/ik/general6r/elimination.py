@@ -103,10 +103,11 @@ def eliminate(model, T):
         if extra is not None:                             # clusters: extra slots 16-31 (47)
             rows, v2, phi2, keep2 = extra
             p2, s2 = np.nonzero(keep2)
-            order = np.lexsort((np.r_[slot, s2 + 16], np.r_[pose, rows[p2]]))
-            pose, slot = np.r_[pose, rows[p2]][order], np.r_[slot, s2 + 16][order]
+            pose, slot = np.concatenate([pose, rows[p2]]), np.concatenate([slot, s2 + 16])
+            order = np.lexsort((slot, pose))
+            pose, slot = pose[order], slot[order]
             vs = np.concatenate([vs, v2[p2, :, s2]])[order]
-            th3 = np.r_[th3, phi2.real[p2, s2]][order]
+            th3 = np.concatenate([th3, phi2.real[p2, s2]])[order]
             width = 16 + v2.shape[2]
         if isinstance(delta, np.ndarray):
             th3 = th3 + delta[pose, 0]
@@ -308,7 +309,7 @@ def split_clusters(v, phi, keep, Sig):
     sk = np.sort(key, axis=1)
     if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
         return keep, None, None                          # no cluster (the common case)
-    order, start, run = _runs(key)
+    order, start, run = _runs(key, sk)
     # Sigma (12 x 12) has a null space at a cluster's mean only up to 12 wide: a longer chain
     # (a pencil all but singular, e.g. a perturbed robot at a degenerate pose) keeps its vectors
     treat = start & (run >= 2) & (run <= 12)
@@ -329,15 +330,15 @@ def split_clusters(v, phi, keep, Sig):
         pg, j0 = np.nonzero(start & (run == k))
         members = order[pg[:, None], j0[:, None] + np.arange(k)]       # (p, k) slots
         mean, sub = _subspace_vectors(phi, Sig, pg, members)
-        own = np.take_along_axis(v[pg], members[:, None, :], axis=2)    # (p, 12, k)
-        both = np.concatenate([own, sub], axis=2)                       # (p, 12, 2k)
-        res = _structure_residual(np.swapaxes(both, 1, 2).reshape(-1, 12)).reshape(-1, 2 * k)
+        sub = np.swapaxes(sub, 1, 2)                                    # (p, k, 12)
+        both = np.concatenate([v[pg[:, None], :, members], sub], axis=1)   # own, sub (p, 2k, 12)
+        res = _structure_residual(both.reshape(-1, 12)).reshape(-1, 2 * k)
         rank = np.argsort(np.argsort(res, axis=1, kind="stable"), axis=1, kind="stable")
         kept = (res < 1e-3) | (rank < k)
         keep[pg[:, None], members] = kept[:, :k]
         continuum[pg[k - nnz(res < 1e-3, axis=1) >= UNEXPLAINED]] = True
         pgk = at[pg][:, None]
-        v2[pgk, :, members] = np.swapaxes(sub, 1, 2)
+        v2[pgk, :, members] = sub
         phi2[pgk, members] = mean[:, None]
         keep2[pgk, members] = kept[:, k:]
     for k, (pg, members) in tight.items():       # tight sub-clusters of chains: slots n + j
@@ -349,13 +350,13 @@ def split_clusters(v, phi, keep, Sig):
     return keep, (rows, v2, phi2, keep2), continuum
 
 
-def _runs(key):
-    """The runs of close neighbours (within CLUSTER_TOL) of the sorted ``key (M, n)``: the
-    sort ``order (M, n)``, whether a run begins at a sorted position ``start (M, n)`` and the
-    size of the run at each ``run (M, n)``."""
+def _runs(key, sk):
+    """The runs of close neighbours (within CLUSTER_TOL) of the sorted ``key (M, n)`` (``sk``,
+    sorted along its rows): the sort ``order (M, n)``, whether a run begins at a sorted
+    position ``start (M, n)`` and the size of the run at each ``run (M, n)``."""
     M, n = key.shape
     order = np.argsort(key, axis=1)
-    close = np.diff(np.take_along_axis(key, order, axis=1), axis=1) < CLUSTER_TOL
+    close = np.diff(sk, axis=1) < CLUSTER_TOL
     gid = np.concatenate([np.zeros((M, 1), int), np.cumsum(~close, axis=1)], axis=1)
     flat = (np.arange(M)[:, None] * n + gid).ravel()          # group id per sorted position
     size = np.bincount(flat, minlength=M * n)
