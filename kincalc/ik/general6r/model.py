@@ -173,7 +173,7 @@ class Model:
         L : float
             Length scale (m).
         known : tuple, optional
-            ``(c, F, left)`` for models that share their last axes (the cyclic shifts of
+            ``(c, F, left_of)`` for models that share their last axes (the cyclic shifts of
             :meth:`~.robot._Robot6R.shifted_model`): the DH frames c .. 6 ``F (7 - c, 4, 4)``
             (:func:`kincalc.structure.dh_frames` of these axes; frame i depends on axes i
             and i + 1 only, or on frame i - 1 too where those are parallel), so only frames

@@ -18,8 +18,9 @@ from .polish import newton_curvature
 # --- per robot ------------------------------------------------------------------
 
 class _Robot6R:
-    """Per-robot data: axes at q = 0, the shift-0 model, the chain for Newton, and the
-    ranked pivot shifts.
+    """Per-robot data: axes at q = 0, the shift-0 model, the chain for Newton, the
+    ranked pivot shifts, and (built on first use) the DH frames and left sides that the
+    other shifts' per-pose models share.
 
     Raises ValueError if the robot does not have exactly 6 revolute joints.
     """
