@@ -137,8 +137,11 @@ need them), written in the frame of joints 1..k: their axes stay put, those
 of joints k+1..6 move with the pose. So the DH frames of the shifted chain
 from the first one with both axes fixed on are the same for every pose
 (computed once per shift), and for shift 5 (pivot joint 2) the whole left
-side and its deflation are (joints 2-4 of the robot): per pose only the DH
-frames around the fold and the right side are built.
+side and its deflation are (joints 2-4 of the robot). There joints 1 and 2 of
+the shifted chain are given as general links ``A_i = Rz(q_i) M_i`` between
+frame 0, which moves with the pose, and a fixed frame 1 (only ``A_1 A_2`` on
+the grid of step 2 is used, so frame 1 need not be DH): per pose only ``M_1``
+and the right side are built, no DH frame.
 
 For robots with special structure the standard form degenerates: with three
 parallel axes (UR arms) or a spherical wrist (PUMA, KUKA, ABB, FANUC) the

@@ -15,6 +15,8 @@ from .common import CUBIC_W, GRID, H2, PARALLEL_TOL, VINV2, VINV3, cubic_map, dh
 # the Fourier grid of two and of three angles, flattened (the first angle slowest) ...
 _GRID2 = tuple(m.ravel() for m in np.meshgrid(GRID, GRID, indexing="ij"))
 _GRID3 = tuple(m.ravel() for m in np.meshgrid(GRID, GRID, GRID, indexing="ij"))
+# ... the turns Rz about them (the grid of joints 1 and 2 for links that are not DH) ...
+_RZ1, _RZ2 = (dh(g, 0.0, 0.0, 0.0) for g in _GRID2)
 # ... and J = [[0, I], [-I, 0]] (8x8) of the deflation's real form
 _J8 = np.kron(np.array([[0.0, 1.0], [-1.0, 0.0]]), np.eye(4))
 
@@ -54,25 +56,31 @@ class Model:
 
     ``left_of``, a Model with the same joints 3-5 (d, a, alpha), lends its left side
     (``P27, C35, U, K, UWb, UWW``, then without the leading dimensions) instead of
-    computing it.
+    computing it. ``links``, ``(M_1, M_2)`` each ``(..., 4, 4)``, gives joints 1 and 2
+    as ``A_i = Rz(theta_i) M_i`` with any fixed links (frames 0 and 1 need not be DH:
+    only the product ``A_1 A_2`` on the grid is used), their ``d, a, alpha`` unused.
     """
 
-    def __init__(self, B, E, L, theta0, d, a, alpha, left_of=None):
+    def __init__(self, B, E, L, theta0, d, a, alpha, left_of=None, links=None):
         self.B, self.E, self.L = B, E, L
         self.Binv, self.Einv = invert_transform(B), invert_transform(E)
         self.offset = np.asarray(theta0, float)
         self.d, self.a, self.alpha = (np.asarray(v, float) for v in (d, a, alpha))
+        self.links = links
         d, a, al = (v[..., :, None] for v in (self.d, self.a, self.alpha))   # (..., 6, 1)
         # right side: inverses of A1(g1) A2(g2) on the 3x3 grid
         g1, g2 = _GRID2
-        A12 = dh(g1, d[..., 0, :], a[..., 0, :], al[..., 0, :]) \
-            @ dh(g2, d[..., 1, :], a[..., 1, :], al[..., 1, :])
+        if links is None:
+            A12 = dh(g1, d[..., 0, :], a[..., 0, :], al[..., 0, :]) \
+                @ dh(g2, d[..., 1, :], a[..., 1, :], al[..., 1, :])
+        else:                           # A_i = Rz(theta_i) M_i
+            A12 = (_RZ1 @ links[0][..., None, :, :]) @ (_RZ2 @ links[1][..., None, :, :])
         self.N12 = invert_transform(A12)                  # (..., 9, 4, 4)
         post = invert_transform(dh(0.0, self.d[..., 5], self.a[..., 5], self.alpha[..., 5]))
         scale = np.array([1.0 / L, 1.0 / L, 1.0 / L, 1.0])
         self.left = scale[:, None] * self.Binv
         self.right = (self.Einv / scale) @ post
-        lead = self.d.shape[:-1]
+        lead = np.shape(B)[:-2]
         self.cubic = None if lead else cubic_map(self.N12)
         C12 = (VINV2 @ A12[..., :3, :3].reshape(lead + (9, 9))).reshape(lead + (9, 3, 3))
         self.C12w = np.ascontiguousarray(np.moveaxis(C12, -2, -3).reshape(lead + (3, 27)))
@@ -173,23 +181,21 @@ class Model:
         L : float
             Length scale (m).
         known : tuple, optional
-            ``(c, F, left_of)`` for models that share their last axes (the cyclic shifts of
+            ``(c, F)`` for models that share their last axes (the cyclic shifts of
             :meth:`~.robot._Robot6R.shifted_model`): the DH frames c .. 6 ``F (7 - c, 4, 4)``
             (:func:`kincalc.structure.dh_frames` of these axes; frame i depends on axes i
             and i + 1 only, or on frame i - 1 too where those are parallel), so only frames
-            0 .. c - 1 are computed (c >= 2); and a Model whose left side (joints 3-5) these
-            share (c <= 2), or None.
+            0 .. c - 1 are computed (c >= 2).
 
         Returns
         -------
         Model
             With the leading dimensions of the arguments.
         """
-        left_of = None
         if known is None:
             F = dh_frames(dirs, pts, L, PARALLEL_TOL)
         else:
-            c, Fc, left_of = known
+            c, Fc = known
             # frames 0 .. c - 1 from the axes 1 .. c alone (its frame c is not the chain's)
             first = dh_frames(dirs[..., :c, :], pts[..., :c, :], L, PARALLEL_TOL)[..., :c, :, :]
             F = np.concatenate([first, np.broadcast_to(Fc, first.shape[:-3] + Fc.shape)], axis=-3)
@@ -199,7 +205,7 @@ class Model:
         a = G[..., 0, 3] * np.cos(theta0) + G[..., 1, 3] * np.sin(theta0)
         alpha = np.arctan2(G[..., 2, 1], G[..., 2, 2])
         E = invert_transform(F[..., 6, :, :]) @ T0
-        return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha, left_of=left_of)
+        return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha)
 
     def perturbed(self, size):
         """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded).
@@ -235,6 +241,9 @@ class Model:
         th = np.asarray(q, float) + self.offset
         T = np.broadcast_to(np.eye(4), th.shape[:-1] + (4, 4)).copy()
         for i in range(6):
-            T = T @ dh(th[..., i], self.d[..., i], self.a[..., i], self.alpha[..., i])
+            if self.links is not None and i < 2:
+                T = T @ dh(th[..., i], 0.0, 0.0, 0.0) @ self.links[i]
+            else:
+                T = T @ dh(th[..., i], self.d[..., i], self.a[..., i], self.alpha[..., i])
         T[..., :3, 3] *= self.L
         return self.B @ T @ self.E

@@ -93,9 +93,12 @@ class _Robot6R:
         ``A_{k+1} ... A_6 T'^-1 A_1 ... A_k = I`` is written in the frame of joints 1 .. k
         (k = ``shift``): their axes stay where they are at q = 0 and the axes of joints
         k+1 .. 6 are moved by ``H = G^-1``, ``G = T0 T^-1``, the chain's tool pose at q = 0
-        (``H G H^-1 = G``). So the last DH frames of the shifted chain, and for shift 5 its
-        left side (joints 3-5: the robot's joints 2-4), are the same for every pose: computed
-        once (:meth:`_known_frames`) and shared by the poses' models.
+        (``H G H^-1 = G``). So the last DH frames of the shifted chain are the same for every
+        pose: computed once (:meth:`_known_frames`) and shared by the poses' models. For
+        shift 5 (pivot joint 2) frames 2 .. 6 are, hence the left side (joints 3-5: the
+        robot's joints 2-4) and its deflation; its joints 1 and 2 are then given as general
+        links (``links`` of :class:`Model`) from frame 0, which moves with the pose, to a
+        fixed frame 1: no DH frame is built per pose.
 
         Parameters
         ----------
@@ -111,38 +114,61 @@ class _Robot6R:
         order : ndarray (6,) of int
             Their joints' indices in the original order.
         """
-        dirs, pts, G, order = self._shifted_lines(T, shift)
-        return Model.from_lines(dirs, pts, G, self.L, known=self._known_frames(shift)), order
-
-    def _shifted_lines(self, T, shift):
-        """The axes ``dirs, pts (M, 6, 3)`` of the cyclic shift's 6R at q = 0 (joints
-        ``order``, joints k+1 .. 6 moved by ``G^-1``), its tool pose at q = 0 ``G (M, 4, 4)``
-        and ``order (6,)`` (see :meth:`shifted_model`)."""
-        G = self.T0 @ invert_transform(T)                 # (M, 4, 4)
+        G = self.T0 @ invert_transform(T)        # the shifted chain's tool pose at q = 0
         H = invert_transform(G)
-        order = (np.arange(6) + shift) % 6                # joints shift .. 5, 0 .. shift - 1
+        order = (np.arange(6) + shift) % 6       # joints shift .. 5, 0 .. shift - 1
+        c, F, left_of, fixed = self._known_frames(shift)
+        if fixed is None:
+            dirs, pts = self._shifted_lines(H, order, shift)
+            return Model.from_lines(dirs, pts, G, self.L, known=(c, F)), order
+        F0, F1, M2, F6inv, offset = fixed
+        F0 = H @ F0                               # frame 0, on the moved axis 1
+        M1 = invert_transform(F0) @ F1
+        M1[:, :3, 3] /= self.L                    # lengths in units of L, as the DH model's
+        return Model(F0, F6inv @ G, self.L, offset, left_of.d, left_of.a, left_of.alpha,
+                     left_of=left_of, links=(M1, M2)), order
+
+    def _shifted_lines(self, H, order, shift):
+        """The axes ``dirs, pts (M, 6, 3)`` of the cyclic shift's 6R at q = 0: joints
+        ``order``, those after the fold (joints shift+1 .. 6) moved by ``H (M, 4, 4)`` (see
+        :meth:`shifted_model`)."""
         moved = order >= shift
         R, t = H[:, None, :3, :3], H[:, None, :3, 3]
         dirs = np.where(moved[:, None], (R @ self.dirs[order][..., None])[..., 0],
                         self.dirs[order])
         pts = np.where(moved[:, None], (R @ self.pts[order][..., None])[..., 0] + t,
                        self.pts[order])
-        return dirs, pts, G, order
+        return dirs, pts
 
     def _known_frames(self, shift):
-        """``(c, F, left_of)`` of :meth:`Model.from_lines` for the cyclic shift ``shift``:
-        the DH frames that do not move with the pose, found on two probe poses (frame i
-        depends on axes i, i+1, and on frame i-1 where they are parallel: all fixed from
-        the first frame that is the same for both), and, when frames 2 .. 6 are among them,
-        a model whose left side every pose's model shares. Cached per shift."""
+        """``(c, F, left_of, fixed)`` for the cyclic shift ``shift``, cached per shift.
+
+        ``(c, F)`` is ``known`` of :meth:`Model.from_lines`: the DH frames c .. 6 ``F`` that
+        do not move with the pose, found on two probe poses (frame i depends on axes i, i+1,
+        and on frame i-1 where they are parallel: all fixed from the first frame that is the
+        same for both). When frames 2 .. 6 are among them (c = 2), ``left_of`` is the model of
+        the first probe pose, whose left side every pose's model shares (and whose DH
+        parameters and offsets of joints 3-6), and ``fixed`` is ``(F0, F1, M2,
+        F6^-1, offset)`` for :meth:`shifted_model`: frame 0 of that probe pose in the
+        coordinates of the unmoved axes (it moves with the pose), its frame 1 (fixed, on axis
+        2), the link from frame 1 to frame 2 (lengths over L), frame 6's inverse and the
+        joint offsets (0 for joints 1 and 2); else both are None."""
         if shift not in self._known:
-            dirs, pts, G, _ = self._shifted_lines(self._probes, shift)
+            order = (np.arange(6) + shift) % 6
+            G = self.T0 @ invert_transform(self._probes)
+            dirs, pts = self._shifted_lines(invert_transform(G), order, shift)
             F = dh_frames(dirs, pts, self.L, PARALLEL_TOL)                # (2, 7, 4, 4)
             same = [np.array_equal(F[0, i], F[1, i]) for i in range(7)]
-            c = 7 - next((i for i, x in enumerate(reversed(same)) if not x), 7)
-            c = max(c, 2)              # frames 0 and 1 come from the first two axes
-            left_of = Model.from_lines(dirs[0], pts[0], G[0], self.L) if c <= 2 else None
-            self._known[shift] = (c, F[0, c:], left_of)
+            c = max(7 - next((i for i, x in enumerate(reversed(same)) if not x), 7), 2)
+            left_of = fixed = None
+            if c == 2:                 # frames 0 and 1 come from the first two axes
+                left_of = Model.from_lines(dirs[0], pts[0], G[0], self.L)
+                M2 = invert_transform(F[0, 1]) @ F[0, 2]
+                M2[:3, 3] /= self.L
+                # A_i = Rz(q_i) M_i for joints 1 and 2 (links between frames at q = 0)
+                offset = np.concatenate([[0.0, 0.0], left_of.offset[2:]])
+                fixed = (G[0] @ F[0, 0], F[0, 1], M2, invert_transform(F[0, 6]), offset)
+            self._known[shift] = (c, F[0, c:], left_of, fixed)
         return self._known[shift]
 
     def raw(self, T, shift):
