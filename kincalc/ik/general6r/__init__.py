@@ -229,9 +229,9 @@ Limitations
   in batches of 1000 to 10000; robots that pivot on another joint (UR, PUMA, KUKA,
   ABB arms: a model per pose) about 10-15 for one pose and 1.1-3.7 per pose in
   batches (measured again on a machine where one ``eig`` takes 0.11 ms: the library's
-  arms that pivot on joint 2, whose left side is shared, 9-15 for one pose and 1.3-1.5
-  per pose in batches of 1000, xarm6 (pivot joint 1) 12 and 1.8); plus a one-off 5-30
-  ms per robot for the model and the pivot ranking (cached for 64 robots).
+  arms that pivot on joint 2, whose left side is shared, 7-12 for one pose and 1.3-1.5
+  per pose in batches of 1000, xarm6 (pivot joint 1) 12 and 1.6-1.8); plus a one-off
+  5-30 ms per robot for the model and the pivot ranking (cached for 64 robots).
 
 The modules: :mod:`~.common` (tolerances, robot-independent tables, vectorised
 helpers), :mod:`~.model` (the robot as scaled standard DH and the left side of the
