@@ -141,8 +141,10 @@ class Solved:
         labelled ``any``, a value it does not ask for)."""
         if "singular" not in self.memo:
             r, n = self.robot, self.free.shape[-1]
-            sing = self.valid & np.logical_or.reduce(self.free & ~open_joints(self.signs, n),
-                                                     axis=-1)
+            sing = np.zeros(self.valid.shape, bool)
+            if np.count_nonzero(self.free):                  # a target leaves joints free
+                sing = self.valid & np.logical_or.reduce(
+                    self.free & ~open_joints(self.signs, n), axis=-1)
             flat = sing.reshape(-1)
             for rows, A in self._frames(self.valid):
                 flat[rows] |= rank_deficient(A, r.is_revolute, r.characteristic_length,
