@@ -330,23 +330,20 @@ def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
     ``K = len(signs)`` slots (``signs`` its sign table), so that every batch lays its slots out
     alike: the other slots hold no candidate and the joints of an unset slot (all 0,
     normalised)."""
-    N, _, n = sv.q.shape
-    K = len(signs)
-    dead = np.ones(K, bool)
-    dead[cols] = False
-    q0, v0 = _unset_slot(robot)
+    N, K = len(sv.q), len(signs)
+    q0, v0, within0 = _unset_slot(robot)
 
     def put(a, fill):
         out = np.empty((N, K) + a.shape[2:], a.dtype)
+        out[...] = fill
         out[:, cols] = a
-        out[:, dead] = fill
         return out
     at = np.full(K, -1)
     at[cols] = np.arange(len(cols))
     return replace(sv, q=put(sv.q, q0), candidate=put(sv.candidate, False),
                    valid=put(sv.valid, False), position_error=put(sv.position_error, 0.0),
                    orientation_error=put(sv.orientation_error, np.nan),
-                   violation=put(sv.violation, v0), within=put(sv.within, not v0.any()),
+                   violation=put(sv.violation, v0), within=put(sv.within, within0),
                    free=put(sv.free, False), signs=signs,
                    continuum=None if sv.continuum is None else put(sv.continuum, 0.0),
                    memo={**sv.memo, "at": at})
@@ -354,12 +351,13 @@ def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
 
 @per_robot
 def _unset_slot(robot) -> tuple:
-    """The joints of a slot no target kept, all 0 normalised ``(n,)`` (rad / m), and their
-    limit violations ``(n,)`` (:func:`_in_layout`). Cached per robot (read-only)."""
+    """The joints of a slot no target kept, all 0 normalised ``(n,)`` (rad / m), their limit
+    violations ``(n,)`` and whether they are within the limits (:func:`_in_layout`). Cached
+    per robot (read-only)."""
     q0 = normalise(robot, np.zeros(robot.dof))
     v0 = violations(robot, q0)
     q0.flags.writeable = v0.flags.writeable = False
-    return q0, v0
+    return q0, v0, not v0.any()
 
 
 def _errors(targets: Targets, tool) -> tuple:
