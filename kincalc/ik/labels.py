@@ -65,14 +65,16 @@ def labels(robot, family: str, q, signs, slot, free, every_sign: bool = False) -
     table, ids, weights = _table(robot, family, signs, every_sign)
     S = len(signs)
     code = weights @ branch_geometry(robot, family, q).T + slot
-    if np.count_nonzero(ids[code] >= 0) < len(code):
+    out_ids = ids[code]
+    if np.count_nonzero(out_ids >= 0) < len(code):
         # (the codes met, ascending; not np.unique, which imports numpy.ma, 8 ms of every
         # CLI run's start)
         for c in np.flatnonzero(np.bincount(code)).tolist():
             k, g = divmod(c, S)
             table[c], ids[c] = _label(robot, family, (k // 9, k // 3 % 3, k % 3), signs[g], 0,
                                       every_sign)
-    out, out_ids = table[code], ids[code]
+        out_ids = ids[code]
+    out = table[code]
     free = np.asarray(free, bool)
     if np.count_nonzero(free):                       # a joint left free: rare
         bits = free @ (1 << np.arange(robot.dof, dtype=np.int64))

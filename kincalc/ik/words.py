@@ -94,13 +94,15 @@ def branch_geometry(robot, family: str, q) -> np.ndarray:
         BRANCH LABELS).
     """
     k = len(q)
-    codes = np.zeros((3, k), np.int8)
     R = rules(robot, family)
     if R is None or k == 0:
-        return codes.T
+        return np.zeros((k, 3), np.int8)
     fitted = _fitted(robot, family)
     dots = fitted(q) if fitted is not None else \
         products(R, robot.dof, entry_frames(robot.chain, np.asarray(q, float)))
+    if len(R.words) == 3:                            # every word: R.words is 0, 1, 2
+        return _codes(R, dots).T
+    codes = np.zeros((3, k), np.int8)
     codes[R.words] = _codes(R, dots)
     return codes.T
 
