@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..subproblems import sp1, sp3, sp4, sp5
+from ..subproblems import sp1, sp4, sp5
 from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp4 import ROUNDING, from_abc
@@ -79,9 +79,8 @@ def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -
     -------
     Branches, with ``joints`` set: a slot per root, dead where there is no real one
     """
-    P = plan(S, tuple(joints), tuple(np.asarray(p0, float)))
-    br = {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
-          "resultant": _resultant, "pair": _pair}[P.mode](S, P, br, np.asarray(PT, float), what)
+    P = plan(S, tuple(joints), tuple(np.asarray(p0, float).tolist()))
+    br = _MODES[P.mode](S, P, br, np.asarray(PT, float), what)
     if P.still:
         zero = np.zeros(br.ok.shape)
         br = br.set(P.joints[2], zero, zero + 1.0, zero, free=np.ones(br.ok.shape, bool))
@@ -245,8 +244,9 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
 
 
 def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None) -> Branches:
-    """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``:
-    the target's value of it); ``abc``: its coefficients there when already known."""
+    """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``
+    or ``(N, 1)``: the target's value of it); ``abc``: its coefficients there when already
+    known."""
     b = P.joints[1]
     al, be, ga = _coefficients(S, P, g, m) if abc is None else abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
@@ -298,7 +298,7 @@ def _decoupled(S: Screws, P: Plan, br, PT, what) -> Branches:
     """One invariant free of x_b: x_c from it, x_b from the other, then x_a."""
     t = _invariants(S, P, PT)
     br = _solve_c(S, P, br, t[P.k], what)
-    PT, t = br.take(PT), br.take(t[1 - P.k])
+    PT, t = br.take(PT), _carry(br, t[1 - P.k])
     b, c = P.joints[1], P.joints[2]
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
     br = _solve_b(S, P, br, g, t, 1 - P.k, what)
@@ -306,30 +306,43 @@ def _decoupled(S: Screws, P: Plan, br, PT, what) -> Branches:
     return _solve_a(S, P, br, br.take(PT), f)
 
 
+def _carry(br: Branches, x):
+    """A quantity ``x (N, K_prev, ...)`` of the slots before the last step at the slots
+    after it (:meth:`Branches.take`); one per pose (``(N, 1, ...)``) it stays so, and
+    broadcasts against them."""
+    return x if x.shape[1] == 1 else br.take(x)
+
+
 def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Offset shoulder: joint a (subproblem 4), c (subproblem 3), b (subproblem 1)."""
     a, b, c = P.joints
     w, h, kc = S.axis[a], S.axis[b], S.axis[c]
-    oa, ob, oc = S.point[a], S.point[b], S.point[c]
+    oa = S.point[a]
+    fx = S.constant(("shoulder", P.joints, tuple(P.p0.tolist())),
+                   lambda: _shoulder_constants(S, P))
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
-    first = sp4(h, PT - oa, w, h @ (P.p0 - oa)).negated()
+    p = PT - oa
+    first = sp4(h, p, w, fx.height).negated()
     br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
     if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
-        p, hw = PT - oa, h @ w
+        hw = h @ w
         br = note_equation(br, a, "height", b, p @ h - hw * (p @ w), -(cross(w, p) @ h),
-                           hw * (p @ w), h @ (P.p0 - oa))
-    br = br.branch([a], first)
-    # the target seen before joint a, in the plane normal to h
-    pt = br.take(PT) - oa
-    q = S.turn(a, br.cos[a], -br.sin[a], pt) + (oa - ob)
-    q = q - dot(q, h)[..., None] * h
-    u, v = S.constant(("shoulder sides", P.joints, tuple(P.p0)), lambda: (
-        (oc - ob) - ((oc - ob) @ h) * h, (P.p0 - oc) - ((P.p0 - oc) @ h) * h))
-    # joint c: |u + R(h, x_c) v| = |q| (law of cosines)
+                           hw * (p @ w), fx.height)
     # q came from the target, rounded to its size: a stretched or folded elbow within
     # that rounding is the double root itself
-    reach = (S.scale + np.sqrt(dot(pt, pt))) ** 2
-    third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach)
+    reach = (S.scale + np.sqrt(dot(p, p))) ** 2
+    br = br.branch([a], first)
+    # the target seen before joint a, in the plane normal to h
+    pt, reach = br.take(p), _carry(br, reach)
+    q = S.turn(a, br.cos[a], -br.sin[a], pt) + fx.b_to_a
+    q = q - dot(q, h)[..., None] * h
+    u, v = fx.u, fx.v
+    # joint c: |u + R(h, x_c) v| = |q| (law of cosines; subproblem 3 of v, -u, kc: its
+    # coefficients are the robot's, only |q| varies)
+    d = np.sqrt(dot(q, q))
+    d2 = d * d
+    third = from_abc(fx.A, fx.B, fx.C, 0.5 * (fx.squares - d2),
+                     np.maximum(0.5 * (fx.squares + d2), reach))
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
         br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
@@ -339,9 +352,36 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     elbow = u + S.turn(c, br.cos[c], br.sin[c], v)
     second = sp1(elbow, q, h)
     if br.explain:
+        ob = S.point[b]
         br = note_turn(S, br, b, elbow + ob, q + ob)
     return br.set(b, second.theta[0][..., 0], second.c[0][..., 0], second.s[0][..., 0],
                   free=second.free[..., 0])
+
+
+class _ShoulderConstants(NamedTuple):
+    """What :func:`_shoulder` needs of the robot alone (world frame at q = 0, m)."""
+
+    height: float       # h . (p0 - o_a): the elbow's height along the parallel axes h
+    b_to_a: np.ndarray  # (3,) o_a - o_b
+    u: np.ndarray       # (3,) o_b to o_c, across h
+    v: np.ndarray       # (3,) o_c to p0, across h
+    A: float            # subproblem 3 |R(kc, x) v + u| = d as subproblem 4 (sp3, sp4):
+    B: float            # A cos x + B sin x + C = (squares - d^2) / 2
+    C: float
+    squares: float      # |u|^2 + |v|^2
+
+
+def _shoulder_constants(S: Screws, P: Plan) -> _ShoulderConstants:
+    """:class:`_ShoulderConstants` (the coefficients as :func:`~kincalc.subproblems.sp3`
+    computes them for ``p1 = v``, ``p2 = -u``: the same roundings)."""
+    a, b, c = P.joints
+    h, kc = S.axis[b], S.axis[c]
+    oa, ob, oc = S.point[a], S.point[b], S.point[c]
+    u, v = (oc - ob) - ((oc - ob) @ h) * h, (P.p0 - oc) - ((P.p0 - oc) @ h) * h
+    m = -u                                          # sp3's p2: subproblem 4's direction
+    kp = kc @ v
+    return _ShoulderConstants(h @ (P.p0 - oa), oa - ob, u, v, m @ (v - kp * kc),
+                              m @ cross(kc, v), (m @ kc) * kp, v @ v + m @ m)
 
 
 def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
@@ -440,3 +480,8 @@ def _polish(S: Screws, P: Plan, br, PT, iters: int = 3) -> Branches:
         br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
             br.set(j, x, np.ones_like(x), np.zeros_like(x))
     return br
+
+
+#: the steps of each mode of :class:`Plan`
+_MODES = {"decoupled": _decoupled, "shoulder": _shoulder, "three cones": _three_cones,
+          "resultant": _resultant, "pair": _pair}

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..subproblems import sp1
 from ..subproblems.cone import cone, cone_constants
-from ..subproblems.solutions import cross, dot
+from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from ..spatial import wrap
 from .screws import Screws
@@ -97,10 +97,11 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
     middle = cone(k1, k3, k2, v, fixed=S.constant(("cone", j1, j2, j3),
                                                   lambda: cone_constants(k1, k3, k2)))
-    br = br.branch([j2], middle, least_squares=True)
-    v, w = br.take(v), br.take(w)
-    aligned = br.free[j2]
-    br = br.set(j2, br.value[j2], free=np.zeros_like(aligned))   # the free joint is the first
+    # the free joint is the first: the middle one's roots go in as not free, and where
+    # the wrist is aligned (the same in both roots) is carried to the new slots
+    br = br.branch([j2], Solutions(middle.theta, middle.c, middle.s, middle.ok, middle.exact,
+                                   np.zeros_like(middle.free)), least_squares=True)
+    v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
     third = S.turn(j2, br.cos[j2], br.sin[j2], k3)   # R2 k3
     # both projected on the plane normal to k1: next to the singularity their normal
     # parts are tiny, and v's component along k1 times the rounding would swamp them
@@ -146,9 +147,9 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     vw = np.empty((br.N, br.K, 2, 3))
     if after:
         vw[...] = ke.T
-        vw = np.swapaxes(Rt @ np.swapaxes(undo(S, br, after, vw), -1, -2), -1, -2)
+        vw = (Rt @ undo(S, br, after, vw).swapaxes(-1, -2)).swapaxes(-1, -2)
     else:
-        vw[...] = np.swapaxes(Rt @ ke, -1, -2)
+        vw[...] = (Rt @ ke).swapaxes(-1, -2)
     vw = undo(S, br, before, vw)
     return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :], e)
 
