@@ -288,7 +288,8 @@ def _measure(S: Screws, P: Plan, m: int) -> str:
 
 def _point_before_a(S: Screws, P: Plan, br):
     """``E_b(x_b) E_c(x_c) p0`` for every slot (N, K, 3)."""
-    f = np.broadcast_to(P.p0, (br.N, br.K, 3))
+    f = np.empty(br.ok.shape + (3,))
+    f[...] = P.p0
     for j in reversed(P.joints[1:]):
         f = S.move(j, br.value[j], br.cos[j], br.sin[j], f)
     return f

@@ -86,7 +86,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
-    br = br.branch([0], sp4(h, ct - o1, k1, h @ (c56 - o1)).negated())
+    height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
+    br = br.branch([0], sp4(h, ct - o1, k1, height).negated())
     br, Rt, sigma = _parallel_wrist(S, T, br, br.take(target_rotation(S, T)), h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
     e = S.constant("normal to h", lambda: normal_to(h))
@@ -97,7 +98,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     p4 = _back(S, br, 0, _tool_point_of(S, T, _back(S, br, 5, p4)))
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
-    s3, s4 = (1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3))
+    s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
+        1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3)))
     psi, sigma = br.extra["psi"], br.extra["sigma"]
     q4 = s4 * (psi - br.value[1] - s3 * br.value[2])
     br = br.set(3, q4, np.cos(q4), np.sin(q4))
@@ -130,11 +132,13 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     first = elbow[0] == 1                              # joint 1 turns about another axis
     v = _mv(Rt, k6)
     v = S.turn(0, br.cos[0], -br.sin[0], v) if first else np.broadcast_to(v, br.ok.shape + (3,))
-    br = br.branch([4], cone(h, k6, k5, v, fixed=S.constant(
-        "cone of joint 5", lambda: cone_constants(h, k6, k5))))
-    Rt, v = br.take(Rt), br.take(v)
-    aligned = br.free[4]
-    br = br.set(4, br.value[4], free=np.zeros_like(aligned))
+    fifth = cone(h, k6, k5, v, fixed=S.constant("cone of joint 5",
+                                                 lambda: cone_constants(h, k6, k5)))
+    # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
+    # where axis 6 is along h (the same in both roots) is carried to the new slots
+    br = br.branch([4], Solutions(fifth.theta, fifth.c, fifth.s, fifth.ok, fifth.exact,
+                                  np.zeros_like(fifth.free)))
+    Rt, v, aligned = br.take(Rt), br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.broadcast_to(h, v.shape))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
