@@ -28,10 +28,10 @@ def target_rotation(S: Screws, T) -> np.ndarray:
 
 
 def tool_point(S: Screws, T, p) -> np.ndarray:
-    """Where the point ``p`` (world frame at q = 0, moving with the tool) is at the
+    """Where the point ``p (3,)`` (world frame at q = 0, moving with the tool) is at the
     poses ``T (N, 4, 4)``: ``(N, 1, 3)``."""
-    Minv = inverse_home(S)
-    local = Minv[:3, :3] @ p + Minv[:3, 3]
+    local = S.constant(("in the tool frame", tuple(p.tolist())), lambda: (
+        inverse_home(S)[:3, :3] @ p + inverse_home(S)[:3, 3]))          # M^-1 p (3,)
     return (T[:, :3, :3] @ local + T[:, :3, 3])[:, None, :]
 
 
@@ -42,7 +42,7 @@ def rotate(R, v) -> np.ndarray:
 
 def rotate_back(R, v) -> np.ndarray:
     """``R^T v``."""
-    return (np.swapaxes(R, -1, -2) @ np.asarray(v)[..., None])[..., 0]
+    return (R.swapaxes(-1, -2) @ np.asarray(v)[..., None])[..., 0]
 
 
 def back(S: Screws, br: Branches, j: int, x) -> np.ndarray:

@@ -197,8 +197,12 @@ def _coefficients(S: Screws, P: Plan, g, only: int | None = None):
         return tuple(np.stack([x, y]) for x, y in zip(*parts))
     a, b = P.joints[0], P.joints[1]
     k = S.axis[b]
-    m, e1, e2 = _circle(S, b, g) if S.revolute[b] else (g, k, None)
-    zero = np.zeros(np.shape(g)[:-1])
+    if S.revolute[b]:
+        m, e1, e2 = _circle(S, b, g)
+        zero = 0.0                  # (the terms are of g's shape already)
+    else:
+        m, e1, e2 = g, k, None
+        zero = np.zeros(np.shape(g)[:-1])
     if S.revolute[a] and only == 1:           # |f - o|^2
         m = m - P.o
         if S.revolute[b]:
@@ -214,8 +218,8 @@ def _circle(S: Screws, b: int, g):
     """Joint ``b``'s circle through ``g (..., 3)``: centre ``m``, ``e1 = g - m``, ``k_b x e1``."""
     k = S.axis[b]
     u = g - S.point[b]
-    h = (u @ k)[..., None]
-    return S.point[b] + h * k, u - h * k, cross(k, u)
+    hk = (u @ k)[..., None] * k
+    return S.point[b] + hk, u - hk, cross(k, u)
 
 
 def _targets(S: Screws, P: Plan, PT):
