@@ -53,8 +53,8 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     br = place(S, br, (0, 1, 2), c0, ct[:, None, :], what="the point where axes 4 and 5 meet")
     if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
-    v = undo(S, br, (0, 1, 2), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
-    br = br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, S.axis[3], S.axis[4]),
+    v = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (3,), a[:, None, :]))
+    br = br.branch([3, 4], sp2(np.full(v.shape, a0), v, S.axis[3], S.axis[4]),
                    least_squares=True)
     return _wrist_from_the_pose(S, T, br) if targets.kind == "pose" else br
 
@@ -75,8 +75,8 @@ def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
     ``T (N, 4, 4)`` the poses, ``br`` with joints 1-5 set (world frame at q = 0, SI)."""
     k4, k5, a0 = S.axis[3], S.axis[4], S.M[:3, 2]
     Rt = target_rotation(S, T)
-    W = undo(S, br, (0, 1, 2), np.broadcast_to(np.swapaxes(Rt @ np.stack([k5, a0], -1), -1, -2),
-                                               (br.N, br.K, 2, 3)))         # W k5, W a0
+    W = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (2, 3),                # W k5, W a0
+                                        (Rt @ np.stack([k5, a0], -1)).swapaxes(-1, -2)))
     t4, c4, s4 = turn_onto(k4, k5, W[..., 0, :])
     t5, c5, s5 = turn_onto(k5, a0, S.turn(3, c4, -s4, W[..., 1, :]))       # onto R4^T W a0
     take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
@@ -101,11 +101,11 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     if targets.kind == "pose":
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
-    v = undo(S, br, (0, 1), np.broadcast_to(a[:, None, :], (br.N, br.K, 3)))
+    v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
     t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0)).negated())
     br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
     v = S.turn(2, c3, -s3, v)
-    return br.branch([3, 4], sp2(np.broadcast_to(a0, v.shape), v, k4, k5), least_squares=True)
+    return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
 
 
 def _wrist_pair_point(S: Screws, T, a):
@@ -179,7 +179,7 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u = _mtv(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
-    br = br.branch([3, 4], sp2(u, np.broadcast_to(c0 - O, u.shape), S.axis[3], S.axis[4]))
+    br = br.branch([3, 4], sp2(u, np.full(u.shape, c0 - O), S.axis[3], S.axis[4]))
     return spherical_taking(S, br, (0, 1, 2), Rt, after=(3, 4))
 
 
@@ -214,7 +214,7 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     br = br.branch([0], base_angle(S, pt, a))
     a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
     p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
-    psi, cps, sps = _one(sp1(np.broadcast_to(a0, a1.shape), a1, h))
+    psi, cps, sps = _one(sp1(np.full(a1.shape, a0), a1, h))
     # where axis 4's point must go: p1 + R_h(psi) (p4 - p0)
     d = S.point[3] - p0
     ch, sh = cps[..., None], sps[..., None]
@@ -231,8 +231,8 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     k5 = S.axis[4]
     e = S.constant("normal to axis 5", lambda: normal_to(k5))
     Rt = target_rotation(S, T)
-    br = br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.broadcast_to(
-        _mv(Rt, e), (br.N, br.K, 3)))))
+    br = br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.full(
+        br.ok.shape + (3,), _mv(Rt, e)))))
     return _base_and_roll(S, br)
 
 
@@ -269,7 +269,7 @@ def _base_and_roll(S: Screws, br: Branches) -> Branches:
     free = br.free[0]
     if not np.count_nonzero(free):
         return br
-    k5 = np.broadcast_to(S.axis[4], br.ok.shape + (3,))
+    k5 = np.full(br.ok.shape + (3,), S.axis[4])
     for j in (3, 2, 1, 0):                                        # R1 R2 R3 R4 k5
         k5 = S.turn(j, br.cos[j], br.sin[j], k5)
     sigma = np.where(k5 @ S.axis[0] >= 0.0, 1.0, -1.0)

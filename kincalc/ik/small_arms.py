@@ -69,7 +69,7 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     Rt = target_rotation(S, T)
     k = S.axis[n - 1]
     e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
-    u = undo(S, br, first, np.broadcast_to(_mv(Rt, e), (br.N, br.K, 3)))
+    u = undo(S, br, first, np.full(br.ok.shape + (3,), _mv(Rt, e)))
     br = note_roll(S, br, n - 1, e, u)
     return br.set(n - 1, *_angle_about(k, e, u))
 
@@ -195,7 +195,7 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
         x, y = sol.theta[0], sol.theta[1]                            # (N, K, 2)
         Ra = matrix_from_axis_angle(u[a][..., None, :], x)
         Rb = matrix_from_axis_angle(u[b][..., None, :], y)
-        rest = np.swapaxes(Ra @ Rb, -1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
+        rest = (Ra @ Rb).swapaxes(-1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
         z = nearest_turn(u[m][..., None, :], rest)
         t2 = two[..., None]
         q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))

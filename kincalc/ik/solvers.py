@@ -131,7 +131,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     k5, k6 = S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
     v = _mv(Rt, k6)
-    v = S.turn(0, br.cos[0], -br.sin[0], v) if first else np.broadcast_to(v, br.ok.shape + (3,))
+    v = S.turn(0, br.cos[0], -br.sin[0], v) if first else np.full(br.ok.shape + (3,), v)
     fifth = cone(h, k6, k5, v, fixed=S.constant("cone of joint 5",
                                                  lambda: cone_constants(h, k6, k5)))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
@@ -140,7 +140,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
                                   np.zeros_like(fifth.free)))
     Rt, v, aligned = br.take(Rt), br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
-    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.broadcast_to(h, v.shape))
+    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = turn_onto(k6, a, b)[0]
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
@@ -171,8 +171,8 @@ def _singular_q6(S: Screws, br: Branches, T, sigma, aligned, elbow=(1, 2, 3)):
     # joint 1 undone when it is not the elbow's (about another axis, or sliding along h)
     undo1 = (lambda x: _back(S, br, 0, x)) if elbow[0] == 1 else (lambda x: x)
     # axis 6's point, and axis 4's point at q6 = 0, across h
-    W = undo1(np.broadcast_to(tool_point(S, T, S.point[5]), (N, K, 3)))
-    P0 = _back(S, br, 4, np.broadcast_to(S.point[3], (N, K, 3)))
+    W = undo1(np.full((N, K, 3), tool_point(S, T, S.point[5])))
+    P0 = _back(S, br, 4, np.full((N, K, 3), S.point[3]))
     P0 = undo1(_tool_point_of(S, T, P0))
     perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
     q6, ok, _ = parallel_wrist_q6(S, perp(W - S.point[elbow[0]]), perp(P0 - W), sigma,
@@ -211,7 +211,7 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     e = S.constant("normal to h", lambda: normal_to(h))
     r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, _mv(Rt, r))[0]
-    p4 = _back(S, br, 4, np.broadcast_to(S.point[3], r.shape))
+    p4 = _back(S, br, 4, np.full(r.shape, S.point[3]))
     p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")

@@ -45,9 +45,10 @@ def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
     -------
     ndarray (N, K, ..., 3)
     """
+    cos, sin = br.cos, br.sin
     for j in joints:
         if S.revolute[j]:
-            x = S.turn(j, br.cos[j], -br.sin[j], x)
+            x = S.turn(j, cos[j], -sin[j], x)
     return x
 
 
@@ -102,7 +103,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     br = br.branch([j2], Solutions(middle.theta, middle.c, middle.s, middle.ok, middle.exact,
                                    np.zeros_like(middle.free)), least_squares=True)
     v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
-    third = S.turn(j2, br.cos[j2], br.sin[j2], k3)   # R2 k3
+    c2, s2 = br.cos[j2], br.sin[j2]
+    third = S.turn(j2, c2, s2, k3)                  # R2 k3
     # both projected on the plane normal to k1: next to the singularity their normal
     # parts are tiny, and v's component along k1 times the rounding would swamp them
     first = sp1(third, v - dot(v, k1)[..., None] * k1, k1, tol=0.0)
@@ -112,7 +114,7 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
         c1, s1 = np.where(aligned, 1.0, c1), np.where(aligned, 0.0, s1)
         t1 = np.arctan2(s1, c1)
     br = br.set(j1, t1, c1, s1, free=aligned)
-    z = S.turn(j2, br.cos[j2], -br.sin[j2], S.turn(j1, c1, -s1, w))
+    z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, w))
     last = sp1(e, z - dot(z, k3)[..., None] * k3, k3, tol=0.0)
     t3 = last.theta[0][..., 0]
     br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
@@ -144,7 +146,7 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     k = S.axis[joints[2]]
     e = S.constant(("normal to axis", joints[2]), lambda: normal_to(k))
     ke = S.constant(("axis and its normal", joints[2]), lambda: np.stack([k, e], -1))  # (3, 2)
-    vw = np.empty((br.N, br.K, 2, 3))
+    vw = np.empty(br.ok.shape + (2, 3))
     if after:
         vw[...] = ke.T
         vw = (Rt @ undo(S, br, after, vw).swapaxes(-1, -2)).swapaxes(-1, -2)
