@@ -88,7 +88,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
     br = br.branch([0], sp4(h, ct - o1, k1, height).negated())
-    br, Rt, sigma = _parallel_wrist(S, T, br, br.take(target_rotation(S, T)), h, (1, 2, 3))
+    Rt = target_rotation(S, T)
+    br, sigma = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
     e = S.constant("normal to h", lambda: normal_to(h))
     r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
@@ -124,21 +125,22 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     the continuum (the second labelled ``other arc``), marked free.
 
     ``T (N, 4, 4)`` the targets, ``br`` with the joints before joint 5 not about h solved,
-    ``Rt (N, K or 1, 3, 3)`` R_t at its slots, ``h (3,)`` (world frame at q = 0, SI).
-    Returns ``(br, Rt, sigma)``: joints 5 and 6 set, ``Rt`` at the new slots, ``sigma (N,
-    K')`` +1 where axis 6 points along h, else -1.
+    ``Rt (N, 1, 3, 3)`` R_t of each pose, ``h (3,)`` (world frame at q = 0, SI).
+    Returns ``(br, sigma)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6 points
+    along h, else -1.
     """
     k5, k6 = S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
-    v = _mv(Rt, k6)
-    v = S.turn(0, br.cos[0], -br.sin[0], v) if first else np.full(br.ok.shape + (3,), v)
+    v = np.full(br.ok.shape + (3,), _mv(Rt, k6))          # R_t k6 at every slot
+    if first:
+        v = S.turn(0, br.cos[0], -br.sin[0], v)
     fifth = cone(h, k6, k5, v, fixed=S.constant("cone of joint 5",
                                                  lambda: cone_constants(h, k6, k5)))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
     br = br.branch([4], Solutions(fifth.theta, fifth.c, fifth.s, fifth.ok, fifth.exact,
-                                  np.zeros_like(fifth.free)))
-    Rt, v, aligned = br.take(Rt), br.take(v), br.take(fifth.free[..., 0])
+                                  np.zeros(fifth.free.shape, bool)))
+    v, aligned = br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
@@ -148,7 +150,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
                                   pair(aligned, aligned)), labels=(None, "other arc"))
-    return br, br.take(Rt), br.take(sigma)
+    return br, br.take(sigma)
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
@@ -207,11 +209,12 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     T = targets.T
     h = S.axis[3]
     elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
-    br, Rt, sigma = _parallel_wrist(S, T, br, target_rotation(S, T), h, elbow)
+    Rt = target_rotation(S, T)
+    br, sigma = _parallel_wrist(S, T, br, Rt, h, elbow)
     e = S.constant("normal to h", lambda: normal_to(h))
     r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
     psi = _angle_about(h, e, _mv(Rt, r))[0]
-    p4 = _back(S, br, 4, np.full(r.shape, S.point[3]))
+    p4 = _back(S, br, 4, S.point[3])
     p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")

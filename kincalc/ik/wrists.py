@@ -101,7 +101,7 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
     # the free joint is the first: the middle one's roots go in as not free, and where
     # the wrist is aligned (the same in both roots) is carried to the new slots
     br = br.branch([j2], Solutions(middle.theta, middle.c, middle.s, middle.ok, middle.exact,
-                                   np.zeros_like(middle.free)), least_squares=True)
+                                   np.zeros(middle.free.shape, bool)), least_squares=True)
     v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
     c2, s2 = br.cos[j2], br.sin[j2]
     third = S.turn(j2, c2, s2, k3)                  # R2 k3
