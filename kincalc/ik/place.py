@@ -199,7 +199,7 @@ def _coefficients(S: Screws, P: Plan, g, only: int | None = None):
     k = S.axis[b]
     if S.revolute[b]:
         m, e1, e2 = _circle(S, b, g)
-        zero = 0.0                  # (the terms are of g's shape already)
+        zero = 0.0                  # the terms have g's batch shape already
     else:
         m, e1, e2 = g, k, None
         zero = np.zeros(np.shape(g)[:-1])
@@ -292,8 +292,7 @@ def _measure(S: Screws, P: Plan, m: int) -> str:
 
 def _point_before_a(S: Screws, P: Plan, br):
     """``E_b(x_b) E_c(x_c) p0`` for every slot (N, K, 3)."""
-    f = np.empty(br.ok.shape + (3,))
-    f[...] = P.p0
+    f = np.full(br.ok.shape + (3,), P.p0)
     for j in reversed(P.joints[1:]):
         f = S.move(j, br.value[j], br.cos[j], br.sin[j], f)
     return f
