@@ -108,6 +108,43 @@ class Screws:
         out += sk
         return out.reshape(3, -1).T.reshape(shape + (3,))
 
+    def turn_fixed(self, i: int, c, s, name, V) -> np.ndarray:
+        """Fixed vectors turned by joint ``i``'s rotation: :meth:`turn` of ``V`` at every angle.
+
+        The three Rodrigues terms of the vectors, ``rodrigues(i) @ V.T`` ``(9, m)``, are
+        robot constants: computed once per ``(name, i)`` (:meth:`constant`), so a call costs
+        only ``B0 + c B1 + s B2``, whatever the number of vectors (the same products and
+        sums as :meth:`turn`: the same bits).
+
+        Parameters
+        ----------
+        i : int
+            The joint (0-based; revolute).
+        c, s : ndarray (...)
+            Cosine and sine of the angle (rad), of one shape.
+        name : hashable
+            Names the vectors (unique across the solvers: the key of the cached terms).
+        V : array_like (m, 3) or callable
+            The vectors (world frame at q = 0; free vectors, as for :meth:`turn`), or
+            ``V() -> (m, 3)``; read on the first call for ``(name, i)`` only.
+
+        Returns
+        -------
+        ndarray (..., m, 3)
+            ``R(c, s) V[j]`` for every angle and vector ``j`` (a view of a ``(3, m, M)``
+            layout).
+        """
+        B = self.cache.get(("turned", name, i))
+        if B is None:
+            B = self.constant(("turned", name, i), lambda: (self.rodrigues(i) @ np.asarray(
+                V() if callable(V) else V, float).T).reshape(3, 3, -1, 1))  # (term, xyz, m, 1)
+        shape = c.shape
+        out = B[1] * c.reshape(-1)                                         # (3, m, M)
+        out += B[0]
+        sk = B[2] * s.reshape(-1)
+        out += sk
+        return out.transpose(2, 1, 0).reshape(shape + out.shape[1::-1])
+
     def rodrigues(self, i: int) -> np.ndarray:
         """``[I + K^2; -K^2; K]`` of joint ``i``'s axis ``k`` (``K`` its cross-product matrix).
 

@@ -81,22 +81,23 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    h, k1 = S.axis[1], S.axis[0]
-    o1 = S.point[0]
+    h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
+    e = S.constant("normal to h", lambda: normal_to(h))
     c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
     br = br.branch([0], sp4(h, ct - o1, k1, height).negated())
     Rt = target_rotation(S, T)
-    br, sigma = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
-    # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e
-    e = S.constant("normal to h", lambda: normal_to(h))
-    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
-    psi = _angle_about(h, e, S.turn(0, br.cos[0], -br.sin[0], _mv(Rt, r)))[0]
-    # where joints 2, 3 put axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
-    p4 = _back(S, br, 4, S.point[3])
-    p4 = _back(S, br, 0, _tool_point_of(S, T, _back(S, br, 5, p4)))
+    br, sigma, five = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
+    # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
+    # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4); joint 6, then joint 1, undone on both
+    r, p4 = _undo_6(S, br, five)
+    o1 = S.point[0]
+    x = S.turn(0, br.cos[0], -br.sin[0], np.stack([_mv(Rt, r), _tool_point_of(S, T, p4) - o1],
+                                                  -2))
+    psi = _angle_about(h, e, x[..., 0, :])[0]
+    p4 = o1 + x[..., 1, :]
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
     s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
@@ -126,8 +127,10 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
 
     ``T (N, 4, 4)`` the targets, ``br`` with the joints before joint 5 not about h solved,
     ``Rt (N, 1, 3, 3)`` R_t of each pose, ``h (3,)`` (world frame at q = 0, SI).
-    Returns ``(br, sigma)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6 points
-    along h, else -1.
+    Returns ``(br, sigma, five)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6
+    points along h, else -1, ``five (N, K', 3, 3)`` joint 5 undone on h, on ``e`` (the
+    solvers' "normal to h") and on axis 4's point from axis 5's, ``R5^T [h; e; o4 - o5]``
+    (one turn of the three fixed vectors, see :func:`_undo_6`).
     """
     k5, k6 = S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
@@ -143,14 +146,26 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     v, aligned = br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
-    b = S.turn(4, br.cos[4], -br.sin[4], h)
+    five = S.turn_fixed(4, br.cos[4], -br.sin[4], "h, e, o4 - o5", lambda: (
+        h, S.constant("normal to h", lambda: normal_to(h)), S.point[3] - S.point[4]))
+    b = five[..., 0, :]
     t6 = turn_onto(k6, a, b)[0]
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
                                   pair(aligned, aligned)), labels=(None, "other arc"))
-    return br, br.take(sigma)
+    return br, br.take(sigma), br.take(five)
+
+
+def _undo_6(S: Screws, br: Branches, five):
+    """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: the parallel wrist's vector
+    ``e`` and axis 4's point ``o4`` with joints 5 and 6 undone (``five`` from
+    :func:`_parallel_wrist`; joint 6 turns both in one call)."""
+    o5, o6 = S.point[4], S.point[5]
+    x = S.turn(5, br.cos[5], -br.sin[5], np.stack([five[..., 1, :], o5 + five[..., 2, :] - o6],
+                                                  -2))
+    return x[..., 0, :], o6 + x[..., 1, :]
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
@@ -210,12 +225,11 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     h = S.axis[3]
     elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
     Rt = target_rotation(S, T)
-    br, sigma = _parallel_wrist(S, T, br, Rt, h, elbow)
+    br, sigma, five = _parallel_wrist(S, T, br, Rt, h, elbow)
     e = S.constant("normal to h", lambda: normal_to(h))
-    r = S.turn(5, br.cos[5], -br.sin[5], S.turn(4, br.cos[4], -br.sin[4], e))
+    r, p4 = _undo_6(S, br, five)
     psi = _angle_about(h, e, _mv(Rt, r))[0]
-    p4 = _back(S, br, 4, S.point[3])
-    p4 = _tool_point_of(S, T, _back(S, br, 5, p4))
+    p4 = _tool_point_of(S, T, p4)
     br = br.with_extra("psi", psi).with_extra("sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
     sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
