@@ -92,8 +92,7 @@ class Branches:
     pending: dict = field(default_factory=dict)
 
     def _with(self, **changes) -> "Branches":
-        """A copy with ``changes`` (``dataclasses.replace`` without its per-field checks:
-        a closed form takes a few steps per pose, and a single pose pays for each)."""
+        """A copy with ``changes`` (``dataclasses.replace`` without its per-field checks)."""
         new = object.__new__(Branches)
         new.__dict__.update(self.__dict__, **changes)
         return new
@@ -203,7 +202,8 @@ class Branches:
         to the slots after it: ``x[:, parent]``, ``(N, K, ...)``."""
         return x[:, self.parent]
 
-    def branch(self, joints, sols, labels=None, *, least_squares: bool = False) -> "Branches":
+    def branch(self, joints, sols, labels=None, *, least_squares: bool = False,
+               free: bool = True) -> "Branches":
         """The next step: every slot splits into the ``k`` roots of a subproblem.
 
         A slot lives on where its root is ``ok`` and exact (``least_squares``: or the
@@ -223,12 +223,15 @@ class Branches:
             (default ``+``/``-`` for two roots, ``root i`` for more, none for one).
         least_squares : bool
             Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
+        free : bool
+            Or the roots' ``free`` into the step's joints' free masks (False: not free, for a
+            solver that leaves another joint free at the singularity).
 
         Returns
         -------
         Branches
             ``K k`` slots (fewer once dead ones are dropped), ``parent (K k,)``; the free mask of
-            each joint of the step or-ed with the root's ``free``.
+            each joint of the step or-ed with the root's ``free`` (with ``free``).
         """
         (N, K), k = self.ok.shape, sols.ok.shape[-1]
         M = K * k
@@ -240,12 +243,13 @@ class Branches:
                 X[1, j], X[2, j] = c[:, parent], s[:, parent]
             if f is not None:
                 F[j] = f[:, parent]
-        free = sols.free.reshape(N, M)
+        roots_free = sols.free.reshape(N, M) if free else None
         for j, t, c, s in zip(joints, sols.theta, sols.c, sols.s):
             if j is not None:
                 Xj = X[:, j]
                 Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
-                F[j] |= free
+                if free:
+                    F[j] |= roots_free
         ok = sols.ok if least_squares else sols.ok & sols.exact
         ok = self.ok[:, parent] & ok.reshape(N, M)
         if k == 1:                      # one root: nothing to tell apart
@@ -321,12 +325,13 @@ class Branches:
         return self._with(signs=new(self.signs),
                           full_signs=None if self.full_signs is None else new(self.full_signs))
 
-    def with_extra(self, name: str, value) -> "Branches":
+    def with_extra(self, name: str, value, *more) -> "Branches":
         """A copy with ``extra[name] = value``: a per-slot quantity ``(N, K, ...)`` (SI) the
         engine needs at the end (``"continuum"``, ``"parallel continuum"``, ``"psi"``),
-        carried through later steps."""
+        carried through later steps; ``more``: further name, value pairs."""
         extra = dict(self.extra)
         extra[name] = np.asarray(value)
+        extra.update(zip(more[::2], map(np.asarray, more[1::2])))
         return self._with(extra=extra)
 
     def set(self, joint: int, value, c=None, s=None, ok=None, free=None) -> "Branches":
@@ -350,12 +355,14 @@ class Branches:
         Branches
             A copy, the same ``K`` slots (``parent`` the identity).
         """
-        was = self.pending.get(joint, (None,) * 4)
-        row = (_fit(value, self.ok), was[1] if c is None else _fit(c, self.ok),
-               was[2] if c is None else _fit(s, self.ok),
-               was[3] if free is None else _fit(free, self.ok))
+        shape = self.ok.shape
+        was = self.pending.get(joint, (None,) * 4)          # None: kept from X and F
+        row = tuple([x if x is None or type(x) is np.ndarray and x.shape == shape else
+                     np.broadcast_to(x, shape) for x in (      # (else a read-only view)
+                         value, was[1] if c is None else c, was[2] if c is None else s,
+                         was[3] if free is None else free)])
         return self._with(pending={**self.pending, joint: row},
-                          ok=self.ok if ok is None else self.ok & ok, parent=_identity(self.K))
+                          ok=self.ok if ok is None else self.ok & ok, parent=_identity(shape[1]))
 
     def note(self, label: str, value, kind: str = "none") -> "Branches":
         """A copy with a :class:`Note` of an intermediate quantity for ``--explain``
@@ -444,13 +451,6 @@ class Branches:
 
 _ZERO = np.zeros(1, np.intp)
 _ZERO.flags.writeable = False
-
-
-def _fit(a, ok: np.ndarray) -> np.ndarray:
-    """``a`` (broadcasting to the slots ``ok (N, K)``) of their shape (else a read-only view)."""
-    if type(a) is np.ndarray and a.shape == ok.shape:
-        return a
-    return np.broadcast_to(a, ok.shape)
 
 
 def _unset(n: int, N: int, K: int) -> np.ndarray:

@@ -231,7 +231,7 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     k5 = S.axis[4]
     e = S.constant("normal to axis 5", lambda: normal_to(k5))
     Rt = target_rotation(S, T)
-    br = br.set(4, *_angle_about(k5, e, undo(S, br, (0, 1, 2, 3), np.full(
+    br = br.set(4, *_angle_about(S, ("e about axis", 4), k5, e, undo(S, br, (0, 1, 2, 3), np.full(
         br.ok.shape + (3,), _mv(Rt, e)))))
     return _base_and_roll(S, br)
 

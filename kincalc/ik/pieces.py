@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..subproblems import sp1
+from ..subproblems.sp1 import sp1_constants
 from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
 from .screws import Screws
@@ -66,7 +67,10 @@ def turn_onto(k, x, y):
     return one_root(sp1(x - dot(x, k)[..., None] * k, y - dot(y, k)[..., None] * k, k, tol=0.0))
 
 
-def angle_about(h, e, Rv, tol=0.0):
+def angle_about(S: Screws, name, h, e, Rv, tol=0.0):
     """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
-    vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``."""
-    return one_root(sp1(e, Rv - dot(Rv, h)[..., None] * h, h, tol=tol))
+    vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``. ``h`` and
+    ``e (3,)`` are fixed vectors of the screws ``S``, which keep subproblem 1's constants
+    of them under ``name`` (:func:`~kincalc.subproblems.sp1.sp1_constants`)."""
+    fixed = S.constant(("sp1 constants", name), lambda: sp1_constants(e, h))
+    return one_root(sp1(e, Rv - dot(Rv, h)[..., None] * h, h, tol=tol, fixed=fixed))

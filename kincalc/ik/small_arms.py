@@ -71,7 +71,7 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
     u = undo(S, br, first, np.full(br.ok.shape + (3,), _mv(Rt, e)))
     br = note_roll(S, br, n - 1, e, u)
-    return br.set(n - 1, *_angle_about(k, e, u))
+    return br.set(n - 1, *_angle_about(S, ("e about axis", n - 1), k, e, u))
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:

@@ -91,14 +91,12 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     Rt = target_rotation(S, T)
     br, sigma, five = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
-    # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4); joint 6, then joint 1, undone on both
+    # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
     r, p4 = _undo_6(S, br, five)
-    o1 = S.point[0]
-    x = S.turn(0, br.cos[0], -br.sin[0], np.stack([_mv(Rt, r), _tool_point_of(S, T, p4) - o1],
-                                                  -2))
-    psi = _angle_about(h, e, x[..., 0, :])[0]
-    p4 = o1 + x[..., 1, :]
-    br = br.with_extra("psi", psi).with_extra("sigma", sigma)
+    c1, s1 = br.cos[0], -br.sin[0]
+    psi = _angle_about(S, "e about h", h, e, S.turn(0, c1, s1, _mv(Rt, r)))[0]
+    p4 = o1 + S.turn(0, c1, s1, _tool_point_of(S, T, p4) - o1)
+    br = br.with_extra("psi", psi, "sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
     s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
         1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3)))
@@ -141,8 +139,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
                                                  lambda: cone_constants(h, k6, k5)))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
-    br = br.branch([4], Solutions(fifth.theta, fifth.c, fifth.s, fifth.ok, fifth.exact,
-                                  np.zeros(fifth.free.shape, bool)))
+    br = br.branch([4], fifth, free=False)
     v, aligned = br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
@@ -161,11 +158,11 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
 def _undo_6(S: Screws, br: Branches, five):
     """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: the parallel wrist's vector
     ``e`` and axis 4's point ``o4`` with joints 5 and 6 undone (``five`` from
-    :func:`_parallel_wrist`; joint 6 turns both in one call)."""
+    :func:`_parallel_wrist`; joint 6 turns them one by one: stacked, a large batch is
+    slower)."""
     o5, o6 = S.point[4], S.point[5]
-    x = S.turn(5, br.cos[5], -br.sin[5], np.stack([five[..., 1, :], o5 + five[..., 2, :] - o6],
-                                                  -2))
-    return x[..., 0, :], o6 + x[..., 1, :]
+    c6, s6 = br.cos[5], -br.sin[5]
+    return S.turn(5, c6, s6, five[..., 1, :]), o6 + S.turn(5, c6, s6, o5 + five[..., 2, :] - o6)
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
@@ -228,9 +225,9 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     br, sigma, five = _parallel_wrist(S, T, br, Rt, h, elbow)
     e = S.constant("normal to h", lambda: normal_to(h))
     r, p4 = _undo_6(S, br, five)
-    psi = _angle_about(h, e, _mv(Rt, r))[0]
+    psi = _angle_about(S, "e about h", h, e, _mv(Rt, r))[0]
     p4 = _tool_point_of(S, T, p4)
-    br = br.with_extra("psi", psi).with_extra("sigma", sigma)
+    br = br.with_extra("psi", psi, "sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
     sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
     partial = sum(sign[i] * br.value[i] for i in range(3) if S.revolute[i])

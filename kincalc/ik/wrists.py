@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..subproblems import sp1
+from ..subproblems.sp1 import sp1_constants
 from ..subproblems.cone import cone, cone_constants
-from ..subproblems.solutions import Solutions, cross, dot
+from ..subproblems.solutions import cross, dot
 from .branches import Branches
 from ..spatial import wrap
 from .screws import Screws
@@ -87,7 +88,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
         ``v = R_W k3`` and ``w = R_W e`` (unit; world frame at q = 0), with the joints
         before the wrist undone.
     e : ndarray (3,)
-        The fixed unit vector normal to ``k3`` that ``w`` was made from.
+        The fixed unit vector normal to ``k3`` that ``w`` was made from (one per wrist of
+        the screws: subproblem 1's constants of it are computed once, with ``S``).
 
     Returns
     -------
@@ -100,8 +102,7 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
                                                   lambda: cone_constants(k1, k3, k2)))
     # the free joint is the first: the middle one's roots go in as not free, and where
     # the wrist is aligned (the same in both roots) is carried to the new slots
-    br = br.branch([j2], Solutions(middle.theta, middle.c, middle.s, middle.ok, middle.exact,
-                                   np.zeros(middle.free.shape, bool)), least_squares=True)
+    br = br.branch([j2], middle, least_squares=True, free=False)
     v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
     c2, s2 = br.cos[j2], br.sin[j2]
     third = S.turn(j2, c2, s2, k3)                  # R2 k3
@@ -115,7 +116,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
         t1 = np.arctan2(s1, c1)
     br = br.set(j1, t1, c1, s1, free=aligned)
     z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, w))
-    last = sp1(e, z - dot(z, k3)[..., None] * k3, k3, tol=0.0)
+    last = sp1(e, z - dot(z, k3)[..., None] * k3, k3, tol=0.0, fixed=S.constant(
+        ("sp1 constants", ("e about axis", j3)), lambda: sp1_constants(e, k3)))
     t3 = last.theta[0][..., 0]
     br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
     if singular:
