@@ -41,7 +41,7 @@ import numpy as np
 from ..subproblems import sp1, sp4, sp5
 from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
-from ..subproblems.sp4 import ROUNDING, from_abc
+from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
 from .branches import Branches
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
@@ -61,6 +61,7 @@ class Plan(NamedTuple):
     #                         pair: both invariants' (alpha, beta, gamma) at p0, in x_b
     both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
     still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
+    fixed: object = None    # decoupled, revolute c: abc_constants(*abc), for from_abc
 
 
 def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
@@ -121,7 +122,9 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
     c = joints[2]
     if not dep.all():
         k = int(np.flatnonzero(~dep)[0])
-        return Plan("decoupled", tuple(joints), p0, o, e, k=k, abc=_fit_c(S, c, al[k]))
+        abc = _fit_c(S, c, al[k])
+        return Plan("decoupled", tuple(joints), p0, o, e, k=k, abc=abc,
+                    fixed=abc_constants(*abc) if S.revolute[c] else None)
     if S.revolute[[a, b, c]].all():
         h, kc = S.axis[b], S.axis[c]
         if np.linalg.norm(np.cross(h, kc)) <= 1e-12 and \
@@ -234,7 +237,7 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
     A, B, C = P.abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[c]:
-        sol = from_abc(A, B, C, t, scale)
+        sol = from_abc(A, B, C, t, scale, fixed=P.fixed)
         if br.explain:
             br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
                              ~sol.exact[..., 0] & br.ok, what)
@@ -326,7 +329,7 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
                    lambda: _shoulder_constants(S, P))
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
     p = PT - oa
-    first = sp4(h, p, w, fx.height).negated()
+    first = sp4(h, p, w, fx.height, fixed=fx.first).negated()
     br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
     if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
         hw = h @ w
@@ -346,7 +349,7 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     d = np.sqrt(dot(q, q))
     d2 = d * d
     third = from_abc(fx.A, fx.B, fx.C, 0.5 * (fx.squares - d2),
-                     np.maximum(0.5 * (fx.squares + d2), reach))
+                     np.maximum(0.5 * (fx.squares + d2), reach), fixed=fx.third)
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
         br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
@@ -373,6 +376,8 @@ class _ShoulderConstants(NamedTuple):
     B: float            # A cos x + B sin x + C = (squares - d^2) / 2
     C: float
     squares: float      # |u|^2 + |v|^2
+    first: tuple        # sp4_constants(h, w): joint a's subproblem 4 (w its axis)
+    third: tuple        # abc_constants(A, B, C): joint c's
 
 
 def _shoulder_constants(S: Screws, P: Plan) -> _ShoulderConstants:
@@ -384,8 +389,9 @@ def _shoulder_constants(S: Screws, P: Plan) -> _ShoulderConstants:
     u, v = (oc - ob) - ((oc - ob) @ h) * h, (P.p0 - oc) - ((P.p0 - oc) @ h) * h
     m = -u                                          # sp3's p2: subproblem 4's direction
     kp = kc @ v
-    return _ShoulderConstants(h @ (P.p0 - oa), oa - ob, u, v, m @ (v - kp * kc),
-                              m @ cross(kc, v), (m @ kc) * kp, v @ v + m @ m)
+    A, B, C = m @ (v - kp * kc), m @ cross(kc, v), (m @ kc) * kp
+    return _ShoulderConstants(h @ (P.p0 - oa), oa - ob, u, v, A, B, C, v @ v + m @ m,
+                              sp4_constants(h, S.axis[a]), abc_constants(A, B, C))
 
 
 def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:

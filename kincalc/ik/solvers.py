@@ -16,6 +16,7 @@ import numpy as np
 
 from ..structure import common_point
 from ..subproblems import sp4
+from ..subproblems.sp4 import sp4_constants
 from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
@@ -87,7 +88,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
-    br = br.branch([0], sp4(h, ct - o1, k1, height).negated())
+    br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=S.constant(
+        "sp4 of joint 1", lambda: sp4_constants(h, k1))).negated())
     Rt = target_rotation(S, T)
     br, sigma, five = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put

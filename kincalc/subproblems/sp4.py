@@ -24,16 +24,51 @@ cos^2)``, no trigonometric call.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from .solutions import Solutions, as_vectors, cross, dot, norm, two_roots, two_slots
+from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, two_roots,
+                        two_slots)
 
 #: rounding of a cosine computed from lengths of size ``scale``, per unit of
 #: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
 ROUNDING = 64 * np.finfo(float).eps
 
 
-def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
+class Sp4Constants(NamedTuple):
+    """What :func:`sp4` needs of ``h`` and ``k`` alone (see :func:`sp4_constants`)."""
+
+    h: np.ndarray           # (..., 3) the direction, as a float array
+    k: np.ndarray           # (..., 3) the unit axis, as a float array
+    hk: np.ndarray          # (...) h . k
+    h_norm: np.ndarray      # (...) |h|
+    kx: np.ndarray | None   # (3, 3) the matrix crossing rows with a single k, else None
+
+
+def sp4_constants(h, k) -> Sp4Constants:
+    """What :func:`sp4` needs of ``h`` and ``k`` alone.
+
+    A solver whose ``h`` and ``k`` are fixed vectors (a robot's axes) computes these once
+    and passes them to :func:`sp4` as ``fixed``.
+
+    Parameters
+    ----------
+    h, k : array_like (..., 3)
+        As in :func:`sp4`.
+
+    Returns
+    -------
+    Sp4Constants
+        ``h``, ``k``, ``h . k``, ``|h|`` and, for a single ``k (3,)``, the matrix crossing
+        rows with it (:func:`~kincalc.subproblems.solutions.crossing`), computed as
+        :func:`sp4` computes them (the same bits).
+    """
+    h, k = as_vectors(h, k)
+    return Sp4Constants(h, k, dot(h, k), norm(h), crossing(k) if k.ndim == 1 else None)
+
+
+def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None, fixed=None) -> Solutions:
     """Solve subproblem 4, ``h . R(k, theta) p = d``, for every problem of a batch.
 
     Parameters
@@ -55,6 +90,10 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
         The size of the terms ``d`` was computed from, the unit of the tolerances;
         default ``max(|h| |p|, |d|)``. A ``d`` obtained by cancellation (subproblem
         3's law of cosines) carries the rounding of its terms, not of its value.
+    fixed : Sp4Constants, optional
+        ``sp4_constants(h, k)``, for a caller whose ``h`` and ``k`` are fixed vectors:
+        what depends on them alone is then read from it, not computed again (``h`` and
+        ``k`` are not read; the same result).
 
     Returns
     -------
@@ -70,18 +109,60 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
     ValueError
         When a vector is not of shape ``(..., 3)`` or the shapes do not broadcast.
     """
-    h, p, k = as_vectors(h, p, k)
+    if fixed is None:
+        h, p, k = as_vectors(h, p, k)
+        hk, kxp = dot(h, k), cross(k, p)
+    else:
+        (p,), (h, k, hk, h_norm, kx) = as_vectors(p), fixed
+        # k x p as cross() makes it for a single k: rows times the crossing matrix
+        kxp = cross(k, p) if kx is None or p.ndim == 1 else (p.reshape(-1, 3) @ kx).reshape(
+            p.shape)
     d = np.asarray(d, float)      # broadcast with the vectors' leading shape by from_abc
     kp = dot(k, p)
     A = dot(h, p - kp[..., None] * k)
-    B = dot(h, cross(k, p))
-    C = dot(h, k) * kp
+    B = dot(h, kxp)
+    C = hk * kp
     if scale is None:
-        scale = np.maximum(norm(h) * norm(p), np.abs(d))
+        scale = np.maximum((norm(h) if fixed is None else h_norm) * norm(p), np.abs(d))
     return from_abc(A, B, C, d, scale, tol=tol)
 
 
-def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
+class AbcConstants(NamedTuple):
+    """Fixed coefficients of :func:`from_abc` and what it needs of them alone
+    (see :func:`abc_constants`)."""
+
+    A: np.ndarray           # (...) the coefficients, as float arrays
+    B: np.ndarray
+    C: np.ndarray
+    r: np.ndarray           # (...) hypot(A, B), as sqrt(A A + B B)
+    cb: np.ndarray          # (...) A / r and B / r: the phase's cosine and sine where r > 0
+    sb: np.ndarray
+
+
+def abc_constants(A, B, C) -> AbcConstants:
+    """What :func:`from_abc` needs of fixed coefficients ``A, B, C`` alone.
+
+    A solver whose coefficients are a robot's constants (a law of cosines, a height)
+    computes these once and passes them to :func:`from_abc` as ``fixed``.
+
+    Parameters
+    ----------
+    A, B, C : array_like (...)
+        As in :func:`from_abc`.
+
+    Returns
+    -------
+    AbcConstants
+        The coefficients, ``r`` and the phase's cosine and sine, computed as
+        :func:`from_abc` computes them (the same bits).
+    """
+    A, B, C = [np.asarray(v, float) for v in (A, B, C)]
+    r = np.sqrt(A * A + B * B)
+    with np.errstate(divide="ignore", invalid="ignore"):     # r = 0: not read
+        return AbcConstants(A, B, C, r, A / r, B / r)
+
+
+def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
     """Subproblem 4 in its coefficients: ``A cos(theta) + B sin(theta) + C = d``.
 
     For solvers that have the coefficients from constants of the robot (a height along
@@ -97,6 +178,10 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
         Relative tolerance (of ``scale``) of "``r = hypot(A, B)`` is zero" and of how
         far beyond the tangent (``|d - C| <= r + tol * scale``) a problem still counts
         as solved.
+    fixed : AbcConstants, optional
+        ``abc_constants(A, B, C)``, for fixed coefficients: what depends on them alone
+        is then read from it, not computed again (``A, B, C`` are not read; the same
+        result).
 
     Returns
     -------
@@ -114,9 +199,12 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
     ValueError
         When the shapes do not broadcast.
     """
-    A, B, C, d = (np.asarray(v, float) for v in (A, B, C, d))
+    if fixed is None:
+        A, B, C, d = [np.asarray(v, float) for v in (A, B, C, d)]
+        r = np.sqrt(A * A + B * B)
+    else:
+        (A, B, C, r, cb, sb), d = fixed, np.asarray(d, float)
     scale = np.maximum(scale, 1e-300)
-    r = np.sqrt(A * A + B * B)
     band = tol * scale
     free = r < band
     dC = d - C
@@ -130,7 +218,9 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12) -> Solutions:
         exact = np.where(free, np.abs(dC) <= 1e-9 * scale, far <= 1.0 + band / rr)
     else:
         rr = r
-        cb, sb, cd = A / r, B / r, dC / r
+        if fixed is None:
+            cb, sb = A / r, B / r
+        cd = dC / r
         far = np.abs(cd)
         exact = far <= 1.0 + band / r
     # a cosine within rounding of +-1 is the tangent: one (double) root (and beyond +-1
