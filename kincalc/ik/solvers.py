@@ -91,10 +91,10 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=S.constant(
         "sp4 of joint 1", lambda: sp4_constants(h, k1))).negated())
     Rt = target_rotation(S, T)
-    br, sigma, five = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
+    br, sigma = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
     # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
-    r, p4 = _undo_6(S, br, five)
+    r, p4 = _undo_56(S, br, e)
     c1, s1 = br.cos[0], -br.sin[0]
     psi = _angle_about(S, "e about h", h, e, S.turn(0, c1, s1, _mv(Rt, r)))[0]
     p4 = o1 + S.turn(0, c1, s1, _tool_point_of(S, T, p4) - o1)
@@ -127,10 +127,8 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
 
     ``T (N, 4, 4)`` the targets, ``br`` with the joints before joint 5 not about h solved,
     ``Rt (N, 1, 3, 3)`` R_t of each pose, ``h (3,)`` (world frame at q = 0, SI).
-    Returns ``(br, sigma, five)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6
-    points along h, else -1, ``five (N, K', 3, 3)`` joint 5 undone on h, on ``e`` (the
-    solvers' "normal to h") and on axis 4's point from axis 5's, ``R5^T [h; e; o4 - o5]``
-    (one turn of the three fixed vectors, see :func:`_undo_6`).
+    Returns ``(br, sigma)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6 points
+    along h, else -1.
     """
     k5, k6 = S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
@@ -145,26 +143,25 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     v, aligned = br.take(v), br.take(fifth.free[..., 0])
     sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
-    five = S.turn_fixed(4, br.cos[4], -br.sin[4], "h, e, o4 - o5", lambda: (
-        h, S.constant("normal to h", lambda: normal_to(h)), S.point[3] - S.point[4]))
-    b = five[..., 0, :]
+    b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = turn_onto(k6, a, b)[0]
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
                                   pair(aligned, aligned)), labels=(None, "other arc"))
-    return br, br.take(sigma), br.take(five)
+    return br, br.take(sigma)
 
 
-def _undo_6(S: Screws, br: Branches, five):
-    """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: the parallel wrist's vector
-    ``e`` and axis 4's point ``o4`` with joints 5 and 6 undone (``five`` from
-    :func:`_parallel_wrist`; joint 6 turns them one by one: stacked, a large batch is
-    slower)."""
+def _undo_56(S: Screws, br: Branches, e):
+    """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: the fixed unit vector ``e``
+    (normal to h) and axis 4's point ``o4`` with joints 5 and 6 of a parallel wrist undone.
+    Joint 5 turns both fixed vectors in one call (:meth:`Screws.turn_fixed`); joint 6 one by
+    one (stacked, a large batch is slower)."""
     o5, o6 = S.point[4], S.point[5]
+    five = S.turn_fixed(4, br.cos[4], -br.sin[4], "e, o4 - o5", lambda: (e, S.point[3] - o5))
     c6, s6 = br.cos[5], -br.sin[5]
-    return S.turn(5, c6, s6, five[..., 1, :]), o6 + S.turn(5, c6, s6, o5 + five[..., 2, :] - o6)
+    return S.turn(5, c6, s6, five[..., 0, :]), o6 + S.turn(5, c6, s6, o5 + five[..., 1, :] - o6)
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
@@ -224,9 +221,9 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     h = S.axis[3]
     elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
     Rt = target_rotation(S, T)
-    br, sigma, five = _parallel_wrist(S, T, br, Rt, h, elbow)
+    br, sigma = _parallel_wrist(S, T, br, Rt, h, elbow)
     e = S.constant("normal to h", lambda: normal_to(h))
-    r, p4 = _undo_6(S, br, five)
+    r, p4 = _undo_56(S, br, e)
     psi = _angle_about(S, "e about h", h, e, _mv(Rt, r))[0]
     p4 = _tool_point_of(S, T, p4)
     br = br.with_extra("psi", psi, "sigma", sigma)
