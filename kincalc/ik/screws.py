@@ -59,7 +59,7 @@ class Screws:
         """Vectors turned by joint ``i``'s rotation, given as its cosine and sine.
 
         ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K`` the cross-product matrix of
-        the axis), all three terms in one matrix product. Computed on components (``(3, M)``:
+        the axis), all three terms in one matrix product. Computed on components (``(3, ...)``:
         each operation runs along the batch, where ``(M, 3)`` arrays broadcast against
         ``(M, 1)`` factors cost several times more).
 
@@ -78,11 +78,12 @@ class Screws:
         Returns
         -------
         ndarray (..., 3)
-            The turned vectors, a view of the ``(3, M)`` layout; the shape broadcast from ``v``
-            and ``c, s``.
+            The turned vectors, a transposed view of the ``(3, ...)`` layout; the shape
+            broadcast from ``v`` and ``c, s``.
         """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
-        R = self.rodrigues(i)
+        R = self.cache.get("rodrigues")                 # (no method call: as dear as the rest)
+        R = self.rodrigues(i) if R is None else R[i]
         if v.ndim == 1 and c.shape == s.shape:          # one vector, turned by every angle
             B = R @ v                                                       # (9,)
             out = B[3:6, None] * c.reshape(-1)
@@ -90,23 +91,20 @@ class Screws:
             out += B[6:9, None] * s.reshape(-1)
             return out.T.reshape(c.shape + (3,))
         shape = v.shape[:-1]
-        if c.shape == s.shape and shape[:c.ndim] == c.shape:
-            # several vectors per angle: (3, M) read as (3, angles, per)
-            per = v.size // (3 * c.size) if c.size else 1
-            c, s = c.reshape(-1, 1), s.reshape(-1, 1)
-        else:
+        if c.shape != s.shape or shape[:c.ndim] != c.shape:    # the angles broadcast
             shape = np.broadcast_shapes(shape, c.shape, s.shape)
             v = np.broadcast_to(v, shape + (3,))
-            c, s, per = (np.broadcast_to(c, shape).reshape(-1, 1),
-                         np.broadcast_to(s, shape).reshape(-1, 1), 1)
-        B = (R @ v.reshape(-1, 3).T).reshape(9, -1, per)                   # (9, M / per, per)
+            c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
+        # (else several vectors per angle: the angles' shape is v's leading part)
+        grow = (...,) + (None,) * (len(shape) - c.ndim)       # one angle for the vectors behind
+        B = (R @ v.reshape(-1, 3).T).reshape((9,) + shape)                  # (9, *shape)
         out = B[3:6]
-        out *= c
+        out *= c[grow]
         out += B[0:3]
         sk = B[6:9]
-        sk *= s
+        sk *= s[grow]
         out += sk
-        return out.reshape(3, -1).T.reshape(shape + (3,))
+        return out.transpose(_LAST[len(shape)])
 
     def turn_fixed(self, i: int, c, s, name, V) -> np.ndarray:
         """Fixed vectors turned by joint ``i``'s rotation: :meth:`turn` of ``V`` at every angle.
@@ -138,12 +136,10 @@ class Screws:
         if B is None:
             B = self.constant(("turned", name, i), lambda: (self.rodrigues(i) @ np.asarray(
                 V() if callable(V) else V, float).T).reshape(3, 3, -1, 1))  # (term, xyz, m, 1)
-        shape = c.shape
-        out = B[1] * c.reshape(-1)                                         # (3, m, M)
+        out = B[1] * c.reshape(-1)                                          # (3, m, M)
         out += B[0]
-        sk = B[2] * s.reshape(-1)
-        out += sk
-        return out.transpose(2, 1, 0).reshape(shape + out.shape[1::-1])
+        out += B[2] * s.reshape(-1)
+        return out.transpose(2, 1, 0).reshape(c.shape + out.shape[1::-1])
 
     def rodrigues(self, i: int) -> np.ndarray:
         """``[I + K^2; -K^2; K]`` of joint ``i``'s axis ``k`` (``K`` its cross-product matrix).
@@ -321,6 +317,10 @@ class Screws:
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
                       self.revolute[::-1].copy(), Mi, self.scale, self.slack)
+
+
+#: the axes that move a leading axis of n + 1 last: ``(1, ..., n, 0)``
+_LAST = [tuple(range(1, n + 1)) + (0,) for n in range(33)]
 
 
 def _rodrigues(k) -> np.ndarray:
