@@ -256,9 +256,9 @@ class Branches:
             labels = (None,)
         elif labels is None:
             labels = ("+", "-") if k == 2 else tuple(f"root {i + 1}" for i in range(k))
-        first = next(j for j in joints if j is not None)
+        first = [j for j in joints if j is not None][0]
         signs = _split_signs(self.signs, k, tuple(labels), first)
-        extra = {name: x[:, parent] for name, x in self.extra.items()}
+        extra = {name: x[:, parent] for name, x in self.extra.items()} if self.extra else {}
         full, full_signs = self.full, self.full_signs
         if full is not None:
             full = full[parent] * k + root
