@@ -18,6 +18,7 @@ import numpy as np
 from ..spatial import wrap
 from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
+from ..subproblems.sp4 import sp4_constants
 from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, one_root as _one, rotate as _mv,
@@ -102,7 +103,8 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
-    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0)).negated())
+    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0), fixed=S.constant(
+        "sp4 of axis 4 about axis 3", lambda: sp4_constants(k4, k3))).negated())
     br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
     v = S.turn(2, c3, -s3, v)
     return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
@@ -144,7 +146,8 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
-    br = br.branch([3], sp4(h, k5, k4, u @ h))
+    br = br.branch([3], sp4(h, k5, k4, u @ h, fixed=S.constant(
+        "sp4 of axis 1 about axis 4", lambda: sp4_constants(h, k4))))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
@@ -250,11 +253,12 @@ def base_angle(S: Screws, pt, a) -> Solutions:
     """
     h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
-    at = sp4(h, pt - o1, k1, h @ (p0 - o1)).negated()
+    fixed = S.constant("sp4 of axis 2 about axis 1", lambda: sp4_constants(h, k1))
+    at = sp4(h, pt - o1, k1, h @ (p0 - o1), fixed=fixed).negated()
     on = at.free[..., :1]                                          # pt on axis 1
     if not np.count_nonzero(on):
         return at
-    by = sp4(h, a, k1, h @ a0).negated()
+    by = sp4(h, a, k1, h @ a0, fixed=fixed).negated()
     pick = lambda x, y: np.where(on, x, y)  # noqa: E731
     return Solutions((pick(by.theta[0], at.theta[0]),), (pick(by.c[0], at.c[0]),),
                      (pick(by.s[0], at.s[0]),), pick(by.ok, at.ok), at.exact,
