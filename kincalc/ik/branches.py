@@ -331,7 +331,7 @@ class Branches:
         carried through later steps; ``more``: further name, value pairs."""
         extra = dict(self.extra)
         extra[name] = np.asarray(value)
-        extra.update(zip(more[::2], map(np.asarray, more[1::2])))
+        extra.update(zip(more[::2], map(np.asarray, more[1::2]), strict=True))
         return self._with(extra=extra)
 
     def set(self, joint: int, value, c=None, s=None, ok=None, free=None) -> "Branches":

@@ -28,9 +28,30 @@ def target_rotation(S: Screws, T) -> np.ndarray:
     return (T[:, :3, :3] @ inverse_home(S)[:3, :3])[:, None]
 
 
+def normal_to(k) -> np.ndarray:
+    """A fixed unit vector normal to the unit vector ``k``.
+
+    Parameters
+    ----------
+    k : array_like (3,)
+
+    Returns
+    -------
+    ndarray (3,)
+    """
+    e = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
+    return e / np.linalg.norm(e)
+
+
+def axis_normal(S: Screws, j: int) -> np.ndarray:
+    """``normal_to(axis j) (3,)`` (world frame at q = 0), made once per screws: the fixed
+    vector whose turn about axis j a solver reads a joint's angle from."""
+    return S.constant(("normal to axis", j), lambda: normal_to(S.axis[j]))
+
+
 def tool_point(S: Screws, T, p) -> np.ndarray:
     """Where the point ``p (3,)`` (world frame at q = 0, moving with the tool) is at the
-    poses ``T (N, 4, 4)``: ``(N, 1, 3)``."""
+    poses ``T (N, 4, 4)``: ``(N, 1, 3)`` (``M^-1 p`` kept per point)."""
     local = S.constant(("in the tool frame", tuple(p.tolist())), lambda: (
         inverse_home(S)[:3, :3] @ p + inverse_home(S)[:3, 3]))          # M^-1 p (3,)
     return (T[:, :3, :3] @ local + T[:, :3, 3])[:, None, :]
@@ -67,10 +88,18 @@ def turn_onto(k, x, y):
     return one_root(sp1(x - dot(x, k)[..., None] * k, y - dot(y, k)[..., None] * k, k, tol=0.0))
 
 
-def angle_about(S: Screws, name, h, e, Rv, tol=0.0):
-    """The angle about unit ``h`` turning the fixed unit ``e`` (normal to ``h``) onto the
-    vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``. ``h`` and
-    ``e (3,)`` are fixed vectors of the screws ``S``, which keep subproblem 1's constants
-    of them under ``name`` (:func:`~kincalc.subproblems.sp1.sp1_constants`)."""
-    fixed = S.constant(("sp1 constants", name), lambda: sp1_constants(e, h))
-    return one_root(sp1(e, Rv - dot(Rv, h)[..., None] * h, h, tol=tol, fixed=fixed))
+def angle_about(S: Screws, j: int, Rv, tol=0.0):
+    """The angle about axis ``j`` of ``S`` (unit ``h``) turning ``e = axis_normal(S, j)``
+    onto the vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``, each
+    ``(...)``. Subproblem 1's constants of ``e`` about ``h`` are made once per screws
+    (:func:`normal_sp1`)."""
+    h = S.axis[j]
+    return one_root(sp1(axis_normal(S, j), Rv - dot(Rv, h)[..., None] * h, h, tol=tol,
+                        fixed=normal_sp1(S, j)))
+
+
+def normal_sp1(S: Screws, j: int):
+    """:func:`~kincalc.subproblems.sp1.sp1_constants` of ``axis_normal(S, j)`` about axis
+    ``j``, made once per screws."""
+    return S.constant(("sp1 constants of the normal", j),
+                      lambda: sp1_constants(axis_normal(S, j), S.axis[j]))

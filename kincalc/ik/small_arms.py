@@ -20,10 +20,11 @@ from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
 from .branches import Branches
-from .pieces import angle_about as _angle_about, rotate as _mv, target_rotation, tool_point
+from .pieces import (angle_about as _angle_about, axis_normal, rotate as _mv, target_rotation,
+                     tool_point)
 from .place import place
 from .screws import Screws
-from .wrists import normal_to, undo
+from .wrists import undo
 from .worked import note_roll
 
 
@@ -67,11 +68,10 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     br = place(S, br, first, S.point[n - 1], tool_point(S, T, S.point[n - 1]),
                what=f"axis {n}")
     Rt = target_rotation(S, T)
-    k = S.axis[n - 1]
-    e = S.constant(("normal to axis", n - 1), lambda: normal_to(k))
+    e = axis_normal(S, n - 1)
     u = undo(S, br, first, np.full(br.ok.shape + (3,), _mv(Rt, e)))
     br = note_roll(S, br, n - 1, e, u)
-    return br.set(n - 1, *_angle_about(S, ("e about axis", n - 1), k, e, u))
+    return br.set(n - 1, *_angle_about(S, n - 1, u))
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:

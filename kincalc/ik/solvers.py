@@ -20,13 +20,14 @@ from ..subproblems.sp4 import sp4_constants
 from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
-from .pieces import (angle_about as _angle_about, back as _back, inverse_home as _minv,
-                     rotate as _mv, rotate_back as _mtv, target_rotation, tool_point, turn_onto)
+from .pieces import (angle_about as _angle_about, axis_normal, back as _back,
+                     inverse_home as _minv, rotate as _mv, rotate_back as _mtv,
+                     target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
 from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
-from .wrists import normal_to, parallel_wrist_q6, spherical_taking
+from .wrists import parallel_wrist_q6, spherical_taking
 
 
 # --- six joints --------------------------------------------------------------------
@@ -48,7 +49,8 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    c0 = S.constant("wrist centre", lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    c0 = S.constant(("common point of axes", 3, 6),
+                    lambda: common_point(S.point[3:], S.axis[3:], np.inf))
     ct = tool_point(S, T, c0)
     br = place(S, br, (0, 1, 2), c0, ct, what="the wrist centre")
     if br.explain:
@@ -83,20 +85,20 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
-    e = S.constant("normal to h", lambda: normal_to(h))
-    c56 = S.constant("wrist point", lambda: common_point(S.point[4:], S.axis[4:], np.inf))
+    c56 = S.constant(("common point of axes", 4, 6),
+                     lambda: common_point(S.point[4:], S.axis[4:], np.inf))
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
     br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=S.constant(
-        "sp4 of joint 1", lambda: sp4_constants(h, k1))).negated())
+        ("sp4 constants", 1, 0), lambda: sp4_constants(h, k1))).negated())
     Rt = target_rotation(S, T)
-    br, sigma = _parallel_wrist(S, T, br, Rt, h, (1, 2, 3))
+    br, sigma = _parallel_wrist(S, T, br, Rt, 1, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
     # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
-    r, p4 = _undo_56(S, br, e)
+    r, p4 = _undo_56(S, br, 1)
     c1, s1 = br.cos[0], -br.sin[0]
-    psi = _angle_about(S, "e about h", h, e, S.turn(0, c1, s1, _mv(Rt, r)))[0]
+    psi = _angle_about(S, 1, S.turn(0, c1, s1, _mv(Rt, r)))[0]
     p4 = o1 + S.turn(0, c1, s1, _tool_point_of(S, T, p4) - o1)
     br = br.with_extra("psi", psi, "sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
@@ -112,7 +114,7 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     return br
 
 
-def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
+def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     """Joints 5 and 6 of an arm whose axes ``elbow`` (the revolute joints turning about the
     direction ``h`` before joint 5, the last of them joint 4) are parallel and whose axes 5
     and 6 meet: the three-parallel and parallel-four-wrist families.
@@ -126,16 +128,17 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     the continuum (the second labelled ``other arc``), marked free.
 
     ``T (N, 4, 4)`` the targets, ``br`` with the joints before joint 5 not about h solved,
-    ``Rt (N, 1, 3, 3)`` R_t of each pose, ``h (3,)`` (world frame at q = 0, SI).
+    ``Rt (N, 1, 3, 3)`` R_t of each pose, ``hj`` the joint whose axis is h (world frame at
+    q = 0, SI).
     Returns ``(br, sigma)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6 points
     along h, else -1.
     """
-    k5, k6 = S.axis[4], S.axis[5]
+    h, k5, k6 = S.axis[hj], S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
     v = np.full(br.ok.shape + (3,), _mv(Rt, k6))          # R_t k6 at every slot
     if first:
         v = S.turn(0, br.cos[0], -br.sin[0], v)
-    fifth = cone(h, k6, k5, v, fixed=S.constant("cone of joint 5",
+    fifth = cone(h, k6, k5, v, fixed=S.constant(("cone", hj, 4, 5),
                                                  lambda: cone_constants(h, k6, k5)))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
@@ -153,13 +156,14 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, h, elbow):
     return br, br.take(sigma)
 
 
-def _undo_56(S: Screws, br: Branches, e):
-    """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: the fixed unit vector ``e``
-    (normal to h) and axis 4's point ``o4`` with joints 5 and 6 of a parallel wrist undone.
+def _undo_56(S: Screws, br: Branches, j: int):
+    """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: ``e = axis_normal(S, j)`` (axis
+    ``j`` along h) and axis 4's point ``o4`` with joints 5 and 6 of a parallel wrist undone.
     Joint 5 turns both fixed vectors in one call (:meth:`Screws.turn_fixed`); joint 6 one by
     one (stacked, a large batch is slower)."""
     o5, o6 = S.point[4], S.point[5]
-    five = S.turn_fixed(4, br.cos[4], -br.sin[4], "e, o4 - o5", lambda: (e, S.point[3] - o5))
+    five = S.turn_fixed(4, br.cos[4], -br.sin[4], ("normal of axis, o4 - o5", j),
+                        lambda: (axis_normal(S, j), S.point[3] - o5))
     c6, s6 = br.cos[5], -br.sin[5]
     return S.turn(5, c6, s6, five[..., 0, :]), o6 + S.turn(5, c6, s6, o5 + five[..., 1, :] - o6)
 
@@ -221,10 +225,9 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     h = S.axis[3]
     elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
     Rt = target_rotation(S, T)
-    br, sigma = _parallel_wrist(S, T, br, Rt, h, elbow)
-    e = S.constant("normal to h", lambda: normal_to(h))
-    r, p4 = _undo_56(S, br, e)
-    psi = _angle_about(S, "e about h", h, e, _mv(Rt, r))[0]
+    br, sigma = _parallel_wrist(S, T, br, Rt, 3, elbow)
+    r, p4 = _undo_56(S, br, 3)
+    psi = _angle_about(S, 3, _mv(Rt, r))[0]
     p4 = _tool_point_of(S, T, p4)
     br = br.with_extra("psi", psi, "sigma", sigma)
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")

@@ -51,7 +51,8 @@ from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .cache import per_robot
 from .screws import Screws
-from .wrists import normal_to, spherical, undo
+from .pieces import axis_normal
+from .wrists import spherical, undo
 
 
 @dataclass(frozen=True)
@@ -224,14 +225,13 @@ def swivel(robot, S: Screws, targets, br: Branches) -> Branches:
     world = np.stack([w, k, cross(w, k)], -1)
     Rs = world @ np.swapaxes(body, -1, -2)                                 # (N, K, 3, 3)
     br = br.set(3, br.value[3], br.cos[3], br.sin[3], ok=ok)
-    e3 = S.constant("normal to axis 3", lambda: normal_to(S.axis[2]))
+    e3 = axis_normal(S, 2)
     br = spherical(S, br, (0, 1, 2), (Rs @ S.axis[2][:, None])[..., 0],
-                   (Rs @ e3[:, None])[..., 0], e3)
+                   (Rs @ e3[:, None])[..., 0])
     Rt = np.broadcast_to(target_rotation(S, T), (br.N, br.K, 3, 3))
-    e7 = S.constant("normal to axis 7", lambda: normal_to(S.axis[6]))
-    ke = np.stack([S.axis[6], e7], -1)                                     # (3, 2)
+    ke = np.stack([S.axis[6], axis_normal(S, 6)], -1)                      # (3, 2)
     vw = undo(S, br, (0, 1, 2, 3), np.swapaxes(Rt @ ke, -1, -2))
-    return spherical(S, br, (4, 5, 6), vw[..., 0, :], vw[..., 1, :], e7)
+    return spherical(S, br, (4, 5, 6), vw[..., 0, :], vw[..., 1, :])
 
 
 def _larger_first(sol: Solutions) -> Solutions:

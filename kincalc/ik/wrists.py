@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..subproblems import sp1
-from ..subproblems.sp1 import sp1_constants
 from ..subproblems.cone import cone, cone_constants
 from ..subproblems.solutions import cross, dot
 from .branches import Branches
+from .pieces import axis_normal, normal_sp1
 from ..spatial import wrap
 from .screws import Screws
 
@@ -53,22 +53,7 @@ def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
     return x
 
 
-def normal_to(k) -> np.ndarray:
-    """A fixed unit vector normal to the unit vector ``k``.
-
-    Parameters
-    ----------
-    k : array_like (3,)
-
-    Returns
-    -------
-    ndarray (3,)
-    """
-    e = np.cross(k, [1.0, 0, 0] if abs(k[0]) < 0.9 else [0, 1.0, 0])
-    return e / np.linalg.norm(e)
-
-
-def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
+def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     """``br`` with the wrist ``joints`` (three revolute, concurrent axes) solved.
 
     Two slots per placement (the middle joint's +/- roots); where the orientation is out
@@ -86,10 +71,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
         The wrist's three joints (0-based), base to tip.
     v, w : ndarray (N, K, 3)
         ``v = R_W k3`` and ``w = R_W e`` (unit; world frame at q = 0), with the joints
-        before the wrist undone.
-    e : ndarray (3,)
-        The fixed unit vector normal to ``k3`` that ``w`` was made from (one per wrist of
-        the screws: subproblem 1's constants of it are computed once, with ``S``).
+        before the wrist undone; ``e = axis_normal(S, joints[2])``
+        (:func:`~kincalc.ik.pieces.axis_normal`).
 
     Returns
     -------
@@ -116,8 +99,8 @@ def spherical(S: Screws, br: Branches, joints, v, w, e) -> Branches:
         t1 = np.arctan2(s1, c1)
     br = br.set(j1, t1, c1, s1, free=aligned)
     z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, w))
-    last = sp1(e, z - dot(z, k3)[..., None] * k3, k3, tol=0.0, fixed=S.constant(
-        ("sp1 constants", ("e about axis", j3)), lambda: sp1_constants(e, k3)))
+    last = sp1(axis_normal(S, j3), z - dot(z, k3)[..., None] * k3, k3, tol=0.0,
+               fixed=normal_sp1(S, j3))
     t3 = last.theta[0][..., 0]
     br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
     if singular:
@@ -146,8 +129,8 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     Branches, ``2 K`` slots (fewer once dead ones are dropped), the wrist's joints set
     """
     k = S.axis[joints[2]]
-    e = S.constant(("normal to axis", joints[2]), lambda: normal_to(k))
-    ke = S.constant(("axis and its normal", joints[2]), lambda: np.stack([k, e], -1))  # (3, 2)
+    ke = S.constant(("axis and its normal", joints[2]),
+                    lambda: np.stack([k, axis_normal(S, joints[2])], -1))          # (3, 2)
     vw = np.empty(br.ok.shape + (2, 3))
     if after:
         vw[...] = ke.T
@@ -155,7 +138,7 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     else:
         vw[...] = (Rt @ ke).swapaxes(-1, -2)
     vw = undo(S, br, before, vw)
-    return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :], e)
+    return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :])
 
 
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):

@@ -219,7 +219,14 @@ class Model:
         -------
         Model
             Random signs; the same ``B``, ``E``, ``L`` and offsets.
+
+        Raises
+        ------
+        ValueError
+            For a model with general ``links`` (their joints have no DH parameters to move).
         """
+        if self.links is not None:
+            raise ValueError("a model with general links of joints 1 and 2 is not perturbed")
         rng = np.random.default_rng(20240611)
         dd, da, dal = rng.uniform(0.5, 1.0, (3, 6)) * rng.choice([-1.0, 1.0], (3, 6)) * size
         return Model(self.B, self.E, self.L, self.offset, self.d + dd, self.a + da,
