@@ -57,14 +57,18 @@ class JointPolynomials:
     revolute: np.ndarray     # (n,) of bool
     length: float            # m: prismatic joints are fitted in d / length
     groups: tuple
+    #: the revolute joints some group takes to degree 1 (their rows are made together)
+    first: tuple = ()
 
     def __call__(self, Q) -> np.ndarray:
         """The quantities at configurations ``Q (m, n)`` (rad / m): ``(count, m)``."""
         Q = np.asarray(Q, float)
         out = np.empty((self.count, len(Q)))
-        bases = {}
+        bases = _first_harmonics(self, Q)
         for g in self.groups:
-            out[g.rows] = g.coefficients.T @ _basis(self, Q, g.joints, g.degrees, bases)
+            # a constant (no joints: one coefficient per row) is its coefficient times 1
+            out[g.rows] = g.coefficients.T @ _basis(self, Q, g.joints, g.degrees, bases) \
+                if g.joints else g.coefficients.T
         return out
 
 
@@ -103,7 +107,9 @@ def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
         Phi = _basis(model, grid, joints, deg)
         C = np.linalg.solve(Phi.T, quantities(grid)[rows].T)
         out.append(Group(joints, deg, np.array(rows, np.intp), C))
-    model = JointPolynomials(len(degrees), revolute, L, tuple(out))
+    first = tuple(sorted({j for g in out for j, d in zip(g.joints, g.degrees)
+                          if d == 1 and revolute[j]}))
+    model = JointPolynomials(len(degrees), revolute, L, tuple(out), first)
     Q = points[3:]
     miss = np.abs(model(Q) - quantities(Q)).max(-1)
     return model if np.all(miss <= AGREE * scale) else None
@@ -162,6 +168,21 @@ def _basis(model: JointPolynomials, Q, joints, degrees, bases=None) -> np.ndarra
             B = bases[j, d] = _joint_basis(model, Q[:, j], j, d)
         Phi = B if Phi is None else (Phi[:, None] * B).reshape(-1, len(Q))
     return np.ones((1, len(Q))) if Phi is None else Phi
+
+
+def _first_harmonics(model: JointPolynomials, Q) -> dict:
+    """The rows ``1, cos q, sin q`` ``(3, m)`` of each joint of ``model.first`` at ``Q (m,
+    n)``, by one cosine and one sine of them all: :func:`_basis`' ``bases`` for degree 1
+    (the values of :func:`_joint_basis`: the cosine of a value does not depend on the array
+    it is in)."""
+    if not model.first:
+        return {}
+    B = np.empty((len(model.first), 3, len(Q)))
+    B[:, 0] = 1.0
+    x = Q.T[list(model.first)]                  # (joints, m), each row contiguous
+    np.cos(x, out=B[:, 1])
+    np.sin(x, out=B[:, 2])
+    return {(j, 1): b for j, b in zip(model.first, B)}
 
 
 def _joint_basis(model: JointPolynomials, x, j: int, d: int) -> np.ndarray:

@@ -144,7 +144,7 @@ def _codes(R, dots) -> np.ndarray:
         up = lv * lz / np.maximum(ll - lh * lh, 1e-300) * R.upward
         e = R.elbow_row
         word[e] = np.where(np.abs(up) < R.on_line, word[e], up)
-    return np.where(word == 0.0, 0, R.first + (word < 0)).astype(np.int8)
+    return np.where(word == 0.0, np.int8(0), R.first + (word < 0))     # R.first: int8
 
 
 class Rules(NamedTuple):
