@@ -220,8 +220,8 @@ def _solutions(robot, sv: Solved, explain: bool):
     branch = sv.labels[0].tolist()
     if any(valid):
         singular = sv.singular[0].tolist()
-        free = sv.free[0].tolist()
-        violation = sv.violation[0].tolist()
+        within = sv.within[0].tolist()
+        free = sv.free[0].tolist() if sv.free[0].any() else None     # rarely any
     sols, rejected = [], []
     for k in slots:
         if not valid[k]:
@@ -229,8 +229,8 @@ def _solutions(robot, sv: Solved, explain: bool):
                 rejected.append({"q": q[k], "branch": branch[k], "position_error": pe[k],
                                  "orientation_error": oe[k], "reason": Missed(pe[k], oe[k])})
             continue
-        viol = _violation_list(violation[k]) if any(violation[k]) else []
-        joints = tuple(j for j, f in enumerate(free[k]) if f) if any(free[k]) else ()
+        viol = [] if within[k] else _violation_list(sv.violation[0, k])
+        joints = () if free is None else tuple(j for j, f in enumerate(free[k]) if f)
         sol = object.__new__(IKSolution)        # every field, without a frozen __setattr__ each
         sol.__dict__.update(q=q[k], branch=branch[k], position_error=pe[k],
                             orientation_error=oe[k], within_limits=not viol, violations=viol,
