@@ -38,9 +38,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..subproblems import sp1, sp4, sp5
+from ..subproblems import sp1, sp3, sp4, sp5
 from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
+from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
 from .branches import Branches
 from .resultant import common_root, eliminate, roots_in_c, samples
@@ -344,12 +345,9 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     q = S.turn(a, br.cos[a], -br.sin[a], pt) + fx.b_to_a
     q = q - dot(q, h)[..., None] * h
     u, v = fx.u, fx.v
-    # joint c: |u + R(h, x_c) v| = |q| (law of cosines; subproblem 3 of v, -u, kc: its
-    # coefficients are the robot's, only |q| varies)
-    d = np.sqrt(dot(q, q))
-    d2 = d * d
-    third = from_abc(fx.A, fx.B, fx.C, 0.5 * (fx.squares - d2),
-                     np.maximum(0.5 * (fx.squares + d2), reach), fixed=fx.third)
+    # joint c: |u + R(h, x_c) v| = |q| (law of cosines: subproblem 3, whose vectors are the
+    # robot's, only |q| varies)
+    third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach, fixed=fx.third)
     br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
         br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
@@ -372,26 +370,18 @@ class _ShoulderConstants(NamedTuple):
     b_to_a: np.ndarray  # (3,) o_a - o_b
     u: np.ndarray       # (3,) o_b to o_c, across h
     v: np.ndarray       # (3,) o_c to p0, across h
-    A: float            # subproblem 3 |R(kc, x) v + u| = d as subproblem 4 (sp3, sp4):
-    B: float            # A cos x + B sin x + C = (squares - d^2) / 2
-    C: float
-    squares: float      # |u|^2 + |v|^2
     first: tuple        # sp4_constants(h, w): joint a's subproblem 4 (w its axis)
-    third: tuple        # abc_constants(A, B, C): joint c's
+    third: tuple        # sp3_constants(v, -u, kc): joint c's subproblem 3
 
 
 def _shoulder_constants(S: Screws, P: Plan) -> _ShoulderConstants:
-    """:class:`_ShoulderConstants` (the coefficients as :func:`~kincalc.subproblems.sp3`
-    computes them for ``p1 = v``, ``p2 = -u``: the same roundings)."""
+    """:class:`_ShoulderConstants` of the offset shoulder ``P``."""
     a, b, c = P.joints
     h, kc = S.axis[b], S.axis[c]
     oa, ob, oc = S.point[a], S.point[b], S.point[c]
     u, v = (oc - ob) - ((oc - ob) @ h) * h, (P.p0 - oc) - ((P.p0 - oc) @ h) * h
-    m = -u                                          # sp3's p2: subproblem 4's direction
-    kp = kc @ v
-    A, B, C = m @ (v - kp * kc), m @ cross(kc, v), (m @ kc) * kp
-    return _ShoulderConstants(h @ (P.p0 - oa), oa - ob, u, v, A, B, C, v @ v + m @ m,
-                              sp4_constants(h, S.axis[a]), abc_constants(A, B, C))
+    return _ShoulderConstants(h @ (P.p0 - oa), oa - ob, u, v, sp4_constants(h, S.axis[a]),
+                              sp3_constants(v, -u, kc))
 
 
 def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:

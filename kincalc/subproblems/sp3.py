@@ -12,11 +12,38 @@ from __future__ import annotations
 
 import numpy as np
 
+from typing import NamedTuple
+
 from .solutions import Solutions, as_vectors, dot
-from .sp4 import sp4
+from .sp4 import AbcConstants, abc_constants, coefficients, from_abc
 
 
-def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
+class Sp3Constants(NamedTuple):
+    """What :func:`sp3` needs of fixed ``p1``, ``p2``, ``k`` (see :func:`sp3_constants`)."""
+
+    squares: np.ndarray     # (...) |p1|^2 + |p2|^2
+    abc: AbcConstants       # subproblem 4's coefficients of p2 . R(k, theta) p1
+
+
+def sp3_constants(p1, p2, k) -> Sp3Constants:
+    """What :func:`sp3` needs of ``p1``, ``p2``, ``k`` alone, for a solver whose vectors are
+    fixed (a robot's link lengths in a law of cosines): only ``d`` then varies.
+
+    Parameters
+    ----------
+    p1, p2, k : array_like (..., 3)
+        As in :func:`sp3`.
+
+    Returns
+    -------
+    Sp3Constants
+        Computed as :func:`sp3` computes them (the same bits).
+    """
+    p1, p2, k = as_vectors(p1, p2, k)
+    return Sp3Constants(dot(p1, p1) + dot(p2, p2), abc_constants(*coefficients(p2, p1, k)))
+
+
+def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None, fixed=None) -> Solutions:
     """Solve subproblem 3, ``|R(k, theta) p1 - p2| = d``, for every problem of a batch.
 
     Parameters
@@ -39,6 +66,9 @@ def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
         quantities (a target far from the origin) passes their size, so that a tangent
         within their rounding counts as one. The unit of the tolerances is the larger
         of the two.
+    fixed : Sp3Constants, optional
+        ``sp3_constants(p1, p2, k)``, for fixed vectors (``p1``, ``p2``, ``k`` are then
+        not read; the same result).
 
     Returns
     -------
@@ -55,13 +85,17 @@ def sp3(p1, p2, k, d, *, tol: float = 1e-12, scale=None) -> Solutions:
     ValueError
         When a vector is not of shape ``(..., 3)`` or the shapes do not broadcast.
     """
-    p1, p2, k = as_vectors(p1, p2, k)
+    if fixed is None:
+        p1, p2, k = as_vectors(p1, p2, k)
+        squares, (A, B, C), abc = dot(p1, p1) + dot(p2, p2), coefficients(p2, p1, k), None
+    else:
+        squares, abc = fixed
+        A, B, C = abc.A, abc.B, abc.C
     d = np.asarray(d, float)
     # the target is a difference of squares: its rounding is that of its terms, which
     # sets the tolerances (with the default, |p2| |p1|, a tangent between lengths of
     # different sizes came out not exact or as two roots, and an exactly solvable
-    # problem with p2 = 0 not exact)
-    squares = dot(p1, p1) + dot(p2, p2)
+    # problem with p2 = 0 not exact): subproblem 4 with h = p2, p = p1
     own = 0.5 * (squares + d * d)
-    return sp4(p2, p1, k, 0.5 * (squares - d * d), tol=tol,
-               scale=own if scale is None else np.maximum(own, scale))
+    return from_abc(A, B, C, 0.5 * (squares - d * d),
+                    own if scale is None else np.maximum(own, scale), tol=tol, fixed=abc)

@@ -111,20 +111,42 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None, fixed=None) -> Solutions:
     """
     if fixed is None:
         h, p, k = as_vectors(h, p, k)
+    else:
+        (p,), h = as_vectors(p), fixed.h
+    A, B, C = coefficients(h, p, k, fixed=fixed)
+    d = np.asarray(d, float)      # broadcast with the vectors' leading shape by from_abc
+    if scale is None:
+        scale = np.maximum((norm(h) if fixed is None else fixed.h_norm) * norm(p), np.abs(d))
+    return from_abc(A, B, C, d, scale, tol=tol)
+
+
+def coefficients(h, p, k, *, fixed=None) -> tuple:
+    """The coefficients of ``h . R(k, theta) p = A cos(theta) + B sin(theta) + C``.
+
+    ``A = h . (p - (k . p) k)``, ``B = h . (k x p)``, ``C = (h . k)(k . p)`` (Rodrigues'
+    formula dotted with ``h``).
+
+    Parameters
+    ----------
+    h, p, k : ndarray (..., 3)
+        As in :func:`sp4` (float arrays; ``h`` and ``k`` not read with ``fixed``).
+    fixed : Sp4Constants, optional
+        ``sp4_constants(h, k)``.
+
+    Returns
+    -------
+    A, B, C : ndarray (...)
+        In the unit of ``h . p``.
+    """
+    if fixed is None:
         hk, kxp = dot(h, k), cross(k, p)
     else:
-        (p,), (h, k, hk, h_norm, kx) = as_vectors(p), fixed
+        h, k, hk, _, kx = fixed
         # k x p as cross() makes it for a single k: rows times the crossing matrix
         kxp = cross(k, p) if kx is None or p.ndim == 1 else (p.reshape(-1, 3) @ kx).reshape(
             p.shape)
-    d = np.asarray(d, float)      # broadcast with the vectors' leading shape by from_abc
     kp = dot(k, p)
-    A = dot(h, p - kp[..., None] * k)
-    B = dot(h, kxp)
-    C = hk * kp
-    if scale is None:
-        scale = np.maximum((norm(h) if fixed is None else h_norm) * norm(p), np.abs(d))
-    return from_abc(A, B, C, d, scale, tol=tol)
+    return dot(h, p - kp[..., None] * k), dot(h, kxp), hk * kp
 
 
 class AbcConstants(NamedTuple):
