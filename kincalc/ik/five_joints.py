@@ -16,13 +16,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import wrap
-from ..structure import common_point
 from ..subproblems import sp1, sp2, sp4
-from ..subproblems.sp4 import sp4_constants
 from ..subproblems.solutions import Solutions
 from .branches import Branches
-from .pieces import (angle_about as _angle_about, axis_normal, one_root as _one,
-                     rotate as _mv, rotate_back as _mtv, target_rotation, turn_onto)
+from .pieces import (angle_about as _angle_about, axis_normal, axis_sp4, meeting_point,
+                     one_root as _one, rotate as _mv, rotate_back as _mtv, target_rotation,
+                     turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import spherical_taking, undo
@@ -103,8 +102,8 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
-    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0), fixed=S.constant(
-        ("sp4 constants", 3, 2), lambda: sp4_constants(k4, k3))).negated())
+    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0),
+                          fixed=axis_sp4(S, 3, 2)).negated())
     br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
     v = S.turn(2, c3, -s3, v)
     return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
@@ -115,8 +114,7 @@ def _wrist_pair_point(S: Screws, T, a):
     ``T (N, 4, 4)`` with approaches ``a (N, 3)`` need it, a fixed distance behind the tool
     point along the approach, ``(N, 3)`` (world frame, m)."""
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
-    c0 = S.constant(("common point of axes", 3, 5),
-                    lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    c0 = meeting_point(S, 3, S.n)
     return c0, T[:, :3, 3] - float((p0 - c0) @ a0) * a
 
 
@@ -147,8 +145,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
-    br = br.branch([3], sp4(h, k5, k4, u @ h, fixed=S.constant(
-        ("sp4 constants", 0, 3), lambda: sp4_constants(h, k4))))
+    br = br.branch([3], sp4(h, k5, k4, u @ h, fixed=axis_sp4(S, 0, 3)))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
@@ -179,8 +176,7 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    O = S.constant(("common point of axes", 0, 3),
-                   lambda: common_point(S.point[:3], S.axis[:3], np.inf))
+    O = meeting_point(S, 0, 3)
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u = _mtv(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
@@ -253,12 +249,11 @@ def base_angle(S: Screws, pt, a) -> Solutions:
     """
     h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
-    fixed = S.constant(("sp4 constants", 1, 0), lambda: sp4_constants(h, k1))
-    at = sp4(h, pt - o1, k1, h @ (p0 - o1), fixed=fixed).negated()
+    at = sp4(h, pt - o1, k1, h @ (p0 - o1), fixed=axis_sp4(S, 1, 0)).negated()
     on = at.free[..., :1]                                          # pt on axis 1
     if not np.count_nonzero(on):
         return at
-    by = sp4(h, a, k1, h @ a0, fixed=fixed).negated()
+    by = sp4(h, a, k1, h @ a0, fixed=axis_sp4(S, 1, 0)).negated()
     pick = lambda x, y: np.where(on, x, y)  # noqa: E731
     return Solutions((pick(by.theta[0], at.theta[0]),), (pick(by.c[0], at.c[0]),),
                      (pick(by.s[0], at.s[0]),), pick(by.ok, at.ok), at.exact,

@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..structure import common_point
 from ..subproblems import sp1
+from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
+from ..subproblems.sp4 import sp4_constants
 from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
 from .screws import Screws
@@ -47,6 +50,26 @@ def axis_normal(S: Screws, j: int) -> np.ndarray:
     """``normal_to(axis j) (3,)`` (world frame at q = 0), made once per screws: the fixed
     vector whose turn about axis j a solver reads a joint's angle from."""
     return S.constant(("normal to axis", j), lambda: normal_to(S.axis[j]))
+
+
+def meeting_point(S: Screws, start: int, stop: int) -> np.ndarray:
+    """Where the axes of joints ``start .. stop - 1`` meet ``(3,)`` (world frame at q = 0,
+    m; :func:`~kincalc.structure.common_point`), found once per screws."""
+    return S.constant(("common point of axes", start, stop), lambda: common_point(
+        S.point[start:stop], S.axis[start:stop], np.inf))
+
+
+def axis_sp4(S: Screws, i: int, j: int):
+    """:func:`~kincalc.subproblems.sp4.sp4_constants` of the component along axis ``i``
+    under a turn about axis ``j``, made once per screws."""
+    return S.constant(("sp4 constants", i, j), lambda: sp4_constants(S.axis[i], S.axis[j]))
+
+
+def axis_cone(S: Screws, i: int, j: int, k: int):
+    """:func:`~kincalc.subproblems.cone.cone_constants` of joint ``j`` turning axis ``k`` onto
+    a cone about axis ``i`` (``cone(axis i, axis k, axis j, v)``), made once per screws."""
+    return S.constant(("cone", i, j, k),
+                      lambda: cone_constants(S.axis[i], S.axis[k], S.axis[j]))
 
 
 def tool_point(S: Screws, T, p) -> np.ndarray:

@@ -58,11 +58,11 @@ class Plan(NamedTuple):
     o: np.ndarray           # (3,) the origin of joint a's invariants
     e: np.ndarray | None    # (2, 3) across a prismatic a's axis
     k: int = 0              # decoupled: the invariant free of x_b; pair: the one to use
-    abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants);
-    #                         pair: both invariants' (alpha, beta, gamma) at p0, in x_b
+    abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants)
+    abc_fixed: object = None  # decoupled, revolute c: abc_constants(*abc), for from_abc
+    at_p0: tuple = ()       # pair: both invariants' (alpha, beta, gamma) at p0, in x_b
     both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
     still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
-    fixed: object = None    # decoupled, revolute c: abc_constants(*abc), for from_abc
 
 
 def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
@@ -118,14 +118,14 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
         D = be[0, 0] * ga[1, 0] - be[1, 0] * ga[0, 0]
         both = bool(S.revolute[b] and dep.all()
                     and abs(D) > 1e-9 * max(np.abs(be).max() * np.abs(ga).max(), 1e-300))
-        abc = tuple(_coefficients(S, base, p0, i) for i in (0, 1))     # as _pair needs them
-        return Plan("pair", tuple(joints), p0, o, e, k=k, abc=abc, both=both)
+        at_p0 = tuple(_coefficients(S, base, p0, i) for i in (0, 1))   # as _pair needs them
+        return Plan("pair", tuple(joints), p0, o, e, k=k, at_p0=at_p0, both=both)
     c = joints[2]
     if not dep.all():
         k = int(np.flatnonzero(~dep)[0])
         abc = _fit_c(S, c, al[k])
         return Plan("decoupled", tuple(joints), p0, o, e, k=k, abc=abc,
-                    fixed=abc_constants(*abc) if S.revolute[c] else None)
+                    abc_fixed=abc_constants(*abc) if S.revolute[c] else None)
     if S.revolute[[a, b, c]].all():
         h, kc = S.axis[b], S.axis[c]
         if np.linalg.norm(np.cross(h, kc)) <= 1e-12 and \
@@ -238,7 +238,7 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
     A, B, C = P.abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[c]:
-        sol = from_abc(A, B, C, t, scale, fixed=P.fixed)
+        sol = from_abc(A, B, C, t, scale, fixed=P.abc_fixed)
         if br.explain:
             br = br.dead_end(c, np.arctan2(B, A), (t - C) / max(np.hypot(A, B), 1e-300),
                              ~sol.exact[..., 0] & br.ok, what)
@@ -429,13 +429,13 @@ def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Two joints: x_b from the invariants, then x_a."""
     t = _invariants(S, P, PT)              # the point is p0 itself: its coefficients are
     if P.both:                             # constants; both fix (cos x_b, sin x_b)
-        (a0, b0, g0), (a1, b1, g1) = P.abc
+        (a0, b0, g0), (a1, b1, g1) = P.at_p0
         a0, a1 = a0 - t[0], a1 - t[1]
         D = b0 * g1 - b1 * g0
         theta, c, s = angles((-a0 * g1 + a1 * g0) / D, (-b0 * a1 + b1 * a0) / D)
         br = br.set(P.joints[1], theta, c, s)
     else:
-        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what, P.abc[P.k])
+        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what, P.at_p0[P.k])
     return _solve_a(S, P, br, br.take(PT))
 
 

@@ -14,15 +14,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..structure import common_point
 from ..subproblems import sp4
-from ..subproblems.sp4 import sp4_constants
-from ..subproblems.cone import cone, cone_constants
+from ..subproblems.cone import cone
 from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
-from .pieces import (angle_about as _angle_about, axis_normal, back as _back,
-                     inverse_home as _minv, rotate as _mv, rotate_back as _mtv,
-                     target_rotation, tool_point, turn_onto)
+from .pieces import (angle_about as _angle_about, axis_cone, axis_normal, axis_sp4,
+                     back as _back, inverse_home as _minv, meeting_point, rotate as _mv,
+                     rotate_back as _mtv, target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
@@ -49,8 +47,7 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    c0 = S.constant(("common point of axes", 3, 6),
-                    lambda: common_point(S.point[3:], S.axis[3:], np.inf))
+    c0 = meeting_point(S, 3, 6)
     ct = tool_point(S, T, c0)
     br = place(S, br, (0, 1, 2), c0, ct, what="the wrist centre")
     if br.explain:
@@ -85,13 +82,11 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     h, k1, o1 = S.axis[1], S.axis[0], S.point[0]
-    c56 = S.constant(("common point of axes", 4, 6),
-                     lambda: common_point(S.point[4:], S.axis[4:], np.inf))
+    c56 = meeting_point(S, 4, 6)
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
-    br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=S.constant(
-        ("sp4 constants", 1, 0), lambda: sp4_constants(h, k1))).negated())
+    br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=axis_sp4(S, 1, 0)).negated())
     Rt = target_rotation(S, T)
     br, sigma = _parallel_wrist(S, T, br, Rt, 1, (1, 2, 3))
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
@@ -138,8 +133,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     v = np.full(br.ok.shape + (3,), _mv(Rt, k6))          # R_t k6 at every slot
     if first:
         v = S.turn(0, br.cos[0], -br.sin[0], v)
-    fifth = cone(h, k6, k5, v, fixed=S.constant(("cone", hj, 4, 5),
-                                                 lambda: cone_constants(h, k6, k5)))
+    fifth = cone(h, k6, k5, v, fixed=axis_cone(S, hj, 4, 5))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
     br = br.branch([4], fifth, free=False)

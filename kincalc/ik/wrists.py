@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..subproblems import sp1
-from ..subproblems.cone import cone, cone_constants
+from ..subproblems.cone import cone
 from ..subproblems.solutions import cross, dot
 from .branches import Branches
-from .pieces import axis_normal, normal_sp1
+from .pieces import axis_cone, axis_normal, normal_sp1
 from ..spatial import wrap
 from .screws import Screws
 
@@ -81,8 +81,7 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     """
     j1, j2, j3 = joints
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
-    middle = cone(k1, k3, k2, v, fixed=S.constant(("cone", j1, j2, j3),
-                                                  lambda: cone_constants(k1, k3, k2)))
+    middle = cone(k1, k3, k2, v, fixed=axis_cone(S, j1, j2, j3))
     # the free joint is the first: the middle one's roots go in as not free, and where
     # the wrist is aligned (the same in both roots) is carried to the new slots
     br = br.branch([j2], middle, least_squares=True, free=False)
