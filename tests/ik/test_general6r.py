@@ -370,13 +370,13 @@ def test_clustered_eigenvalues_of_wrist_flips(monkeypatch):
     sizes = []
     split = elimination.split_clusters
 
-    def spy(v, phi, keep, Sig):
+    def spy(v, phi, keep, Sig, *args):
         # sizes of the runs of real candidates closer than CLUSTER_TOL (sorted angles)
         key = np.sort(np.where(keep, phi.real, np.inf), axis=1)
         for row in np.diff(key, axis=1) < common.CLUSTER_TOL:
             runs = np.diff(np.flatnonzero(np.r_[True, ~row, True]))
             sizes.extend(runs[runs > 1].tolist())
-        return split(v, phi, keep, Sig)
+        return split(v, phi, keep, Sig, *args)
 
     monkeypatch.setattr(elimination, "split_clusters", spy)
     robot = load_robot("puma560")

@@ -282,6 +282,28 @@ def test_a_chain_of_more_than_twelve_eigenvalues_keeps_its_own_vectors():
     assert np.isfinite(q).all() and np.all(pose == 0) and np.all(slot < width)
 
 
+def test_a_conjugate_pair_is_a_cluster_only_near_the_real_axis():
+    """Synthetic eigenvalues (random Sigma, 16 slots): a conjugate pair whose angles are
+    3e-2 rad off the real axis is a complex root, not a double root split by rounding: no
+    subspace vectors, its own two stay candidates. One 1e-4 off (rounding's kind of split)
+    is a cluster, and with ``pair_imag`` of a perturbed model (IMAG_TOL) both are."""
+    from kincalc.ik.general6r.common import IMAG_TOL, PAIR_IMAG
+    from kincalc.ik.general6r.elimination import split_clusters
+    rng = np.random.default_rng(3)
+    phi = np.linspace(-2.5, 2.5, 16).astype(complex)
+    v = rng.standard_normal((1, 12, 16)) + 0j
+    Sig = rng.standard_normal((1, 12, 36))
+    for off, pair_imag, treated in [(3e-2, PAIR_IMAG, False), (1e-4, PAIR_IMAG, True),
+                                    (3e-2, IMAG_TOL, True)]:
+        p = phi.copy()
+        p[[4, 5]] = 0.3 + off * 1j, 0.3 - off * 1j
+        keep = np.abs(p.imag) < IMAG_TOL
+        kept, extra, continuum = split_clusters(v, p[None], keep[None].copy(), Sig, pair_imag)
+        assert (extra is not None) == treated, (off, pair_imag)
+        if not treated:
+            assert kept.all() and not continuum.any()
+
+
 def test_tight_subclusters_of_a_chain():
     """Synthetic angles (rad): an exact double (triple) root chained to distinct roots 3e-4
     away is a tight sub-cluster; a defective triple root split by rounding into a real angle

@@ -22,6 +22,10 @@ MERGE_TOL = 1e-6
 IMAG_TOL = 0.05
 #: eigenvalues (as angles, rad) closer than this are treated as one cluster.
 CLUSTER_TOL = 1e-3
+#: |Im(theta_3)| (rad) below which a conjugate pair of the robot's own pencil (not a
+#: perturbed one) is treated as a cluster: a real double root split by rounding (some
+#: sqrt(eps * condition), at most ~1e-3), not a complex root near the real axis.
+PAIR_IMAG = 1e-2
 #: sizes of the generic perturbations of the last resort (scaled units, rad).
 PERTURB = (1e-3, 1e-4)
 

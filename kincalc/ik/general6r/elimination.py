@@ -9,7 +9,7 @@ import functools
 import numpy as np
 
 from .common import (CLUSTER_TOL, COND_BAD, COND_GOOD, DELTAS, IMAG_TOL, INV_PAD, LIMITS,
-                     SIGMA_MAPS, nnz, reduce_all, reduce_max, reduce_min, reduce_sum)
+                     PAIR_IMAG, SIGMA_MAPS, nnz, reduce_all, reduce_max, reduce_min, reduce_sum)
 
 
 # --- the elimination, for a batch of poses -----------------------------------
@@ -60,7 +60,7 @@ def _sigma(S, k):
     return (S @ SIGMA_MAPS[k]).reshape(-1, 6, 2, 36).transpose(0, 2, 1, 3).reshape(-1, 12, 36)
 
 
-def eliminate(model, T):
+def eliminate(model, T, pair_imag=PAIR_IMAG):
     """Raw candidates of the model's standard form (pivot: its joint 3) for the poses ``T``.
 
     Parameters
@@ -69,6 +69,8 @@ def eliminate(model, T):
         One model for all poses, or one per pose (leading dimension M).
     T : ndarray (M, 4, 4)
         Poses ``T_world_tool`` (SI).
+    pair_imag : float
+        The largest |Im| (rad) of a conjugate pair that is a cluster (:func:`split_clusters`).
 
     Returns
     -------
@@ -96,7 +98,7 @@ def eliminate(model, T):
         keep = np.abs(phi.imag) < IMAG_TOL
         if not all_ok:
             keep &= ok[:, None]
-        keep, extra, continuum = split_clusters(v, phi, keep, Sig)
+        keep, extra, continuum = split_clusters(v, phi, keep, Sig, pair_imag)
         pose, slot = np.nonzero(keep)
         vs, th3 = v[pose, :, slot], phi.real[pose, slot]
         width = 16
@@ -269,15 +271,16 @@ def _ratio_angles(v):
     return 2.0 * np.where(dlo >= dhi, np.arctan2(cr, dlo), np.arctan2(dhi, cr))
 
 
-def split_clusters(v, phi, keep, Sig):
+def split_clusters(v, phi, keep, Sig, pair_imag=PAIR_IMAG):
     """Better vectors for clustered eigenvalues, all clusters of all poses at once.
 
     Solutions that share the pivot angle (e.g. the two wrist flips of a spherical wrist when the
     pivot is an arm joint) give a multiple eigenvalue, often defective in the companion form: it
     splits by up to ~sqrt(eps) and eig's vectors are arbitrary mixtures, or nearly parallel. The
     mean of a cluster is accurate (Manocha & Canny 1994, sec. V-B), so each cluster of m eigenvalues
-    (real parts of the angles within CLUSTER_TOL of the next; this includes a conjugate pair with a
-    small imaginary part, which is how a near-double real root often comes out) gets the mean angle
+    (real parts of the angles within CLUSTER_TOL of the next; also a conjugate pair closer than
+    ``pair_imag`` to the real axis, as rounding splits a double root, by ~sqrt(eps * condition), or
+    a perturbed model, by ~sqrt(its size): a pair farther off is a complex root) gets the mean angle
     and, as its space, the m smallest right singular vectors ``N`` of ``Sigma`` there (see
     :func:`_subspace_vectors`). The cluster's own eigenvectors compete (they are right when its
     eigenvalues are distinct roots that merely lie close): of the 2m vectors, those within 1e-3 of a
@@ -292,8 +295,8 @@ def split_clusters(v, phi, keep, Sig):
     Parameters
     ----------
     v, phi : ndarray (M, 12, n), (M, n) complex, the eigenvectors and their angles (rad)
-    keep : ndarray (M, n) of bool, the real candidates
-    Sig : ndarray (M, 12, 36), ``[C | B | A]`` of each pose
+    keep, Sig : ndarray (M, n) bool, the real candidates; (M, 12, 36) ``[C | B | A]`` per pose
+    pair_imag : float, the largest |Im(phi)| (rad) of a conjugate pair that is treated
 
     Returns
     -------
@@ -309,10 +312,10 @@ def split_clusters(v, phi, keep, Sig):
     sk = np.sort(key, axis=1)
     if not nnz(sk[:, 1:] - sk[:, :-1] < CLUSTER_TOL):
         return keep, None, None                          # no cluster (the common case)
-    order, start, run = _runs(key, sk)
+    order, start, run, imag = _runs(key, sk, np.abs(phi.imag))
     # Sigma (12 x 12) has a null space at a cluster's mean only up to 12 wide: a longer chain
     # (a pencil all but singular, e.g. a perturbed robot at a degenerate pose) keeps its vectors
-    treat = start & (run >= 2) & (run <= 12)
+    treat = start & (run >= 2) & (run <= 12) & ((run > 2) | (imag < pair_imag))
     continuum = np.logical_or.reduce(start & (run > 12), axis=1)
     rows = np.flatnonzero(np.logical_or.reduce(treat, axis=1))
     if not len(rows):
@@ -320,14 +323,14 @@ def split_clusters(v, phi, keep, Sig):
     at = np.zeros(M, int)
     at[rows] = np.arange(len(rows))                      # pose -> row of the extra slots
     sizes = np.flatnonzero(np.bincount(run[treat]))    # (not np.unique: it imports numpy.ma)
-    tight = _tight_subclusters(phi, order, start, run, sizes[sizes >= 3])
+    tight = _tight_subclusters(phi, order, treat, run, sizes[sizes >= 3])
     w = 2 * n if tight else n
     v2 = np.zeros((len(rows), 12, w), complex)
     v2[:, 0] = 1.0
     phi2 = np.zeros((len(rows), w), complex)
     keep2 = np.zeros((len(rows), w), bool)
     for k in sizes:
-        pg, j0 = np.nonzero(start & (run == k))
+        pg, j0 = np.nonzero(treat & (run == k))
         members = order[pg[:, None], j0[:, None] + np.arange(k)]       # (p, k) slots
         mean, sub = _subspace_vectors(phi, Sig, pg, members)
         sub = np.swapaxes(sub, 1, 2)                                    # (p, k, 12)
@@ -350,10 +353,11 @@ def split_clusters(v, phi, keep, Sig):
     return keep, (rows, v2, phi2, keep2), continuum
 
 
-def _runs(key, sk):
+def _runs(key, sk, imag):
     """The runs of close neighbours (within CLUSTER_TOL) of the sorted ``key (M, n)`` (``sk``,
     sorted along its rows): the sort ``order (M, n)``, whether a run begins at a sorted
-    position ``start (M, n)`` and the size of the run at each ``run (M, n)``."""
+    position ``start (M, n)``, the size of the run at each ``run (M, n)`` and the largest
+    ``imag (M, n)`` (any per-slot value) of its members."""
     M, n = key.shape
     order = np.argsort(key, axis=1)
     close = np.diff(sk, axis=1) < CLUSTER_TOL
@@ -361,7 +365,9 @@ def _runs(key, sk):
     flat = (np.arange(M)[:, None] * n + gid).ravel()          # group id per sorted position
     size = np.bincount(flat, minlength=M * n)
     start = np.concatenate([np.ones((M, 1), bool), ~close], axis=1)
-    return order, start, size[flat].reshape(M, n)
+    top = np.zeros(M * n)
+    np.maximum.at(top, flat, np.take_along_axis(imag, order, axis=1).ravel())
+    return order, start, size[flat].reshape(M, n), top[flat].reshape(M, n)
 
 
 #: a sub-cluster of a chain is tight when its diameter times this is below its distance to the

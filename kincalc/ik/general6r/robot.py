@@ -9,7 +9,7 @@ from ...chain import Chain
 from ...spatial import invert_transform, wrap
 from ...structure import dh_frames
 from ..cache import per_robot
-from .common import PARALLEL_TOL, PERTURB
+from .common import IMAG_TOL, PARALLEL_TOL, PERTURB
 from .elimination import eliminate
 from .model import Model
 from .polish import newton_curvature
@@ -251,7 +251,8 @@ class _Robot6R:
             # after every pivot slot (a pose's order of slots does not depend on the batch)
             lo = offset = max((p[3] for p in pieces), default=0)
             for model in self.perturbed:
-                pose, slot, q, _, width, _ = eliminate(model, T[todo])
+                # (a perturbed model splits a double root into a pair ~sqrt(size) apart)
+                pose, slot, q, _, width, _ = eliminate(model, T[todo], pair_imag=IMAG_TOL)
                 pieces.append((todo[pose], slot + offset, q, offset + width))
                 offset += width
         if len(pieces) == 1:
