@@ -92,29 +92,39 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
             bound = give_up[it]
             go &= r < (bound[rows] if np.ndim(bound) else bound)
         res[rows] = r
-        if it == iterations or not np.count_nonzero(go):
+        stepping = np.count_nonzero(go)
+        if it == iterations or not stepping:
             break
         J = jacobian(go)
-        rows, e = rows[go], e[go]
+        if stepping < len(go):                 # (every row steps: the common case)
+            rows, e, r = rows[go], e[go], r[go]
         moved[rows] = True
-        dx = _step(J, e, damping)
-        if max_step < np.inf:
-            big = np.maximum.reduce(np.abs(dx), axis=-1)
-            if np.count_nonzero(big > max_step):          # else every factor below is 1
-                dx *= np.minimum(1.0, max_step / np.maximum(big, 1e-300))[:, None]
+        dx, adx = _limited(_step(J, e, damping), max_step)
         x[rows] += dx
         if settle is not None:
-            rows = _unsettled(rows, res, e, J, dx, settle, 0.1 * tol)
+            rows = _unsettled(rows, res, e, r, J, dx, adx, settle, 0.1 * tol)
     return x, res, moved
 
 
-def _unsettled(rows, res, e, J, dx, C, bound):
-    """The ``rows`` whose step ``dx (m, n)`` from residual ``e (m, r)`` (Jacobian ``J``)
-    may leave a residual of ``bound`` or more (the ``settle`` bound of :func:`polish`, with
-    ``C``); the others get that bound in ``res``."""
-    l1 = np.add.reduce(np.abs(dx), axis=-1)
-    b = np.maximum.reduce(np.abs(e - (J @ dx[..., None])[..., 0]), axis=-1) \
-        + C * (l1 + np.maximum.reduce(np.abs(e), axis=-1)) * l1
+def _limited(dx, max_step):
+    """``(dx, |dx|)``: the steps ``dx (m, n)`` shortened to at most ``max_step`` in their
+    largest component, and their absolute values."""
+    adx = np.abs(dx)
+    if max_step < np.inf:
+        big = np.maximum.reduce(adx, axis=-1)
+        if np.count_nonzero(big > max_step):          # else every factor below is 1
+            dx = dx * np.minimum(1.0, max_step / np.maximum(big, 1e-300))[:, None]
+            adx = np.abs(dx)
+    return dx, adx
+
+
+def _unsettled(rows, res, e, emax, J, dx, adx, C, bound):
+    """The ``rows`` whose step ``dx (m, n)`` (``adx`` its absolute values) from residual
+    ``e (m, r)`` (``emax (m,)`` its largest absolute value per row; Jacobian ``J``) may leave
+    a residual of ``bound`` or more (the ``settle`` bound of :func:`polish`, with ``C``); the
+    others get that bound in ``res``."""
+    l1 = np.add.reduce(adx, axis=-1)
+    b = np.maximum.reduce(np.abs(e - (J @ dx[..., None])[..., 0]), axis=-1) + C * (l1 + emax) * l1
     done = b < bound
     if not np.count_nonzero(done):
         return rows

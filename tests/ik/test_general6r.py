@@ -619,6 +619,7 @@ def test_merge_screen_finds_every_duplicate_pair():
                 expected[m, i] |= good[m, j] and bool(np.all(d < MERGE_TOL))
     assert expected.sum() >= 20
     assert np.array_equal(_duplicates(wrap(Qd), good), expected)
+    assert _duplicates(wrap(Qd), np.zeros_like(good)) is None          # none: no array
 
 
 @pytest.mark.parametrize("name", ["manocha_canny_6r", "kinova_gen3_lite"])

@@ -119,15 +119,15 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP, curvatur
         # the walk for any number of rows: a candidate's bits do not depend on the others'
         # (Newton amplifies the last bit where a pose has a continuum of solutions)
         A = entry_frames(chain, q, column_walk=True)
-        F = np.zeros((len(q), 4, 4))            # the layout of jacobian_and_pose's pose
-        F[:, :3] = A[:, :, -1].transpose(2, 0, 1)
+        F = np.ascontiguousarray(A[:, :, -1].transpose(2, 0, 1))        # tool poses (m, 3, 4)
         Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
-        R = Tr[:, :, :3] @ F[:, :3, :3].swapaxes(-1, -2)
+        R = Tr[:, :, :3] @ F[:, :, :3].swapaxes(-1, -2)
         v, c2 = skew_trace(R)
         # the Jacobian (that of jacobian_and_pose) only of the candidates that take a step
-        return (np.concatenate([Tr[:, :, 3] - F[:, :3, 3], rotation_log(v, c2, R)], axis=1),
-                lambda keep: np.ascontiguousarray(
-                    frames_jacobian(A[..., keep], chain.revolute).transpose(2, 0, 1)))
+        return (np.concatenate([Tr[:, :, 3] - F[:, :, 3], rotation_log(v, c2, R)], axis=1),
+                lambda keep: np.ascontiguousarray(frames_jacobian(
+                    A if np.count_nonzero(keep) == len(keep) else A[..., keep],
+                    chain.revolute).transpose(2, 0, 1)))
     return polish(evaluate, Q, iterations=iters, tol=1e-13, damping=1e-14,
                   stall=1e-2 * ACCEPT_TOL, give_up=give_up, max_step=STEP_MAX,
                   settle=newton_curvature(chain) if curvature is None else curvature)

@@ -104,7 +104,7 @@ def _solve_block(data, T, Q_out, ok):
         Qd[pose, rank] = Qp
         good[pose, rank] = True
         dup = _duplicates(Qd, good)
-        if nnz(dup):
+        if dup is not None:
             new = ~dup[pose, rank]
             pose, Qp = pose[new], Qp[new]
             rank = np.arange(len(pose)) - np.searchsorted(pose, pose)
@@ -138,14 +138,18 @@ def _first_regular(chain, pose, rank, Qp, K):
 
 def _duplicates(Qd, good):
     """``(M, S)``: slot i of a pose is within MERGE_TOL (wrapped, every joint) of a good slot
-    j < i of it; ``Qd (M, S, 6)`` wrapped to (-pi, pi], ``good (M, S)``. The pairs are
-    screened by their first joint (a pose's slots rarely share it)."""
+    j < i of it; ``Qd (M, S, 6)`` wrapped to (-pi, pi], ``good (M, S)``; None when there is
+    none. The pairs are screened by their first joint (a pose's slots rarely share it)."""
     M, S = good.shape
     d = np.abs(Qd[:, :, None, 0] - Qd[:, None, :, 0])
     pose, i, j = np.nonzero(((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL))
                             & _EARLIER[:S, :S] & good[:, None, :])
+    if not len(pose):
+        return None
     d = np.abs(Qd[pose, i] - Qd[pose, j])
     same = reduce_all((d < MERGE_TOL) | (d > 2.0 * np.pi - MERGE_TOL), axis=1)
+    if not nnz(same):
+        return None
     dup = np.zeros((M, S), bool)
     dup[pose[same], i[same]] = True
     return dup
