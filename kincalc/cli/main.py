@@ -8,6 +8,7 @@ Exit statuses (PRODUCT.md): 0 done; 1 a well-formed question answered "no";
 
 from __future__ import annotations
 
+import errno
 import sys
 
 import click
@@ -209,6 +210,7 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
         # (and typer turns a KeyboardInterrupt into Exit(130), quietly)
         status = app(args=args, prog_name="kincalc", standalone_mode=False)
+        sys.stdout.flush()          # (a write that fails fails here, not at the exit)
         return status if isinstance(status, int) else 0
     except SystemExit as exc:
         # typer and click meet a closed stdout (EPIPE) with sys.exit(1), which the README
@@ -250,6 +252,9 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
     except Exception as exc:  # a bug: say so, and how to see it
         if debug:
             raise
+        if _unwritable(exc):        # (not a bug: the system refused the output)
+            sys.stderr.write(f"kincalc: error: cannot write the output: {_write_error(exc)}\n")
+            return 2
         sys.stderr.write(f"kincalc: internal error: {type(exc).__name__}: {_one_line(str(exc))}. "
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
@@ -306,6 +311,28 @@ def _stdout_closed() -> int:
     os.dup2(null, fd)
     os.close(null)
     return EXIT_STDOUT_CLOSED
+
+
+#: the errors of a write the system refused: the output's device or file system, not kincalc
+#: (no space, quota, file too large, an I/O error, a read-only file system, a closed
+#: descriptor)
+WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO, errno.EROFS, errno.EBADF}
+
+
+def _unwritable(exc: BaseException) -> bool:
+    """Is ``exc`` an output the system would not take (:data:`WRITE_ERRNOS`, or text the
+    output's encoding cannot hold), rather than a bug?"""
+    if isinstance(exc, UnicodeEncodeError):
+        return True
+    return isinstance(exc, OSError) and exc.errno in WRITE_ERRNOS
+
+
+def _write_error(exc: BaseException) -> str:
+    """The reason of :func:`_unwritable` ``exc`` in words."""
+    if isinstance(exc, UnicodeEncodeError):
+        return (f"the output's encoding ({exc.encoding}) cannot hold its text; "
+                "set PYTHONIOENCODING=utf-8")
+    return exc.strerror or str(exc)
 
 
 def _one_line(text: str) -> str:

@@ -6,6 +6,7 @@ single-pose commands' JSON for the IK labels and limit flags.
 """
 
 import csv
+import errno
 import io
 import json
 import os
@@ -694,6 +695,41 @@ def test_a_closed_stdout_in_process_is_141(monkeypatch):
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b'{"q": [0,0,0,0,0,0]}\n')))
     assert main(["fk", "puma560", "--batch", "-"]) == 141      # (typer's sys.exit(1) was 1)
     assert err.getvalue() == ""
+
+
+@pytest.mark.parametrize("args", [["fk", "puma560"], ["fk", "puma560", "--json"],
+                                  ["fk", "puma560", "--batch", "-"], ["robots", "list"]])
+@pytest.mark.parametrize("error", [OSError(errno.ENOSPC, "No space left on device"),
+                                   OSError(errno.EIO, "Input/output error"),
+                                   UnicodeEncodeError("ascii", "\u03b8", 0, 1, "no")])
+def test_an_output_the_system_refuses_is_one_line_and_2(monkeypatch, args, error):
+    """A full disk (``> /dev/full``) or a terminal whose encoding cannot hold the text was
+    called "internal error ... a bug in kincalc", exit 3: the write failed, not kincalc."""
+    class Refusing(io.StringIO):
+        def write(self, text):
+            raise error
+    monkeypatch.setattr(sys, "stdout", Refusing())
+    err = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(b'{"q": [0,0,0,0,0,0]}\n')))
+    assert main(args) == 2
+    lines = err.getvalue().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("kincalc: error: cannot write the output: ")
+    assert "bug" not in lines[0]
+
+
+def test_an_os_error_that_is_not_a_write_is_still_a_bug(monkeypatch):
+    """Only the write errors of the system (:data:`WRITE_ERRNOS`) are the user's: any other
+    OSError escaping a command stays an internal error (exit 3)."""
+    from kincalc.model import Robot
+
+    def boom(*a, **k):
+        raise OSError(errno.EACCES, "Permission denied")
+    monkeypatch.setattr(Robot, "fk", boom)
+    err = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    assert main(["fk", "puma560", "--json"]) == 3
+    assert "internal error" in err.getvalue()
 
 
 @pytest.mark.parametrize("jobs", ["1", "2"])
