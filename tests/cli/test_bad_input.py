@@ -149,7 +149,13 @@ BAD_FILES = [
 
     # --- top level ----------------------------------------------------------
     BadFile("top-level-list", "- name: arm3\n- convention: dh\n", ("must be a mapping", "list")),
-    BadFile("top-level-scalar", "arm3\n", ("must be a mapping", "'arm3'")),
+    BadFile("top-level-scalar", "arm3\n", ("must be a mapping", "a text of 4 characters")),
+    # a one-line .env or token given as a robot file: its line is not shown (the tester saw
+    # 38 of the 40 characters of a secret key quoted back)
+    BadFile("top-level-one-line-secret",
+            "AWS_SECRET_ACCESS_KEY=wJalrXUtnFEMI/K7MDENG/bPxRfiCYEXAMPLEKEY\n",
+            ("must be a mapping", "a text of 62 characters", "is it a robot file?"),
+            forbid=("AWS", "wJalr")),
     # a file that is no robot file (a key, a .env) is one text over its lines: the message
     # names line 1 and echoes nothing of the lines after it
     BadFile("top-level-text-over-lines", "-----BEGIN KEY-----\nS3CRET-LINE-2\nS3CRET-LINE-3\n",

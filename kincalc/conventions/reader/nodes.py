@@ -158,6 +158,32 @@ class NodeReader:
         raise RobotFileError(self.file, line, message, self.joint, self.joint_name)
 
     # node kinds ----------------------------------------------------------
+    def document(self, root, what: str, keys: dict) -> dict:
+        """:meth:`mapping` of a whole file's ``root``. A file that is one text, not a mapping
+        (a key, a ``.env``, a script given by mistake), is named by its length only: its
+        one line may be a secret, and it is no line of a robot file to show.
+
+        Parameters
+        ----------
+        root : yaml.Node
+            The file's document.
+        what : str
+            The file's kind, for messages (``"the robot file"``).
+        keys : dict of str to bool
+            As for :meth:`mapping`.
+
+        Returns
+        -------
+        dict of str to yaml.Node
+            As :meth:`mapping`.
+        """
+        import yaml
+        if isinstance(root, yaml.ScalarNode) and root.value != "" \
+                and len(set(self.lines(root))) == 1:         # (over lines: named by them)
+            self.fail(root, f"{what} must be a mapping (key: value), not a text of "
+                            f"{len(root.value)} characters (is it {what.replace('the ', 'a ', 1)}?)")
+        return self.mapping(root, what, keys)
+
     def mapping(self, node, what: str, keys: dict[str, bool]) -> dict:
         """The entries of a mapping node, checked against the keys it may have.
 

@@ -158,7 +158,7 @@ class RobotReader(Reader):
             convention or unit, a poe file without ``tool``, or as :meth:`joint_list`,
             :meth:`read_parameters`, :meth:`pose`, :meth:`home_values`.
         """
-        top = self.mapping(root, "the robot file", TOP_KEYS)
+        top = self.document(root, "the robot file", TOP_KEYS)
         name = self.text(top["name"], "'name'")
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")

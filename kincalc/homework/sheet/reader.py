@@ -128,7 +128,7 @@ class _SheetReader(AnswerReader, Reader):
     # the sheet ---------------------------------------------------------------------
     def sheet(self, root) -> Sheet:
         from ...analysis.results import Units
-        top = self.mapping(root, "the sheet", SHEET_KEYS)
+        top = self.document(root, "the sheet", SHEET_KEYS)
         if "kincalc-sheet" in top:
             version = self.text(top["kincalc-sheet"], "'kincalc-sheet'")
             if version.strip() != "1":
