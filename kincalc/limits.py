@@ -68,6 +68,10 @@ MAX_SAMPLES = 5_000_000
 #: closed-form IK)
 MAX_ORIENTATIONS = 1000
 
+#: the most worker processes ``--batch --jobs`` starts (each is a copy of kincalc, some
+#: 25 MB: -j 1000 started 955 processes and 24 GB for one record)
+MAX_JOBS = 64
+
 #: the most round trips ``kincalc selftest --trials`` takes (drawn in chunks: memory stays
 #: small, but a round trip takes up to a few milliseconds)
 MAX_TRIALS = 1_000_000

@@ -12,6 +12,7 @@ import click
 import typer
 
 from ..errors import InputError, UsageError
+from ..limits import MAX_JOBS
 
 #: Let negative numbers through as plain arguments (``kincalc fk puma560 0 -45``):
 #: click would otherwise read "-45" as the short options -4 -5.
@@ -105,8 +106,9 @@ InputFormatOpt = Annotated[str, typer.Option(
          "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
          "line is a header of column names, else JSON lines.")]
 JobsOpt = Annotated[int, typer.Option(
-    "--jobs", "-j", metavar="N", min=1,
-    help="With --batch: solve chunks of records in N processes (output order kept).")]
+    "--jobs", "-j", metavar="N", min=1, max=MAX_JOBS,
+    help=f"With --batch: solve chunks of records in N processes, N at most {MAX_JOBS} "
+         "(output order kept).")]
 
 
 def display_units(robot, deg: bool, unit: str | None):

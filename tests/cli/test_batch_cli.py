@@ -468,6 +468,19 @@ def test_an_over_long_line_is_its_records_error_and_reading_goes_on():
     assert parsed[1][2] == "record 2: longer than 64 KiB, kincalc's limit for a --batch line"
 
 
+def test_the_cr_of_a_crlf_line_end_is_not_part_of_the_line():
+    """A line of exactly MAX_RECORD_BYTES was a record ending in LF but "longer than 64 KiB"
+    ending in CRLF (the README: the CR is not part of the line); a byte more is over-long
+    with either end, also as the last line of the input."""
+    full = b"{" + b" " * (MAX_RECORD_BYTES - 2) + b"}"
+    over = full + b" "
+    for end in (b"\n", b"\r\n"):
+        header, lines = _records(_Bytes(full + end, over + end, full + end.rstrip(b"\n")))
+        assert lines == [full + end[:-1], None, full + end[:-1]], end
+        header, lines = _records(_Bytes(over + end.rstrip(b"\n")))
+        assert lines == [None], end
+
+
 def test_an_endless_line_ends_the_input_after_a_bounded_read():
     """/dev/zero was read until memory ran out: now its one line is record 1's error, and
     reading stops after MAX_BATCH_SKIP_BYTES."""

@@ -54,7 +54,12 @@ def lines_of(data: bytes) -> list[bytes]:
     lines = data.split(b"\n")
     if lines[-1] == b"":
         lines.pop()
-    return [ln for ln in lines if len(ln) > MAX_RECORD_BYTES or ln.strip(_WHITE)]
+    return [ln for ln in lines if over_long(ln) or ln.strip(_WHITE)]
+
+
+def over_long(line: bytes) -> bool:
+    """Longer than the limit, the CR of a CRLF end not counted."""
+    return len(line) - line.endswith(b"\r") > MAX_RECORD_BYTES
 
 
 def is_csv(data: bytes, input_format: str, name: str = "-") -> bool:
@@ -63,7 +68,7 @@ def is_csv(data: bytes, input_format: str, name: str = "-") -> bool:
     if name.endswith(".csv") or name.endswith((".jsonl", ".ndjson")):
         return name.endswith(".csv")
     lines = lines_of(data)
-    if not lines or len(lines[0]) > MAX_RECORD_BYTES or b"\0" in lines[0]:
+    if not lines or over_long(lines[0]) or b"\0" in lines[0]:
         return False
     try:
         text = lines[0].strip(_WHITE).decode("utf-8")

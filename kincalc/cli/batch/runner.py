@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import sys
 
-from ...limits import MAX_BATCH_SKIP_BYTES, MAX_RECORD_BYTES, open_input, quote, size_text
+from ...limits import (MAX_BATCH_SKIP_BYTES, MAX_JOBS, MAX_RECORD_BYTES, open_input, quote,
+                       size_text)
 from .chunks import process_chunk
 from .formats import csv_header
 from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
@@ -62,8 +63,8 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     if input_format not in INPUT_FORMATS:
         raise UsageError(f"--input-format must be {', '.join(INPUT_FORMATS[:-1])} or "
                          f"{INPUT_FORMATS[-1]}, not {quote(input_format)}")
-    if jobs < 1:
-        raise UsageError(f"--jobs must be at least 1, not {jobs}")
+    if not 1 <= jobs <= MAX_JOBS:
+        raise UsageError(f"--jobs must be 1 to {MAX_JOBS}, not {jobs}")
     import gc
     source = _Source(src)
     _keep_freed_memory()
@@ -243,7 +244,7 @@ def _blocks(source):
         if b"\n" not in data:             # more of one line: kept, not copied (a slow pipe)
             held.append(data)
             held_bytes += len(data)
-            if held_bytes > MAX_RECORD_BYTES:
+            if held_bytes > MAX_RECORD_BYTES + 1:        # (+1: the CR of a CRLF may end it)
                 skipped, held, held_bytes = held_bytes, [], 0
                 yield [None], source.ready()
             continue
@@ -255,9 +256,9 @@ def _blocks(source):
         if len(data) <= MAX_RECORD_BYTES:       # no line too long: the common case
             lines = [p for p in parts if p.strip(BLANK)]
         else:                                   # an over-long line is a record, blank or not
-            lines = [p if len(p) <= MAX_RECORD_BYTES else None for p in parts
-                     if len(p) > MAX_RECORD_BYTES or p.strip(BLANK)]
-        if len(last) > MAX_RECORD_BYTES:
+            lines = [None if _too_long(p) else p for p in parts
+                     if _too_long(p) or p.strip(BLANK)]
+        if len(last) > MAX_RECORD_BYTES + 1:
             lines.append(None)
             skipped = len(last)
         elif last:
@@ -265,8 +266,16 @@ def _blocks(source):
         if lines:
             yield lines, source.ready()
     tail = b"".join(held)
-    if tail.strip(BLANK):
+    if _too_long(tail):                 # (an over-long line is a record, blank or not)
+        yield [None], False
+    elif tail.strip(BLANK):
         yield [tail], False
+
+
+def _too_long(line: bytes) -> bool:
+    """Is ``line`` (without its newline) longer than MAX_RECORD_BYTES, not counting the CR of
+    a CRLF line end (which is not part of the line)?"""
+    return len(line) > MAX_RECORD_BYTES + line.endswith(b"\r")
 
 
 def _chunked(source, size: int = 0, input_format: str = "auto"):
