@@ -104,11 +104,11 @@ def one_root(sol: Solutions, i: int = 0):
 
 
 def turn_onto(k, x, y):
-    """The angle about the unit axis ``k (3,)`` turning ``x`` onto ``y`` (``(..., 3)``), both
-    projected across ``k`` first (subproblem 1, no threshold): near the axis their normal
-    parts are small, and a component along ``k`` times the rounding would swamp them.
+    """The angle about the unit axis ``k (3,)`` turning ``x`` onto ``y`` (``(..., 3)``):
+    subproblem 1 with no threshold, which projects both across ``k`` first (near the axis
+    their normal parts are small, and a component along ``k`` would swamp them).
     ``(theta, c, s)``, each ``(...)``."""
-    return one_root(sp1(x - dot(x, k)[..., None] * k, y - dot(y, k)[..., None] * k, k, tol=0.0))
+    return one_root(sp1(x, y, k, tol=0.0))
 
 
 def angle_about(S: Screws, j: int, Rv, tol=0.0):
@@ -116,9 +116,7 @@ def angle_about(S: Screws, j: int, Rv, tol=0.0):
     onto the vectors ``Rv (..., 3)`` (subproblem 1, no threshold): ``(theta, c, s)``, each
     ``(...)``. Subproblem 1's constants of ``e`` about ``h`` are made once per screws
     (:func:`normal_sp1`)."""
-    h = S.axis[j]
-    return one_root(sp1(axis_normal(S, j), Rv - dot(Rv, h)[..., None] * h, h, tol=tol,
-                        fixed=normal_sp1(S, j)))
+    return one_root(sp1(axis_normal(S, j), Rv, S.axis[j], tol=tol, fixed=normal_sp1(S, j)))
 
 
 def normal_sp1(S: Screws, j: int):

@@ -88,9 +88,9 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
     c2, s2 = br.cos[j2], br.sin[j2]
     third = S.turn(j2, c2, s2, k3)                  # R2 k3
-    # both projected on the plane normal to k1: next to the singularity their normal
-    # parts are tiny, and v's component along k1 times the rounding would swamp them
-    first = sp1(third, v - dot(v, k1)[..., None] * k1, k1, tol=0.0)
+    # (subproblem 1 projects both on the plane normal to k1 first: next to the singularity
+    # their normal parts are tiny, and v's component along k1 would swamp them)
+    first = sp1(third, v, k1, tol=0.0)
     t1, c1, s1 = first.theta[0][..., 0], first.c[0][..., 0], first.s[0][..., 0]
     singular = np.count_nonzero(aligned)
     if singular:
@@ -98,8 +98,7 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
         t1 = np.arctan2(s1, c1)
     br = br.set(j1, t1, c1, s1, free=aligned)
     z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, w))
-    last = sp1(axis_normal(S, j3), z - dot(z, k3)[..., None] * k3, k3, tol=0.0,
-               fixed=normal_sp1(S, j3))
+    last = sp1(axis_normal(S, j3), z, k3, tol=0.0, fixed=normal_sp1(S, j3))
     t3 = last.theta[0][..., 0]
     br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
     if singular:
