@@ -59,7 +59,8 @@ class Plan(NamedTuple):
     e: np.ndarray | None    # (2, 3) across a prismatic a's axis
     k: int = 0              # decoupled: the invariant free of x_b; pair: the one to use
     abc: tuple = ()         # decoupled: the invariant k as a function of x_c (constants)
-    abc_fixed: object = None  # decoupled, revolute c: abc_constants(*abc), for from_abc
+    abc_fixed: object = None  # from_abc's constants: decoupled, revolute c: abc_constants(*abc);
+                              # pair, revolute b: of invariant k at p0, (beta, gamma, alpha)
     at_p0: tuple = ()       # pair: both invariants' (alpha, beta, gamma) at p0, in x_b
     both: bool = False      # pair: both invariants fix (cos x_b, sin x_b)
     still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
@@ -119,7 +120,9 @@ def _make_plan(S: Screws, joints, p0) -> Plan:
         both = bool(S.revolute[b] and dep.all()
                     and abs(D) > 1e-9 * max(np.abs(be).max() * np.abs(ga).max(), 1e-300))
         at_p0 = tuple(_coefficients(S, base, p0, i) for i in (0, 1))   # as _pair needs them
-        return Plan("pair", tuple(joints), p0, o, e, k=k, at_p0=at_p0, both=both)
+        al, be, ga = at_p0[k]
+        return Plan("pair", tuple(joints), p0, o, e, k=k, at_p0=at_p0, both=both,
+                    abc_fixed=abc_constants(be, ga, al) if S.revolute[b] else None)
     c = joints[2]
     if not dep.all():
         k = int(np.flatnonzero(~dep)[0])
@@ -177,12 +180,17 @@ def _reference_point(S: Screws, a: int, b: int) -> np.ndarray:
 
 # --- the invariants of joint a ---------------------------------------------------------
 
-def _invariants(S: Screws, P: Plan, f) -> tuple:
-    """The two invariants of joint a at points ``f (..., 3)``: two arrays ``(...)``."""
+def _invariants(S: Screws, P: Plan, f, only: int | None = None):
+    """The two invariants of joint a at points ``f (..., 3)``: two arrays ``(...)`` (with
+    ``only``, 0 or 1, that invariant's: ``(...)``)."""
     a = P.joints[0]
     if S.revolute[a]:
         d = f - P.o
+        if only is not None:
+            return d @ S.axis[a] if only == 0 else dot(d, d)
         return d @ S.axis[a], dot(d, d)
+    if only is not None:
+        return f @ P.e[only]
     return f @ P.e[0], f @ P.e[1]
 
 
@@ -251,15 +259,15 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
                      labels=("root 1", "root 2"))
 
 
-def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None) -> Branches:
+def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None, fixed=None) -> Branches:
     """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``
     or ``(N, 1)``: the target's value of it); ``abc``: its coefficients there when already
-    known."""
+    known (constants: ``fixed``, their :func:`~kincalc.subproblems.sp4.abc_constants`)."""
     b = P.joints[1]
     al, be, ga = _coefficients(S, P, g, m) if abc is None else abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[b]:
-        sol = from_abc(be, ga, al, t, scale)
+        sol = from_abc(be, ga, al, t, scale, fixed=fixed)
         if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
             br = br.dead_end(b, np.arctan2(ga, be),
                              (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
@@ -331,8 +339,8 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     # joint a: the height along h is the elbow's own: h . R(w, -x_a) (pt - oa) = h . (p0 - oa)
     p = PT - oa
     first = sp4(h, p, w, fx.height, fixed=fx.first).negated()
-    br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
     if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
+        br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
         hw = h @ w
         br = note_equation(br, a, "height", b, p @ h - hw * (p @ w), -(cross(w, p) @ h),
                            hw * (p @ w), fx.height)
@@ -348,8 +356,8 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     # joint c: |u + R(h, x_c) v| = |q| (law of cosines: subproblem 3, whose vectors are the
     # robot's, only |q| varies)
     third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach, fixed=fx.third)
-    br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
+        br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
         br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
                            u @ u + v @ v, dot(q, q), (np.sqrt(u @ u), np.sqrt(v @ v)))
     br = br.branch([c], third)
@@ -427,15 +435,16 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Two joints: x_b from the invariants, then x_a."""
-    t = _invariants(S, P, PT)              # the point is p0 itself: its coefficients are
-    if P.both:                             # constants; both fix (cos x_b, sin x_b)
+    if P.both:                             # the point is p0 itself: its coefficients are
+        t = _invariants(S, P, PT)          # constants; both fix (cos x_b, sin x_b)
         (a0, b0, g0), (a1, b1, g1) = P.at_p0
         a0, a1 = a0 - t[0], a1 - t[1]
         D = b0 * g1 - b1 * g0
         theta, c, s = angles((-a0 * g1 + a1 * g0) / D, (-b0 * a1 + b1 * a0) / D)
         br = br.set(P.joints[1], theta, c, s)
     else:
-        br = _solve_b(S, P, br, P.p0, t[P.k], P.k, what, P.at_p0[P.k])
+        t = _invariants(S, P, PT, P.k)
+        br = _solve_b(S, P, br, P.p0, t, P.k, what, P.at_p0[P.k], P.abc_fixed)
     return _solve_a(S, P, br, br.take(PT))
 
 

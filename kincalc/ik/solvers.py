@@ -92,9 +92,12 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
     # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
     r, p4 = _undo_56(S, br, 1)
-    c1, s1 = br.cos[0], -br.sin[0]
-    psi = _angle_about(S, 1, S.turn(0, c1, s1, _mv(Rt, r)))[0]
-    p4 = o1 + S.turn(0, c1, s1, _tool_point_of(S, T, p4) - o1)
+    x = np.empty(r.shape[:-1] + (2, 3))                 # both with joint 1 undone: one turn
+    x[..., 0, :] = _mv(Rt, r)
+    np.subtract(_tool_point_of(S, T, p4), o1, out=x[..., 1, :])
+    x = S.turn(0, br.cos[0], -br.sin[0], x)
+    psi = _angle_about(S, 1, x[..., 0, :])[0]
+    p4 = o1 + x[..., 1, :]
     br = br.with_extra("psi", psi, "sigma", sigma)
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
     s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
@@ -153,13 +156,17 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
 def _undo_56(S: Screws, br: Branches, j: int):
     """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: ``e = axis_normal(S, j)`` (axis
     ``j`` along h) and axis 4's point ``o4`` with joints 5 and 6 of a parallel wrist undone.
-    Joint 5 turns both fixed vectors in one call (:meth:`Screws.turn_fixed`); joint 6 one by
-    one (stacked, a large batch is slower)."""
+    Joint 5 turns both fixed vectors in one call (:meth:`Screws.turn_fixed`), joint 6 both
+    results in another."""
     o5, o6 = S.point[4], S.point[5]
     five = S.turn_fixed(4, br.cos[4], -br.sin[4], ("normal of axis, o4 - o5", j),
                         lambda: (axis_normal(S, j), S.point[3] - o5))
-    c6, s6 = br.cos[5], -br.sin[5]
-    return S.turn(5, c6, s6, five[..., 0, :]), o6 + S.turn(5, c6, s6, o5 + five[..., 1, :] - o6)
+    x = np.empty(five.shape)
+    x[..., 0, :] = five[..., 0, :]
+    np.add(o5, five[..., 1, :], out=x[..., 1, :])
+    x[..., 1, :] -= o6
+    x = S.turn(5, br.cos[5], -br.sin[5], x)
+    return x[..., 0, :], o6 + x[..., 1, :]
 
 
 def _tool_point_of(S: Screws, T, x) -> np.ndarray:
