@@ -250,8 +250,8 @@ class Branches:
                 Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
                 if free:
                     F[j] |= roots_free
-        ok = sols.ok if least_squares else sols.ok & sols.exact
-        ok = self.ok[:, parent] & ok.reshape(N, M)
+        ok = (self.ok[..., None] & sols.ok if least_squares else
+              self.ok[..., None] & sols.ok & sols.exact).reshape(N, M)
         if k == 1:                      # one root: nothing to tell apart
             labels = (None,)
         elif labels is None:

@@ -98,14 +98,14 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     x = S.turn(0, br.cos[0], -br.sin[0], x)
     psi = _angle_about(S, 1, x[..., 0, :])[0]
     p4 = o1 + x[..., 1, :]
-    br = br.with_extra("psi", psi, "sigma", sigma)
+    br = br.with_extra("psi", psi, *_carried(sigma))
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
     s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
         1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3)))
-    psi, sigma = br.extra["psi"], br.extra["sigma"]
-    q4 = s4 * (psi - br.value[1] - s3 * br.value[2])
+    q4 = s4 * (br.extra["psi"] - br.value[1] - s3 * br.value[2])
     br = br.set(3, q4, np.cos(q4), np.sin(q4))
     if np.count_nonzero(br.free[5]):
+        sigma = br.extra["sigma"]
         total = br.value[1] + s3 * br.value[2] + s4 * q4 + sigma * br.value[5]
         br = br.with_extra("parallel continuum", np.stack(
             [br.free[5].astype(float), sigma, total], -1))
@@ -129,7 +129,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     ``Rt (N, 1, 3, 3)`` R_t of each pose, ``hj`` the joint whose axis is h (world frame at
     q = 0, SI).
     Returns ``(br, sigma)``: joints 5 and 6 set, ``sigma (N, K')`` +1 where axis 6 points
-    along h, else -1.
+    along h, else -1, needed only at the singularity: None where no slot is there.
     """
     h, k5, k6 = S.axis[hj], S.axis[4], S.axis[5]
     first = elbow[0] == 1                              # joint 1 turns about another axis
@@ -140,9 +140,10 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
     br = br.branch([4], fifth, free=False)
-    v, aligned = br.take(v), br.take(fifth.free[..., 0])
-    sigma = np.where(dot(v, h) > 0, 1.0, -1.0)
-    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(v.shape, h))
+    aligned = br.take(fifth.free[..., 0])
+    sigma = np.where(dot(br.take(v), h) > 0, 1.0, -1.0) if np.count_nonzero(aligned) else None
+    a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(
+        br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = turn_onto(k6, a, b)[0]
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
@@ -150,7 +151,13 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
                                   pair(aligned, aligned)), labels=(None, "other arc"))
-    return br, br.take(sigma)
+    return br, None if sigma is None else br.take(sigma)
+
+
+def _carried(sigma) -> tuple:
+    """The extras that carry ``sigma`` of :func:`_parallel_wrist` through the placement of
+    axis 4: none where no slot is at the wrist singularity (``sigma`` None)."""
+    return () if sigma is None else ("sigma", sigma)
 
 
 def _undo_56(S: Screws, br: Branches, j: int):
@@ -230,7 +237,7 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     r, p4 = _undo_56(S, br, 3)
     psi = _angle_about(S, 3, _mv(Rt, r))[0]
     p4 = _tool_point_of(S, T, p4)
-    br = br.with_extra("psi", psi, "sigma", sigma)
+    br = br.with_extra("psi", psi, *_carried(sigma))
     br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
     sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
     partial = sum(sign[i] * br.value[i] for i in range(3) if S.revolute[i])
