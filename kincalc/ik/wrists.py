@@ -83,16 +83,18 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
     middle = cone(k1, k3, k2, v, fixed=axis_cone(S, j1, j2, j3))
     # the free joint is the first: the middle one's roots go in as not free, and where
-    # the wrist is aligned (the same in both roots) is carried to the new slots
+    # the wrist is aligned (the same in both roots) is carried to the new slots (None: no
+    # slot is)
     br = br.branch([j2], middle, least_squares=True, free=False)
-    v, w, aligned = br.take(v), br.take(w), br.take(middle.free[..., 0])
+    aligned = br.take(middle.free[..., 0]) if np.count_nonzero(middle.free) else None
+    v, w = br.take(v), br.take(w)
     c2, s2 = br.cos[j2], br.sin[j2]
     third = S.turn(j2, c2, s2, k3)                  # R2 k3
     # (subproblem 1 projects both on the plane normal to k1 first: next to the singularity
     # their normal parts are tiny, and v's component along k1 would swamp them)
     first = sp1(third, v, k1, tol=0.0)
     t1, c1, s1 = first.theta[0][..., 0], first.c[0][..., 0], first.s[0][..., 0]
-    singular = np.count_nonzero(aligned)
+    singular = aligned is not None and np.count_nonzero(aligned)
     if singular:
         c1, s1 = np.where(aligned, 1.0, c1), np.where(aligned, 0.0, s1)
         t1 = np.arctan2(s1, c1)
