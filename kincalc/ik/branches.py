@@ -203,7 +203,7 @@ class Branches:
         return x[:, self.parent]
 
     def branch(self, joints, sols, labels=None, *, least_squares: bool = False,
-               free: bool = True) -> "Branches":
+               free: bool | tuple = True) -> "Branches":
         """The next step: every slot splits into the ``k`` roots of a subproblem.
 
         A slot lives on where its root is ``ok`` and exact (``least_squares``: or the
@@ -223,15 +223,15 @@ class Branches:
             (default ``+``/``-`` for two roots, ``root i`` for more, none for one).
         least_squares : bool
             Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
-        free : bool
+        free : bool or tuple of int
             Or the roots' ``free`` into the step's joints' free masks (False: not free, for a
-            solver that leaves another joint free at the singularity).
+            solver that leaves another joint free at the singularity; a tuple: those joints).
 
         Returns
         -------
         Branches
-            ``K k`` slots (fewer once dead ones are dropped), ``parent (K k,)``; the free mask of
-            each joint of the step or-ed with the root's ``free`` (with ``free``).
+            ``K k`` slots (fewer once dead ones are dropped), ``parent (K k,)``; the free masks
+            or-ed with the root's ``free`` (see ``free``).
         """
         (N, K), k = self.ok.shape, sols.ok.shape[-1]
         M = K * k
@@ -248,7 +248,7 @@ class Branches:
             if j is not None:
                 Xj = X[:, j]
                 Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
-                if free:
+                if free is True or free and j in free:
                     F[j] |= roots_free
         ok = (self.ok[..., None] & sols.ok if least_squares else
               self.ok[..., None] & sols.ok & sols.exact).reshape(N, M)

@@ -21,9 +21,9 @@ import numpy as np
 
 from ..subproblems import sp1
 from ..subproblems.cone import cone
-from ..subproblems.solutions import cross, dot
+from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
-from .pieces import axis_cone, axis_normal, normal_sp1
+from .pieces import axis_cone, axis_normal, normal_sp1, one_root
 from ..spatial import wrap
 from .screws import Screws
 
@@ -81,33 +81,33 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     """
     j1, j2, j3 = joints
     k1, k2, k3 = S.axis[j1], S.axis[j2], S.axis[j3]
-    middle = cone(k1, k3, k2, v, fixed=axis_cone(S, j1, j2, j3))
-    # the free joint is the first: the middle one's roots go in as not free, and where
-    # the wrist is aligned (the same in both roots) is carried to the new slots (None: no
-    # slot is)
-    br = br.branch([j2], middle, least_squares=True, free=False)
-    aligned = br.take(middle.free[..., 0]) if np.count_nonzero(middle.free) else None
-    v, w = br.take(v), br.take(w)
-    c2, s2 = br.cos[j2], br.sin[j2]
+    middle = cone(k1, k3, k2, v, fixed=axis_cone(S, j1, j2, j3))          # (N, K, 2)
+    # the outer joints at both roots of the middle one (the roots' axis after the slots',
+    # as the split lays them out), then one split for the three
+    c2, s2 = middle.c[0], middle.s[0]
+    vw = np.empty((2,) + c2.shape + (3,))           # v and w at both roots
+    vw[0], vw[1] = v[..., None, :], w[..., None, :]
     third = S.turn(j2, c2, s2, k3)                  # R2 k3
     # (subproblem 1 projects both on the plane normal to k1 first: next to the singularity
     # their normal parts are tiny, and v's component along k1 would swamp them)
-    first = sp1(third, v, k1, tol=0.0)
-    t1, c1, s1 = first.theta[0][..., 0], first.c[0][..., 0], first.s[0][..., 0]
-    singular = aligned is not None and np.count_nonzero(aligned)
+    t1, c1, s1 = one_root(sp1(third, vw[0], k1, tol=0.0))
+    # the free joint is the first, where the wrist is aligned (the same at both roots)
+    aligned = middle.free
+    singular = np.count_nonzero(aligned)
     if singular:
         c1, s1 = np.where(aligned, 1.0, c1), np.where(aligned, 0.0, s1)
         t1 = np.arctan2(s1, c1)
-    br = br.set(j1, t1, c1, s1, free=aligned)
-    z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, w))
-    last = sp1(axis_normal(S, j3), z, k3, tol=0.0, fixed=normal_sp1(S, j3))
-    t3 = last.theta[0][..., 0]
-    br = br.set(j3, t3, last.c[0][..., 0], last.s[0][..., 0])
+    z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, vw[1]))
+    t3, c3, s3 = one_root(sp1(axis_normal(S, j3), z, k3, tol=0.0, fixed=normal_sp1(S, j3)))
+    br = br.branch([j2, j1, j3], Solutions((middle.theta[0], t1, t3), (c2, c1, c3),
+                                           (s2, s1, s3), middle.ok, middle.exact, aligned),
+                   least_squares=True, free=(j1,))
     if singular:
-        sigma = np.where(dot(k1, third) > 0, 1.0, -1.0)
+        aligned = br.free[j1]
+        sigma = np.where(dot(k1, S.turn(j2, br.cos[j2], br.sin[j2], k3)) > 0, 1.0, -1.0)
         br = br.with_extra("continuum", np.stack([
             aligned.astype(float), np.full(aligned.shape, j1), np.full(aligned.shape, j3),
-            sigma, br.value[j1] + sigma * t3], -1))
+            sigma, br.value[j1] + sigma * br.value[j3]], -1))
     return br
 
 
