@@ -304,7 +304,7 @@ def _measure(S: Screws, P: Plan, m: int) -> str:
 
 def _point_before_a(S: Screws, P: Plan, br):
     """``E_b(x_b) E_c(x_c) p0`` for every slot (N, K, 3)."""
-    f = np.full(br.ok.shape + (3,), P.p0)
+    f = P.p0                                    # (moved into every slot by the first joint)
     for j in reversed(P.joints[1:]):
         f = S.move(j, br.value[j], br.cos[j], br.sin[j], f)
     return f
