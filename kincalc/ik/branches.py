@@ -18,7 +18,8 @@ Slots that no pose of the batch keeps (the second arc of a wrist singularity, el
 target out of reach has none of, ...) are dropped as they appear, so later steps work only
 on live slots; :meth:`Branches.expanded` puts the slots back in the family's fixed layout
 (``full``: each column's slot there, ``full_signs`` the layout's sign table) once the
-solver is done. With ``explain`` every slot is kept (notes and dead ends refer to them).
+solver is done. Every slot is kept with ``explain`` (notes and dead ends refer to them), and
+in steps of at most ``_SMALL`` slots in all (one pose's: dropping, then putting back, costs more).
 """
 
 from __future__ import annotations
@@ -207,8 +208,7 @@ class Branches:
         """The next step: every slot splits into the ``k`` roots of a subproblem.
 
         A slot lives on where its root is ``ok`` and exact (``least_squares``: or the
-        subproblem's least-squares answer, for the reasons of a pose out of reach); without
-        ``explain`` the slots no pose keeps are then dropped.
+        subproblem's least-squares answer, for a pose out of reach); dead slots are dropped.
 
         Parameters
         ----------
@@ -266,7 +266,7 @@ class Branches:
         out = self._with(X=X, F=F, ok=ok, signs=signs, parent=parent, extra=extra, full=full,
                          full_signs=full_signs, pending={},
                          lineage=self.lineage + (parent,) if self.explain else self.lineage)
-        return out if self.explain else out._live()
+        return out if self.explain or N * M <= _SMALL else out._live()
 
     def _live(self) -> "Branches":
         """These branches without the slots no pose keeps (at least one slot stays)."""
@@ -431,8 +431,7 @@ class Branches:
             joints never set) and every joint's value (rad or m; 0 where never set); column
             ``i K + k`` is slot k of pose i.
         """
-        X = np.ascontiguousarray(self.flushed().X).reshape(3, self.n, self.N * self.K)
-        X = X.view()
+        X = np.ascontiguousarray(self.flushed().X).reshape(3, self.n, self.N * self.K).view()
         X.flags.writeable = False
         return X[1], X[2], X[0]
 
@@ -449,6 +448,7 @@ class Branches:
         return idx
 
 
+_SMALL = 64     # slots of a whole step (N K) up to which dead ones are kept (module docstring)
 _ZERO = np.zeros(1, np.intp)
 _ZERO.flags.writeable = False
 
