@@ -468,6 +468,18 @@ def test_an_over_long_line_is_its_records_error_and_reading_goes_on():
     assert parsed[1][2] == "record 2: longer than 64 KiB, kincalc's limit for a --batch line"
 
 
+@pytest.mark.parametrize("kind, listed, not_listed", [
+    ("fk", "(q, the joint values; also id)", "rpy"),
+    ("jacobian", "(q, the joint values; also id)", "rpy"),
+    ("reach", "(pose fields: xyz, rpy", "lock"), ("ik", "(pose fields: xyz, rpy", None)])
+def test_an_unknown_field_is_named_with_the_fields_of_the_command(kind, listed, not_listed):
+    """fk and jacobian named ik's pose fields (and lock) as the ones they take."""
+    line = b'{"q": [1, 2], "pad": 1}'
+    (_, kw, err), = records.parse_records(None, load_robot("bk_rr"), 0, [line], kind)
+    assert kw is None and err.startswith("record 1: unknown field 'pad' ") and listed in err
+    assert not_listed is None or not_listed not in err
+
+
 def test_the_cr_of_a_crlf_line_end_is_not_part_of_the_line():
     """A line of exactly MAX_RECORD_BYTES was a record ending in LF but "longer than 64 KiB"
     ending in CRLF (the README: the CR is not part of the line); a byte more is over-long

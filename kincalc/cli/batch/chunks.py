@@ -26,7 +26,7 @@ def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> t
         if fmt == "jsonl":
             return _ik_text(start, len(lines), answers, errors), bool(errors), no
         return csv_rows(kind, robot, _merge(_ik_records(answers), errors)), bool(errors), no
-    parsed = parse_records(header, robot, start, lines)
+    parsed = parse_records(header, robot, start, lines, kind)
     parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
               if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}[kind]

@@ -32,12 +32,13 @@ class RecordError(ValueError):
 
 # --- records: one line of bytes -> pose keywords, or the reason it cannot be used ---------
 
-def parse_records(header, robot, start: int, lines) -> list:
+def parse_records(header, robot, start: int, lines, kind: str = "ik") -> list:
     """``[(index, keywords or None, error or None)]`` of one chunk of lines (bytes, or
     None for a line over the length limit), the first being record ``start``. ``header``
     is None for JSON lines, the column names for CSV, or the reason the CSV header cannot
-    be used."""
-    parsed, together = parse_chunk(header, robot, start, lines)
+    be used. ``kind`` is the command ('ik', 'reach', 'fk' or 'jacobian'), whose fields an
+    unknown field's message lists."""
+    parsed, together = parse_chunk(header, robot, start, lines, kind)
     if together is None:
         return parsed
     keys = [key for key, _ in together.fields]
@@ -48,7 +49,7 @@ def parse_records(header, robot, start: int, lines) -> list:
     return list(heapq.merge(parsed, read, key=lambda r: r[0]))
 
 
-def parse_chunk(header, robot, start: int, lines) -> tuple:
+def parse_chunk(header, robot, start: int, lines, kind: str = "ik") -> tuple:
     """:func:`parse_records` with the JSON lines read together
     (:mod:`~kincalc.cli.batch.uniform`) kept as arrays: ``(parsed, together)``, the
     records of the other lines and a :class:`~kincalc.cli.batch.uniform.Together` (its
@@ -58,12 +59,12 @@ def parse_chunk(header, robot, start: int, lines) -> tuple:
     from .uniform import read_together
     together = read_together(lines, lambda line: _together_fields(line, robot))
     if together is None:
-        return _json_records(range(start, start + len(lines)), lines), None
+        return _json_records(range(start, start + len(lines)), lines, kind), None
     if len(together.at) == len(lines):
         return [], together
     taken = set(together.at.tolist())
     rest = [k for k in range(len(lines)) if k not in taken]
-    return _json_records([start + k for k in rest], [lines[k] for k in rest]), together
+    return _json_records([start + k for k in rest], [lines[k] for k in rest], kind), together
 
 
 #: the pose forms whose records may be read together: those ik solves in one vectorised
@@ -108,7 +109,7 @@ def _csv_records(header, robot, start: int, lines) -> list:
     return out
 
 
-def _json_records(indices, lines) -> list:
+def _json_records(indices, lines, kind: str = "ik") -> list:
     """:func:`parse_records` of JSON lines, record ``indices[k]`` being ``lines[k]``. The
     objects are read one by one; their fields are checked together for the records that
     have the same fields, when those are pose fields of a fixed count and ``id``
@@ -130,7 +131,7 @@ def _json_records(indices, lines) -> list:
                 out[at] = (i, together[k], None)
                 continue
             try:
-                out[at] = (i, _pose_keywords(rec), None)
+                out[at] = (i, _pose_keywords(rec, kind), None)
             except RecordError as exc:
                 out[at] = (i, None, f"record {i + 1}: {exc}")
     return out
@@ -250,13 +251,19 @@ _WHY = "kincalc's limit for the magnitude of a number"
 #: the fields of a JSON record, with the count of numbers of each (0: any)
 _FIELDS = {**POSE_KEYS, "T": 0, "q": 0}
 _KNOWN = frozenset(_FIELDS) | {"id", "lock"}
+#: the fields of each command's records, as an unknown field's message lists them
+TAKEN = {"ik": f"pose fields: {', '.join(_FIELDS)}; also id, lock",
+         "reach": f"pose fields: {', '.join(_FIELDS)}; also id",
+         "fk": "q, the joint values; also id", "jacobian": "q, the joint values; also id"}
 
 
-def _pose_keywords(rec: dict) -> dict:
+def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
+    """The keywords of the JSON record ``rec`` (field -> value; numbers as tuples of
+    floats), or :class:`RecordError` saying what is wrong (an unknown field named with the
+    fields of ``kind``'s records)."""
     if not _KNOWN.issuperset(rec):
         unknown = next(k for k in rec if k not in _KNOWN)
-        raise RecordError(f"unknown field {quote(unknown)} (pose fields: "
-                          f"{', '.join(_FIELDS)}; also id, lock)")
+        raise RecordError(f"unknown field {quote(unknown)} ({TAKEN[kind]})")
     out = {}
     for key, value in rec.items():
         if key == "id":

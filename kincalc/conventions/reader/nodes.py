@@ -180,8 +180,9 @@ class NodeReader:
         import yaml
         if isinstance(root, yaml.ScalarNode) and root.value != "" \
                 and len(set(self.lines(root))) == 1:         # (over lines: named by them)
+            kind = what.replace("the ", "a ", 1)
             self.fail(root, f"{what} must be a mapping (key: value), not a text of "
-                            f"{len(root.value)} characters (is it {what.replace('the ', 'a ', 1)}?)")
+                            f"{len(root.value)} characters (is it {kind}?)")
         return self.mapping(root, what, keys)
 
     def mapping(self, node, what: str, keys: dict[str, bool]) -> dict:
