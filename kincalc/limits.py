@@ -68,6 +68,9 @@ MAX_SAMPLES = 5_000_000
 #: closed-form IK)
 MAX_ORIENTATIONS = 1000
 
+#: the characters of a robot's or a joint's name (they head tables and label columns)
+MAX_NAME = 64
+
 #: the most worker processes ``--batch --jobs`` starts (each is a copy of kincalc, some
 #: 25 MB: -j 1000 started 955 processes and 24 GB for one record)
 MAX_JOBS = 64

@@ -10,7 +10,7 @@ from typing import Annotated, List, Optional
 
 import typer
 
-from .common import DebugOpt, FileName, JsonOpt, PrecisionOpt
+from .common import DebugOpt, FileName, JsonOpt, PrecisionOpt, joints_text
 
 #: the output formats, and those that describe one submission
 FORMATS = ("table", "json", "gradescope", "prairielearn")
@@ -313,7 +313,7 @@ def _tables(doc, precision: int, quiet: bool):
     c.print(f"[bold]{text(doc['sheet'])}[/bold]{text(title)}{text(who)}")
     u, t = doc["units"], doc["tolerance"]
     lu = "" if u["length"] == "unitless" else f" {u['length']}"
-    c.print(f"robot {text(r['name'])} ({r['dof']} joints, {r['convention']}); "
+    c.print(f"robot {text(r['name'])} ({joints_text(r['dof'])}, {r['convention']}); "
             f"tolerances: position {t['position']:g}{lu}, angle {t['angle']:g} {u['angle']}, "
             f"matrix entries {t['matrix']:g}", highlight=False)
     for item in doc["items"]:

@@ -111,6 +111,11 @@ JobsOpt = Annotated[int, typer.Option(
          "(output order kept).")]
 
 
+def joints_text(count: int) -> str:
+    """``"1 joint"``, ``"6 joints"``: a robot's joint count in words."""
+    return f"{count} joint{'' if count == 1 else 's'}"
+
+
 def display_units(robot, deg: bool, unit: str | None):
     """The :class:`~kincalc.analysis.results.Units` chosen by ``--deg/--rad`` and ``--unit``."""
     from ..analysis.results import Units

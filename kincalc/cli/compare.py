@@ -6,7 +6,7 @@ from typing import Annotated
 
 import typer
 
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
+from .common import (BaseLinkOpt, joints_text, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
                      display_units, load_robot, output)
 
 RobotAArg = Annotated[str, typer.Argument(
@@ -85,7 +85,7 @@ def _tables(doc, robot, precision):
         title = f" - {r['title']}" if r["title"] else ""
         given = "" if r["argument"] in ("", r["name"]) else f"{r['argument']}: "
         c.print(f"{tag}: {escape(given)}[bold]{escape(r['name'])}[/bold]{escape(title)}  "
-                f"({r['dof']} joints, {r['convention']})")
+                f"({joints_text(r['dof'])}, {r['convention']})")
     rows = [("same robot", "yes" if doc["same"] else "no"),
             ("why", doc["reason"])]
     if doc["first_bad_joint"] is not None:

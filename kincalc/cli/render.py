@@ -309,9 +309,14 @@ def kv_table(pairs, title: str | None = None):
 
 
 def heading(doc: dict) -> str:
+    """The robot's line above a command's tables (rich markup; the name and title escaped)."""
+    from rich.markup import escape
+
+    from .common import joints_text
     r = doc["robot"]
     title = f" - {r['title']}" if r.get("title") else ""
-    return f"[bold]{r['name']}[/bold]{title}  ({r['dof']} joints, {doc['units']['angle']}, {doc['units']['length']})"
+    return (f"[bold]{escape(r['name'])}[/bold]{escape(title)}  ({joints_text(r['dof'])}, "
+            f"{doc['units']['angle']}, {doc['units']['length']})")
 
 
 def joint_pairs(doc: dict, robot, precision: int) -> str:

@@ -7,7 +7,7 @@ from typing import Annotated, List, Optional
 
 import typer
 
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
+from .common import (BaseLinkOpt, joints_text, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
                      StructureTolOpt, TipLinkOpt, UnitOpt)
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
@@ -262,7 +262,7 @@ def validate(
     else:
         for e in report:
             if e["valid"]:
-                sys.stdout.write(f"ok: {e['file']}: {e['name']}, {e['dof']} joints, "
+                sys.stdout.write(f"ok: {e['file']}: {e['name']}, {joints_text(e['dof'])}, "
                                  f"{e['convention']}\n")
             else:
                 sys.stderr.write(f"kincalc: error: {' '.join(e['error'].split())}\n")

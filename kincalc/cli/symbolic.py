@@ -41,13 +41,14 @@ def _symbolic_tables(result) -> None:
     from rich.markup import escape
 
     from ..analysis.symbolic import ROWS, expr_text, unicode_name
+    from .common import joints_text
     from .render import console
     c = console()
     robot, n = result.robot, result.notation
     unit = "" if result.length_unit == "unitless" else f", lengths in {result.length_unit}"
     title = f" - {robot.title}" if robot.title else ""
     c.print(f"[bold]{escape(robot.name)}[/bold]{escape(title)}  "
-            f"({robot.dof} joints, {robot.convention}, symbolic{unit})")
+            f"({joints_text(robot.dof)}, {robot.convention}, symbolic{unit})")
     symbols = [unicode_name(str(s)) for s in n.joints]
     c.print("joint variables: " + ", ".join(
         f"{s} ({'angle' if j.revolute else 'length'})" for s, j in zip(symbols, robot.joints)),

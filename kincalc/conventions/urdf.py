@@ -35,11 +35,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import RobotFileError
-from ..limits import MAX_JOINTS, MAX_MAGNITUDE, quote
+from ..limits import MAX_JOINTS, MAX_MAGNITUDE, MAX_NAME, quote
 from ..model import Joint, Robot
 from ..spatial import invert_transform, matrix_from_rpy, transform
 from .reader import read_text
-from .reader.robot_file import NAME_RE
+from .reader.robot_file import NAME_RE, joint_name_problem
 
 MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 REFUSED = {"floating": "a floating joint (6 DOF) is not a serial joint",
@@ -403,6 +403,9 @@ def _chain(reader, root, links, joints, by_child, base_link, tip_link) -> list:
         if j.mimic and j.type in MOVING:
             raise RobotFileError(reader.file, j.line, f"joint {quote(j.name)} is a <mimic> "
                                  "joint (it moves with another): not supported on the chain")
+        if j.type in MOVING and joint_name_problem(j.name):
+            raise RobotFileError(reader.file, j.line, f"joint {quote(j.name)}: its name "
+                                 f"{joint_name_problem(j.name)}")
     return path
 
 
@@ -464,9 +467,9 @@ def _robot(reader, root, chain: list, stem: str) -> Robot:
         reader.fail(root, f"the chain has {len(out)} moving joints; kincalc takes robots of up "
                           f"to {MAX_JOINTS}")
     name = root.attrs.get("name", "")
-    if not NAME_RE.match(name):
+    if not NAME_RE.match(name) or len(name) > MAX_NAME:       # (the file's name, then)
         name = re.sub(r"[^A-Za-z0-9_.\-]", "_", stem) or "urdf"
-        name = name if name[0].isalpha() else "urdf_" + name
+        name = (name if name[0].isalpha() else "urdf_" + name)[:MAX_NAME]
     lo = np.array([j.limits[0] if j.limits else -np.inf for j in out])
     hi = np.array([j.limits[1] if j.limits else np.inf for j in out])
     first, last = chain[0], chain[-1]

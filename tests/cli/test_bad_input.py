@@ -28,7 +28,7 @@ import pytest
 
 from kincalc.cli.main import main
 from kincalc.errors import RobotFileError
-from kincalc.limits import MAX_EXPRESSION, MAX_FILE_BYTES, MAX_JOINTS
+from kincalc.limits import MAX_EXPRESSION, MAX_FILE_BYTES, MAX_JOINTS, MAX_NAME
 from yaml_fuzz import bomb, padded
 
 # ---------------------------------------------------------------------------
@@ -253,7 +253,15 @@ BAD_FILES = [
             forbid=("1" * 61,)),
     BadFile("joint-name-cut", sub(DH, "name: q2, type: revolute", "name: " + "q" * 5000
                                   + ", type: rotary"),
-            ("joint 2 (" + "q" * 60 + "...)", "'rotary'"), at="type: rotary", forbid=("q" * 61,)),
+            ("joint 2 (" + "q" * 60 + "...)", "'name' is 5000 characters long",
+             f"up to {MAX_NAME}"), at="type: rotary", forbid=("q" * 61,)),
+    # a joint's name heads a table's column: a newline in it split the table's lines
+    BadFile("joint-name-newline", sub(DH, "name: q2,", 'name: "el\\nbow",'),
+            ("joint 2", "'name' must not hold a control character"), at="el\\nbow"),
+    BadFile("joint-name-65", sub(DH, "name: q2,", "name: " + "j" * (MAX_NAME + 1) + ","),
+            ("joint 2", f"'name' is {MAX_NAME + 1} characters long"), at="j" * 60),
+    BadFile("robot-name-65", sub(DH, "name: arm3", "name: a" + "r" * MAX_NAME),
+            (f"'name' is {MAX_NAME + 1} characters long",), at="name: arr"),
     BadFile("expression-too-long", sub(DH, "a: l1,", "a: \"" + "+".join(["l1"] * 200) + "\","),
             ("joint 2 (q2)", f"expression longer than {MAX_EXPRESSION} characters"), at="name: q2"),
     BadFile("expression-name-quoted-cut", sub(DH, "a: l1,", "a: " + "z" * 400 + ","),

@@ -234,6 +234,11 @@ def test_a_chain_that_cannot_be_chosen_is_one_line(kwargs, words):
     (_chain_text(joint_type="planar"), "a planar joint (3 DOF)"),
     (_chain_text(joint_type="ball"), "type 'ball' is not a URDF joint type"),
     (_chain_text(inner='<mimic joint="jb"/>'), "'ja' is a <mimic> joint"),
+    # a joint's name heads a table's column: a newline split the table's lines
+    (_chain_text().replace('name="ja"', 'name="el&#10;bow"', 1),
+     "joint 'el\\nbow': its name must not hold a control character"),
+    (_chain_text().replace('name="ja"', 'name="' + "j" * 65 + '"', 1),
+     "its name is 65 characters long; kincalc takes names of up to 64"),
     (_chain_text().replace('<limit lower="-1" upper="1"/>', "", 1),
      "a revolute joint needs <limit lower upper>"),
     (_chain_text().replace('lower="-1" upper="1"', 'lower="1" upper="-1"', 1),
@@ -272,6 +277,15 @@ def test_bad_urdfs_are_one_line_naming_file_and_line(text, words):
     msg = str(e.value)
     assert msg.startswith("bad.urdf:") and "\n" not in msg
     assert words in msg
+
+
+def test_a_robot_name_that_is_no_name_or_too_long_is_the_files():
+    """A 900,000-character robot name was printed whole in every table's heading; a name
+    that is not a robot name, or longer than MAX_NAME, gives way to the file's name."""
+    from kincalc.limits import MAX_NAME
+    long = _chain_text().replace('<robot name="', '<robot name="r' + "x" * 900_000, 1)
+    assert parse_urdf_text(long, "my arm.urdf", stem="my arm").name == "my_arm"
+    assert parse_urdf_text(long, "x.urdf", stem="a" * 200).name == "a" * MAX_NAME
 
 
 @pytest.mark.parametrize("old, new, line, words", [

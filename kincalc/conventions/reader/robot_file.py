@@ -9,7 +9,7 @@ import re
 import numpy as np
 
 from ...errors import RobotFileError
-from ...limits import (MAX_FILE_BYTES, MAX_JOINTS, TooLarge, cut, os_error_text, quote,
+from ...limits import (MAX_FILE_BYTES, MAX_JOINTS, MAX_NAME, TooLarge, cut, os_error_text, quote,
                        read_bounded, size_text)
 from ...model import CONVENTIONS, JOINT_TYPES, Joint, Robot
 from ...units import ANGLE_UNITS, LENGTH_UNITS
@@ -25,6 +25,19 @@ DH_JOINT_KEYS = {"name": True, "type": True, "alpha": True, "a": True, "d": True
                  "theta": True, "limits": False}
 POE_JOINT_KEYS = {"name": True, "type": True, "axis": True, "point": True, "limits": False}
 NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_.\-]*$")
+
+
+def joint_name_problem(name: str) -> str | None:
+    """Why ``name`` cannot name a joint, or None: it is empty, longer than
+    :data:`~kincalc.limits.MAX_NAME`, or holds a character that is not printable (a newline
+    would split a table's line; a joint's name heads a column of every table)."""
+    if not name.strip():
+        return "must not be empty"
+    if len(name) > MAX_NAME:
+        return f"is {len(name)} characters long; kincalc takes names of up to {MAX_NAME}"
+    if not name.isprintable():
+        return "must not hold a control character (a newline, a tab, ...)"
+    return None
 
 
 def load_robot_file(path, display_name: str | None = None) -> Robot:
@@ -162,6 +175,9 @@ class RobotReader(Reader):
         name = self.text(top["name"], "'name'")
         if not name.strip():
             self.fail(top["name"], "'name' must not be empty")
+        if len(name) > MAX_NAME:
+            self.fail(top["name"], f"'name' is {len(name)} characters long; kincalc takes names "
+                                   f"of up to {MAX_NAME}")
         if not NAME_RE.match(name):
             self.fail(top["name"], f"'name' {self.shown(top['name'])} must start with a letter "
                                    "(A-Z, a-z) and contain only such letters, digits, '_', '-' "
@@ -342,8 +358,8 @@ class RobotReader(Reader):
                     self.joint_name = cut(vnode.value)
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
-        if not name.strip():
-            self.fail(fields["name"], "'name' must not be empty")
+        if joint_name_problem(name):
+            self.fail(fields["name"], f"'name' {joint_name_problem(name)}")
         jtype = self.text(fields["type"], "'type'")
         if jtype not in JOINT_TYPES:
             self.fail(fields["type"], "'type' must be revolute or prismatic, not "
