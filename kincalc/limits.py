@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import re
 
 #: the largest magnitude of a number in a robot file, a sheet, a batch record or on the
 #: command line (metres, radians, or the user's units before conversion). Products of
@@ -78,6 +79,37 @@ MAX_JOBS = 64
 #: the most round trips ``kincalc selftest --trials`` takes (drawn in chunks: memory stays
 #: small, but a round trip takes up to a few milliseconds)
 MAX_TRIALS = 1_000_000
+
+
+#: a number as kincalc reads one from text (the command line, a pose file, a URDF, a CSV
+#: cell): ASCII digits with an optional sign, point and exponent. Python's float() also
+#: takes 1_0 (as 10), other scripts' digits and surrounding spaces: not numbers here
+DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
+#: the words of the numbers that are not finite, which are read so that a message can say
+#: "not a finite number" rather than "not a number" (every reader refuses them)
+_NOT_FINITE = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
+
+
+def parse_decimal(text: str) -> float:
+    """The number ``text`` writes, read strictly (:data:`DECIMAL`, or inf / nan in any case).
+
+    Parameters
+    ----------
+    text : str
+        One number's text, nothing around it.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        ``text`` is not a number so written.
+    """
+    if DECIMAL.fullmatch(text) or _NOT_FINITE.fullmatch(text):
+        return float(text)
+    raise ValueError(f"not a decimal number: {text!r}")
 
 
 def quote(text, limit: int = MAX_QUOTE) -> str:

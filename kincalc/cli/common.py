@@ -12,7 +12,7 @@ import click
 import typer
 
 from ..errors import InputError, UsageError
-from ..limits import MAX_JOBS
+from ..limits import MAX_JOBS, parse_decimal
 
 #: Let negative numbers through as plain arguments (``kincalc fk puma560 0 -45``):
 #: click would otherwise read "-45" as the short options -4 -5.
@@ -31,6 +31,25 @@ class FileName(click.ParamType):
     def shell_complete(self, ctx, param, incomplete):
         from click.shell_completion import CompletionItem
         return [CompletionItem(incomplete, type="file")]
+
+
+class Decimal(click.ParamType):
+    """A number on the command line, read strictly (:func:`~kincalc.limits.parse_decimal`):
+    click's float type also takes ``1_0`` (as 10) and other scripts' digits."""
+
+    name = "float"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, float):
+            return value
+        try:
+            return parse_decimal(str(value).strip())
+        except ValueError:
+            self.fail(f"{value!r} is not a number", param, ctx)
+
+
+#: the type of every number option (``click_type=NUMBER``)
+NUMBER = Decimal()
 
 
 class RobotName(FileName):
@@ -77,7 +96,7 @@ StructureTolOpt = Annotated[Optional[float], typer.Option(
     "--structure-tol", metavar="TOL", min=1e-12, max=0.1, show_default=False,
     help="How nearly axes must meet (fraction of the arm's size) or be parallel (sine of "
          "their angle) to count as a structure the closed forms use; the nearest "
-         "structured robot is solved and every answer refined on this one. Default 1e-4.")]
+         "structured robot is solved and every answer refined on this one. Default 1e-4.", click_type=NUMBER)]
 LockOpt = Annotated[Optional[List[str]], typer.Option(
     "--lock", metavar="JOINT=VALUE", show_default=False,
     help="Hold a joint at a value (its name or number, the value in the angle or length "
@@ -144,7 +163,7 @@ def parse_joints(tokens: list[str] | None, robot, units, option: str | None = No
     values = []
     for tok in tokens:
         try:
-            values.append(float(tok))
+            values.append(parse_decimal(tok.strip()))
         except ValueError:
             if tok.startswith("-"):
                 raise UsageError(f"no such option: {tok}{_suggest_option(tok)}"
@@ -176,7 +195,7 @@ def parse_locks(items: list[str] | None, robot, units) -> dict:
         if k in locks:
             raise InputError(f"--lock: joint {names[k]} is locked twice")
         try:
-            v = float(value)
+            v = parse_decimal(value.strip())
         except ValueError:
             raise InputError(f"--lock: value {quote(value.strip())} of joint {names[k]} is "
                              "not a number") from None

@@ -12,6 +12,7 @@ from typing import Annotated, NamedTuple, Optional
 import typer
 
 from ..errors import InputError
+from .common import NUMBER
 
 SweepOpt = Annotated[Optional[str], typer.Option(
     "--sweep", metavar="JOINT", show_default=False,
@@ -23,10 +24,10 @@ SweepOpt = Annotated[Optional[str], typer.Option(
 FromOpt = Annotated[Optional[float], typer.Option(
     "--from", metavar="VALUE", show_default=False,
     help="First value of --sweep, in the angle or length unit (default: the joint's lower "
-         "limit).")]
+         "limit).", click_type=NUMBER)]
 ToOpt = Annotated[Optional[float], typer.Option(
     "--to", metavar="VALUE", show_default=False,
-    help="Last value of --sweep (default: the joint's upper limit).")]
+    help="Last value of --sweep (default: the joint's upper limit).", click_type=NUMBER)]
 StepsOpt = Annotated[Optional[int], typer.Option(
     "--steps", metavar="N", min=2, max=20000, show_default=False,
     help="Number of values of --sweep, evenly spaced, ends included (default 181). The first "
@@ -37,7 +38,7 @@ SwivelOpt = Annotated[Optional[float], typer.Option(
     help="Arms with a spherical shoulder and wrist (7 joints, axes 1-3 and 5-7 each through "
          "one point): every branch at this swivel angle of the elbow about the "
          "shoulder-wrist line (the stereographic SEW angle of Elias & Wen 2023), in the "
-         "angle unit. Needs the whole pose.")]
+         "angle unit. Needs the whole pose.", click_type=NUMBER)]
 SwivelRangeOpt = Annotated[Optional[bool], typer.Option(
     "--swivel-range", show_default=False,
     help="Arms with a spherical shoulder and wrist: for each branch, the intervals of the "

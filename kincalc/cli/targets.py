@@ -16,7 +16,7 @@ from typing import Annotated, NamedTuple, Optional, Tuple
 import typer
 
 from ..errors import InputError, UsageError
-from .common import FileName, check_numbers
+from .common import NUMBER, FileName, check_numbers
 
 # --- the pose options, declared once for every command that takes a target -----------
 
@@ -24,34 +24,34 @@ F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
 
 XyzOpt = Annotated[Optional[F3], typer.Option("--xyz", metavar="X Y Z", show_default=False,
-                                              help="Target position, in the length unit.")]
+                                              help="Target position, in the length unit.", click_type=NUMBER)]
 RpyOpt = Annotated[Optional[F3], typer.Option(
     "--rpy", metavar="R P Y", show_default=False,
-    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).")]
+    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).", click_type=NUMBER)]
 ZyzOpt = Annotated[Optional[F3], typer.Option(
     "--euler-zyz", metavar="A B C", show_default=False,
-    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).")]
+    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).", click_type=NUMBER)]
 XyzEOpt = Annotated[Optional[F3], typer.Option(
     "--euler-xyz", metavar="A B C", show_default=False,
-    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).")]
+    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).", click_type=NUMBER)]
 QuatOpt = Annotated[Optional[F4], typer.Option(
     "--quat", metavar="W X Y Z", show_default=False,
-    help="Orientation as a quaternion (w, x, y, z); normalised.")]
+    help="Orientation as a quaternion (w, x, y, z); normalised.", click_type=NUMBER)]
 AxisAngleOpt = Annotated[Optional[F4], typer.Option(
     "--axis-angle", metavar="X Y Z ANGLE", show_default=False,
-    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).")]
+    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).", click_type=NUMBER)]
 MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, float, float,
                                      float]], typer.Option(
     "--matrix", metavar="R11 ... R33", show_default=False,
-    help="Orientation as a rotation matrix, 9 numbers row by row.")]
+    help="Orientation as a rotation matrix, 9 numbers row by row.", click_type=NUMBER)]
 ApproachOpt = Annotated[Optional[F3], typer.Option(
     "--approach", metavar="AX AY AZ", show_default=False,
     help="Only the approach direction (the tool z axis, world frame; normalised), for "
-         "five-joint arms that set it but not the roll about it.")]
+         "five-joint arms that set it but not the roll about it.", click_type=NUMBER)]
 TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
     "--tcv", metavar="W1 ... W6", show_default=False,
     help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
-         "the last joint's angle in one (robots whose last joint rolls the tool).")]
+         "the last joint's angle in one (robots whose last joint rolls the tool).", click_type=NUMBER)]
 PoseOpt = Annotated[Optional[str], typer.Option(
     "--pose", metavar="FILE", show_default=False, click_type=FileName(),
     help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "
@@ -192,7 +192,7 @@ def _read_pose(src: str):
 
     import numpy as np
 
-    from ..limits import TooLarge, os_error_text, read_bounded, size_text
+    from ..limits import TooLarge, os_error_text, parse_decimal, read_bounded, size_text
     what = f"--pose {src}"
     try:
         raw = read_bounded(src)
@@ -216,8 +216,8 @@ def _read_pose(src: str):
         M = np.array(data, dtype=float)
     except (ValueError, TypeError, RecursionError):
         try:
-            M = np.array(text.replace(",", " ").replace("[", " ").replace("]", " ").split(),
-                         dtype=float)
+            M = np.array([parse_decimal(word) for word in text.replace(",", " ").replace(
+                "[", " ").replace("]", " ").split()])
         except ValueError:
             raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
                 from None

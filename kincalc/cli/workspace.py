@@ -7,8 +7,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt, RobotArg,
-                     TipLinkOpt, UnitOpt, display_units, load_robot, output, output_target)
+from .common import (NUMBER, BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt,
+                     RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output,
+                     output_target)
 
 
 def workspace(
@@ -23,7 +24,7 @@ def workspace(
     dexterity: Annotated[float, typer.Option(
         "--dexterity", metavar="F",
         help="Fraction of the test orientations a point must reach to count as dexterous "
-             "(1 = every one, the textbook's dexterous workspace).")] = 1.0,
+             "(1 = every one, the textbook's dexterous workspace).", click_type=NUMBER)] = 1.0,
     orientations: Annotated[Optional[int], typer.Option(
         "--orientations", metavar="K", min=2, max=MAX_ORIENTATIONS, show_default=False,
         help="Number of test orientations for dexterity (default 48 for arms that control "

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import RobotFileError
-from ..limits import MAX_JOINTS, MAX_MAGNITUDE, MAX_NAME, quote
+from ..limits import MAX_JOINTS, MAX_MAGNITUDE, MAX_NAME, parse_decimal, quote
 from ..model import Joint, Robot
 from ..spatial import invert_transform, matrix_from_rpy, transform
 from .reader import read_text
@@ -193,7 +193,7 @@ class _Reader:
         text = self.attr(node, name, default)
         parts = text.split()
         try:
-            values = [float(p) for p in parts]
+            values = [parse_decimal(p) for p in parts]
         except ValueError:
             hint = " (an unexpanded xacro expression? expand the file first)" \
                 if "$" in text else ""

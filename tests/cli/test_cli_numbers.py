@@ -66,6 +66,39 @@ def test_numbers_beyond_the_limit_are_one_line_errors(argv, names, value, tmp_pa
     assert not any(tmp_path.iterdir())
 
 
+#: texts Python's float() reads but that are no decimal number: 1_0 was read as 10, an
+#: Arabic-Indic or a fullwidth digit as its value
+NOT_DECIMAL = ["1_0", "\u0663", "\uff11", "0x10", "1e", "1.2.3"]
+
+
+@pytest.mark.parametrize("value", NOT_DECIMAL)
+@pytest.mark.parametrize("argv, names", NUMBER_CASES + [
+    (["ik", "puma560", "--xyz", "0.4", "0", "0.3", "--rpy", "0", "0", "0", "--lock",
+      "q1={}"], "--lock"),
+    (["ik", "kuka_iiwa14", "--xyz", "0.4", "0", "0.3", "--rpy", "0", "0", "0", "--swivel",
+      "{}"], "--swivel")], ids=lambda c: c if isinstance(c, str) else " ".join(c[:3]))
+def test_a_number_is_decimal_digits(argv, names, value, tmp_path):
+    argv = [a.replace("{}", value) for a in argv]
+    status, out, err = run(*argv, cwd=str(tmp_path))
+    assert status == 2 and out == "", err
+    assert "not a number" in err or "no such option" in err or "expected" in err, err
+
+
+def test_parse_decimal_reads_what_float_reads_of_decimal_text():
+    """The strict reader against float(): the same value on decimal text (a seeded sample of
+    signs, digits, points and exponents), a ValueError on everything float() takes besides."""
+    from kincalc.limits import parse_decimal
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        x = float(rng.standard_normal() * 10.0 ** rng.integers(-12, 12))
+        for text in (repr(x), f"{x:.3e}", f"{x:+.7f}", f"{abs(x):.0f}.", f".{rng.integers(99)}"):
+            assert parse_decimal(text) == float(text), text
+    for text in ["1_0", " 1", "1 ", "\u0663", "\uff11", "0x10", "1e", "", "+", ".", "e5", "1e+"]:
+        with pytest.raises(ValueError):
+            parse_decimal(text)
+    assert np.isnan(parse_decimal("NaN")) and parse_decimal("-Infinity") == -np.inf
+
+
 def test_the_limit_is_the_robot_files_and_is_inclusive():
     # 1e9 itself is a number kincalc takes (as robot files do); just beyond it is not
     status, out, _ = run("fk", "bk_rrp", "0", "0", str(MAX_MAGNITUDE), "--json")

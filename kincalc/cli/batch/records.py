@@ -7,7 +7,7 @@ import heapq
 import itertools
 import math
 
-from ...limits import MAX_MAGNITUDE, MAX_RECORD_BYTES, quote, size_text
+from ...limits import DECIMAL, MAX_MAGNITUDE, MAX_RECORD_BYTES, quote, size_text
 
 #: pose keys of a JSON record and the number of values each takes
 POSE_KEYS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
@@ -366,7 +366,7 @@ def _csv_patterns():
     import re
     # a line of plain numbers (digits, signs, points, exponents) needs no cell-by-cell look
     plain = re.compile(r"[0-9eE+\-.,\s]*", re.ASCII)
-    number = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?", re.ASCII)
+    number = DECIMAL
     header = re.compile(r"[A-Za-z_][\w.\-]*(?:[ \t]*,[ \t]*[A-Za-z_][\w.\-]*)*", re.ASCII)
     return plain, number, header
 
