@@ -211,9 +211,10 @@ def _prefixes(chain, motions):
     """The chain's prefix products by stacked 4x4 products, joint-major ``(n + 1, N, 4, 4)``,
     from the joint motions ``(n, N, 4, 4)`` of :func:`_motions` (each product on contiguous
     stacks): ``P_0 = F_0`` and ``P_i = P_{i-1} J_i F_i``, so that ``P_n`` is the tool pose
-    ``T_world_tool`` (world frame, m)."""
+    ``T_world_tool`` (world frame, m). The links ``J_i F_i`` of all configurations are one
+    product per joint (their motions stacked as the rows of one matrix)."""
     n, N = motions.shape[:2]
-    links = motions @ chain.fixed[1:, None]
+    links = (motions.reshape(n, 4 * N, 4) @ chain.fixed[1:]).reshape(n, N, 4, 4)
     P = np.empty((n + 1, N, 4, 4))
     P[0] = chain.fixed[0]
     for i in range(n):
