@@ -24,7 +24,7 @@ frames.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -51,7 +51,13 @@ class Group(NamedTuple):
 
 @dataclass(frozen=True)
 class JointPolynomials:
-    """The fitted quantities of one robot (see the module docstring)."""
+    """The fitted quantities of one robot (see the module docstring).
+
+    Their bases are written into one array ``Phi (terms, m)``: first the rows ``1, cos q,
+    sin q`` of every revolute joint some group takes to degree 1 (``first``: a group of one
+    such joint reads its terms there), then the terms of every other group (``made``:
+    ``(group, its first row)``); each group's quantities are its coefficients times its rows
+    ``columns`` of ``Phi``."""
 
     count: int
     revolute: np.ndarray     # (n,) of bool
@@ -59,16 +65,23 @@ class JointPolynomials:
     groups: tuple
     #: the revolute joints some group takes to degree 1 (their rows are made together)
     first: tuple = ()
+    #: the groups whose terms are made, each with the row of ``Phi`` they start at
+    made: tuple = ()
+    #: per group, its rows of ``Phi`` (start, stop); a constant's are none
+    columns: tuple = ()
+    terms: int = 0
 
     def __call__(self, Q) -> np.ndarray:
         """The quantities at configurations ``Q (m, n)`` (rad / m): ``(count, m)``."""
         Q = np.asarray(Q, float)
+        Phi = np.empty((self.terms, len(Q)))
+        bases = _first_harmonics(self, Q, Phi)
+        for g, at in self.made:
+            _basis(self, Q, g.joints, g.degrees, bases, out=Phi[at:at + len(g.coefficients)])
         out = np.empty((self.count, len(Q)))
-        bases = _first_harmonics(self, Q)
-        for g in self.groups:
+        for g, (a, b) in zip(self.groups, self.columns):
             # a constant (no joints: one coefficient per row) is its coefficient times 1
-            out[g.rows] = g.coefficients.T @ _basis(self, Q, g.joints, g.degrees, bases) \
-                if g.joints else g.coefficients.T
+            out[g.rows] = g.coefficients.T @ Phi[a:b] if g.joints else g.coefficients.T
         return out
 
 
@@ -107,9 +120,7 @@ def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
         Phi = _basis(model, grid, joints, deg)
         C = np.linalg.solve(Phi.T, quantities(grid)[rows].T)
         out.append(Group(joints, deg, np.array(rows, np.intp), C))
-    first = tuple(sorted({j for g in out for j, d in zip(g.joints, g.degrees)
-                          if d == 1 and revolute[j]}))
-    model = JointPolynomials(len(degrees), revolute, L, tuple(out), first)
+    model = _stacked(JointPolynomials(len(degrees), revolute, L, tuple(out)))
     Q = points[3:]
     miss = np.abs(model(Q) - quantities(Q)).max(-1)
     return model if np.all(miss <= AGREE * scale) else None
@@ -138,6 +149,24 @@ def _degrees(quantities, revolute, L, base, sizes):
     return np.where(revolute, deg_rev, deg_pri), scale
 
 
+def _stacked(model: JointPolynomials) -> JointPolynomials:
+    """``model`` with its bases laid out in one array (:class:`JointPolynomials`): the rows of
+    the first harmonics, then the terms of each group that does not read its terms there."""
+    first = tuple(sorted({j for g in model.groups for j, d in zip(g.joints, g.degrees)
+                          if d == 1 and model.revolute[j]}))
+    at, made, columns = 3 * len(first), [], []
+    for g in model.groups:
+        if len(g.joints) == 1 and g.degrees == (1,) and g.joints[0] in first:
+            columns.append((3 * first.index(g.joints[0]), 3 * first.index(g.joints[0]) + 3))
+        elif not g.joints:
+            columns.append((0, 0))
+        else:
+            made.append((g, at))
+            columns.append((at, at + len(g.coefficients)))
+            at += len(g.coefficients)
+    return replace(model, first=first, made=tuple(made), columns=tuple(columns), terms=at)
+
+
 def _grid(model: JointPolynomials, joints, degrees, base) -> np.ndarray:
     """Configurations ``(m, n)`` on which the basis of ``joints`` with ``degrees`` is a
     square, well-conditioned system: ``2 d + 1`` equally spaced angles (a revolute joint)
@@ -155,31 +184,39 @@ def _grid(model: JointPolynomials, joints, degrees, base) -> np.ndarray:
     return Q
 
 
-def _basis(model: JointPolynomials, Q, joints, degrees, bases=None) -> np.ndarray:
+def _basis(model: JointPolynomials, Q, joints, degrees, bases=None, out=None) -> np.ndarray:
     """The tensor product basis ``(terms, m)`` of ``joints`` at ``Q (m, n)``: per revolute
     joint ``1, cos q, sin q, ..., cos dq, sin dq``, per prismatic one ``1, x, ..., x^d``
     (``x = d_j / length``), the last joint's index running fastest. ``bases``: a dict that
-    keeps each joint's rows for the next call on the same ``Q``."""
+    keeps each joint's rows for the next call on the same ``Q``; ``out``: the rows written
+    (and returned)."""
     bases = {} if bases is None else bases
-    Phi = None                      # the empty product, 1: the first joint's rows themselves
     for j, d in zip(joints, degrees):
-        B = bases.get((j, d))
-        if B is None:
-            B = bases[j, d] = _joint_basis(model, Q[:, j], j, d)
-        Phi = B if Phi is None else (Phi[:, None] * B).reshape(-1, len(Q))
-    return np.ones((1, len(Q))) if Phi is None else Phi
+        if (j, d) not in bases:
+            bases[j, d] = _joint_basis(model, Q[:, j], j, d)
+    B = [bases[j, d] for j, d in zip(joints, degrees)]
+    if out is None:
+        out = np.empty((int(np.prod([len(b) for b in B])), len(Q)))
+    if len(B) < 2:
+        out[...] = B[0] if B else 1.0
+        return out
+    Phi = B[0]
+    for b in B[1:-1]:
+        Phi = (Phi[:, None] * b).reshape(-1, len(Q))
+    np.multiply(Phi[:, None], B[-1], out=out.reshape(len(Phi), len(B[-1]), len(Q)))
+    return out
 
 
-def _first_harmonics(model: JointPolynomials, Q) -> dict:
+def _first_harmonics(model: JointPolynomials, Q, Phi) -> dict:
     """The rows ``1, cos q, sin q`` ``(3, m)`` of each joint of ``model.first`` at ``Q (m,
-    n)``, by one cosine and one sine of them all: :func:`_basis`' ``bases`` for degree 1
-    (the values of :func:`_joint_basis`: the cosine of a value does not depend on the array
-    it is in)."""
+    n)``, written into the stacked basis ``Phi`` by one cosine and one sine of them all:
+    :func:`_basis`' ``bases`` for degree 1 (the values of :func:`_joint_basis`: the cosine
+    of a value does not depend on the array it is in)."""
     if not model.first:
         return {}
-    B = np.empty((len(model.first), 3, len(Q)))
+    B = Phi[:3 * len(model.first)].reshape(len(model.first), 3, len(Q))
     B[:, 0] = 1.0
-    x = Q.T[list(model.first)]                  # (joints, m), each row contiguous
+    x = Q.T[model.first, :]                 # (joints, m), each row contiguous
     np.cos(x, out=B[:, 1])
     np.sin(x, out=B[:, 2])
     return {(j, 1): b for j, b in zip(model.first, B)}

@@ -114,7 +114,9 @@ def products(R, n: int, frames) -> np.ndarray:
 
     The vectors of the rules and their differences are one product with a matrix of 0 and
     +-1 (exact: each entry is a vector or the difference of two), the cross products another
-    (with the Levi-Civita symbol, of the vectors' outer products), then the dot products."""
+    (with the Levi-Civita symbol, of the vectors' outer products), then the dot products,
+    each times its sign (``R.sign``, exact: the words of :func:`_codes` are then the signs
+    of the products as they are, in the world's sense)."""
     k = frames.shape[-1]
     # the vectors (m, 3, k): the frames' axes and origins, then the carried points
     V = np.empty((R.selection.shape[1], 3, k))
@@ -125,26 +127,31 @@ def products(R, n: int, frames) -> np.ndarray:
     c = R.crosses
     X = LEVI_CIVITA @ (Y[:c, :, None] * Y[c:2 * c, None]).reshape(c, 9, k)   # (c, 3, k)
     return np.add.reduce(Y[2 * c:3 * c + R.lin] * np.concatenate((X, Y[3 * c + R.lin:])),
-                         axis=1)
+                         axis=1) * R.sign
 
 
 def _codes(R, dots) -> np.ndarray:
     """The codes ``(words, k)`` of :func:`branch_geometry` from the :func:`products`."""
-    word = dots[:len(R.words)] * R.dot_sign
+    w = len(R.words)
+    word = dots[:w]
     # on the boundary (a stretched elbow, a wrist at q5 = 0, the point on axis 1) the word
     # tells nothing: none (code 0), whatever the rounding of this batch's products, so the
     # label shows the +/- of the steps it would name
-    word[np.abs(word) <= R.zero] = 0.0
+    code = np.where(np.abs(word) > R.zero, R.first + (word < 0), _NONE)    # R.first: int8
     if R.spatial_elbow:
         # the elbow against the shoulder-to-target line in the plane of the parallel axes:
         # (l' x v') . (l' x z1') / |l'|^2 with l = W - S, v = E - S and z1 projected along
         # the elbow's axis h, that is ((l x v) . h) ((l x z1) . h) / (|l|^2 - (l . h)^2);
-        # the turn sense (alt) where the elbow is on the line
-        lv, lz, ll, lh = dots[len(R.words):]
-        up = lv * lz / np.maximum(ll - lh * lh, 1e-300) * R.upward
+        # the turn sense (the word above) where the elbow is on the line
+        lv, lz, ll, lh = dots[w], dots[w + 1], dots[w + 2], dots[w + 3]
+        up = lv * lz / np.maximum(ll - lh * lh, 1e-300)
         e = R.elbow_row
-        word[e] = np.where(np.abs(up) < R.on_line, word[e], up)
-    return np.where(word == 0.0, np.int8(0), R.first + (word < 0))     # R.first: int8
+        code[e] = np.where(np.abs(up) < R.on_line, code[e], R.first[e] + (up < 0))
+    return code
+
+
+#: the code of a word that tells nothing
+_NONE = np.int8(0)
 
 
 class Rules(NamedTuple):
@@ -154,10 +161,10 @@ class Rules(NamedTuple):
     points (``point_frames``, ``point_local``: their frames, and their coordinates there
     followed by 1, ``(4, p, 1)``). ``selection @ V`` gives, in this order, the ``crosses``
     left and right operands, then the left operands of their dot products (a cross product
-    is dotted with one vector), then the ``lin`` pairs of vectors dotted together. The first
-    dot products are the words' (``words``: shoulder 0, elbow 1, wrist 2): word ``i`` is its
-    ``first[i]`` word where ``dot_sign[i]`` times the product is >= 0, else the next; a spatial
-    elbow's four more products follow.
+    is dotted with one vector), then the ``lin`` pairs of vectors dotted together, each product
+    times its ``sign``. The first products are the words' (``words``: shoulder 0, elbow 1, wrist
+    2): word ``i`` is its ``first[i]`` word where the product is > ``zero[i]``, the next where it
+    is < ``-zero[i]``, none between; a spatial elbow's four more products follow.
     """
 
     point_frames: np.ndarray
@@ -165,7 +172,9 @@ class Rules(NamedTuple):
     selection: np.ndarray
     crosses: int
     lin: int
-    dot_sign: np.ndarray             # (words, 1)
+    #: (c + lin, 1): +-1, each product's sign: the words' sense in the world (a word's side
+    #: seen from above, :attr:`Geometry.upward`, the front), the elbow's turn sense
+    sign: np.ndarray
     #: (words, 1): a product this close to 0 is 0 (1e-9 of its size: m, m^2, 1)
     zero: np.ndarray
     words: np.ndarray
@@ -174,7 +183,6 @@ class Rules(NamedTuple):
     sizes: np.ndarray = None
     spatial_elbow: bool = False
     elbow_row: int = 0
-    upward: float = 1.0
     on_line: float = 0.0
 
 
@@ -242,11 +250,12 @@ def rules(robot, family: str) -> Rules | None:
     return Rules(point_frames=np.array([f for f, _ in pts], np.intp),
                  point_local=np.array([[*local, 1.0] for _, local in pts]).reshape(-1, 4).T[
                      :, :, None], selection=S, crosses=len(crossed), lin=len(lin),
-                 dot_sign=np.array(sign, float)[:, None],
+                 sign=np.array(sign + ([geo.upward, 1.0, 1.0, 1.0] if extra else []),
+                               float)[:, None],
                  zero=1e-9 * np.array(size, float)[:, None], words=np.array(words, np.intp),
                  first=np.array(first, np.int8)[:, None], spatial_elbow=bool(extra),
                  sizes=np.array(size + ([L * L, L, L * L, L] if extra else []), float),
-                 elbow_row=words.index(1) if 1 in words else 0, upward=geo.upward,
+                 elbow_row=words.index(1) if 1 in words else 0,
                  on_line=1e-9 * robot.characteristic_length)
 
 
