@@ -262,8 +262,7 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
                                                  br)
         x = np.ascontiguousarray(q.reshape(-1, n).T)
         c, s = np.cos(x), np.sin(x)
-    sv = _check(robot, family, method, targets, (c, s, x), candidate, br)
-    return sv if br.full is None else _in_layout(robot, sv, br.full, br.full_signs)
+    return _check(robot, family, method, targets, (c, s, x), candidate, br)
 
 
 def check_kind(robot, family: Family, targets: Targets) -> None:
@@ -292,7 +291,8 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
 
 def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
     """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
-    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`).
+    each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`), in the slots of ``br``; the
+    answer laid out in the family's slots (:func:`_in_layout`) where the solver kept fewer.
 
     A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
     normalised joint values, kept for the labels and the singular test; many by the column walk
@@ -315,38 +315,41 @@ def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
     viol = violations(robot, q)
-    return Solved(family=family.name, spec=family, method=method, robot=robot, q=q,
-                  candidate=candidate, valid=valid,
-                  position_error=np.where(candidate, pe, 0.0),
-                  orientation_error=np.full((N, K), np.nan) if oe is None else
-                  np.where(candidate, oe, np.nan),
-                  violation=viol, within=np.logical_and.reduce(viol == 0.0, axis=-1),
-                  free=br.free_mask(), signs=br.signs, continuum=br.extra.get("continuum"),
-                  branches=br, memo=memo)
+    checked = dict(q=q, candidate=candidate, valid=valid,
+                   position_error=np.where(candidate, pe, 0.0),
+                   orientation_error=np.full((N, K), np.nan) if oe is None else
+                   np.where(candidate, oe, np.nan),
+                   violation=viol, within=np.logical_and.reduce(viol == 0.0, axis=-1),
+                   free=br.free_mask(), continuum=br.extra.get("continuum"))
+    signs = br.signs
+    if br.full is not None:
+        checked, memo["at"] = _in_layout(robot, checked, br.full, len(br.full_signs))
+        signs = br.full_signs
+    return Solved(family=family.name, spec=family, method=method, robot=robot, signs=signs,
+                  branches=br, memo=memo, **checked)
 
 
-def _in_layout(robot, sv: Solved, cols, signs) -> Solved:
-    """``sv``, checked on the slots ``cols (K',)`` some target keeps, in the family's layout of
-    ``K = len(signs)`` slots (``signs`` its sign table), so that every batch lays its slots out
-    alike: the other slots hold no candidate and the joints of an unset slot (all 0,
-    normalised)."""
-    N, K = len(sv.q), len(signs)
+def _in_layout(robot, checked: dict, cols, K: int) -> tuple:
+    """The arrays ``checked`` of :class:`Solved`'s fields (``(N, K', ...)``, None for none)
+    of the slots ``cols (K',)`` some target keeps, in the family's layout of ``K`` slots, so
+    that every batch lays its slots out alike: the other slots hold no candidate and the
+    joints of an unset slot (all 0, normalised). Returns ``(arrays, at)``, ``at (K,)`` each
+    slot's index among ``cols`` (-1 for none)."""
     q0, v0, within0 = _unset_slot(robot)
-
-    def put(a, fill):
-        out = np.empty((N, K) + a.shape[2:], a.dtype)
-        out[...] = fill
-        out[:, cols] = a
-        return out
+    fill = dict(q=q0, candidate=False, valid=False, position_error=0.0,
+                orientation_error=np.nan, violation=v0, within=within0, free=False,
+                continuum=0.0)
+    out = {}
+    for name, a in checked.items():
+        if a is not None:
+            out[name] = np.empty((len(a), K) + a.shape[2:], a.dtype)
+            out[name][...] = fill[name]
+            out[name][:, cols] = a
+        else:
+            out[name] = None
     at = np.full(K, -1)
     at[cols] = np.arange(len(cols))
-    return replace(sv, q=put(sv.q, q0), candidate=put(sv.candidate, False),
-                   valid=put(sv.valid, False), position_error=put(sv.position_error, 0.0),
-                   orientation_error=put(sv.orientation_error, np.nan),
-                   violation=put(sv.violation, v0), within=put(sv.within, within0),
-                   free=put(sv.free, False), signs=signs,
-                   continuum=None if sv.continuum is None else put(sv.continuum, 0.0),
-                   memo={**sv.memo, "at": at})
+    return out, at
 
 
 @per_robot
