@@ -211,7 +211,7 @@ def _solutions(robot, sv: Solved, explain: bool):
     slots = [k for k, c in enumerate(sv.candidate[0].tolist()) if c]
     if not slots:
         return [], []
-    q = sv.q[0]
+    q = list(sv.q[0])
     pe = sv.position_error[0].tolist()
     oe = sv.orientation_error[0].tolist()
     if all(oe[k] != oe[k] for k in slots):          # NaN: no orientation checked
@@ -220,8 +220,8 @@ def _solutions(robot, sv: Solved, explain: bool):
     branch = sv.labels[0].tolist()
     if any(valid):
         singular = sv.singular[0].tolist()
-        within = sv.within[0].tolist()
-        free = sv.free[0].tolist() if sv.free[0].any() else None     # rarely any
+        within, violation = sv.within[0].tolist(), sv.violation[0].tolist()
+        free = sv.free[0].tolist() if np.count_nonzero(sv.free[0]) else None    # rarely any
     sols, rejected = [], []
     for k in slots:
         if not valid[k]:
@@ -229,7 +229,7 @@ def _solutions(robot, sv: Solved, explain: bool):
                 rejected.append({"q": q[k], "branch": branch[k], "position_error": pe[k],
                                  "orientation_error": oe[k], "reason": Missed(pe[k], oe[k])})
             continue
-        viol = [] if within[k] else _violation_list(sv.violation[0, k])
+        viol = [] if within[k] else _violation_list(violation[k])
         joints = () if free is None else tuple(j for j, f in enumerate(free[k]) if f)
         sol = object.__new__(IKSolution)        # every field, without a frozen __setattr__ each
         sol.__dict__.update(q=q[k], branch=branch[k], position_error=pe[k],
