@@ -56,8 +56,8 @@ class JointPolynomials:
     Their bases are written into one array ``Phi (terms, m)``: first the rows ``1, cos q,
     sin q`` of every revolute joint some group takes to degree 1 (``first``: a group of one
     such joint reads its terms there), then the terms of every other group (``made``:
-    ``(group, its first row)``); each group's quantities are its coefficients times its rows
-    ``columns`` of ``Phi``."""
+    ``(group, its first row)``). Each group's quantities are its coefficients times its rows
+    of ``Phi``, one product written into its block of the quantities in group order."""
 
     count: int
     revolute: np.ndarray     # (n,) of bool
@@ -67,9 +67,12 @@ class JointPolynomials:
     first: tuple = ()
     #: the groups whose terms are made, each with the row of ``Phi`` they start at
     made: tuple = ()
-    #: per group, its rows of ``Phi`` (start, stop); a constant's are none
-    columns: tuple = ()
+    #: per group, ``((start, stop) of its rows of Phi, (start, stop) of its quantities in
+    #: group order)``; a constant has no rows of Phi
+    blocks: tuple = ()
     terms: int = 0
+    #: ``(count,)``: where each quantity is in group order, None when it is already in place
+    order: np.ndarray | None = None
 
     def __call__(self, Q) -> np.ndarray:
         """The quantities at configurations ``Q (m, n)`` (rad / m): ``(count, m)``."""
@@ -79,10 +82,12 @@ class JointPolynomials:
         for g, at in self.made:
             _basis(self, Q, g.joints, g.degrees, bases, out=Phi[at:at + len(g.coefficients)])
         out = np.empty((self.count, len(Q)))
-        for g, (a, b) in zip(self.groups, self.columns):
-            # a constant (no joints: one coefficient per row) is its coefficient times 1
-            out[g.rows] = g.coefficients.T @ Phi[a:b] if g.joints else g.coefficients.T
-        return out
+        for g, ((a, b), (r, s)) in zip(self.groups, self.blocks):
+            if g.joints:
+                np.matmul(g.coefficients.T, Phi[a:b], out=out[r:s])
+            else:        # a constant (one coefficient per row) is its coefficient times 1
+                out[r:s] = g.coefficients.T
+        return out if self.order is None else out[self.order]
 
 
 def fit(quantities, revolute, length: float, sizes) -> JointPolynomials | None:
@@ -151,20 +156,28 @@ def _degrees(quantities, revolute, L, base, sizes):
 
 def _stacked(model: JointPolynomials) -> JointPolynomials:
     """``model`` with its bases laid out in one array (:class:`JointPolynomials`): the rows of
-    the first harmonics, then the terms of each group that does not read its terms there."""
+    the first harmonics, then the terms of each group that does not read its terms there; and
+    the quantities in group order."""
     first = tuple(sorted({j for g in model.groups for j, d in zip(g.joints, g.degrees)
                           if d == 1 and model.revolute[j]}))
-    at, made, columns = 3 * len(first), [], []
+    at, made, blocks, row = 3 * len(first), [], [], 0
     for g in model.groups:
         if len(g.joints) == 1 and g.degrees == (1,) and g.joints[0] in first:
-            columns.append((3 * first.index(g.joints[0]), 3 * first.index(g.joints[0]) + 3))
+            a = 3 * first.index(g.joints[0])
+            cols = (a, a + 3)
         elif not g.joints:
-            columns.append((0, 0))
+            cols = (0, 0)
         else:
             made.append((g, at))
-            columns.append((at, at + len(g.coefficients)))
+            cols = (at, at + len(g.coefficients))
             at += len(g.coefficients)
-    return replace(model, first=first, made=tuple(made), columns=tuple(columns), terms=at)
+        blocks.append((cols, (row, row + len(g.rows))))
+        row += len(g.rows)
+    grouped = np.concatenate([g.rows for g in model.groups]) if model.groups else \
+        np.arange(model.count)
+    order = None if np.array_equal(grouped, np.arange(model.count)) else np.argsort(grouped)
+    return replace(model, first=first, made=tuple(made), blocks=tuple(blocks), terms=at,
+                   order=order)
 
 
 def _grid(model: JointPolynomials, joints, degrees, base) -> np.ndarray:
