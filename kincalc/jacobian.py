@@ -89,7 +89,7 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
     for r, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
         np.subtract(z[a] * d[b], z[b] * d[a], out=J[r])
     J[3:] = z
-    if not np.logical_and.reduce(revolute):
+    if np.count_nonzero(revolute) < len(revolute):            # a prismatic joint
         rev = revolute[:, None]
         J[:3] = np.where(rev, J[:3], z)
         J[3:] = np.where(rev, z, 0.0)

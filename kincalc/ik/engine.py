@@ -119,7 +119,7 @@ class Solved:
             N, K = self.candidate.shape
             lab, free = np.empty(N * K, object), self.free.reshape(N * K, -1)
             q = self.q.reshape(N * K, -1)
-            ids = -1 - np.arange(N * K)                  # distinct where no solution
+            ids = np.arange(-1, -1 - N * K, -1)          # distinct where no solution
             rows = self.candidate.reshape(-1).nonzero()[0]
             lab[rows], i = labels(self.robot, self.spec.name, q[rows], self.signs, rows % K,
                                   free[rows])
