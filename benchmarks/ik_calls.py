@@ -23,10 +23,9 @@ import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
 from kincalc.ik.branches import Branches  # noqa: E402
-from kincalc.ik.engine import solve_targets  # noqa: E402
+from kincalc.ik.engine import run_solver, solve_targets  # noqa: E402
 from kincalc.ik.families import plan  # noqa: E402
 from kincalc.ik.selftest import sample_configurations  # noqa: E402
-from kincalc.ik.solvers import SOLVERS  # noqa: E402
 from kincalc.ik.target import Targets  # noqa: E402
 
 
@@ -55,7 +54,7 @@ def main():
         S, family, _ = plan(robot)
 
         def solver(T):
-            SOLVERS[family.solver](S, Targets(T[None]), Branches.start(1, robot.dof)).expanded()
+            run_solver(robot, S, family, Targets(T[None]), Branches.start(1, robot.dof))
 
         def flagged(T):
             solved = solve_targets(robot, Targets(T[None]))

@@ -233,18 +233,7 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         raise UnsupportedRobot(f"{robot.name}: no closed form ({why})")
     check_kind(robot, family, targets)
     N, n = len(targets), robot.dof
-    br = Branches.start(N, n, explain=explain)
-    if targets.kind in TARGET_FAMILIES:
-        from .solvers import TARGET_SOLVERS
-        br = TARGET_SOLVERS[targets.kind](robot, S, targets, br)
-    elif family.name == "general-6r":
-        from .general6r import general_6r
-        br = general_6r(robot, targets, br)
-    elif family.reverse:
-        br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
-        br = br.flushed().reversed_chain()
-    else:
-        br = SOLVERS[family.solver](S, targets, br)
+    br = run_solver(robot, S, family, targets, Branches.start(N, n, explain=explain))
     if not family.needs_orientation and family.exact:
         from .free_joints import orient_free
         br = orient_free(robot, targets, br)
@@ -263,6 +252,34 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
         x = np.ascontiguousarray(q.reshape(-1, n).T)
         c, s = np.cos(x), np.sin(x)
     return _check(robot, family, method, targets, (c, s, x), candidate, br)
+
+
+def run_solver(robot, S, family: Family, targets: Targets, br: Branches) -> Branches:
+    """The candidates of ``family``'s solver for ``targets``: step 1 of the module docstring,
+    before the free joints are oriented and the open ones valued.
+
+    Parameters
+    ----------
+    robot : Robot
+    S : Screws, the robot's (:func:`~kincalc.ik.families.plan`)
+    family : Family, the robot's, or the target kind's (``TARGET_FAMILIES``)
+    targets : Targets, ``N`` targets of a kind the family takes (world frame, SI)
+    br : Branches, :meth:`Branches.start` of the N targets
+
+    Returns
+    -------
+    Branches, the solver's slots (a reversed chain's in the robot's joint order)
+    """
+    if targets.kind in TARGET_FAMILIES:
+        from .solvers import TARGET_SOLVERS
+        return TARGET_SOLVERS[targets.kind](robot, S, targets, br)
+    if family.name == "general-6r":
+        from .general6r import general_6r
+        return general_6r(robot, targets, br)
+    if family.reverse:
+        br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
+        return br.flushed().reversed_chain()
+    return SOLVERS[family.solver](S, targets, br)
 
 
 def check_kind(robot, family: Family, targets: Targets) -> None:
