@@ -70,6 +70,21 @@ def test_fk_batch_jsonl_matches_hand_fk(tmp_path, capsys):
         assert np.allclose(r["xyz"], dh_fk(np.radians(x))[:3, 3], atol=1e-11)
 
 
+@pytest.mark.parametrize("kind, pose", [("fk", '"q": [0, 0]'), ("ik", '"xyz": [0.1, 0.1, 0]'),
+                                        ("jacobian", '"q": [0, 0]')])
+def test_csv_ids_are_json_words_and_no_formula(tmp_path, capsys, kind, pose):
+    """An id true was written True (Python's word) and an id =HYPERLINK(...) as a formula a
+    spreadsheet runs: now true, and the text with an apostrophe, as the gradebook's cells."""
+    ids = ["true", '"=HYPERLINK(\\"http://x\\")"', "-3", '"+1"', "null", '"plain"']
+    src = write(tmp_path, "r.jsonl", ["{%s, \"id\": %s}\n" % (pose, i) for i in ids])
+    code, out, err = run(capsys, kind, "bk_rr", "--batch", src, "--format", "csv")
+    rows = list(csv.reader(io.StringIO(out)))[1:]
+    first = {}
+    for r in rows:
+        first.setdefault(r[0], r[1])
+    assert list(first.values()) == ["true", "'=HYPERLINK(\"http://x\")", "-3", "'+1", "", "plain"]
+
+
 def test_fk_batch_csv_in_and_out_with_units(tmp_path, capsys):
     q = np.random.default_rng(2).uniform(-3, 3, (40, 6))
     rows = ["q1,q2,q3,q4,q5,q6\n"] + [",".join(repr(float(v)) for v in x) + "\n" for x in q]

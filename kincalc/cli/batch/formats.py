@@ -164,7 +164,7 @@ def csv_rows(kind, robot, records) -> str:
             w.writerow([csv_cell(r.get(c)) for c in REACH_FIELDS])
         return buf.getvalue()
     for r in records:
-        head = [r["index"], r.get("id", "")]
+        head = [r["index"], csv_cell(r.get("id"))]
         if "error" in r:
             width = {"fk": 7, "jacobian": 6 * n + 3, "ik": n + 3}[kind]
             w.writerow(head + [""] * width + [r["error"]])

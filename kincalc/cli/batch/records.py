@@ -417,8 +417,14 @@ def read_header(line, forced: bool):
 
 
 def csv_cell(value):
+    """A value as a CSV cell: None empty, a bool ``true``/``false`` (as in JSON), a text made
+    safe for spreadsheets (:func:`~kincalc.homework.gradebook.safe_cell`: an id ``=HYPERLINK(...)``
+    is not a formula), a number as it is."""
     if value is None:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, str):
+        from ...homework.gradebook import safe_cell
+        return safe_cell(value)
     return value
