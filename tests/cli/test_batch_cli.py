@@ -71,10 +71,12 @@ def test_fk_batch_jsonl_matches_hand_fk(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("kind, pose", [("fk", '"q": [0, 0]'), ("ik", '"xyz": [0.1, 0.1, 0]'),
-                                        ("jacobian", '"q": [0, 0]')])
+                                        ("jacobian", '"q": [0, 0]'),
+                                        ("reach", '"xyz": [10, 5, 0]')])
 def test_csv_ids_are_json_words_and_no_formula(tmp_path, capsys, kind, pose):
     """An id true was written True (Python's word) and an id =HYPERLINK(...) as a formula a
-    spreadsheet runs: now true, and the text with an apostrophe, as the gradebook's cells."""
+    spreadsheet runs: now true, and the text with an apostrophe, as the gradebook's cells;
+    reach's CSV had no id column at all."""
     ids = ["true", '"=HYPERLINK(\\"http://x\\")"', "-3", '"+1"', "null", '"plain"']
     src = write(tmp_path, "r.jsonl", ["{%s, \"id\": %s}\n" % (pose, i) for i in ids])
     code, out, err = run(capsys, kind, "bk_rr", "--batch", src, "--format", "csv")

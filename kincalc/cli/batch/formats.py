@@ -6,7 +6,7 @@ from __future__ import annotations
 from .records import csv_cell
 
 #: the per-pose fields of a reach record, in CSV column order
-REACH_FIELDS = ["index", "reachable", "verdict", "distance", "solutions",
+REACH_FIELDS = ["index", "id", "reachable", "verdict", "distance", "solutions",
                 "solutions_within_limits", "reason", "error"]
 
 
