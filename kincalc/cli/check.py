@@ -199,7 +199,6 @@ def _plan(sheets, output, force: bool, gradebook, feedback_dir) -> dict:
     """The files to write, each checked before any sheet is graded (a refused file costs
     nothing): ``{"output": Target or None, "gradebook": ..., "feedback": [Target, ...]}``;
     the feedback folder is made here, after every check."""
-    from ..errors import UsageError
     from ..outputs import Target, check_target
     inputs = tuple((f"the sheet {s}", s) for s in sheets)
     out = {"output": None, "gradebook": None, "feedback": []}

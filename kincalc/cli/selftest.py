@@ -45,7 +45,7 @@ def selftest(
     _, fam, why = plan(rob)
     name, description = (fam.name, fam.description) if fam else (
         "numerical", f"one solution nearest home ({why})")
-    solver = None
+    solver = None                       # (run's own: the robot's ik)
     if lock_joint is not None and swivel:
         raise InputError("--lock-joint and --swivel do not go together")
     if lock_joint is not None:

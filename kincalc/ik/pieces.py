@@ -16,7 +16,7 @@ from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
 from ..subproblems.sp4 import sp4_constants
-from ..subproblems.solutions import Solutions, dot
+from ..subproblems.solutions import Solutions
 from .branches import Branches
 from .screws import Screws
 

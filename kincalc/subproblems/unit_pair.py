@@ -187,7 +187,6 @@ def _on_a_line(Mn, bn, U, s, Vt, both):
 
 def _general(Mn, bn, U, s, Vt, tol):
     """Rank-2 problems: ``(t (m, 4, 2), ok (m, 4), free (m,))``."""
-    m = len(Mn)
     x0 = np.einsum("mji,mj->mi", Vt[:, :2], np.einsum("mji,mj->mi", U, bn) / s)
     N = np.swapaxes(Vt[:, 2:], 1, 2)                                       # (m, 4, 2)
     rho2 = 2.0 - (x0 * x0).sum(-1)

@@ -84,7 +84,7 @@ class Workspace:
     def to_dict(self) -> dict:
         from ..results import json_numbers, json_header
         u = self.units
-        l, a = u.l, u.a
+        l = u.l
         e = self.envelope
         out = json_header("workspace", self.robot, u)
         vol_unit = {3: "volume", 2: "area", 1: "length"}[self.dim]
