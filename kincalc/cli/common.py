@@ -35,17 +35,25 @@ class FileName(click.ParamType):
 
 class Decimal(click.ParamType):
     """A number on the command line, read strictly (:func:`~kincalc.limits.parse_decimal`):
-    click's float type also takes ``1_0`` (as 10) and other scripts' digits."""
+    click's float type also takes ``1_0`` (as 10) and other scripts' digits. ``lo`` and
+    ``hi`` bound it, both included (as click's ``min=`` and ``max=``, which a type given as
+    ``click_type`` replaces)."""
 
     name = "float"
 
+    def __init__(self, lo: float | None = None, hi: float | None = None):
+        self.lo, self.hi = lo, hi
+
     def convert(self, value, param, ctx):
-        if isinstance(value, float):
-            return value
-        try:
-            return parse_decimal(str(value).strip())
-        except ValueError:
-            self.fail(f"{value!r} is not a number", param, ctx)
+        if not isinstance(value, float):
+            try:
+                value = parse_decimal(str(value).strip())
+            except ValueError:
+                self.fail(f"{value!r} is not a number", param, ctx)
+        if (self.lo is not None and not value >= self.lo) or \
+                (self.hi is not None and not value <= self.hi):
+            self.fail(f"{value:g} is not in the range {self.lo:g} to {self.hi:g}", param, ctx)
+        return value
 
 
 #: the type of every number option (``click_type=NUMBER``)
@@ -93,10 +101,11 @@ BaseLinkOpt = Annotated[Optional[str], typer.Option(
     "--base-link", metavar="LINK", show_default=False,
     help="URDF robots: the link the chain starts from (default: the tree's root).")]
 StructureTolOpt = Annotated[Optional[float], typer.Option(
-    "--structure-tol", metavar="TOL", min=1e-12, max=0.1, show_default=False,
+    "--structure-tol", metavar="TOL", show_default=False, click_type=Decimal(1e-12, 0.1),
     help="How nearly axes must meet (fraction of the arm's size) or be parallel (sine of "
          "their angle) to count as a structure the closed forms use; the nearest "
-         "structured robot is solved and every answer refined on this one. Default 1e-4.", click_type=NUMBER)]
+         "structured robot is solved and every answer refined on this one. Default 1e-4, at "
+         "most 0.1.")]
 LockOpt = Annotated[Optional[List[str]], typer.Option(
     "--lock", metavar="JOINT=VALUE", show_default=False,
     help="Hold a joint at a value (its name or number, the value in the angle or length "

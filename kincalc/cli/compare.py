@@ -6,8 +6,8 @@ from typing import Annotated
 
 import typer
 
-from .common import (BaseLinkOpt, joints_text, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
-                     display_units, load_robot, output)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
+                     display_units, joints_text, load_robot, output)
 
 RobotAArg = Annotated[str, typer.Argument(
     metavar="ROBOT_A", show_default=False,

@@ -22,23 +22,23 @@ SweepOpt = Annotated[Optional[str], typer.Option(
          "limits and where branches meet or leave the reach. --plot draws each joint "
          "against the swept value; --format csv gives every value.")]
 FromOpt = Annotated[Optional[float], typer.Option(
-    "--from", metavar="VALUE", show_default=False,
+    "--from", metavar="VALUE", click_type=NUMBER, show_default=False,
     help="First value of --sweep, in the angle or length unit (default: the joint's lower "
-         "limit).", click_type=NUMBER)]
+         "limit).")]
 ToOpt = Annotated[Optional[float], typer.Option(
-    "--to", metavar="VALUE", show_default=False,
-    help="Last value of --sweep (default: the joint's upper limit).", click_type=NUMBER)]
+    "--to", metavar="VALUE", click_type=NUMBER, show_default=False,
+    help="Last value of --sweep (default: the joint's upper limit).")]
 StepsOpt = Annotated[Optional[int], typer.Option(
     "--steps", metavar="N", min=2, max=20000, show_default=False,
     help="Number of values of --sweep, evenly spaced, ends included (default 181). The first "
          "and the last joint are swept in one batch; any other joint costs a few "
          "milliseconds per value.")]
 SwivelOpt = Annotated[Optional[float], typer.Option(
-    "--swivel", metavar="ANGLE", show_default=False,
+    "--swivel", metavar="ANGLE", click_type=NUMBER, show_default=False,
     help="Arms with a spherical shoulder and wrist (7 joints, axes 1-3 and 5-7 each through "
          "one point): every branch at this swivel angle of the elbow about the "
          "shoulder-wrist line (the stereographic SEW angle of Elias & Wen 2023), in the "
-         "angle unit. Needs the whole pose.", click_type=NUMBER)]
+         "angle unit. Needs the whole pose.")]
 SwivelRangeOpt = Annotated[Optional[bool], typer.Option(
     "--swivel-range", show_default=False,
     help="Arms with a spherical shoulder and wrist: for each branch, the intervals of the "

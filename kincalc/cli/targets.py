@@ -23,35 +23,36 @@ from .common import NUMBER, FileName, check_numbers
 F3 = Tuple[float, float, float]
 F4 = Tuple[float, float, float, float]
 
-XyzOpt = Annotated[Optional[F3], typer.Option("--xyz", metavar="X Y Z", show_default=False,
-                                              help="Target position, in the length unit.", click_type=NUMBER)]
+XyzOpt = Annotated[Optional[F3], typer.Option(
+    "--xyz", metavar="X Y Z", show_default=False, click_type=NUMBER,
+    help="Target position, in the length unit.")]
 RpyOpt = Annotated[Optional[F3], typer.Option(
-    "--rpy", metavar="R P Y", show_default=False,
-    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).", click_type=NUMBER)]
+    "--rpy", metavar="R P Y", click_type=NUMBER, show_default=False,
+    help="Orientation as fixed X-Y-Z angles: R = Rz(Y) Ry(P) Rx(R).")]
 ZyzOpt = Annotated[Optional[F3], typer.Option(
-    "--euler-zyz", metavar="A B C", show_default=False,
-    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).", click_type=NUMBER)]
+    "--euler-zyz", metavar="A B C", click_type=NUMBER, show_default=False,
+    help="Orientation as ZYZ Euler angles: R = Rz(A) Ry(B) Rz(C).")]
 XyzEOpt = Annotated[Optional[F3], typer.Option(
-    "--euler-xyz", metavar="A B C", show_default=False,
-    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).", click_type=NUMBER)]
+    "--euler-xyz", metavar="A B C", click_type=NUMBER, show_default=False,
+    help="Orientation as moving X-Y-Z Euler angles: R = Rx(A) Ry(B) Rz(C).")]
 QuatOpt = Annotated[Optional[F4], typer.Option(
-    "--quat", metavar="W X Y Z", show_default=False,
-    help="Orientation as a quaternion (w, x, y, z); normalised.", click_type=NUMBER)]
+    "--quat", metavar="W X Y Z", click_type=NUMBER, show_default=False,
+    help="Orientation as a quaternion (w, x, y, z); normalised.")]
 AxisAngleOpt = Annotated[Optional[F4], typer.Option(
-    "--axis-angle", metavar="X Y Z ANGLE", show_default=False,
-    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).", click_type=NUMBER)]
+    "--axis-angle", metavar="X Y Z ANGLE", click_type=NUMBER, show_default=False,
+    help="Orientation as a rotation of ANGLE about the axis (X, Y, Z).")]
 MatrixOpt = Annotated[Optional[Tuple[float, float, float, float, float, float, float, float,
                                      float]], typer.Option(
-    "--matrix", metavar="R11 ... R33", show_default=False,
-    help="Orientation as a rotation matrix, 9 numbers row by row.", click_type=NUMBER)]
+    "--matrix", metavar="R11 ... R33", click_type=NUMBER, show_default=False,
+    help="Orientation as a rotation matrix, 9 numbers row by row.")]
 ApproachOpt = Annotated[Optional[F3], typer.Option(
-    "--approach", metavar="AX AY AZ", show_default=False,
+    "--approach", metavar="AX AY AZ", click_type=NUMBER, show_default=False,
     help="Only the approach direction (the tool z axis, world frame; normalised), for "
-         "five-joint arms that set it but not the roll about it.", click_type=NUMBER)]
+         "five-joint arms that set it but not the roll about it.")]
 TcvOpt = Annotated[Optional[Tuple[float, float, float, float, float, float]], typer.Option(
-    "--tcv", metavar="W1 ... W6", show_default=False,
+    "--tcv", metavar="W1 ... W6", click_type=NUMBER, show_default=False,
     help="Tool configuration vector w = [p; e^(qn/pi) r3]: position, approach vector and "
-         "the last joint's angle in one (robots whose last joint rolls the tool).", click_type=NUMBER)]
+         "the last joint's angle in one (robots whose last joint rolls the tool).")]
 PoseOpt = Annotated[Optional[str], typer.Option(
     "--pose", metavar="FILE", show_default=False, click_type=FileName(),
     help="The whole target pose as a 4x4 matrix in a file ('-' for stdin): 16 numbers, "

@@ -22,9 +22,9 @@ def workspace(
         help="Seed of the random generator, a non-negative integer: the same seed gives "
              "the same numbers.")] = 0,
     dexterity: Annotated[float, typer.Option(
-        "--dexterity", metavar="F",
+        "--dexterity", metavar="F", click_type=NUMBER,
         help="Fraction of the test orientations a point must reach to count as dexterous "
-             "(1 = every one, the textbook's dexterous workspace).", click_type=NUMBER)] = 1.0,
+             "(1 = every one, the textbook's dexterous workspace).")] = 1.0,
     orientations: Annotated[Optional[int], typer.Option(
         "--orientations", metavar="K", min=2, max=MAX_ORIENTATIONS, show_default=False,
         help="Number of test orientations for dexterity (default 48 for arms that control "
