@@ -9,9 +9,10 @@ Find ``theta`` with ``h . R(k, theta) p = d`` (Elias & Wen, IK-Geo, 2022, subpro
 Solutions: two; one at the tangent, where both coincide (the pose is then singular:
 the value is only good to about sqrt(rounding) of the inputs, and values within
 rounding of the tangent are taken as the tangent itself, so that an exactly singular
-problem gets its double root to rounding and not two copies either side); none when
-``|d - C| > r``: then the least-squares angle (``atan2(B, A)``, or the opposite
-direction when ``d < C``) with ``exact`` False.
+problem gets its double root to rounding and not two copies either side, and so does
+one beyond the tangent by at most ``REACH``); none when ``|d - C| > r``: then the
+least-squares angle (``atan2(B, A)``, or the opposite direction when ``d < C``) with
+``exact`` False.
 
 Ill-posed: ``r = 0`` (``h`` along ``k``, or ``p`` on the axis): every angle solves it
 when ``C = d`` (``theta = 0``, ``free`` True, ``exact`` True) and none otherwise
@@ -34,6 +35,12 @@ from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, two_r
 #: rounding of a cosine computed from lengths of size ``scale``, per unit of
 #: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
 ROUNDING = 64 * np.finfo(float).eps
+
+#: a right-hand side beyond the tangent by at most this (of ``scale``) still has its double
+#: root: the IK acceptance (``kincalc.tolerances.ACCEPT_POSITION``), so that a target made from
+#: joints a hair from a singular configuration, whose tangent the rounding of a near-singular
+#: step before it pushed past, gets its candidate and the FK check decides (else none)
+REACH = 1e-9
 
 
 class Sp4Constants(NamedTuple):
@@ -85,7 +92,7 @@ def sp4(h, p, k, d, *, tol: float = 1e-12, scale=None, fixed=None) -> Solutions:
         vectors' leading shape: one geometry may take many ``d``).
     tol : float
         Relative tolerance (of ``scale``) of "``r`` is zero" and of how far beyond the
-        tangent a problem still counts as solved.
+        tangent a problem still counts as solved (at least :data:`REACH`).
     scale : array_like (...), optional
         The size of the terms ``d`` was computed from, the unit of the tolerances;
         default ``max(|h| |p|, |d|)``. A ``d`` obtained by cancellation (subproblem
@@ -198,8 +205,8 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         The size of the terms, the unit of the tolerances (floored at 1e-300).
     tol : float
         Relative tolerance (of ``scale``) of "``r = hypot(A, B)`` is zero" and of how
-        far beyond the tangent (``|d - C| <= r + tol * scale``) a problem still counts
-        as solved.
+        far beyond the tangent (``|d - C| <= r + max(tol, REACH) * scale``) a problem
+        still counts as solved (its double root).
     fixed : AbcConstants, optional
         ``abc_constants(A, B, C)``, for fixed coefficients: what depends on them alone
         is then read from it, not computed again (``A, B, C`` are not read; the same
@@ -228,6 +235,7 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         (A, B, C, r, cb, sb), d = fixed, np.asarray(d, float)
     scale = np.maximum(scale, 1e-300)
     band = tol * scale
+    reach = max(tol, REACH) * scale            # how far beyond the tangent is still exact
     free = r < band
     dC = d - C
     some_free = np.count_nonzero(free)
@@ -237,14 +245,14 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         cd = dC / rr
         far = np.abs(cd)
         # exactness from the cosine as computed, before the tangent band moves it to +-1
-        exact = np.where(free, np.abs(dC) <= 1e-9 * scale, far <= 1.0 + band / rr)
+        exact = np.where(free, np.abs(dC) <= 1e-9 * scale, far <= 1.0 + reach / rr)
     else:
         rr = r
         if fixed is None:
             cb, sb = A / r, B / r
         cd = dC / r
         far = np.abs(cd)
-        exact = far <= 1.0 + band / r
+        exact = far <= 1.0 + reach / r
     # a cosine within rounding of +-1 is the tangent: one (double) root (and beyond +-1
     # the least-squares end, also +-1); every other cosine is inside (-1, 1) already
     tangent = far >= 1.0 - ROUNDING * scale / rr

@@ -169,9 +169,12 @@ def test_scale_sets_the_tolerances():
     # (a law of cosines) only if the caller says so
     assert not sp4(np.zeros(3), X, Z, 1e-17).exact[0]
     assert sp4(np.zeros(3), X, Z, 1e-17, scale=1.0).exact[0]
-    # cos t = 1 + 1e-10: beyond the tangent by more than tol of 1, within tol of 1e3
-    assert not sp4(X, X, Z, 1 + 1e-10).exact[0]
-    S = sp4(X, X, Z, 1 + 1e-10, scale=1e3)
+    # cos t = 1 + 1e-8: beyond the tangent by more than REACH of 1, within REACH of 1e3
+    assert not sp4(X, X, Z, 1 + 1e-8).exact[0]
+    S = sp4(X, X, Z, 1 + 1e-8, scale=1e3)
+    assert S.exact[0] and S.rows() == [(0.0,)]
+    # within REACH of the tangent: its double root (the IK's FK check decides)
+    S = sp4(X, X, Z, 1 + 1e-10)
     assert S.exact[0] and S.rows() == [(0.0,)]
 
 
