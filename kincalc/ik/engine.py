@@ -36,6 +36,7 @@ from ..jacobian import rank_deficient
 from .joint_limits import (normalise, open_joints, open_values, violations,  # noqa: F401
                            within_limits)
 from .labels import labels
+from .near_miss import near_misses, polished
 from ..spatial import wrap
 from .solvers import SOLVERS
 from .target import Targets
@@ -306,10 +307,12 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
         raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five)
 
 
-def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
+def _check(robot, family, method, targets, joints, candidate, br, polish=True) -> Solved:
     """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
     each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`), in the slots of ``br``; the
     answer laid out in the family's slots (:func:`_in_layout`) where the solver kept fewer.
+    Candidates that miss by a hair (``polish``: :mod:`kincalc.ik.near_miss`) are polished and
+    all checked again.
 
     A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
     normalised joint values, kept for the labels and the singular test; many by the column walk
@@ -332,6 +335,15 @@ def _check(robot, family, method, targets, joints, candidate, br) -> Solved:
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
     viol = violations(robot, q)
+    near = near_misses(robot, candidate, reach, pe, oe, valid, viol) if polish else None
+    if near is not None:
+        q2 = polished(robot, targets, family.needs_orientation, q, near, valid)
+        at = near.reshape(-1).nonzero()[0]
+        x = x.copy()
+        x[:, at] = q2.reshape(-1, n)[at].T
+        c, s = c.copy(), s.copy()
+        c[:, at], s[:, at] = np.cos(x[:, at]), np.sin(x[:, at])
+        return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False)
     checked = dict(q=q, candidate=candidate, valid=valid,
                    position_error=np.where(candidate, pe, 0.0),
                    orientation_error=np.full((N, K), np.nan) if oe is None else

@@ -1,0 +1,77 @@
+"""Candidates that miss by a hair, polished onto the solution next to them.
+
+Near a singularity a closed form takes a double root (subproblem 4 within rounding of its
+tangent, a point within its band of an axis) as exact, and the joint it gives is then good to
+about sqrt(rounding) only: a pose made from joints 1e-7 deg away from such a configuration gets
+candidates that miss the acceptance (``ACCEPT_POSITION``, ``ACCEPT_ORIENTATION``) by 1e-9 to
+1e-7, or that reach the target with a joint a hair beyond its limit where the solution on the
+other side of the merged double root is within it. Such a candidate lies next to a solution:
+a few Gauss-Newton steps (:func:`kincalc.ik.refine.refine`, from the candidate with its joints
+clipped into their limits) reach it. The polished value replaces the candidate only when it
+reaches the target to the acceptance (and, for one beyond its limits, is within them); the
+engine's check then judges it like any other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+from .joint_limits import normalise, violations
+from .refine import refine
+
+#: a candidate is polished when it misses by at most this: position error / the arm's size,
+#: orientation error (rad), or a joint beyond its limit (rad; / the arm's size for prismatic)
+NEAR = 1e-6
+
+
+def near_misses(robot, candidate, reach, pe, oe, valid, violation):
+    """``(N, K)`` bool, or None when there is none: candidates that miss the target by at most
+    :data:`NEAR` (``reach`` False), and solutions beyond their limits by at most that.
+
+    ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
+    ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`)."""
+    L = max(robot.characteristic_length, 1e-12)
+    close = pe <= NEAR * L
+    if oe is not None:
+        close &= oe <= NEAR
+    miss = candidate & ~reach & close
+    v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
+    beyond = valid & (v > 0.0) & (v <= NEAR)
+    mask = miss | beyond
+    return mask if np.count_nonzero(mask) else None
+
+
+def polished(robot, targets, needs_orientation: bool, q, mask, valid):
+    """``q (N, K, n)`` (rad / m) with the slots ``mask (N, K)`` polished where that reaches
+    the target (a copy; the other slots unchanged, bit for bit).
+
+    The equations are those the target gives and the family controls: the whole pose, the
+    position and approach (an ``approach`` target), or the position alone (a ``position``
+    target, or a family that does not control the orientation)."""
+    kind = targets.kind
+    if kind not in ("pose", "position", "approach"):
+        return q
+    mode = "position" if kind == "position" or not needs_orientation else (
+        "approach" if kind == "approach" else "pose")
+    rows, slots = mask.nonzero()
+    lo, hi = robot.limits.T
+    start = np.clip(q[rows, slots], lo, hi)
+    T = targets.T[rows]
+    approach = targets.approach[rows] if mode == "approach" else None
+    y = normalise(robot, refine(robot, start, T, mode=mode, approach=approach))
+    Ty = robot.fk(y)
+    L = max(robot.characteristic_length, 1e-12)
+    good = np.linalg.norm(Ty[:, :3, 3] - T[:, :3, 3], axis=-1) <= ACCEPT_POSITION * L
+    if mode == "pose":
+        R = np.swapaxes(Ty[:, :3, :3], -1, -2) @ T[:, :3, :3]
+        cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+        chord = np.linalg.norm(R - np.swapaxes(R, -1, -2), axis=(-2, -1)) / (2 * 2 ** 0.5)
+        good &= np.arctan2(chord, cos) <= ACCEPT_ORIENTATION       # chord: sin(angle)
+    elif mode == "approach":
+        z = Ty[:, :3, 2]
+        good &= np.linalg.norm(np.cross(z, approach), axis=-1) <= ACCEPT_ORIENTATION
+    good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
+    out = q.copy()
+    out[rows[good], slots[good]] = y[good]
+    return out
