@@ -44,6 +44,7 @@ from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
 from .branches import Branches
+from .near_miss import turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
@@ -290,7 +291,8 @@ def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
     if S.revolute[a]:
         sol = sp1(f - S.point[a], g - S.point[a], S.axis[a])
         br = note_turn(S, br, a, f, g)
-        return br.set(a, sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0],
+        # f on axis a: the free angle turns f's way off it (as b moves) onto g's offset
+        return br.set(a, *turn_free_joint(S, a, P.joints[1], f, g, sol),
                       free=sol.free[..., 0])
     x = (g - f) @ S.axis[a]
     br = note_slide(S, br, a, f, g)

@@ -66,15 +66,11 @@ def test_solution_at_its_limit_next_to_a_merged_double_root():
         assert best.within_limits
 
 
-@pytest.mark.parametrize("q1", [
-    [180.0, 0.0, 179.9999999],
-    pytest.param([90.0, -90.0], marks=pytest.mark.xfail(strict=True, reason=(
-        "not fixed: q1 free (0) puts the plane of q2 across the target's 1e-9 offset from "
-        "axis 1; a Newton step cannot turn q1 (second order), place.py must choose q1 from "
-        "the target's offset")))])
+@pytest.mark.parametrize("q1", [[180.0, 0.0, 179.9999999], [90.0, -90.0]])
 def test_point_plus_roll_a_hair_from_the_shoulder_singularity(q1):
     # the point on axis 4 a hair off axis 1: the candidate with q1 free missed the roll by
-    # 1e-7 deg and was rejected; polished, it reaches the pose (flagged singular)
+    # 1e-7 deg and was rejected; polished, it reaches the pose (flagged singular). With q1
+    # at +-90 the miss lay across the plane q2 moves in: q1 is now turned onto it first
     r = kincalc.load_robot("fer_rrpr")
     rng = np.random.default_rng(12)
     Q = _special(rng, r, [180.0, 0.0, 90.0, -90.0, 179.9999999], 40)
@@ -148,3 +144,24 @@ def test_the_sweeps_twelve_digit_ur16e_pose():
     sols = np.array([s.q for s in r.ik(T).solutions])
     assert len(sols) and _reaches(r, sols, T).all()
     assert _distance(r, sols, q).min() <= 1e-6
+
+
+def test_spherical_wrist_a_hair_from_the_shoulder_singularity():
+    # kawasaki_rs007n -90 1e-7 0 -1e-7 ...: the wrist centre 1.3e-9 m off axis 1, across the
+    # plane of JT2 at the free JT1 = 0: "reachable no"; the generating q must be found
+    r = kincalc.load_robot("kawasaki_rs007n")
+    rng = np.random.default_rng(14)
+    Q = _special(rng, r, [0.0, 90.0, -90.0, 45.0, 180.0], 30)
+    Q[:, 1] = rng.choice([-HAIR, HAIR], size=len(Q))
+    Q[:, 2] = rng.choice([-HAIR, 0.0, HAIR], size=len(Q))
+    Q[:, 4] = np.deg2rad(rng.choice([28.2820775, 90.0, -45.0], size=len(Q)))  # wrist regular
+    Q[0] = np.deg2rad([-90.0, 1e-7, 0.0, -1e-7, 28.2820775, 307.6687621])
+    for i, q in enumerate(Q):
+        T = r.fk(q)
+        res = r.ik(T)
+        sols = np.array([s.q for s in res.solutions])
+        assert len(sols) and _reaches(r, sols, T).all(), np.rad2deg(q)
+        # JT1 is free with JT4 and JT6 on the axis: an equivalent solution, flagged singular
+        assert all(s.singular for s in res.solutions)
+        if i == 0:
+            assert _distance(r, sols, q).min() <= 1e-7, (np.rad2deg(q), np.rad2deg(sols))
