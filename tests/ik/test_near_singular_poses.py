@@ -165,3 +165,22 @@ def test_spherical_wrist_a_hair_from_the_shoulder_singularity():
         assert all(s.singular for s in res.solutions)
         if i == 0:
             assert _distance(r, sols, q).min() <= 1e-7, (np.rad2deg(q), np.rad2deg(sols))
+
+
+def test_general_6r_a_hair_from_a_degenerate_pose():
+    # yaskawa_hc10 -180 -180 179.9999999 180 -180 171.47...: the pivots' elimination is
+    # ill-conditioned there but not flagged, and Newton stalled 5e-6 off: "no solution"; the
+    # last resort (perturbed models) now solves it. Solutions on the continuum: FK round trip
+    r = kincalc.load_robot("yaskawa_hc10")
+    rng = np.random.default_rng(15)
+    Q = _special(rng, r, [180.0, -180.0, 179.9999999], 6)
+    Q[:, 5] = rng.uniform(-np.pi, np.pi, len(Q))
+    Q[0] = np.deg2rad([-180.0, -180.0, 179.9999999, 180.0, -180.0, 171.4750364])
+    for i, q in enumerate(Q):
+        T = r.fk(q)
+        res = r.ik(T)
+        sols = np.array([s.q for s in res.solutions])
+        assert len(sols) and _reaches(r, sols, T).all(), np.rad2deg(q)
+        assert any(s.singular for s in res.solutions)
+        if i == 0:          # elsewhere a continuum: its samples need not be next to q
+            assert _distance(r, sols, q).min() <= 1e-5, (np.rad2deg(q), np.rad2deg(sols))

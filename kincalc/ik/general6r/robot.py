@@ -208,8 +208,9 @@ class _Robot6R:
         out[:, order] = c
         return pose, slot, out, bad, width, cont
 
-    def candidates(self, T):
-        """Raw candidates for the given poses, each pose with the first ranked shift that works.
+    def candidates(self, T, *, last_resort: bool = False):
+        """Raw candidates for the given poses, each pose with the first ranked shift that works
+        (``last_resort``: the perturbed models' alone, for poses the pivots did not solve).
 
         A pose where every shift degenerates is solved with both perturbed models (the second
         one's slots after the first's): the last resort. A pose whose pivot shows a continuum
@@ -238,7 +239,7 @@ class _Robot6R:
         todo = np.arange(len(T))
         more = []                        # poses a pivot solves on a continuum
         pieces = []
-        for shift in self.shifts:
+        for shift in () if last_resort else self.shifts:
             pose, slot, q, bad, width, cont = self.raw(T[todo] if len(pieces) else T, shift)
             pieces.append((todo[pose] if pieces else pose, slot, q, width))
             more.append(todo[cont])

@@ -67,9 +67,15 @@ def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
 _BLOCK = 512
 
 
-def _solve_block(data, T, Q_out, ok):
+#: a pose none of whose candidates reaches it, though one came this close (Newton's scaled
+#: residual), gets the last resort too: a pose a hair from a degenerate one, where the pivots'
+#: elimination is ill-conditioned and not flagged (yaskawa_hc10 -180 -180 179.9999999 ...)
+RETRY_TOL = 1e-3
+
+
+def _solve_block(data, T, Q_out, ok, last_resort: bool = False):
     """:func:`solve_general_6r_batch` for poses ``T (N, 4, 4)``, into ``Q_out (N, K, 6)``
-    and ``ok (N, K)`` (zero on entry)."""
+    and ``ok (N, K)`` (zero on entry); ``last_resort``: with the perturbed models alone."""
     N, K = len(T), Q_out.shape[1]
     finite = reduce_all(np.isfinite(T), axis=(1, 2))
     rows = None if nnz(finite) == N else np.flatnonzero(finite)
@@ -77,7 +83,7 @@ def _solve_block(data, T, Q_out, ok):
     M = len(Tr)
     if M == 0:
         return
-    pose, slot, cand, width, resort = data.candidates(Tr)
+    pose, slot, cand, width, resort = data.candidates(Tr, last_resort=last_resort)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     if resort is None:
         Qp, res, moved = polish_candidates(data.chain, Tt.take(pose, axis=0), cand,
@@ -90,6 +96,8 @@ def _solve_block(data, T, Q_out, ok):
         order = np.argsort(pose, kind="stable")
         pose, Qp, res, moved = pose[order], Qp[order], res[order], moved[order]
     acc = res < ACCEPT_TOL
+    if not last_resort:
+        _retry(data, Tr, rows, pose, res, acc, Q_out, ok)
     pose, Qp = pose[acc], wrap(Qp[acc])
     if not len(pose):                   # no candidate reaches its pose: no solution
         return
@@ -117,6 +125,25 @@ def _solve_block(data, T, Q_out, ok):
         pose = rows[pose]
     Q_out[pose, rank] = Qp
     ok[pose, rank] = True
+
+
+def _retry(data, T, rows, pose, res, acc, Q_out, ok):
+    """The last resort (:meth:`~.robot._Robot6R.candidates`) for the poses of ``T`` whose
+    candidates ``pose (C,)`` all missed (``acc`` False) though one came within
+    :data:`RETRY_TOL` (``res``), into their rows of ``Q_out`` and ``ok`` (``rows``: the
+    poses' rows there, None for all)."""
+    close = np.zeros(len(T), bool)
+    close[pose[res < RETRY_TOL]] = True
+    if nnz(acc):
+        close[pose[acc]] = False
+    again = np.flatnonzero(close)
+    if not len(again):
+        return
+    Q2, ok2 = np.zeros((len(again),) + Q_out.shape[1:]), np.zeros((len(again),) + ok.shape[1:],
+                                                                 bool)
+    _solve_block(data, T[again], Q2, ok2, last_resort=True)
+    at = again if rows is None else rows[again]
+    Q_out[at], ok[at] = Q2, ok2
 
 
 def _first_regular(chain, pose, rank, Qp, K):
