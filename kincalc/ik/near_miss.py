@@ -31,14 +31,19 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation):
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
     ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`)."""
+    miss = candidate & ~reach
+    some_miss, some_beyond = np.count_nonzero(miss), np.count_nonzero(violation)
+    if not (some_miss or some_beyond):              # every candidate a solution within limits
+        return None
     L = max(robot.characteristic_length, 1e-12)
-    close = pe <= NEAR * L
-    if oe is not None:
-        close &= oe <= NEAR
-    miss = candidate & ~reach & close
-    v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
-    beyond = valid & (v > 0.0) & (v <= NEAR)
-    mask = miss | beyond
+    mask = np.zeros(miss.shape, bool)
+    if some_miss:
+        mask = miss & (pe <= NEAR * L)
+        if oe is not None:
+            mask &= oe <= NEAR
+    if some_beyond:
+        v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
+        mask |= valid & (v > 0.0) & (v <= NEAR)
     return mask if np.count_nonzero(mask) else None
 
 
