@@ -4,8 +4,9 @@ Near a singularity a closed form takes a double root (subproblem 4 within roundi
 tangent, a point within its band of an axis) as exact, and the joint it gives is then good to
 about sqrt(rounding) only: a pose made from joints 1e-7 deg away from such a configuration gets
 candidates that miss the acceptance (``ACCEPT_POSITION``, ``ACCEPT_ORIENTATION``) by 1e-9 to
-1e-7, or that reach the target with a joint a hair beyond its limit where the solution on the
-other side of the merged double root is within it. Such a candidate lies next to a solution:
+1e-7 (by ~1e-6 when the pose is rounded to 12 digits, as the CLI's JSON writes it), or that
+reach the target with a joint a hair beyond its limit where the solution on the other side of
+the merged double root is within it. Such a candidate lies next to a solution:
 a few Gauss-Newton steps (:func:`kincalc.ik.refine.refine`, from the candidate with its joints
 clipped into their limits) reach it. The polished value replaces the candidate only when it
 reaches the target to the acceptance (and, for one beyond its limits, is within them); the
@@ -16,13 +17,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .joint_limits import normalise, violations
 from .refine import refine
 
 #: a candidate is polished when it misses by at most this: position error / the arm's size,
 #: orientation error (rad), or a joint beyond its limit (rad; / the arm's size for prismatic)
-NEAR = 1e-6
+NEAR = 1e-5
 
 
 def near_misses(robot, candidate, reach, pe, oe, valid, violation):
@@ -49,16 +50,20 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation):
 
 def polished(robot, targets, needs_orientation: bool, q, mask, valid):
     """``q (N, K, n)`` (rad / m) with the slots ``mask (N, K)`` polished where that reaches
-    the target (a copy; the other slots unchanged, bit for bit).
+    the target (a copy; the other slots unchanged, bit for bit); a slot already ``valid (N,
+    K)`` (one beyond its limits) only where the polished value is within them.
 
-    The equations are those the target gives and the family controls: the whole pose, the
-    position and approach (an ``approach`` target), or the position alone (a ``position``
-    target, or a family that does not control the orientation)."""
+    The equations are those the target gives: the whole pose, the position and approach (an
+    ``approach`` target), or the position alone. The polished value must pass the engine's
+    check: the position to ``ACCEPT_POSITION`` of the arm's size, the orientation to
+    ``ACCEPT_ORIENTATION`` (a family that controls it) or ``CHECK_ORIENTATION`` (one that does
+    not: a position arm given a whole pose, whose double root moves by ~1e-6 when the pose is
+    rounded to 12 digits, is polished on the pose so that its orientation follows too)."""
     kind = targets.kind
     if kind not in ("pose", "position", "approach"):
         return q
-    mode = "position" if kind == "position" or not needs_orientation else (
-        "approach" if kind == "approach" else "pose")
+    mode = kind
+    turn = ACCEPT_ORIENTATION if needs_orientation else CHECK_ORIENTATION
     rows, slots = mask.nonzero()
     lo, hi = robot.limits.T
     start = np.clip(q[rows, slots], lo, hi)
@@ -72,10 +77,10 @@ def polished(robot, targets, needs_orientation: bool, q, mask, valid):
         R = np.swapaxes(Ty[:, :3, :3], -1, -2) @ T[:, :3, :3]
         cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
         chord = np.linalg.norm(R - np.swapaxes(R, -1, -2), axis=(-2, -1)) / (2 * 2 ** 0.5)
-        good &= np.arctan2(chord, cos) <= ACCEPT_ORIENTATION       # chord: sin(angle)
+        good &= np.arctan2(chord, cos) <= turn                     # chord: sin(angle)
     elif mode == "approach":
         z = Ty[:, :3, 2]
-        good &= np.linalg.norm(np.cross(z, approach), axis=-1) <= ACCEPT_ORIENTATION
+        good &= np.linalg.norm(np.cross(z, approach), axis=-1) <= turn
     good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
     out = q.copy()
     out[rows[good], slots[good]] = y[good]

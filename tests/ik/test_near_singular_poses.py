@@ -64,6 +64,11 @@ def test_solution_at_its_limit_next_to_a_merged_double_root():
         assert near <= 1e-7, (np.rad2deg(q), sols)
         best = res.solutions[int(np.argmin(_distance(r, sols, q)))]
         assert best.within_limits
+        # the pose rounded to 12 digits (fk --json | ik --pose): the double root moves by
+        # ~1e-6 and the orientation the arm does not control missed CHECK_ORIENTATION
+        T12 = targets_from("T", np.round(T, 12).reshape(1, 16))[0].T[0]
+        sols = [s for s in r.ik(T12).solutions if s.within_limits]
+        assert sols and _distance(r, np.array([s.q for s in sols]), q).min() <= 1e-5
 
 
 @pytest.mark.parametrize("q1", [[180.0, 0.0, 179.9999999], [90.0, -90.0]])
