@@ -8,6 +8,9 @@ and flags every candidate in one pass:
 1. FK of every candidate (the robot as given); a candidate is a solution when it reaches the target:
    its position to ``ACCEPT_POSITION`` of the arm's size, the components the family controls to
    ``ACCEPT_ORIENTATION`` rad, other components a target gives to ``CHECK_ORIENTATION``;
+   a candidate that misses by a hair, or reaches with a joint a hair beyond its limits (a
+   double root next to a singularity), is polished by Newton and checked again
+   (:mod:`~kincalc.ik.near_miss`);
 2. revolute joints moved by whole turns to the representative nearest their limits
    (:func:`~kincalc.ik.joint_limits.normalise`);
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first;

@@ -166,8 +166,10 @@ degenerate (at generic poses rare: e.g. a random arm with axes 1-2-3 parallel
 and 3-4-5 intersecting pairwise; but common at the special poses of robots with
 special geometry, joints at 0, +-90 and 180 deg: a quarter to a half of them
 for kinova_gen3_lite, yaskawa_hc10 and fanuc_crx10ia, a tenth for
-kinova_jaco2_6dof), the standard form is solved for two nearby *generic*
-robots (each scaled DH parameter moved by a fixed pseudo-random 0.5 .. 1
+kinova_jaco2_6dof; or, at a pose a hair from such a one, a shift passes but none
+of its candidates reaches the pose, Newton stalling within 1e-3), the standard form
+is solved for two nearby *generic* robots (each scaled DH parameter moved
+by a fixed pseudo-random 0.5 .. 1
 times 1e-3, resp. 1e-4; the larger size suits robots whose solutions are
 well separated, the smaller one robots close to a singular configuration) and
 the union of their candidates is polished on the real robot. Those poses
