@@ -23,7 +23,8 @@ import numpy as np  # noqa: E402
 
 import kincalc  # noqa: E402
 from kincalc.ik.branches import Branches  # noqa: E402
-from kincalc.ik.engine import run_solver, solve_targets  # noqa: E402
+from kincalc.ik.engine import solve_targets  # noqa: E402
+from kincalc.ik.solvers import run_solver  # noqa: E402
 from kincalc.ik.families import plan  # noqa: E402
 from kincalc.ik.selftest import sample_configurations  # noqa: E402
 from kincalc.ik.target import Targets  # noqa: E402

@@ -41,7 +41,7 @@ from .joint_limits import (normalise, open_joints, open_values, violations,  # n
 from .labels import labels
 from .near_miss import near_misses, polished
 from ..spatial import wrap
-from .solvers import SOLVERS
+from .solvers import run_solver
 from .target import Targets
 
 
@@ -258,34 +258,6 @@ def solve_targets(robot, targets: Targets, *, explain: bool = False) -> Solved:
     return _check(robot, family, method, targets, (c, s, x), candidate, br)
 
 
-def run_solver(robot, S, family: Family, targets: Targets, br: Branches) -> Branches:
-    """The candidates of ``family``'s solver for ``targets``: step 1 of the module docstring,
-    before the free joints are oriented and the open ones valued.
-
-    Parameters
-    ----------
-    robot : Robot
-    S : Screws, the robot's (:func:`~kincalc.ik.families.plan`)
-    family : Family, the robot's, or the target kind's (``TARGET_FAMILIES``)
-    targets : Targets, ``N`` targets of a kind the family takes (world frame, SI)
-    br : Branches, :meth:`Branches.start` of the N targets
-
-    Returns
-    -------
-    Branches, the solver's slots (a reversed chain's in the robot's joint order)
-    """
-    if targets.kind in TARGET_FAMILIES:
-        from .solvers import TARGET_SOLVERS
-        return TARGET_SOLVERS[targets.kind](robot, S, targets, br)
-    if family.name == "general-6r":
-        from .general6r import general_6r
-        return general_6r(robot, targets, br)
-    if family.reverse:
-        br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
-        return br.flushed().reversed_chain()
-    return SOLVERS[family.solver](S, targets, br)
-
-
 def check_kind(robot, family: Family, targets: Targets) -> None:
     """Refuse a target kind the family does not take (words for the edge to render).
 
@@ -331,16 +303,14 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
     else:
         cols, p = tool_from_cs(robot.chain, c, s, x)
         tool, f = np.stack(cols + [p], 1), (c, s, x)
-    pe, oe = _errors(targets, tool.reshape(3, 4, N, K))
-    reach = pe <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)
-    if oe is not None:
-        reach &= oe <= (ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION)
+    pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol) if polish else None
     if near is not None:
-        q2 = polished(robot, targets, family.needs_orientation, q, near, valid)
+        q2 = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
+            robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0])
         at = near.reshape(-1).nonzero()[0]
         x = x.copy()
         x[:, at] = q2.reshape(-1, n)[at].T
@@ -393,6 +363,18 @@ def _unset_slot(robot) -> tuple:
     v0 = violations(robot, q0)
     q0.flags.writeable = v0.flags.writeable = False
     return q0, v0, not v0.any()
+
+
+def _reach(robot, family: Family, targets: Targets, tool) -> tuple:
+    """``(position error, orientation error, reach)`` of each slot's tool pose ``tool (3, 4, N,
+    K)`` (:func:`_errors`), and whether it reaches its target: the position to
+    ``ACCEPT_POSITION`` of the arm's size, the orientation to ``ACCEPT_ORIENTATION`` where the
+    family controls it and to ``CHECK_ORIENTATION`` where it does not; each ``(N, K)``."""
+    pe, oe = _errors(targets, tool)
+    reach = pe <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)
+    if oe is not None:
+        reach &= oe <= (ACCEPT_ORIENTATION if family.needs_orientation else CHECK_ORIENTATION)
+    return pe, oe, reach
 
 
 def _errors(targets: Targets, tool) -> tuple:

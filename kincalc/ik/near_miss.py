@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 from .joint_limits import normalise, violations
 from .refine import refine
 
@@ -48,39 +48,26 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation):
     return mask if np.count_nonzero(mask) else None
 
 
-def polished(robot, targets, needs_orientation: bool, q, mask, valid):
+def polished(robot, targets, q, mask, valid, reaches):
     """``q (N, K, n)`` (rad / m) with the slots ``mask (N, K)`` polished where that reaches
     the target (a copy; the other slots unchanged, bit for bit); a slot already ``valid (N,
     K)`` (one beyond its limits) only where the polished value is within them.
 
     The equations are those the target gives: the whole pose, the position and approach (an
-    ``approach`` target), or the position alone. The polished value must pass the engine's
-    check: the position to ``ACCEPT_POSITION`` of the arm's size, the orientation to
-    ``ACCEPT_ORIENTATION`` (a family that controls it) or ``CHECK_ORIENTATION`` (one that does
-    not: a position arm given a whole pose, whose double root moves by ~1e-6 when the pose is
-    rounded to 12 digits, is polished on the pose so that its orientation follows too)."""
-    kind = targets.kind
-    if kind not in ("pose", "position", "approach"):
+    ``approach`` target), or the position alone (a position arm given a whole pose, whose
+    double root moves by ~1e-6 when the pose is rounded to 12 digits, is polished on the pose
+    so that its orientation follows too). ``reaches(targets, T) -> (M,) bool`` is the engine's
+    test of ``M`` tool poses ``T (M, 4, 4)`` against ``M`` targets, which the polished value
+    must pass."""
+    mode = targets.kind
+    if mode not in ("pose", "position", "approach"):
         return q
-    mode = kind
-    turn = ACCEPT_ORIENTATION if needs_orientation else CHECK_ORIENTATION
     rows, slots = mask.nonzero()
     lo, hi = robot.limits.T
     start = np.clip(q[rows, slots], lo, hi)
-    T = targets.T[rows]
-    approach = targets.approach[rows] if mode == "approach" else None
-    y = normalise(robot, refine(robot, start, T, mode=mode, approach=approach))
-    Ty = robot.fk(y)
-    L = max(robot.characteristic_length, 1e-12)
-    good = np.linalg.norm(Ty[:, :3, 3] - T[:, :3, 3], axis=-1) <= ACCEPT_POSITION * L
-    if mode == "pose":
-        R = np.swapaxes(Ty[:, :3, :3], -1, -2) @ T[:, :3, :3]
-        cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
-        chord = np.linalg.norm(R - np.swapaxes(R, -1, -2), axis=(-2, -1)) / (2 * 2 ** 0.5)
-        good &= np.arctan2(chord, cos) <= turn                     # chord: sin(angle)
-    elif mode == "approach":
-        z = Ty[:, :3, 2]
-        good &= np.linalg.norm(np.cross(z, approach), axis=-1) <= turn
+    aimed = targets.take(rows)
+    y = normalise(robot, refine(robot, start, aimed.T, mode=mode, approach=aimed.approach))
+    good = reaches(aimed, robot.fk(y))
     good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
     out = q.copy()
     out[rows[good], slots[good]] = y[good]

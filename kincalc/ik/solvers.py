@@ -18,11 +18,13 @@ from ..subproblems import sp4
 from ..subproblems.cone import cone
 from ..subproblems.solutions import Solutions, dot, pair
 from .branches import Branches
+from .families import TARGET_FAMILIES, Family
 from .pieces import (angle_about as _angle_about, axis_cone, axis_normal, axis_sp4,
                      back as _back, inverse_home as _minv, meeting_point, rotate as _mv,
                      rotate_back as _mtv, target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
+from .target import Targets
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
 from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
 from .wrists import parallel_wrist_q6, spherical_taking
@@ -271,3 +273,30 @@ SOLVERS = {
     "planar-shoulder": planar_shoulder,
     "spherical-shoulder": spherical_shoulder,
 }
+
+
+def run_solver(robot, S, family: Family, targets: Targets, br: Branches) -> Branches:
+    """The candidates of ``family``'s solver for ``targets``: step 1 of the module docstring,
+    before the free joints are oriented and the open ones valued.
+
+    Parameters
+    ----------
+    robot : Robot
+    S : Screws, the robot's (:func:`~kincalc.ik.families.plan`)
+    family : Family, the robot's, or the target kind's (``TARGET_FAMILIES``)
+    targets : Targets, ``N`` targets of a kind the family takes (world frame, SI)
+    br : Branches, :meth:`Branches.start` of the N targets
+
+    Returns
+    -------
+    Branches, the solver's slots (a reversed chain's in the robot's joint order)
+    """
+    if targets.kind in TARGET_FAMILIES:
+        return TARGET_SOLVERS[targets.kind](robot, S, targets, br)
+    if family.name == "general-6r":
+        from .general6r import general_6r
+        return general_6r(robot, targets, br)
+    if family.reverse:
+        br = SOLVERS[family.solver](S.constant("reversed", S.reversed), targets.inverted(), br)
+        return br.flushed().reversed_chain()
+    return SOLVERS[family.solver](S, targets, br)
