@@ -26,9 +26,13 @@ carries the current orientation onto the target).
    1969, applied at the position level). A step that would carry a joint past
    its limit stops exactly on it; the joint stays there while the condition
    (with a multiplier of the right sign) asks it to.
-3. If the start does not converge, restarts from seeded random configurations
-   inside the limits, until one converges (then the least-change step runs
-   from there towards ``q0``).
+3. If the start does not converge within the limits, the same search with the
+   revolute joints turning freely (their limits lifted, the result wrapped back
+   into the ranges by whole turns, then polished within the limits): a range of
+   nearly a full turn leaves a gap that a projected step cannot cross. Then
+   restarts, searched the same way, from seeded random configurations inside
+   the limits, until one converges (then the least-change step runs from there
+   towards ``q0``).
 
 A user's ``fk`` may raise ValueError (or an ArithmeticError) for joints where the
 mechanism cannot be assembled: such steps are rejected and such restarts skipped.
@@ -38,6 +42,7 @@ Convergence: ``|e| <= 1e-10``; iterations continue to the rounding floor.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import Callable
 
@@ -53,6 +58,11 @@ STOP = 1e-14
 MAX_STEP = 0.5
 #: random restarts tried when the start configuration does not converge
 RESTARTS = 30
+#: iterations of the search within the limits from a solution found turning freely and
+#: wrapped into the ranges: a polish, or a short repair when a joint ended in a range's gap
+#: (on random robots those that succeed take at most 6; those that fail would go on to
+#: the full ``max_iter``)
+REPAIR_ITER = 20
 
 
 @dataclass(frozen=True)
@@ -345,8 +355,56 @@ class _Problem:
                     break
         return q, used
 
-    def attempt(self, start):
-        """LM from ``start (n,)``, then the least-change steps towards ``q0`` when converged.
+    def turning_freely(self) -> "_Problem":
+        """This problem with the revolute joints' limits lifted (prismatic ones kept).
+
+        A revolute range of nearly a full turn (+-170 deg, say) leaves a narrow gap that
+        a projected step cannot cross: a search started on the wrong side of the gap
+        sticks on the limit. Turning freely it crosses; :meth:`wrap` then brings the
+        joints back into their ranges by whole turns (the same pose).
+        """
+        P = copy.copy(self)
+        P.lo = np.where(self.revolute, -np.inf, self.lo)
+        P.hi = np.where(self.revolute, np.inf, self.hi)
+        return P
+
+    def wrap(self, q):
+        """``q (n,)``, the same pose, each revolute joint turned by whole turns into
+        ``[lo, lo + 2 pi)`` (``(hi - 2 pi, hi]`` when only ``hi`` is finite; unchanged when
+        neither is): within the limits unless it lies in the gap of a range under a turn."""
+        base = np.where(np.isfinite(self.lo), self.lo, self.hi - 2 * np.pi)
+        turn = self.revolute & np.isfinite(base)
+        with np.errstate(invalid="ignore"):
+            return np.where(turn, base + np.mod(q - base, 2 * np.pi), q)
+
+    def descend(self, start, limited: bool):
+        """Levenberg-Marquardt from ``start (n,)`` (within the limits) onto the target.
+
+        With ``limited`` it first runs within the limits (so that a start that converges
+        there gives what it always gave); when that does not converge (or without
+        ``limited``) it runs with the revolute joints turning freely
+        (:meth:`turning_freely`) and, once converged, within the limits again from the
+        result wrapped into the ranges, for at most :data:`REPAIR_ITER` iterations (a
+        polish there, or a repair when a joint ended in a range's gap).
+
+        Returns ``(q (n,) within the limits, E = |e| there (scaled), iterations used)``.
+        """
+        q, E, k = self.lm(start, self.max_iter) if limited else (start, np.inf, 0)
+        if E <= TOL:
+            return q, E, k
+        qf, Ef, kf = self.turning_freely().lm(start, self.max_iter)
+        k += kf
+        qf = self.project(self.wrap(qf))
+        if Ef <= TOL:
+            qf, Ef, kf = self.lm(qf, min(REPAIR_ITER, self.max_iter))
+            k += kf
+        else:
+            Ef = float(np.linalg.norm(self.error(qf)))
+        return (qf, Ef, k) if Ef < E else (q, E, k)
+
+    def attempt(self, start, limited: bool = True):
+        """:meth:`descend` from ``start (n,)``, then the least-change steps towards ``q0``
+        when converged.
 
         Returns
         -------
@@ -356,9 +414,10 @@ class _Problem:
         k : int
             Iterations used.
         """
-        if not np.isfinite(self.error(self.project(start))).all():
-            return self.project(start), np.inf, 0          # self.fk refuses the start: skip it
-        q, E, k = self.lm(self.project(start), self.max_iter)
+        start = self.project(start)
+        if not np.isfinite(self.error(start)).all():
+            return start, np.inf, 0          # self.fk refuses the start: skip it
+        q, E, k = self.descend(start, limited)
         if E <= TOL and self.least_change:
             q, extra = self.nearest(q, self.q0 / self.s)
             k += extra
@@ -416,7 +475,7 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     tried = 0
     for r in range(restarts + 1):
         start = P.project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
-        q, E, k = P.attempt(start)
+        q, E, k = P.attempt(start, limited=r == 0)
         tried = r
         cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start, E)
         if best is None or cand[:2] < best[:2]:
