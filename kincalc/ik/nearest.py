@@ -1,8 +1,9 @@
 """The nearest position a robot's tool reaches to a given one, and why a position is
 out of reach: damped least squares from the sampled configurations nearest the target
 (:func:`descend`, :func:`nearest_position`), the same search with the limits removed
-(:func:`unlimited`), and the side of the workspace the target lies on
-(:func:`where_outside`).
+(:func:`unlimited`), the side of the workspace the target lies on
+(:func:`where_outside`), and a ball that holds every reachable position, which proves a
+position beyond it out of reach without a search (:func:`reach_ball`, :func:`beyond_reach`).
 
 Below the IK engine, so that its "out of reach" reasons and :mod:`kincalc.analysis.reach` and
 :mod:`kincalc.analysis.workspace` share one search. Positions in m, world frame.
@@ -275,3 +276,57 @@ def where_outside(robot, p, p_near, dist):
         return Outside("inside-inner-void", dist, target=d_target, reach=d_near,
                        along=d_target > 1e-12 * max(robot.characteristic_length, 1e-12))
     return Outside("outside-workspace", dist)
+
+
+@per_robot
+def reach_ball(robot):
+    """A ball about a point of the first joint's axis that holds the tool point in every
+    configuration: the revolute joints at any angle, the prismatic ones within their limits.
+
+    Let ``c_i`` be a point of joint i's axis fixed in link i - 1 and ``c_{n+1}`` the tool
+    point (fixed in link n). Then ``|p_tool - c_1| <= sum_i |c_{i+1} - c_i|``; a revolute
+    joint i leaves ``|c_{i+1} - c_i|`` as it is (it turns ``c_{i+1}`` about an axis through
+    ``c_i``) and a prismatic one changes it by at most its travel from the reference
+    configuration (the middle of its limits). Each ``c_{i+1}`` is taken at the foot of
+    the perpendicular from ``c_i`` onto axis i + 1, which keeps the sum small (for
+    intersecting axes, their intersection).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    center : ndarray (3,)
+        ``c_1`` (world frame, m).
+    radius : float
+        m; inf when a prismatic joint's travel is unbounded.
+    """
+    from ..fk import frames_and_tool
+    lo, hi = robot.limits.T
+    slides = ~np.asarray(robot.is_revolute, bool)
+    bounded = slides & np.isfinite(lo) & np.isfinite(hi)
+    q = np.zeros(robot.dof)
+    q[bounded] = (lo[bounded] + hi[bounded]) / 2
+    F, tool = frames_and_tool(robot.chain, q[None])          # (1, n, 4, 4), (1, 4, 4)
+    c = F[0, 0, :3, 3]
+    center = c
+    if (slides & ~bounded).any():
+        return center, np.inf
+    radius = float(np.sum(hi[slides] - lo[slides]) / 2)
+    for i in range(1, robot.dof):
+        z, o = F[0, i, :3, 2], F[0, i, :3, 3]
+        foot = o + z * ((c - o) @ z)
+        radius += float(np.linalg.norm(foot - c))
+        c = foot
+    radius += float(np.linalg.norm(tool[0, :3, 3] - c))
+    return center, radius
+
+
+def beyond_reach(robot, p) -> bool:
+    """Whether the position ``p (3,)`` (world frame, m) lies outside :func:`reach_ball`:
+    then no configuration reaches it, with or without joint limits (a proof, not a search).
+    """
+    center, radius = reach_ball(robot)
+    margin = 1e-9 * radius + POSITION_TOL * max(robot.characteristic_length, 1e-12)
+    return bool(np.linalg.norm(np.asarray(p, float) - center) > radius + margin)

@@ -388,20 +388,20 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
         raise TargetMismatch(robot.name, "not approach", why=why)
     from .engine import singular
     from .joint_limits import violations
+    from .nearest import beyond_reach
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near
-    full = robot.generic_ranks[0]
-    orientation = target.orientation
+    full, orientation = robot.generic_ranks[0], target.orientation
     T = np.asarray(target.T, float)
-    res = solve_numeric(robot.fk, T, start, jacobian=robot.jacobian, limits=robot.limits,
-                        revolute=robot.is_revolute, scale=robot.characteristic_length,
-                        orientation=orientation)
+    res = None if beyond_reach(robot, T[:3, 3]) else solve_numeric(  # proven out of reach
+        robot.fk, T, start, jacobian=robot.jacobian, limits=robot.limits,
+        revolute=robot.is_revolute, scale=robot.characteristic_length, orientation=orientation)
     controls = ("position and orientation" if full >= 6 else
                 f"{full} of the 6 pose components" if orientation else "position")
     method = ("Levenberg-Marquardt from the start configuration, then the least "
               "change from it; one solution, not every branch (" + why + ")")
     sols = []
-    if res.converged:
+    if res is not None and res.converged:
         from ..fk import frames_and_tool
         q = res.q
         viol = _violation_list(violations(robot, q))

@@ -29,6 +29,23 @@ CHUNK_LINES = 2048
 #: reach analyses pose by pose (milliseconds each): smaller chunks, so that answers and
 #: the progress bar come at once and --jobs has work to share
 REACH_CHUNK_LINES = 64
+#: ik of a robot solved numerically runs pose by pose too (milliseconds each, a second
+#: for a pose out of reach): chunks this small let --jobs share even a short input
+NUMERIC_CHUNK_LINES = 8
+
+
+def chunk_lines(kind: str, robot, locks: dict | None = None) -> int:
+    """The records per chunk for ``kind`` on ``robot``: :data:`REACH_CHUNK_LINES` for
+    reach, :data:`NUMERIC_CHUNK_LINES` for ik of a robot no closed form covers (held
+    joints, ``locks``, may leave one that is: then the default), else
+    :data:`CHUNK_LINES`."""
+    if kind == "reach":
+        return REACH_CHUNK_LINES
+    if kind == "ik" and not locks:
+        from ...ik.families import plan
+        if plan(robot)[1] is None:
+            return NUMERIC_CHUNK_LINES
+    return CHUNK_LINES
 
 
 def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=(),
@@ -77,8 +94,7 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     # share them, as gc.freeze is meant for)
     gc.freeze()
     try:
-        header, chunks = _chunked(source, REACH_CHUNK_LINES if kind == "reach" else CHUNK_LINES,
-                                  input_format)
+        header, chunks = _chunked(source, chunk_lines(kind, robot, locks), input_format)
         work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks)
         # the workers start before any other thread of this process does (the progress
         # bar's): a fork copies a lock another thread holds, locked for good
