@@ -370,7 +370,7 @@ class _Problem:
 
     def wrap(self, q):
         """``q (n,)``, the same pose, each revolute joint turned by whole turns into
-        ``[lo, lo + 2 pi)`` (``(hi - 2 pi, hi]`` when only ``hi`` is finite; unchanged when
+        ``[lo, lo + 2 pi)`` (``[hi - 2 pi, hi)`` when only ``hi`` is finite; unchanged when
         neither is): within the limits unless it lies in the gap of a range under a turn."""
         base = np.where(np.isfinite(self.lo), self.lo, self.hi - 2 * np.pi)
         turn = self.revolute & np.isfinite(base)
