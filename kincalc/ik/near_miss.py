@@ -19,7 +19,6 @@ import numpy as np
 
 from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 from .joint_limits import normalise, violations
-from .refine import refine
 
 #: a candidate is polished when it misses by at most this: position error / the arm's size,
 #: orientation error (rad), or a joint beyond its limit (rad; / the arm's size for prismatic)
@@ -59,6 +58,7 @@ def polished(robot, targets, q, mask, valid, reaches):
     so that its orientation follows too). ``reaches(targets, T) -> (M,) bool`` is the engine's
     test of ``M`` tool poses ``T (M, 4, 4)`` against ``M`` targets, which the polished value
     must pass."""
+    from .refine import refine             # (the Newton polish: imported when a pose needs it)
     mode = targets.kind
     if mode not in ("pose", "position", "approach"):
         return q
