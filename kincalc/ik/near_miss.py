@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 from .joint_limits import normalise, violations
 
 #: a candidate is polished when it misses by at most this: position error / the arm's size,
@@ -72,35 +71,3 @@ def polished(robot, targets, q, mask, valid, reaches):
     out = q.copy()
     out[rows[good], slots[good]] = y[good]
     return out
-
-
-def turn_free_joint(S, a: int, b: int, f, g, sol):
-    """The free angle of joint ``a`` (``sol``, subproblem 1's: the point ``f`` on its axis)
-    chosen so that a target ``g`` a hair off the axis can be polished onto.
-
-    Joint ``b`` a hair from its tangent (a double root taken as exact) leaves ``f (N, K, 3)``
-    on axis a while ``g (N, K, 3)`` is off it by ~1e-9 (world frame, m): any angle of a
-    misses by that much, and at the subproblem's 0 the miss may lie across the plane joint b
-    moves ``f`` in, where no Newton step can reach (a turn of a is second order). Turning the
-    direction ``f`` leaves the axis as joint b moves onto the target's offset puts the miss in
-    that plane (:func:`polished` then reaches it). Only where 0 would miss the acceptance:
-    the offset beyond ``ACCEPT_POSITION`` of the arm's size, or beyond ``ACCEPT_ORIENTATION``
-    of joint b's lever on ``f`` (where b moves ``f`` at all, by :data:`NEAR` of the arm's
-    size per rad); elsewhere ``sol`` is kept (bit for bit). ``S``: the robot's
-    :class:`~kincalc.ik.screws.Screws`. Returns ``(theta, c, s)``, each ``(N, K)``."""
-    theta, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
-    if not np.count_nonzero(sol.free):
-        return theta, c, s
-    k, gq = S.axis[a], g - S.point[a]
-    across = gq - (gq @ k)[..., None] * k
-    move = np.cross(S.axis[b], f - S.point[b]) if S.revolute[b] else S.axis[b] + 0.0 * f
-    lever = np.sqrt(np.add.reduce(move * move, -1))
-    bound = np.minimum(ACCEPT_POSITION * S.scale, ACCEPT_ORIENTATION * lever)
-    off = sol.free[..., 0] & (np.add.reduce(across * across, -1) > bound * bound) & (
-        lever > NEAR * S.scale)                             # (b moves f at all)
-    if not np.count_nonzero(off):
-        return theta, c, s
-    from ..subproblems import sp1
-    turn = sp1(move, gq, k, tol=0.0)
-    return tuple(np.where(off, t[0][..., 0], x) for t, x in
-                 ((turn.theta, theta), (turn.c, c), (turn.s, s)))

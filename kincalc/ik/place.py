@@ -44,7 +44,7 @@ from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
 from .branches import Branches
-from .near_miss import turn_free_joint
+from .pieces import turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
