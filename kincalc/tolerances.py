@@ -44,6 +44,12 @@ ACCEPT_POSITION = 1e-9
 ACCEPT_ORIENTATION = 1e-9
 CHECK_ORIENTATION = 1e-6
 
+#: a candidate that misses by at most this (position / the arm's size, orientation in rad),
+#: or reaches with a joint at most this beyond a limit, lies next to a solution and is
+#: polished onto it (kincalc.ik.near_miss): a double root next to a singularity is good to
+#: ~sqrt(rounding) only
+NEAR_MISS = 1e-5
+
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6
 

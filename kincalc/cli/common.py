@@ -35,14 +35,14 @@ class FileName(click.ParamType):
 
 class Decimal(click.ParamType):
     """A number on the command line, read strictly (:func:`~kincalc.limits.parse_decimal`):
-    click's float type also takes ``1_0`` (as 10) and other scripts' digits. ``lo`` and
-    ``hi`` bound it, both included (as click's ``min=`` and ``max=``, which a type given as
-    ``click_type`` replaces)."""
+    click's float type also takes ``1_0`` (as 10) and other scripts' digits. ``bounds``
+    ``(lo, hi)`` bound it, both included (as click's ``min=`` and ``max=``, which a type
+    given as ``click_type`` replaces)."""
 
     name = "float"
 
-    def __init__(self, lo: float | None = None, hi: float | None = None):
-        self.lo, self.hi = lo, hi
+    def __init__(self, bounds: tuple[float, float] | None = None):
+        self.bounds = bounds
 
     def convert(self, value, param, ctx):
         if not isinstance(value, float):
@@ -50,9 +50,9 @@ class Decimal(click.ParamType):
                 value = parse_decimal(str(value).strip())
             except ValueError:
                 self.fail(f"{value!r} is not a number", param, ctx)
-        if (self.lo is not None and not value >= self.lo) or \
-                (self.hi is not None and not value <= self.hi):
-            self.fail(f"{value:g} is not in the range {self.lo:g} to {self.hi:g}", param, ctx)
+        if self.bounds is not None and not self.bounds[0] <= value <= self.bounds[1]:
+            lo, hi = self.bounds
+            self.fail(f"{value:g} is not in the range {lo:g} to {hi:g}", param, ctx)
         return value
 
 
@@ -101,7 +101,7 @@ BaseLinkOpt = Annotated[Optional[str], typer.Option(
     "--base-link", metavar="LINK", show_default=False,
     help="URDF robots: the link the chain starts from (default: the tree's root).")]
 StructureTolOpt = Annotated[Optional[float], typer.Option(
-    "--structure-tol", metavar="TOL", show_default=False, click_type=Decimal(1e-12, 0.1),
+    "--structure-tol", metavar="TOL", show_default=False, click_type=Decimal((1e-12, 0.1)),
     help="How nearly axes must meet (fraction of the arm's size) or be parallel (sine of "
          "their angle) to count as a structure the closed forms use; the nearest "
          "structured robot is solved and every answer refined on this one. Default 1e-4, at "

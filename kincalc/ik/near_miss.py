@@ -17,16 +17,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..tolerances import NEAR_MISS as NEAR
 from .joint_limits import normalise, violations
 
-#: a candidate is polished when it misses by at most this: position error / the arm's size,
-#: orientation error (rad), or a joint beyond its limit (rad; / the arm's size for prismatic)
-NEAR = 1e-5
 
 
 def near_misses(robot, candidate, reach, pe, oe, valid, violation):
     """``(N, K)`` bool, or None when there is none: candidates that miss the target by at most
-    :data:`NEAR` (``reach`` False), and solutions beyond their limits by at most that.
+    :data:`~kincalc.tolerances.NEAR_MISS` (``reach`` False), and solutions beyond their limits
+    by at most that.
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
     ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`)."""

@@ -12,14 +12,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure import common_point
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, NEAR_MISS
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
 from ..subproblems.sp4 import sp4_constants
 from ..subproblems.solutions import Solutions
 from .branches import Branches
-from .near_miss import NEAR
 from .screws import Screws
 
 
@@ -140,8 +139,8 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     that plane (:func:`~kincalc.ik.near_miss.polished` then reaches it). Only where 0 would
     miss the acceptance: the offset beyond ``ACCEPT_POSITION`` of the arm's size, or beyond
     ``ACCEPT_ORIENTATION`` of joint b's lever on ``f`` (where b moves ``f`` at all, by
-    :data:`~kincalc.ik.near_miss.NEAR` of the arm's size per rad); elsewhere ``sol`` is kept
-    (bit for bit). ``S``: the robot's
+    :data:`~kincalc.tolerances.NEAR_MISS` of the arm's size per rad); elsewhere ``sol`` is
+    kept (bit for bit). ``S``: the robot's
     :class:`~kincalc.ik.screws.Screws`. Returns ``(theta, c, s)``, each ``(N, K)``."""
     theta, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
     if not np.count_nonzero(sol.free):
@@ -152,7 +151,7 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     lever = np.sqrt(np.add.reduce(move * move, -1))
     bound = np.minimum(ACCEPT_POSITION * S.scale, ACCEPT_ORIENTATION * lever)
     off = sol.free[..., 0] & (np.add.reduce(across * across, -1) > bound * bound) & (
-        lever > NEAR * S.scale)                             # (b moves f at all)
+        lever > NEAR_MISS * S.scale)                        # (b moves f at all)
     if not np.count_nonzero(off):
         return theta, c, s
     turn = sp1(move, gq, k, tol=0.0)
