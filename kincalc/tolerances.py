@@ -50,6 +50,12 @@ CHECK_ORIENTATION = 1e-6
 #: ~sqrt(rounding) only
 NEAR_MISS = 1e-5
 
+#: the error of a pose written with 12 significant digits (kincalc's JSON) and read back:
+#: up to 5e-13 an entry, re-orthonormalised; with a margin. Next to a singularity a joint
+#: read from such a pose may be off by this over the sine of the singular angle
+#: (kincalc.ik.wrists.into_elbow_reach)
+ROUNDED_POSE = 1e-11
+
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..subproblems import sp4
 from ..subproblems.cone import cone
-from ..subproblems.solutions import Solutions, dot, pair
+from ..subproblems.solutions import Solutions, cross, dot, pair
 from .branches import Branches
 from .families import TARGET_FAMILIES, Family
 from .pieces import (angle_about as _angle_about, axis_cone, axis_normal, axis_sp4,
@@ -27,7 +27,7 @@ from .screws import Screws
 from .target import Targets
 from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
 from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
-from .wrists import parallel_wrist_q6, spherical_taking
+from .wrists import NEAR_ALIGNED, into_elbow_reach, parallel_wrist_q6, spherical_taking
 
 
 # --- six joints --------------------------------------------------------------------
@@ -147,7 +147,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(
         br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6 = turn_onto(k6, a, b)[0]
+    t6 = _near_singular_q6(S, br, T, hj, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
     arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
@@ -194,17 +194,48 @@ def _singular_q6(S: Screws, br: Branches, T, sigma, aligned, elbow=(1, 2, 3)):
     N, K = aligned.shape
     if not np.count_nonzero(aligned):
         return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
-    h = S.axis[elbow[0]]
-    # joint 1 undone when it is not the elbow's (about another axis, or sliding along h)
-    undo1 = (lambda x: _back(S, br, 0, x)) if elbow[0] == 1 else (lambda x: x)
-    # axis 6's point, and axis 4's point at q6 = 0, across h
-    W = undo1(np.full((N, K, 3), tool_point(S, T, S.point[5])))
-    P0 = _back(S, br, 4, np.full((N, K, 3), S.point[3]))
-    P0 = undo1(_tool_point_of(S, T, P0))
-    perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
-    q6, ok, _ = parallel_wrist_q6(S, perp(W - S.point[elbow[0]]), perp(P0 - W), sigma,
-                                  elbow=elbow)
+    q6, ok, _ = parallel_wrist_q6(S, *_elbow_vectors(S, br, T, elbow), sigma, elbow=elbow)
     return q6, ok
+
+
+_COS_NEAR = float(np.cos(NEAR_ALIGNED))
+
+
+def _near_singular_q6(S: Screws, br: Branches, T, hj: int, v, aligned, b, q6, elbow):
+    """Joint 6's angle ``q6 (N, K)`` read from the orientation, moved into the elbow's reach
+    where axis 6 is within :data:`NEAR_ALIGNED` of h but not aligned
+    (:func:`~kincalc.ik.wrists.into_elbow_reach`; the candidate's small miss is polished
+    by the engine). ``v``, ``aligned`` and ``b = R5^T h`` (``(N, K, 3)``) of
+    :func:`_parallel_wrist`."""
+    near = np.abs(dot(b, S.axis[5])) >= _COS_NEAR
+    if not np.count_nonzero(near):
+        return q6
+    across = cross(b, S.axis[5])
+    sine = np.sqrt(dot(across, across))     # (1 - cos^2 loses a sine below ~1e-8)
+    near &= ~aligned
+    sigma = np.where(dot(br.take(v), S.axis[hj]) > 0, 1.0, -1.0)
+    a, b, at = _elbow_vectors(S, br, T, elbow, q6)
+    moved = into_elbow_reach(S, a, b, sigma, q6, at, sine, elbow=elbow)
+    return np.where(near, moved, q6)
+
+
+def _elbow_vectors(S: Screws, br: Branches, T, elbow, q6=None):
+    """``(a, b)`` of :func:`~kincalc.ik.wrists.parallel_wrist_q6`, each ``(N, K, 3)``: from
+    the elbow's first axis to axis 6, and from axis 6 to axis 4 at ``q6 = 0`` (joint 5 at
+    its value), across h, with joint 1 undone when it is not the elbow's (about another
+    axis, or sliding along h). Given ``q6 (N, K)`` (rad), also ``at``: from the elbow's first
+    axis to axis 4 with joint 6 at ``q6``, across h (exactly: axis 6 need not be along h)."""
+    N, K = br.ok.shape
+    h, o6 = S.axis[elbow[0]], S.point[5]
+    undo1 = (lambda x: _back(S, br, 0, x)) if elbow[0] == 1 else (lambda x: x)
+    perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
+    W = undo1(np.full((N, K, 3), tool_point(S, T, o6)))
+    o4 = _back(S, br, 4, np.full((N, K, 3), S.point[3]))           # E5^-1 o4
+    ab = perp(W - S.point[elbow[0]]), perp(undo1(_tool_point_of(S, T, o4)) - W)
+    if q6 is None:
+        return ab
+    o4 = o6 + S.turn(5, np.cos(q6), -np.sin(q6), o4 - o6)           # E6^-1 E5^-1 o4
+    return ab + (perp(undo1(_tool_point_of(S, T, o4)) - S.point[elbow[0]]),)
 
 
 def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:

@@ -17,6 +17,8 @@ continuum (``Branches.extra["continuum"]``).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..subproblems import sp1
@@ -25,7 +27,14 @@ from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .pieces import axis_cone, axis_normal, normal_sp1, one_root
 from ..spatial import wrap
+from ..tolerances import ACCEPT_POSITION, ROUNDED_POSE
 from .screws import Screws
+
+#: the sine of axis 6's angle from h (a wrist of :func:`parallel_wrist_q6`) below which, not
+#: at the singularity (:data:`~kincalc.subproblems.cone.ALIGNED_TOL`), joint 6's angle read
+#: from the orientation is moved into the elbow's reach (:func:`into_elbow_reach`): its
+#: error, the pose's over the sine, then moves the tool by at most the pose's error
+NEAR_ALIGNED = 1e-4
 
 
 def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
@@ -185,33 +194,102 @@ def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):
         The angle (rad) about h from ``a`` to axis 4's offset, whose sign tells the two
         arcs apart.
     """
-    i2, i3, i4 = elbow
-    h = S.axis[i2]
-    perp = lambda x: x - (x @ h) * h  # noqa: E731
-    l2 = float(np.linalg.norm(perp(S.point[i3] - S.point[i2])))
-    l3 = float(np.linalg.norm(perp(S.point[i4] - S.point[i3])))
-    lo_r, hi_r = abs(l2 - l3), l2 + l3
-    mid_r = 0.5 * (lo_r + hi_r)
-    a, b = np.asarray(a, float), np.asarray(b, float)
+    r = _elbow_reach(S, a, b, elbow)
     sigma = np.asarray(sigma, float)
+    c_mid = (r.mid_r * r.mid_r - r.A2 - r.B2) / r.den
+    reach = r.flat | (r.lo <= r.hi + 1e-12)
+    two = ~r.flat & (r.c_out < 1.0) & (r.c_in > -1.0)
+    zero_in = r.flat | ((r.cos0 >= r.lo - 1e-12) & (r.cos0 <= r.hi + 1e-12))
+    # (where the elbow cannot reach axis 4 at all, lo > 1: any angle stands in, unused)
+    phim = np.arccos(np.minimum(np.clip(c_mid, r.lo, np.maximum(r.lo, r.hi)), 1.0))
+    side = np.where(r.sin0 >= 0, 1.0, -1.0)
+    phi0 = np.arctan2(r.sin0, r.cos0)
+    q6 = np.stack([np.where(zero_in, 0.0, sigma * (phi0 - side * phim)),
+                   sigma * (phi0 + side * phim)], axis=-1)
+    phi = np.stack([np.where(zero_in, phi0, side * phim), -side * phim], axis=-1)
+    return wrap(q6), np.stack([reach, reach & two], axis=-1), phi
+
+
+def into_elbow_reach(S: Screws, a, b, sigma, q6, at, sine, elbow=(1, 2, 3)):
+    """Joint 6's value ``q6`` a hair from the wrist singularity of :func:`parallel_wrist_q6`,
+    moved onto the nearer end of its arc where the elbow does not reach axis 4 there.
+
+    With axis 6 at a small angle ``P`` from h, joint 6's angle read from the orientation is
+    good only to the pose's error over ``P`` (a pose rounded to 12 digits: 1e-12 / P rad),
+    while a turn of it by ``d`` (the others following) moves the tool's orientation by only
+    about ``P d``. With the elbow stretched or folded that error can put axis 4 out of
+    the elbow's reach, where a value of joint 6 a little way off reaches the pose to its
+    rounding: the end of the arc (found on the arcs of the singularity, whose ``a``, ``b``
+    the caller gives with joint 5 at its value; the engine polishes the small miss left).
+    Only a move that undoes such an error is made: one that turns the tool by more than a
+    pose's rounding (the move times ``P`` beyond ``ROUNDED_POSE``) would pick a point of
+    the continuum the acceptance blurs, not a solution of the pose.
+
+    ``a``, ``b``, ``sigma`` and ``elbow`` as in :func:`parallel_wrist_q6`; ``q6 (...)`` rad;
+    ``at (..., 3)`` axis 4's offset from the elbow's first axis, across h, with joint 6 at
+    ``q6`` (m); ``sine (...)`` the sine of axis 6's angle from h. Returns ``q6 (...)`` rad,
+    moved only where ``at`` is out of the elbow's reach by more than ``ACCEPT_POSITION`` of
+    the arm's size and the end of the arc is that near.
+    """
+    lo_r, hi_r = elbow_radii(S, elbow)
+    d = np.sqrt(dot(at, at))
+    tol = ACCEPT_POSITION * S.scale
+    off = (d > hi_r + tol) | (d < lo_r - tol)
+    if not np.count_nonzero(off):
+        return q6
+    r = _elbow_reach(S, a, b, elbow)
+    sigma = np.asarray(sigma, float)
+    phi0 = np.arctan2(r.sin0, r.cos0)
+    phi = wrap(phi0 - sigma * q6)                 # from a to axis 4's offset at q6
+    end = np.where(phi >= 0, 1.0, -1.0) * np.arccos(
+        np.clip(np.cos(phi), r.lo, r.hi).clip(-1.0, 1.0))
+    moved = wrap(sigma * (phi0 - end))
+    near = sine * np.abs(wrap(moved - q6)) <= ROUNDED_POSE
+    return np.where(off & near & ~r.flat & (r.lo <= r.hi), moved, q6)
+
+
+def elbow_radii(S: Screws, elbow) -> tuple:
+    """The distances from the elbow's first axis at which its two joints reach the third
+    axis (:func:`parallel_wrist_q6`): ``(|l2 - l3|, l2 + l3)`` (m), made once per screws."""
+    def radii():
+        i2, i3, i4 = elbow
+        h = S.axis[i2]
+        perp = lambda x: x - (x @ h) * h  # noqa: E731
+        l2 = float(np.linalg.norm(perp(S.point[i3] - S.point[i2])))
+        l3 = float(np.linalg.norm(perp(S.point[i4] - S.point[i3])))
+        return abs(l2 - l3), l2 + l3
+    return S.constant(("elbow radii", tuple(elbow)), radii)
+
+
+class _Reach(NamedTuple):
+    """The elbow's reach of axis 4 as the cosine of the angle about h from ``a`` to axis 4's
+    offset (:func:`parallel_wrist_q6`): ``lo <= cos <= hi``."""
+
+    A2: np.ndarray          # |a|^2, |b|^2 (m^2)
+    B2: np.ndarray
+    den: np.ndarray         # 2 |a| |b| (1 where flat)
+    flat: np.ndarray        # joint 6 does not move axis 4 relative to axis 2
+    cos0: np.ndarray        # cos and sin of the angle from a to b (q6 = 0)
+    sin0: np.ndarray
+    c_out: np.ndarray       # the cosine at the stretched and the folded elbow
+    c_in: np.ndarray
+    lo: np.ndarray          # c_in and c_out clipped to [-1, 1]
+    hi: np.ndarray
+    mid_r: float            # the middle of the elbow's reach (m)
+
+
+def _elbow_reach(S: Screws, a, b, elbow) -> _Reach:
+    """:class:`_Reach` of the vectors ``a``, ``b`` (..., 3) of :func:`parallel_wrist_q6`."""
+    h = S.axis[elbow[0]]
+    lo_r, hi_r = elbow_radii(S, elbow)
+    a, b = np.asarray(a, float), np.asarray(b, float)
     A2, B2 = (a * a).sum(-1), (b * b).sum(-1)
     AB = np.sqrt(A2 * B2)
     # axis 6 on axis 2 or axis 4 on axis 6: joint 6 does not move axis 4 relative to
     # axis 2, so every q6 is equally good and q6 = 0 is used
     flat = AB <= (1e-9 * max(S.scale, 1e-300)) ** 2
     den = np.where(flat, 1.0, 2.0 * AB)
-    cos0 = 2.0 * (a * b).sum(-1) / den
-    sin0 = 2.0 * (cross(a, b) @ h) / den
-    c_out, c_in, c_mid = ((x * x - A2 - B2) / den for x in (hi_r, lo_r, mid_r))
-    hi, lo = np.minimum(c_out, 1.0), np.maximum(c_in, -1.0)
-    reach = flat | (lo <= hi + 1e-12)
-    two = ~flat & (c_out < 1.0) & (c_in > -1.0)
-    zero_in = flat | ((cos0 >= lo - 1e-12) & (cos0 <= hi + 1e-12))
-    # (where the elbow cannot reach axis 4 at all, lo > 1: any angle stands in, unused)
-    phim = np.arccos(np.minimum(np.clip(c_mid, lo, np.maximum(lo, hi)), 1.0))
-    side = np.where(sin0 >= 0, 1.0, -1.0)
-    phi0 = np.arctan2(sin0, cos0)
-    q6 = np.stack([np.where(zero_in, 0.0, sigma * (phi0 - side * phim)),
-                   sigma * (phi0 + side * phim)], axis=-1)
-    phi = np.stack([np.where(zero_in, phi0, side * phim), -side * phim], axis=-1)
-    return wrap(q6), np.stack([reach, reach & two], axis=-1), phi
+    c_out, c_in = ((x * x - A2 - B2) / den for x in (hi_r, lo_r))
+    return _Reach(A2, B2, den, flat, 2.0 * (a * b).sum(-1) / den,
+                  2.0 * (cross(a, b) @ h) / den, c_out, c_in, np.maximum(c_in, -1.0),
+                  np.minimum(c_out, 1.0), 0.5 * (lo_r + hi_r))
