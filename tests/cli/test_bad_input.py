@@ -274,6 +274,11 @@ BAD_FILES = [
             ("joint 1 (q1)", "'alpha'", "'pi' is only allowed", "angle: rad"), at="name: q1"),
     BadFile("expression-power-not-allowed", sub(DH, "a: l1,", "a: l1 ** 2,"),
             ("joint 2 (q2)", "'a'", "only numbers"), at="name: q2"),
+    # Python's literal syntax inside an expression was read (0x10 + 1 = 17)
+    BadFile("expression-hex-literal", sub(DH, "a: l1,", "a: 0x10 + l1,"),
+            ("joint 2 (q2)", "'a'", "'0x10' is not a decimal number"), at="name: q2"),
+    BadFile("expression-underscore-literal", sub(DH, "a: l1,", "a: l1 * 1_0,"),
+            ("joint 2 (q2)", "'a'", "'1_0' is not a decimal number"), at="name: q2"),
     BadFile("expression-int-too-large", sub(DH, "a: l1,", "a: l1 * 1" + "0" * 400 + ","),
             ("joint 2 (q2)", "'a'"), at="name: q2"),
     BadFile("expression-too-deeply-nested", sub(DH, "d: 0.1,", "d: " + "-" * 100_000 + "1,"),

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ...limits import MAX_EXPRESSION, MAX_MAGNITUDE, cut, quote
+from ...limits import DECIMAL, MAX_EXPRESSION, MAX_MAGNITUDE, cut, quote
 from ...spatial import matrix_from_rpy, transform
 from .nodes import NodeReader
 
@@ -106,6 +106,11 @@ class Reader(NodeReader):
                             f"not {self.shown(node)}")
         except (RecursionError, MemoryError, ValueError):
             self.fail(node, f"{what}: expression too deeply nested")
+        for part in ast.walk(tree):        # Python's literals (0x10, 1_0, 0o7) are no numbers
+            text = isinstance(part, ast.Constant) and ast.get_source_segment(src.strip(), part)
+            if text is not False and not DECIMAL.fullmatch(text or ""):
+                self.fail(node, f"{what}: {quote(text or '')} is not a decimal number, in "
+                                f"{self.shown(node)}")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
