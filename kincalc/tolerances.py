@@ -56,6 +56,14 @@ NEAR_MISS = 1e-5
 #: (kincalc.ik.wrists.into_elbow_reach)
 ROUNDED_POSE = 1e-11
 
+#: the near miss of an orientation the robot does not control (a position arm given a whole
+#: pose): its joints come from the position, and next to a double root of it (the point a
+#: hair off an axis) a joint is good to the square root of rounding over the lever only,
+#: while the orientation moves with that joint at full rate. A candidate that misses the
+#: position by a hair (ACCEPT_POSITION to NEAR_MISS) and the orientation by at most this
+#: (rad) is polished on the whole pose
+NEAR_MISS_UNCONTROLLED = 1e-2
+
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6
 

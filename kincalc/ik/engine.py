@@ -307,7 +307,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
     viol = violations(robot, q)
-    near = near_misses(robot, candidate, reach, pe, oe, valid, viol) if polish else None
+    near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
+                       family.needs_orientation) if polish else None
     if near is not None:
         q2 = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
             robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0])

@@ -17,18 +17,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..tolerances import NEAR_MISS as NEAR
+from ..tolerances import ACCEPT_POSITION, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
 from .joint_limits import normalise, violations
 
 
 
-def near_misses(robot, candidate, reach, pe, oe, valid, violation):
+def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: bool = True):
     """``(N, K)`` bool, or None when there is none: candidates that miss the target by at most
     :data:`~kincalc.tolerances.NEAR_MISS` (``reach`` False), and solutions beyond their limits
     by at most that.
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
-    ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`)."""
+    ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`);
+    ``controlled`` False for an orientation the robot does not control: where the position
+    misses too (a double root of the position) its near miss is
+    :data:`~kincalc.tolerances.NEAR_MISS_UNCONTROLLED` (a candidate that reaches the position
+    with another orientation is another solution of the position, not a near miss)."""
     miss = candidate & ~reach
     some_miss, some_beyond = np.count_nonzero(miss), np.count_nonzero(violation)
     if not (some_miss or some_beyond):              # every candidate a solution within limits
@@ -38,7 +42,10 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation):
     if some_miss:
         mask = miss & (pe <= NEAR * L)
         if oe is not None:
-            mask &= oe <= NEAR
+            near = oe <= NEAR
+            if not controlled:
+                near |= (oe <= NEAR_MISS_UNCONTROLLED) & (pe > ACCEPT_POSITION * L)
+            mask &= near
     if some_beyond:
         v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
         mask |= valid & (v > 0.0) & (v <= NEAR)

@@ -241,8 +241,11 @@ def into_elbow_reach(S: Screws, a, b, sigma, q6, at, sine, elbow=(1, 2, 3)):
     sigma = np.asarray(sigma, float)
     phi0 = np.arctan2(r.sin0, r.cos0)
     phi = wrap(phi0 - sigma * q6)                 # from a to axis 4's offset at q6
-    end = np.where(phi >= 0, 1.0, -1.0) * np.arccos(
-        np.clip(np.cos(phi), r.lo, r.hi).clip(-1.0, 1.0))
+    c = np.cos(phi)
+    # the arcs are of axis 6 along h: their distance at q6 is off the exact one by about
+    # the tilt times the offsets (as large as the move itself); the edges shift by that
+    r = _elbow_reach(S, a, b, elbow, shift=d - np.sqrt(np.maximum(r.A2 + r.B2 + r.den * c, 0.0)))
+    end = np.where(phi >= 0, 1.0, -1.0) * np.arccos(np.clip(c, r.lo, r.hi).clip(-1.0, 1.0))
     moved = wrap(sigma * (phi0 - end))
     near = sine * np.abs(wrap(moved - q6)) <= ROUNDED_POSE
     return np.where(off & near & ~r.flat & (r.lo <= r.hi), moved, q6)
@@ -278,10 +281,11 @@ class _Reach(NamedTuple):
     mid_r: float            # the middle of the elbow's reach (m)
 
 
-def _elbow_reach(S: Screws, a, b, elbow) -> _Reach:
-    """:class:`_Reach` of the vectors ``a``, ``b`` (..., 3) of :func:`parallel_wrist_q6`."""
+def _elbow_reach(S: Screws, a, b, elbow, shift=0.0) -> _Reach:
+    """:class:`_Reach` of the vectors ``a``, ``b`` (..., 3) of :func:`parallel_wrist_q6`; with
+    ``shift`` (m, ``(...)``) the elbow's reach taken that much shorter at both edges."""
     h = S.axis[elbow[0]]
-    lo_r, hi_r = elbow_radii(S, elbow)
+    lo_r, hi_r = (x - shift for x in elbow_radii(S, elbow))
     a, b = np.asarray(a, float), np.asarray(b, float)
     A2, B2 = (a * a).sum(-1), (b * b).sum(-1)
     AB = np.sqrt(A2 * B2)

@@ -97,3 +97,26 @@ def test_a_move_the_orientation_does_not_allow_is_not_made():
     assert kept[0] == q6[0]
     made = into_elbow_reach(S, a, b, 1.0, q6, at, np.array([0.5 * ROUNDED_POSE / move]))
     assert made[0] == free[0]
+
+
+def test_the_arcs_edges_shift_by_the_error_of_the_plane():
+    # axis 6 a hair off h: the arcs (of axis 6 along h) put axis 4 at a distance off the
+    # exact one ``at`` by about the tilt times the offsets; the move puts the plane's
+    # distance that much inside the edge, so that the exact one lands on it
+    r = load_robot("ur5")
+    S = Screws.of(r)
+    h, e1, e2, l2, l3 = _plane(r)
+    rng = np.random.default_rng(32)
+    n = 200
+    a = _turned(h, np.broadcast_to(e1, (n, 3)), rng.uniform(-np.pi, np.pi, n)) * 0.7 * (l2 + l3)
+    b = _turned(h, np.broadcast_to(e2, (n, 3)), rng.uniform(-np.pi, np.pi, n)) * 0.45 * (l2 + l3)
+    q6 = rng.uniform(-np.pi, np.pi, n)
+    at = a + _turned(h, b, -q6)
+    err = rng.uniform(-3e-8, 3e-8, n)                      # the exact distance minus the plane's
+    at = at * (1.0 + err / np.linalg.norm(at, axis=-1))[:, None]
+    out = into_elbow_reach(S, a, b, 1.0, q6, at, np.full(n, 1e-15))
+    moved = out != q6
+    assert moved.sum() > 50
+    d = _reach_of(h, a, b, 1.0, out)[moved]
+    edge = np.where(np.linalg.norm(at, axis=-1) > l2 + l3, l2 + l3, abs(l2 - l3))[moved]
+    assert np.allclose(d + err[moved], edge, rtol=0, atol=1e-12)

@@ -197,3 +197,40 @@ def test_general_6r_a_hair_from_a_degenerate_pose():
         assert any(s.singular for s in res.solutions)
         if i == 0:          # elsewhere a continuum: its samples need not be next to q
             assert _distance(r, sols, q).min() <= 1e-5, (np.rad2deg(q), np.rad2deg(sols))
+
+
+@pytest.mark.parametrize("name", ["ur5", "ur10", "ur3e"])
+def test_twelve_digit_pose_wrist_a_hair_off_and_elbow_exactly_straight(name):
+    # wrist 2 1e-5 deg from 0 (axis 6 1.7e-7 rad off h) and the elbow straight: the arcs of
+    # the singularity are off the exact reach by the tilt times the offsets (~1e-8 m), as
+    # much as joint 6 had to move; moved on them alone, axis 4 stayed out of reach
+    r = kincalc.load_robot(name)
+    rng = np.random.default_rng(14)
+    Q = _special(rng, r, [0.0, 90.0, -90.0, 180.0], 30)
+    Q[:, 2] = 0.0
+    Q[:, 4] = np.deg2rad(rng.choice([-1e-5, 1e-5], len(Q)) + rng.choice([0.0, 180.0], len(Q)))
+    Q[0] = np.deg2rad([-90.0000001, -1e-05, 0.0, -1e-05, -1e-05, -89.9999999])   # the sweep's
+    for q in Q:
+        T = targets_from("T", np.round(r.fk(q), 12).reshape(1, 16))[0].T[0]
+        sols = np.array([s.q for s in r.ik(T).solutions])
+        assert len(sols), np.rad2deg(q)
+        assert _reaches(r, sols, T).all()
+        assert _distance(r, sols, q).min() <= 0.05, (np.rad2deg(q), np.rad2deg(sols))
+
+
+@pytest.mark.parametrize("fold", [1e-2, 1e-3, 1e-4])
+def test_position_arm_folded_next_to_its_shoulder_given_a_whole_pose(fold):
+    # an arm of equal links folded (q3 a little off 180 deg) with the tool above the
+    # shoulder, on axis 1: q2 from the position is a double root there, good to the square
+    # root of rounding over the tool's distance from the shoulder (2e-5 .. 4e-3 rad), and
+    # the orientation the arm does not control, which follows q2, missed its near miss
+    r = kincalc.load_robot("siciliano_arm")
+    rng = np.random.default_rng(15)
+    for q1 in [90.0, *rng.uniform(-180.0, 180.0, 5)]:
+        q = np.deg2rad([q1, 0.0, 180.0 - fold])
+        T = r.fk(q)
+        res = r.ik(T)
+        sols = np.array([s.q for s in res.solutions])
+        assert len(sols), (q1, fold, res.reason)
+        assert _reaches(r, sols, T, CHECK_ORIENTATION).all()
+        assert _distance(r, sols, q).min() <= 1e-6
