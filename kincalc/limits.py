@@ -185,6 +185,8 @@ def read_bounded(path, limit: int = MAX_FILE_BYTES) -> bytes:
     """
     import sys
     if path == "-":
+        if sys.stdin is None:                       # closed before the program started
+            raise OSError(errno.EBADF, "standard input is closed")
         data = sys.stdin.buffer.read(limit + 1)
     else:
         with open_input(path) as fh:

@@ -200,6 +200,7 @@ def main(argv: list[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     _quiet_numeric_warnings(debug)
+    _closed_streams()
     with inputs_recorded():             # no output of this run replaces a file it read
         return _run(args, debug, click, KincalcError)
 
@@ -259,6 +260,39 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
+
+
+class _Closed:
+    """A standard output that was closed before kincalc started (``>&-``: Python then has
+    None for it): writing it fails as a closed descriptor does (EBADF), which the run words
+    as one line and exit status 2; it is no terminal."""
+
+    encoding = "utf-8"
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def _closed(self, *_args):
+        raise OSError(errno.EBADF, f"{self.name} is closed")
+
+    write = fileno = _closed
+
+    def isatty(self) -> bool:
+        return False
+
+    def flush(self) -> None:
+        pass
+
+
+def _closed_streams() -> None:
+    """Put :class:`_Closed` in place of a stdout that was closed when the program started; a
+    closed stderr takes /dev/null (there is nowhere to say anything, and the exit status
+    still tells). (A closed stdin stays None: its readers say that there is none.)"""
+    import os
+    if sys.stdout is None:
+        sys.stdout = _Closed("standard output")
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")
 
 
 #: how the command line names the parts of an IK target, for the core's messages about

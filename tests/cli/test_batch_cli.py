@@ -760,6 +760,29 @@ def test_an_output_the_system_refuses_is_one_line_and_2(monkeypatch, args, error
     assert "bug" not in lines[0]
 
 
+@pytest.mark.parametrize("argv,closed,words", [
+    (["fk", "puma560", "0", "0", "0", "0", "0", "0"], 1, "standard output is closed"),
+    (["--help"], 1, "standard output is closed"),
+    (["--version"], 1, "standard output is closed"),
+    (["fk", "puma560", "--batch", "-"], 1, "standard output is closed"),
+    (["ik", "bk_rr", "--pose", "-"], 0, "--pose -: cannot read (standard input is closed)"),
+    (["ik", "bk_rr", "--batch", "-"], 0, "--batch -: there is no standard input"),
+    (["fk", "nosuch"], 2, None)])
+def test_a_stream_closed_before_the_start_is_one_line_and_2(argv, closed, words):
+    """`kincalc fk puma560 >&-` (Python's sys.stdout is then None) was "internal error:
+    AttributeError: 'NoneType' object has no attribute 'isatty'", exit 3, for every command;
+    `<&-` with --pose - the same; `2>&-` exited 1."""
+    p = subprocess.run([*KINCALC, *argv], input=None if closed == 0 else
+                       b'{"q": [0, 0, 0, 0, 0, 0]}\n', capture_output=True, timeout=120,
+                       preexec_fn=lambda: os.close(closed),
+                       env={**os.environ, "OMP_NUM_THREADS": "1"})
+    assert p.returncode == 2
+    if words is not None:
+        lines = p.stderr.decode().splitlines()
+        assert lines == [f"kincalc: error: {words}" if words.startswith("--") else
+                         f"kincalc: error: cannot write the output: {words}"]
+
+
 def test_an_os_error_that_is_not_a_write_is_still_a_bug(monkeypatch):
     """Only the write errors of the system (:data:`WRITE_ERRNOS`) are the user's: any other
     OSError escaping a command stays an internal error (exit 3)."""
