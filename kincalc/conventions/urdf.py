@@ -151,9 +151,10 @@ def _attribute_lines(data: bytes, at: int, line: int) -> dict:
     tag = _START_TAG.match(data, at)
     if tag is None:
         return {}
-    out = {}
+    out, pos, first = {}, at, line
     for m in _ATTRIBUTE.finditer(data, at, tag.end()):
-        first = line + data.count(b"\n", at, m.start(2))
+        first += data.count(b"\n", pos, m.start(2))      # (from the last: linear in the tag)
+        pos = m.start(2)
         out[m.group(1).decode("utf-8", "replace")] = (first, first + m.group(2).count(b"\n"))
     return out
 
