@@ -296,7 +296,7 @@ def _tables(doc, precision: int, quiet: bool):
     from rich.table import Table
 
     from ..homework.export import score_line
-    from ..homework.text import printable
+    from ..limits import printable
     from .render import console, matrix_table
 
     def text(s) -> str:                  # a sheet's words: no markup, no control character

@@ -308,15 +308,24 @@ def kv_table(pairs, title: str | None = None):
     return t
 
 
-def heading(doc: dict) -> str:
-    """The robot's line above a command's tables (rich markup; the name and title escaped)."""
+def file_words(text) -> str:
+    """Words a robot file wrote (its title, source, notes) for rich markup: on one line with
+    no control character (:func:`~kincalc.limits.printable`: no escape sequence reaches the
+    terminal), the markup escaped."""
     from rich.markup import escape
 
+    from ..limits import printable
+    return escape(printable(text))
+
+
+def heading(doc: dict) -> str:
+    """The robot's line above a command's tables (rich markup; the name and title as
+    :func:`file_words`)."""
     from .common import joints_text
     r = doc["robot"]
     title = f" - {r['title']}" if r.get("title") else ""
-    return (f"[bold]{escape(r['name'])}[/bold]{escape(title)}  ({joints_text(r['dof'])}, "
-            f"{doc['units']['angle']}, {doc['units']['length']})")
+    return (f"[bold]{file_words(r['name'])}[/bold]{file_words(title)}  "
+            f"({joints_text(r['dof'])}, {doc['units']['angle']}, {doc['units']['length']})")
 
 
 def joint_pairs(doc: dict, robot, precision: int) -> str:

@@ -58,7 +58,7 @@ def list_(
     from rich import box
     from rich.table import Table
 
-    from .render import console
+    from .render import console, file_words
     which = " ".join(w for w in (f"with {dof} joints" if dof else "",
                                  f"of IK family {family}" if family else "") if w)
     t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots" + (f" {which}" if which
@@ -73,7 +73,7 @@ def list_(
             t.add_row(e["name"], "", "", "", "", "", f"[red]broken: {e['error']}[/red]")
         else:
             t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["ik"],
-                      e["units"], e["title"])
+                      e["units"], file_words(e["title"]))
     console().print(t)
 
 
@@ -155,20 +155,21 @@ def _var(name, offset, precision, unit):
 def _show_tables(doc, rob, dh, u, precision):
     """The tables of ``robots show``; ``dh``: a poe robot's standard DH robot (None when
     there is none, or for a dh or mdh robot)."""
-    from .render import console, kv_table, num
+    from ..limits import printable
+    from .render import console, file_words, kv_table, num
     c = console()
     r = doc["robot"]
-    c.print(f"[bold]{rob.name}[/bold] - {rob.title}")
+    c.print(f"[bold]{file_words(rob.name)}[/bold] - {file_words(rob.title)}")
     meta = [("convention", {"dh": "dh (standard, distal: A_i = Rz(θ) Tz(d) Tx(a) Rx(α))",
                             "mdh": "mdh (modified, Craig: A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ) Tz(d))",
                             "poe": "poe (product of exponentials, axes at q = 0)"}[rob.convention]),
             ("joints", f"{rob.dof} ({structure_code(rob)})"),
             ("file units", f"{rob.length_unit}, {rob.angle_unit}"),
             ("shown in", f"{u.length}, {u.angle}"),
-            ("source", rob.source or "-")]
+            ("source", printable(rob.source) or "-")]
     from ..conventions.library import library_dir
     if rob.path and Path(rob.path).resolve().parent != library_dir().resolve():
-        meta.append(("file", rob.path))
+        meta.append(("file", printable(rob.path)))
     ik = r["ik"]
     meta.append(("ik", f"{ik['family']}: {ik['description']}" if ik["family"] else
                  f"numerical ({ik['description']})"))
@@ -181,7 +182,7 @@ def _show_tables(doc, rob, dh, u, precision):
                      "Standard DH table of the same axes (kincalc convert --to dh)")
     c.print(f"home: {', '.join(num(v, precision) for v in r['home'])}")
     if rob.notes:
-        c.print(f"notes: {rob.notes}")
+        c.print(f"notes: {file_words(rob.notes)}")
 
 
 def _joint_table(c, rob, r, u, precision, title=None):

@@ -38,16 +38,14 @@ _POSE_NAMES = (("r11", "r12", "r13", "px"), ("r21", "r22", "r23", "py"),
 
 
 def _symbolic_tables(result) -> None:
-    from rich.markup import escape
-
     from ..analysis.symbolic import ROWS, expr_text, unicode_name
     from .common import joints_text
-    from .render import console
+    from .render import console, file_words
     c = console()
     robot, n = result.robot, result.notation
     unit = "" if result.length_unit == "unitless" else f", lengths in {result.length_unit}"
     title = f" - {robot.title}" if robot.title else ""
-    c.print(f"[bold]{escape(robot.name)}[/bold]{escape(title)}  "
+    c.print(f"[bold]{file_words(robot.name)}[/bold]{file_words(title)}  "
             f"({joints_text(robot.dof)}, {robot.convention}, symbolic{unit})")
     symbols = [unicode_name(str(s)) for s in n.joints]
     c.print("joint variables: " + ", ".join(

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 from .grade import Report
 from .slips import fmt
-from .text import printable
+from ..limits import printable
 
 #: Gradescope's visibility settings (its "Controlling Test Case Visibility")
 VISIBILITIES = ("visible", "hidden", "after_due_date", "after_published")
@@ -114,7 +114,7 @@ def score_line(score: dict) -> str:
 
 def md(text) -> str:
     """``text`` for a Markdown paragraph, heading or table cell, read as written: on one
-    line with no control character (:func:`~kincalc.homework.text.printable`), the
+    line with no control character (:func:`~kincalc.limits.printable`), the
     characters Markdown would read as markup (``* _ [ ] < > | # ` ~ & \\``)
     backslash-escaped, and a start that would open a list, a quote or a heading (``-``,
     ``+``, ``>``, ``=``, ``1.``, ``1)``) escaped too.

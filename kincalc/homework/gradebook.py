@@ -12,7 +12,7 @@ import io
 import os
 
 from .export import Outcome, number
-from .text import printable
+from ..limits import printable
 
 #: the columns before the items' and after them
 LEAD_COLUMNS = ("student", "file")
@@ -45,7 +45,7 @@ def item_columns(outcomes) -> list[str]:
 
 def safe_cell(text: str) -> str:
     """A text cell that a spreadsheet program shows as text, on one line: control
-    characters and line breaks as :func:`~kincalc.homework.text.printable` shows them, and
+    characters and line breaks as :func:`~kincalc.limits.printable` shows them, and
     one starting with ``=``, ``+``, ``-``, ``@``, a tab or a carriage return gets a leading
     apostrophe.
 

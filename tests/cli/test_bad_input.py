@@ -258,6 +258,10 @@ BAD_FILES = [
     # a joint's name heads a table's column: a newline in it split the table's lines
     BadFile("joint-name-newline", sub(DH, "name: q2,", 'name: "el\\nbow",'),
             ("joint 2", "'name' must not hold a control character"), at="el\\nbow"),
+    # an escape sequence in the name reached the terminal through the error's "joint 2 (...)"
+    BadFile("joint-name-escape", sub(DH, "name: q2,", 'name: "q\\e[31m2",'),
+            ("joint 2 (q\ufffd[31m2)", "'name' must not hold a control character"),
+            at='name: "q', forbid=("\x1b",)),
     BadFile("joint-name-65", sub(DH, "name: q2,", "name: " + "j" * (MAX_NAME + 1) + ","),
             ("joint 2", f"'name' is {MAX_NAME + 1} characters long"), at="j" * 60),
     BadFile("robot-name-65", sub(DH, "name: arm3", "name: a" + "r" * MAX_NAME),
@@ -420,6 +424,22 @@ def test_robots_validate_rejects(case, tmp_path, monkeypatch, capsys):
 @pytest.mark.parametrize("case", BAD_FILES, ids=[c.id for c in BAD_FILES])
 def test_fk_rejects_robot_file(case, tmp_path, monkeypatch, capsys):
     _robot_file_case(case, "fk", tmp_path, monkeypatch, capsys)
+
+
+def test_a_robot_files_words_reach_no_terminal_as_escapes(tmp_path, monkeypatch, capsys):
+    # a title, source or notes holding escape sequences (clear the screen, retitle the
+    # terminal) was printed raw in the headings of fk, robots show and others
+    text = DH.replace("title: Three-link test arm",
+                      'title: "x\\e[2J\\e]0;pwned\\a"\nsource: "s\\e[31m"\nnotes: "n\\x9b1m"')
+    path = tmp_path / "esc.yaml"
+    path.write_text(text)
+    monkeypatch.setenv("COLUMNS", "200")
+    for argv in (["fk", str(path), "10", "20", "30"], ["robots", "show", str(path)]):
+        assert main(argv) == 0
+        out = capsys.readouterr().out
+        assert "\x1b" not in out and "\x07" not in out and "\x9b" not in out
+    assert main(["robots", "show", str(path)]) == 0
+    assert "x\ufffd[2J\ufffd]0;pwned\ufffd" in capsys.readouterr().out
 
 
 def test_catalogue_ids_are_unique():

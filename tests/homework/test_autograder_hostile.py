@@ -141,7 +141,7 @@ def test_markdown_escapes_line_breaks_fences_and_line_starts():
 
 
 def test_printable_folds_breaks_and_replaces_controls():
-    from kincalc.homework.text import printable
+    from kincalc.limits import printable
     assert printable("a\r\nb\tc") == "a b c"
     assert printable("\x1b[31mR\x00\x7f\x9b\u202e") == "\ufffd[31mR\ufffd\ufffd\ufffd\ufffd"
     assert printable("Zoë Ñ") == "Zoë Ñ"

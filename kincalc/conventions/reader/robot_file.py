@@ -9,8 +9,8 @@ import re
 import numpy as np
 
 from ...errors import RobotFileError
-from ...limits import (MAX_FILE_BYTES, MAX_JOINTS, MAX_NAME, TooLarge, cut, os_error_text, quote,
-                       read_bounded, size_text)
+from ...limits import (MAX_FILE_BYTES, MAX_JOINTS, MAX_NAME, TooLarge, cut, os_error_text,
+                       printable, quote, read_bounded, size_text)
 from ...model import CONVENTIONS, JOINT_TYPES, Joint, Robot
 from ...units import ANGLE_UNITS, LENGTH_UNITS
 from .nodes import compose_yaml
@@ -355,7 +355,7 @@ class RobotReader(Reader):
         if isinstance(node, yaml.MappingNode):
             for knode, vnode in node.value:
                 if knode.value == "name" and isinstance(vnode, yaml.ScalarNode):
-                    self.joint_name = cut(vnode.value)
+                    self.joint_name = cut(printable(vnode.value))     # (for messages)
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
         if joint_name_problem(name):
