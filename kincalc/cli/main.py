@@ -224,9 +224,7 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
     except click.exceptions.Abort:
         sys.stderr.write("kincalc: aborted\n")
         return 130
-    except click.exceptions.UsageError as exc:
-        if debug:
-            raise
+    except click.exceptions.UsageError as exc:       # (no traceback: the line says it all)
         cmd = exc.ctx.command_path if exc.ctx is not None else "kincalc"
         if cmd == "kincalc" and args and args[0] in COMMANDS:
             cmd = f"kincalc {args[0]}"   # an option error inside a command names the command
@@ -237,13 +235,11 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
                          f"(see '{cmd} --help')\n")
         return 2
     except click.exceptions.ClickException as exc:
-        if debug:
-            raise
+        _traceback(debug)
         sys.stderr.write(f"kincalc: error: {_one_line(exc.format_message())}\n")
         return 2
     except KincalcError as exc:
-        if debug:
-            raise
+        _traceback(debug)
         sys.stderr.write(f"kincalc: error: {_one_line(_words(exc))}\n")
         return exc.exit_status
     except BrokenPipeError:
@@ -251,8 +247,7 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
     except KeyboardInterrupt:
         return 130
     except Exception as exc:  # a bug: say so, and how to see it
-        if debug:
-            raise
+        _traceback(debug)
         if _unwritable(exc):        # (not a bug: the system refused the output)
             sys.stderr.write(f"kincalc: error: cannot write the output: {_write_error(exc)}\n")
             return 2
@@ -260,6 +255,14 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
+
+
+def _traceback(debug: bool) -> None:
+    """With ``--debug``, the traceback of the error being handled on stderr (the exit
+    status stays the error's: 2 for bad input, 3 for a bug)."""
+    if debug:
+        import traceback
+        traceback.print_exc()
 
 
 class _Closed:

@@ -572,16 +572,22 @@ def _bad_alpha_file(tmp_path: Path) -> Path:
     return path
 
 
-def test_debug_raises_robot_file_error_fk(tmp_path):
+@pytest.mark.parametrize("command", [["fk"], ["robots", "validate"]])
+def test_debug_shows_the_traceback_and_keeps_the_status(command, tmp_path, capsys):
+    # --debug re-raised the error: Python then exited 1, not the error's 2
     path = _bad_alpha_file(tmp_path)
-    with pytest.raises(RobotFileError, match=r"joint 3 \(q3\): 'alpha' is missing"):
-        main(["fk", str(path), "--debug"])
+    assert main([*command, str(path), "--debug"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("Traceback (most recent call last):")
+    assert "RobotFileError" in err and err.rstrip().splitlines()[-1].startswith("kincalc: error:")
+    assert "joint 3 (q3): 'alpha' is missing" in err.rstrip().splitlines()[-1]
 
 
-def test_debug_raises_robot_file_error_validate(tmp_path):
-    path = _bad_alpha_file(tmp_path)
-    with pytest.raises(RobotFileError, match=r"joint 3 \(q3\): 'alpha' is missing"):
-        main(["robots", "validate", str(path), "--debug"])
+def test_debug_before_the_command_is_a_usage_error_without_a_traceback(capsys):
+    # `kincalc --debug fk puma560` printed click's traceback for "No such option" (exit 1)
+    assert main(["--debug", "fk", "puma560"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "No such option '--debug'" in err
 
 
 @pytest.mark.parametrize("text, summary", [(DH, "arm3, 3 joints, dh"),
