@@ -7,6 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..errors import InputError
+from ..limits import MAX_SHEET_ITEMS, quote
 from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
 
 SeedOpt = Annotated[Optional[int], typer.Option(
@@ -124,8 +125,11 @@ def _kinds(items: str | None) -> list[str]:
         raise InputError(f"--items: give at least one kind ({', '.join(KINDS)})")
     unknown = [k for k in kinds if k not in KINDS]
     if unknown:
-        raise InputError(f"--items: unknown exercise kind {unknown[0]!r} (choose from "
+        raise InputError(f"--items: unknown exercise kind {quote(unknown[0])} (choose from "
                          f"{', '.join(KINDS)})")
+    if len(kinds) > MAX_SHEET_ITEMS:        # (a sheet check would refuse)
+        raise InputError(f"--items: {len(kinds)} kinds; a sheet holds at most "
+                         f"{MAX_SHEET_ITEMS} items (kincalc's limit)")
     return kinds
 
 

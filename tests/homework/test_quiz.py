@@ -492,6 +492,8 @@ def test_poe_robot_has_no_dh_item(capsys):
     (["--items", "fk,fx"], "unknown exercise kind 'fx'"),
     (["--items", ","], "at least one kind"),
     (["--seed", "-1"], "--seed"),
+    # a sheet of 201 items was written, which check then refused ("at most 200")
+    (["--items", ",".join(["fk"] * 201)], "a sheet holds at most 200 items"),
 ])
 def test_bad_options_exit_2(capsys, argv, message):
     code, out, err = run(capsys, "quiz", "puma560", *argv)
