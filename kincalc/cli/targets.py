@@ -205,7 +205,7 @@ def _read_pose(src: str):
     except ValueError:
         raise InputError(f"{what}: cannot read (not a valid file name)") from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")           # (a byte-order mark, as the other readers)
     except UnicodeDecodeError:
         raise InputError(f"{what}: not UTF-8 text; expected 16 numbers or JSON rows of a "
                          "4x4 matrix") from None
@@ -216,10 +216,20 @@ def _read_pose(src: str):
                 data.get("target"), dict) else None)
         M = np.array(data, dtype=float)
     except (ValueError, TypeError, RecursionError):
-        try:
-            M = np.array([parse_decimal(word) for word in text.replace(",", " ").replace(
-                "[", " ").replace("]", " ").split()])
-        except ValueError:
-            raise InputError(f"{what}: expected 16 numbers or JSON rows of a 4x4 matrix")\
-                from None
+        M = np.array(_pose_words(text, what, parse_decimal))
     return pose_values(M, what)
+
+
+def _pose_words(text: str, what: str, parse) -> list:
+    """The numbers of a pose file written as words (commas and brackets between them), or
+    an error naming the line and the word that is not a number."""
+    from ..limits import quote
+    numbers = []
+    for n, line in enumerate(text.splitlines(), 1):
+        for word in line.replace(",", " ").replace("[", " ").replace("]", " ").split():
+            try:
+                numbers.append(parse(word))
+            except ValueError:
+                raise InputError(f"{what}: line {n}: {quote(word, 40)} is not a number; "
+                                 "expected 16 numbers or JSON rows of a 4x4 matrix") from None
+    return numbers

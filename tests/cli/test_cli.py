@@ -300,6 +300,22 @@ def test_ik_pose_options_agree(capsys, tmp_path):
     assert len(counts) == 1
 
 
+def test_a_pose_file_with_a_byte_order_mark_and_a_bad_word(capsys, tmp_path):
+    # a file that starts with a UTF-8 byte-order mark was refused (robot files, sheets and
+    # batches take one); an error never named the line or the word at fault
+    T = np.array(run_json(capsys, "fk", "puma560", "10", "-30", "150", "25", "40", "35")["T"])
+    text = "\n".join(" ".join(map(repr, row)) for row in T.tolist())
+    pose = tmp_path / "pose.txt"
+    pose.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    doc = run_json(capsys, "ik", "puma560", "--pose", str(pose))
+    assert np.allclose(doc["target"]["T"], T, atol=1e-12)
+    for bad in ("0.4m", "0x1", "\u22121", "1_0"):
+        pose.write_text(text.replace(repr(T[1, 3].item()), bad, 1))
+        code, out, err = run(capsys, "ik", "puma560", "--pose", str(pose))
+        assert code == 2 and out == "" and err.count("\n") == 1
+        assert f"--pose {pose}: line 2: {bad!r} is not a number" in err, err
+
+
 def test_ik_tcv_option(capsys):
     w = run_json(capsys, "fk", "fer_rrpr", "30", "50", "0.25", "40")["tcv"]
     doc = run_json(capsys, "ik", "fer_rrpr", "--tcv", *map(str, w))
