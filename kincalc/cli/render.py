@@ -135,7 +135,10 @@ def fit_table(console, table, width: int | None = None) -> list:
         return _natural_width(console, _subtable(skeleton, [*range(k), *group]))
 
     groups = _deal(natural, list(range(k, n)), width)
-    if len(groups) == 1:   # nothing to split: wrap it, fold what is too long
+    if len(groups) == 1:   # nothing to split: each row's key above its values, or fold
+        stacked = _stacked(table, k) if k else None
+        if stacked is not None and _keeps_every_word(console, stacked, width):
+            return [stacked]
         return [_subtable(table, list(range(n)), fold=True)]
     panels = []
     for p, group in enumerate(groups):
@@ -145,6 +148,28 @@ def fit_table(console, table, width: int | None = None) -> list:
         sub.caption = table.caption if p == len(groups) - 1 else None
         panels.append(sub)
     return panels
+
+
+def _stacked(table, k: int):
+    """``table`` in one column: each row's ``k`` key cells on a line (in the key column's
+    style), then its other cells below them, indented (for a table whose values cannot
+    stand beside their keys without cutting a word)."""
+    import copy
+
+    from rich.padding import Padding
+    from rich.text import Text
+    out = copy.copy(table)
+    out.columns, out.rows, out.show_header = [], [], False
+    out.add_column(overflow="fold")
+    keys, rest = table.columns[:k], table.columns[k:]
+    for r in range(table.row_count):
+        key = [c._cells[r] for c in keys]
+        out.add_row(" ".join(str(x) for x in key) if all(isinstance(x, str) for x in key)
+                    else Text(" ").join(Text(x) if isinstance(x, str) else x for x in key),
+                    style=keys[0].style or None)
+        for c in rest:
+            out.add_row(Padding(c._cells[r], (0, 0, 0, 2)))
+    return out
 
 
 def _deal(natural, rest: list, width: int) -> list:

@@ -414,6 +414,20 @@ def test_a_word_longer_than_the_line_is_folded_not_cut(monkeypatch, capsys):
     assert max(map(len, out.splitlines())) <= 60
 
 
+def test_values_that_cannot_stand_beside_their_labels_go_below_them(monkeypatch, capsys):
+    # at 40 columns fk's table of 17-digit numbers folded them: "50.588713227471998" with
+    # "83" on the next line, read as two numbers; each label now goes above its values
+    from kincalc.cli.render import kv_table
+    values = ["50.58871322747199883 -41.39298764051999768 1216.85772721868897861",
+              "32.92374895308900307 21.95818667743800034 157.51396159747099546"]
+    out = printed(monkeypatch, capsys, 40, kv_table([("position", values[0]),
+                                                     ("rpy (fixed X-Y-Z, deg)", values[1])]))
+    assert NUMBER.findall(out) == " ".join(values).split()
+    assert max(map(len, out.splitlines())) <= 40
+    lines = [line.strip() for line in out.splitlines() if line.strip()]
+    assert lines[0] == "position" and lines[4] == "rpy (fixed X-Y-Z, deg)"
+
+
 def test_no_trailing_spaces_when_not_a_terminal():
     from kincalc.cli.render import _NoTrailingSpaces
     buf = io.StringIO()
