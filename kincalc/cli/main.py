@@ -75,12 +75,11 @@ class _Group(TyperGroup):
             hint = f" Did you mean {', '.join(repr(m) for m in near)}?" if near else ""
             raise click.UsageError(f"No such command '{args[0]}'.{hint}", ctx)
         name, cmd, rest = super().resolve_command(ctx, args)
-        if cmd is not None and not isinstance(cmd, click.Group):
-            clash = _opposite_flags(cmd, rest)
-            if clash and not {"-h", "--help"} & set(rest):     # help first, as click does
-                raise click.UsageError(f"{clash[0]} and {clash[1]} contradict each other; "
-                                       "give one of them",
-                                       click.Context(cmd, info_name=name, parent=ctx))
+        if cmd is not None and not isinstance(cmd, click.Group) and \
+                not {"-h", "--help"} & set(rest):               # help first, as click does
+            problem = _given_twice(cmd, rest)
+            if problem:
+                raise click.UsageError(problem, click.Context(cmd, info_name=name, parent=ctx))
         return name, cmd, rest
 
 
@@ -120,31 +119,40 @@ class _LazyGroup(_Group):
         click.Command._main_shell_completion(self, ctx_args, prog_name, complete_var)
 
 
-def _opposite_flags(command, args) -> tuple[str, str] | None:
-    """The first on/off flag pair of ``command`` (``--deg/--rad``) given both ways in
-    ``args``, as the two option strings in the order given; None if there is none.
+def _given_twice(command, args) -> str | None:
+    """Why ``args`` give an option of ``command`` twice, or None: an on/off flag pair both
+    ways (``--deg`` and ``--rad``), or an option that takes one value given two (``--rpy 0
+    0 0 --rpy 1 1 1``; the ``multiple`` ones, ``--lock``, excepted).
 
-    click keeps the last of the two silently. Values of options are skipped as click
-    consumes them (``--unit --rad`` gives --unit the value '--rad'); ``--`` ends options."""
-    takes, pairs = {}, []
+    click keeps the last silently. Values of options are skipped as click consumes them
+    (``--unit --rad`` gives --unit the value '--rad'), ``--opt=value`` is the option
+    ``--opt``, and ``--`` ends options."""
+    takes, param = {}, {}
     for p in command.params:
         if isinstance(p, click.Option):
             for o in p.opts + p.secondary_opts:
                 takes[o] = 0 if p.is_flag or p.count else p.nargs
-            if p.is_flag and p.secondary_opts:
-                pairs.append((set(p.opts), set(p.secondary_opts)))
+                param[o] = p
     given, i = [], 0
     while i < len(args) and args[i] != "--":
-        if args[i] in takes:
-            given.append(args[i])
-            i += takes[args[i]]
+        word = args[i].split("=", 1)[0] if args[i].startswith("--") else args[i]
+        if word in takes:
+            given.append(word)
+            i += takes[word] if word == args[i] else 0
         i += 1
-    for on, off in pairs:
-        both = [o for o in given if o in on or o in off]
-        first = both[0] if both else None
-        other = next((o for o in both if (o in on) != (first in on)), None)
-        if other is not None:
-            return first, other
+    seen = {}
+    for o in given:
+        p = param[o]
+        if id(p) not in seen:
+            seen[id(p)] = o
+            continue
+        first = seen[id(p)]
+        if p.multiple or p.count:
+            continue
+        if p.is_flag and p.secondary_opts and (first in p.opts) != (o in p.opts):
+            return f"{first} and {o} contradict each other; give one of them"
+        if not p.is_flag:
+            return f"{o} is given twice; give it once"
     return None
 
 

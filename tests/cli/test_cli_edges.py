@@ -56,16 +56,38 @@ def test_a_flag_repeated_or_consumed_as_a_value_is_no_contradiction(argv):
 
 
 def test_the_flags_check_is_generic():
-    """Every on/off flag pair of every command is checked (today --deg/--rad)."""
+    """Every on/off flag pair of every command is checked (today --deg/--rad), and every
+    option that takes one value (click kept the last of two silently)."""
     import click
 
-    from kincalc.cli.main import _opposite_flags
+    from kincalc.cli.main import _given_twice
     cmd = click.Command("t", params=[click.Option(["--color/--no-color"]),
-                                     click.Option(["--name"]), click.Option(["--v/--q"])])
-    assert _opposite_flags(cmd, ["--no-color", "--color"]) == ("--no-color", "--color")
-    assert _opposite_flags(cmd, ["--name", "--color", "--no-color"]) is None
-    assert _opposite_flags(cmd, ["--color", "--", "--no-color"]) is None
-    assert _opposite_flags(cmd, ["--q", "--color", "--v"]) == ("--q", "--v")
+                                     click.Option(["--name"]), click.Option(["--v/--q"]),
+                                     click.Option(["--xyz"], nargs=3),
+                                     click.Option(["--lock"], multiple=True)])
+    clash = "{} and {} contradict each other; give one of them"
+    assert _given_twice(cmd, ["--no-color", "--color"]) == clash.format("--no-color", "--color")
+    assert _given_twice(cmd, ["--name", "--color", "--no-color"]) is None    # a value
+    assert _given_twice(cmd, ["--color", "--", "--no-color"]) is None
+    assert _given_twice(cmd, ["--q", "--color", "--v"]) == clash.format("--q", "--v")
+    assert _given_twice(cmd, ["--color", "--color"]) is None                 # the same way
+    twice = "--name is given twice; give it once"
+    assert _given_twice(cmd, ["--name", "a", "--name", "b"]) == twice
+    assert _given_twice(cmd, ["--name=a", "--v", "--name", "b"]) == twice
+    assert _given_twice(cmd, ["--xyz", "1", "--name", "3", "--name"]) is None  # values
+    assert _given_twice(cmd, ["--lock", "1=0", "--lock", "2=0"]) is None      # multiple
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["convert", "puma560", "--to", "dh", "--to", "mdh"], "--to is given twice"),
+    (["ik", "puma560", "--xyz", "0.4", "0.1", "0.3", "--rpy", "0", "0", "0", "--rpy", "1",
+      "1", "1"], "--rpy is given twice"),
+    (["fk", "puma560", "--unit", "mm", "--unit=m"], "--unit is given twice"),
+])
+def test_an_option_given_twice_is_refused(argv, words):
+    # the last one won silently
+    status, out, err = run(*argv)
+    assert status == 2 and out == "" and words in err and err.count("\n") == 1
 
 
 @pytest.mark.parametrize("argv, path, near", [
