@@ -281,6 +281,10 @@ BAD_FILES = [
     # Python's literal syntax inside an expression was read (0x10 + 1 = 17)
     BadFile("expression-hex-literal", sub(DH, "a: l1,", "a: 0x10 + l1,"),
             ("joint 2 (q2)", "'a'", "'0x10' is not a decimal number"), at="name: q2"),
+    # a plain number in YAML 1.1's syntax was read (1_000 as 1000): decimal, as everywhere
+    BadFile("number-underscores", sub(DH, "d: 0.1,", "d: 1_000,"),
+            ("joint 1 (q1)", "'d'", "'1_000' is not a decimal number"), at="name: q1",
+            forbid=(", in",)),
     BadFile("expression-underscore-literal", sub(DH, "a: l1,", "a: l1 * 1_0,"),
             ("joint 2 (q2)", "'a'", "'1_0' is not a decimal number"), at="name: q2"),
     BadFile("expression-int-too-large", sub(DH, "a: l1,", "a: l1 * 1" + "0" * 400 + ","),

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ...limits import DECIMAL, MAX_EXPRESSION, MAX_MAGNITUDE, cut, quote
+from ...limits import DECIMAL, MAX_EXPRESSION, MAX_MAGNITUDE, cut, parse_decimal, quote
 from ...spatial import matrix_from_rpy, transform
 from .nodes import NodeReader
 
@@ -49,8 +49,8 @@ class Reader(NodeReader):
             self.fail(node, f"{what} must be a number, not {self.kind(node)}")
         tag = node.tag.rsplit(":", 1)[-1]
         if tag in ("int", "float"):
-            try:
-                value = float(node.value.replace("_", ""))
+            try:       # decimal, as on the command line (YAML 1.1 would take 1_000 and 0x10)
+                value = parse_decimal(node.value.strip())
             except ValueError:
                 value = self.expression(node, what)
             except OverflowError:
@@ -109,8 +109,8 @@ class Reader(NodeReader):
         for part in ast.walk(tree):        # Python's literals (0x10, 1_0, 0o7) are no numbers
             text = isinstance(part, ast.Constant) and ast.get_source_segment(src.strip(), part)
             if text is not False and not DECIMAL.fullmatch(text or ""):
-                self.fail(node, f"{what}: {quote(text or '')} is not a decimal number, in "
-                                f"{self.shown(node)}")
+                whole = "" if text == src.strip() else f", in {self.shown(node)}"
+                self.fail(node, f"{what}: {quote(text or '')} is not a decimal number{whole}")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
