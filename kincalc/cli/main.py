@@ -77,7 +77,7 @@ class _Group(TyperGroup):
         name, cmd, rest = super().resolve_command(ctx, args)
         if cmd is not None and not isinstance(cmd, click.Group) and \
                 not {"-h", "--help"} & set(rest):               # help first, as click does
-            problem = _given_twice(cmd, rest)
+            problem = _given_twice(cmd, rest) or _without_batch(cmd, rest)
             if problem:
                 raise click.UsageError(problem, click.Context(cmd, info_name=name, parent=ctx))
         return name, cmd, rest
@@ -119,14 +119,29 @@ class _LazyGroup(_Group):
         click.Command._main_shell_completion(self, ctx_args, prog_name, complete_var)
 
 
-def _given_twice(command, args) -> str | None:
-    """Why ``args`` give an option of ``command`` twice, or None: an on/off flag pair both
-    ways (``--deg`` and ``--rad``), or an option that takes one value given two (``--rpy 0
-    0 0 --rpy 1 1 1``; the ``multiple`` ones, ``--lock``, excepted).
+#: the options that only a --batch run reads
+BATCH_ONLY = ("--jobs", "--input-format")
 
-    click keeps the last silently. Values of options are skipped as click consumes them
-    (``--unit --rad`` gives --unit the value '--rad'), ``--opt=value`` is the option
-    ``--opt``, and ``--`` ends options."""
+
+def _without_batch(command, args) -> str | None:
+    """Why ``args`` give an option of :data:`BATCH_ONLY` without ``--batch`` (which then
+    went unread), or None."""
+    given, param = _options_given(command, args)
+    names = {o for g in given for o in param[g].opts}
+    if "--batch" in names or "--batch" not in {o for p in command.params
+                                               if isinstance(p, click.Option) for o in p.opts}:
+        return None
+    for g in given:
+        if set(param[g].opts) & set(BATCH_ONLY):
+            return f"{g} applies to --batch runs only; give --batch FILE, or leave {g} out"
+    return None
+
+
+def _options_given(command, args) -> tuple[list, dict]:
+    """The options of ``command`` that ``args`` give, in order (as written: ``--opt`` of
+    ``--opt=value``), and each option string's click parameter. Values of options are
+    skipped as click consumes them (``--unit --rad`` gives --unit the value '--rad'), and
+    ``--`` ends options."""
     takes, param = {}, {}
     for p in command.params:
         if isinstance(p, click.Option):
@@ -140,6 +155,16 @@ def _given_twice(command, args) -> str | None:
             given.append(word)
             i += takes[word] if word == args[i] else 0
         i += 1
+    return given, param
+
+
+def _given_twice(command, args) -> str | None:
+    """Why ``args`` give an option of ``command`` twice, or None: an on/off flag pair both
+    ways (``--deg`` and ``--rad``), or an option that takes one value given two (``--rpy 0
+    0 0 --rpy 1 1 1``; the ``multiple`` ones, ``--lock``, excepted).
+
+    click keeps the last silently (the options as :func:`_options_given` reads them)."""
+    given, param = _options_given(command, args)
     seen = {}
     for o in given:
         p = param[o]

@@ -90,6 +90,21 @@ def test_an_option_given_twice_is_refused(argv, words):
     assert status == 2 and out == "" and words in err and err.count("\n") == 1
 
 
+@pytest.mark.parametrize("argv, option", [
+    (["fk", "puma560", "0", "0", "0", "0", "0", "0", "-j", "2"], "-j"),
+    (["jacobian", "puma560", "--jobs=2"], "--jobs"),
+    (["ik", "puma560", "--from-q", "0 0 0 0 0 0", "--input-format", "csv"], "--input-format"),
+])
+def test_a_batch_option_without_batch_is_refused(argv, option):
+    # `-j 2` without --batch was read by nothing, silently
+    status, out, err = run(*argv)
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert f"{option} applies to --batch runs only" in err
+    status, out, _ = run(*argv[:2], "--batch", "-", *argv[-2:] if "=" not in argv[-1]
+                         else argv[-1:], stdin=b"")
+    assert status == 0 and out == ""                       # with --batch: read (no records)
+
+
 @pytest.mark.parametrize("argv, path, near", [
     (["robots", "shw"], "kincalc robots", "'show'"),
     (["robots", "lst"], "kincalc robots", "'list'"),
