@@ -127,9 +127,8 @@ def _without_batch(command, args) -> str | None:
     """Why ``args`` give an option of :data:`BATCH_ONLY` without ``--batch`` (which then
     went unread), or None."""
     given, param = _options_given(command, args)
-    names = {o for g in given for o in param[g].opts}
-    if "--batch" in names or "--batch" not in {o for p in command.params
-                                               if isinstance(p, click.Option) for o in p.opts}:
+    batch = param.get("--batch")
+    if batch is None or any(param[g] is batch for g in given):
         return None
     for g in given:
         if set(param[g].opts) & set(BATCH_ONLY):

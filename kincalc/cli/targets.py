@@ -193,7 +193,7 @@ def _read_pose(src: str):
 
     import numpy as np
 
-    from ..limits import TooLarge, os_error_text, parse_decimal, read_bounded, size_text
+    from ..limits import TooLarge, os_error_text, read_bounded, size_text
     what = f"--pose {src}"
     try:
         raw = read_bounded(src)
@@ -216,19 +216,19 @@ def _read_pose(src: str):
                 data.get("target"), dict) else None)
         M = np.array(data, dtype=float)
     except (ValueError, TypeError, RecursionError):
-        M = np.array(_pose_words(text, what, parse_decimal))
+        M = np.array(_pose_words(text, what))
     return pose_values(M, what)
 
 
-def _pose_words(text: str, what: str, parse) -> list:
+def _pose_words(text: str, what: str) -> list:
     """The numbers of a pose file written as words (commas and brackets between them), or
     an error naming the line and the word that is not a number."""
-    from ..limits import quote
+    from ..limits import parse_decimal, quote
     numbers = []
     for n, line in enumerate(text.splitlines(), 1):
         for word in line.replace(",", " ").replace("[", " ").replace("]", " ").split():
             try:
-                numbers.append(parse(word))
+                numbers.append(parse_decimal(word))
             except ValueError:
                 raise InputError(f"{what}: line {n}: {quote(word, 40)} is not a number; "
                                  "expected 16 numbers or JSON rows of a 4x4 matrix") from None

@@ -143,7 +143,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     # where axis 6 is along h (the same in both roots) is carried to the new slots
     br = br.branch([4], fifth, free=False)
     aligned = br.take(fifth.free[..., 0])
-    sigma = np.where(dot(br.take(v), h) > 0, 1.0, -1.0) if np.count_nonzero(aligned) else None
+    sigma = _sense(br, v, h) if np.count_nonzero(aligned) else None
     a = _mtv(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(
         br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
@@ -154,6 +154,12 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
                                   pair(aligned, aligned)), labels=(None, "other arc"))
     return br, None if sigma is None else br.take(sigma)
+
+
+def _sense(br: Branches, v, h) -> np.ndarray:
+    """``sigma (N, K')``: +1 where axis 6 points along h, else -1, at the slots of ``br``
+    (``v (N, K, 3)``: axis 6's direction in the slots before joint 5 branched them)."""
+    return np.where(dot(br.take(v), h) > 0, 1.0, -1.0)
 
 
 def _carried(sigma) -> tuple:
@@ -213,7 +219,7 @@ def _near_singular_q6(S: Screws, br: Branches, T, hj: int, v, aligned, b, q6, el
     across = cross(b, S.axis[5])
     sine = np.sqrt(dot(across, across))     # (1 - cos^2 loses a sine below ~1e-8)
     near &= ~aligned
-    sigma = np.where(dot(br.take(v), S.axis[hj]) > 0, 1.0, -1.0)
+    sigma = _sense(br, v, S.axis[hj])
     a, b, at = _elbow_vectors(S, br, T, elbow, q6)
     moved = into_elbow_reach(S, a, b, sigma, q6, at, sine, elbow=elbow)
     return np.where(near, moved, q6)

@@ -49,6 +49,17 @@ def _distance(robot, a, b):
     return np.abs(d).max(-1)
 
 
+def _solved(robot, T):
+    """``(result, solutions (m, n))`` of ``robot.ik(T)``."""
+    res = robot.ik(T)
+    return res, np.array([s.q for s in res.solutions])
+
+
+def _rounded(robot, q):
+    """The pose of ``q`` written with 12 digits and read back (the CLI's JSON round trip)."""
+    return targets_from("T", np.round(robot.fk(q), 12).reshape(1, 16))[0].T[0]
+
+
 def test_solution_at_its_limit_next_to_a_merged_double_root():
     # theta1 exactly at its limit, theta2 a hair from 0: the two roots of theta1 merge to
     # their midpoint, 2e-7 deg beyond the limit; the polished one is the generating q
@@ -58,8 +69,7 @@ def test_solution_at_its_limit_next_to_a_merged_double_root():
     Q[:10, 0], Q[:10, 1] = np.deg2rad(170.0), -HAIR              # the sweep's case
     for q in Q:
         T = r.fk(q)
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        res, sols = _solved(r, T)
         assert len(sols) and _reaches(r, sols, T, CHECK_ORIENTATION).all()
         near = _distance(r, sols, q).min()
         assert near <= 1e-7, (np.rad2deg(q), sols)
@@ -67,7 +77,7 @@ def test_solution_at_its_limit_next_to_a_merged_double_root():
         assert best.within_limits
         # the pose rounded to 12 digits (fk --json | ik --pose): the double root moves by
         # ~1e-6 and the orientation the arm does not control missed CHECK_ORIENTATION
-        T12 = targets_from("T", np.round(T, 12).reshape(1, 16))[0].T[0]
+        T12 = _rounded(r, q)
         sols = [s for s in r.ik(T12).solutions if s.within_limits]
         assert sols and _distance(r, np.array([s.q for s in sols]), q).min() <= 1e-5
 
@@ -84,8 +94,7 @@ def test_point_plus_roll_a_hair_from_the_shoulder_singularity(q1):
     Q[:, 1] = rng.choice([-HAIR, HAIR, np.pi - HAIR], size=len(Q))
     for q in Q:
         T = r.fk(q)
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        res, sols = _solved(r, T)
         assert len(sols), np.rad2deg(q)
         assert _reaches(r, sols, T).all()
         assert any(s.singular for s in res.solutions)
@@ -108,11 +117,8 @@ def test_twelve_digit_pose_a_hair_from_a_double_singularity(name, wrist2):
         Q[0] = np.deg2rad([0.0, 0.0, 1e-7, -180.0, 1e-7, -360.0])     # the sweep's case
     double = wrist2[0] == 0.0
     for q in Q:
-        T = np.round(r.fk(q), 12)
-        targets, _ = targets_from("T", T.reshape(1, 16))
-        T = targets.T[0]
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        T = _rounded(r, q)
+        res, sols = _solved(r, T)
         assert len(sols), np.rad2deg(q)
         assert _reaches(r, sols, T).all()
         near = sols[np.argmin(_distance(r, sols, q))]
@@ -152,9 +158,8 @@ def test_the_sweeps_twelve_digit_ur16e_pose():
     # cosine 1e-10 past 1 left no candidate ("no solution"); --from-q found the solution
     r = kincalc.load_robot("ur16e")
     q = np.deg2rad([0.0, 0.0, 1e-7, -180.0, 1e-7, -360.0])
-    targets, _ = targets_from("T", np.round(r.fk(q), 12).reshape(1, 16))
-    T = targets.T[0]
-    sols = np.array([s.q for s in r.ik(T).solutions])
+    T = _rounded(r, q)
+    _, sols = _solved(r, T)
     assert len(sols) and _reaches(r, sols, T).all()
     assert _distance(r, sols, q).min() <= 1e-6
 
@@ -171,8 +176,7 @@ def test_spherical_wrist_a_hair_from_the_shoulder_singularity():
     Q[0] = np.deg2rad([-90.0, 1e-7, 0.0, -1e-7, 28.2820775, 307.6687621])
     for i, q in enumerate(Q):
         T = r.fk(q)
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        res, sols = _solved(r, T)
         assert len(sols) and _reaches(r, sols, T).all(), np.rad2deg(q)
         # JT1 is free with JT4 and JT6 on the axis: an equivalent solution, flagged singular
         assert all(s.singular for s in res.solutions)
@@ -191,8 +195,7 @@ def test_general_6r_a_hair_from_a_degenerate_pose():
     Q[0] = np.deg2rad([-180.0, -180.0, 179.9999999, 180.0, -180.0, 171.4750364])
     for i, q in enumerate(Q):
         T = r.fk(q)
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        res, sols = _solved(r, T)
         assert len(sols) and _reaches(r, sols, T).all(), np.rad2deg(q)
         assert any(s.singular for s in res.solutions)
         if i == 0:          # elsewhere a continuum: its samples need not be next to q
@@ -211,8 +214,8 @@ def test_twelve_digit_pose_wrist_a_hair_off_and_elbow_exactly_straight(name):
     Q[:, 4] = np.deg2rad(rng.choice([-1e-5, 1e-5], len(Q)) + rng.choice([0.0, 180.0], len(Q)))
     Q[0] = np.deg2rad([-90.0000001, -1e-05, 0.0, -1e-05, -1e-05, -89.9999999])   # the sweep's
     for q in Q:
-        T = targets_from("T", np.round(r.fk(q), 12).reshape(1, 16))[0].T[0]
-        sols = np.array([s.q for s in r.ik(T).solutions])
+        T = _rounded(r, q)
+        _, sols = _solved(r, T)
         assert len(sols), np.rad2deg(q)
         assert _reaches(r, sols, T).all()
         assert _distance(r, sols, q).min() <= 0.05, (np.rad2deg(q), np.rad2deg(sols))
@@ -229,8 +232,7 @@ def test_position_arm_folded_next_to_its_shoulder_given_a_whole_pose(fold):
     for q1 in [90.0, *rng.uniform(-180.0, 180.0, 5)]:
         q = np.deg2rad([q1, 0.0, 180.0 - fold])
         T = r.fk(q)
-        res = r.ik(T)
-        sols = np.array([s.q for s in res.solutions])
+        res, sols = _solved(r, T)
         assert len(sols), (q1, fold, res.reason)
         assert _reaches(r, sols, T, CHECK_ORIENTATION).all()
         assert _distance(r, sols, q).min() <= 1e-6

@@ -99,18 +99,21 @@ class Reader(NodeReader):
         if last > first:        # its message would quote lines other than the one it names
             self.fail(node, f"{what} must be a number or an expression on one line, not "
                             f"{self.shown(node)}")
+        src = src.strip()
         try:
-            tree = ast.parse(src.strip(), mode="eval")
+            tree = ast.parse(src, mode="eval")
         except SyntaxError:
             self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', "
                             f"not {self.shown(node)}")
         except (RecursionError, MemoryError, ValueError):
             self.fail(node, f"{what}: expression too deeply nested")
         for part in ast.walk(tree):        # Python's literals (0x10, 1_0, 0o7) are no numbers
-            text = isinstance(part, ast.Constant) and ast.get_source_segment(src.strip(), part)
-            if text is not False and not DECIMAL.fullmatch(text or ""):
-                whole = "" if text == src.strip() else f", in {self.shown(node)}"
-                self.fail(node, f"{what}: {quote(text or '')} is not a decimal number{whole}")
+            if not isinstance(part, ast.Constant):
+                continue
+            text = ast.get_source_segment(src, part) or ""
+            if not DECIMAL.fullmatch(text):
+                whole = "" if text == src else f", in {self.shown(node)}"
+                self.fail(node, f"{what}: {quote(text)} is not a decimal number{whole}")
         try:
             return float(self._eval(tree.body))
         except _ExprError as exc:
