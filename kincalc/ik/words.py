@@ -142,9 +142,12 @@ def _codes(R, dots) -> np.ndarray:
         # the elbow against the shoulder-to-target line in the plane of the parallel axes:
         # (l' x v') . (l' x z1') / |l'|^2 with l = W - S, v = E - S and z1 projected along
         # the elbow's axis h, that is ((l x v) . h) ((l x z1) . h) / (|l|^2 - (l . h)^2);
-        # the turn sense (the word above) where the elbow is on the line
+        # the turn sense (the word above) where the elbow is on the line, and where the
+        # line is not one: the target on the elbow's axis through the shoulder (|l'| below
+        # on_line), where l' is rounding and its sign that of this batch's products
         lv, lz, ll, lh = dots[w], dots[w + 1], dots[w + 2], dots[w + 3]
-        up = lv * lz / np.maximum(ll - lh * lh, 1e-300)
+        across = ll - lh * lh
+        up = np.where(across > R.on_line ** 2, lv * lz / np.maximum(across, 1e-300), 0.0)
         e = R.elbow_row
         code[e] = np.where(np.abs(up) < R.on_line, code[e], R.first[e] + (up < 0))
     return code

@@ -134,3 +134,17 @@ def test_elbow_up_is_the_worlds_up(name):
             assert ("elbow up" in s.branch) == (up > 0), (s.q, s.branch)
             checked += 1
     assert checked > 20
+
+
+@pytest.mark.parametrize("others", [0, 1, 39])
+def test_no_elbow_side_with_the_wrist_on_the_shoulder(others):
+    """siciliano_arm folded with equal links (a2 = a3) puts the tool point on the shoulder:
+    there is no shoulder-to-target line, so no elbow word, whatever the rounding of the
+    products. The label was "elbow down" with other poses in the batch and the signs alone
+    without them (a 5e-33 product over a negative 2e-16 |l'|^2)."""
+    r = kincalc.load_robot("siciliano_arm")
+    T = r.fk(np.radians([[-90.0, 0.0, 180.0]] + [[10.0, 20.0, 30.0]] * others))
+    solved = r.ik_batch(T)
+    first = solved.labels[0][solved.valid[0]].tolist()
+    assert first == [r.ik(T[0]).solutions[0].branch]
+    assert not {"up", "down"} & _words(first[0])
