@@ -349,38 +349,55 @@ def test_a_number_written_reads_back_and_writes_as_itself():
 
 NEARLY_PARALLEL = """name: np3
 convention: poe
-units: {length: m, angle: deg}
+units: {{length: m, angle: deg}}
 joints:
-  - {name: q1, type: revolute, axis: [0, 0, 1], point: [0, 0, 0]}
-  - {name: q2, type: revolute, axis: [0.000001, 0, 1], point: [0.5, 0, 0]}
-  - {name: q3, type: revolute, axis: [0, 1, 0], point: [0.5, 0, 0.3]}
-tool: {xyz: [0.9, 0, 0.3], rpy: [0, 0, 0]}
+  - {{name: q1, type: revolute, axis: [0, 0, 1], point: [0, 0, 0]}}
+  - {{name: q2, type: revolute, axis: [{hair}, 0, 1], point: [0.5, 0, 0]}}
+  - {{name: q3, type: revolute, axis: [0, 1, 0], point: [0.5, 0, 0.3]}}
+tool: {{xyz: [0.9, 0, 0.3], rpy: [0, 0, 0]}}
 """
 
 
 def test_axes_a_hair_from_parallel_are_not_converted_to_dh(tmp_path, capsys):
-    """Axes 1 and 2 are 1e-6 rad apart and 0.5 m off: their common normal is 500 km away
-    (they meet at z = -0.5 / 1e-6), and the DH offsets d = -500066.58 and 500066.88 that
-    cancel there lost the tool's position to 6.7e-5 m (by hand: the tool is at (0.9, 0,
-    0.3) at q = 0, the written dh file put it at 0.900067). Refused, naming the axes; the
-    POE description and the robot's own DH tables are untouched."""
+    """Axes 1 and 2 are 3e-9 rad apart and 0.5 m off: their common normal is 170,000 km away
+    (they meet at z = -0.5 / 3e-9), and the DH offsets d that cancel there lose the tool's
+    position to ~1e-8 m (by hand: the tool is at (0.9, 0, 0.3) at q = 0). Refused, naming
+    the axes; the POE description and the robot's own DH tables are untouched."""
     from kincalc.errors import InputError
-    robot = parse_robot_text(NEARLY_PARALLEL)
+    text = NEARLY_PARALLEL.format(hair=3e-9)
+    robot = parse_robot_text(text)
     assert np.allclose(robot.fk(np.zeros(3))[:3, 3], [0.9, 0, 0.3], atol=1e-15)
     for to in ("dh", "mdh"):
         with pytest.raises(InputError, match=r"np3 cannot be written in " + to + r" to full "
-                           r"accuracy: .* \(the axes of joints 1 and 2 are 1e-06 rad from parallel"):
+                           r"accuracy: .* \(the axes of joints 1 and 2 are 3e-09 rad from parallel"):
             convert(robot, to)
-    (tmp_path / "np3.yaml").write_text(NEARLY_PARALLEL)
+    (tmp_path / "np3.yaml").write_text(text)
     out = tmp_path / "np3_dh.yaml"
     assert main(["convert", str(tmp_path / "np3.yaml"), "--to", "dh", "-o", str(out)]) == 2
     assert capsys.readouterr().err.count("\n") == 1 and not out.exists()
     # robots show keeps the screws and says why there is no DH table
     assert main(["robots", "show", str(tmp_path / "np3.yaml"), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)["robot"]
-    assert doc["dh"] is None and "1e-06 rad from parallel" in doc["dh_note"]
+    assert doc["dh"] is None and "3e-09 rad from parallel" in doc["dh_note"]
     assert main(["robots", "show", str(tmp_path / "np3.yaml")]) == 0
     assert "no standard DH table of these axes" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("to", ["dh", "mdh"])
+def test_axes_1e6_from_parallel_convert_to_full_accuracy(to):
+    """The same axes 1e-6 rad apart: their common normal is 500 km away, at z = -0.5 / 1e-6
+    on axis 1, and the table's offsets are -500000 and +500000.3 m (by hand: the normal's
+    foot on axis 2 is 0.3 m above axis 3's). Taking the axes' directions for unit vectors
+    (the DH frames' 1 - (u.v)^2) had put them 66 m off, the tool 6.7e-5 m off, and refused
+    this robot. The converted robot's FK is the POE robot's at random configurations."""
+    robot = parse_robot_text(NEARLY_PARALLEL.format(hair=1e-6))
+    out = convert(robot, to)
+    d = sorted(j.d for j in out.joints)
+    assert d[0] == pytest.approx(-500000.0, abs=1e-3) and d[-1] == pytest.approx(500000.3, abs=1e-3)
+    Q = np.random.default_rng(3).uniform(-np.pi, np.pi, (200, 3))
+    A, B = robot.fk(Q), out.fk(Q)
+    assert np.abs(A[:, :3, 3] - B[:, :3, 3]).max() < 1e-9
+    assert np.abs(A[:, :3, :3] - B[:, :3, :3]).max() < 1e-9
 
 
 def test_compare_tolerance_is_not_widened_by_offsets_that_cancel(tmp_path, capsys):

@@ -332,6 +332,26 @@ def test_dh_frames_are_dh_frames(seed):
         assert abs(-A[0, 3] * np.sin(theta) + A[1, 3] * np.cos(theta)) < 1e-9  # meets z_{i-1}
 
 
+def test_dh_frames_of_nearly_parallel_axes_are_finite():
+    """Axes 1.2e-7 rad from antiparallel, their directions 7e-15 off unit length (a 12-digit
+    pose's rotation moved them so, in the general 6R solver's shifted xarm6): 1 - (u.v)^2
+    rounded to 0 and the common normal came out NaN ("SVD did not converge"). Its length is
+    now |u x v|^2 and the directions' lengths are kept: the frames are finite, x normal to
+    both axes, and the normal runs along x from frame 0's origin on axis 1 to frame 1's on
+    axis 2, to the feet's conditioning (eps |w| / |u x v|^2 ~ 1e-2 m, 5.8e6 m along the
+    axes; taking the directions for unit left it 0.29 m off)."""
+    from kincalc.structure import dh_frames
+    dirs = np.array([[-4.44400000959557e-09, 1.22076e-07, -1.0], [0.0, 0.0, 1.0]])
+    pts = np.array([[1.906697022491244e-11, -0.703000007791385, 0.290999936256003],
+                    [0.0, 0.0, 0.0]])
+    assert dirs[0] @ dirs[1] == -1.0 and np.linalg.norm(dirs[0]) > 1 + 7e-15
+    F = dh_frames(dirs[None], pts[None], 1.15, 1e-7)[0]
+    assert np.isfinite(F).all()
+    x, gap = F[1, :3, 0], F[1, :3, 3] - F[0, :3, 3]
+    assert abs(x @ dirs[0]) < 1e-9 and abs(x @ dirs[1]) < 1e-9
+    assert np.linalg.norm(gap - x * (gap @ x)) < 2e-2 and abs(gap @ x) < 1.0
+
+
 @pytest.mark.parametrize("count", [1, 40])
 def test_jacobian_zeros_are_positive(count):
     """A zero of the Jacobian is +0.0 in both evaluations (z_a d_b - z_b d_a of signed zeros
