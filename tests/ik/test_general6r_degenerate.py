@@ -176,6 +176,29 @@ def test_folded_kinova_outside_its_limits_is_solved():
         assert not res.solutions[k].within_limits
 
 
+@pytest.mark.parametrize("digits", [None, 12])
+def test_a_pose_with_nearly_parallel_shifted_axes_is_solved(digits):
+    """xarm6 a hair (1e-6 deg) from q = (-90, 90, -180, 0, 90, 90) deg, the pose exact and
+    rounded to 12 digits: in four of the cyclic shifts two axes are 1.2e-7 rad from parallel,
+    and their common normal is ~5e6 m along them. That model is not used (a NaN there was
+    "SVD did not converge"), and the pose gets the perturbed models' candidates: the one
+    pivot left found 1 of the 4 solutions, the generating configuration not among them.
+    The 4 are the solutions of the special configuration's pose, each reproducing the pose
+    (FK round trip)."""
+    robot = load_robot("xarm6")
+    q = np.radians([-89.99999999842429, 90.0000024242655, -179.99999533033545,
+                    359.999999745355, 89.9999999005354, -270.00000344337514])
+    T = robot.fk(q)
+    T = T if digits is None else np.round(T, digits)
+    S = np.array([s.q for s in robot.ik(T).solutions])
+    assert_round_trip(robot, T, S)
+    special = np.array([s.q for s in robot.ik(robot.fk(np.radians(
+        [-90.0, 90.0, -180.0, 0.0, 90.0, 90.0]))).solutions])
+    assert len(S) == len(special) == 4
+    assert np.max(np.abs(wrap(S[:, None] - special[None])), axis=-1).min(axis=0).max() < 1e-4
+    assert np.max(np.abs(wrap(S - q)), axis=1).min() < 1e-6
+
+
 # --- chains of clustered eigenvalues --------------------------------------------
 
 #: kinova_gen3_lite configurations (deg) whose pivot angle is an exact double or triple root

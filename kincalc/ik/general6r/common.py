@@ -14,6 +14,10 @@ from ...spatial import cross
 BATCH_SLOTS = 16
 #: sine of the angle below which two consecutive axes are treated as parallel.
 PARALLEL_TOL = 1e-7
+#: a shifted 6R whose DH lengths reach this many L (the common normal of two nearly
+#: parallel axes, its foot far along them) does not apply at that pose: its elimination
+#: would lose the digits of the lengths' squares (see Model.from_lines)
+FAR = 1e3
 #: residual (relative position, rad) a polished solution must reach.
 ACCEPT_TOL = 1e-10
 #: wrapped joint distance (rad) below which two solutions are the same.

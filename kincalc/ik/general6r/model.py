@@ -9,7 +9,7 @@ import numpy as np
 
 from ...spatial import invert_transform
 from ...structure import dh_frames
-from .common import CUBIC_W, GRID, H2, PARALLEL_TOL, VINV2, VINV3, cubic_map, dh, f14
+from .common import CUBIC_W, FAR, GRID, H2, PARALLEL_TOL, VINV2, VINV3, cubic_map, dh, f14
 
 # built once (a model per pose is built for every call that pivots on another joint):
 # the Fourier grid of two and of three angles, flattened (the first angle slowest) ...
@@ -53,6 +53,8 @@ class Model:
         (column ``k * 3 + j``), ``Y @ C35`` the flattened ``R3 R4 R5``.
     U, K, UWb, UWW : (..., 24, 16), (..., 24, 16), (..., 24, 12), (..., 24, 32)
         The deflation of step 4 (see :meth:`_deflation`).
+    far : (...) of bool
+        Models that do not apply: DH lengths of ``FAR`` L or more (:meth:`from_lines`).
 
     ``left_of``, a Model with the same joints 3-5 (d, a, alpha), lends its left side
     (``P27, C35, U, K, UWb, UWW``, then without the leading dimensions) instead of
@@ -61,8 +63,9 @@ class Model:
     only the product ``A_1 A_2`` on the grid is used), their ``d, a, alpha`` unused.
     """
 
-    def __init__(self, B, E, L, theta0, d, a, alpha, left_of=None, links=None):
+    def __init__(self, B, E, L, theta0, d, a, alpha, left_of=None, links=None, far=None):
         self.B, self.E, self.L = B, E, L
+        self.far = np.zeros(np.shape(B)[:-2], bool) if far is None else far
         self.Binv, self.Einv = invert_transform(B), invert_transform(E)
         self.offset = np.asarray(theta0, float)
         self.d, self.a, self.alpha = (np.asarray(v, float) for v in (d, a, alpha))
@@ -205,7 +208,16 @@ class Model:
         a = G[..., 0, 3] * np.cos(theta0) + G[..., 1, 3] * np.sin(theta0)
         alpha = np.arctan2(G[..., 2, 1], G[..., 2, 2])
         E = invert_transform(F[..., 6, :, :]) @ T0
-        return cls(F[..., 0, :, :], E, L, theta0, d / L, a / L, alpha)
+        # the common normal of nearly parallel axes can be FAR along them: such a model is
+        # not used (``far``), and its numbers are replaced by finite ones
+        far = ~np.all((np.abs(d) < FAR * L) & (np.abs(a) < FAR * L) & np.isfinite(theta0)
+                      & np.isfinite(alpha), axis=-1)
+        if np.count_nonzero(far):
+            theta0, d, a, alpha = (np.where(far[..., None], 0.0, v) for v in (theta0, d, a, alpha))
+            F0, E = (np.where(far[..., None, None], np.eye(4), v) for v in (F[..., 0, :, :], E))
+        else:
+            F0 = F[..., 0, :, :]
+        return cls(F0, E, L, theta0, d / L, a / L, alpha, far=far)
 
     def perturbed(self, size):
         """The same robot with every scaled DH parameter moved by 0.5 .. 1 ``size`` (seeded).

@@ -197,13 +197,24 @@ class _Robot6R:
         width : int
             Slots per pose (16, or 32 / 48 with a cluster).
         continuum : ndarray (M,) of bool
-            Poses this pivot solves whose eigenvalues show a continuum of solutions at one
-            pivot angle (:func:`~.elimination.split_clusters`).
+            Poses whose candidates may miss isolated solutions: this pivot solves them and its
+            eigenvalues show a continuum of solutions at one pivot angle
+            (:func:`~.elimination.split_clusters`), or its model does not apply there (DH
+            lengths of ``FAR`` L, :meth:`Model.from_lines`).
         """
         if shift == 0:
-            return eliminate(self.model, T)
-        model, order = self.shifted_model(T, shift)
-        pose, slot, c, bad, width, cont = eliminate(model, np.broadcast_to(np.eye(4), T.shape))
+            model, order, target = self.model, np.arange(6), T
+        else:
+            model, order = self.shifted_model(T, shift)
+            target = np.broadcast_to(np.eye(4), T.shape)
+        pose, slot, c, bad, width, cont = eliminate(model, target)
+        if np.count_nonzero(model.far):
+            # a model that does not apply: nearly parallel axes at this pose, whose special
+            # configuration can hide solutions from the other pivots too
+            far = np.broadcast_to(model.far, bad.shape)
+            keep = ~far[pose]
+            pose, slot, c = pose[keep], slot[keep], c[keep]
+            bad, cont = bad | far, cont | far
         out = np.empty_like(c)
         out[:, order] = c
         return pose, slot, out, bad, width, cont
@@ -217,7 +228,8 @@ class _Robot6R:
         of solutions at one pivot angle (``continuum`` of :meth:`raw`) gets the perturbed
         models' candidates too, in slots after the pivot's: the isolated solutions that share
         that angle are lost in the pivot's cluster, and a nearby generic robot has them as
-        isolated roots.
+        isolated roots. So does a pose where a pivot's model does not apply (nearly parallel
+        axes at that pose, a special configuration the other pivots may not see).
 
         Parameters
         ----------
@@ -246,7 +258,7 @@ class _Robot6R:
             todo = todo[bad]
             if len(todo) == 0:
                 break
-        todo = np.concatenate([todo] + more)
+        todo = np.flatnonzero(np.isin(np.arange(len(T)), np.concatenate([todo] + more)))
         lo = None
         if len(todo):
             # after every pivot slot (a pose's order of slots does not depend on the batch)
