@@ -235,10 +235,8 @@ def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
             par = ~(sn > parallel_tol)[..., None]    # (..., 1): axes i, i+1 parallel
             # skew axes: closest points p + t u (axis i) and r + s v (axis i+1)
             w = r - p
-            # (u, v unit only to rounding: near parallel that rounding is the whole of
-            # 1 - (u.v)^2, so the lengths are kept and the denominator is |u x v|^2)
-            uv, wu, wv = _dot(u, v), _dot(w, u), _dot(w, v)
-            den = sn * sn
+            # |u x v|^2, |u|, |v| (not 1 - (u.v)^2: near parallel, all rounding of u, v)
+            uv, wu, wv, den = _dot(u, v), _dot(w, u), _dot(w, v), sn * sn
             t = ((wu * _dot(v, v) - wv * uv) / den)[..., None]
             s = ((wu * uv - wv * _dot(u, u)) / den)[..., None]
             foot_j = r + s * v
