@@ -224,8 +224,9 @@ class Branches:
         least_squares : bool
             Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
         free : bool or tuple of int
-            Or the roots' ``free`` into the step's joints' free masks (False: not free, for a
-            solver that leaves another joint free at the singularity; a tuple: those joints).
+            Or the roots' ``free`` into the step's joints' free masks (each joint's own,
+            ``undetermined``, where the subproblem tells; False: not free, for a solver that
+            leaves another joint free at the singularity; a tuple: those joints).
 
         Returns
         -------
@@ -243,13 +244,13 @@ class Branches:
                 X[1, j], X[2, j] = c[:, parent], s[:, parent]
             if f is not None:
                 F[j] = f[:, parent]
-        roots_free = sols.free.reshape(N, M) if free else None
-        for j, t, c, s in zip(joints, sols.theta, sols.c, sols.s):
+        which = sols.undetermined or (sols.free,) * len(joints)
+        for j, t, c, s, f in zip(joints, sols.theta, sols.c, sols.s, which):
             if j is not None:
                 Xj = X[:, j]
                 Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
                 if free is True or free and j in free:
-                    F[j] |= roots_free
+                    F[j] |= f.reshape(N, M)
         ok = (self.ok[..., None] & sols.ok if least_squares else
               self.ok[..., None] & sols.ok & sols.exact).reshape(N, M)
         if k == 1:                      # one root: nothing to tell apart

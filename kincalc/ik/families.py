@@ -350,7 +350,7 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
             return fam, ""
     roll = Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 from the "
                   "orientation about its axis", "position and rotation about axis 4", True)
-    if n == 4 and rev[3] and pos_rank == 3:
+    if n == 4 and rev[3] and pos_rank == 3 and _independent_motions(S, (0, 1, 2), S.point[3]):
         return roll, ""
     if n == 4 and rev[0] and not rev[3]:            # a slide last (an R-R-R-P SCARA)
         R = S.reversed()

@@ -189,27 +189,40 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
                 if "continuum" in br.extra:
                     c = np.where(br.extra["continuum"][..., :1] > 0, br.extra["continuum"], c)
                 br = br.with_extra("continuum", c)
-    for a, b in pairs:
-        two = F[a] & F[b] & (count == 2)                             # (N, K)
-        sol = sp2(u[m], (E @ u[m][..., None])[..., 0], u[a], u[b])
-        x, y = sol.theta[0], sol.theta[1]                            # (N, K, 2)
-        Ra = matrix_from_axis_angle(u[a][..., None, :], x)
-        Rb = matrix_from_axis_angle(u[b][..., None, :], y)
-        rest = (Ra @ Rb).swapaxes(-1, -2) @ E[..., None, :, :]     # (N, K, 2, 3, 3)
-        z = nearest_turn(u[m][..., None, :], rest)
-        t2 = two[..., None]
-        q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))
-                  for j, d in ((a, x), (b, y), (m, z)))
-        ok = np.where(t2, sol.ok, np.array([True, False]))
-        still = free_angles(two & sol.free.any(-1), u[m], (E @ u[m][..., None])[..., 0], u[a],
-                          u[b])                                      # degenerate: free
-        for j, f in zip((a, b), still):
-            br = br.set(j, br.value[j], free=(br.free[j] & ~two) | f)
-        br = br.branch([a, b, m], Solutions(q, tuple(np.cos(t) for t in q),
-                                            tuple(np.sin(t) for t in q), ok,
-                                            np.ones_like(ok), np.zeros_like(ok)),
-                       labels=(None, None))
+    for a, b in pairs:                  # (every pair branches: one layout for any batch)
+        br = _free_pair(S, targets, br, a, b)
     return br
+
+
+def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
+    """The slots whose free joints are exactly ``a`` and ``b`` (meeting axes) and the last
+    joint turned to the target's orientation (see :func:`_roll_with_free`): each such slot
+    becomes two, one per root of subproblem 2; the others keep their values (their second
+    slot empty). Everything is read from ``br`` as it is now: an earlier pair's branching
+    doubled its slots."""
+    m = S.n - 1
+    F = np.stack([br.free[j] for j in range(m)]) & S.revolute[:m, None, None]
+    two = F[a] & F[b] & (F.sum(0) == 2)                              # (N, K)
+    X, u = _frame(S, br, S.n)
+    E = np.broadcast_to(target_rotation(S, targets.T), X.shape) @ X  # R_t R^T
+    sol = sp2(u[m], (E @ u[m][..., None])[..., 0], u[a], u[b])
+    x, y = sol.theta[0], sol.theta[1]                                # (N, K, 2)
+    Ra = matrix_from_axis_angle(u[a][..., None, :], x)
+    Rb = matrix_from_axis_angle(u[b][..., None, :], y)
+    rest = (Ra @ Rb).swapaxes(-1, -2) @ E[..., None, :, :]         # (N, K, 2, 3, 3)
+    z = nearest_turn(u[m][..., None, :], rest)
+    t2 = two[..., None]
+    q = tuple(wrap(br.value[j][..., None] + np.where(t2, d, 0.0))
+              for j, d in ((a, x), (b, y), (m, z)))
+    ok = np.where(t2, sol.ok, np.array([True, False]))
+    still = free_angles(two & sol.free.any(-1), u[m], (E @ u[m][..., None])[..., 0], u[a],
+                        u[b])                                          # degenerate: free
+    for j, f in zip((a, b), still):
+        br = br.set(j, br.value[j], free=(br.free[j] & ~two) | f)
+    return br.branch([a, b, m], Solutions(q, tuple(np.cos(t) for t in q),
+                                          tuple(np.sin(t) for t in q), ok,
+                                          np.ones_like(ok), np.zeros_like(ok)),
+                     labels=(None, None))
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:

@@ -12,7 +12,9 @@ and returns a :class:`Solutions` with a fixed number ``k`` of slots per problem:
 * ``exact (..., k)``: the answer solves the equations (else it is the least-squares
   answer the module describes);
 * ``free (..., k)``: the problem is ill-posed there: an angle is undetermined (a
-  point on the axis, ...) and the answer shows one representative, 0.
+  point on the axis, ...) and the answer shows one representative, 0;
+* ``undetermined``: for a subproblem that knows it, which angle that is: one mask
+  ``(..., k)`` per unknown (within ``free``); None: every angle of a free slot.
 
 Slots that are not ``ok`` hold finite numbers (0) that mean nothing. The arrays are
 not to be modified: a mask that is True everywhere is one shared read-only array.
@@ -44,6 +46,9 @@ class Solutions:
     free : ndarray (..., k) of bool
         The problem is ill-posed there (an angle undetermined, a continuum of answers):
         the slot shows one representative.
+    undetermined : tuple of ndarray (..., k) of bool, or None
+        Per unknown, the free slots where its angle is undetermined; None when the
+        subproblem does not tell (every angle of a free slot).
     """
 
     theta: tuple
@@ -52,12 +57,14 @@ class Solutions:
     ok: np.ndarray
     exact: np.ndarray
     free: np.ndarray
+    undetermined: tuple | None
 
-    def __init__(self, theta, c, s, ok, exact, free):
+    def __init__(self, theta, c, s, ok, exact, free, undetermined=None):
         # the fields set directly (a frozen dataclass's __init__ sets each through
         # object.__setattr__, twice as slow; every subproblem call makes one)
         d = self.__dict__
         d["theta"], d["c"], d["s"], d["ok"], d["exact"], d["free"] = theta, c, s, ok, exact, free
+        d["undetermined"] = undetermined
 
     @property
     def slots(self) -> int:
@@ -86,7 +93,7 @@ class Solutions:
         """
         flip = lambda t: tuple(-x if j == i else x for j, x in enumerate(t))  # noqa: E731
         return Solutions(flip(self.theta), self.c, flip(self.s), self.ok, self.exact,
-                         self.free)
+                         self.free, self.undetermined)
 
     def ordered(self) -> "Solutions":
         """These solutions with each problem's slots in ascending order of their angles
@@ -105,7 +112,8 @@ class Solutions:
         order = np.lexsort(keys, axis=-1)
         take = lambda t: tuple(np.take_along_axis(x, order, -1) for x in t)  # noqa: E731
         ok, exact, free = take((self.ok, self.exact, self.free))
-        return Solutions(take(self.theta), take(self.c), take(self.s), ok, exact, free)
+        which = None if self.undetermined is None else take(self.undetermined)
+        return Solutions(take(self.theta), take(self.c), take(self.s), ok, exact, free, which)
 
     def rows(self, index=()) -> list:
         """The answers of one problem as a list of tuples of angles, for reading and testing.

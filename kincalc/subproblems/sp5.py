@@ -62,7 +62,8 @@ def sp5(p0, p1, p2, p3, k1, k2, k3, *, tol: float = GEOMETRY_TOL) -> Solutions:
         vectors give one free slot, 0). ``exact`` is ``ok`` (no least-squares answer).
         ``free (..., 4)``: an ``ok`` slot where the problem is ill-posed (module
         docstring), its undetermined angles showing one representative; every slot when
-        an ill-posed problem has no ``ok`` slot.
+        an ill-posed problem has no ``ok`` slot. ``undetermined``: which angles those are,
+        per unknown.
 
     Raises
     ------
@@ -95,13 +96,19 @@ def sp5(p0, p1, p2, p3, k1, k2, k3, *, tol: float = GEOMETRY_TOL) -> Solutions:
     ok = pairs.ok & (norm(loop) <= AXIS_TOL * Ls[..., None])
     near_axis = norm(v1 - dot(k2[..., None, :], v1)[..., None] * k2[..., None, :]) \
         <= AXIS_TOL * Ls[..., None]
-    flat = (np.minimum(r1sq, r3sq) <= (tol * Ls) ** 2) | (L == 0.0)
-    free = pairs.free | second.free[..., 0] | near_axis | flat[..., None]
     zero = L == 0.0
+    # which angle: theta1 on a circle C1 that is a point (the pair's free angle then), theta3
+    # likewise, theta2 with the meeting point on k2; all three on a curve of solutions
+    point1, point3 = ((r <= (tol * Ls) ** 2) | zero for r in (r1sq, r3sq))
+    curve = pairs.free & ~(point1 | point3)[..., None] | zero[..., None]
+    which = (curve | point1[..., None], curve | second.free[..., 0] | near_axis,
+             curve | point3[..., None])
     ok = np.where(zero[..., None], np.arange(4) == 0, ok)
+    none = ~ok.any(-1)[..., None]
+    which = tuple(f & (ok | none) for f in which)
     thetas = tuple(np.where(ok, t, 0.0) for t in (t1, t2, t3))
     return Solutions(thetas, tuple(np.cos(t) for t in thetas), tuple(np.sin(t) for t in thetas),
-                     ok, ok, free & ok | (free & ~ok.any(-1)[..., None]))
+                     ok, ok, which[0] | which[1] | which[2], which)
 
 
 def _circle(offset, k, p):

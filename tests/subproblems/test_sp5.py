@@ -214,6 +214,23 @@ def test_meeting_point_on_the_k2_axis_is_free():
     assert err.min(-1).max() < 1e-5
     assert S.free[np.arange(n), err.argmin(-1)].all()
     assert closing(args, S)[S.ok].max() < 1e-6
+    # theta2 alone is the undetermined angle (theta1 and theta3 are the true ones)
+    u1, u2, u3 = S.undetermined
+    assert (u2 == S.free).all() and not (u1 & S.ok).any() and not (u3 & S.ok).any()
+
+
+@pytest.mark.parametrize("case, angle", [("p1 on k1", 0), ("p3 on k3", 2)])
+def test_the_undetermined_angle_of_a_circle_that_is_a_point(case, angle):
+    """A circle that is a point leaves its own angle undetermined, not the other two (a
+    placement that marked all three free lost the orientation's solutions: a point-plus-roll
+    arm turned the wrong joints)."""
+    rng = np.random.default_rng(501)
+    S = sp5(*ill_posed(rng, case, 20))
+    slot = S.ok & S.free
+    assert slot.any(-1).all()
+    for j, u in enumerate(S.undetermined):
+        assert (u[slot] == (j == angle)).all(), (case, j)
+    assert ((S.undetermined[0] | S.undetermined[1] | S.undetermined[2]) == S.free).all()
 
 
 def test_both_circles_at_constant_height_without_a_common_height_has_no_solution():

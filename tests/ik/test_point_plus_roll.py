@@ -1,0 +1,116 @@
+"""Four-joint arms whose first three joints place a point of the last axis and whose last
+joint takes the orientation about it (the ``point-plus-roll`` closed form), found broken by
+an independent random-robot campaign:
+
+* an arm with two pairs of meeting axes among joints 1-3 raised "operands could not be
+  broadcast" on every pose (the second pair's step read the slots from before the first
+  pair's branching);
+* a placement that left one joint free (the point on an axis: subproblem 5's meeting point
+  on ``k2``) marked all three free, so the orientation turned none of them and the pose got
+  no solution, or one that was not the generating configuration;
+* three parallel joints before the roll place the point on a plane with a turn to spare:
+  not this family (its placement missed by 0.2 m and the pose had no solution).
+
+Checked against independent values: FK round trips, the generating configuration, and
+Gauss-Newton from random starts (tests/randrobots.py).
+"""
+
+import numpy as np
+import pytest
+
+from kincalc.ik.families import plan
+from kincalc.model import Joint, Robot
+from kincalc.spatial import rotation_error, wrap
+from randrobots import newton_roots
+
+P = np.pi
+
+
+def _dh_two_pairs():
+    """Axes 1, 2 and 2, 3 meet (a = 0, alpha = -+90 deg): two meeting pairs."""
+    lim = (-P, P)
+    return Robot(name="two_pairs", convention="dh", joints=(
+        Joint("q1", "revolute", alpha=-P / 2, a=0.0, d=-0.1983640191282975,
+              theta=-0.9767668763344619, limits=None),
+        Joint("q2", "revolute", alpha=-P / 2, a=0.0, d=0.34192488613749084, theta=P / 2,
+              limits=lim),
+        Joint("q3", "revolute", alpha=P / 2, a=0.0, d=0.0, theta=0.0, limits=lim),
+        Joint("q4", "revolute", alpha=-P / 2, a=-0.286256151340482, d=0.36236386463394066,
+              theta=P, limits=None)), base=np.eye(4), tool=np.eye(4))
+
+
+def _mdh_point_on_axis_2():
+    """At q3 = 90 deg the point of axis 4 lies on axis 2: joint 2 alone is free."""
+    lim = (-P, P)
+    return Robot(name="on_axis_2", convention="mdh", joints=(
+        Joint("q1", "revolute", alpha=-P / 2, a=0.0, d=0.0, theta=0.0, limits=lim),
+        Joint("q2", "revolute", alpha=P / 2, a=0.3517392777978464, d=-0.11743204890888992,
+              theta=-2.057587276535881, limits=lim),
+        Joint("q3", "revolute", alpha=P / 2, a=0.0, d=0.0, theta=P, limits=lim),
+        Joint("q4", "revolute", alpha=-P / 2, a=-0.20957059439657066, d=0.0, theta=P / 2,
+              limits=lim)), base=np.eye(4), tool=np.eye(4))
+
+
+def _poe(axes, points, M):
+    lim = (-2 * P, 2 * P)
+    return Robot(name="poe4", convention="poe", joints=tuple(
+        Joint(f"q{i + 1}", "revolute", axis=a, point=p, limits=lim)
+        for i, (a, p) in enumerate(zip(axes, points))), M=np.array(M, float))
+
+
+def _poe_on_axis():
+    """At q = (180, 90, 0, 90) deg a placement joint is free; the other joints are not."""
+    c = 6.123233995736766e-17
+    return _poe([(-1, 0, 0), (0, 1, 0), (0, 0, -1), (0, 0, -1)],
+                [(-0.2, 0, 0.1), (0, -0.2, 0), (0.3, 0.1, 0.1), (0, -0.2, 0)],
+                [[1, 0, 0, -0.1], [0, c, 1, 0.1], [0, -1, c, -0.1], [0, 0, 0, 1]])
+
+
+def _assert_solves(robot, q):
+    T = robot.fk(q)
+    res = robot.ik(T)
+    S = np.array([s.q for s in res.solutions]).reshape(-1, robot.dof)
+    Tq = robot.fk(S)
+    L = robot.characteristic_length
+    assert np.abs(Tq[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * L
+    assert rotation_error(Tq[:, :3, :3], T[:3, :3]).max() <= 1e-9
+    if not any(np.any(s.free) for s in res.solutions):    # (a continuum shows one point)
+        assert np.abs(wrap(S - q)).max(-1).min() < 1e-9, np.degrees(S)
+    return S
+
+
+def test_two_meeting_pairs_every_pose():
+    robot = _dh_two_pairs()
+    assert plan(robot)[1].name == "point-plus-roll"
+    Q = np.random.default_rng(4).uniform(-P, P, (40, 4))
+    Q[:10, 2] = np.radians([0, 90, -90, 180, 0, 90, -90, 180, 0, 90])     # special elbows
+    for q in Q:
+        _assert_solves(robot, q)
+    solved = robot.ik_batch(robot.fk(Q))                                  # and as one batch
+    assert solved.valid.any(-1).all()
+
+
+@pytest.mark.parametrize("make, q", [
+    (_mdh_point_on_axis_2, [-147.8854170080044, -160.3515767652024, 90.0, -90.0]),
+    (_poe_on_axis, [180.0, 90.0, 0.0, 90.0])])
+def test_a_free_placement_joint_takes_the_orientation(make, q):
+    robot = make()
+    assert plan(robot)[1].name == "point-plus-roll"
+    q = np.radians(q)
+    S = _assert_solves(robot, q)
+    roots = newton_roots(robot, robot.fk(q), 60, np.random.default_rng(8))
+    for r in roots:                                   # every root Gauss-Newton finds
+        assert np.abs(wrap(S - r)).max(-1).min() < 1e-6
+
+
+def test_three_parallel_joints_before_the_roll_are_not_point_plus_roll():
+    robot = _poe([(0, 1, 0), (0, -1, 0), (0, 1, 0), (-1, 0, 0)],
+                 [(0.1, -0.2, 0.3), (0, 0.1, -0.2), (-0.2, -0.2, 0), (0, 0, 0.1)],
+                 [[0, -1, 0, 0], [0, 0, 1, 0], [-1, 0, 0, 0], [0, 0, 0, 1]])
+    fam, why = plan(robot)[1:]
+    assert fam is None and "no analytic solver" in why
+    T = robot.fk(np.radians([-74.78, -12.16, -138.59, -348.08]))
+    res = robot.ik(T)                                 # numerically, and it says so
+    assert len(res.solutions) == 1 and "not every branch" in res.method
+    Tq = robot.fk(res.solutions[0].q)
+    assert np.abs(Tq - T).max() < 1e-9
