@@ -224,9 +224,9 @@ class Branches:
         least_squares : bool
             Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
         free : bool or tuple of int
-            Or the roots' ``free`` into the step's joints' free masks (each joint's own,
-            ``undetermined``, where the subproblem tells; False: not free, for a solver that
-            leaves another joint free at the singularity; a tuple: those joints).
+            Or the roots' ``free`` (``undetermined``: each joint's own) into the joints' free
+            masks (False: not free, for a solver that leaves another joint free; a tuple:
+            those joints).
 
         Returns
         -------
