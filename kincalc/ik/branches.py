@@ -224,9 +224,8 @@ class Branches:
         least_squares : bool
             Keep the least-squares roots (``sols.ok`` without ``sols.exact``).
         free : bool or tuple of int
-            Or the roots' ``free`` (``undetermined``: each joint's own) into the joints' free
-            masks (False: not free, for a solver that leaves another joint free; a tuple:
-            those joints).
+            Or the roots' ``free`` (or each joint's ``undetermined``) into their free masks
+            (False: not free, for a solver leaving another joint free; a tuple: those joints).
 
         Returns
         -------
