@@ -152,7 +152,7 @@ def joint_batch(chain, q):
     return q, q.reshape(-1, chain.dof)
 
 
-def forward_kinematics(chain, q) -> np.ndarray:
+def forward_kinematics(chain, q, *, column_walk: bool = False) -> np.ndarray:
     """Tool pose ``T_world_tool`` of shape ``(..., 4, 4)`` for ``q (..., n)``.
 
     Parameters
@@ -161,6 +161,9 @@ def forward_kinematics(chain, q) -> np.ndarray:
         From ``robot.chain``; includes the robot's base and tool transforms.
     q : array_like (..., n)
         Joint values: rad for revolute, m for prismatic joints.
+    column_walk : bool
+        The column walk for any number of configurations: each one's bits then do not
+        depend on how many are evaluated together.
 
     Returns
     -------
@@ -174,7 +177,7 @@ def forward_kinematics(chain, q) -> np.ndarray:
     """
     q, flat = joint_batch(chain, q)
     N = flat.shape[0]
-    if N <= FEW:
+    if N <= FEW and not column_walk:
         P = _prefixes(chain, _motions(chain, _coefficients(chain, flat)))
         return P[-1].reshape(q.shape[:-1] + (4, 4))
     out = np.zeros((N, 4, 4))

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..fk import forward_kinematics
 from ..tolerances import ACCEPT_POSITION, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
 from .joint_limits import normalise, violations
 
@@ -72,7 +73,7 @@ def polished(robot, targets, q, mask, valid, reaches):
     start = np.clip(q[rows, slots], lo, hi)
     aimed = targets.take(rows)
     y = normalise(robot, refine(robot, start, aimed.T, mode=mode, approach=aimed.approach))
-    good = reaches(aimed, robot.fk(y))
+    good = reaches(aimed, forward_kinematics(robot.chain, y, column_walk=True))
     good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
     out = q.copy()
     out[rows[good], slots[good]] = y[good]

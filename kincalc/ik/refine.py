@@ -69,7 +69,7 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
 def _linearised(robot, q, T, L, mode, approach):
     """``(A (m, r, n), e (m, r))``: the Jacobian rows of the equations and their
     residuals at ``q``, lengths divided by ``L``."""
-    J, Tq = jacobian_and_pose(robot.chain, q)               # (m, 6, n) base frame
+    J, Tq = jacobian_and_pose(robot.chain, q, column_walk=True)   # (m, 6, n) base frame
     ep = (T[:, :3, 3] - Tq[:, :3, 3]) / L
     Jv = J[:, :3] / L
     if mode == "position":

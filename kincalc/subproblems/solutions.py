@@ -314,7 +314,8 @@ def dot(a, b) -> np.ndarray:
 
     Written as matrix products over ``(M, 3)`` rows (a fixed vector against a batch, or
     the rows of ``a * b`` against ones): one or two numpy calls on a single pose, and
-    BLAS's speed on a large batch (several times faster than summing components).
+    BLAS's speed on a large batch (several times faster than summing components); a lone
+    row as one of two (:func:`rows_times`), so that each row's bits do not depend on ``M``.
 
     Parameters
     ----------
@@ -333,11 +334,29 @@ def dot(a, b) -> np.ndarray:
         When the leading shapes do not broadcast.
     """
     if b.ndim == 1:
-        return a @ b if a.ndim == 1 else (a.reshape(-1, 3) @ b).reshape(a.shape[:-1])
-    if a.ndim == 1:
-        return (b.reshape(-1, 3) @ a).reshape(b.shape[:-1])
-    p = a * b
-    return (p.reshape(-1, 3) @ _ONES).reshape(p.shape[:-1])
+        if a.ndim == 1:
+            return a @ b
+        X, B, lead = a.reshape(-1, 3), b, a.shape[:-1]
+    elif a.ndim == 1:
+        X, B, lead = b.reshape(-1, 3), a, b.shape[:-1]
+    else:
+        p = a * b
+        X, B, lead = p.reshape(-1, 3), _ONES, p.shape[:-1]
+    return rows_times(X, B).reshape(lead)
+
+
+def rows_times(X, B) -> np.ndarray:
+    """``X @ B`` for the rows ``X (M, k)`` of a batch (``B (k,)`` or ``(k, m)``), each row's
+    bits the same for any ``M``: BLAS multiplies a lone row by another kernel (a dot product,
+    rounded otherwise than the rows of a larger batch), so a row alone is multiplied as one of
+    two. A pose solved alone and in a batch then take the same decisions at a singular
+    configuration.
+
+    Returns
+    -------
+    ndarray (M,) or (M, m)
+    """
+    return X @ B if len(X) > 1 else (np.concatenate((X, X)) @ B)[:1]
 
 
 def cross(a, b) -> np.ndarray:
@@ -366,9 +385,9 @@ def cross(a, b) -> np.ndarray:
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     if a.ndim == 1 and b.ndim > 1:                  # [a]_x b, as rows: b [a]_x^T
-        return (b.reshape(-1, 3) @ crossing(a)).reshape(b.shape)
+        return rows_times(b.reshape(-1, 3), crossing(a)).reshape(b.shape)
     if b.ndim == 1 and a.ndim > 1:                  # a x b = -[b]_x a, as rows: a [b]_x
-        return (a.reshape(-1, 3) @ (_SKEW @ b)).reshape(a.shape)
+        return rows_times(a.reshape(-1, 3), _SKEW @ b).reshape(a.shape)
     if a.ndim == 1 and b.ndim == 1:                 # two vectors: on floats, the same roundings
         (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
         return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])

@@ -29,8 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, two_roots,
-                        two_slots)
+from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, rows_times,
+                        two_roots, two_slots)
 
 #: rounding of a cosine computed from lengths of size ``scale``, per unit of
 #: ``scale / r`` (a few dozen float64 epsilons): the band of the tangent
@@ -150,8 +150,8 @@ def coefficients(h, p, k, *, fixed=None) -> tuple:
     else:
         h, k, hk, _, kx = fixed
         # k x p as cross() makes it for a single k: rows times the crossing matrix
-        kxp = cross(k, p) if kx is None or p.ndim == 1 else (p.reshape(-1, 3) @ kx).reshape(
-            p.shape)
+        kxp = cross(k, p) if kx is None or p.ndim == 1 else rows_times(p.reshape(-1, 3),
+                                                                       kx).reshape(p.shape)
     kp = dot(k, p)
     return dot(h, p - kp[..., None] * k), dot(h, kxp), hk * kp
 
