@@ -22,6 +22,7 @@ from kincalc.ik.general6r.polish import polish_candidates, polish_from_both_side
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.ik.reasons import Blocked
 from kincalc.jacobian import jacobian_and_pose
+from kincalc.model import Joint, Robot
 from kincalc.spatial import rotation_error, wrap
 
 SPECIAL = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi])
@@ -142,7 +143,7 @@ def test_newton_lands_alike_alone_and_with_other_candidates():
     robot = load_robot("fanuc_crx10ia")
     data = robot_data(robot)
     T = robot.fk(special_configurations(60, np.random.default_rng(2)))
-    pose, _, cand, _, _ = data.candidates(T)
+    pose, _, cand, _, _, _ = data.candidates(T)
     Tt = (T[:, :3] / data.scale)[pose]
     Q, res, _ = polish_candidates(data.chain, Tt, cand)
     for i in range(len(T)):
@@ -197,6 +198,46 @@ def test_a_pose_with_nearly_parallel_shifted_axes_is_solved(digits):
     assert len(S) == len(special) == 4
     assert np.max(np.abs(wrap(S[:, None] - special[None])), axis=-1).min(axis=0).max() < 1e-4
     assert np.max(np.abs(wrap(S - q)), axis=1).min() < 1e-6
+
+
+@pytest.mark.parametrize("case", ["crx valley", "parallel 1-2-3 fold"])
+def test_a_pose_no_candidate_reaches_to_1e_10_is_not_unreachable(case):
+    """Two FK poses that had no solution ("NoSolution"), found by an independent campaign:
+
+    * fanuc_crx10ia at (90, 179.9, 90, 65.27, 0, -216.67) deg: the exact root sits in a
+      valley of near-solutions (a near continuum: q1 and q4 trade off, q5 ~ 0); Newton from
+      every candidate stalls at 3e-10 .. 8e-10, short of the solver's 1e-10 and within the
+      engine's 1e-9. Those candidates are kept, one per 0.1 rad of the valley;
+    * a 6R with axes 1-3 parallel at (90, 90, 180, 0, -90, 180) deg: every pivot and both
+      perturbed models degenerate; Newton from seeded starts finds the continuum.
+
+    Each solution reproduces the pose to the engine's acceptance and is flagged singular."""
+    if case == "crx valley":
+        robot = load_robot("fanuc_crx10ia")
+        q = np.radians([90.0, 179.9, 90.0, 65.27219607102394, 0.0, -216.66776646589545])
+    else:
+        P = np.pi
+        rows = [(0.0, -0.15991763564079453, -0.11520629115553427, P / 2),
+                (0.0, 0.059597914503493166, -0.05212660362130295, -P / 2),
+                (P / 2, 0.2055455237189695, -0.003900880343835289, -2.46110899366093),
+                (-P / 2, 0.0, 0.0, 0.0), (P / 2, -0.36220863255998115, -0.08624985157853604, 0.0),
+                (P / 2, 0.3621054904741082, 0.0, P)]
+        robot = Robot(name="spec6", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+            Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=th, limits=(-P, P))
+            for i, (al, a, d, th) in enumerate(rows)))
+        q = np.radians([90.0, 90.0, 180.0, 0.0, -90.0, 180.0])
+    T = robot.fk(q)
+    res = robot.ik(T)
+    assert res.solutions and res.reachable
+    S = np.array([s.q for s in res.solutions])
+    Tq = robot.fk(S)
+    L = robot.characteristic_length
+    assert np.linalg.norm(Tq[:, :3, 3] - T[:3, 3], axis=-1).max() <= 1e-9 * L
+    assert rotation_error(Tq[:, :3, :3], T[:3, :3]).max() <= 1e-9
+    assert all(s.singular for s in res.solutions)
+    alone = robot.ik_batch(T[None])
+    batch = robot.ik_batch(np.stack([T, robot.fk(np.zeros(6)), T]))
+    assert alone.counts[0] == batch.counts[0] == batch.counts[2] == len(S)
 
 
 # --- chains of clustered eigenvalues --------------------------------------------

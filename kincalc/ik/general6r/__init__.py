@@ -191,7 +191,18 @@ and 1 (fanuc_crx10ia) to none; a pose solved by the last resort costs some
 20 % more. UR5 and PUMA give their (up to) 8 solutions, the same as the
 analytic family solvers of :mod:`kincalc.ik.families`. Robots with infinitely many solutions at a pose
 (coincident axes; a pose on a self-motion) get whatever isolated points
-Newton lands on, or none.
+Newton lands on.
+
+A pose none of whose candidates reaches ACCEPT_TOL is rescued (found by an independent
+random-robot campaign: 43 FK poses of 10 robots, fanuc_crx10ia among them, had no solution):
+where Newton stalled within ``SETTLED`` (5e-10, half the engine's acceptance: an exact root
+in a valley of near-solutions, fanuc_crx10ia at (90, 179.9, 90, 65.27, 0, -216.67) deg,
+stalls at 3e-10 .. 8e-10) those candidates are kept; where every pivot and the last
+resort degenerate and nothing settled (a continuum, a pose on a fold of the workspace: a
+6R with axes 1-3 parallel), Newton runs from ``STARTS`` seeded starts. The rescued
+solutions are thinned to one per ``THIN`` (0.1 rad), the best first: samples of the
+valley or continuum, flagged singular. A pose outside the workspace costs the rescue only
+where every pivot degenerates there.
 
 Limitations
 -----------
@@ -226,8 +237,8 @@ Limitations
   converges to the found one); the last resort's restart from the reflection does, but
   applied to every cluster's vectors it cost some 10 % on generic poses (measured when
   every conjugate pair within 0.05 rad of the real axis was a cluster), so it is not done.
-* The 1e-10 acceptance is relative to ``robot.characteristic_length``; a
-  pose outside the workspace gets no solution.
+* The 1e-10 acceptance (5e-10 for a rescued pose) is relative to
+  ``robot.characteristic_length``; a pose outside the workspace gets no solution.
 * Robots with a prismatic joint are not handled (ValueError).
 * Speed (``benchmarks/ik_single.py``, one thread, numpy/OpenBLAS, as multiples of
   one ``numpy.linalg.eig`` of a 24x24 matrix, 0.14-0.25 ms on the shared machine it

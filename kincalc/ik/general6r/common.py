@@ -20,6 +20,17 @@ PARALLEL_TOL = 1e-7
 FAR = 1e3
 #: residual (relative position, rad) a polished solution must reach.
 ACCEPT_TOL = 1e-10
+#: where no candidate of a pose reaches ACCEPT_TOL: the residual Newton must reach instead,
+#: half the engine's acceptance (kincalc.tolerances.ACCEPT_POSITION and _ORIENTATION). At
+#: a singular pose whose exact root sits in a valley of near-solutions Newton stalls at a
+#: few 1e-10 (fanuc_crx10ia at q2 = 179.9, q5 = 0 deg), and the pose had no solution.
+SETTLED = 5e-10
+#: the stalled candidates kept of such a pose are at least this far apart (rad, every
+#: joint wrapped): one per stretch of the valley (or of a continuum) they landed on.
+THIN = 0.1
+#: seeded Newton starts for a pose where every pivot and the last resort degenerate (a
+#: continuum of solutions, a pose on a fold of the workspace): up to THIN-apart samples.
+STARTS = 32
 #: wrapped joint distance (rad) below which two solutions are the same.
 MERGE_TOL = 1e-6
 #: |Im(theta_3)| (rad) below which an eigenvalue is a real candidate.

@@ -247,6 +247,8 @@ class _Robot6R:
         resort : ndarray (C,) of bool, or None
             The perturbed models' candidates, which Newton takes from both sides
             (:func:`~.polish.polish_from_both_sides`); None when there are none.
+        degenerate : ndarray (M,) of bool
+            The poses where every pivot degenerates (all of them for ``last_resort``).
         """
         todo = np.arange(len(T))
         more = []                        # poses a pivot solves on a continuum
@@ -258,6 +260,7 @@ class _Robot6R:
             todo = todo[bad]
             if len(todo) == 0:
                 break
+        degenerate = np.isin(np.arange(len(T)), todo)
         todo = np.flatnonzero(np.isin(np.arange(len(T)), np.concatenate([todo] + more)))
         lo = None
         if len(todo):
@@ -269,12 +272,13 @@ class _Robot6R:
                 pieces.append((todo[pose], slot + offset, q, offset + width))
                 offset += width
         if len(pieces) == 1:
-            return pieces[0] + (None,)
+            return pieces[0] + (None, degenerate)
         pose = np.concatenate([p[0] for p in pieces])
         slot = np.concatenate([p[1] for p in pieces])
         order = np.lexsort((slot, pose))
         return (pose[order], slot[order], np.concatenate([p[2] for p in pieces])[order],
-                max(p[3] for p in pieces), None if lo is None else slot[order] >= lo)
+                max(p[3] for p in pieces), None if lo is None else slot[order] >= lo,
+                degenerate)
 
 
 @per_robot

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...spatial import wrap
-from .common import ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, nnz, reduce_all, reduce_max
+from .common import (ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, NEWTON_ITERS, SETTLED, STARTS,
+                     THIN, nnz, reduce_all, reduce_max)
 from .polish import polish_candidates, polish_from_both_sides, regular
 from .robot import robot_data
 
@@ -33,9 +34,9 @@ def solve_general_6r_batch(robot, T) -> tuple[np.ndarray, np.ndarray]:
         relative to ``robot.characteristic_length`` (position) and 1e-10 rad, after
         Newton polishing on ``robot.chain`` (the last resort's candidates also from a
         second start each, past their solution: a close pair's other one); duplicates
-        within MERGE_TOL are merged. A pose outside the workspace, a non-finite pose, or
-        (not reached by any robot of the library) a pose where every pivot and the last
-        resort degenerate, gets none.
+        within MERGE_TOL are merged. A pose that no candidate reaches so is rescued (to
+        SETTLED, thinned: see the package docstring). A pose outside the workspace or a
+        non-finite pose gets none.
 
     Raises
     ------
@@ -83,7 +84,7 @@ def _solve_block(data, T, Q_out, ok, last_resort: bool = False):
     M = len(Tr)
     if M == 0:
         return
-    pose, slot, cand, width, resort = data.candidates(Tr, last_resort=last_resort)
+    pose, slot, cand, width, resort, degenerate = data.candidates(Tr, last_resort=last_resort)
     Tt = Tr[:, :3] / data.scale                      # rows 0-2, translation scaled
     if resort is None:
         Qp, res, moved = polish_candidates(data.chain, Tt.take(pose, axis=0), cand,
@@ -98,6 +99,12 @@ def _solve_block(data, T, Q_out, ok, last_resort: bool = False):
     acc = res < ACCEPT_TOL
     if not last_resort:
         _retry(data, Tr, rows, pose, res, acc, Q_out, ok)
+        lost = np.ones(M, bool)
+        lost[pose[acc]] = False
+        lost &= ~(ok if rows is None else ok[rows]).any(1)
+        if nnz(lost):
+            pose, Qp, res, moved, acc = _rescued(data, Tt, lost, degenerate, pose, Qp, res,
+                                                 moved, acc | (lost[pose] & (res < SETTLED)))
     pose, Qp = pose[acc], wrap(Qp[acc])
     if not len(pose):                   # no candidate reaches its pose: no solution
         return
@@ -144,6 +151,45 @@ def _retry(data, T, rows, pose, res, acc, Q_out, ok):
     _solve_block(data, T[again], Q2, ok2, last_resort=True)
     at = again if rows is None else rows[again]
     Q_out[at], ok[at] = Q2, ok2
+
+
+def _rescued(data, Tt, lost, degenerate, pose, Qp, res, moved, acc):
+    """The candidates of :func:`_solve_block` with those of the ``lost`` poses (``(M,)
+    bool``: no candidate reached them to ACCEPT_TOL) rescued: ``acc`` marks their stalled
+    candidates that reached them to SETTLED too. A lost pose with none where every pivot
+    and the last resort ``degenerate`` gets Newton from STARTS seeded starts instead (a
+    continuum of solutions, or the double root of a pose on a fold of the workspace). The
+    lost poses' solutions are thinned to one per THIN, the best first: the samples of the
+    valley or continuum they landed on. Returns ``(pose, Qp, res, moved, acc)``, sorted
+    by pose."""
+    stuck = lost & degenerate
+    stuck[pose[acc]] = False
+    if nnz(stuck):
+        at = np.repeat(np.flatnonzero(stuck), STARTS)
+        Q2, res2, moved2 = polish_candidates(
+            data.chain, Tt.take(at, axis=0), np.tile(_STARTS, (nnz(stuck), 1)),
+            iters=3 * NEWTON_ITERS, give_up={}, curvature=data.curvature)
+        keep = ~stuck[pose]
+        pose = np.concatenate([pose[keep], at])
+        Qp, res = np.concatenate([Qp[keep], Q2]), np.concatenate([res[keep], res2])
+        moved = np.concatenate([moved[keep], moved2])
+        acc = np.concatenate([acc[keep], res2 < SETTLED])
+        order = np.argsort(pose, kind="stable")
+        pose, Qp, res, moved, acc = pose[order], Qp[order], res[order], moved[order], acc[order]
+    thin = np.flatnonzero(acc & lost[pose])
+    kept = []
+    for i in thin[np.lexsort((res[thin], pose[thin]))].tolist():
+        if not any(pose[j] == pose[i] and np.abs(wrap(Qp[i] - Qp[j])).max() < THIN
+                   for j in kept):
+            kept.append(i)
+    acc[thin] = False
+    acc[kept] = True
+    return pose, Qp, res, moved, acc
+
+
+#: the rescue's starts (rad): the same for every pose, so that a pose's answer does not
+#: depend on its batch
+_STARTS = np.random.default_rng(6).uniform(-np.pi, np.pi, (STARTS, 6))
 
 
 def _first_regular(chain, pose, rank, Qp, K):
