@@ -59,9 +59,11 @@ ROUNDED_POSE = 1e-11
 #: the near miss of an orientation the robot does not control (a position arm given a whole
 #: pose): its joints come from the position, and next to a double root of it (the point a
 #: hair off an axis) a joint is good to the square root of rounding over the lever only,
-#: while the orientation moves with that joint at full rate. A candidate that misses the
-#: position by a hair (ACCEPT_POSITION to NEAR_MISS) and the orientation by at most this
-#: (rad) is polished on the whole pose
+#: while the orientation moves with that joint at full rate (a pose rounded to 12 digits
+#: splits such a double root into two roots ~1e-3 rad apart, each reaching the position
+#: exactly, its orientation 4e-4 .. 3e-3 off). A candidate within NEAR_MISS of the position
+#: and within this (rad) of the orientation is polished on the whole pose; the polish is kept
+#: only where it reaches the whole pose
 NEAR_MISS_UNCONTROLLED = 1e-2
 
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fk import forward_kinematics
-from ..tolerances import ACCEPT_POSITION, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
+from ..tolerances import NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
 from .joint_limits import normalise, violations
 
 
@@ -30,10 +30,9 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: b
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
     ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`);
-    ``controlled`` False for an orientation the robot does not control: where the position
-    misses too (a double root of the position) its near miss is
-    :data:`~kincalc.tolerances.NEAR_MISS_UNCONTROLLED` (a candidate that reaches the position
-    with another orientation is another solution of the position, not a near miss)."""
+    ``controlled`` False for an orientation the robot does not control: its near miss is
+    :data:`~kincalc.tolerances.NEAR_MISS_UNCONTROLLED` (next to a double root of the position,
+    the joints and the orientation are good to the square root of rounding only)."""
     miss = candidate & ~reach
     some_miss, some_beyond = np.count_nonzero(miss), np.count_nonzero(violation)
     if not (some_miss or some_beyond):              # every candidate a solution within limits
@@ -45,7 +44,7 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: b
         if oe is not None:
             near = oe <= NEAR
             if not controlled:
-                near |= (oe <= NEAR_MISS_UNCONTROLLED) & (pe > ACCEPT_POSITION * L)
+                near |= oe <= NEAR_MISS_UNCONTROLLED
             mask &= near
     if some_beyond:
         v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)

@@ -236,3 +236,26 @@ def test_position_arm_folded_next_to_its_shoulder_given_a_whole_pose(fold):
         assert len(sols), (q1, fold, res.reason)
         assert _reaches(r, sols, T, CHECK_ORIENTATION).all()
         assert _distance(r, sols, q).min() <= 1e-6
+
+
+def test_position_arm_at_a_fold_given_a_twelve_digit_pose():
+    """A three-joint position arm at a fold of its workspace (q2 = 0 a double root of the
+    position), given the whole pose rounded to 12 digits (found by an independent campaign):
+    the rounding splits the double root into two roots 0.13 deg either side, each reaching
+    the position exactly, the orientation the arm does not control 8e-4 rad off: "orientation
+    out of reach". Polished on the whole pose, the fold's solution reaches it to the check,
+    next to the generating joints (by the square root of the rounding)."""
+    from kincalc.model import Joint, Robot
+    P = np.pi
+    rows = [(P, 0.1259666097780755, 0.0, -0.2093994807185453),
+            (-P / 2, 0.22570215617389455, -0.09153007944213465, 0.0),
+            (0.0, 0.4085787502869178, 0.0, P)]
+    r = Robot(name="fold3", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=th, limits=(-2 * P, 2 * P))
+        for i, (al, a, d, th) in enumerate(rows)))
+    q = np.array([-1.1566437054860392, 0.0, -P / 2])
+    T = np.round(r.fk(q), 12)
+    res, sols = _solved(r, T)
+    assert len(sols) == 1, res.reason
+    assert _reaches(r, sols, T, CHECK_ORIENTATION).all()
+    assert _distance(r, sols, q).min() <= 1e-5
