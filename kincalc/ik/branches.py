@@ -167,11 +167,11 @@ class Branches:
                           signs=tuple(signs), pending={},
                           parent=np.zeros(K, np.intp) if q is None else _identity(K))
 
-    def appended(self, ok) -> "Branches":
+    def appended(self, ok, signs) -> "Branches":
         """These expanded branches with ``G`` more slots after the last (``ok (N, G)``),
-        found another way: values set later with :meth:`set`, empty signs, not free."""
+        found another way, with their ``signs`` (``G``): values set later, not free."""
         if self.pending:
-            return self.flushed().appended(ok)
+            return self.flushed().appended(ok, signs)
         N, G = ok.shape
         X = np.concatenate([self.X, _unset(self.n, N, G)], axis=-1)
         F = np.concatenate([self.F, np.zeros((self.n, N, G), bool)], axis=-1)
@@ -179,7 +179,7 @@ class Branches:
                  for k, v in self.extra.items()}
         new = (np.r_[np.arange(self.K), np.full(G, -1)],) if self.explain else ()  # no step's
         return self._with(X=X, F=F, ok=np.concatenate([self.ok, ok], axis=1),
-                          signs=self.signs + ((),) * G, extra=extra,
+                          signs=self.signs + tuple(signs), extra=extra,
                           parent=np.arange(self.K + G), lineage=self.lineage + new)
 
     def without_free(self) -> "Branches":

@@ -22,7 +22,8 @@ def on_true_robot(robot, family, targets, q, candidate, br):
     pose, the position or the position and approach, as the targets and the family ask);
     the free masks are cleared and the continua dropped (they belong to the idealised
     robot). For six revolute joints and whole poses the general 6R elimination's solutions
-    are appended as ``G`` more slots (their signs empty).
+    are appended as ``G`` more slots (their signs ``root k`` of joint 3, as the general 6R
+    family's: two solutions the words do not tell apart still differ).
 
     Parameters
     ----------
@@ -67,11 +68,11 @@ def on_true_robot(robot, family, targets, q, candidate, br):
               "that has it and every solution refined by Newton's method on the robot as "
               "given")
     if robot.dof == 6 and robot.is_revolute.all() and targets.kind == "pose":
-        from .general6r import solve_general_6r_batch
-        Qg, okg = solve_general_6r_batch(robot, targets.T)
+        from .general6r.solve import ROOTS, ranked_solutions
+        Qg, okg = ranked_solutions(robot, targets.T)
         q = np.concatenate([q, Qg], axis=1)
         candidate = np.concatenate([candidate, okg], axis=1)
-        br = br.appended(okg)
+        br = br.appended(okg, ROOTS)
         method += ", and joined with the general 6R elimination's solutions"
     q = np.where(robot.is_revolute, wrap(q), q)
     return q, candidate, br, method

@@ -234,6 +234,35 @@ def test_explain_on_a_nearly_structured_6r(size):
 def test_slots_appended_come_from_no_step():
     """:meth:`Branches.appended` slots trace back to no slot (-1) of the earlier steps."""
     from kincalc.ik.branches import Branches
-    br = Branches.start(1, 6, explain=True).appended(np.ones((1, 2), bool))
+    br = Branches.start(1, 6, explain=True).appended(np.ones((1, 2), bool), ((), ()))
     assert br.K == 3 and br.final_index(0).tolist() == [0, -1, -1]
     assert br.final_index(len(br.lineage) - 1).tolist() == [0, 1, 2]
+
+
+@pytest.mark.parametrize("twelve_digits", [False, True])
+def test_every_solution_of_a_singular_pose_has_its_own_label(twelve_digits):
+    """An arm whose wrist is spherical but for a4 = 3.5e-6 (nearly structured) at its wrist
+    and elbow singularities (q = 90, 90, 180, 0, -90, 180 deg and q5 = 180 deg): the general
+    6R elimination's solutions joined in had empty signs, and two or three solutions of a
+    pose shared a label such as "shoulder right elbow down" (215 poses of 41 such arms in an
+    independent campaign). They now carry the general 6R family's "root k" of joint 3:
+    every label is distinct, alone and in a batch."""
+    from kincalc.model import Joint
+    P = np.pi
+    rows = [(P / 2, 0.0, -0.002159647108971874), (P, 0.10250372920939443, 0.0),
+            (0.0, -0.2095820483810763, -0.08488951911459053), (-P / 2, 3.5307387865677736e-06, 0.0),
+            (-P / 2, 0.0, 0.0), (0.0, 0.0, 0.0)]
+    robot = Robot(name="near_ur", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0, limits=(-2 * P, 2 * P))
+        for i, (al, a, d) in enumerate(rows)))
+    assert plan(robot)[1].name == "spherical-wrist"
+    q = np.radians([[90.0, 90.0, 180.0, 0.0, -90.0, 180.0], [-90.0, -90.0, 48.89, -56.6, 180.0, 4.1]])
+    T = robot.fk(q)
+    if twelve_digits:
+        T = np.round(T, 12)
+    solved = robot.ik_batch(T)
+    for i, Ti in enumerate(T):
+        res = robot.ik(Ti)
+        labels = [s.branch for s in res.solutions]
+        assert len(labels) >= 2 and len(set(labels)) == len(labels), labels
+        assert sorted(solved.labels[i][solved.valid[i]].tolist()) == sorted(labels)

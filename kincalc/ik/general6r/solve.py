@@ -290,21 +290,28 @@ def general_6r(robot, targets, br):
     if targets.kind != "pose":
         from ...errors import UnsupportedRobot
         raise UnsupportedRobot(f"{robot.name}: a general 6R robot needs a whole pose")
-    Q, ok = solve_general_6r_batch(robot, targets.T)
-    # ranked by joint 3, then joints 1, 2, 4, 5, 6, each on a grid of RANK_STEP rad in
-    # (-pi, pi] (a value within a step of -pi counts as pi): a rank (the label) then does
-    # not depend on the last bits of the values, which differ between a pose solved alone
-    # and in a batch (equal joint-3 values at a singular pose, a joint at +-pi)
+    Q, ok = ranked_solutions(robot, targets.T)
+    return br.with_slots(ok, ROOTS, Q, np.cos(Q), np.sin(Q))
+
+
+def ranked_solutions(robot, T) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`solve_general_6r_batch`'s solutions ``(Q (N, BATCH_SLOTS, 6), ok)`` (rad),
+    each pose's in the order of their labels (slot k is :data:`ROOTS` [k]).
+
+    Ranked by joint 3, then joints 1, 2, 4, 5, 6, each on a grid of RANK_STEP rad in
+    (-pi, pi] (a value within a step of -pi counts as pi): a rank (the label) then does not
+    depend on the last bits of the values, which differ between a pose solved alone and in
+    a batch (equal joint-3 values at a singular pose, a joint at +-pi)."""
+    Q, ok = solve_general_6r_batch(robot, T)
     W = np.where(Q <= RANK_STEP - np.pi, np.pi, Q)          # (Q is wrapped)
     key = np.where(ok[..., None], np.round(W / RANK_STEP), np.inf)
     order = np.lexsort(tuple(key[..., j] for j in (5, 4, 3, 1, 0, 2)), axis=-1)
     at = np.arange(len(Q))[:, None]
-    Q, ok = Q[at, order], ok[at, order]
-    return br.with_slots(ok, _ROOTS, Q, np.cos(Q), np.sin(Q))
+    return Q[at, order], ok[at, order]
 
 
-#: the grid (rad) on which :func:`general_6r` compares joint values to rank its solutions
+#: the grid (rad) on which :func:`ranked_solutions` compares joint values to rank them
 RANK_STEP = 1e-9
 
 #: the signs of the slots of :func:`general_6r`: slot k is ``root k + 1`` of joint 3
-_ROOTS = tuple(((2, f"root {k + 1}"),) for k in range(BATCH_SLOTS))
+ROOTS = tuple(((2, f"root {k + 1}"),) for k in range(BATCH_SLOTS))
