@@ -259,3 +259,25 @@ def test_position_arm_at_a_fold_given_a_twelve_digit_pose():
     assert len(sols) == 1, res.reason
     assert _reaches(r, sols, T, CHECK_ORIENTATION).all()
     assert _distance(r, sols, q).min() <= 1e-5
+
+
+def test_spherical_wrist_next_to_a_double_singularity_twelve_digit_pose():
+    """A spherical wrist a hair (5e-8 deg) from q5 = 0 with joint 3 a hair from 0 (two
+    singular values of 7e-11 and 6e-17), the pose rounded to 12 digits (found by an
+    independent campaign): the closed form's candidate misses the orientation by 1.2e-9,
+    and eight Newton steps, converging linearly there, left 1.2e-9 m: "orientation out of
+    reach" for an FK pose. Polished to the acceptance, it reproduces the pose."""
+    from kincalc.model import Joint, Robot
+    P = np.pi
+    rows = [(P / 2, 0.0, 0.0), (P, -0.20315762568652462, 0.0),
+            (0.0, -0.2133581493033181, 0.045034214429813146), (P / 2, 0.0, -0.40003910725364267),
+            (-1.5707969280036034, 0.0, 0.0), (P, 0.0, -0.06046335520284729)]
+    r = Robot(name="wrist6", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0, limits=(-2 * P, 2 * P))
+        for i, (al, a, d) in enumerate(rows)))
+    q = np.radians([179.9999999539564, -90.0000000460436, 4.604359845356874e-08,
+                    30.384059646281287, 4.604359845356874e-08, -137.2058386549449])
+    T = np.round(r.fk(q), 12)
+    res, sols = _solved(r, T)
+    assert len(sols), res.reason
+    assert _reaches(r, sols, T, ACCEPT_ORIENTATION).all()
