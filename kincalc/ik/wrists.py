@@ -197,7 +197,11 @@ def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):
     r = _elbow_reach(S, a, b, elbow)
     sigma = np.asarray(sigma, float)
     c_mid = (r.mid_r * r.mid_r - r.A2 - r.B2) / r.den
-    reach = r.flat | (r.lo <= r.hi + 1e-12)
+    # within the acceptance of the reach's edge (the arc a single point, the elbow stretched
+    # or folded, which a pose's rounding puts a hair out of reach): the engine's check
+    # and polish judge the candidate at the edge
+    slack = 2.0 * elbow_radii(S, elbow)[1] * ACCEPT_POSITION * S.scale / r.den
+    reach = r.flat | (r.lo <= r.hi + slack + 1e-12)
     two = ~r.flat & (r.c_out < 1.0) & (r.c_in > -1.0)
     zero_in = r.flat | ((r.cos0 >= r.lo - 1e-12) & (r.cos0 <= r.hi + 1e-12))
     # (where the elbow cannot reach axis 4 at all, lo > 1: any angle stands in, unused)

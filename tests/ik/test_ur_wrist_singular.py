@@ -440,3 +440,31 @@ def test_ur_at_q5_1e9_solutions_are_exact(name):
         B = r.ik_batch(T[None])
         assert_reproduces(r, B.q[0][B.valid[0]], T)
         assert B.counts[0] == len(sols)
+
+
+@pytest.mark.parametrize("digits", [None, 12])
+def test_wrist_singular_with_the_elbow_at_its_edge_twelve_digit_pose(digits):
+    """A UR-type arm at q5 = 180 deg with the elbow folded, so that joint 6's arc of the
+    continuum is a single point (axis 4 at the edge of the elbow's reach), the pose rounded
+    to 12 digits (found by an independent campaign): the rounding put that point a hair
+    out of reach and the pose had no solution. Within the acceptance of the edge, the
+    candidate is judged by the engine: one solution, q6 free, reproducing the pose."""
+    from kincalc.model import Joint, Robot
+    P = np.pi
+    rows = [(P / 2, 0.0, 0.4017790308070126), (P, 0.31827688929785036, 0.08354163989106156),
+            (0.0, -0.2422972628959903, 0.0), (P / 2, 0.0, 0.34958525607934365),
+            (-P / 2, 0.0, 0.08555733239184804), (0.0, 0.0, -0.14947535859548233)]
+    robot = Robot(name="ur_like", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0, limits=(-2 * P, 2 * P))
+        for i, (al, a, d) in enumerate(rows)))
+    assert classify(robot, Screws.of(robot))[0].name == "three-parallel"
+    T = robot.fk(np.radians([0.0, 180.0, 180.0, -90.0, 180.0, 180.0]))
+    T = T if digits is None else np.round(T, digits)
+    res = robot.ik(T)
+    assert res.solutions, res.reason
+    L = robot.characteristic_length
+    for s in res.solutions:
+        Tq = robot.fk(s.q)
+        assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) <= 1e-9 * L
+        assert np.abs(Tq[:3, :3] - T[:3, :3]).max() <= 4e-9
+    assert all(5 in s.free for s in res.solutions)                 # q6 free
