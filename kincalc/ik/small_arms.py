@@ -197,9 +197,9 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
 def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
     """The slots whose free joints are exactly ``a`` and ``b`` (meeting axes) and the last
     joint turned to the target's orientation (see :func:`_roll_with_free`): each such slot
-    becomes two, one per root of subproblem 2; the others keep their values (their second
-    slot empty). Everything is read from ``br`` as it is now: an earlier pair's branching
-    doubled its slots."""
+    becomes two, one per root of subproblem 2 (the second labelled ``other root``); the
+    others keep their values (their second slot empty). Everything is read from ``br`` as
+    it is now: an earlier pair's branching doubled its slots."""
     m = S.n - 1
     F = np.stack([br.free[j] for j in range(m)]) & S.revolute[:m, None, None]
     two = F[a] & F[b] & (F.sum(0) == 2)                              # (N, K)
@@ -222,7 +222,7 @@ def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
     return br.branch([a, b, m], Solutions(q, tuple(np.cos(t) for t in q),
                                           tuple(np.sin(t) for t in q), ok,
                                           np.ones_like(ok), np.zeros_like(ok)),
-                     labels=(None, None))
+                     labels=(None, "other root"))
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:

@@ -80,6 +80,9 @@ def _assert_solves(robot, q):
 
 
 def test_two_meeting_pairs_every_pose():
+    """Every pose of the arm solved (each solution reproducing it, the generating one
+    among them), each solution labelled apart: the second root of a pair's step is the
+    ``other root`` (two solutions had shared "elbow down q2:+")."""
     robot = _dh_two_pairs()
     assert plan(robot)[1].name == "point-plus-roll"
     Q = np.random.default_rng(4).uniform(-P, P, (40, 4))
@@ -88,6 +91,9 @@ def test_two_meeting_pairs_every_pose():
         _assert_solves(robot, q)
     solved = robot.ik_batch(robot.fk(Q))                                  # and as one batch
     assert solved.valid.any(-1).all()
+    for i in range(len(Q)):                                  # every solution its own label
+        labels = solved.labels[i][solved.valid[i]].tolist()
+        assert len(set(labels)) == len(labels), labels
 
 
 @pytest.mark.parametrize("make, q", [
