@@ -281,3 +281,19 @@ def test_spherical_wrist_next_to_a_double_singularity_twelve_digit_pose():
     res, sols = _solved(r, T)
     assert len(sols), res.reason
     assert _reaches(r, sols, T, ACCEPT_ORIENTATION).all()
+
+
+def test_bk_6r_a_hair_from_its_wrist_centre_on_axis_2_and_q5_180():
+    """bk_6r (Bingul & Kucuk's 6R) 8e-7 deg from q3 = 90 (the wrist centre on axis 2 and on
+    the shoulder cylinder) and q5 = 180: the exact FK pose had no solution (an independent
+    campaign). Joint 3's double root is taken at its tangent, which leaves the wrist centre
+    2e-8 m off axis 2; joint 2, free there, was then solved only to 1e-9. Now the pose gets
+    the continuum's representatives (theta2 free), each reproducing it."""
+    r = kincalc.load_robot("bk_6r")
+    q = np.array([2.00691074453122, -0.39806129619090913, 1.5707963407773267,
+                  2.8808072874075847, 3.141592639607363, -1.5707963407773267])
+    T = r.fk(q)
+    res, sols = _solved(r, T)
+    assert len(sols) == 2, res.reason
+    assert _reaches(r, sols, T).all()
+    assert all(1 in s.free for s in res.solutions)
