@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..spatial import invert_transform, matrix_from_axis_angle
-from ..subproblems.solutions import rows_times
 
 
 @dataclass(frozen=True)
@@ -98,8 +97,9 @@ class Screws:
             c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
         # (else several vectors per angle: the angles' shape is v's leading part)
         grow = (...,) + (None,) * (len(shape) - c.ndim)       # one angle for the vectors behind
-        V = v.reshape(-1, 3)                       # (a lone vector: see rows_times)
-        B = (R @ V.T if len(V) > 1 else rows_times(V, R.T).T).reshape((9,) + shape)
+        # R v per vector by numpy's sum of products, not BLAS: each vector's bits do not
+        # depend on how many are turned (kincalc.subproblems.solutions.dot)
+        B = np.einsum("rj,mj->rm", R, v.reshape(-1, 3)).reshape((9,) + shape)
         out = B[3:6]
         out *= c[grow]
         out += B[0:3]

@@ -138,7 +138,7 @@ def cone(h, p, k, v, *, aligned_tol: float = ALIGNED_TOL, fixed=None) -> Solutio
     if fx.h_cross is None or v.ndim == 1:
         hv = cross(h, v)
     else:                               # h x v for a single h: cross's product, kept matrix
-        hv = rows_times(v.reshape(-1, 3), fx.h_cross).reshape(v.shape)
+        hv = rows_times(v, fx.h_cross)
     P = np.sqrt(dot(hv, hv))
     up = f > 0
     far = 1.0 + np.abs(f)                 # 1 - f (f <= 0) or 1 + f (f >= 0): no cancellation

@@ -302,8 +302,6 @@ def pair(a, b) -> np.ndarray:
     return out
 
 
-#: ``(3,)`` ones: ``(M, 3) @ ONES`` sums each row (a BLAS call, on any batch size)
-_ONES = np.ones(3)
 #: ``(3, 3, 3)``: ``_SKEW @ a`` is the cross-product matrix of ``a`` (``[a]_x b = a x b``),
 #: the Levi-Civita symbol ``eps_ijm`` with ``[a]_x[i, m] = eps_ijm a_j``
 _SKEW = LEVI_CIVITA.reshape(3, 3, 3).transpose(0, 2, 1)
@@ -312,10 +310,10 @@ _SKEW = LEVI_CIVITA.reshape(3, 3, 3).transpose(0, 2, 1)
 def dot(a, b) -> np.ndarray:
     """The dot product ``a . b`` over the last axis.
 
-    Written as matrix products over ``(M, 3)`` rows (a fixed vector against a batch, or
-    the rows of ``a * b`` against ones): one or two numpy calls on a single pose, and
-    BLAS's speed on a large batch (several times faster than summing components); a lone
-    row as one of two (:func:`rows_times`), so that each row's bits do not depend on ``M``.
+    Summed along the components, ``(a0 b0 + a1 b1) + a2 b2`` with every product and sum a
+    numpy call of its own, never by a BLAS product over the batch: BLAS rounds a row by a
+    kernel that depends on how many rows it is given (a lone row, the tail of a block), and
+    a pose's decisions at a singular configuration would then depend on its batch.
 
     Parameters
     ----------
@@ -334,37 +332,34 @@ def dot(a, b) -> np.ndarray:
         When the leading shapes do not broadcast.
     """
     if b.ndim == 1:
-        if a.ndim == 1:
-            return a @ b
-        X, B, lead = a.reshape(-1, 3), b, a.shape[:-1]
+        (b0, b1, b2), a0, a1, a2 = b.tolist(), a[..., 0], a[..., 1], a[..., 2]
     elif a.ndim == 1:
-        X, B, lead = b.reshape(-1, 3), a, b.shape[:-1]
+        (b0, b1, b2), a0, a1, a2 = a.tolist(), b[..., 0], b[..., 1], b[..., 2]
     else:
-        p = a * b
-        X, B, lead = p.reshape(-1, 3), _ONES, p.shape[:-1]
-    # (rows_times inlined for the many rows: dot is the subproblems' commonest call)
-    return (X @ B if len(X) > 1 else rows_times(X, B)).reshape(lead)
+        a0, a1, a2, b0, b1, b2 = a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2]
+    out = a0 * b0
+    out += a1 * b1
+    out += a2 * b2
+    return out
 
 
 def rows_times(X, B) -> np.ndarray:
-    """``X @ B`` for the rows ``X (M, k)`` of a batch (``B (k,)`` or ``(k, m)``), each row's
-    bits the same for any ``M``: BLAS multiplies a lone row by another kernel (a dot product,
-    rounded otherwise than the rows of a larger batch), so a row alone is multiplied as one of
-    two. A pose solved alone and in a batch then take the same decisions at a singular
-    configuration.
+    """``X @ B`` for the rows ``X (..., k)`` of a batch and a fixed ``B (k, m)``, each row's
+    bits the same for any number of rows (:func:`dot`'s rule; numpy's own sum of products,
+    not BLAS).
 
     Returns
     -------
-    ndarray (M,) or (M, m)
+    ndarray (..., m)
     """
-    return X @ B if len(X) > 1 else (np.concatenate((X, X)) @ B)[:1]
+    return np.einsum("...k,km->...m", X, B)
 
 
 def cross(a, b) -> np.ndarray:
     """The cross product ``a x b``.
 
-    A fixed vector against a batch is one matrix product with its cross-product matrix
-    (one BLAS call on any batch size); two batches are crossed by components, written into
+    A fixed vector against a batch is its cross-product matrix applied to the rows
+    (:func:`rows_times`, two numpy calls on any batch); two batches are crossed by components, written into
     one new array (stacking them costs four times as much); two single vectors on their
     components as Python floats (the same products and differences, a tenth of the calls).
 
@@ -386,9 +381,9 @@ def cross(a, b) -> np.ndarray:
     a = np.asarray(a, float)
     b = np.asarray(b, float)
     if a.ndim == 1 and b.ndim > 1:                  # [a]_x b, as rows: b [a]_x^T
-        return rows_times(b.reshape(-1, 3), crossing(a)).reshape(b.shape)
+        return rows_times(b, crossing(a))
     if b.ndim == 1 and a.ndim > 1:                  # a x b = -[b]_x a, as rows: a [b]_x
-        return rows_times(a.reshape(-1, 3), _SKEW @ b).reshape(a.shape)
+        return rows_times(a, _SKEW @ b)
     if a.ndim == 1 and b.ndim == 1:                 # two vectors: on floats, the same roundings
         (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
         return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])

@@ -158,8 +158,7 @@ def coefficients(h, p, k, *, fixed=None) -> tuple:
     else:
         h, k, hk, _, kx = fixed
         # k x p as cross() makes it for a single k: rows times the crossing matrix
-        kxp = cross(k, p) if kx is None or p.ndim == 1 else rows_times(p.reshape(-1, 3),
-                                                                       kx).reshape(p.shape)
+        kxp = cross(k, p) if kx is None or p.ndim == 1 else rows_times(p, kx)
     kp = dot(k, p)
     return dot(h, p - kp[..., None] * k), dot(h, kxp), hk * kp
 

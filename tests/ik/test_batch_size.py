@@ -1,12 +1,14 @@
 """A pose's answer does not depend on how many poses are solved with it.
 
-BLAS multiplies a lone row (a batch of one: ``M = 1``) by another kernel than the rows of a
-larger batch, and rounds it otherwise; and the Newton polish evaluated a few candidates by
-stacked 4x4 products, many by the column walk. At a singular configuration such a last bit
-decides a tangent or a near miss, and a UR-type arm lost a solution (and relabelled two)
-when its pose was solved with others: found by an independent random-robot campaign (15
-poses among 68,000). Checked against the same pose solved alone: the solutions, their
-labels and flags.
+BLAS rounds a row of a product by a kernel that depends on how many rows it is given (a
+lone row, ``M = 1``, by a dot product; two rows otherwise than four); and the Newton polish
+evaluated a few candidates by stacked 4x4 products, many by the column walk. At a singular
+configuration such a last bit decides a tangent or a near miss, and a UR-type arm lost a
+solution (and relabelled two) when its pose was solved with others: found by an
+independent random-robot campaign (15 poses among 68,000, then one more on a nearly
+structured arm, whose subproblem-4 cone read ``h . v`` from a BLAS product of 2 rows
+alone and of 4 in a batch). Checked against the same pose solved alone: the solutions,
+their labels and flags.
 """
 
 import numpy as np
@@ -25,26 +27,28 @@ def _dh(rows, convention="dh", base=np.eye(4), tool=np.eye(4)):
         for i, (al, a, d) in enumerate(rows)), base=np.asarray(base), tool=np.asarray(tool))
 
 
-def test_dot_and_cross_of_a_row_alone_are_its_bits_in_a_batch():
+def test_dot_and_cross_of_rows_are_their_bits_in_any_batch():
     rng = np.random.default_rng(5)
     a, b = rng.normal(size=(2, 200, 3))
     v = rng.normal(size=3)
     for f in (lambda x, y: dot(x, v), lambda x, y: dot(v, x), lambda x, y: dot(x, y),
               lambda x, y: cross(x, v), lambda x, y: cross(v, x), lambda x, y: cross(x, y)):
         whole = f(a, b)
-        for i in range(200):
-            assert np.array_equal(f(a[i:i + 1], b[i:i + 1]), whole[i:i + 1])
+        for m in (1, 2, 3, 5):
+            for i in range(0, 200 - m, 7):
+                assert np.array_equal(f(a[i:i + m], b[i:i + m]), whole[i:i + m]), (m, i)
 
 
-def test_turn_of_a_row_alone_is_its_bits_in_a_batch():
+def test_turn_of_rows_is_their_bits_in_any_batch():
     from kincalc.ik.screws import Screws
     S = Screws.of(_dh([(P / 2, 0.0, 0.2), (0.0, 0.4, 0.0), (0.0, 0.3, 0.0)]))
     rng = np.random.default_rng(6)
     v, x = rng.normal(size=(200, 3)), rng.uniform(-P, P, 200)
     whole = S.turn(1, np.cos(x), np.sin(x), v)
-    for i in range(200):
-        alone = S.turn(1, np.cos(x[i:i + 1]), np.sin(x[i:i + 1]), v[i:i + 1])
-        assert np.array_equal(alone, whole[i:i + 1])
+    for m in (1, 2, 3, 5):
+        for i in range(0, 200 - m, 7):
+            alone = S.turn(1, np.cos(x[i:i + m]), np.sin(x[i:i + m]), v[i:i + m])
+            assert np.array_equal(alone, whole[i:i + m]), (m, i)
 
 
 UR_LIKE = (_dh([(0.0, 0.0, -0.022733834037133804), (P / 2, 0.417065106676333, 0.0),
@@ -74,7 +78,30 @@ NEARLY_UR = (_dh([(P / 2, 0.0, 0.17799083567729135), (P, 0.3977891559121358, -0.
               -1.5707963271841752, 3.1415926532005147, -3.8927855271463154e-10])
 
 
-@pytest.mark.parametrize("robot, q", [UR_LIKE, NEARLY_UR], ids=["ur-like", "nearly-ur"])
+#: a UR-type arm with a5 = -1.1e-6, a base and a tool, its shoulder at 180, 180 deg and the
+#: elbow straight: a cone's ``h . v`` of 2 rows alone and of 4 rows in a batch differed by an
+#: ulp, and the pose had 3 solutions alone and 2 in any batch
+NEARLY_UR_STRAIGHT = (_dh([(P / 2, 0.379174581107803, 0.17383452386923437),
+                           (0.0, 0.15081257456816077, 0.0), (0.0, 0.487313322684474, 0.0),
+                           (-P / 2, 0.0, 0.0), (P / 2, -1.1131894641844347e-06, 0.1558795946061472),
+                           (P, 0.0, -0.083744014472387)],
+                          base=[[-0.2305207390244982, -0.8720358701761013, -0.43175644755557363,
+                                 0.449445960650137],
+                                [-0.3660197035533399, 0.4888276917411411, -0.7918819763056569,
+                                 0.1307407911768057],
+                                [0.9016039959374206, -0.02451385145662601, -0.43186723144554295,
+                                 -0.4020525861050176], [0.0, 0.0, 0.0, 1.0]],
+                          tool=[[-0.4839568424234425, -0.4550230812932108, 0.7474889766156846,
+                                 -0.3115854147553636],
+                                [0.8746370898989339, -0.22397832861256295, 0.42993449417910995,
+                                 -0.1531785728941012],
+                                [-0.02820878665692045, 0.8618513234905165, 0.506375908345756,
+                                 -0.011179294494303105], [0.0, 0.0, 0.0, 1.0]]),
+                      [P, P, 0.0, -P / 2, 0.6010763706921458, -P / 2])
+
+
+@pytest.mark.parametrize("robot, q", [UR_LIKE, NEARLY_UR, NEARLY_UR_STRAIGHT],
+                         ids=["ur-like", "nearly-ur", "nearly-ur-straight"])
 def test_a_singular_pose_alone_and_in_batches(robot, q):
     """The arm a hair from q2 = q3 = q5 = 180 deg (and its nearly structured cousin): the
     pose alone, and the same pose 2, 8 and 64 times over, have the same solutions, labels
