@@ -72,3 +72,11 @@ DUPLICATE = 1e-6
 #: a joint counts as within its limits up to this much beyond them (rad; times the
 #: arm's size for prismatic joints): rounding of a solution at its limit
 LIMIT_TOL = 1e-9
+
+#: a placing joint left free (the point on its axis) solves its invariant to this (of the
+#: invariant's scale, length^2): a point that the joint after it put on the axis by a double
+#: root, taken within subproblem 4's ROUNDING of the tangent, lies off it by up to
+#: sqrt(2 ROUNDING) ~ 2e-7 of the arm's size; the engine's check and polish judge the
+#: candidate (at subproblem 4's own 1e-9, bk_6r 8e-7 deg from q3 = 90 and q5 = 180 lost
+#: every solution)
+FREE_REACH = 1e-6

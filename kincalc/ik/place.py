@@ -43,6 +43,7 @@ from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
+from ..tolerances import FREE_REACH
 from .branches import Branches
 from .pieces import turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
@@ -268,7 +269,7 @@ def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None, fixed=None) -
     al, be, ga = _coefficients(S, P, g, m) if abc is None else abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[b]:
-        sol = from_abc(be, ga, al, t, scale, fixed=fixed)
+        sol = from_abc(be, ga, al, t, scale, fixed=fixed, free_reach=FREE_REACH)
         if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
             br = br.dead_end(b, np.arctan2(ga, be),
                              (t - al) / np.maximum(np.hypot(be, ga), 1e-300),

@@ -15,8 +15,8 @@ least-squares angle (``atan2(B, A)``, or the opposite direction when ``d < C``) 
 ``exact`` False.
 
 Ill-posed: ``r = 0`` (``h`` along ``k``, or ``p`` on the axis): every angle solves it
-when ``C = d`` (to ``FREE_REACH``: ``theta = 0``, ``free`` True, ``exact`` True) and none
-otherwise (``free`` True, ``exact`` False).
+when ``C = d`` (to 1e-9 of the scale, or a caller's ``free_reach``: ``theta = 0``, ``free``
+True, ``exact`` True) and none otherwise (``free`` True, ``exact`` False).
 
 The cosines and sines of the roots come from the algebra: ``cos(base +- delta)`` from
 ``cos base = A / r``, ``sin base = B / r``, ``cos delta`` and ``sin delta = sqrt(1 -
@@ -41,14 +41,6 @@ ROUNDING = 64 * np.finfo(float).eps
 #: joints a hair from a singular configuration, whose tangent the rounding of a near-singular
 #: step before it pushed past, gets its candidate and the FK check decides (else none)
 REACH = 1e-9
-
-
-#: an ill-posed problem (``r = 0``: every angle or none) is solved where ``|d - C|`` is at
-#: most this (of ``scale``): a point a step before put on the axis by a double root, which
-#: that step takes within ROUNDING of its tangent, lies off it by up to sqrt(2 ROUNDING)
-#: (~2e-7) of the arm's size; the engine's check and polish judge the candidate (at 1e-9
-#: a hair from a singular configuration lost every solution: bk_6r near q3 = 90, q5 = 180)
-FREE_REACH = 1e-6
 
 
 class Sp4Constants(NamedTuple):
@@ -198,7 +190,8 @@ def abc_constants(A, B, C) -> AbcConstants:
         return AbcConstants(A, B, C, r, A / r, B / r)
 
 
-def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
+def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None,
+             free_reach: float = 1e-9) -> Solutions:
     """Subproblem 4 in its coefficients: ``A cos(theta) + B sin(theta) + C = d``.
 
     For solvers that have the coefficients from constants of the robot (a height along
@@ -218,6 +211,9 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         ``abc_constants(A, B, C)``, for fixed coefficients: what depends on them alone
         is then read from it, not computed again (``A, B, C`` are not read; the same
         result).
+    free_reach : float
+        Relative tolerance (of ``scale``) of ``C = d`` where ``r`` is zero: a caller whose
+        ``d`` carries the rounding of a double root taken before widens it.
 
     Returns
     -------
@@ -227,7 +223,7 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         when there are two distinct exact roots (not at the tangent, within rounding).
         ``exact (..., 2)``: ``|d - C| <= r`` within the tolerance, else slot 0 holds the
         least-squares angle (``base``, or ``base + pi`` when ``d < C``). ``free (..., 2)``:
-        ``r`` is zero; ``theta = 0``, ``exact`` where ``|d - C| <= FREE_REACH * scale``
+        ``r`` is zero; ``theta = 0``, ``exact`` where ``|d - C| <= free_reach * scale``
         (every angle solves it), else no angle does.
 
     Raises
@@ -252,7 +248,7 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None) -> Solutions:
         cd = dC / rr
         far = np.abs(cd)
         # exactness from the cosine as computed, before the tangent band moves it to +-1
-        exact = np.where(free, np.abs(dC) <= FREE_REACH * scale, far <= 1.0 + reach / rr)
+        exact = np.where(free, np.abs(dC) <= free_reach * scale, far <= 1.0 + reach / rr)
     else:
         rr = r
         if fixed is None:

@@ -123,13 +123,16 @@ def test_h_along_k_or_p_on_the_axis_is_free_with_theta_0(h, p, d, exact):
     assert (S.theta[0][0], S.c[0][0], S.s[0][0]) == (0.0, 1.0, 0.0)
 
 
-@pytest.mark.parametrize("miss, exact", [(0.0, True), (3e-7, True), (1e-5, False)])
-def test_a_free_problem_is_solved_to_the_rounding_of_a_double_root_before_it(miss, exact):
-    """p on the axis (every angle gives h . p = 3) and d off by ``miss`` of the scale: a
-    point put on the axis by a step that took a double root within its tangent band is off
-    it by up to ~2e-7 of the arm's size, and the problem is still solved (the engine polishes
-    the candidate); far beyond that no angle solves it."""
-    S = sp4([1, 1, 1], [0, 0, 3], Z, 3.0 + miss * 3 * np.sqrt(3))
+@pytest.mark.parametrize("miss, reach, exact", [(0.0, None, True), (3e-7, None, False),
+                                               (3e-7, 1e-6, True), (1e-5, 1e-6, False)])
+def test_a_free_problem_is_solved_to_its_free_reach(miss, reach, exact):
+    """p on the axis (every angle gives h . p = 3) and d off by ``miss`` of the scale: solved
+    to 1e-9 of it, or to a caller's ``free_reach`` (a point put on the axis by a double root
+    before is off it by up to ~2e-7 of the arm's size); far beyond that no angle does."""
+    from kincalc.subproblems.sp4 import coefficients, from_abc
+    A, B, C = coefficients(np.array([1.0, 1, 1]), np.array([0.0, 0, 3]), Z)
+    kw = {} if reach is None else {"free_reach": reach}
+    S = from_abc(A, B, C, 3.0 + miss * 3 * np.sqrt(3), 3 * np.sqrt(3), **kw)
     assert S.free[0] and S.exact[0] == exact
 
 
