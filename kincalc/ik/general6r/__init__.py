@@ -194,15 +194,18 @@ analytic family solvers of :mod:`kincalc.ik.families`. Robots with infinitely ma
 Newton lands on.
 
 A pose none of whose candidates reaches ACCEPT_TOL is rescued (found by an independent
-random-robot campaign: 43 FK poses of 10 robots, fanuc_crx10ia among them, had no solution):
-where Newton stalled within ``SETTLED`` (5e-10, half the engine's acceptance: an exact root
-in a valley of near-solutions, fanuc_crx10ia at (90, 179.9, 90, 65.27, 0, -216.67) deg,
-stalls at 3e-10 .. 8e-10) those candidates are kept; where every pivot and the last
-resort degenerate and nothing settled (a continuum, a pose on a fold of the workspace: a
-6R with axes 1-3 parallel), Newton runs from ``STARTS`` seeded starts. The rescued
-solutions are thinned to one per ``THIN`` (0.1 rad), the best first: samples of the
-valley or continuum, flagged singular. A pose outside the workspace costs the rescue only
-where every pivot degenerates there.
+random-robot campaign: 43 FK poses of 10 robots, fanuc_crx10ia among them, had no solution).
+Where the exact root sits in a valley of near-solutions (fanuc_crx10ia at (90, 179.9, 90,
+65.27, 0, -216.67) deg) Newton converges sublinearly: its candidates within ``VALLEY``
+(1e-6) get ``RESCUE_ITERS`` (200) more steps and are kept where they reach ``SETTLED``
+(5e-10, within the engine's 1e-9); 0 of 300 poses scattered 1e-7 .. 1e-4 deg about that
+configuration now have no solution (168 before). Where every pivot and the last resort
+degenerate and nothing settled (a continuum, a pose on a fold of the workspace: a 6R with
+axes 1-3 parallel), Newton runs from ``STARTS`` (32) seeded starts. A rescued pose's
+solutions are thinned to one per ``THIN`` (0.1 rad), those within the joint limits first,
+then the best, and are flagged singular: samples of the valley or continuum where Newton
+landed, not every point of it (a continuum is not marked free here). A pose outside the
+workspace costs the rescue only where every pivot degenerates there.
 
 Limitations
 -----------

@@ -21,15 +21,22 @@ FAR = 1e3
 #: residual (relative position, rad) a polished solution must reach.
 ACCEPT_TOL = 1e-10
 #: where no candidate of a pose reaches ACCEPT_TOL: the residual Newton must reach instead,
-#: half the engine's acceptance (kincalc.tolerances.ACCEPT_POSITION and _ORIENTATION). At
-#: a singular pose whose exact root sits in a valley of near-solutions Newton stalls at a
-#: few 1e-10 (fanuc_crx10ia at q2 = 179.9, q5 = 0 deg), and the pose had no solution.
+#: half the engine's acceptance (kincalc.tolerances.ACCEPT_POSITION and _ORIENTATION; the
+#: largest of the three components at most this, their norm is within the engine's 1e-9).
+#: At a singular pose whose exact root sits in a valley of near-solutions Newton converges
+#: sublinearly (fanuc_crx10ia at q2 = 179.9, q5 = 0 deg: 9e-10 after 8 steps, 4.5e-10
+#: after 40), and the pose had no solution.
 SETTLED = 5e-10
-#: the stalled candidates kept of such a pose are at least this far apart (rad, every
-#: joint wrapped): one per stretch of the valley (or of a continuum) they landed on.
+#: the candidates of such a pose within this residual are in the valley: they get
+#: RESCUE_ITERS more Newton steps
+VALLEY = 1e-6
+RESCUE_ITERS = 200
+#: the rescued solutions of a pose are at least this far apart (rad, every joint wrapped),
+#: those within the joint limits first, then the best: samples of the valley (or of a
+#: continuum) Newton landed on, not every point of it.
 THIN = 0.1
 #: seeded Newton starts for a pose where every pivot and the last resort degenerate (a
-#: continuum of solutions, a pose on a fold of the workspace): up to THIN-apart samples.
+#: continuum of solutions, a pose on a fold of the workspace).
 STARTS = 32
 #: wrapped joint distance (rad) below which two solutions are the same.
 MERGE_TOL = 1e-6

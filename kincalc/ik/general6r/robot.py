@@ -31,6 +31,7 @@ class _Robot6R:
             raise ValueError("the general 6R solver needs a robot with exactly 6 revolute "
                              "joints, got " + "".join("R" if j.revolute else "P"
                                                       for j in robot.joints))
+        self.robot = robot                # (its joint limits: the rescue prefers solutions in)
         self.dirs, self.pts = joint_axes(robot)
         self.T0 = robot.fk(np.zeros(6))
         self.L = float(robot.characteristic_length)

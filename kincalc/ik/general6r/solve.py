@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...spatial import wrap
-from .common import (ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, NEWTON_ITERS, SETTLED, STARTS,
-                     THIN, nnz, reduce_all, reduce_max)
+from ..joint_limits import within_limits
+from .common import (ACCEPT_TOL, BATCH_SLOTS, MERGE_TOL, RESCUE_ITERS, SETTLED, STARTS, THIN,
+                     VALLEY, nnz, reduce_all, reduce_max)
 from .polish import polish_candidates, polish_from_both_sides, regular
 from .robot import robot_data
 
@@ -155,20 +156,27 @@ def _retry(data, T, rows, pose, res, acc, Q_out, ok):
 
 def _rescued(data, Tt, lost, degenerate, pose, Qp, res, moved, acc):
     """The candidates of :func:`_solve_block` with those of the ``lost`` poses (``(M,)
-    bool``: no candidate reached them to ACCEPT_TOL) rescued: ``acc`` marks their stalled
-    candidates that reached them to SETTLED too. A lost pose with none where every pivot
-    and the last resort ``degenerate`` gets Newton from STARTS seeded starts instead (a
-    continuum of solutions, or the double root of a pose on a fold of the workspace). The
-    lost poses' solutions are thinned to one per THIN, the best first: the samples of the
-    valley or continuum they landed on. Returns ``(pose, Qp, res, moved, acc)``, sorted
-    by pose."""
+    bool``: no candidate reached them to ACCEPT_TOL) rescued. Their candidates in a valley
+    (residual below VALLEY) get RESCUE_ITERS more Newton steps and are kept where they reach
+    SETTLED. A lost pose with none where every pivot and the last resort ``degenerate``
+    gets Newton from STARTS seeded starts instead (a continuum of solutions, or the double
+    root of a pose on a fold of the workspace). The lost poses' solutions are thinned to one
+    per THIN, those within the joint limits first, then the best. Returns ``(pose, Qp, res,
+    moved, acc)``, sorted by pose."""
+    valley = lost[pose] & (res < VALLEY)
+    if nnz(valley):
+        Qp, res = Qp.copy(), res.copy()
+        Qp[valley], res[valley], _ = polish_candidates(
+            data.chain, Tt.take(pose[valley], axis=0), Qp[valley], iters=RESCUE_ITERS,
+            give_up={}, curvature=data.curvature)
+        acc = acc | (valley & (res < SETTLED))
     stuck = lost & degenerate
     stuck[pose[acc]] = False
     if nnz(stuck):
         at = np.repeat(np.flatnonzero(stuck), STARTS)
         Q2, res2, moved2 = polish_candidates(
             data.chain, Tt.take(at, axis=0), np.tile(_STARTS, (nnz(stuck), 1)),
-            iters=3 * NEWTON_ITERS, give_up={}, curvature=data.curvature)
+            iters=RESCUE_ITERS, give_up={}, curvature=data.curvature)
         keep = ~stuck[pose]
         pose = np.concatenate([pose[keep], at])
         Qp, res = np.concatenate([Qp[keep], Q2]), np.concatenate([res[keep], res2])
@@ -177,13 +185,16 @@ def _rescued(data, Tt, lost, degenerate, pose, Qp, res, moved, acc):
         order = np.argsort(pose, kind="stable")
         pose, Qp, res, moved, acc = pose[order], Qp[order], res[order], moved[order], acc[order]
     thin = np.flatnonzero(acc & lost[pose])
-    kept = []
-    for i in thin[np.lexsort((res[thin], pose[thin]))].tolist():
-        if not any(pose[j] == pose[i] and np.abs(wrap(Qp[i] - Qp[j])).max() < THIN
-                   for j in kept):
-            kept.append(i)
-    acc[thin] = False
-    acc[kept] = True
+    if len(thin):
+        outside = ~within_limits(data.robot, Qp[thin])
+        thin = thin[np.lexsort((res[thin], outside, pose[thin]))]
+        acc[thin] = False
+        for group in np.split(thin, np.flatnonzero(np.diff(pose[thin])) + 1):
+            kept = group[:1]
+            for i in group[1:]:
+                if np.abs(wrap(Qp[kept] - Qp[i])).max(-1).min() >= THIN:
+                    kept = np.append(kept, i)
+            acc[kept] = True
     return pose, Qp, res, moved, acc
 
 
