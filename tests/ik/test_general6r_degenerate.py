@@ -463,3 +463,23 @@ def test_a_restart_that_lands_on_a_singular_root_is_not_a_second_solution():
     assert len(src) > 0 and all(not singular(robot, x) for x in kept)
     for x in q[:len(starts)][res[:len(starts)] < 1e-10]:      # the first landings: the root
         assert_round_trip(robot, T, x[None])
+
+
+def test_poses_scattered_about_the_crx_valley_all_have_solutions():
+    """60 FK poses of fanuc_crx10ia within 1e-7 .. 1e-4 deg of (90, 179.9, 90, 65.27, 0,
+    -216.67) deg, where Newton converges sublinearly in a valley of near-solutions: each has
+    solutions reproducing it (56 % had none with 20 steps and the rescue at 5e-10 alone);
+    the configuration itself, J2 at its 179.9 deg limit, is reachable within the limits
+    (its best-residual sample was 0.0009 deg past the limit: "blocked by joint limits")."""
+    robot = load_robot("fanuc_crx10ia")
+    base = np.array([90.0, 179.9, 90.0, 65.27219607102394, 0.0, -216.66776646589545])
+    rng = np.random.default_rng(0)
+    Q = np.radians(base + rng.choice([0, 1e-7, 1e-6, 1e-5, 1e-4], (60, 6))
+                   * rng.standard_normal((60, 6)))
+    T = robot.fk(Q)
+    solved = robot.ik_batch(T)
+    assert (solved.counts > 0).all()
+    for i in range(60):
+        assert_round_trip(robot, T[i], solved.q[i][solved.valid[i]])
+    res = robot.ik(robot.fk(np.radians([90.0, 179.9, 90.0, 65.27, 0.0, -216.67])))
+    assert res.reachable and all(s.within_limits for s in res.solutions)
