@@ -203,7 +203,8 @@ def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
     Parameters
     ----------
     dirs, pts : ndarray (..., n, 3)
-        Unit directions of the axes and a point on each, one frame for all (m).
+        Directions of the axes, unit to rounding (the common normal's feet keep their
+        lengths), and a point on each, one frame for all (m).
     L, parallel_tol : float
         The arm's size (m; coincident axes are within ``1e-9 L``), and the sine of the
         angle below which consecutive axes are parallel.

@@ -39,6 +39,21 @@ def test_dot_and_cross_of_rows_are_their_bits_in_any_batch():
                 assert np.array_equal(f(a[i:i + m], b[i:i + m]), whole[i:i + m]), (m, i)
 
 
+def test_transposed_views_too():
+    """The same with the rows handed over as transposed views (Screws.turn returns such a
+    view, and BLAS took them by another kernel: 2 rows otherwise than 4)."""
+    from kincalc.subproblems.solutions import rows_times
+    rng = np.random.default_rng(9)
+    a = np.ascontiguousarray(rng.normal(size=(3, 200))).T        # (200, 3), a view
+    v, K = rng.normal(size=3), rng.normal(size=(3, 3))
+    for f in (lambda x: dot(x, v), lambda x: dot(x, x), lambda x: cross(v, x),
+              lambda x: rows_times(x, K)):
+        whole = f(a)
+        for m in (1, 2, 3, 4, 5):
+            for i in range(0, 200 - m, 11):
+                assert np.array_equal(f(a[i:i + m]), whole[i:i + m]), (m, i)
+
+
 def test_turn_of_rows_is_their_bits_in_any_batch():
     from kincalc.ik.screws import Screws
     S = Screws.of(_dh([(P / 2, 0.0, 0.2), (0.0, 0.4, 0.0), (0.0, 0.3, 0.0)]))
