@@ -187,6 +187,17 @@ def wrist_centre(robot, wrist: Wrist, dirs, pts) -> np.ndarray | None:
     return common_point(pts[f:f + 3], dirs[f:f + 3], np.inf)
 
 
+def _feet(u, v, w, sn):
+    """``(t, s)``, each ``(..., 1)``: the closest points ``p + t u`` and ``r + s v`` of two
+    skew lines (``w = r - p``, ``sn = |u x v|``; nothing for parallel ones, where ``sn`` is
+    0). The directions are unit only to rounding: near parallel that rounding is all of
+    ``1 - (u.v)^2``, so their lengths are kept and the denominator is ``|u x v|^2``."""
+    uv, wu, wv, den = _dot(u, v), _dot(w, u), _dot(w, v), sn * sn
+    t = (wu * _dot(v, v) - wv * uv) / den
+    s = (wu * uv - wv * _dot(u, u)) / den
+    return t[..., None], s[..., None]
+
+
 def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
               revolute=None) -> np.ndarray:
     """Standard DH frames on joint axes (Spong, Hutchinson & Vidyasagar, *Robot Modeling
@@ -234,12 +245,7 @@ def dh_frames(dirs, pts, L: float = 1.0, parallel_tol: float = 1e-7,
             nn = cross(u, v)
             sn = np.sqrt(_dot(nn, nn))
             par = ~(sn > parallel_tol)[..., None]    # (..., 1): axes i, i+1 parallel
-            # skew axes: closest points p + t u (axis i) and r + s v (axis i+1)
-            w = r - p
-            # |u x v|^2, |u|, |v| (not 1 - (u.v)^2: near parallel, all rounding of u, v)
-            uv, wu, wv, den = _dot(u, v), _dot(w, u), _dot(w, v), sn * sn
-            t = ((wu * _dot(v, v) - wv * uv) / den)[..., None]
-            s = ((wu * uv - wv * _dot(u, u)) / den)[..., None]
+            t, s = _feet(u, v, r - p, sn)
             foot_j = r + s * v
             xi = nn / sn[..., None]
             if i == 1:
