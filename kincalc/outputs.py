@@ -280,6 +280,29 @@ def _commit(tmp: str, path: str, t: Target) -> None:
         os.replace(tmp, path)
 
 
+def make_folder(path, option: str) -> None:
+    """Make the folder ``path`` (and its parents) that a command writes its files in.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder, as the user gave it.
+    option : str
+        How it was given (``"--feedback-dir"``, ``"-o"``), for the message.
+
+    Raises
+    ------
+    InputError
+        It cannot be made (a name too long, no permission, a file in the way): one line
+        naming the option and the folder, with the system's reason.
+    """
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{option} {shown_path(path)}: cannot make the folder: "
+                         f"{exc.strerror or exc}") from None
+
+
 def write_text(target, text: str) -> None:
     """Write ``text`` (UTF-8) to ``target`` by :func:`replacing`.
 

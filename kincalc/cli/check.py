@@ -199,7 +199,7 @@ def _plan(sheets, output, force: bool, gradebook, feedback_dir) -> dict:
     """The files to write, each checked before any sheet is graded (a refused file costs
     nothing): ``{"output": Target or None, "gradebook": ..., "feedback": [Target, ...]}``;
     the feedback folder is made here, after every check."""
-    from ..outputs import Target, check_target
+    from ..outputs import Target, check_target, make_folder
     inputs = tuple((f"the sheet {s}", s) for s in sheets)
     out = {"output": None, "gradebook": None, "feedback": []}
     for key, option, path in (("output", "--output", output),
@@ -211,7 +211,7 @@ def _plan(sheets, output, force: bool, gradebook, feedback_dir) -> dict:
         out["feedback"] = _feedback_targets(feedback_dir, sheets, force, inputs)
     _no_clash([t for t in (out["output"], out["gradebook"], *out["feedback"]) if t])
     if feedback_dir is not None:
-        os.makedirs(feedback_dir, exist_ok=True)
+        make_folder(feedback_dir, "--feedback-dir")
     return out
 
 

@@ -160,7 +160,7 @@ def _roster_quiz(robot: str, roster: str, salt, kinds, output, force: bool, deg,
 
     from ..homework.quiz import sheet_yaml, skipped
     from ..homework.roster import read_roster, variant_sheets
-    from ..outputs import write_text
+    from ..outputs import make_folder, write_text
     from .progress import progress
     if seed is not None or answers:
         raise InputError(f"{'--seed' if seed is not None else '--answers'} does not go with "
@@ -190,7 +190,7 @@ def _roster_quiz(robot: str, roster: str, salt, kinds, output, force: bool, deg,
             for kind, why in drawn or []:
                 sys.stderr.write(f"kincalc: note: {kind} left out of {student.id}'s sheet: "
                                  f"{why}\n")
-            os.makedirs(keys, exist_ok=True)
+            make_folder(keys, "-o")
             for doc, target, ref, is_key in ((sheet, sheet_file, refs[0], False),
                                              (key, key_file, refs[1], True)):
                 write_text(target, sheet_yaml(doc, _comments(

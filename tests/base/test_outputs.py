@@ -337,3 +337,27 @@ def test_a_file_read_while_recording_is_never_written(tmp_path):
         check_target(Target(str(tmp_path / "other.csv"), "--gradebook", False))
     check_target(Target(str(src), "--gradebook", True))
     assert src.read_text() == "robot"
+
+
+@pytest.mark.parametrize("argv", [
+    ["quiz", "puma560", "--roster", "roster.csv", "--salt", "x", "--items", "fk", "-o", "{long}"],
+    ["check", "q.yaml", "--feedback-dir", "{long}"],
+])
+def test_a_folder_that_cannot_be_made_is_one_line(tmp_path, argv):
+    """A folder name longer than the system allows (300 characters) for quiz --roster -o
+    and check --feedback-dir was "internal error: OSError: File name too long" (an
+    independent tester): now one line naming the option, exit 2."""
+    long = "x" * 300
+    (tmp_path / "roster.csv").write_text("id\ns1\n")
+    assert run_cli(["quiz", "puma560", "--seed", "1", "-o", "q.yaml"], cwd=str(tmp_path))[0] == 0
+    argv = [a.format(long=long) for a in argv]
+    status, out, err = run_cli(argv, cwd=str(tmp_path))
+    assert_contract(status, out, err, argv)
+    assert status == 2 and err.count("\n") == 1
+    assert "cannot make the folder" in err and argv[-2] in err
+
+
+def test_make_folder_names_the_option(tmp_path):
+    (tmp_path / "f").write_text("")
+    with pytest.raises(InputError, match=r"^--feedback-dir .*f/sub: cannot make the folder"):
+        outputs.make_folder(str(tmp_path / "f" / "sub"), "--feedback-dir")
