@@ -87,6 +87,28 @@ def test_csv_ids_are_json_words_and_no_formula(tmp_path, capsys, kind, pose):
     assert list(first.values()) == ["true", "'=HYPERLINK(\"http://x\")", "-3", "'+1", "", "plain"]
 
 
+@pytest.mark.parametrize("kind, pose", [("ik", '"xyz": [0.5, 0.1, 0]'), ("jacobian", '"q": [10, 10]')])
+def test_csv_header_quotes_a_joint_name_with_a_comma(tmp_path, capsys, kind, pose):
+    """A joint named 'a,b' (YAML and URDF allow it) split the header into one column more
+    than the rows had, so every value stood under the wrong column; one named '=c' would
+    reach a spreadsheet as a formula (an independent tester). The header is a CSV row
+    like the others: as many cells as every row, the names as written (safe cells)."""
+    robot = tmp_path / "comma.yaml"
+    robot.write_text("name: r\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                     "  - {name: 'a,b', type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                     "  - {name: '=c', type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n")
+    src = write(tmp_path, "r.jsonl", ["{%s}\n" % pose])
+    code, out, err = run(capsys, kind, str(robot), "--batch", src, "--format", "csv")
+    assert code == 0, err
+    rows = list(csv.reader(io.StringIO(out)))
+    assert len(rows) >= 2 and all(len(r) == len(rows[0]) for r in rows)
+    header = rows[0]
+    if kind == "ik":
+        assert header[4:6] == ["a,b", "'=c"]
+    else:
+        assert header[2:4] == ["Jvx_a,b", "Jvx_=c"]
+
+
 def test_fk_batch_csv_in_and_out_with_units(tmp_path, capsys):
     q = np.random.default_rng(2).uniform(-3, 3, (40, 6))
     rows = ["q1,q2,q3,q4,q5,q6\n"] + [",".join(repr(float(v)) for v in x) + "\n" for x in q]

@@ -21,7 +21,17 @@ def csv_header(kind, robot) -> str:
         cols = REACH_FIELDS
     else:
         cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "error"]
-    return ",".join(cols) + "\n"
+    # a joint's name is a cell like any other: quoted where it holds a comma or a quote, and
+    # made safe for spreadsheets (a name "=cmd" is no formula)
+    return _csv_line([csv_cell(c) for c in cols])
+
+
+def _csv_line(cells) -> str:
+    import csv
+    import io
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow(cells)
+    return buf.getvalue()
 
 
 def strict_json():
