@@ -470,3 +470,21 @@ def test_workspace_plot_is_deterministic_for_a_seed(tmp_path, capsys):
     # two sections (through the base axis and the shoulder) for a spatial arm: two panels wide
     w, h = png_size(paths[0])
     assert w >= 2 * h
+
+
+def test_a_title_the_font_lacks_glyphs_for_puts_nothing_on_stderr(tmp_path):
+    """A robot titled in CJK with an emoji: matplotlib's "Glyph ... missing from font(s)"
+    warnings, with kincalc's source line in them, went to stderr (16 lines for a PDF of
+    workspace --plot; an independent tester). The drawing is written, and no warning."""
+    robot = tmp_path / "cjk.yaml"
+    robot.write_text('name: cjk\ntitle: "Arm \u673a\u5668\u4eba \U0001f916"\nconvention: dh\n'
+                     "units: {length: m, angle: deg}\njoints:\n"
+                     "  - {name: a, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                     "  - {name: b, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n",
+                     encoding="utf-8")
+    out = tmp_path / "cjk.png"
+    p = subprocess.run([sys.executable, "-m", "kincalc", "plot", str(robot), "10", "20",
+                        "-o", str(out)], capture_output=True, text=True, encoding="utf-8")
+    assert p.returncode == 0, p.stderr
+    assert out.exists() and "wrote" in p.stdout + p.stderr
+    assert "Glyph" not in p.stderr and "warn" not in p.stderr.lower(), p.stderr
