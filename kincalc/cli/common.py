@@ -6,13 +6,14 @@ functions that need them so that ``kincalc --help`` starts fast.
 
 from __future__ import annotations
 
+import re
 from typing import Annotated, List, Optional
 
 import click
 import typer
 
 from ..errors import InputError, UsageError
-from ..limits import MAX_JOBS, parse_decimal
+from ..limits import MAX_JOBS, MAX_MAGNITUDE, parse_decimal, quote
 
 #: Let negative numbers through as plain arguments (``kincalc fk puma560 0 -45``):
 #: click would otherwise read "-45" as the short options -4 -5.
@@ -60,6 +61,33 @@ class Decimal(click.ParamType):
 NUMBER = Decimal()
 
 
+class Integer(click.ParamType):
+    """A whole number on the command line, read strictly: decimal ASCII digits with an
+    optional sign (click's int type also takes ``1_0`` and other scripts' digits), within
+    ``lo .. hi``, both included (as click's ``min=`` and ``max=``, which a type given as
+    ``click_type`` replaces), ``hi`` at most ``MAX_MAGNITUDE`` (1e9) as every number."""
+
+    name = "integer"
+
+    def __init__(self, lo: int = 0, hi: int = int(MAX_MAGNITUDE)):
+        self.lo, self.hi = lo, hi
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, int) and not isinstance(value, bool):
+            number = value
+        else:
+            text = str(value).strip(" \t")
+            if not _WHOLE.fullmatch(text):
+                self.fail(f"{quote(value)} is not a whole number", param, ctx)
+            number = int(text) if len(text) <= 12 else self.hi + 1
+        if not self.lo <= number <= self.hi:
+            self.fail(f"{quote(value)} is not in the range {self.lo} to {self.hi}", param, ctx)
+        return number
+
+
+_WHOLE = re.compile(r"[+-]?[0-9]+", re.ASCII)
+
+
 class RobotName(FileName):
     """A bundled robot's name or a robot file; the shell completes the bundled names that
     start with what is typed, else file names."""
@@ -91,7 +119,7 @@ UnitOpt = Annotated[Optional[str], typer.Option(
     "--unit", metavar="UNIT", show_default=False,
     help="Length unit for input and output: m, cm, mm or in. Default: the robot file's unit.")]
 PrecisionOpt = Annotated[int, typer.Option(
-    "--precision", metavar="N", min=0, max=17, help="Decimals shown in tables.")]
+    "--precision", metavar="N", click_type=Integer(0, 17), help="Decimals shown in tables.")]
 JsonOpt = Annotated[bool, typer.Option(
     "--json", help="Print one JSON document instead of tables (its fields: README, "
                    "\"JSON output\", and the command's man page).")]
@@ -134,7 +162,7 @@ InputFormatOpt = Annotated[str, typer.Option(
          "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
          "line is a header of column names, else JSON lines.")]
 JobsOpt = Annotated[int, typer.Option(
-    "--jobs", "-j", metavar="N", min=1, max=MAX_JOBS,
+    "--jobs", "-j", metavar="N", click_type=Integer(1, MAX_JOBS),
     help=f"With --batch: solve chunks of records in N processes, N at most {MAX_JOBS} "
          "(output order kept).")]
 

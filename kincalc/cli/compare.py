@@ -6,6 +6,7 @@ from typing import Annotated
 
 import typer
 
+from .common import Integer
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
                      display_units, joints_text, load_robot, output)
 
@@ -26,12 +27,12 @@ FreeToolOpt = Annotated[bool, typer.Option(
     "--free-tool", help="Allow any constant difference of the tool frames (found and "
                         "printed).")]
 SamplesOpt = Annotated[int, typer.Option(
-    "--samples", metavar="N", min=1, max=1_000_000,
+    "--samples", metavar="N", click_type=Integer(1, 1_000_000),
     help="Random configurations of ROBOT_A (within its limits) on which the answer is "
          "checked by forward kinematics, besides q = 0.")]
 SeedOpt = Annotated[int, typer.Option(
-    "--seed", metavar="S", min=0, help="Seed of those configurations (a non-negative "
-                                      "integer).")]
+    "--seed", metavar="S", click_type=Integer(),
+    help="Seed of those configurations (a non-negative integer).")]
 
 
 def compare(

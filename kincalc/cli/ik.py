@@ -6,6 +6,7 @@ from typing import Annotated, Optional
 
 import typer
 
+from .common import Integer
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, InputFormatOpt,
                      JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt,
                      UnitOpt, display_units, load_robot, output, output_target, parse_locks)
@@ -32,7 +33,7 @@ PlotOpt = Annotated[Optional[str], typer.Option(
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let --plot replace an existing regular file (never a link, a device or "
                     "the robot or --pose file).")]
-DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
+DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", click_type=Integer(10, 1200),
                                      help="Pixels per inch of a PNG --plot.")]
 SweepFormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv",

@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from .common import Integer
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, ForceOpt, JointsArg, RobotArg,
                      TipLinkOpt, UnitOpt, display_units, load_robot, output_target, parse_joints)
 
@@ -15,7 +16,7 @@ OutputOpt = Annotated[str, typer.Option(
     help="The drawing to write; its suffix picks the format: .png, .svg or .pdf. An "
          "existing FILE is not replaced without --force.")]
 DpiOpt = Annotated[int, typer.Option(
-    "--dpi", metavar="N", min=10, max=1200,
+    "--dpi", metavar="N", click_type=Integer(10, 1200),
     help="Pixels per inch of a PNG (one 5-inch panel is 5N pixels square).")]
 
 

@@ -13,6 +13,7 @@ import typer
 
 from ..errors import InputError
 from .common import NUMBER
+from .common import Integer
 
 SweepOpt = Annotated[Optional[str], typer.Option(
     "--sweep", metavar="JOINT", show_default=False,
@@ -29,7 +30,7 @@ ToOpt = Annotated[Optional[float], typer.Option(
     "--to", metavar="VALUE", click_type=NUMBER, show_default=False,
     help="Last value of --sweep (default: the joint's upper limit).")]
 StepsOpt = Annotated[Optional[int], typer.Option(
-    "--steps", metavar="N", min=2, max=20000, show_default=False,
+    "--steps", metavar="N", click_type=Integer(2, 20000), show_default=False,
     help="Number of values of --sweep, evenly spaced, ends included (default 181). The first "
          "and the last joint are swept in one batch; any other joint costs a few "
          "milliseconds per value.")]

@@ -7,6 +7,7 @@ from typing import Annotated, List, Optional
 
 import typer
 
+from .common import Integer
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
                      StructureTolOpt, TipLinkOpt, UnitOpt, joints_text)
 
@@ -27,7 +28,7 @@ def list_(
         help="Only robots whose IK family is NAME (as the ik column shows it, e.g. "
              "spherical-wrist, three-parallel, general-6r, or numerical).")] = None,
     dof: Annotated[Optional[int], typer.Option(
-        "--dof", metavar="N", min=1, show_default=False,
+        "--dof", metavar="N", click_type=Integer(1), show_default=False,
         help="Only robots with N joints.")] = None,
     json: JsonOpt = False,
     debug: DebugOpt = False,

@@ -7,15 +7,17 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_TRIALS
+from .common import Integer
 from .common import (BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, StructureTolOpt, TipLinkOpt,
                      load_robot)
 
 
 def selftest(
     robot: RobotArg,
-    trials: Annotated[int, typer.Option("--trials", metavar="N", min=1, max=MAX_TRIALS,
+    trials: Annotated[int, typer.Option("--trials", metavar="N", click_type=Integer(1, MAX_TRIALS),
                                         help="Number of random configurations.")] = 1000,
-    seed: Annotated[int, typer.Option("--seed", min=0, help="Random seed (>= 0).")] = 0,
+    seed: Annotated[int, typer.Option("--seed", click_type=Integer(),
+                                      help="Random seed (>= 0).")] = 0,
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,
     tip_link: TipLinkOpt = None,

@@ -7,6 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
+from .common import Integer
 from .common import (NUMBER, BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt,
                      RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output,
                      output_target)
@@ -15,10 +16,10 @@ from .common import (NUMBER, BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, P
 def workspace(
     robot: RobotArg,
     samples: Annotated[int, typer.Option(
-        "--samples", metavar="N", min=1000, max=MAX_SAMPLES,
+        "--samples", metavar="N", click_type=Integer(1000, MAX_SAMPLES),
         help="Joint configurations sampled uniformly within the limits.")] = 200_000,
     seed: Annotated[int, typer.Option(
-        "--seed", metavar="S", min=0,
+        "--seed", metavar="S", click_type=Integer(),
         help="Seed of the random generator, a non-negative integer: the same seed gives "
              "the same numbers.")] = 0,
     dexterity: Annotated[float, typer.Option(
@@ -26,7 +27,7 @@ def workspace(
         help="Fraction of the test orientations a point must reach to count as dexterous "
              "(1 = every one, the textbook's dexterous workspace).")] = 1.0,
     orientations: Annotated[Optional[int], typer.Option(
-        "--orientations", metavar="K", min=2, max=MAX_ORIENTATIONS, show_default=False,
+        "--orientations", metavar="K", click_type=Integer(2, MAX_ORIENTATIONS), show_default=False,
         help="Number of test orientations for dexterity (default 48 for arms that control "
              "the full orientation, 24 for one angle).")] = None,
     plot: Annotated[Optional[str], typer.Option(
@@ -35,7 +36,7 @@ def workspace(
              "the shoulder (a planar arm: its plane), with their boundary, the dexterous part "
              "hatched and manipulability in colour, to FILE (.png, .svg or .pdf; needs the "
              "'plot' extra). An existing FILE is not replaced without --force.")] = None,
-    dpi: Annotated[int, typer.Option("--dpi", metavar="N", min=10, max=1200,
+    dpi: Annotated[int, typer.Option("--dpi", metavar="N", click_type=Integer(10, 1200),
                                      help="Resolution of a PNG --plot.")] = 100,
     force: Annotated[bool, typer.Option(
         "--force", help="Let --plot replace an existing regular file (never a link, a "
