@@ -79,13 +79,16 @@ class Integer(click.ParamType):
             text = str(value).strip(" \t")
             if not _WHOLE.fullmatch(text):
                 self.fail(f"{quote(value)} is not a whole number", param, ctx)
-            number = int(text) if len(text) <= 12 else self.hi + 1
+            number = int(text) if len(text) <= 24 else self.hi + 1
         if not self.lo <= number <= self.hi:
             self.fail(f"{quote(value)} is not in the range {self.lo} to {self.hi}", param, ctx)
         return number
 
 
 _WHOLE = re.compile(r"[+-]?[0-9]+", re.ASCII)
+
+#: the type of a seed: a roster's student seeds are 48-bit (``int(sha256(...)[:12], 16)``)
+SEED = Integer(0, 2 ** 63 - 1)
 
 
 class RobotName(FileName):

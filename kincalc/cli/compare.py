@@ -6,7 +6,7 @@ from typing import Annotated
 
 import typer
 
-from .common import Integer
+from .common import SEED, Integer
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
                      display_units, joints_text, load_robot, output)
 
@@ -31,7 +31,7 @@ SamplesOpt = Annotated[int, typer.Option(
     help="Random configurations of ROBOT_A (within its limits) on which the answer is "
          "checked by forward kinematics, besides q = 0.")]
 SeedOpt = Annotated[int, typer.Option(
-    "--seed", metavar="S", click_type=Integer(),
+    "--seed", metavar="S", click_type=SEED,
     help="Seed of those configurations (a non-negative integer).")]
 
 

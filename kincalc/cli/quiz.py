@@ -9,10 +9,10 @@ import typer
 from ..errors import InputError
 from ..limits import MAX_SHEET_ITEMS, quote
 from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
-from .common import Integer
+from .common import SEED
 
 SeedOpt = Annotated[Optional[int], typer.Option(
-    "--seed", metavar="S", click_type=Integer(), show_default=False,
+    "--seed", metavar="S", click_type=SEED, show_default=False,
     help="Seed of the random draws: the same seed gives the same sheet, byte for byte. "
          "Default: a random seed, written into the sheet.")]
 AnswersOpt = Annotated[bool, typer.Option(

@@ -7,7 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_TRIALS
-from .common import Integer
+from .common import SEED, Integer
 from .common import (BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, StructureTolOpt, TipLinkOpt,
                      load_robot)
 
@@ -16,7 +16,7 @@ def selftest(
     robot: RobotArg,
     trials: Annotated[int, typer.Option("--trials", metavar="N", click_type=Integer(1, MAX_TRIALS),
                                         help="Number of random configurations.")] = 1000,
-    seed: Annotated[int, typer.Option("--seed", click_type=Integer(),
+    seed: Annotated[int, typer.Option("--seed", click_type=SEED,
                                       help="Random seed (>= 0).")] = 0,
     json: JsonOpt = False,
     base_link: BaseLinkOpt = None,

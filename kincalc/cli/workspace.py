@@ -7,7 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .common import Integer
+from .common import SEED, Integer
 from .common import (NUMBER, BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt,
                      RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output,
                      output_target)
@@ -19,7 +19,7 @@ def workspace(
         "--samples", metavar="N", click_type=Integer(1000, MAX_SAMPLES),
         help="Joint configurations sampled uniformly within the limits.")] = 200_000,
     seed: Annotated[int, typer.Option(
-        "--seed", metavar="S", click_type=Integer(),
+        "--seed", metavar="S", click_type=SEED,
         help="Seed of the random generator, a non-negative integer: the same seed gives "
              "the same numbers.")] = 0,
     dexterity: Annotated[float, typer.Option(
