@@ -65,7 +65,8 @@ class Integer(click.ParamType):
     """A whole number on the command line, read strictly: decimal ASCII digits with an
     optional sign (click's int type also takes ``1_0`` and other scripts' digits), within
     ``lo .. hi``, both included (as click's ``min=`` and ``max=``, which a type given as
-    ``click_type`` replaces), ``hi`` at most ``MAX_MAGNITUDE`` (1e9) as every number."""
+    ``click_type`` replaces); ``hi`` is ``MAX_MAGNITUDE`` (1e9), as for every number, unless
+    given (a seed's is 2^63 - 1: :data:`SEED`)."""
 
     name = "integer"
 
