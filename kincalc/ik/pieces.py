@@ -157,3 +157,56 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     turn = sp1(move, gq, k, tol=0.0)
     return tuple(np.where(off, t[0][..., 0], x) for t, x in
                  ((turn.theta, theta), (turn.c, c), (turn.s, s)))
+
+
+def split_fold(S, a: int, b: int, sol, g, PT):
+    """Subproblem 4's double root of joint ``b`` split where it folds the point onto axis a
+    while the target is off it.
+
+    ``sol`` (:func:`~kincalc.subproblems.sp4.from_abc`'s, ``(N, K, 2)``) takes a cosine
+    within rounding of +-1 as the tangent, one double root. Where that root puts the point
+    ``f = E_b(x_b) g`` on the revolute axis a (a planar arm of equal links folded) and the
+    target ``PT`` lies off it by ``d`` beyond ``ACCEPT_POSITION`` of the arm's size, the two
+    roots are distinct solutions: ``x_b +- d / v``, ``v`` the speed at which joint b moves
+    ``f`` across axis a, which joint a then turns half a turn apart (a double root taken
+    there would leave joint a "free" and lose one of them). Both roots are first order in
+    ``d``, off by ``O(d^2)`` (the engine's check polishes them). Elsewhere ``sol`` is kept,
+    bit for bit.
+
+    Parameters
+    ----------
+    S : Screws, the chain (world frame at q = 0, SI)
+    a, b : int, the revolute joints (0-based) turning the point last and just before
+    sol : Solutions (N, K, 2), joint b's two roots
+    g : ndarray (3,) or (N, K, 3), the point before joint b (m)
+    PT : ndarray (N, K, 3), its targets (m)
+
+    Returns
+    -------
+    Solutions (N, K, 2)
+    """
+    fold = sol.exact[..., 0] & ~sol.ok[..., 1] & ~sol.free[..., 0]
+    if not np.count_nonzero(fold):
+        return sol
+    x = sol.theta[0][..., 0]
+    f = S.move(b, x, sol.c[0][..., 0], sol.s[0][..., 0], g)
+    k = S.axis[a]
+
+    def across(v):                               # v's part across axis a (v from a point of it)
+        return v - np.add.reduce(v * k, -1)[..., None] * k
+
+    off = np.sqrt(np.add.reduce(across(PT - S.point[a]) ** 2, -1))
+    on = np.sqrt(np.add.reduce(across(f - S.point[a]) ** 2, -1))
+    speed = np.sqrt(np.add.reduce(across(np.cross(S.axis[b], f - S.point[b])) ** 2, -1))
+    bound = ACCEPT_POSITION * S.scale
+    fold &= (on <= bound) & (off > bound) & (speed > NEAR_MISS * S.scale)
+    if not np.count_nonzero(fold):
+        return sol
+    delta = np.where(fold, off / np.where(fold, speed, 1.0), 0.0)[..., None] * [1.0, -1.0]
+    theta = np.where(fold[..., None], x[..., None] + delta, sol.theta[0])
+    c = np.where(fold[..., None], np.cos(theta), sol.c[0])
+    s = np.where(fold[..., None], np.sin(theta), sol.s[0])
+    ok, exact = sol.ok.copy(), sol.exact.copy()
+    ok[..., 1] |= fold
+    exact[..., 1] |= fold
+    return Solutions((theta,), (c,), (s,), ok, exact, sol.free, sol.undetermined)

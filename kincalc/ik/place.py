@@ -45,8 +45,8 @@ from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
 from ..tolerances import FREE_REACH
 from .branches import Branches
-from .pieces import turn_free_joint
-from .resultant import common_root, eliminate, roots_in_c, samples
+from .pieces import split_fold, turn_free_joint
+from .resultant import common_root, eliminate, polish_points, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
 
@@ -261,15 +261,19 @@ def _solve_c(S: Screws, P: Plan, br, t, what) -> Branches:
                      labels=("root 1", "root 2"))
 
 
-def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, abc=None, fixed=None) -> Branches:
+def _solve_b(S: Screws, P: Plan, br, g, t, m: int, what, PT, abc=None, fixed=None) -> Branches:
     """x_b from invariant ``m`` at the points ``g (N, K, 3)`` before joint b (``t (N, K)``
-    or ``(N, 1)``: the target's value of it); ``abc``: its coefficients there when already
-    known (constants: ``fixed``, their :func:`~kincalc.subproblems.sp4.abc_constants`)."""
+    or ``(N, 1)``: the target's value of it, of the targets ``PT (N, K, 3)``); ``abc``: its
+    coefficients there when already known (constants: ``fixed``, their
+    :func:`~kincalc.subproblems.sp4.abc_constants`); a double root that folds the point onto
+    a revolute axis a split (:func:`~kincalc.ik.pieces.split_fold`)."""
     b = P.joints[1]
     al, be, ga = _coefficients(S, P, g, m) if abc is None else abc
     scale = (S.scale + np.sqrt(np.abs(t))) ** 2
     if S.revolute[b]:
         sol = from_abc(be, ga, al, t, scale, fixed=fixed, free_reach=FREE_REACH)
+        if S.revolute[P.joints[0]]:
+            sol = split_fold(S, P.joints[0], b, sol, g, PT)
         if br.explain:      # the triangle's sides: o to the centre of g's circle, its radius
             br = br.dead_end(b, np.arctan2(ga, be),
                              (t - al) / np.maximum(np.hypot(be, ga), 1e-300),
@@ -320,7 +324,7 @@ def _decoupled(S: Screws, P: Plan, br, PT, what) -> Branches:
     PT, t = br.take(PT), _carry(br, t[1 - P.k])
     b, c = P.joints[1], P.joints[2]
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
-    br = _solve_b(S, P, br, g, t, 1 - P.k, what)
+    br = _solve_b(S, P, br, g, t, 1 - P.k, what, PT)
     f = S.move(b, br.value[b], br.cos[b], br.sin[b], br.take(g))
     return _solve_a(S, P, br, br.take(PT), f)
 
@@ -403,7 +407,7 @@ def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
     sol = sol.negated(0).ordered()              # root k: the k-th smallest joint a
     br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
-    return _polish(S, P, br, br.take(PT))
+    return polish_points(S, P.joints, P.p0, br, br.take(PT))
 
 
 def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
@@ -433,7 +437,7 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
     br = _solve_a(S, P, br, PT)
-    return _polish(S, P, br, PT)
+    return polish_points(S, P.joints, P.p0, br, PT)
 
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
@@ -447,51 +451,8 @@ def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
         br = br.set(P.joints[1], theta, c, s)
     else:
         t = _invariants(S, P, PT, P.k)
-        br = _solve_b(S, P, br, P.p0, t, P.k, what, P.at_p0[P.k], P.abc_fixed)
+        br = _solve_b(S, P, br, P.p0, t, P.k, what, PT, P.at_p0[P.k], P.abc_fixed)
     return _solve_a(S, P, br, br.take(PT))
-
-
-def _polish(S: Screws, P: Plan, br, PT, iters: int = 3) -> Branches:
-    """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
-    live slot: roots of a quartic or a resultant are good to ~1e-10, three steps reach
-    rounding. ``PT (N, K, 3)``."""
-    from ..spatial import matrix_from_axis_angle
-    from .newton import polish
-    joints = P.joints
-    live = br.ok
-    X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
-    targets = PT[live]
-    scale = max(S.scale, 1e-300)
-
-    def evaluate(x, rows):
-        R = np.broadcast_to(np.eye(3), x.shape[:-1] + (3, 3))
-        t = np.zeros(x.shape[:-1] + (3,))
-        axes, pts = [], []
-        for i, j in enumerate(joints):
-            axes.append(np.einsum("...ij,j->...i", R, S.axis[j]))
-            pts.append(np.einsum("...ij,j->...i", R, S.point[j]) + t)
-            if S.revolute[j]:
-                Rj = matrix_from_axis_angle(S.axis[j], x[..., i])
-                t = t + np.einsum("...ij,...j->...i", R, S.point[j] - np.einsum(
-                    "...ij,j->...i", Rj, S.point[j]))
-                R = R @ Rj
-            else:
-                t = t + axes[-1] * x[..., i:i + 1]
-        p = np.einsum("...ij,j->...i", R, P.p0) + t
-
-        def jacobian(keep):
-            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
-                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
-        return (targets[rows] - p) / scale, jacobian
-    # damped: at a stretched or folded elbow two roots meet and J is singular
-    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14)
-    X = np.where(live[..., None], X, 0.0)
-    X[live] = x
-    for i, j in enumerate(joints):
-        x = X[..., i]
-        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
-            br.set(j, x, np.ones_like(x), np.zeros_like(x))
-    return br
 
 
 #: the steps of each mode of :class:`Plan`

@@ -297,3 +297,56 @@ def test_bk_6r_a_hair_from_its_wrist_centre_on_axis_2_and_q5_180():
     assert len(sols) == 2, res.reason
     assert _reaches(r, sols, T).all()
     assert all(1 in s.free for s in res.solutions)
+
+
+@pytest.mark.parametrize("eps", [1e-6, 1e-7, 1e-8])
+def test_planar_arm_of_equal_links_a_hair_from_folded_onto_its_first_axis(eps):
+    """craig_3r (L1 = L2) with q2 = +-(180 deg - eps): the point on axis 3 lies eps L1 off
+    axis 1, beyond the acceptance. Joint 2's cosine is within rounding of -1 and was taken as
+    the tangent, one double root that left the point on axis 1: one solution, "theta1 free",
+    the other lost. Both are solutions: the generating joints and, by the isosceles triangle
+    of the two links, ``(q1 + q2, -q2, q2 + q3)``; neither joint is free. (Joint 1's angle is
+    good to rounding over the point's distance from its axis: compared to 1e-6.)"""
+    r = kincalc.load_robot("craig_3r")
+    rng = np.random.default_rng(16)
+    for _ in range(6):
+        q = np.array([rng.uniform(-np.pi, np.pi), rng.choice([-1.0, 1.0]) * (np.pi - eps),
+                      rng.uniform(-np.pi, np.pi)])
+        T = r.fk(q)
+        res, sols = _solved(r, T)
+        mirror = np.array([q[0] + q[1], -q[1], q[1] + q[2]])
+        assert len(sols) == 2, (np.rad2deg(q), res.reason)
+        assert _reaches(r, sols, T).all()
+        assert _distance(r, sols, q).min() <= 1e-6 and _distance(r, sols, mirror).min() <= 1e-6
+        assert not any(s.free for s in res.solutions)
+
+
+def test_planar_arm_of_equal_links_folded_within_the_acceptance_leaves_joint_1_free():
+    # 1e-10 rad from folded: the point 5e-11 m from axis 1, within the acceptance: one
+    # representative of the continuum, joint 1 free
+    r = kincalc.load_robot("craig_3r")
+    q = np.array([0.3, np.pi - 1e-10, -0.7])
+    res, sols = _solved(r, r.fk(q))
+    assert len(sols) == 1 and res.solutions[0].free == (0,)
+    assert _reaches(r, sols, r.fk(q)).all()
+
+
+@pytest.mark.parametrize("q2", [1e-6, -1e-7, 1e-8])
+def test_spherical_wrist_arm_upright_a_hair_off_axis_1(q2):
+    """kawasaki_rs007n upright (JT2 a hair from 0, JT3 = 0): the wrist centre ~q2 x 0.7 m off
+    axis 1, beyond the acceptance. JT2's double root (the wrist centre at its highest) was
+    taken as one root on axis 1: JT1 "free" and the shoulder's other side lost. Both sides
+    reach the pose, JT1 half a turn apart, none free, the generating joints among them (to
+    1e-6: JT1's angle is good to rounding over the wrist centre's distance from axis 1)."""
+    r = kincalc.load_robot("kawasaki_rs007n")
+    rng = np.random.default_rng(17)
+    for _ in range(4):
+        q = np.array([rng.uniform(-2.5, 2.5), q2, 0.0, *rng.uniform(-1.5, 1.5, 3)])
+        q[4] = rng.choice([-1.0, 1.0]) * rng.uniform(0.3, 1.5)              # wrist regular
+        T = r.fk(q)
+        res, sols = _solved(r, T)
+        assert _reaches(r, sols, T).all()
+        assert _distance(r, sols, q).min() <= 1e-6, (np.rad2deg(q), res.reason)
+        sides = np.angle(np.exp(1j * (sols[:, 0] - q[0])))
+        assert (np.abs(sides) < 1e-6).any() and (np.abs(np.abs(sides) - np.pi) < 1e-6).any()
+        assert not any(s.free for s in res.solutions)
