@@ -31,6 +31,12 @@ from typing import NamedTuple
 import numpy as np
 
 
+#: the label of a step's second root that matters only where nothing else tells two
+#: solutions apart (the words and the other steps' signs): shown then, with every sign
+#: (:func:`kincalc.ik.labels.labels`' ``every_sign``), hidden otherwise
+TIE_BREAK = "other root"
+
+
 class Note(NamedTuple):
     """One intermediate quantity of a step, for ``--explain``: ``value (N, K_at, ...)``
     at the slots of the step that made it (``at``: index into the lineage), SI, of

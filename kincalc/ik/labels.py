@@ -11,7 +11,9 @@ A label is made of
   no-flip/flip`` (the sign of ``(z4 x z6) . z5``);
 * the +/- (or ``root k``) of every other step with more than one root, from the slot the
   solution came from (:class:`~kincalc.ik.branches.Branches` gives each slot its
-  signs: one table per family, not a string per solution);
+  signs: one table per family, not a string per solution); a second root labelled
+  :data:`~kincalc.ik.branches.TIE_BREAK` only where nothing else tells the pose's
+  solutions apart;
 * ``(<joint> free)`` for a joint a singular target leaves undetermined;
 * ``unique`` when there is nothing to tell.
 """
@@ -20,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .branches import TIE_BREAK
 from .cache import per_robot
 from .words import WORDS, branch_geometry, geometry
 
@@ -122,7 +125,8 @@ def _text(robot, family, words, signs, free_bits, every_sign=False) -> str:
     geo = geometry(robot, family)
     named = set() if every_sign else \
         set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
-    parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs) if j not in named]
+    parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs)
+              if j not in named and (every_sign or lab != TIE_BREAK)]
     said = {j for j, lab in signs if lab == "any"}          # open: "any" says it already
     free = [names[j] for j in range(robot.dof) if free_bits >> j & 1 and j not in said]
     if free:

@@ -97,12 +97,15 @@ def _poly_fit_matrix() -> np.ndarray:
     return np.linalg.pinv(V)
 
 
-def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3):
+def polish_points(S: Screws, joints, p0, br, PT, iters: int = 10):
     """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
     live slot of ``br`` (:class:`~kincalc.ik.branches.Branches`): ``joints`` (0-based) move
     ``p0 (3,)`` onto ``PT (N, K, 3)`` (world frame at q = 0, m). Roots of a quartic or a
-    resultant are good to ~1e-10, three steps reach rounding. Returns the branches with
-    the joints polished."""
+    resultant are good to ~1e-10, and three steps reach rounding; but joint b's
+    back-substitution divides by how much the invariants' cosines and sines differ, small
+    where axes a and b are nearly parallel (a SCARA whose twist is 1e-7 rad off), and there
+    the candidate starts 0.1 of the arm's size off: up to ``iters`` steps, each candidate
+    stopping once converged or at rounding. Returns the branches with the joints polished."""
     from ..spatial import matrix_from_axis_angle
     from .newton import polish
     live = br.ok
@@ -131,7 +134,8 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3):
                              else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
         return (targets[rows] - p) / scale, jacobian
     # damped: at a stretched or folded elbow two roots meet and J is singular
-    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14)
+    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
+                     stall=1e-12)
     X = np.where(live[..., None], X, 0.0)
     X[live] = x
     for i, j in enumerate(joints):

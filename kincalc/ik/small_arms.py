@@ -19,7 +19,7 @@ from ..subproblems import sp2
 from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
-from .branches import Branches
+from .branches import TIE_BREAK, Branches
 from .pieces import (angle_about as _angle_about, axis_normal, rotate as _mv, target_rotation,
                      tool_point)
 from .place import place
@@ -197,7 +197,7 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
 def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
     """The slots whose free joints are exactly ``a`` and ``b`` (meeting axes) and the last
     joint turned to the target's orientation (see :func:`_roll_with_free`): each such slot
-    becomes two, one per root of subproblem 2 (the second labelled ``other root``); the
+    becomes two, one per root of subproblem 2 (the second labelled :data:`~kincalc.ik.branches.TIE_BREAK`); the
     others keep their values (their second slot empty). Everything is read from ``br`` as
     it is now: an earlier pair's branching doubled its slots."""
     m = S.n - 1
@@ -222,7 +222,7 @@ def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
     return br.branch([a, b, m], Solutions(q, tuple(np.cos(t) for t in q),
                                           tuple(np.sin(t) for t in q), ok,
                                           np.ones_like(ok), np.zeros_like(ok)),
-                     labels=(None, "other root"))
+                     labels=(None, TIE_BREAK))
 
 
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:

@@ -9,7 +9,12 @@ an independent random-robot campaign:
   on ``k2``) marked all three free, so the orientation turned none of them and the pose got
   no solution, or one that was not the generating configuration;
 * three parallel joints before the roll place the point on a plane with a turn to spare:
-  not this family (its placement missed by 0.2 m and the pose had no solution).
+  not this family (its placement missed by 0.2 m and the pose had no solution);
+* a SCARA whose first twist is 1e-7 .. 1e-4 rad off (its point placed through the
+  resultant in the slide): joint 2 from the two invariants together was 0.1 of the arm's
+  size off (they barely differ) and three Gauss-Newton steps did not reach it, and the two
+  elbows, which share the slide's double root, polished onto one: 8 of 20 FK poses had no
+  solution.
 
 Checked against independent values: FK round trips, the generating configuration, and
 Gauss-Newton from random starts (tests/randrobots.py).
@@ -120,3 +125,25 @@ def test_three_parallel_joints_before_the_roll_are_not_point_plus_roll():
     assert len(res.solutions) == 1 and "not every branch" in res.method
     Tq = robot.fk(res.solutions[0].q)
     assert np.abs(Tq - T).max() < 1e-9
+
+
+@pytest.mark.parametrize("twist, at", [(1e-7, 0), (-1e-6, 0), (1e-5, 1), (-3e-4, 1)])
+def test_nearly_a_scara(twist, at):
+    """Joints 1-2 about nearly parallel axes (one twist ``twist`` rad), a vertical slide,
+    the roll: every FK pose solved, each solution reproducing it, the generating joints and
+    every root Gauss-Newton finds among them."""
+    alpha = [0.0, 0.0]
+    alpha[at] = twist
+    robot = Robot(name="nearly_scara", convention="dh", base=np.eye(4), tool=np.eye(4), joints=(
+        Joint("j1", "revolute", alpha=alpha[0], a=0.3, d=0.4, theta=0.0, limits=(-P, P)),
+        Joint("j2", "revolute", alpha=alpha[1], a=0.25, d=0.05, theta=0.0, limits=(-P, P)),
+        Joint("j3", "prismatic", alpha=0.0, a=0.0, d=0.0, theta=0.0, limits=(-1.0, 1.0)),
+        Joint("j4", "revolute", alpha=0.0, a=0.0, d=0.1, theta=0.0, limits=(-P, P))))
+    assert plan(robot)[1].name == "point-plus-roll"
+    rng = np.random.default_rng(9)
+    for i, q in enumerate(rng.uniform([-3, -3, -0.5, -3], [3, 3, 0.5, 3], (20, 4))):
+        S = _assert_solves(robot, q)
+        if i < 3:                                     # every root Gauss-Newton finds
+            for r in newton_roots(robot, robot.fk(q), 40, np.random.default_rng(10)):
+                d = np.where(robot.is_revolute, wrap(S - r), S - r)
+                assert np.abs(d).max(-1).min() < 1e-6
