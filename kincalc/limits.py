@@ -114,9 +114,13 @@ def parse_decimal(text: str) -> float:
 
 #: line and paragraph breaks (and tabs): folded to one space by :func:`printable`
 _BREAKS = re.compile("[\t\n\v\f\r\x1c-\x1e\x85\u2028\u2029]+")
-#: C0 and C1 controls and DEL, and the bidirectional overrides and isolates (which
-#: reorder the text around them on screen): each shown as U+FFFD by :func:`printable`
-_CONTROLS = re.compile("[\x00-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069]")
+#: C0 and C1 controls and DEL, the bidirectional overrides, isolates and marks (which
+#: reorder the text around them on screen), and the invisible zero-width space, word
+#: joiner and no-break space (a message would show a name that looks like another; the
+#: joiners ZWNJ and ZWJ, which scripts and emoji need, are kept): each shown as U+FFFD by
+#: :func:`printable`
+_CONTROLS = re.compile("[\x00-\x1f\x7f-\x9f\u200b\u200e\u200f\u202a-\u202e"
+                       "\u2060-\u2069\ufeff]")
 
 
 def printable(text) -> str:
@@ -134,9 +138,10 @@ def printable(text) -> str:
     Returns
     -------
     str
-        Line breaks and tabs (runs of them) as one space; C0 controls, DEL, C1 controls
-        and the bidirectional overrides and isolates each as U+FFFD (the replacement
-        character), so nothing reaches a terminal as an escape sequence.
+        Line breaks and tabs (runs of them) as one space; C0 controls, DEL, C1 controls,
+        the bidirectional overrides, isolates and marks and the zero-width characters each
+        as U+FFFD (the replacement character), so nothing reaches a terminal as an escape
+        sequence or hides in a name.
     """
     return _CONTROLS.sub("\ufffd", _BREAKS.sub(" ", str(text)))
 

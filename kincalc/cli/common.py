@@ -271,10 +271,10 @@ def check_number(value: float, what: str) -> float:
     import math
 
     from ..limits import MAX_MAGNITUDE
-    if not math.isfinite(value):
-        raise InputError(f"{what}: {value:g} is not a finite number")
-    if abs(value) > MAX_MAGNITUDE:
-        raise InputError(f"{what}: {value:g} is too large (kincalc takes numbers up to "
+    if not math.isfinite(value):       # (1e400 reads as inf: not the text, which is gone)
+        raise InputError(f"{what}: not a finite number (nan, inf, or beyond 1.8e308)")
+    if abs(value) > MAX_MAGNITUDE:      # (all of the value: 1.000000001e9 is not 1e+09)
+        raise InputError(f"{what}: {value!r} is too large (kincalc takes numbers up to "
                          f"{MAX_MAGNITUDE:g} in size)")
     return value
 

@@ -76,17 +76,15 @@ def compare(
 
 
 def _tables(doc, robot, precision):
-    from rich.markup import escape
-
-    from .render import console, kv_table, matrix_table, num, vec
+    from .render import console, file_words, kv_table, matrix_table, num, vec
     c = console()
     u = doc["units"]
     length = "" if u["length"] == "unitless" else f" {u['length']}"
     for tag, r in zip(("A (reference)", "B (candidate)"), doc["robots"]):
         title = f" - {r['title']}" if r["title"] else ""
         given = "" if r["argument"] in ("", r["name"]) else f"{r['argument']}: "
-        c.print(f"{tag}: {escape(given)}[bold]{escape(r['name'])}[/bold]{escape(title)}  "
-                f"({joints_text(r['dof'])}, {r['convention']})")
+        c.print(f"{tag}: {file_words(given)}[bold]{file_words(r['name'])}[/bold]"
+                f"{file_words(title)}  ({joints_text(r['dof'])}, {r['convention']})")
     rows = [("same robot", "yes" if doc["same"] else "no"),
             ("why", doc["reason"])]
     if doc["first_bad_joint"] is not None:

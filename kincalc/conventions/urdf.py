@@ -242,6 +242,11 @@ class _Reader:
             if sub is None:
                 self.fail(node, f"{where}: a {kind} joint needs <limit lower upper> "
                                 "(a revolute joint without limits is 'continuous')")
+            missing = [a for a in ("lower", "upper") if a not in sub.attrs]
+            if missing:     # (URDF's default 0 would hold the joint still)
+                self.fail(sub, f"{where}: <limit> has no {' or '.join(missing)}: a {kind} "
+                               "joint needs both (a revolute joint without limits is "
+                               "'continuous')")
             lo = self.numbers(sub, "lower", 1, "0")[0]
             hi = self.numbers(sub, "upper", 1, "0")[0]
             if lo > hi:

@@ -432,13 +432,15 @@ def test_fk_rejects_robot_file(case, tmp_path, monkeypatch, capsys):
 
 def test_a_robot_files_words_reach_no_terminal_as_escapes(tmp_path, monkeypatch, capsys):
     # a title, source or notes holding escape sequences (clear the screen, retitle the
-    # terminal) was printed raw in the headings of fk, robots show and others
+    # terminal) was printed raw in the headings of fk, robots show and others, and in
+    # compare's lines naming the two robots
     text = DH.replace("title: Three-link test arm",
                       'title: "x\\e[2J\\e]0;pwned\\a"\nsource: "s\\e[31m"\nnotes: "n\\x9b1m"')
     path = tmp_path / "esc.yaml"
     path.write_text(text)
     monkeypatch.setenv("COLUMNS", "200")
-    for argv in (["fk", str(path), "10", "20", "30"], ["robots", "show", str(path)]):
+    for argv in (["fk", str(path), "10", "20", "30"], ["robots", "show", str(path)],
+                 ["compare", str(path), str(path)]):
         assert main(argv) == 0
         out = capsys.readouterr().out
         assert "\x1b" not in out and "\x07" not in out and "\x9b" not in out

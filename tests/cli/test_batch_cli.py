@@ -608,11 +608,35 @@ def test_csv_cells_that_are_their_records_error(cells, error):
 
 
 def test_csv_headers_that_cannot_be_used():
+    """The message names the column at fault: an unknown one, else the one whose group (or
+    the joints) is not whole (the first column not used was named: 'theta1' of 'theta1,zzz',
+    'roll' of 'x,y,z,roll,pitch,yawn')."""
     robot = load_robot("puma560")
     for header, error in [(("x", "y", "z", "x"), "column 'x' appears twice"),
-                          (("x", "y", "w"), "unknown column 'x'")]:
+                          (("x", "y", "w"), "unknown column 'w'"),
+                          (("q1", "zzz"), "unknown column 'zzz'"),
+                          (("x", "y", "z", "roll", "pitch", "yawn"), "unknown column 'yawn'"),
+                          (("x", "y", "z", "roll", "pitch"), "column 'roll' without 'yaw'"),
+                          (("q1", "q2"), "column 'q1' without 'q3', 'q4', 'q5', 'q6'")]:
         (_, _, err), = records.parse_records(header, robot, 0, [b"1,2,3"])
         assert err.startswith(f"record 1: {error}"), err
+
+
+@pytest.mark.parametrize("first", [b"garbage", b"q", b"a,b"])
+def test_json_lines_on_stdin_whose_first_record_is_a_stray_word(first):
+    """A first line of names none of which is a column of the robot's records is a bad
+    JSON record, not a CSV header: it was read as one, every record after it an error
+    ('unknown column') and one record fewer out than in."""
+    rows = [first, b'{"q": [30, -60]}', b'{"q": [10, 10]}']
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"\n".join(rows))
+    docs = json_documents(out)
+    assert status == 2 and [d["index"] for d in docs] == [0, 1, 2]
+    assert "error" in docs[0] and "error" not in docs[1] and "error" not in docs[2]
+    # a header with a joint's name is CSV, its unknown column named
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"theta1,zzz\n1,2\n")
+    assert "unknown column 'zzz'" in json_documents(out)[0]["error"]
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"{}\n")
+    assert json_documents(out)[0]["error"] == "record 1: no joints (give q)"
 
 
 @pytest.mark.parametrize("command", ["fk", "jacobian", "ik", "reach"])

@@ -183,3 +183,14 @@ def test_the_warning_filter_needs_no_numpy_at_start_up():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, timeout=120).stdout.strip()
     assert out == "False"
+
+
+def test_a_number_beyond_the_limit_is_quoted_as_given(tmp_path):
+    """1.000000001e9 was quoted as 1e+09 ("1e+09 is too large": a value the user never
+    typed, within the limit as shown) and 1e400 as inf."""
+    status, out, err = run("ik", "puma560", "--xyz", "1.000000001e9", "0", "0", "--rpy", "0",
+                           "0", "0", cwd=str(tmp_path))
+    assert status == 2 and "--xyz: 1000000001.0 is too large" in err
+    status, out, err = run("ik", "puma560", "--xyz", "1e400", "0", "0", "--rpy", "0", "0",
+                           "0", cwd=str(tmp_path))
+    assert status == 2 and "--xyz: not a finite number (nan, inf, or beyond 1.8e308)" in err

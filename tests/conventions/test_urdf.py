@@ -241,6 +241,10 @@ def test_a_chain_that_cannot_be_chosen_is_one_line(kwargs, words):
      "its name is 65 characters long; kincalc takes names of up to 64"),
     (_chain_text().replace('<limit lower="-1" upper="1"/>', "", 1),
      "a revolute joint needs <limit lower upper>"),
+    # URDF's default of a missing bound, 0, held the joint still: limits [0, 0]
+    (_chain_text().replace('<limit lower="-1" upper="1"/>', '<limit effort="1"/>', 1),
+     "joint 'ja': <limit> has no lower or upper: a revolute joint needs both"),
+    (_chain_text().replace('lower="-1" upper="1"', 'upper="1"', 1), "<limit> has no lower:"),
     (_chain_text().replace('lower="-1" upper="1"', 'lower="1" upper="-1"', 1),
      "lower 1 is above upper -1"),
     (_chain_text().replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>', 1),

@@ -145,6 +145,10 @@ def test_printable_folds_breaks_and_replaces_controls():
     assert printable("a\r\nb\tc") == "a b c"
     assert printable("\x1b[31mR\x00\x7f\x9b\u202e") == "\ufffd[31mR\ufffd\ufffd\ufffd\ufffd"
     assert printable("Zoë Ñ") == "Zoë Ñ"
+    # invisible characters that make a name look like another (a message named the joint
+    # 'a\u200bb' as 'ab'); the joiners of scripts and emoji stay
+    assert printable("a\u200bb\u2060c\ufeffd\u200ee") == "a\ufffdb\ufffdc\ufffdd\ufffde"
+    assert printable("\U0001f468\u200d\U0001f469") == "\U0001f468\u200d\U0001f469"
 
 
 def hostile(work, name="evil.yaml"):

@@ -280,7 +280,8 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
             value = _numbers(value, _FIELDS[key], key)
         out[key] = value
     if len(out) == ("id" in out) + ("lock" in out):
-        raise RecordError("no pose (give xyz and an orientation, T or q)")
+        raise RecordError("no joints (give q)" if kind in ("fk", "jacobian") else
+                          "no pose (give xyz and an orientation, T or q)")
     return out
 
 
@@ -356,10 +357,17 @@ def _csv_layout(header, robot):
         layout.append(("q", [where[n] for n in names]))
         used |= set(names)
     extra = [h for h in header if h not in used]
-    if extra:
-        return None, (f"unknown column {quote(extra[0])} (columns: x,y,z with roll,pitch,yaw "
-                      f"or qw,qx,qy,qz or ax,ay,az; or the joints {','.join(names)})")
-    return layout, None
+    if not extra:
+        return layout, None
+    unknown = [h for h in extra if h not in _columns(robot)]
+    if unknown:
+        return None, (f"unknown column {quote(unknown[0])} (columns: x,y,z with roll,pitch,"
+                      f"yaw or qw,qx,qy,qz or ax,ay,az; or the joints {','.join(names)})")
+    # every column known, but a group or the joints not whole
+    group = next((g for g in (*CSV_GROUPS, tuple(names)) if extra[0] in g), ())
+    missing = [c for c in group if c not in where]
+    return None, (f"column {quote(extra[0])} without {', '.join(map(quote, missing))}: "
+                  f"give {','.join(group)} together")
 
 
 def _csv_patterns():
@@ -400,10 +408,12 @@ def _csv_record(header, layout, text: str) -> dict:
     return {key: tuple(values[k] for k in cols) for key, cols in layout}
 
 
-def read_header(line, forced: bool):
+def read_header(line, forced: bool, robot=None):
     """The column names of a CSV header line. With ``forced`` (--input-format csv, or a
     name ending in .csv), the reason when the line cannot be read; otherwise None when it
-    is not a header (then the input is JSON lines)."""
+    is not a header (then the input is JSON lines): names of the header's form of which none
+    is a column of ``robot``'s records (a pose or joint column; a JSON lines input whose first
+    record is a stray word stays JSON lines)."""
     global _HEADER
     if _HEADER is None:
         _, _, _HEADER = _csv_patterns()
@@ -413,7 +423,15 @@ def read_header(line, forced: bool):
         return f"the CSV header (the first line) cannot be used: {exc}" if forced else None
     if not forced and (text in _JSON_WORDS or not _HEADER.fullmatch(text)):
         return None
-    return tuple(c.strip() for c in text.split(","))
+    names = tuple(c.strip() for c in text.split(","))
+    if not forced and robot is not None and not set(names) & _columns(robot):
+        return None
+    return names
+
+
+def _columns(robot) -> set:
+    """The names a CSV header may hold for ``robot``: the pose groups' and the joints'."""
+    return {c for group in CSV_GROUPS for c in group} | {j.name for j in robot.joints}
 
 
 def csv_cell(value):

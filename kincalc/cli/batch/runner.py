@@ -94,7 +94,8 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     # share them, as gc.freeze is meant for)
     gc.freeze()
     try:
-        header, chunks = _chunked(source, chunk_lines(kind, robot, locks), input_format)
+        header, chunks = _chunked(source, chunk_lines(kind, robot, locks), input_format,
+                                  robot)
         work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks)
         # the workers start before any other thread of this process does (the progress
         # bar's): a fork copies a lock another thread holds, locked for good
@@ -294,7 +295,7 @@ def _too_long(line: bytes) -> bool:
     return len(line) > MAX_RECORD_BYTES + line.endswith(b"\r")
 
 
-def _chunked(source, size: int = 0, input_format: str = "auto"):
+def _chunked(source, size: int = 0, input_format: str = "auto", robot=None):
     """``(header, chunks)``: the header (None for JSON lines, the CSV column names, or the
     reason a CSV header cannot be used) and an iterator of ``((first index, lines),
     flush)``, at most ``size`` records a chunk (default CHUNK_LINES). ``flush`` says that
@@ -313,7 +314,7 @@ def _chunked(source, size: int = 0, input_format: str = "auto"):
         first = list(itertools.islice(blocks, 1))
         if first:
             (lines, more), = first
-            header = read_header(lines[0], fmt == "csv")
+            header = read_header(lines[0], fmt == "csv", robot)
             if header is not None:
                 first = [(lines[1:], more)]
 
