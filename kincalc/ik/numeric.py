@@ -58,6 +58,9 @@ STOP = 1e-14
 MAX_STEP = 0.5
 #: random restarts tried when the start configuration does not converge
 RESTARTS = 30
+#: steps in a row that each lower the error by less than a part in 1e9 after which a descent
+#: stops (a minimum that is no solution; 300 iterations crept on there)
+CREEP = 5
 #: iterations of the search within the limits from a solution found turning freely and
 #: wrapped into the ranges: a polish, or a short repair when a joint ended in a range's gap
 #: (on random robots those that succeed take at most 6; those that fail would go on to
@@ -241,7 +244,7 @@ class _Problem:
         e = self.error(q)
         E = float(np.linalg.norm(e))
         lam = 1e-3
-        k = 0
+        k = creep = 0
         while k < iters and E > STOP:
             k += 1
             J = self.scaled_jacobian(q)
@@ -265,9 +268,12 @@ class _Problem:
             E_new = float(np.linalg.norm(e_new))
             if E_new < E:
                 stalled = E <= TOL and E_new > 0.25 * E      # at the rounding floor
+                # at a minimum that is no solution (a target out of reach), each step
+                # gains a few parts in 1e12: after CREEP such steps in a row, stop
+                creep = creep + 1 if E_new > (1.0 - 1e-9) * E else 0
                 q, e, E = q_new, e_new, E_new
                 lam = max(lam / 10, 1e-12)
-                if stalled:
+                if stalled or creep >= CREEP:
                     break
             else:
                 lam *= 10

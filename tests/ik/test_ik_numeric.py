@@ -139,3 +139,21 @@ def test_cli_numeric_and_near(tmp_path):
     far = subprocess.run([sys.executable, "-m", "kincalc", "ik", "iiwa7", "--xyz", "3", "0", "0"],
                          capture_output=True, text=True)
     assert far.returncode == 1 and "beyond the outer reach" in " ".join(far.stdout.split())
+
+
+def test_a_descent_at_a_minimum_that_is_no_solution_stops():
+    """A target out of reach: Levenberg-Marquardt reaches the nearest configuration and then
+    crept on, each step gaining parts in 1e12, to its iteration limit (300 for each of 31
+    starts: a 32-joint arm took 2 s a pose). It now stops there; the miss is the distance
+    from the reach's edge (a planar 3R of unit links, the target 5 from its base: 2)."""
+    def fk(q):
+        c = np.cumsum(q)
+        T = np.eye(4)
+        T[:2, 3] = [np.cos(c).sum(), np.sin(c).sum()]
+        T[:2, :2] = [[np.cos(c[2]), -np.sin(c[2])], [np.sin(c[2]), np.cos(c[2])]]
+        return T
+    T = np.eye(4)
+    T[0, 3] = 5.0
+    res = solve_numeric(fk, T, np.array([0.3, 0.2, 0.1]), orientation=False, restarts=0)
+    assert not res.converged and abs(res.position_error - 2.0) < 1e-8
+    assert res.iterations < 250
