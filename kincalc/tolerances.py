@@ -44,11 +44,17 @@ ACCEPT_POSITION = 1e-9
 ACCEPT_ORIENTATION = 1e-9
 CHECK_ORIENTATION = 1e-6
 
-#: a candidate that misses by at most this (position / the arm's size, orientation in rad),
-#: or reaches with a joint at most this beyond a limit, lies next to a solution and is
-#: polished onto it (kincalc.ik.near_miss): a double root next to a singularity is good to
-#: ~sqrt(rounding) only
-NEAR_MISS = 1e-5
+#: a candidate that misses by at most this (position / the arm's size, orientation in rad)
+#: lies next to a solution and is polished onto it (kincalc.ik.near_miss): a double root
+#: next to a singularity is good to ~sqrt(rounding) only (a 12-digit pose's, times an
+#: ill-conditioned step's gain: a 5-joint arm's approach missed by 1.8e-5 rad at q5 = 0)
+NEAR_MISS = 1e-4
+
+#: a solution with a joint at most this beyond a limit (rad, or of the arm's size), where
+#: the merged double root's other side is within it, is polished into the limits
+#: (kincalc.ik.near_miss); wider, a distinct solution of a near double root 1e-4 rad away
+#: would be polished onto its neighbour and lost
+NEAR_LIMIT = 1e-5
 
 #: the error of a pose written with 12 significant digits (kincalc's JSON) and read back:
 #: up to 5e-13 an entry, re-orthonormalised; with a margin. Next to a singularity a joint

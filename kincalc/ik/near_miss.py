@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fk import forward_kinematics
-from ..tolerances import NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
+from ..tolerances import NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
 from .joint_limits import normalise, violations
 
 
@@ -26,7 +26,7 @@ from .joint_limits import normalise, violations
 def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: bool = True):
     """``(N, K)`` bool, or None when there is none: candidates that miss the target by at most
     :data:`~kincalc.tolerances.NEAR_MISS` (``reach`` False), and solutions beyond their limits
-    by at most that.
+    by at most :data:`~kincalc.tolerances.NEAR_LIMIT`.
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
     ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`);
@@ -48,7 +48,7 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: b
             mask &= near
     if some_beyond:
         v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
-        mask |= valid & (v > 0.0) & (v <= NEAR)
+        mask |= valid & (v > 0.0) & (v <= NEAR_LIMIT)
     return mask if np.count_nonzero(mask) else None
 
 

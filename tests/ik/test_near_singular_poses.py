@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import kincalc
-from kincalc.ik.near_miss import NEAR, near_misses
+from kincalc.ik.near_miss import NEAR, NEAR_LIMIT, near_misses
 from kincalc.ik.target import targets_from
 from kincalc.tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION,
                                 ROUNDED_POSE)
@@ -145,12 +145,14 @@ def test_near_misses_selects_hairs_only():
     pe = np.array([[0.0, 0.5 * NEAR * L, 10 * NEAR * L, 0.0]])
     oe = np.zeros((1, 4))
     viol = np.zeros((1, 4, n))
-    viol[0, 3, 1] = 0.5 * NEAR                   # a hair beyond a limit
+    viol[0, 3, 1] = 0.5 * NEAR_LIMIT             # a hair beyond a limit
     mask = near_misses(r, candidate, reach, pe, oe, valid, viol)
     assert mask.tolist() == [[False, True, False, True]]
-    viol[0, 3, 1] = 10 * NEAR
+    # beyond a limit by more than NEAR_LIMIT: a solution of its own (a near double root's
+    # other side, 1e-4 rad away, was polished onto its neighbour within the limits and lost)
+    viol[0, 3, 1] = 2 * NEAR_LIMIT
     pe[0, 1] = 10 * NEAR * L
-    assert near_misses(r, candidate, reach, pe, oe, valid, viol) is None
+    assert NEAR_LIMIT < NEAR and near_misses(r, candidate, reach, pe, oe, valid, viol) is None
 
 
 def test_the_sweeps_twelve_digit_ur16e_pose():
@@ -350,3 +352,26 @@ def test_spherical_wrist_arm_upright_a_hair_off_axis_1(q2):
         sides = np.angle(np.exp(1j * (sols[:, 0] - q[0])))
         assert (np.abs(sides) < 1e-6).any() and (np.abs(np.abs(sides) - np.pi) < 1e-6).any()
         assert not any(s.free for s in res.solutions)
+
+
+def test_five_joint_approach_arm_twelve_digit_pose_at_q5_0():
+    """A five-joint arm (axes 4 and 5 meeting on the approach line) at q5 = 0, the pose
+    rounded to 12 digits (an independent campaign): subproblem 2's double root split into
+    q5 = +-1.9e-5, each missing the approach by 1.8e-5 rad, beyond the near miss of 1e-5:
+    "orientation out of reach". The generating joints reach the rounded pose to 1.5e-12."""
+    from kincalc.model import Joint, Robot
+    P = np.pi
+    rows = [(0.0962933399642707, 0.17861062103966374, -0.22251599635348324),
+            (-0.5750798109183086, -0.07037383725610033, -0.49962925177928214),
+            (0.9573633631976515, -0.15552959075142078, -0.4883837869666649),
+            (2.498682104261955, 0.0, -0.42990396692393346),
+            (-0.0438376661931823, 0.0, 0.0)]
+    r = Robot(name="approach5", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"j{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0, limits=(-1.5 * P, 1.5 * P))
+        for i, (al, a, d) in enumerate(rows)))
+    q = np.array([-3.1358134481626974, -0.501495358901825, 0.8258374108833015,
+                  2.7329411561883177, 0.0])
+    T = _rounded(r, q)
+    res, sols = _solved(r, T)
+    assert res.family == "position-approach" and len(sols), res.reason
+    assert _distance(r, sols, q).min() <= 1e-6
