@@ -116,9 +116,9 @@ def parse_decimal(text: str) -> float:
 _BREAKS = re.compile("[\t\n\v\f\r\x1c-\x1e\x85\u2028\u2029]+")
 #: C0 and C1 controls and DEL, the bidirectional overrides, isolates and marks (which
 #: reorder the text around them on screen), and the invisible zero-width space, word
-#: joiner and no-break space (a message would show a name that looks like another; the
-#: joiners ZWNJ and ZWJ, which scripts and emoji need, are kept): each shown as U+FFFD by
-#: :func:`printable`
+#: joiner and zero-width no-break space (a message would show a name that looks like
+#: another; the joiners ZWNJ and ZWJ, which scripts and emoji need, are kept): each shown
+#: as U+FFFD by :func:`printable`
 _CONTROLS = re.compile("[\x00-\x1f\x7f-\x9f\u200b\u200e\u200f\u202a-\u202e"
                        "\u2060-\u2069\ufeff]")
 

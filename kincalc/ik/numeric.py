@@ -48,6 +48,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..jacobian import finite_difference_jacobian
 from ..spatial import rotation_error, rotvec_from_matrix
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
@@ -89,56 +90,6 @@ class NumericIK:
     distance: float
     start: np.ndarray
     restarts: int
-
-
-def finite_difference_jacobian(fk: Callable, q, revolute, scale: float, h: float = 1e-6):
-    """Geometric Jacobian of any FK function by central differences.
-
-    A column whose central difference ``fk`` refuses (ValueError, ArithmeticError: the edge
-    of a mechanism's assembly region) is taken forward or backward, towards whichever side
-    ``fk`` accepts; it stays 0 when ``fk`` refuses both sides.
-
-    Parameters
-    ----------
-    fk : callable
-        ``fk(q (n,)) -> T (4, 4)``, ``T_world_tool`` (SI).
-    q : array_like (n,)
-        Joint values (rad / m).
-    revolute : array_like (n,) of bool
-    scale : float
-        The prismatic joints' step is ``h * scale`` (m).
-    h : float
-        The revolute joints' step (rad).
-
-    Returns
-    -------
-    ndarray (6, n)
-        World frame, linear rows (m per rad or per m) then angular.
-    """
-    q = np.asarray(q, float)
-    n = len(q)
-    J = np.zeros((6, n))
-
-    def pose(x):
-        try:
-            return np.asarray(fk(x), float)
-        except (ValueError, ArithmeticError):
-            return None
-
-    T0 = None
-    for j in range(n):
-        dq = np.zeros(n)
-        dq[j] = h if revolute[j] else h * scale
-        Tp, Tm = pose(q + dq), pose(q - dq)
-        if Tp is None or Tm is None:                 # one-sided, from q itself
-            T0 = pose(q) if T0 is None else T0
-            Tp, Tm = (Tp, T0) if Tp is not None else (T0, Tm)
-        if Tp is None or Tm is None:
-            continue
-        width = np.linalg.norm(dq) * (2 if Tp is not T0 and Tm is not T0 else 1)
-        J[:3, j] = (Tp[:3, 3] - Tm[:3, 3]) / width
-        J[3:, j] = rotvec_from_matrix(Tp[:3, :3] @ Tm[:3, :3].T) / width
-    return J
 
 
 class _Problem:

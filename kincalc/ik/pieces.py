@@ -1,6 +1,8 @@
 """The pieces the family solvers (:mod:`kincalc.ik.solvers`, :mod:`kincalc.ik.small_arms`,
-:mod:`kincalc.ik.five_joints`) are composed of: the target's rotation and points in the
-product of exponentials' terms, a joint's motion undone, the angle of one subproblem 1.
+:mod:`kincalc.ik.five_joints`) and the point placement (:mod:`kincalc.ik.place`) are
+composed of: the target's rotation and points in the product of exponentials' terms, a
+joint's motion undone, the angle of one subproblem 1, a free joint's angle, a double root
+split where it folds a point through an axis, the Gauss-Newton polish of a placed point.
 
 ``S`` is a family's :class:`~kincalc.ik.screws.Screws` (world frame at q = 0, SI);
 ``R_t = R_T R_M^T`` is the rotation of the product of exponentials (``T = E_1 ... E_n M``),
@@ -12,14 +14,20 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure import common_point
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, NEAR_MISS
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
 from ..subproblems.sp4 import sp4_constants
-from ..subproblems.solutions import Solutions
+from ..subproblems.solutions import Solutions, cross
 from .branches import Branches
 from .screws import Screws
+
+#: a joint moves a point at all when its lever on it is at least this (of the arm's size)
+MOVES = 1e-5
+#: a point a double root of subproblem 4 leaves within this (of the arm's size) of an axis is
+#: folded through it: the band of the tangent (ROUNDING) moves it by up to ~2e-7
+FOLD_NEAR_AXIS = 1e-6
 
 
 def inverse_home(S: Screws) -> np.ndarray:
@@ -139,7 +147,7 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     that plane (:func:`~kincalc.ik.near_miss.polished` then reaches it). Only where 0 would
     miss the acceptance: the offset beyond ``ACCEPT_POSITION`` of the arm's size, or beyond
     ``ACCEPT_ORIENTATION`` of joint b's lever on ``f`` (where b moves ``f`` at all, by
-    :data:`~kincalc.tolerances.NEAR_MISS` of the arm's size per rad); elsewhere ``sol`` is
+    :data:`MOVES` of the arm's size per rad); elsewhere ``sol`` is
     kept (bit for bit). ``S``: the robot's
     :class:`~kincalc.ik.screws.Screws`. Returns ``(theta, c, s)``, each ``(N, K)``."""
     theta, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
@@ -151,7 +159,7 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     lever = np.sqrt(np.add.reduce(move * move, -1))
     bound = np.minimum(ACCEPT_POSITION * S.scale, ACCEPT_ORIENTATION * lever)
     off = sol.free[..., 0] & (np.add.reduce(across * across, -1) > bound * bound) & (
-        lever > NEAR_MISS * S.scale)                        # (b moves f at all)
+        lever > MOVES * S.scale)                            # (b moves f at all)
     if not np.count_nonzero(off):
         return theta, c, s
     turn = sp1(move, gq, k, tol=0.0)
@@ -160,18 +168,21 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
 
 
 def split_fold(S, a: int, b: int, sol, g, PT):
-    """Subproblem 4's double root of joint ``b`` split where it folds the point onto axis a
-    while the target is off it.
+    """Subproblem 4's double root of joint ``b`` split where it folds the placed point
+    through the revolute axis a while the target is off it.
 
     ``sol`` (:func:`~kincalc.subproblems.sp4.from_abc`'s, ``(N, K, 2)``) takes a cosine
-    within rounding of +-1 as the tangent, one double root. Where that root puts the point
-    ``f = E_b(x_b) g`` on the revolute axis a (a planar arm of equal links folded) and the
-    target ``PT`` lies off it by ``d`` beyond ``ACCEPT_POSITION`` of the arm's size, the two
-    roots are distinct solutions: ``x_b +- d / v``, ``v`` the speed at which joint b moves
-    ``f`` across axis a, which joint a then turns half a turn apart (a double root taken
-    there would leave joint a "free" and lose one of them). Both roots are first order in
-    ``d``, off by ``O(d^2)`` (the engine's check polishes them). Elsewhere ``sol`` is kept,
-    bit for bit.
+    within rounding of +-1 as the tangent, one double root. Where that root leaves the point
+    ``f = E_b(x_b) g`` within :data:`FOLD_NEAR_AXIS` of the axis (a planar arm of equal links
+    folded, a wrist centre straight above the shoulder) and the target ``PT`` lies off it
+    beyond ``ACCEPT_POSITION`` of the arm's size, the two roots are distinct solutions,
+    which joint a turns about half a turn apart: taken as one, joint a came out "free" and
+    one of them was lost. With ``u`` the point's offset across axis a and ``m`` its velocity
+    across it under joint b (per rad), the point at ``x_b + delta`` is ``|u + m delta|`` off
+    the axis to first order; the roots are where that is the target's offset ``d``:
+    ``|m|^2 delta^2 + 2 (u . m) delta + |u|^2 - d^2 = 0``. They are good to the second order
+    in ``delta`` (the engine's check polishes what misses). Elsewhere ``sol`` is kept, bit for
+    bit.
 
     Parameters
     ----------
@@ -192,17 +203,22 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     f = S.move(b, x, sol.c[0][..., 0], sol.s[0][..., 0], g)
     k = S.axis[a]
 
-    def across(v):                               # v's part across axis a (v from a point of it)
+    def across(v):                               # v's part across axis a
         return v - np.add.reduce(v * k, -1)[..., None] * k
 
-    off = np.sqrt(np.add.reduce(across(PT - S.point[a]) ** 2, -1))
-    on = np.sqrt(np.add.reduce(across(f - S.point[a]) ** 2, -1))
-    speed = np.sqrt(np.add.reduce(across(np.cross(S.axis[b], f - S.point[b])) ** 2, -1))
-    bound = ACCEPT_POSITION * S.scale
-    fold &= (on <= bound) & (off > bound) & (speed > NEAR_MISS * S.scale)
+    u, m, w = across(f - S.point[a]), across(np.cross(S.axis[b], f - S.point[b])), \
+        across(PT - S.point[a])
+    on, mm, off = (np.add.reduce(v * v, -1) for v in (u, m, w))       # squared lengths
+    um = np.add.reduce(u * m, -1)
+    disc = um * um + mm * (off - on)
+    L = S.scale
+    fold &= (on <= (FOLD_NEAR_AXIS * L) ** 2) & (off > (ACCEPT_POSITION * L) ** 2) & (
+        mm > (MOVES * L) ** 2) & (disc > 0.0)
     if not np.count_nonzero(fold):
         return sol
-    delta = np.where(fold, off / np.where(fold, speed, 1.0), 0.0)[..., None] * [1.0, -1.0]
+    mm = np.where(fold, mm, 1.0)
+    delta = (-um[..., None] + np.sqrt(np.where(fold, disc, 0.0))[..., None] * [1.0, -1.0]) \
+        / mm[..., None]
     theta = np.where(fold[..., None], x[..., None] + delta, sol.theta[0])
     c = np.where(fold[..., None], np.cos(theta), sol.c[0])
     s = np.where(fold[..., None], np.sin(theta), sol.s[0])
@@ -210,3 +226,49 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     ok[..., 1] |= fold
     exact[..., 1] |= fold
     return Solutions((theta,), (c,), (s,), ok, exact, sol.free, sol.undetermined)
+
+
+def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3) -> Branches:
+    """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
+    live slot of ``br``: ``joints`` (0-based) move ``p0 (3,)`` onto ``PT (N, K, 3)`` (world
+    frame at q = 0, m). Roots of a quartic or a resultant are good to ~1e-10: three steps
+    reach rounding, and no more are taken (a wrong root polished longer creeps along an
+    ill-conditioned valley into the acceptance). Returns the branches with the joints
+    polished."""
+    from ..spatial import matrix_from_axis_angle
+    from .newton import polish
+    live = br.ok
+    X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
+    targets = PT[live]
+    scale = max(S.scale, 1e-300)
+
+    def evaluate(x, rows):
+        R = np.broadcast_to(np.eye(3), x.shape[:-1] + (3, 3))
+        t = np.zeros(x.shape[:-1] + (3,))
+        axes, pts = [], []
+        for i, j in enumerate(joints):
+            axes.append(np.einsum("...ij,j->...i", R, S.axis[j]))
+            pts.append(np.einsum("...ij,j->...i", R, S.point[j]) + t)
+            if S.revolute[j]:
+                Rj = matrix_from_axis_angle(S.axis[j], x[..., i])
+                t = t + np.einsum("...ij,...j->...i", R, S.point[j] - np.einsum(
+                    "...ij,j->...i", Rj, S.point[j]))
+                R = R @ Rj
+            else:
+                t = t + axes[-1] * x[..., i:i + 1]
+        p = np.einsum("...ij,j->...i", R, p0) + t
+
+        def jacobian(keep):
+            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
+                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
+        return (targets[rows] - p) / scale, jacobian
+    # damped: at a stretched or folded elbow two roots meet and J is singular
+    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
+                     stall=1e-12)
+    X = np.where(live[..., None], X, 0.0)
+    X[live] = x
+    for i, j in enumerate(joints):
+        x = X[..., i]
+        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
+            br.set(j, x, np.ones_like(x), np.zeros_like(x))
+    return br

@@ -39,14 +39,14 @@ from typing import NamedTuple
 import numpy as np
 
 from ..subproblems import sp1, sp3, sp4, sp5
-from ..subproblems.solutions import Solutions, angles, cross, dot
+from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
-from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, sp4_constants
+from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
 from ..tolerances import FREE_REACH
 from .branches import TIE_BREAK, Branches
-from .pieces import split_fold, turn_free_joint
-from .resultant import common_root, eliminate, polish_points, roots_in_c, samples
+from .pieces import polish_points, split_fold, turn_free_joint
+from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
 
@@ -427,32 +427,18 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     al, be, ga = _coefficients(S, P, g)
     al = al - np.moveaxis(t, -1, 0)
     if S.revolute[b]:
-        # both roots of the invariant that depends on x_b the most (subproblem 4), each
-        # polished, not (cos, sin) from the two together: where axes a and b are nearly
-        # parallel those barely differ, and the two elbows share a double root in x_c
-        br = br.branch([b], _roots_b(S, al, be, ga), (None, TIE_BREAK), least_squares=True)
+        # both roots of the invariant that depends on x_b the most, not (cos, sin) from the
+        # two together: they barely differ where axes a and b are nearly parallel, and the
+        # two elbows there share a double root in x_c (the second root: TIE_BREAK)
+        units = (S.scale, S.scale ** 2 if S.revolute[a] else S.scale)   # height, |f - o|^2
+        br = br.branch([b], shared_roots(be, ga, al, units), (None, TIE_BREAK),
+                       least_squares=True)
         PT = br.take(PT)
     else:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
     br = _solve_a(S, P, br, PT)
     return polish_points(S, P.joints, P.p0, br, PT)
-
-
-def _roots_b(S: Screws, al, be, ga) -> Solutions:
-    """Joint b's two roots (subproblem 4) of the invariant ``alpha + beta cos + gamma sin = 0``
-    that depends on it the most (``(2, N, K)`` each), the one that solves the other better
-    first (the resultant's one root; both where they share it, a double root in x_c)."""
-    one = np.hypot(be[1], ga[1]) >= S.scale * np.hypot(be[0], ga[0])      # m^2 against m
-    pick = lambda v, w=one: np.where(w, v[1], v[0])                       # noqa: E731
-    sol = from_abc(pick(be), pick(ga), pick(al), 0.0, np.where(one, S.scale ** 2, S.scale))
-    c, s = sol.c[0], sol.s[0]
-    other = np.abs(pick(al, ~one)[..., None] + pick(be, ~one)[..., None] * c
-                   + pick(ga, ~one)[..., None] * s)
-    swap = (other[..., 1] < other[..., 0]) & sol.ok[..., 1]
-    turn = lambda x: np.where(swap[..., None], x[..., ::-1], x)            # noqa: E731
-    return Solutions((turn(sol.theta[0]),), (turn(c),), (turn(s),), sol.ok, sol.exact,
-                     sol.free)
 
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:

@@ -1,6 +1,5 @@
 """The algebra of the ``resultant`` placement (:mod:`kincalc.ik.place`): joint c's values
-sampled, joint b eliminated from the two invariants of joint a, the real roots in x_c, and the
-Gauss-Newton polish of the placed point (:func:`polish_points`).
+sampled, joint b eliminated from the two invariants of joint a, the real roots in x_c.
 
 The invariants of joint a are ``alpha + beta B1 + gamma B2`` in ``(B1, B2) = (cos x_b, sin x_b)``
 (revolute b) or ``(x_b, x_b^2)`` (prismatic b), with coefficients depending on x_c. Their
@@ -13,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..subproblems.solutions import Solutions, cross
+from ..subproblems.solutions import Solutions
 from .screws import Screws
 
 #: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
@@ -95,51 +94,3 @@ def _poly_fit_matrix() -> np.ndarray:
     y = np.cos(np.pi * (np.arange(n) + 0.5) / n)
     V = np.vander(y, POLY_DEGREE + 1)                                      # highest first
     return np.linalg.pinv(V)
-
-
-def polish_points(S: Screws, joints, p0, br, PT, iters: int = 10):
-    """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
-    live slot of ``br`` (:class:`~kincalc.ik.branches.Branches`): ``joints`` (0-based) move
-    ``p0 (3,)`` onto ``PT (N, K, 3)`` (world frame at q = 0, m). Roots of a quartic or a
-    resultant are good to ~1e-10, and three steps reach rounding; but joint b's
-    back-substitution divides by how much the invariants' cosines and sines differ, small
-    where axes a and b are nearly parallel (a SCARA whose twist is 1e-7 rad off), and there
-    the candidate starts 0.1 of the arm's size off: up to ``iters`` steps, each candidate
-    stopping once converged or at rounding. Returns the branches with the joints polished."""
-    from ..spatial import matrix_from_axis_angle
-    from .newton import polish
-    live = br.ok
-    X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
-    targets = PT[live]
-    scale = max(S.scale, 1e-300)
-
-    def evaluate(x, rows):
-        R = np.broadcast_to(np.eye(3), x.shape[:-1] + (3, 3))
-        t = np.zeros(x.shape[:-1] + (3,))
-        axes, pts = [], []
-        for i, j in enumerate(joints):
-            axes.append(np.einsum("...ij,j->...i", R, S.axis[j]))
-            pts.append(np.einsum("...ij,j->...i", R, S.point[j]) + t)
-            if S.revolute[j]:
-                Rj = matrix_from_axis_angle(S.axis[j], x[..., i])
-                t = t + np.einsum("...ij,...j->...i", R, S.point[j] - np.einsum(
-                    "...ij,j->...i", Rj, S.point[j]))
-                R = R @ Rj
-            else:
-                t = t + axes[-1] * x[..., i:i + 1]
-        p = np.einsum("...ij,j->...i", R, p0) + t
-
-        def jacobian(keep):
-            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
-                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
-        return (targets[rows] - p) / scale, jacobian
-    # damped: at a stretched or folded elbow two roots meet and J is singular
-    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
-                     stall=1e-12)
-    X = np.where(live[..., None], X, 0.0)
-    X[live] = x
-    for i, j in enumerate(joints):
-        x = X[..., i]
-        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
-            br.set(j, x, np.ones_like(x), np.zeros_like(x))
-    return br

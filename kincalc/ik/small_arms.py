@@ -197,9 +197,10 @@ def _roll_with_free(S: Screws, targets, br: Branches) -> Branches:
 def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
     """The slots whose free joints are exactly ``a`` and ``b`` (meeting axes) and the last
     joint turned to the target's orientation (see :func:`_roll_with_free`): each such slot
-    becomes two, one per root of subproblem 2 (the second labelled :data:`~kincalc.ik.branches.TIE_BREAK`); the
-    others keep their values (their second slot empty). Everything is read from ``br`` as
-    it is now: an earlier pair's branching doubled its slots."""
+    becomes two, one per root of subproblem 2 (the second labelled
+    :data:`~kincalc.ik.branches.TIE_BREAK`); the others keep their values (their second slot
+    empty). Everything is read from ``br`` as it is now: an earlier pair's branching doubled
+    its slots."""
     m = S.n - 1
     F = np.stack([br.free[j] for j in range(m)]) & S.revolute[:m, None, None]
     two = F[a] & F[b] & (F.sum(0) == 2)                              # (N, K)

@@ -269,3 +269,43 @@ def from_abc(A, B, C, d, scale, *, tol: float = 1e-12, fixed=None,
     if some_free:
         two &= ~free
     return Solutions((theta,), (c,), (s,), *two_slots(two, exact, free))
+
+
+def shared_roots(A, B, C, unit) -> Solutions:
+    """The angle two equations ``A_i cos(theta) + B_i sin(theta) + C_i = 0`` (``i = 0, 1``)
+    share: both roots of the one that depends on ``theta`` the most (:func:`from_abc`), the
+    one the other equation leaves the smaller residual first.
+
+    Two equations of one angle hold together at one root, or at both where they are nearly
+    proportional (two invariants of a point turned about axes that are nearly parallel):
+    solving them together, ``(cos, sin)`` from their 2 x 2 system, divides by how much they
+    differ, and keeps one root only.
+
+    Parameters
+    ----------
+    A, B, C : array_like (2, ...)
+        The equations' coefficients (the first axis: the equation); the shapes broadcast.
+    unit : sequence of 2 floats
+        Each equation's unit (a length, a squared length), by which its dependence on
+        ``theta``, ``hypot(A_i, B_i)``, is compared and its tolerances scaled.
+
+    Returns
+    -------
+    Solutions
+        Two slots ``(..., 2)`` as :func:`from_abc`'s (slot 1 where there are two distinct
+        exact roots, least-squares where there is none), ordered by the other equation's
+        residual.
+    """
+    A, B, C = (np.asarray(v, float) for v in (A, B, C))
+    one = np.hypot(A[1], B[1]) * unit[0] >= np.hypot(A[0], B[0]) * unit[1]
+
+    def pick(v, w=one):
+        return np.where(w, v[1], v[0])
+    sol = from_abc(pick(A), pick(B), pick(C), 0.0, np.where(one, unit[1], unit[0]))
+    c, s = sol.c[0], sol.s[0]
+    other = np.abs(pick(C, ~one)[..., None] + pick(A, ~one)[..., None] * c
+                   + pick(B, ~one)[..., None] * s)
+    swap = ((other[..., 1] < other[..., 0]) & sol.ok[..., 1])[..., None]
+    return Solutions(tuple(np.where(swap, x[..., ::-1], x) for x in (sol.theta[0],)),
+                     (np.where(swap, c[..., ::-1], c),), (np.where(swap, s[..., ::-1], s),),
+                     sol.ok, sol.exact, sol.free)

@@ -622,19 +622,25 @@ def test_csv_headers_that_cannot_be_used():
         assert err.startswith(f"record 1: {error}"), err
 
 
-@pytest.mark.parametrize("first", [b"garbage", b"q", b"a,b"])
+@pytest.mark.parametrize("first", [b"garbage", b"q", b" Theta1 "])
 def test_json_lines_on_stdin_whose_first_record_is_a_stray_word(first):
-    """A first line of names none of which is a column of the robot's records is a bad
-    JSON record, not a CSV header: it was read as one, every record after it an error
-    ('unknown column') and one record fewer out than in."""
+    """A first line of one name that is not a column of the robot's records is a bad JSON
+    record, not a CSV header: it was read as one, every record after it an error ('unknown
+    column') and one record fewer out than in. Several names are a CSV header, its unknown
+    column named (not every row 'not JSON')."""
     rows = [first, b'{"q": [30, -60]}', b'{"q": [10, 10]}']
     status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"\n".join(rows))
     docs = json_documents(out)
     assert status == 2 and [d["index"] for d in docs] == [0, 1, 2]
     assert "error" in docs[0] and "error" not in docs[1] and "error" not in docs[2]
-    # a header with a joint's name is CSV, its unknown column named
+    # a header with a joint's name is CSV, its unknown column named; so is one of several
+    # names that are all wrong
     status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"theta1,zzz\n1,2\n")
     assert "unknown column 'zzz'" in json_documents(out)[0]["error"]
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"X,Y\n1,2\n")
+    assert "unknown column 'X'" in json_documents(out)[0]["error"]
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"theta1\n30\n")
+    assert "column 'theta1' without 'theta2'" in json_documents(out)[0]["error"]
     status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], b"{}\n")
     assert json_documents(out)[0]["error"] == "record 1: no joints (give q)"
 

@@ -375,3 +375,22 @@ def test_five_joint_approach_arm_twelve_digit_pose_at_q5_0():
     res, sols = _solved(r, T)
     assert res.family == "position-approach" and len(sols), res.reason
     assert _distance(r, sols, q).min() <= 1e-6
+
+
+def test_planar_arm_of_nearly_equal_links_a_hair_from_folded_near_its_first_axis():
+    """Links 0.5 and 0.500000005 m: folded, the point passes 5e-9 m from axis 1, not through
+    it, and q2 = 180 deg - 1e-7 leaves the target 5e-8 m off the axis. The double root
+    left joint 1 'free' (a representative) and the generating joints were lost (an
+    independent review). Both solutions, each Gauss-Newton's from random starts."""
+    from kincalc.model import Joint, Robot
+    from randrobots import newton_roots
+    r = Robot(name="p3", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=0.0, a=a, d=0.0, theta=0.0, limits=(-np.pi, np.pi))
+        for i, a in enumerate((0.5, 0.500000005, 0.2))))
+    q = np.array([0.4, np.pi - 1e-7, -1.1])
+    T = r.fk(q)
+    res, sols = _solved(r, T)
+    assert len(sols) == 2 and _reaches(r, sols, T).all(), res.reason
+    assert not any(s.free for s in res.solutions)
+    for root in [q] + newton_roots(r, T, 40, np.random.default_rng(18)):
+        assert _distance(r, sols, root).min() <= 1e-6

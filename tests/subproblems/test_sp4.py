@@ -251,3 +251,53 @@ def test_one_geometry_against_many_components():
     check_sane(S, (3,), 1, 2)
     assert sorted(t for (t,) in S.rows(1)) == pytest.approx([0.0, PI], abs=1e-15)
     assert S.rows(2) == [(pytest.approx(PI / 2),)]
+
+
+# --- two equations of one angle ------------------------------------------------
+
+def test_shared_roots_the_common_root_first():
+    """Two equations that share a root (and one other each): the shared one in slot 0,
+    whichever equation is solved; every root solves the equation it came from."""
+    from kincalc.subproblems.sp4 import shared_roots
+    rng = np.random.default_rng(41)
+    n = 2000
+    t = rng.uniform(-PI, PI, n)
+    A, B = rng.normal(size=(2, 2, n))
+    C = -(A * np.cos(t) + B * np.sin(t))                       # both vanish at t
+    sol = shared_roots(A, B, C, (1.0, 1.0))
+    assert (np.abs(wrap(sol.theta[0][:, 0] - t)) < ANGLE_TOL).all()
+    assert sol.exact.all()
+
+
+def test_shared_roots_of_nearly_proportional_equations_keep_both():
+    """Nearly proportional equations (the invariants of a point turned about two nearly
+    parallel axes) hold at both roots: both are kept (a 2 x 2 solve kept one, 0.1 off)."""
+    from kincalc.subproblems.sp4 import shared_roots
+    rng = np.random.default_rng(42)
+    n = 500
+    t1, t2 = rng.uniform(-PI, PI, (2, n))
+    # an equation with roots t1 and t2, and 0.3 times it perturbed by 1e-7
+    A, B = np.cos((t1 + t2) / 2), np.sin((t1 + t2) / 2)
+    C = -np.cos((t1 - t2) / 2)
+    eps = 1e-7 * rng.normal(size=(3, n))
+    sol = shared_roots([A, 0.3 * A + eps[0]], [B, 0.3 * B + eps[1]], [C, 0.3 * C + eps[2]],
+                       (1.0, 1.0))
+    assert sol.ok.all()
+    got = np.sort(wrap(sol.theta[0] - t1[:, None]), -1)
+    want = np.sort(np.stack([np.zeros(n), wrap(t2 - t1)], -1), -1)
+    assert np.abs(got - want).max() < 1e-6
+
+
+def test_shared_roots_compares_dependence_in_each_equations_unit():
+    """An equation in m^2 against one in m: the one that depends on the angle the most,
+    measured in its unit, is solved (a height of 0.01 m against a distance^2 of 0.5 m^2 at
+    an arm's size of 0.1 m: the distance)."""
+    from kincalc.subproblems.sp4 import shared_roots
+    t = 0.7
+    A = np.array([0.01, 0.5])
+    B = np.array([0.0, 0.2])
+    C = -(A * np.cos(t) + B * np.sin(t))
+    sol = shared_roots(A, B, C, (0.1, 0.01))
+    base = np.arctan2(0.2, 0.5)
+    assert abs(wrap(sol.theta[0][0] - t)) < 1e-12
+    assert abs(wrap(sol.theta[0][1] - (2 * base - t))) < 1e-12   # the distance's other root

@@ -18,8 +18,8 @@ Which format (``--input-format``, default ``auto``): ``jsonl`` or ``csv`` as giv
 ``auto`` takes a name ending in ``.jsonl`` or ``.ndjson`` as JSON lines and one ending
 in ``.csv`` as CSV; for other names and stdin, the input is CSV when its first non-blank
 line is a CSV header (comma-separated column names, each a letter or ``_`` followed by
-letters, digits, ``_``, ``.`` or ``-``, and not a JSON word such as ``null``; at least one
-of them a pose column or a joint's name), else JSON lines. So a JSON lines input whose
+letters, digits, ``_``, ``.`` or ``-``, and not a JSON word such as ``null``; a single
+name only when it is a pose column or a joint's name), else JSON lines. So a JSON lines input whose
 first record is ``42``, ``[]``, ``null`` or a stray word is still read as JSON lines.
 
 A record holds a pose in any of the forms of PRODUCT.md:

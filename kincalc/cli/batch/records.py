@@ -411,9 +411,9 @@ def _csv_record(header, layout, text: str) -> dict:
 def read_header(line, forced: bool, robot=None):
     """The column names of a CSV header line. With ``forced`` (--input-format csv, or a
     name ending in .csv), the reason when the line cannot be read; otherwise None when it
-    is not a header (then the input is JSON lines): names of the header's form of which none
-    is a column of ``robot``'s records (a pose or joint column; a JSON lines input whose first
-    record is a stray word stays JSON lines)."""
+    is not a header (then the input is JSON lines), nor is a single name that is not a column
+    of ``robot``'s records (a pose or joint column): a JSON lines input whose first record is
+    a stray word stays JSON lines, while ``X,Y,Z`` is a CSV header whose columns are wrong."""
     global _HEADER
     if _HEADER is None:
         _, _, _HEADER = _csv_patterns()
@@ -424,7 +424,7 @@ def read_header(line, forced: bool, robot=None):
     if not forced and (text in _JSON_WORDS or not _HEADER.fullmatch(text)):
         return None
     names = tuple(c.strip() for c in text.split(","))
-    if not forced and robot is not None and not set(names) & _columns(robot):
+    if not forced and robot is not None and len(names) == 1 and names[0] not in _columns(robot):
         return None
     return names
 

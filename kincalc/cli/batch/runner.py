@@ -10,6 +10,7 @@ from ...limits import (MAX_BATCH_SKIP_BYTES, MAX_JOBS, MAX_RECORD_BYTES, open_in
                        size_text)
 from .chunks import process_chunk
 from .formats import csv_header
+from .pool import ordered_map, start_pool
 from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
 
 #: the most bytes one read of the input takes
@@ -99,9 +100,9 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks)
         # the workers start before any other thread of this process does (the progress
         # bar's): a fork copies a lock another thread holds, locked for good
-        pool = _pool(jobs) if jobs > 1 else None
+        pool = start_pool(jobs) if jobs > 1 else None
         with _Output() as out, _progress(source) as advance, \
-                contextlib.closing(_ordered_map(work, chunks, pool, jobs)) as results:
+                contextlib.closing(ordered_map(work, chunks, pool, jobs)) as results:
             for answered, (text, b, n) in enumerate(results, 1):
                 if fmt == "csv" and answered == 1:
                     out.write(csv_header(kind, robot))
@@ -335,77 +336,6 @@ def _chunked(source, size: int = 0, input_format: str = "auto", robot=None):
         finally:
             source.close()
     return header, chunks()
-
-
-def _ordered_map(fn, items, pool, jobs: int = 1):
-    """``fn(item)`` for the ``(item, flush)`` pairs of ``items``, in order: here, or over
-    the ``jobs`` worker processes of ``pool`` with at most 2 jobs items in flight. After an
-    item with ``flush``, every result so far is given before the next item is asked for
-    (asking may wait for input)."""
-    if pool is None:
-        for item, _ in items:
-            yield fn(item)
-        return
-    from collections import deque
-    window = deque()
-    for item, flush in items:
-        window.append(_submit(pool, fn, item))
-        while window and (flush or len(window) >= 2 * jobs):
-            yield window.popleft().result()
-    while window:
-        yield window.popleft().result()
-
-
-def _pool(jobs: int):
-    """A pool of ``jobs`` worker processes, started now, that leave Ctrl-C to this
-    process."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    # fork on Linux: this process reads its input in its only thread, so nothing is
-    # locked when the workers are forked, and they start in milliseconds (forkserver and
-    # spawn cost 0.5 s more a run: 1.27 s against 0.71 s for 3 records, 2.36 s against
-    # 1.43 s for 5,000). Elsewhere the platform's default (macOS: spawn, since system
-    # libraries there do not survive a fork)
-    method = "fork" if sys.platform.startswith("linux") else None
-    pool = ProcessPoolExecutor(max_workers=jobs, initializer=_worker_start,
-                               mp_context=multiprocessing.get_context(method))
-    _submit(pool, int, 0).result()      # a fork pool starts every worker at its first task
-    return pool
-
-
-def _submit(pool, fn, item):
-    """``pool.submit(fn, item)`` with SIGINT blocked, so that a worker it forks is born
-    with SIGINT blocked (until :func:`_worker_start` ignores it)."""
-    import signal
-    if not hasattr(signal, "pthread_sigmask"):
-        return pool.submit(fn, item)
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        return pool.submit(fn, item)
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
-def _worker_start():
-    """In a worker: ignore Ctrl-C (the parent stops the run and writes only whole lines;
-    a worker's KeyboardInterrupt traceback was noise), and exit when the parent is gone
-    (killed, so never shutting the pool down)."""
-    import os
-    import signal
-    import threading
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True).start()
-
-
-def _exit_with_parent(parent: int) -> None:
-    import os
-    import time
-    while os.getppid() == parent:
-        time.sleep(1.0)
-    os._exit(1)
 
 
 class _Output:
