@@ -19,7 +19,7 @@ from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
 from ..subproblems.sp4 import sp4_constants
-from ..subproblems.solutions import Solutions, cross
+from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .screws import Screws
 
@@ -154,7 +154,7 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     if not np.count_nonzero(sol.free):
         return theta, c, s
     k, gq = S.axis[a], g - S.point[a]
-    across = gq - (gq @ k)[..., None] * k
+    across = gq - dot(gq, k)[..., None] * k
     move = np.cross(S.axis[b], f - S.point[b]) if S.revolute[b] else S.axis[b] + 0.0 * f
     lever = np.sqrt(np.add.reduce(move * move, -1))
     bound = np.minimum(ACCEPT_POSITION * S.scale, ACCEPT_ORIENTATION * lever)

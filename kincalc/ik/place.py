@@ -189,11 +189,11 @@ def _invariants(S: Screws, P: Plan, f, only: int | None = None):
     if S.revolute[a]:
         d = f - P.o
         if only is not None:
-            return d @ S.axis[a] if only == 0 else dot(d, d)
-        return d @ S.axis[a], dot(d, d)
+            return dot(d, S.axis[a]) if only == 0 else dot(d, d)
+        return dot(d, S.axis[a]), dot(d, d)
     if only is not None:
-        return f @ P.e[only]
-    return f @ P.e[0], f @ P.e[1]
+        return dot(f, P.e[only])
+    return dot(f, P.e[0]), dot(f, P.e[1])
 
 
 def _coefficients(S: Screws, P: Plan, g, only: int | None = None):
@@ -221,18 +221,18 @@ def _coefficients(S: Screws, P: Plan, g, only: int | None = None):
         m = m - P.o
         if S.revolute[b]:
             return dot(m, m) + dot(e1, e1), 2.0 * dot(m, e1), 2.0 * dot(m, e2)
-        return dot(m, m), 2.0 * (m @ k) + zero, 1.0 + zero
+        return dot(m, m), 2.0 * dot(m, k) + zero, 1.0 + zero
     n = S.axis[a] if S.revolute[a] else P.e[only]
     if S.revolute[a]:
         m = m - P.o
-    return m @ n, e1 @ n + zero, zero if e2 is None else e2 @ n
+    return dot(m, n), dot(e1, n) + zero, zero if e2 is None else dot(e2, n)
 
 
 def _circle(S: Screws, b: int, g):
     """Joint ``b``'s circle through ``g (..., 3)``: centre ``m``, ``e1 = g - m``, ``k_b x e1``."""
     k = S.axis[b]
     u = g - S.point[b]
-    hk = (u @ k)[..., None] * k
+    hk = dot(u, k)[..., None] * k
     return S.point[b] + hk, u - hk, cross(k, u)
 
 
@@ -299,7 +299,7 @@ def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
         # f on axis a: the free angle turns f's way off it (as b moves) onto g's offset
         return br.set(a, *turn_free_joint(S, a, P.joints[1], f, g, sol),
                       free=sol.free[..., 0])
-    x = (g - f) @ S.axis[a]
+    x = dot(g - f, S.axis[a])
     br = note_slide(S, br, a, f, g)
     return br.set(a, x, np.ones_like(x), np.zeros_like(x))
 

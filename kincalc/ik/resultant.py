@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..subproblems.solutions import Solutions
+from ..subproblems.solutions import Solutions, rows_times
 from .screws import Screws
 
 #: joint c's samples for the resultant: trigonometric degree <= 4 needs 9
@@ -77,7 +77,7 @@ def roots_in_c(S: Screws, c: int, R) -> Solutions:
         x = np.angle(np.where(ok, z, 1.0))
     else:
         span = 4.0 * S.scale
-        coeffs = R @ _poly_fit_matrix().T                                  # highest first
+        coeffs = rows_times(R, _poly_fit_matrix().T)                       # highest first
         y = polynomial_roots(coeffs)
         ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
         x = span * np.where(ok, y.real, 0.0)

@@ -135,3 +135,45 @@ def test_a_singular_pose_alone_and_in_batches(robot, q):
             assert got == want, (N, i)
     Tq = robot.fk(np.array([s.q for s in alone.solutions]))
     assert np.abs(Tq - T).max() < 1e-9
+
+
+#: a prismatic first joint, then revolute joints, a spherical wrist: joints 1-3 place the
+#: wrist centre through the resultant (an independent campaign's r0_pieper_dh_nb); its
+#: placement's invariants were read from BLAS products (``d @ k`` of N K rows, the
+#: resultant's samples times the fit): a pose's bits depended on its batch, and at a
+#: shoulder-singular pose the count (5 alone, 4 in batches of 9 or more, with the second
+#: roots of subproblem 4 kept there)
+PRR_WRIST = Robot(name="prr", convention="dh", base=np.eye(4), tool=np.eye(4), joints=(
+    Joint("j1", "prismatic", alpha=-3.03774645687452, a=-0.4159716076401226,
+          d=0.46074000977497476, theta=1.441969420022903, limits=(-1.0, 1.0)),
+    *(Joint(f"j{i + 2}", "revolute", alpha=al, a=a, d=d, theta=th, limits=(-P, P))
+      for i, (al, a, d, th) in enumerate([
+          (0.27410390540137985, 0.4707825907044957, 0.4171340993546895, 2.2456372993781644),
+          (-2.930568260297326, -0.3783449508934748, -0.12904502927115158, 0.2605085298868297),
+          (-1.2584473065782806, 0.0, 0.2402092495389463, 0.0),
+          (-2.9636549119444626, 0.0, 0.0, 0.0),
+          (-2.3606977967595952, 0.35178098661213364, 0.32692330016656423, 0.0)]))))
+
+
+def test_a_resultant_placement_gives_a_pose_its_bits_in_any_batch():
+    """Each pose's candidates, solutions and labels, solved with 0, 1, 2, 7, 8 or 63 others,
+    are those of the whole batch bit for bit (random poses and the shoulder-singular one)."""
+    from kincalc.ik import place
+    S = plan(PRR_WRIST)[0]
+    assert place.plan(S, (0, 1, 2), tuple(S.point[3].tolist())).mode == "resultant"
+    rng = np.random.default_rng(19)
+    Q = np.column_stack([rng.uniform(-1, 1, 80), rng.uniform(-P, P, (80, 5))])
+    T = np.concatenate([PRR_WRIST.fk(Q), [[[-0.53515504805504732, -0.10282431712638879,
+                                             -0.83847256028369299, 0.069453913088146482],
+                                            [-0.84454969845843852, 0.043303453185833708,
+                                             0.53372335322331821, -0.86237130638318393],
+                                            [-0.018570982067743123, 0.99375649469559391,
+                                             -0.11001430759390102, -0.78491916097947678],
+                                            [0.0, 0.0, 0.0, 1.0]]]])
+    whole = PRR_WRIST.ik_batch(T)
+    for m in (1, 2, 3, 8, 9, 64):
+        for i in range(0, len(T) - m + 1, 9):
+            part = PRR_WRIST.ik_batch(T[i:i + m])
+            assert np.array_equal(part.valid, whole.valid[i:i + m]), (m, i)
+            assert np.array_equal(part.q, whole.q[i:i + m]), (m, i)
+            assert np.array_equal(part.labels, whole.labels[i:i + m]), (m, i)
