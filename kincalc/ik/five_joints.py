@@ -17,7 +17,7 @@ import numpy as np
 
 from ..spatial import wrap
 from ..subproblems import sp1, sp2, sp4
-from ..subproblems.solutions import Solutions
+from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
 from .pieces import (angle_about as _angle_about, axis_normal, axis_sp4, meeting_point,
                      one_root as _one, rotate as _mv, rotate_back as _mtv, target_rotation,
@@ -145,7 +145,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
-    br = br.branch([3], sp4(h, k5, k4, u @ h, fixed=axis_sp4(S, 0, 3)))
+    br = br.branch([3], sp4(h, k5, k4, dot(u, h), fixed=axis_sp4(S, 0, 3)))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
