@@ -22,10 +22,11 @@ from typing import NamedTuple
 import numpy as np
 
 from ..subproblems import sp1
+from ..subproblems.sp4 import sp4
 from ..subproblems.cone import cone
 from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
-from .pieces import axis_cone, axis_normal, normal_sp1, one_root
+from .pieces import axis_cone, axis_normal, normal_sp1, one_root, rotate
 from ..spatial import wrap
 from ..tolerances import ACCEPT_POSITION, ROUNDED_POSE
 from .screws import Screws
@@ -140,6 +141,10 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     k = S.axis[joints[2]]
     ke = S.constant(("axis and its normal", joints[2]),
                     lambda: np.stack([k, axis_normal(S, joints[2])], -1))          # (3, 2)
+    if not after:
+        for j in before:
+            if S.revolute[j] and np.count_nonzero(br.free[j]):      # (rare: a singular target)
+                br = free_for_the_wrist(S, br, joints, Rt, before, j)
     vw = np.empty(br.ok.shape + (2, 3))
     if after:
         vw[...] = ke.T
@@ -148,6 +153,54 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
         vw[...] = (Rt @ ke).swapaxes(-1, -2)
     vw = undo(S, br, before, vw)
     return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :])
+
+
+def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> Branches:
+    """``br`` with joint ``j`` of ``before``, where a singular target left it free (the
+    wrist centre on its axis: any value places the centre), turned so that the wrist can
+    take the rotation left for it.
+
+    A wrist whose twists are not right angles reaches only some directions of its last axis:
+    ``k1 . v`` (``v = R_W k3``) within ``[C - r, C + r]``, the range of ``k1 . R(k2, t) k3``.
+    The free joint turns ``v``; its representative 0 may leave it out of the wrist's reach
+    (a Stanford arm with a 30 deg wrist twist at d3 = 0: no solution). There it takes the
+    value that puts ``k1 . v`` in the middle of the range, ``C`` (subproblem 4, or its
+    least-squares angle); it stays free (the values around it reach too). Elsewhere, and for
+    a wrist that reaches every direction, nothing changes.
+
+    Parameters
+    ----------
+    S : Screws, the chain (world frame at q = 0, SI)
+    br : Branches, the joints ``before`` solved, ``j`` free in some slots
+    joints : tuple of int, the wrist's three joints (0-based)
+    Rt : ndarray (N, 1 or K, 3, 3), the rotation the product of exponentials must give
+    before : tuple of int, the joints before the wrist (0-based, in chain order)
+    j : int, the free revolute joint of ``before``
+
+    Returns
+    -------
+    Branches
+    """
+    j1, j2, j3 = joints
+    k1 = S.axis[j1]
+    cone = axis_cone(S, j1, j2, j3)
+    u = np.broadcast_to(rotate(Rt, S.axis[j3]), br.ok.shape + (3,))       # R_t k3
+    v = undo(S, br, before, u)
+    r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
+    out = br.free[j] & (np.abs(dot(v, k1) - cone.C) > r + 1e-12)       # beyond the wrist
+    if not np.count_nonzero(out):
+        return br
+    at = list(before).index(j)
+    u = undo(S, br, before[:at], u)                                    # joints before j undone
+    h = np.broadcast_to(k1, u.shape)
+    for i in reversed(before[at + 1:]):                                # R_after k1
+        if S.revolute[i]:
+            h = S.turn(i, br.cos[i], br.sin[i], h)
+    # k1 . R_after^T R(k_j, -q) u = C: subproblem 4 in -q
+    sol = sp4(h, u, S.axis[j], np.broadcast_to(cone.C, out.shape)).negated()
+    q, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
+    return br.set(j, np.where(out, q, br.value[j]), np.where(out, c, br.cos[j]),
+                  np.where(out, s, br.sin[j]))
 
 
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):

@@ -456,3 +456,32 @@ def test_wrist_line_on_axis_1_relates_three_joints():
             total = lambda q: sum(sg * q[j] for j, sg in zip(c.joints, c.signs))  # noqa: E731
             assert abs(wrap(total(s.q) - c.total)) < 1e-9
             assert abs(wrap(total(q0) - c.total)) < 1e-9
+
+
+@pytest.mark.parametrize("alpha4", [-30.0, -60.0, -120.0])
+def test_a_free_placement_joint_turns_a_wrist_that_reaches_few_directions(alpha4):
+    """A Stanford arm whose wrist twist alpha4 is not a right angle, at d3 = 0: the wrist
+    centre lies on axis 2, so q2 is free for the position, but a wrist with twists of
+    alpha4 and 90 deg points its last axis only within a band of directions, and the
+    representative q2 = 0 left 12 of 30 FK poses with no solution (an independent campaign).
+    Every pose is reached (FK round trip), q2 flagged free; single and batch agree."""
+    P = np.pi
+    rows = [(-P / 2, 0.412, 0.0, "revolute"), (P / 2, 0.154, 0.0, "revolute"),
+            (0.0, 0.0, -P / 2, "prismatic"), (np.radians(alpha4), 0.0, 0.0, "revolute"),
+            (P / 2, 0.0, 0.0, "revolute"), (0.0, 0.263, 0.0, "revolute")]
+    r = Robot(name="stanford_twisted", convention="dh", base=np.eye(4), tool=np.eye(4),
+              joints=tuple(Joint(f"j{i + 1}", kind, alpha=al, a=0.0, d=d, theta=th,
+                                 limits=(-1.0, 1.0) if kind == "prismatic" else (-P, P))
+                           for i, (al, d, th, kind) in enumerate(rows)))
+    Q = np.random.default_rng(21).uniform(-3, 3, (30, 6))
+    Q[:, 2] = 0.0
+    T = r.fk(Q)
+    solved = r.ik_batch(T)
+    for i in range(len(Q)):
+        res = r.ik(T[i])
+        S = np.array([s.q for s in res.solutions])
+        assert len(S), (np.degrees(Q[i]), res.reason)
+        assert np.abs(r.fk(S) - T[i]).max() < 1e-9
+        assert all(1 in s.free for s in res.solutions)
+        got = np.sort(np.round(solved.q[i][solved.valid[i]], 9), axis=0)
+        assert np.array_equal(got, np.sort(np.round(S, 9), axis=0))
