@@ -99,6 +99,12 @@ class Branches:
         """``free[j] (N, K)`` bool: the joints a singular target leaves undetermined."""
         return _Rows(self, 3) if self.pending else self.F
 
+    def free_in(self, joints) -> bool:
+        """Does a singular target leave any of ``joints`` (0-based) undetermined in a slot?"""
+        rows = [p[3] if p is not None and p[3] is not None else self.F[j]
+                for j in joints for p in (self.pending.get(j),)]
+        return bool(np.count_nonzero(rows))
+
     def flushed(self) -> "Branches":
         """These branches with the :attr:`pending` joints written into new arrays."""
         if not self.pending:

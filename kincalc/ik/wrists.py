@@ -141,9 +141,9 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     k = S.axis[joints[2]]
     ke = S.constant(("axis and its normal", joints[2]),
                     lambda: np.stack([k, axis_normal(S, joints[2])], -1))          # (3, 2)
-    if not after:
+    if not after and br.free_in(before):                       # (rare: a singular target)
         for j in before:
-            if S.revolute[j] and np.count_nonzero(br.free[j]):      # (rare: a singular target)
+            if S.revolute[j] and br.free_in((j,)):
                 br = free_for_the_wrist(S, br, joints, Rt, before, j)
     vw = np.empty(br.ok.shape + (2, 3))
     if after:
