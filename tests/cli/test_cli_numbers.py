@@ -194,3 +194,14 @@ def test_a_number_beyond_the_limit_is_quoted_as_given(tmp_path):
     status, out, err = run("ik", "puma560", "--xyz", "1e400", "0", "0", "--rpy", "0", "0",
                            "0", cwd=str(tmp_path))
     assert status == 2 and "--xyz: not a finite number (nan, inf, or beyond 1.8e308)" in err
+
+
+def test_any_white_space_around_a_number_but_no_zero_width_character(tmp_path):
+    """As the README says: a no-break or thin space around a number (pasted from a document)
+    is a space; a zero-width space is not, and the number is refused."""
+    ok = run("fk", "puma560", "0", "10", "0", "0", "0", "0", "--json", cwd=str(tmp_path))
+    for spaced in ("\u00a010", "10\u2009", "\u300010"):
+        got = run("fk", "puma560", "0", spaced, "0", "0", "0", "0", "--json", cwd=str(tmp_path))
+        assert got[0] == 0 and got[1] == ok[1]
+    status, out, err = run("fk", "puma560", "0", "\u200b10", "0", "0", "0", "0", cwd=str(tmp_path))
+    assert status == 2 and "is not a number" in err
