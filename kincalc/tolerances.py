@@ -86,3 +86,12 @@ LIMIT_TOL = 1e-9
 #: candidate (at subproblem 4's own 1e-9, bk_6r 8e-7 deg from q3 = 90 and q5 = 180 lost
 #: every solution)
 FREE_REACH = 1e-6
+
+#: a joint moves a point at all when its lever on it is at least this (of the arm's size per
+#: rad; kincalc.ik.pieces)
+MOVES = 1e-5
+
+#: a point a double root of subproblem 4 leaves within this (of the arm's size) of an axis is
+#: folded through it (kincalc.ik.pieces.split_fold): the band of the tangent (ROUNDING) moves
+#: it by up to ~2e-7
+FOLD_NEAR_AXIS = 1e-6

@@ -270,7 +270,6 @@ def check_number(value: float, what: str) -> float:
     stderr, ``q3=inf`` in tables, JSON that cannot be written)."""
     import math
 
-    from ..limits import MAX_MAGNITUDE
     if not math.isfinite(value):       # (1e400 reads as inf: not the text, which is gone)
         raise InputError(f"{what}: not a finite number (nan, inf, or beyond 1.8e308)")
     if abs(value) > MAX_MAGNITUDE:      # (all of the value: 1.000000001e9 is not 1e+09)

@@ -6,9 +6,8 @@ from typing import Annotated
 
 import typer
 
-from .common import SEED, Integer
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, TipLinkOpt, UnitOpt,
-                     display_units, joints_text, load_robot, output)
+from .common import (SEED, BaseLinkOpt, DebugOpt, DegOpt, Integer, JsonOpt, PrecisionOpt,
+                     TipLinkOpt, UnitOpt, display_units, joints_text, load_robot, output)
 
 RobotAArg = Annotated[str, typer.Argument(
     metavar="ROBOT_A", show_default=False,

@@ -6,10 +6,10 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import Integer
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, InputFormatOpt,
-                     JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt, TipLinkOpt,
-                     UnitOpt, display_units, load_robot, output, output_target, parse_locks)
+                     Integer, JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt,
+                     TipLinkOpt, UnitOpt, display_units, load_robot, output, output_target,
+                     parse_locks)
 from .redundant import RedundancyOptions, with_redundancy_options
 from .targets import PoseOptions, with_pose_options
 

@@ -7,9 +7,9 @@ from typing import Annotated
 
 import typer
 
-from .common import Integer
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, ForceOpt, JointsArg, RobotArg,
-                     TipLinkOpt, UnitOpt, display_units, load_robot, output_target, parse_joints)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, ForceOpt, Integer, JointsArg,
+                     RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output_target,
+                     parse_joints)
 
 OutputOpt = Annotated[str, typer.Option(
     "--output", "-o", metavar="FILE", show_default=False, click_type=FileName(),

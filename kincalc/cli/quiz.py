@@ -8,8 +8,8 @@ import typer
 
 from ..errors import InputError
 from ..limits import MAX_SHEET_ITEMS, quote
-from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
-from .common import SEED
+from .common import (SEED, BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot,
+                     output_target)
 
 SeedOpt = Annotated[Optional[int], typer.Option(
     "--seed", metavar="S", click_type=SEED, show_default=False,

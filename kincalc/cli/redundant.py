@@ -12,8 +12,7 @@ from typing import Annotated, NamedTuple, Optional
 import typer
 
 from ..errors import InputError
-from .common import NUMBER
-from .common import Integer
+from .common import NUMBER, Integer
 
 SweepOpt = Annotated[Optional[str], typer.Option(
     "--sweep", metavar="JOINT", show_default=False,

@@ -7,9 +7,8 @@ from typing import Annotated, List, Optional
 
 import typer
 
-from .common import Integer
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, JsonOpt, PrecisionOpt, RobotArg, RobotName,
-                     StructureTolOpt, TipLinkOpt, UnitOpt, joints_text)
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, Integer, JsonOpt, PrecisionOpt, RobotArg,
+                     RobotName, StructureTolOpt, TipLinkOpt, UnitOpt, joints_text)
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
                   rich_markup_mode=None,

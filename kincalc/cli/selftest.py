@@ -7,9 +7,8 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_TRIALS
-from .common import SEED, Integer
-from .common import (BaseLinkOpt, DebugOpt, JsonOpt, RobotArg, StructureTolOpt, TipLinkOpt,
-                     load_robot)
+from .common import (SEED, BaseLinkOpt, DebugOpt, Integer, JsonOpt, RobotArg, StructureTolOpt,
+                     TipLinkOpt, load_robot)
 
 
 def selftest(

@@ -7,10 +7,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .common import SEED, Integer
-from .common import (NUMBER, BaseLinkOpt, DebugOpt, DegOpt, FileName, JsonOpt, PrecisionOpt,
-                     RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output,
-                     output_target)
+from .common import (NUMBER, SEED, BaseLinkOpt, DebugOpt, DegOpt, FileName, Integer, JsonOpt,
+                     PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot,
+                     output, output_target)
 
 
 def workspace(

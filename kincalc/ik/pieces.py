@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure import common_point
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, MOVES
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
@@ -22,12 +22,6 @@ from ..subproblems.sp4 import sp4_constants
 from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .screws import Screws
-
-#: a joint moves a point at all when its lever on it is at least this (of the arm's size)
-MOVES = 1e-5
-#: a point a double root of subproblem 4 leaves within this (of the arm's size) of an axis is
-#: folded through it: the band of the tangent (ROUNDING) moves it by up to ~2e-7
-FOLD_NEAR_AXIS = 1e-6
 
 
 def inverse_home(S: Screws) -> np.ndarray:
@@ -147,7 +141,7 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     that plane (:func:`~kincalc.ik.near_miss.polished` then reaches it). Only where 0 would
     miss the acceptance: the offset beyond ``ACCEPT_POSITION`` of the arm's size, or beyond
     ``ACCEPT_ORIENTATION`` of joint b's lever on ``f`` (where b moves ``f`` at all, by
-    :data:`MOVES` of the arm's size per rad); elsewhere ``sol`` is
+    :data:`~kincalc.tolerances.MOVES` of the arm's size per rad); elsewhere ``sol`` is
     kept (bit for bit). ``S``: the robot's
     :class:`~kincalc.ik.screws.Screws`. Returns ``(theta, c, s)``, each ``(N, K)``."""
     theta, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
@@ -173,8 +167,9 @@ def split_fold(S, a: int, b: int, sol, g, PT):
 
     ``sol`` (:func:`~kincalc.subproblems.sp4.from_abc`'s, ``(N, K, 2)``) takes a cosine
     within rounding of +-1 as the tangent, one double root. Where that root leaves the point
-    ``f = E_b(x_b) g`` within :data:`FOLD_NEAR_AXIS` of the axis (a planar arm of equal links
-    folded, a wrist centre straight above the shoulder) and the target ``PT`` lies off it
+    ``f = E_b(x_b) g`` within :data:`~kincalc.tolerances.FOLD_NEAR_AXIS` of the axis (a
+    planar arm of equal links folded, a wrist centre straight above the shoulder) and the
+    target ``PT`` lies off it
     beyond ``ACCEPT_POSITION`` of the arm's size, the two roots are distinct solutions,
     which joint a turns about half a turn apart: taken as one, joint a came out "free" and
     one of them was lost. With ``u`` the point's offset across axis a and ``m`` its velocity
@@ -204,12 +199,12 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     k = S.axis[a]
 
     def across(v):                               # v's part across axis a
-        return v - np.add.reduce(v * k, -1)[..., None] * k
+        return v - dot(v, k)[..., None] * k
 
-    u, m, w = across(f - S.point[a]), across(np.cross(S.axis[b], f - S.point[b])), \
+    u, m, w = across(f - S.point[a]), across(cross(S.axis[b], f - S.point[b])), \
         across(PT - S.point[a])
-    on, mm, off = (np.add.reduce(v * v, -1) for v in (u, m, w))       # squared lengths
-    um = np.add.reduce(u * m, -1)
+    on, mm, off = dot(u, u), dot(m, m), dot(w, w)                       # squared lengths
+    um = dot(u, m)
     disc = um * um + mm * (off - on)
     L = S.scale
     fold &= (on <= (FOLD_NEAR_AXIS * L) ** 2) & (off > (ACCEPT_POSITION * L) ** 2) & (

@@ -359,9 +359,10 @@ def cross(a, b) -> np.ndarray:
     """The cross product ``a x b``.
 
     A fixed vector against a batch is its cross-product matrix applied to the rows
-    (:func:`rows_times`, two numpy calls on any batch); two batches are crossed by components, written into
-    one new array (stacking them costs four times as much); two single vectors on their
-    components as Python floats (the same products and differences, a tenth of the calls).
+    (:func:`rows_times`, two numpy calls on any batch); two batches are crossed by
+    components, written into one new array (stacking them costs four times as much); two
+    single vectors on their components as Python floats (the same products and differences,
+    a tenth of the calls).
 
     Parameters
     ----------
