@@ -107,7 +107,7 @@ IDS = ["é%s\u2603 \"q\"", "50%", 3.5, -0.0, 1e300, 12345678901234567890, -7, Tr
 def reference_line(head, sols) -> str:
     """An ik answer's line: json.dumps of the document, each q written by "%.12g"."""
     marks = [f"\x00q{k}\x00" for k in range(len(sols))]
-    doc = {**head, "reachable": bool(sols),
+    doc = {**head, "reachable": any(w for _, _, w in sols),
            "solutions": [{"q": m, "branch": lab, "within_limits": w}
                          for m, (_, lab, w) in zip(marks, sols)]}
     text = json.dumps(doc)
@@ -199,3 +199,45 @@ def test_batch_lines_are_the_reference_lines_of_their_own_documents(tmp_path, ca
         assert [["%.12g" % float(v) for v in q] for q in csv_q.get(i, [])] == \
             [line_q.split(", ") for line_q in
              (part.split("]")[0] for part in line.split('"q": [')[1:])]
+
+
+NARROW = """name: narrow
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: q1, type: revolute, alpha: "pi/2", a: 0.0, d: 0.4, theta: 0.0, limits: [-0.3, 0.3]}
+  - {name: q2, type: revolute, alpha: 0.0, a: 0.45, d: 0.0, theta: 0.0, limits: [-0.3, 0.3]}
+  - {name: q3, type: revolute, alpha: "pi/2", a: 0.05, d: 0.0, theta: 0.0, limits: [-0.3, 0.3]}
+  - {name: q4, type: revolute, alpha: "-pi/2", a: 0.0, d: 0.4, theta: 0.0, limits: [-0.3, 0.3]}
+  - {name: q5, type: revolute, alpha: "pi/2", a: 0.0, d: 0.0, theta: 0.0, limits: [-0.3, 0.3]}
+  - {name: q6, type: revolute, alpha: 0.0, a: 0.0, d: 0.1, theta: 0.0, limits: [-0.3, 0.3]}
+"""
+
+
+@pytest.mark.parametrize("fmt", ["jsonl", "csv"])
+def test_batch_reachable_and_status_are_ik_s_when_every_solution_breaks_a_limit(
+        tmp_path, capsys, fmt):
+    """A pose whose solutions all lie beyond the joint limits is not reachable, in a batch
+    as for ik (a solution within the limits must reach it; exit status 1); one with a
+    solution within them is."""
+    robot = tmp_path / "narrow.yaml"
+    robot.write_text(NARROW)
+    poses = [[0.1, -0.2, 0.15, 0.05, -0.1, 0.2], [0.6, 0.7, -0.8, 0.9, 1.0, -1.1]]
+    single = []
+    for q in poses:
+        status = main(["ik", str(robot), "--from-q", " ".join(map(str, q)), "--rad", "--json"])
+        doc = json.loads(capsys.readouterr().out)
+        single.append(doc["reachable"])
+        assert status == (0 if doc["reachable"] else 1)
+        assert doc["solutions"] and \
+            doc["reachable"] == any(s["within_limits"] for s in doc["solutions"])
+    assert single == [True, False]
+    src = tmp_path / "poses.jsonl"
+    src.write_text("".join(json.dumps({"q": q}) + "\n" for q in poses))
+    jobs = ["-j", "1"]
+    assert main(["ik", str(robot), "--batch", str(src), "--rad"] + jobs) == 1
+    out = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert [d["reachable"] for d in out] == single
+    assert all(d["solutions"] for d in out)
+    src.write_text(json.dumps({"q": poses[0]}) + "\n")
+    assert main(["ik", str(robot), "--batch", str(src), "--rad", "--format", fmt]) == 0

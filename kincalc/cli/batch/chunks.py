@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .formats import ANSWER, answer_line, csv_rows, ik_solutions, rounded, strict_json
+from .formats import (ANSWER, answer_line, csv_rows, ik_solutions, reachable, rounded,
+                      strict_json)
 from .poses import head, record_poses, words
 from .records import parse_chunk, parse_records
 
@@ -205,7 +206,8 @@ def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
     from operator import itemgetter
     heads = answers.heads
     sols = ik_solutions(answers.q, answers.labels, answers.within, answers.owner, len(heads))
-    if not errors and len(heads) == count and None not in sols and \
+    reach = reachable(answers.within, answers.owner, len(heads))
+    if not errors and len(heads) == count and reach.all() and \
             list(map(itemgetter(1), heads)).count(None) == count and \
             list(map(itemgetter(0), heads)) == list(range(start, start + count)):
         args = [None] * (2 * count)
@@ -213,8 +215,8 @@ def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
         args[1::2] = sols
         return (ANSWER + b"\n") * count % tuple(args)
     out = [None] * count
-    for (i, kw), text in zip(heads, sols):
-        out[i - start] = answer_line(i, None if kw is None else head(i, kw), text)
+    for (i, kw), text, r in zip(heads, sols, reach.tolist()):
+        out[i - start] = answer_line(i, None if kw is None else head(i, kw), text, r)
     encode = strict_json().encode
     for i, rec in errors:
         out[i - start] = encode(rec).encode("ascii")
@@ -226,11 +228,12 @@ def _ik_records(answers: Answers) -> list:
     import numpy as np
     q, within = answers.q.tolist(), answers.within.tolist()
     ends = np.searchsorted(answers.owner, np.arange(1, len(answers.heads) + 1)).tolist()
+    reach = reachable(answers.within, answers.owner, len(answers.heads)).tolist()
     recs, start = [], 0
-    for (i, kw), end in zip(answers.heads, ends):
+    for (i, kw), end, r in zip(answers.heads, ends, reach):
         sols = [{"q": q[j], "branch": answers.labels[j], "within_limits": within[j]}
                 for j in range(start, end)]
-        recs.append({**head(i, kw), "reachable": bool(sols), "solutions": sols})
+        recs.append({**head(i, kw), "reachable": r, "solutions": sols})
         start = end
     return recs
 
@@ -284,7 +287,7 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
             q = with_held(robot, q, held)
             within = within & held_within(robot, q, held)
         owner, _ = np.nonzero(valid)
-        no = not valid.any(axis=1).all()
+        no = not reachable(within, owner, len(T)).all()     # as ik's: none within the limits
         blocks.append(Answers(full, np.round(q * qdisp, 12) + 0.0, B.labels[valid].tolist(),
                               within, owner))
     heads, q, labels, within, owner = [], [], [], [], []
@@ -295,7 +298,7 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
             errors.append((i, {**head(i, kw), "error": f"record {i + 1}: {words(exc)}"}))
             continue
         sols = [s for s in result.solutions if np.isfinite(s.q).all()]
-        no |= not sols
+        no |= not any(not s.violations for s in sols)
         owner += [len(heads)] * len(sols)
         heads.append((i, kw))
         q += [s.q for s in sols]

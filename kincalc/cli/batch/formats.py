@@ -67,11 +67,23 @@ def ik_lines(heads, q, labels, within, owner) -> list:
 
     Every joint value is written as ``"%.12g" % x`` (12 significant digits, as ik output
     lines have always written them), the rest as the strict JSON encoder writes it; an
-    answer with no solution is ``"reachable": false, "solutions": []`` (the text of the
-    solutions by :func:`ik_solutions`).
+    answer with no solution is ``"reachable": false, "solutions": []``, one whose solutions
+    all violate the limits ``"reachable": false`` with them (the text of the solutions by
+    :func:`ik_solutions`).
     """
     sols = ik_solutions(q, labels, within, owner, len(heads))
-    return [answer_line(h["index"], h, t).decode("ascii") for h, t in zip(heads, sols)]
+    reach = reachable(within, owner, len(heads)).tolist()
+    return [answer_line(h["index"], h, t, r).decode("ascii")
+            for h, t, r in zip(heads, sols, reach)]
+
+
+def reachable(within, owner, count: int):
+    """``(count,)`` bool: each answer's ``reachable``, a solution within the joint limits
+    reaches its pose (as ``ik``'s; the arguments as :func:`ik_lines`')."""
+    import numpy as np
+    out = np.zeros(count, bool)
+    out[owner[within]] = True
+    return out
 
 
 def ik_solutions(q, labels, within, owner, count: int) -> list:
@@ -114,20 +126,21 @@ def ik_solutions(q, labels, within, owner, count: int) -> list:
     return sols
 
 
-#: an ik answer's line with solutions, from its index and their text
+#: a reachable ik answer's line, from its index and the text of its solutions
 ANSWER = b'{"index": %d, "reachable": true, "solutions": [%b]}'
 
 
-def answer_line(index: int, head, sols) -> bytes:
+def answer_line(index: int, head, sols, reachable: bool) -> bytes:
     """An ik answer's line (ASCII bytes) from its index, its head fields (``{"index":
-    index[, "id": id]}``; None: the index alone) and the text of its solutions (None: no
-    solution)."""
-    if sols is not None and (head is None or len(head) == 1):
+    index[, "id": id]}``; None: the index alone), the text of its solutions (None: no
+    solution) and whether one within the limits reaches the pose."""
+    if reachable and (head is None or len(head) == 1):
         return ANSWER % (index, sols)
     head = strict_json().encode(head or {"index": index})[:-1].encode("ascii")
     if sols is None:
         return head + b', "reachable": false, "solutions": []}'
-    return head + b', "reachable": true, "solutions": [' + sols + b"]}"
+    return head + b', "reachable": %b, "solutions": [%b]}' % (
+        b"true" if reachable else b"false", sols)
 
 
 #: solutions written a block at a time (the block's grid stays in the cache)
