@@ -95,3 +95,12 @@ MOVES = 1e-5
 #: folded through it (kincalc.ik.pieces.split_fold): the band of the tangent (ROUNDING) moves
 #: it by up to ~2e-7
 FOLD_NEAR_AXIS = 1e-6
+
+#: a three-parallel-offset arm (kincalc.ik.solvers): subproblem 6's roots for joints 1 and 5
+#: with axis 6 within this sine of the parallel axes are sharpened by Newton's method on the
+#: sines, where subproblem 6's cosines lose (rounding over the sine) of the angles
+SHARPEN_NEAR_PARALLEL = 1e-2
+#: ... and within this sine a root is tried on the singularity itself (axis 6 along them):
+#: the two roots that touch there come out of subproblem 6 about the square root of
+#: rounding apart
+SNAP_PARALLEL = 1e-6

@@ -9,6 +9,8 @@ on. Families:
   (:mod:`kincalc.ik.place`), the wrist sets the orientation (:mod:`kincalc.ik.wrists`).
 * ``three-parallel``: 6 revolute joints, axes 2, 3, 4 parallel and axes 5, 6
   intersecting (the UR family).
+* ``three-parallel-offset``: the same with axes 5 and 6 skew (IK-Geo's ``IK_3_parallel``):
+  joints 1 and 5 together from subproblem 6.
 * ``parallel-four-wrist``: 6 joints, joints 1-4 rotating about or sliding along one
   direction (3 R + 1 P, a SCARA-type arm) and axes 5, 6 intersecting: the textbook's
   offset-wrist R-P-R-R-R-R.
@@ -87,6 +89,9 @@ SWIVEL = Family("srs-swivel", "spherical shoulder and wrist at a swivel angle: j
                 "plane, the wrist sets the orientation", "position, orientation and the "
                 "swivel angle", True)
 TARGET_FAMILIES = {"tcv": TCV, "swivel": SWIVEL}
+#: the families whose axes 2, 3, 4 are parallel: joints 2-4 and 6 share a continuum at the
+#: wrist singularity (axis 6 along them)
+THREE_PARALLEL = ("three-parallel", "three-parallel-offset")
 
 
 def _parallel(a, b, tol=1e-9) -> bool:
@@ -306,13 +311,19 @@ def _classify_6(S: Screws, point_tol: float, par: float) -> Family | None:
                       "the wrist centre, joints 4-6 set the orientation",
                       "position and orientation", True, structure=(("meet", (3, 4, 5)),))
     wrist_pair = rev[4:].all() and common_point(S.point[4:], S.axis[4:], tol) is not None
-    if wrist_pair and rev.all() and _parallel(S.axis[1], S.axis[2], par) \
-            and _parallel(S.axis[2], S.axis[3], par) and not _parallel(S.axis[0], S.axis[1]) \
-            and not _parallel(S.axis[4], S.axis[1]):
+    three = rev.all() and _parallel(S.axis[1], S.axis[2], par) \
+        and _parallel(S.axis[2], S.axis[3], par) and not _parallel(S.axis[0], S.axis[1]) \
+        and not _parallel(S.axis[4], S.axis[1])
+    if three and wrist_pair:
         return Family("three-parallel",
                       "three parallel axes (2, 3, 4) and axes 5, 6 intersecting (UR type)",
                       "position and orientation", True,
                       structure=(("parallel", (1, 2, 3)), ("meet", (4, 5))))
+    if three and not _parallel(S.axis[4], S.axis[5], par):
+        return Family("three-parallel-offset",
+                      "three parallel axes (2, 3, 4), axes 5 and 6 skew: joints 1 and 5 from "
+                      "two equations along the parallel axes (subproblem 6)",
+                      "position and orientation", True, structure=(("parallel", (1, 2, 3)),))
     if wrist_pair and rev[3] and _moves_along(S, range(4), S.axis[3], par) \
             and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
         return Family("parallel-four-wrist",

@@ -21,7 +21,7 @@ from ..errors import TargetMismatch
 from ..tolerances import ACCEPT_POSITION
 from .engine import TCV, Solved, solve_targets  # noqa: F401
 from .continua import Continuum, ParallelContinuum
-from .families import APPROACH_FAMILIES, plan
+from .families import APPROACH_FAMILIES, THREE_PARALLEL, plan
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
 from ..spatial import turn_toward, wrap
@@ -289,11 +289,10 @@ def _continuum(robot, sv: Solved, k: int):
         _, sigma, total = parallel[0, k].tolist()
         S = plan(robot)[0]
         S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
-        # the revolute joints about h: 2-4 of a three-parallel arm, the three of 1-4 of an
-        # offset-wrist arm (h the axis of joint 4), and joint 6 (sigma)
-        about = (1, 2, 3) if sv.spec.solver == "three-parallel" else \
-            tuple(i for i in range(4) if S.revolute[i])
-        h = S.axis[about[-1] if sv.spec.solver != "three-parallel" else 1]
+        # the revolute joints about h and joint 6 (sigma): 2-4 of a three-parallel arm (h
+        # the axis of joint 2), the three of 1-4 of an offset-wrist arm (h that of joint 4)
+        about, h = ((1, 2, 3), S.axis[1]) if sv.spec.solver in THREE_PARALLEL else \
+            (tuple(i for i in range(4) if S.revolute[i]), S.axis[3])
         signs = tuple(1 if float(S.axis[i] @ h) > 0 else -1 for i in about)
         c = ParallelContinuum(about + (5,), signs + (int(sigma),), 5, float(total))
         if sv.spec.reverse:

@@ -51,7 +51,7 @@ from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .cache import per_robot
 from .screws import Screws
-from .pieces import axis_normal
+from .pieces import axis_normal, target_rotation, tool_point
 from .wrists import spherical, undo
 
 
@@ -113,7 +113,6 @@ def undefined_at(robot, T) -> str | None:
     None: the wrist centre on the singular direction R from the shoulder, or the elbow on
     the shoulder-wrist line (the arm stretched or folded: the elbow within 1e-7 of the
     arm's size of it)."""
-    from .solvers import tool_point
     g = require_srs(robot)
     S = g.screws
     W = tool_point(S, np.asarray(T, float)[None], g.wrist)[0, 0]
@@ -199,7 +198,6 @@ def swivel(robot, S: Screws, targets, br: Branches) -> Branches:
     InputError
         ``robot`` is not an SRS arm.
     """
-    from .solvers import target_rotation, tool_point
     g = require_srs(robot)
     S = g.screws
     T, psi = targets.T, np.asarray(targets.swivel, float)

@@ -17,6 +17,7 @@ import numpy as np
 from ..fk import chain_frames, entry_frames
 from ..spatial import LEVI_CIVITA
 from .cache import per_robot
+from .families import THREE_PARALLEL
 from .joint_polynomials import fit
 
 
@@ -28,8 +29,8 @@ WORDS = (("shoulder right", "shoulder left", "shoulder front", "shoulder back"),
 #: the families whose steps the words name: the shoulder's step is joint 1's, the elbow's
 #: the steps of its two joints, the wrist's joint 5's (a ``reversed-`` family has its wrist
 #: at the base, and the other families split their roots otherwise)
-WORDED = {"spherical-wrist", "three-parallel", "position-2", "position-3", "planar-3",
-          "point-plus-roll", "reversed-point-plus-roll", "pitch-roll"}
+WORDED = {"spherical-wrist", "three-parallel", "three-parallel-offset", "position-2",
+          "position-3", "planar-3", "point-plus-roll", "reversed-point-plus-roll", "pitch-roll"}
 
 
 class Geometry(NamedTuple):
@@ -296,13 +297,15 @@ def geometry(robot, family: str) -> Geometry | None:
     z, o = F[:, :3, 2], F[:, :3, 3]
     parallel = lambda a, b: float(np.sum(np.cross(z[a], z[b]) ** 2)) < 1e-12  # noqa: E731
     tool = (n - 1, robot.chain.fixed[n][:3, 3])
-    sixes = family in ("spherical-wrist", "three-parallel")
+    sixes = family in ("spherical-wrist",) + THREE_PARALLEL
     elbow = next(((j, j + 1) for j in (0, 1)
                   if j + 1 < n and rev[j] and rev[j + 1] and parallel(j, j + 1)), None)
     if family == "spherical-wrist":
         point = wrist = _meeting_point(robot, F, 3)
     elif family == "three-parallel":
         point, wrist = _meeting_point(robot, F, 4), (3, np.zeros(3))
+    elif family == "three-parallel-offset":
+        point, wrist = _foot(F, 4, 5), (3, np.zeros(3))
     else:
         third = elbow is not None and elbow[1] + 1 < n and rev[elbow[1] + 1] \
             and parallel(elbow[1], elbow[1] + 1)
@@ -318,6 +321,7 @@ def geometry(robot, family: str) -> Geometry | None:
     placed = shoulder or wrist or tool
     name = ("wrist centre" if family == "spherical-wrist" else
             "point where axes 5 and 6 meet" if family == "three-parallel" else
+            "point of axis 5 nearest axis 6" if family == "three-parallel-offset" else
             "tool point" if placed is tool else f"point of axis {placed[0] + 1}")
     P = F[placed[0], :3, :3] @ placed[1] + F[placed[0], :3, 3]
     arm = list(range(placed[0] + 1))
@@ -404,6 +408,18 @@ def _upward(k) -> float:
     """+1 when the axis ``k`` (world frame) points up (world z), -1 when down, +1 when it
     is horizontal (a wall-mounted or planar-in-a-vertical-plane arm: its own sense)."""
     return -1.0 if k[2] < -1e-9 else 1.0
+
+
+def _foot(F, i: int, j: int):
+    """The point of axis ``i`` nearest axis ``j`` (skew axes, 0-based joints) as a point fixed
+    in the link that carries axis ``i``: ``(i - 1, local (3,))``. ``F``: the frames at q = 0
+    (the frame of joint ``i`` has axis ``i`` as its z)."""
+    p, u, r, w = F[i, :3, 3], F[i, :3, 2], F[j, :3, 3], F[j, :3, 2]
+    b = float(u @ w)
+    t = (float(u @ (r - p)) - b * float(w @ (r - p))) / (1.0 - b * b)
+    local = F[i - 1, :3, :3].T @ (p + t * u - F[i - 1, :3, 3])
+    local.setflags(write=False)
+    return i - 1, local
 
 
 def _meeting_point(robot, F, first: int):

@@ -30,7 +30,8 @@ from . import unit_pair
 from .solutions import Solutions, cross, dot, norm
 
 
-def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL) -> Solutions:
+def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL,
+        merge: float = unit_pair.SAME_ANGLE) -> Solutions:
     """Solve subproblem 6, two sums of rotated components, for every problem of a batch.
 
     Parameters
@@ -45,6 +46,9 @@ def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL) -> Solutions:
     tol : float
         Tolerance of :func:`~kincalc.subproblems.unit_pair.solve`, relative to the
         largest ``|h_i| |p_i|`` for a vanishing equation.
+    merge : float
+        Two roots closer than this (rad, both angles) are one (0: every distinct root;
+        :func:`~kincalc.subproblems.unit_pair.solve`).
 
     Returns
     -------
@@ -73,4 +77,4 @@ def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL) -> Solutions:
     b = np.stack(np.broadcast_arrays(d1 - const[..., 0] - const[..., 1],
                                      d2 - const[..., 2] - const[..., 3]), -1)
     scale = (norm(h) * norm(p)).max(-1)
-    return unit_pair.solve(M, b, scale, tol=tol)
+    return unit_pair.solve(M, b, scale, tol=tol, merge=merge)

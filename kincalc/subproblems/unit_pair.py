@@ -41,13 +41,13 @@ RESIDUAL_TOL = 1e-8
 _ROOT_BAND = 0.1
 #: rho below which the circle of candidates is one point
 _TINY_RHO = 1e-7
-#: two solutions closer than this (rad, both angles) are one
-_SAME_ANGLE = 1e-6
+#: two solutions closer than this (rad, both angles) are one (:func:`solve`'s ``merge``)
+SAME_ANGLE = 1e-6
 #: slots per problem
 SLOTS = 4
 
 
-def solve(M, b, scale, *, tol: float = GEOMETRY_TOL) -> Solutions:
+def solve(M, b, scale, *, tol: float = GEOMETRY_TOL, merge: float = SAME_ANGLE) -> Solutions:
     """Every ``(t1, t2)`` with ``M @ [cos t1, sin t1, cos t2, sin t2] = b``.
 
     Parameters
@@ -63,6 +63,10 @@ def solve(M, b, scale, *, tol: float = GEOMETRY_TOL) -> Solutions:
         Relative tolerance of a vanishing row (of ``scale``) and of parallel rows (of
         the larger singular value of the row-normalised ``M``); also the tolerance of
         "``|u1| = 1`` on the whole circle".
+    merge : float
+        Two roots closer than this (rad, in both angles) are one: a double root, found
+        twice. Next to a tangency two distinct roots are as close (at 1e-6 of it, about
+        1e-6 apart); a caller that tells them apart by what follows passes 0.
 
     Returns
     -------
@@ -113,7 +117,7 @@ def solve(M, b, scale, *, tol: float = GEOMETRY_TOL) -> Solutions:
                                            both[one])
     if rank2.any():
         t[rank2], ok[rank2], free[rank2] = _general(Mn[rank2], bn[rank2], U[rank2],
-                                                    s[rank2], Vt[rank2], tol)
+                                                    s[rank2], Vt[rank2], tol, merge)
     t = np.where(ok[..., None], principal(t), 0.0)
     c, sn = np.cos(t), np.sin(t)
     frees = np.broadcast_to(free[:, None], ok.shape)
@@ -185,7 +189,7 @@ def _on_a_line(Mn, bn, U, s, Vt, both):
     return t, consistent & (res <= RESIDUAL_TOL)
 
 
-def _general(Mn, bn, U, s, Vt, tol):
+def _general(Mn, bn, U, s, Vt, tol, merge):
     """Rank-2 problems: ``(t (m, 4, 2), ok (m, 4), free (m,))``."""
     x0 = np.einsum("mji,mj->mi", Vt[:, :2], np.einsum("mji,mj->mi", U, bn) / s)
     N = np.swapaxes(Vt[:, 2:], 1, 2)                                       # (m, 4, 2)
@@ -219,7 +223,7 @@ def _general(Mn, bn, U, s, Vt, tol):
     # one solution found twice (a double root) is one
     for j in range(1, SLOTS):
         for i in range(j):
-            same = (np.abs(wrap(t[:, j] - t[:, i])) < _SAME_ANGLE).all(-1)
+            same = (np.abs(wrap(t[:, j] - t[:, i])) < merge).all(-1)
             ok[:, j] &= ~(same & ok[:, i])
     return t, ok, circle
 

@@ -173,10 +173,12 @@ def random_family_robot(rng, family):
                  for _ in range(3)]
         return dh(rng, first + [("revolute", ang(), 0.0, u(rng)), ("revolute", ang(), 0.0, 0.0),
                                 ("revolute", u(rng, -3, 3), u(rng), u(rng))])
-    if family == "three-parallel":
+    if family in ("three-parallel", "three-parallel-offset"):     # axes 5, 6 meet, or skew
+        skew = u(rng, 0.05, 0.5) * rng.choice([-1, 1]) if family.endswith("offset") else 0.0
         return dh(rng, [("revolute", ang(), u(rng), u(rng)), ("revolute", 0.0, u(rng), u(rng)),
                         ("revolute", 0.0, u(rng), u(rng)), ("revolute", ang(), 0.0, u(rng)),
-                        ("revolute", ang(), 0.0, u(rng)), ("revolute", u(rng, -3, 3), u(rng), u(rng))])
+                        ("revolute", ang(), skew, u(rng)),
+                        ("revolute", u(rng, -3, 3), u(rng), u(rng))])
     if family == "parallel-four-wrist":
         types = ["revolute", "revolute", "revolute"]
         types[int(rng.integers(0, 3))] = "prismatic"
@@ -197,8 +199,8 @@ def random_family_robot(rng, family):
     raise ValueError(family)
 
 
-@pytest.mark.parametrize("family", ["spherical-wrist", "three-parallel", "parallel-four-wrist",
-                                    "position-3",
+@pytest.mark.parametrize("family", ["spherical-wrist", "three-parallel", "three-parallel-offset",
+                                    "parallel-four-wrist", "position-3",
                                     "planar-3", "position-2", "point-plus-roll"])
 @pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
 def test_random_robots_of_each_family(family, convention):

@@ -241,7 +241,7 @@ def test_undefined_swivel_angles_are_refused():
     g = srs(r)
     T = np.eye(4)
     T[:3, :3] = np.diag([1.0, -1.0, -1.0])
-    from kincalc.ik.solvers import tool_point
+    from kincalc.ik.pieces import tool_point
     W = tool_point(g.screws, T[None], g.wrist)[0, 0]      # the wrist centre of this pose
     T[:3, 3] += (g.shoulder + 0.5 * g.R) - W              # moved onto S + t R
     assert "singular direction" in undefined_at(r, T)

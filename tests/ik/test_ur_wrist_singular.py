@@ -144,11 +144,12 @@ def away_from_other_singularities(r, q, q5s) -> bool:
 
 # --- robots -------------------------------------------------------------------------
 
-def random_singular_arm(rng, ur_like: bool, convention: str):
+def random_singular_arm(rng, ur_like: bool, convention: str, skew: bool = False):
     """A random three-parallel arm (DH rows as in test_ik.random_family_robot: axes 2-4
-    parallel, axes 5 and 6 meeting) whose axis 6 turns parallel to axes 2-4 at q5 = 0.
-    Twist alpha5 = -alpha4 (mod pi) makes that happen. With ``ur_like`` both twists are
-    +-90 deg and it happens at q5 = pi as well. Random lengths, offsets, base and tool."""
+    parallel, axes 5 and 6 meeting, or with ``skew`` a link between them) whose axis 6
+    turns parallel to axes 2-4 at q5 = 0. Twist alpha5 = -alpha4 (mod pi) makes that
+    happen. With ``ur_like`` both twists are +-90 deg and it happens at q5 = pi as well.
+    Random lengths, offsets, base and tool."""
     u = lambda lo=-0.5, hi=0.5: rng.uniform(lo, hi)  # noqa: E731
     # twists well off 0 and 180 deg: near-parallel neighbouring axes make a near-singular arm
     ang = lambda: rng.uniform(0.6, 2.5) * rng.choice([-1, 1])  # noqa: E731
@@ -160,7 +161,7 @@ def random_singular_arm(rng, ur_like: bool, convention: str):
     link = lambda: rng.uniform(0.1, 0.5) * rng.choice([-1, 1])  # noqa: E731 (the elbow's links)
     rows = [(ang(), u(), u(), u(-np.pi, np.pi)), (0.0, link(), u(), u(-np.pi, np.pi)),
             (0.0, link(), u(), u(-np.pi, np.pi)), (a4, u(), u(), u(-np.pi, np.pi)),
-            (a5, 0.0, u(), 0.0), (u(-3, 3), u(), u(), u(-np.pi, np.pi))]
+            (a5, link() if skew else 0.0, u(), 0.0), (u(-3, 3), u(), u(), u(-np.pi, np.pi))]
     joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=th)
                    for i, (al, a, d, th) in enumerate(rows))
     r = Robot("random_ur", "dh", joints, base=random_pose(rng), tool=random_pose(rng))
@@ -175,6 +176,12 @@ def robot_cases():
             for k in range(2):
                 cases.append((f"random-{conv}-{'ur' if ur_like else 'twist'}-{k}",
                               random_singular_arm(rng, ur_like, conv)))
+    rng = np.random.default_rng(2026)      # axes 5 and 6 skew (three-parallel-offset)
+    for conv in ("dh", "mdh", "poe"):
+        for ur_like in (True, False):
+            for k in range(2):
+                cases.append((f"random-{conv}-{'ur' if ur_like else 'twist'}-skew-{k}",
+                              random_singular_arm(rng, ur_like, conv, skew=True)))
     return cases
 
 
@@ -187,7 +194,7 @@ IDS = [c[0] for c in CASES]
 @pytest.mark.parametrize("name,r", CASES, ids=IDS)
 def test_wrist_singular_poses_give_the_continuum(name, r):
     fam, _ = classify(r, Screws.of(r))
-    assert fam.name == "three-parallel"
+    assert fam.name == ("three-parallel-offset" if "-skew-" in name else "three-parallel")
     q5s = singular_q5(r)
     assert q5s == ([0.0, np.pi] if name in UR or "-ur-" in name else [0.0]), q5s
     rng = np.random.default_rng(zlib.crc32(name.encode()))
@@ -411,11 +418,12 @@ def test_near_the_singularity_solutions_are_isolated_and_exact(name, r, eps):
             sols = np.array([s.q for s in res.solutions]).reshape(-1, 6)
             assert_reproduces(r, sols, T)
             assert all(s.continuum is None and "free" not in s.branch for s in res.solutions)
-            assert np.abs(wrap(sols - q)).max(-1).min() < 1e-6, (name, q)
+            tol = 1e-6
+            assert np.abs(wrap(sols - q)).max(-1).min() < tol, (name, q)
             B = r.ik_batch(T[None])
             bs = B.q[0][B.valid[0]]
             assert_reproduces(r, bs, T)
-            assert np.abs(wrap(bs - q)).max(-1).min() < 1e-6
+            assert np.abs(wrap(bs - q)).max(-1).min() < tol
             assert same_set(bs, sols, 1e-6)
             n += 1
     assert n >= 8

@@ -113,3 +113,29 @@ def test_one_geometry_against_many_right_sides():
     assert ok_count(S).tolist() == [2, 1, 0]
     for i in range(3):
         assert_same(S, solve(M, b[i]), i)
+
+
+@pytest.mark.parametrize("gap", [3e-7, 8e-7])
+def test_two_roots_a_hair_apart_are_one_unless_merge_is_0(gap):
+    """Two solutions ``gap`` apart in both angles (the equations' rows across their
+    difference), below the default ``merge``: that takes them for one double root found
+    twice; with ``merge=0`` both come back, in two slots, each near its own angles (a
+    near-double root of the quartic comes to ~1e-8)."""
+    rng = np.random.default_rng(int(gap * 1e9))
+    for _ in range(50):
+        ta = rng.uniform(-PI, PI, 2)
+        tb = ta + gap * rng.choice([-1, 1], 2)
+        xa, xb = torus(*ta), torus(*tb)
+        d = (xa - xb) / np.linalg.norm(xa - xb)
+        M = rng.normal(size=(2, 4))
+        M -= np.outer(M @ d, d)                       # both rows across the difference
+        b = M @ xa
+        merged = unit_pair.solve(M, b, 1.0)
+        kept = unit_pair.solve(M, b, 1.0, merge=0.0)
+        slots = np.flatnonzero(kept.ok)
+        theta = np.array(kept.theta)[:, slots]                              # (2, k)
+        off = lambda t: np.abs(np.angle(np.exp(1j * (theta - t[:, None])))).max(0)  # noqa: E731
+        a, b_ = off(ta), off(tb)
+        assert a.min() < gap / 3 and b_.min() < gap / 3
+        assert a.argmin() != b_.argmin()
+        assert ok_count(kept) == ok_count(merged) + 1
