@@ -34,8 +34,9 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     (subproblem 2; its least-squares answer kept, for the reasons of an unreachable
     approach). The roll about the approach follows, except where the approach lies along
     axis 4, and near it: joints 4 and 5 then come from a whole pose's rotation
-    (:func:`_wrist_from_the_pose`). When axis 3 passes through ``c`` as well, joints 3-5
-    are a spherical wrist (:func:`_three_joint_wrist`).
+    (:func:`_wrist_from_the_pose`); so do they with a placing joint the placement leaves
+    free (``c`` on its line; :func:`_free_placing_joint`). When axis 3 passes through ``c``
+    as well, joints 3-5 are a spherical wrist (:func:`_three_joint_wrist`).
 
     Parameters
     ----------
@@ -54,14 +55,100 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
     v = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (3,), a[:, None, :]))
-    br = br.branch([3, 4], sp2(np.full(v.shape, a0), v, S.axis[3], S.axis[4]),
+    wrist = sp2(np.full(v.shape, a0), v, S.axis[3], S.axis[4])
+    if targets.kind != "pose":
+        return br.branch([3, 4], wrist, least_squares=True)
+    br, taken = _free_placing_joint(S, T, br, wrist)
+    br = _wrist_from_the_pose(S, T, br, taken)
+    return br if taken is None else _shared_line(S, br, taken)
+
+
+def _free_placing_joint(S: Screws, T, br: Branches, wrist):
+    """``(br, taken)``: joints 4 and 5 set from subproblem 2's roots ``wrist`` (the
+    approach), except in the slots ``taken (N, K)`` where the placement left one revolute
+    joint ``j`` of joints 1-3 free (the point ``c`` on its line: an arm or shoulder
+    singularity; None where no slot has one).
+
+    Any value of ``j`` places ``c``, but ``j`` turns the tool about a line through ``c`` as
+    joints 4 and 5 do, and a whole pose fixes it with them: ``R_A R_j R_B R4 R5 = R_t``
+    (``A``, ``B`` the placing joints before and after ``j``), so ``R(u, q_j) R4 k5 = W k5``
+    with ``u = R_B^T k_j`` and ``W = R_B^T R_A^T R_t`` (subproblem 2: two roots, in place of
+    the approach's); joint 5 follows from the rotation (:func:`_wrist_from_the_pose`). At
+    ``j``'s representative, joints 4 and 5 reach the approach but the roll about it only by
+    chance. ``j`` stays free where subproblem 2 leaves it so (:func:`_shared_line`).
+
+    ``T (N, 4, 4)`` the poses, ``br`` with joints 1-3 set, ``wrist`` subproblem 2's ``(N,
+    K, 2)`` roots for joints 4 and 5 (world frame at q = 0, SI)."""
+    placing = tuple(j for j in (0, 1, 2) if S.revolute[j])
+    if not br.free_in(placing):
+        return br.branch([3, 4], wrist, least_squares=True), None
+    count = sum(np.asarray(br.free[j], int) for j in placing)
+    k4, k5, shape = S.axis[3], S.axis[4], wrist.ok.shape
+    Rk5 = np.full(br.ok.shape + (3,), _mv(target_rotation(S, T), k5))      # R_t k5
+    # one Solutions for joints 4, 5 and the placing ones: per slot, the approach's roots
+    # (the placing joints as they are) or the pose's (joint 5 set afterwards)
+    theta, cos, sin = ([x[0], x[1]] for x in (wrist.theta, wrist.c, wrist.s))
+    ok, exact, free = wrist.ok, wrist.exact, wrist.free
+    undetermined = [free, free]
+    taken = np.zeros(br.ok.shape, bool)
+    for j in placing:
+        one = np.asarray(br.free[j]) & (count == 1)
+        x = [np.broadcast_to(r[j][..., None], shape) for r in (br.value, br.cos, br.sin)]
+        still = np.zeros(shape, bool)
+        if np.count_nonzero(one):
+            after = tuple(i for i in placing if i > j)
+            u = undo(S, br, after, np.full(br.ok.shape + (3,), S.axis[j]))        # R_B^T k_j
+            w = undo(S, br, after, undo(S, br, tuple(i for i in placing if i < j), Rk5))
+            sol = sp2(np.full(u.shape, k5), w, u, np.full(u.shape, k4))
+            pose = one[..., None]
+            x = [np.where(pose, a[0], b) for a, b in zip((sol.theta, sol.c, sol.s), x)]
+            theta[0], cos[0], sin[0] = (np.where(pose, a[1], b) for a, b in zip(
+                (sol.theta, sol.c, sol.s), (theta[0], cos[0], sin[0])))
+            ok, exact, free = (np.where(pose, a, b) for a, b in zip(
+                (sol.ok, sol.exact, sol.free), (ok, exact, free)))
+            still = pose & sol.free
+            undetermined[:2] = np.where(pose, sol.free, undetermined[0]), \
+                undetermined[1] & ~pose
+            br = br.set(j, br.value[j], free=br.free[j] & ~one)
+            taken |= one
+        theta.append(x[0])
+        cos.append(x[1])
+        sin.append(x[2])
+        undetermined.append(still)
+    br = br.branch([3, 4, *placing], Solutions(tuple(theta), tuple(cos), tuple(sin), ok,
+                                               exact, free, tuple(undetermined)),
                    least_squares=True)
-    return _wrist_from_the_pose(S, T, br) if targets.kind == "pose" else br
+    return br, br.take(taken)
 
 
-def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
+def _shared_line(S: Screws, br: Branches, taken) -> Branches:
+    """The slots ``taken (N, K)`` of :func:`_free_placing_joint` whose placing joint ``j``
+    is still free: its line (direction ``u`` at the slot) is that of joint 4 or of joint 5,
+    and only ``q_j + sigma q_i`` is fixed (``i`` that joint, ``sigma = sign(u . k_i)``,
+    ``k_i`` its axis at the slot), kept as the slot's continuum
+    (:class:`~kincalc.ik.continua.Continuum`: mask, j, i, sigma, total in rad)."""
+    placing = tuple(j for j in (0, 1, 2) if S.revolute[j])
+    c = np.zeros(br.ok.shape + (5,))
+    for j in placing:
+        on = taken & br.free[j]
+        if not np.count_nonzero(on):
+            continue
+        u = undo(S, br, tuple(i for i in placing if i > j),
+                 np.full(br.ok.shape + (3,), S.axis[j]))
+        h4 = dot(u, S.axis[3])
+        h5 = dot(u, S.turn(3, br.cos[3], br.sin[3], np.full(u.shape, S.axis[4])))  # R4 k5
+        four = np.abs(h4) >= np.abs(h5)
+        sigma = np.where(np.where(four, h4, h5) >= 0.0, 1.0, -1.0)
+        total = br.value[j] + sigma * np.where(four, br.value[3], br.value[4])
+        c = np.where(on[..., None], np.stack([np.ones(on.shape), np.full(on.shape, j),
+                                              np.where(four, 3, 4), sigma, total], -1), c)
+    return br.with_extra("continuum", c) if np.count_nonzero(c[..., 0]) else br
+
+
+def _wrist_from_the_pose(S: Screws, T, br: Branches, taken=None) -> Branches:
     """Joints 4 and 5 of a whole pose from its rotation, in the slots where subproblem 2's
-    answer is that one or leaves joint 4 free.
+    answer is that one or leaves joint 4 free, and in the slots ``taken`` (N, K) of
+    :func:`_free_placing_joint` (joint 4 there already the pose's).
 
     Subproblem 2 sets joints 4 and 5 from the approach alone. Where the approach lies along
     axis 4 (joint 5 at 0 or 180 deg between axes at right angles) joint 4 is free for it, yet
@@ -81,6 +168,8 @@ def _wrist_from_the_pose(S: Screws, T, br: Branches) -> Branches:
     t5, c5, s5 = turn_onto(k5, a0, S.turn(3, c4, -s4, W[..., 1, :]))       # onto R4^T W a0
     take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
                          & (np.abs(wrap(t5 - br.value[4])) < 1e-6))
+    if taken is not None:                 # a placing joint took the pose with joints 4, 5
+        take = take | taken
     pick = lambda new, old: np.where(take, new, old)  # noqa: E731
     br = br.set(3, pick(t4, br.value[3]), pick(c4, br.cos[3]), pick(s4, br.sin[3]),
                 free=br.free[3] & ~take)

@@ -9,7 +9,11 @@ reachable" for poses the arm reaches:
   subproblem 2 leaves joint 4 free, but joint 4 then rolls the tool about its approach, and
   a whole pose fixes that roll; joint 4 was left at a representative 0;
 * axes 3, 4 and 5 through one point: the placement leaves joint 3 free (it does not move
-  the point) and joints 4 and 5 alone cannot take the orientation that joints 3-5 take.
+  the point) and joints 4 and 5 alone cannot take the orientation that joints 3-5 take;
+* the point where axes 4 and 5 meet on axis 1 or 2 (a shoulder or arm singularity): the
+  placement leaves that joint free, and its representative set joints 4 and 5 to the
+  approach with the roll about it left to chance, but the joint turns the tool about a line
+  through the point as they do, and a whole pose fixes the three.
 
 Checked by FK on seeded random arms of each kind in dh, mdh and poe: every answer reaches
 the target, and the generating configuration is among the answers.
@@ -23,7 +27,7 @@ from kincalc.ik import Target, solve
 from kincalc.ik.families import plan
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
-from kincalc.spatial import matrix_from_rpy, rot_z, transform, wrap
+from kincalc.spatial import matrix_from_axis_angle, matrix_from_rpy, rot_z, transform, wrap
 from randrobots import newton_roots
 
 CONVENTIONS = ["dh", "mdh", "poe"]
@@ -107,6 +111,51 @@ def test_three_joint_wrist_after_two_placing_joints(convention):
                 assert 2 in s.free
             found_approach += any(_same(r, s.q, q, slice(0, 2)) for s in res.solutions)
     assert found == trials and found_approach == trials, (found, found_approach, trials)
+
+
+def _unit(rng):
+    v = rng.normal(size=3)
+    return v / np.linalg.norm(v)
+
+
+def _turned(k, o, angle, x):
+    """The point ``x`` turned by ``angle`` about the line of ``k`` through ``o``."""
+    return o + matrix_from_axis_angle(k, angle) @ (x - o)
+
+
+def _placing_joint_on_the_point(rng, free: int):
+    """``(robot, q)``: a poe arm whose axes 4 and 5 meet at ``c0`` on the tool's approach
+    line, and joints ``q`` at which ``c`` lies on axis ``free + 1`` (0: a shoulder, 1: an
+    arm singularity): that axis is drawn through where joints ``free + 2 ..`` 3 put ``c0``."""
+    q = rng.uniform(-np.pi, np.pi, 5)
+    c0 = rng.uniform(-.3, .3, 3)
+    k = [_unit(rng) for _ in range(5)]
+    o = [rng.uniform(-.4, .4, 3) for _ in range(3)] + [c0, c0]
+    c = c0
+    for i in (2, 1)[:2 - free]:
+        c = _turned(k[i], o[i], q[i], c)
+    o[free] = c + rng.uniform(-.3, .3) * k[free]
+    a0 = _unit(rng)
+    R = matrix_from_axis_angle(_unit(rng), rng.uniform(0, np.pi))
+    R = matrix_from_axis_angle(np.cross(R[:, 2], a0), np.arccos(R[:, 2] @ a0)) @ R  # z = a0
+    M = transform(R, c0 + rng.uniform(.05, .2) * a0)
+    joints = tuple(Joint(f"q{i + 1}", "revolute", axis=tuple(k[i]), point=tuple(o[i]),
+                         limits=(-np.pi, np.pi)) for i in range(5))
+    return Robot(name="five", convention="poe", joints=joints, M=M), q
+
+
+@pytest.mark.parametrize("free", [0, 1])
+def test_whole_pose_with_a_placing_joint_free(free):
+    """Every such pose was "orientation not reachable": the roll at the free joint's
+    representative missed, by up to 2 rad."""
+    rng = np.random.default_rng(61 + free)
+    for _ in range(40):
+        r, q = _placing_joint_on_the_point(rng, free)
+        assert plan(r)[1].name == "position-approach"
+        T = r.fk(q)
+        sols = solve(r, Target(T)).solutions
+        assert all(_reaches(r, s, T) for s in sols)
+        assert any(_same(r, s.q, q) and not s.free for s in sols), np.degrees(q)
 
 
 @pytest.mark.parametrize("shoulder", ["parallel", "concurrent"])
