@@ -25,7 +25,7 @@ from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, invers
                      turn_onto)
 from .place import place
 from .screws import Screws
-from .wrists import NEAR_ALIGNED, into_elbow_reach, parallel_wrist_q6
+from .wrists import NEAR_ALIGNED, free_for_the_wrist, into_elbow_reach, parallel_wrist_q6
 
 
 def three_parallel(S: Screws, targets, br: Branches) -> Branches:
@@ -256,6 +256,10 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     q = 0, SI). Returns ``(br, sigma)`` of :func:`_sixth`.
     """
     h, k5, k6 = S.axis[hj], S.axis[4], S.axis[5]
+    if elbow[0] == 1 and np.count_nonzero(br.free[0]):    # (rare: the wrist point on axis 1)
+        # joints h, 5, 6 point axis 6 only within a band about h where twists are not right
+        # angles: the free joint 1 turned into it (as a spherical wrist's free placing joint)
+        br = free_for_the_wrist(S, br, (hj, 4, 5), Rt, (0,), 0)
     v = np.full(br.ok.shape + (3,), rotate(Rt, k6))          # R_t k6 at every slot
     if elbow[0] == 1:
         v = S.turn(0, br.cos[0], -br.sin[0], v)

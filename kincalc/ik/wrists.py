@@ -24,7 +24,7 @@ import numpy as np
 from ..subproblems import sp1
 from ..subproblems.sp4 import sp4
 from ..subproblems.cone import cone
-from ..subproblems.solutions import Solutions, cross, dot
+from ..subproblems.solutions import Solutions, cross, dot, pair
 from .branches import Branches
 from .pieces import axis_cone, axis_normal, normal_sp1, one_root, rotate
 from ..spatial import wrap
@@ -165,8 +165,10 @@ def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> B
     The free joint turns ``v``; its representative 0 may leave it out of the wrist's reach
     (a Stanford arm with a 30 deg wrist twist at d3 = 0: no solution). There it takes the
     value that puts ``k1 . v`` in the middle of the range, ``C`` (subproblem 4, or its
-    least-squares angle); it stays free (the values around it reach too). Elsewhere, and for
-    a wrist that reaches every direction, nothing changes.
+    least-squares angle): both roots, one per arc of the band, the second in a slot of its
+    own (``other arc``: a three-parallel arm places axis 4 from one arc only); it stays
+    free (the values around it reach too). Elsewhere, and for a wrist that reaches every
+    direction, nothing changes.
 
     Parameters
     ----------
@@ -179,7 +181,7 @@ def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> B
 
     Returns
     -------
-    Branches
+    Branches, ``2 K`` slots (fewer once dead ones are dropped)
     """
     j1, j2, j3 = joints
     k1 = S.axis[j1]
@@ -198,9 +200,15 @@ def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> B
             h = S.turn(i, br.cos[i], br.sin[i], h)
     # k1 . R_after^T R(k_j, -q) u = C: subproblem 4 in -q
     sol = sp4(h, u, S.axis[j], np.broadcast_to(cone.C, out.shape)).negated()
-    q, c, s = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
-    return br.set(j, np.where(out, q, br.value[j]), np.where(out, c, br.cos[j]),
-                  np.where(out, s, br.sin[j]))
+    # one value per arc of the wrist's reach (each root of subproblem 4 is the middle of
+    # one): the joints after the wrist may place their point from one arc only (a
+    # three-parallel arm's axis 4)
+    keep = pair(br.value[j], br.value[j]), pair(br.cos[j], br.cos[j]), pair(br.sin[j], br.sin[j])
+    q, c, s = (np.where(out[..., None], x[0], y) for x, y in zip(
+        (sol.theta, sol.c, sol.s), keep))
+    ok = pair(np.ones(out.shape, bool), out & sol.ok[..., 1] & sol.exact[..., 1])
+    return br.branch([j], Solutions((q,), (c,), (s,), ok, ok, np.zeros(ok.shape, bool)),
+                     labels=(None, "other arc"), free=False)
 
 
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):

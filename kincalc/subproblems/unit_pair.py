@@ -33,6 +33,7 @@ from ..spatial import wrap
 from ..tolerances import GEOMETRY_TOL
 from .roots import polynomial_roots
 from .solutions import Solutions, principal
+from .sp4 import ROUNDING
 
 #: a returned solution satisfies the row-normalised equations to this
 RESIDUAL_TOL = 1e-8
@@ -65,8 +66,8 @@ def solve(M, b, scale, *, tol: float = GEOMETRY_TOL, merge: float = SAME_ANGLE) 
         "``|u1| = 1`` on the whole circle".
     merge : float
         Two roots closer than this (rad, in both angles) are one: a double root, found
-        twice. Next to a tangency two distinct roots are as close (at 1e-6 of it, about
-        1e-6 apart); a caller that tells them apart by what follows passes 0.
+        twice; a root within rounding of a tangency is put on it (:func:`_tangent`). Two
+        distinct roots next to a tangency are as close: 0 keeps every root as found.
 
     Returns
     -------
@@ -208,7 +209,7 @@ def _general(Mn, bn, U, s, Vt, tol, merge):
     a0 = 0.5 * rho2 * (P[:, 0, 0] + P[:, 1, 1]) + r
     a1, b1 = 2 * rho * q[:, 0], 2 * rho * q[:, 1]
     a2, b2 = 0.5 * rho2 * (P[:, 0, 0] - P[:, 1, 1]), rho2 * P[:, 0, 1]
-    phi, have = _quartic_phi(a0, a1, b1, a2, b2)                          # (m, 4)
+    phi, have = _quartic_phi(a0, a1, b1, a2, b2, tangent=merge > 0)                          # (m, 4)
     single = point | circle
     phi = np.where(single[:, None], 0.0, phi)
     have = np.where(single[:, None], np.arange(4) == 0, have) & reach[:, None]
@@ -228,9 +229,10 @@ def _general(Mn, bn, U, s, Vt, tol, merge):
     return t, ok, circle
 
 
-def _quartic_phi(a0, a1, b1, a2, b2):
+def _quartic_phi(a0, a1, b1, a2, b2, tangent: bool = True):
     """Roots ``phi (m, 4)`` of ``a0 + a1 cos + b1 sin + a2 cos 2phi + b2 sin 2phi`` near the
-    unit circle in ``z = e^(i phi)``, polished by Newton's method; ``ok (m, 4)``."""
+    unit circle in ``z = e^(i phi)``, polished by Newton's method (and, with ``tangent``,
+    put on a tangency within rounding: :func:`_tangent`); ``ok (m, 4)``."""
     coeffs = np.stack([(a2 - 1j * b2) / 2, (a1 - 1j * b1) / 2, a0 + 0j,
                        (a1 + 1j * b1) / 2, (a2 + 1j * b2) / 2], -1)        # z^4 .. z^0
     # a vanishing leading term: the quartic is of lower degree; its extra roots go far
@@ -249,7 +251,30 @@ def _quartic_phi(a0, a1, b1, a2, b2):
         better = good & (np.abs(fc) < np.abs(fv))
         phi = np.where(better, cand, phi)
         fv = np.where(better, fc, fv)
-    return phi, ok
+    return (_tangent(A, phi) if tangent else phi), ok
+
+
+def _tangent(A, phi):
+    """The roots ``phi (m, 4)`` moved onto the double root next to them where ``f`` touches
+    zero there to rounding (a tangency: the arm at a singularity).
+
+    Newton's method on ``f`` converges there only to ~sqrt(rounding) (1.4e-8 rad; two copies
+    either side, or one). The double root is the simple root ``d`` of ``f'``, found by
+    Newton's method on it to rounding; a root is moved there where ``|f(d)|`` is within the
+    rounding of ``f`` (its terms are parts of ``|x|^2 = 2``; subproblem 4's
+    :data:`~kincalc.subproblems.sp4.ROUNDING`) and ``phi`` no farther from ``d`` than the
+    roots such a rounding splits a double root into, ``sqrt(2 band / |f''|)`` (twice that,
+    for the roots' own error). Simple roots keep their values.
+    """
+    d = phi
+    for _ in range(3):
+        dd = _ddf(A, d)
+        good = dd != 0.0
+        d = d - np.where(good, _df(A, d) / np.where(good, dd, 1.0), 0.0)
+    band = 2.0 * ROUNDING
+    split = 2.0 * np.sqrt(2.0 * band / np.maximum(np.abs(_ddf(A, d)), 1e-300))
+    touch = (np.abs(_f(A, d)) <= band) & (np.abs(wrap(d - phi)) <= split)
+    return np.where(touch, d, phi)
 
 
 def _f(A, phi):
@@ -261,3 +286,9 @@ def _df(A, phi):
     _, a1, b1, a2, b2 = A
     return (-a1 * np.sin(phi) + b1 * np.cos(phi) - 2 * a2 * np.sin(2 * phi)
             + 2 * b2 * np.cos(2 * phi))
+
+
+def _ddf(A, phi):
+    _, a1, b1, a2, b2 = A
+    return (-a1 * np.cos(phi) - b1 * np.sin(phi) - 4 * a2 * np.cos(2 * phi)
+            - 4 * b2 * np.sin(2 * phi))

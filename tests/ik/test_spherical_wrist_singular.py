@@ -485,3 +485,32 @@ def test_a_free_placement_joint_turns_a_wrist_that_reaches_few_directions(alpha4
         assert all(1 in s.free for s in res.solutions)
         got = np.sort(np.round(solved.q[i][solved.valid[i]], 9), axis=0)
         assert np.array_equal(got, np.sort(np.round(S, 9), axis=0))
+
+
+def test_wrist_singular_at_an_arm_singularity_gives_the_continuum():
+    """A spherical-wrist arm whose joints 1-3 place the wrist centre by subproblem 5, at
+    q5 = 0 with the placement at a double root (an arm singularity; an independent
+    campaign's pose): the double root was found to sqrt(eps) only, axis 6 then read 3.6e-8
+    rad off axis 4 and two isolated wrist solutions came out, not the continuum. Now the
+    generating placement's representative: joint 4 free, q4 - q6 the generating total."""
+    P = np.pi
+    rows = [(0.48233694057320614, 0.4365878773445606, 0.0),
+            (-P / 2, -0.4125464212891483, 0.13797640616951484), (-P / 2, 0.0, 0.0),
+            (-P / 2, 0.0, -0.18339697300707336), (-P / 2, 0.0, 0.0),
+            (1.7016113894523996, -0.47358845888522355, 0.39486790181357395)]
+    r = Robot(name="sw_arm_singular", convention="dh", base=np.eye(4), tool=np.eye(4),
+              joints=tuple(Joint(f"j{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0,
+                                 limits=(-2 * P, 2 * P))
+                           for i, (al, a, d) in enumerate(rows)))
+    q = np.array([0.310383731632498, 1.5793338880041254, 0.48624519954598006,
+                  -1.9574960440877442, 0.0, -0.2572058303415634])
+    T = r.fk(q)
+    res = r.ik(T)
+    assert_reproduces(r, [s.q for s in res.solutions], T)
+    reps = [s for s in res.solutions if s.continuum is not None]
+    assert len(reps) == 1 and 3 in reps[0].free
+    c = reps[0].continuum
+    assert abs(wrap(q[c.i] + c.sign * q[c.j] - c.total)) < 1e-9
+    assert joint_diff(r, reps[0].q, q)[0, :3].max() < 1e-9
+    B = r.ik_batch(T[None])
+    assert same_set(r, B.q[0][B.valid[0]], [s.q for s in res.solutions])

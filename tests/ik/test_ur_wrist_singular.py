@@ -476,3 +476,34 @@ def test_wrist_singular_with_the_elbow_at_its_edge_twelve_digit_pose(digits):
         assert np.linalg.norm(Tq[:3, 3] - T[:3, 3]) <= 1e-9 * L
         assert np.abs(Tq[:3, :3] - T[:3, :3]).max() <= 4e-9
     assert all(5 in s.free for s in res.solutions)                 # q6 free
+
+
+def test_reversed_arm_with_the_wrist_point_on_axis_1_turns_it_into_the_wrists_reach():
+    """A reversed three-parallel arm (joint 6 of the robot is the chain's joint 1) whose
+    twists at the wrist are not right angles, at a pose whose wrist point lies on the
+    chain's axis 1 (an independent campaign's): joint 1 is free for the position, but the
+    wrist points axis 6 only within a band about h, and the representative 0 left it out
+    of that band (no solution). The value that puts it in the middle of the band is taken
+    on each of the band's arcs (joints 2-4 place axis 4 from one of them only): the pose
+    is reached, the robot's joint 6 flagged free; single and batch agree."""
+    P = np.pi
+    rows = [(-2.7638082654398133, 0.0, 0.38277191286692996),
+            (P / 2, -0.3159272366151201, 0.1737458785652708),
+            (0.0, -0.15952280234596386, 0.0), (0.0, 0.21648184451545976, 0.0),
+            (P / 2, 0.0, 0.0), (-2.595585210332154, 0.24480889830786934, 0.4602248988966617)]
+    robot = Robot(name="rev_ur", convention="dh", base=np.eye(4), tool=np.eye(4), joints=tuple(
+        Joint(f"j{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0, limits=(-2 * P, 2 * P))
+        for i, (al, a, d) in enumerate(rows)))
+    fam = classify(robot, Screws.of(robot))[0]
+    assert fam.name == "reversed-three-parallel"
+    q = np.array([-2.0817692676781583, -2.3956210983562753, 1.2430587001631992,
+                  -2.3380182489754517, 0.08850614210672259, -2.2248081510160294])
+    T = robot.fk(q)
+    res = robot.ik(T)
+    assert res.solutions, res.reason
+    S = np.array([s.q for s in res.solutions])
+    assert_reproduces(robot, S, T)
+    assert all(5 in s.free for s in res.solutions)
+    B = robot.ik_batch(T[None])
+    assert B.counts[0] == len(S)
+    assert_reproduces(robot, B.q[0][B.valid[0]], T)

@@ -139,3 +139,30 @@ def test_two_roots_a_hair_apart_are_one_unless_merge_is_0(gap):
         assert a.min() < gap / 3 and b_.min() < gap / 3
         assert a.argmin() != b_.argmin()
         assert ok_count(kept) == ok_count(merged) + 1
+
+
+def test_a_tangency_gives_its_double_root_to_rounding():
+    """Equations whose Jacobian in (t1, t2) is singular at the known answer (the two
+    ellipses touch: an arm at a singularity, placed by subproblem 5): the double root is
+    found to rounding, once. Newton's method on the quartic stopped at ~sqrt(eps) (1.4e-8
+    rad, a spherical wrist's aligned axes then read as 3.6e-8 apart: no continuum)."""
+    rng = np.random.default_rng(733)
+    n = 500
+    t = rng.uniform(-PI, PI, (n, 2))
+    M = rng.normal(size=(n, 2, 4))
+    d1 = np.zeros((n, 4))
+    d2 = np.zeros((n, 4))
+    d1[:, 0], d1[:, 1] = -np.sin(t[:, 0]), np.cos(t[:, 0])       # d x / d t1, d t2
+    d2[:, 2], d2[:, 3] = -np.sin(t[:, 1]), np.cos(t[:, 1])
+    # row 1's derivatives made those of row 2 times lam: the Jacobian of rank 1
+    lam = rng.uniform(-2, 2, n)
+    for d in (d1, d2):
+        M[:, 0] += ((lam * (M[:, 1] * d).sum(-1) - (M[:, 0] * d).sum(-1)))[:, None] * d
+    b = np.einsum("nij,nj->ni", M, torus(t[:, 0], t[:, 1]))
+    S = unit_pair.solve(M, b, np.abs(M).max((-1, -2)))
+    err = nearest_error(S, t)
+    # (a tangency flat to fourth order is ill-conditioned in its coefficients: 1 draw of 500
+    # is found to 2e-8 only)
+    assert np.count_nonzero(err > 1e-12) <= n // 100, np.sort(err)[-10:]
+    assert err.max() < 1e-7
+    assert residual(M, b, S)[S.ok].max() < 1e-12
