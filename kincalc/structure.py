@@ -1,8 +1,8 @@
 """Geometric facts about a robot's joint axes: parallel, intersecting, wrists.
 
 Everything is computed from the joint axes (directions and points in the
-world frame), never from a robot's name. Used to name singularities now and
-to choose inverse-kinematics solvers later.
+world frame), never from a robot's name. Used to name singularities and to
+recognise the inverse-kinematics families (:mod:`kincalc.ik.families`).
 """
 
 from __future__ import annotations

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..ik.target import Targets
+from ..spatial import wrap
 
 #: angles sampled on the circle
 SAMPLES = 720
@@ -114,7 +115,7 @@ def swivel_ranges(robot, T, samples: int = SAMPLES) -> list:
         for s in starts:
             later = [e for e in stops if edge[e] > edge[s]] or stops   # the next stop, circularly
             t = min(later, key=lambda e: (edge[e] - edge[s]) % (2 * np.pi))
-            a = (edge[s] + np.pi) % (2 * np.pi) - np.pi
+            a = float(wrap(edge[s]))
             intervals.append((a, a + (edge[t] - edge[s]) % (2 * np.pi)))
             bounds.append((why[s], why[t]))
         order = np.argsort([a for a, _ in intervals])
@@ -156,7 +157,7 @@ def nearest_swivel(robot, T, near, samples: int = SAMPLES):
         found = best(psi + np.linspace(-step, step, 33), k) or found
         step /= 16
     k, psi, q, label = found
-    return label, (psi + np.pi) % (2 * np.pi) - np.pi, q, q - np.asarray(near, float)
+    return label, float(wrap(psi)), q, q - np.asarray(near, float)
 
 
 def _limits_at(robot, T, psi, slots) -> list:
@@ -193,7 +194,7 @@ def swivel_document(robot, target, ranges, units, near=None) -> dict:
     out["branches"] = [
         {"branch": r.label,
          "intervals": [{"from": deg(a),
-                        "to": deg((b + np.pi) % (2 * np.pi) - np.pi if b > np.pi else b),
+                        "to": deg(float(wrap(b)) if b > np.pi else b),
                         "through_180": bool(b > np.pi), "from_limit": side(x),
                         "to_limit": side(y)} for (a, b), (x, y) in zip(r.intervals, r.bounds)],
          "whole_circle": r.intervals == ((-np.pi, np.pi),)}

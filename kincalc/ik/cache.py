@@ -8,8 +8,9 @@ from functools import lru_cache, wraps
 def per_robot(fn):
     """``fn(robot, *args)`` computed once per robot (and arguments), for the 64 robots used last.
 
-    Robots hash by value (:class:`kincalc.model.Robot` is frozen); a robot-like object that
-    does not hash is computed afresh on every call.
+    Robots hash by value (:class:`kincalc.model.Robot` is frozen); a robot-like object (or
+    an argument) that does not hash is computed afresh on every call. A TypeError that
+    ``fn`` itself raises goes to the caller (``fn`` is not run a second time).
 
     Parameters
     ----------
@@ -27,7 +28,11 @@ def per_robot(fn):
     def call(robot, *args):
         try:
             return cached(robot, *args)
-        except TypeError:                  # unhashable robot-like object
-            return fn(robot, *args)
+        except TypeError:
+            try:                           # an unhashable robot-like object or argument?
+                hash((robot, *args))
+            except TypeError:
+                return fn(robot, *args)
+            raise                          # fn's own
     call.cache_clear = cached.cache_clear
     return call

@@ -17,9 +17,10 @@ and flags every candidate in one pass:
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
-A single pose is a batch of one: ``robot.ik`` and ``robot.ik_batch``, the CLI's ``ik``,
-``ik --batch``, ``reach``, ``check`` and the rest answer through here, so a solution has the
-same label and flags wherever it is asked for.
+A single pose is a batch of one: for every closed-form family ``robot.ik`` and
+``robot.ik_batch``, the CLI's ``ik``, ``ik --batch``, ``reach``, ``check`` and the rest answer
+through here, so a solution has the same label and flags wherever it is asked for (a robot
+with no closed form is solved numerically, pose by pose: :mod:`kincalc.ik.numeric`).
 """
 
 from __future__ import annotations
@@ -33,14 +34,11 @@ from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION,
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, tool_from_cs
-from .families import (APPROACH_FAMILIES, TARGET_FAMILIES, TCV, Family,  # noqa: F401 (TCV: the API)
-                       plan)
+from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
-from .joint_limits import (normalise, open_joints, open_values, violations,  # noqa: F401
-                           within_limits)
+from .joint_limits import normalise, open_joints, open_values, same_solution, violations
 from .labels import labels
 from .near_miss import near_misses, polished
-from ..spatial import wrap
 from .solvers import run_solver
 from .target import Targets
 
@@ -401,7 +399,8 @@ def _errors(targets: Targets, tool) -> tuple:
 
 
 def duplicates(robot, q, valid, f=None) -> np.ndarray:
-    """Valid slots whose every joint is within ``DUPLICATE`` (wrapped) of an earlier kept one.
+    """Valid slots that are the same solution as an earlier kept one (every joint within
+    ``DUPLICATE``, wrapped: :func:`~kincalc.ik.joint_limits.same_solution`).
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
     ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are 1-Lipschitz,
@@ -441,9 +440,7 @@ def duplicates(robot, q, valid, f=None) -> np.ndarray:
         & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
     pose, j, i = np.nonzero(near)
     pose = poses[pose]
-    d = q[pose, j] - q[pose, i]                                    # (pairs, n)
-    d[:, robot.is_revolute] = wrap(d[:, robot.is_revolute])
-    same = (np.abs(d) < DUPLICATE).all(-1)
+    same = same_solution(robot, q[pose, j], q[pose, i])                 # (pairs,)
     pose, j, i = pose[same], j[same], i[same]
     # ascending: a slot's verdict before later ones (not np.unique, which imports numpy.ma:
     # 15 ms of the first call that meets a duplicate)

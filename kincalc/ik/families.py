@@ -37,7 +37,6 @@ that has it (:func:`idealised`) and refined (:mod:`kincalc.ik.nearly`).
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -146,8 +145,7 @@ def idealised(S: Screws, structure) -> Screws:
     Returns
     -------
     Screws
-        The nearest screws with the structure (same ``M`` and ``scale``), ``slack`` (m)
-        ``1e3 (move + turn max(scale, 1))`` of :func:`structure_defect`.
+        The nearest screws with the structure (same ``M`` and ``scale``).
     """
     axis, point = S.axis.copy(), S.point.copy()
     a0, p0 = S.M[:3, 2], S.M[:3, 3]
@@ -166,9 +164,7 @@ def idealised(S: Screws, structure) -> Screws:
             if kind == "meet-approach":
                 c = p0 + ((c - p0) @ a0) * a0
             point[js] = c
-    ideal = Screws(axis, point, S.revolute.copy(), S.M.copy(), S.scale)
-    move, turn = structure_defect(S, ideal)
-    return replace(ideal, slack=1e3 * (move + turn * max(S.scale, 1.0)))
+    return Screws(axis, point, S.revolute.copy(), S.M.copy(), S.scale)
 
 
 def structure_defect(S: Screws, ideal: Screws) -> tuple[float, float]:

@@ -19,9 +19,8 @@ from ..spatial import wrap
 from ..subproblems import sp1, sp2, sp4
 from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
-from .pieces import (angle_about as _angle_about, axis_normal, axis_sp4, meeting_point,
-                     one_root as _one, rotate as _mv, rotate_back as _mtv, target_rotation,
-                     turn_onto)
+from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
+                     rotate_back, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import spherical_taking, undo
@@ -84,7 +83,7 @@ def _free_placing_joint(S: Screws, T, br: Branches, wrist):
         return br.branch([3, 4], wrist, least_squares=True), None
     count = sum(np.asarray(br.free[j], int) for j in placing)
     k4, k5, shape = S.axis[3], S.axis[4], wrist.ok.shape
-    Rk5 = np.full(br.ok.shape + (3,), _mv(target_rotation(S, T), k5))      # R_t k5
+    Rk5 = np.full(br.ok.shape + (3,), rotate(target_rotation(S, T), k5))      # R_t k5
     # one Solutions for joints 4, 5 and the placing ones: per slot, the approach's roots
     # (the placing joints as they are) or the pose's (joint 5 set afterwards)
     theta, cos, sin = ([x[0], x[1]] for x in (wrist.theta, wrist.c, wrist.s))
@@ -191,7 +190,7 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
-    t3, c3, s3 = _one(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0),
+    t3, c3, s3 = one_root(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0),
                           fixed=axis_sp4(S, 3, 2)).negated())
     br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
     v = S.turn(2, c3, -s3, v)
@@ -233,7 +232,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
-    u, at = _mv(Rt, k5), _mv(Rt, a0)                                      # (N, 1, 3)
+    u, at = rotate(Rt, k5), rotate(Rt, a0)                                      # (N, 1, 3)
     br = br.branch([3], sp4(h, k5, k4, dot(u, h), fixed=axis_sp4(S, 0, 3)))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
@@ -268,7 +267,7 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     O = meeting_point(S, 0, 3)
     c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
     Rt = target_rotation(S, T)
-    u = _mtv(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
+    u = rotate_back(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
     br = br.branch([3, 4], sp2(u, np.full(u.shape, c0 - O), S.axis[3], S.axis[4]))
     return spherical_taking(S, br, (0, 1, 2), Rt, after=(3, 4))
 
@@ -304,7 +303,7 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     br = br.branch([0], base_angle(S, pt, a))
     a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
     p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
-    psi, cps, sps = _one(sp1(np.full(a1.shape, a0), a1, h))
+    psi, cps, sps = one_root(sp1(np.full(a1.shape, a0), a1, h))
     # where axis 4's point must go: p1 + R_h(psi) (p4 - p0)
     d = S.point[3] - p0
     ch, sh = cps[..., None], sps[..., None]
@@ -319,8 +318,8 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
         br = br.set(4, z, np.ones_like(z), z, free=np.ones(z.shape, bool))
         return br.relabel(4, "any")
     Rt = target_rotation(S, T)
-    br = br.set(4, *_angle_about(S, 4, undo(S, br, (0, 1, 2, 3), np.full(
-        br.ok.shape + (3,), _mv(Rt, axis_normal(S, 4))))))
+    br = br.set(4, *angle_about(S, 4, undo(S, br, (0, 1, 2, 3), np.full(
+        br.ok.shape + (3,), rotate(Rt, axis_normal(S, 4))))))
     return _base_and_roll(S, br)
 
 

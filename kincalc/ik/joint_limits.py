@@ -1,5 +1,5 @@
-"""Joint limits of the engine's solutions: each revolute joint's representative (whole turns)
-nearest its limits, and how far each joint is beyond them.
+"""Joint values of the engine's solutions: each revolute joint's representative (whole turns)
+nearest its limits, how far each joint is beyond them, and when two are one solution.
 
 One tolerance, ``LIMIT_TOL`` (:mod:`kincalc.tolerances`: rad, or times the arm's size for
 prismatic joints), for every path that answers IK: ``robot.ik``, ``ik --batch``, ``reach``,
@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import LIMIT_TOL
+from ..tolerances import DUPLICATE, LIMIT_TOL
 from .cache import per_robot
 
 
@@ -51,6 +51,23 @@ def normalise(robot, Q) -> np.ndarray:
     Q = Q.copy()
     Q[..., rev] = x
     return Q
+
+
+def same_solution(robot, a, b) -> np.ndarray:
+    """Whether configurations are one solution: every joint within ``DUPLICATE``
+    (:mod:`kincalc.tolerances`; rad, revolute joints compared modulo whole turns, or m).
+
+    Parameters
+    ----------
+    robot : Robot
+    a, b : array_like (..., n), joint values (rad / m); the leading shapes broadcast
+
+    Returns
+    -------
+    ndarray (...) of bool
+    """
+    d = np.asarray(a, float) - np.asarray(b, float)
+    return (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE).all(-1)
 
 
 @per_robot

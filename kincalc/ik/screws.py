@@ -23,11 +23,6 @@ class Screws:
     revolute: np.ndarray    # (n,) bool
     M: np.ndarray           # (4, 4) tool pose at q = 0
     scale: float            # characteristic length (m)
-    #: how far (m) a point the solvers place may miss its target and still be kept:
-    #: 0 for a robot's own screws; for the nearest robot of a family
-    #: (:func:`~kincalc.ik.families.idealised`) the size of the difference, since a
-    #: target the true robot reaches is then reached only to about that much
-    slack: float = 0.0
     #: robot-level constants of the solvers, computed once (see :meth:`constant`)
     cache: dict = field(default_factory=dict, compare=False, repr=False, init=False)
 
@@ -200,8 +195,7 @@ class Screws:
         -------
         Screws
             Joint axes and points of the joint frames at q = 0 (world frame, m), ``M`` the
-            tool pose ``T_world_tool`` at q = 0, ``scale`` the characteristic length (m),
-            ``slack`` 0.
+            tool pose ``T_world_tool`` at q = 0, ``scale`` the characteristic length (m).
         """
         from ..fk import frames_and_tool
         F, M = frames_and_tool(robot.chain, np.zeros(robot.dof))
@@ -313,12 +307,12 @@ class Screws:
         -------
         Screws
             Axes and points in the tool frame at q = 0, ``M`` replaced by ``M^-1``; the same
-            ``scale`` and ``slack``.
+            ``scale``.
         """
         Mi = self.inverse_M()
         return Screws((self.axis @ Mi[:3, :3].T)[::-1].copy(),
                       (self.point @ Mi[:3, :3].T + Mi[:3, 3])[::-1].copy(),
-                      self.revolute[::-1].copy(), Mi, self.scale, self.slack)
+                      self.revolute[::-1].copy(), Mi, self.scale)
 
 
 #: the axes that move a leading axis of n + 1 last: ``(1, ..., n, 0)``

@@ -20,8 +20,7 @@ from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
 from .branches import TIE_BREAK, Branches
-from .pieces import (angle_about as _angle_about, axis_normal, rotate as _mv, target_rotation,
-                     tool_point)
+from .pieces import angle_about, axis_normal, rotate, target_rotation, tool_point
 from .place import place
 from .screws import Screws
 from .wrists import undo
@@ -69,9 +68,9 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
                what=f"axis {n}")
     Rt = target_rotation(S, T)
     e = axis_normal(S, n - 1)
-    u = undo(S, br, first, np.full(br.ok.shape + (3,), _mv(Rt, e)))
+    u = undo(S, br, first, np.full(br.ok.shape + (3,), rotate(Rt, e)))
     br = note_roll(S, br, n - 1, e, u)
-    return br.set(n - 1, *_angle_about(S, n - 1, u))
+    return br.set(n - 1, *angle_about(S, n - 1, u))
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:

@@ -19,9 +19,10 @@ import numpy as np
 
 from ..errors import TargetMismatch
 from ..tolerances import ACCEPT_POSITION
-from .engine import TCV, Solved, solve_targets  # noqa: F401
+from .engine import Solved, solve_targets
 from .continua import Continuum, ParallelContinuum
-from .families import APPROACH_FAMILIES, THREE_PARALLEL, plan
+from .families import APPROACH_FAMILIES, TCV, THREE_PARALLEL, plan
+from .joint_limits import same_solution
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
 from ..spatial import turn_toward, wrap
@@ -196,8 +197,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         combos, note = cross_combinations(robot, family.name, T, target.orientation, sols)
         result_rejected = []
         for r in rejected + combos:
-            if not any(np.all(np.abs(np.where(robot.is_revolute, wrap(r["q"] - o["q"]),
-                                              r["q"] - o["q"])) < 1e-6) for o in result_rejected):
+            if not any(same_solution(robot, r["q"], o["q"]) for o in result_rejected):
                 result_rejected.append(r)
         dead = _dead_ends(robot, sv)
     return IKResult(robot=robot, target=target, family=family.name, method=sv.method,
@@ -244,11 +244,7 @@ def _solutions(robot, sv: Solved, explain: bool):
 def _is_copy(robot, sv, k) -> bool:
     """A valid-looking duplicate of an earlier valid slot (dropped by the engine)."""
     earlier = sv.valid[0, :k]
-    if not earlier.any():
-        return False
-    d = np.abs(sv.q[0, :k][earlier] - sv.q[0, k])
-    d[:, robot.is_revolute] = np.abs(wrap(d[:, robot.is_revolute]))
-    return bool((d.max(-1) < 1e-6).any())
+    return bool(earlier.any() and same_solution(robot, sv.q[0, :k][earlier], sv.q[0, k]).any())
 
 
 def violation_list(robot, q) -> list:

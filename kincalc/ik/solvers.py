@@ -77,8 +77,9 @@ SOLVERS = {
 
 
 def run_solver(robot, S, family: Family, targets: Targets, br: Branches) -> Branches:
-    """The candidates of ``family``'s solver for ``targets``: step 1 of the module docstring,
-    before the free joints are oriented and the open ones valued.
+    """The candidates of ``family``'s solver for ``targets`` (step 1 of
+    :mod:`kincalc.ik.engine`: the engine then checks them), before the free joints are
+    oriented and the open ones valued.
 
     Parameters
     ----------

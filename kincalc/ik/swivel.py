@@ -180,8 +180,8 @@ def swivel(robot, S: Screws, targets, br: Branches) -> Branches:
     robot : Robot
         An SRS arm (:func:`srs`).
     S : Screws
-        Unused (the arm's own screws come with its SRS geometry); the signature of the
-        engine's target-kind solvers.
+        The engine's (the signature of its target-kind solvers); replaced by the screws of
+        the arm's SRS geometry (:func:`srs`), which it is solved on.
     targets : Targets
         Of kind ``"swivel"``: poses ``T (N, 4, 4)`` (world frame, SI) and ``swivel (N,)``
         (rad).

@@ -97,7 +97,7 @@ def _fk_chunk(robot, units, parsed, frame):
     T[:, :3, 3] *= units.l
     rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
     good, (q, T, rpy) = _finite_rows(good, (q, T, rpy), errors)
-    from ...ik.engine import within_limits
+    from ...ik.joint_limits import within_limits
     within = within_limits(robot, q)
     Tl, xyz, rpyl = rounded(T), rounded(T[:, :3, 3]), rounded(rpy)
     recs = [{**head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],

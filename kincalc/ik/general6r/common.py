@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...spatial import cross
+from ...tolerances import DUPLICATE
 
 #: solution slots per pose of :func:`~kincalc.ik.general6r.solve_general_6r_batch` (a
 #: general 6R has at most 16)
@@ -38,8 +39,9 @@ THIN = 0.1
 #: seeded Newton starts for a pose where every pivot and the last resort degenerate (a
 #: continuum of solutions, a pose on a fold of the workspace).
 STARTS = 32
-#: wrapped joint distance (rad) below which two solutions are the same.
-MERGE_TOL = 1e-6
+#: wrapped joint distance (rad) below which two solutions are the same: the engine's
+#: (kincalc.tolerances.DUPLICATE)
+MERGE_TOL = DUPLICATE
 #: |Im(theta_3)| (rad) below which an eigenvalue is a real candidate.
 IMAG_TOL = 0.05
 #: eigenvalues (as angles, rad) closer than this are treated as one cluster.
