@@ -130,36 +130,41 @@ def solve(M, b, scale, *, tol: float = GEOMETRY_TOL, merge: float = SAME_ANGLE) 
 
 
 def _residual(M, b, t):
-    """``M x(t) - b`` for ``t (m, ..., 2)`` and ``M (m, 2, 4)``, ``b (m, 2)``."""
-    x = np.stack([np.cos(t[..., 0]), np.sin(t[..., 0]), np.cos(t[..., 1]), np.sin(t[..., 1])],
-                 axis=-1)
-    extra = (None,) * (t.ndim - 2)
-    return np.einsum("m...ij,m...j->m...i", M[(slice(None),) + extra], x) - b[(slice(None),) + extra]
+    """``(F0, F1)``, the rows of ``M x(t) - b`` for ``t (m, k, 2)``, each ``(m, k)``
+    (``M (m, 2, 4)``, ``b (m, 2)``), by components."""
+    c1, s1, c2, s2 = np.cos(t[..., 0]), np.sin(t[..., 0]), np.cos(t[..., 1]), np.sin(t[..., 1])
+    m = M[:, None]                                                         # (m, 1, 2, 4)
+    return tuple(m[..., i, 0] * c1 + m[..., i, 1] * s1 + m[..., i, 2] * c2 + m[..., i, 3] * s2
+                 - b[:, i, None] for i in (0, 1))
 
 
 def _gauss_newton(M, b, t, iters: int = 3):
-    """Polish ``t (m, k, 2)`` on ``M x(t) = b`` (a square 2 x 2 system per root);
-    returns ``(t, largest residual (m, k))``."""
-    F = _residual(M, b, t)
-    nF = np.abs(F).max(-1)
+    """Polish ``t (m, k, 2)`` on ``M x(t) = b`` (a square 2 x 2 system per root), by
+    components; returns ``(t, largest residual (m, k))``."""
+    F0, F1 = _residual(M, b, t)
+    nF = np.maximum(np.abs(F0), np.abs(F1))
+    m = M[:, None]                                                         # (m, 1, 2, 4)
     for _ in range(iters):
-        j1 = np.einsum("mij,mkj->mki", M[:, :, 0:2],
-                       np.stack([-np.sin(t[..., 0]), np.cos(t[..., 0])], -1))
-        j2 = np.einsum("mij,mkj->mki", M[:, :, 2:4],
-                       np.stack([-np.sin(t[..., 1]), np.cos(t[..., 1])], -1))
-        det = j1[..., 0] * j2[..., 1] - j2[..., 0] * j1[..., 1]
+        c1, s1, c2, s2 = (np.cos(t[..., 0]), np.sin(t[..., 0]), np.cos(t[..., 1]),
+                          np.sin(t[..., 1]))
+        # row i's derivatives in t1 and t2
+        j10, j11 = (m[..., i, 1] * c1 - m[..., i, 0] * s1 for i in (0, 1))
+        j20, j21 = (m[..., i, 3] * c2 - m[..., i, 2] * s2 for i in (0, 1))
+        det = j10 * j21 - j20 * j11
         # near a tangency the Jacobian is singular: keep the root as found
-        good = (np.abs(det) > 1e-12 * np.maximum(1.0, (j1 * j1 + j2 * j2).sum(-1))) & \
-            (nF >= 1e-15)
+        good = (np.abs(det) > 1e-12 * np.maximum(1.0, j10 * j10 + j11 * j11 + j20 * j20
+                                                 + j21 * j21)) & (nF >= 1e-15)
         det = np.where(good, det, 1.0)
-        d1 = (-F[..., 0] * j2[..., 1] + F[..., 1] * j2[..., 0]) / det
-        d2 = (-F[..., 1] * j1[..., 0] + F[..., 0] * j1[..., 1]) / det
-        cand = t + np.stack([d1, d2], -1)
-        G = _residual(M, b, cand)
-        nG = np.abs(G).max(-1)
+        cand = np.empty_like(t)
+        cand[..., 0] = t[..., 0] + (F1 * j20 - F0 * j21) / det
+        cand[..., 1] = t[..., 1] + (F0 * j11 - F1 * j10) / det
+        G0, G1 = _residual(M, b, cand)
+        nG = np.maximum(np.abs(G0), np.abs(G1))
         better = good & (nG < nF)
+        if not np.count_nonzero(better):    # (the next step would be this one again)
+            break
         t = np.where(better[..., None], cand, t)
-        F = np.where(better[..., None], G, F)
+        F0, F1 = np.where(better, G0, F0), np.where(better, G1, F1)
         nF = np.where(better, nG, nF)
     return t, nF
 
@@ -186,7 +191,8 @@ def _on_a_line(Mn, bn, U, s, Vt, both):
     u1 = _closest_unit(w[:, 0:2], beta)
     u2 = _closest_unit(w[:, 2:4], beta - (w[:, 0:2] * u1).sum(-1))
     t = np.stack([np.arctan2(u1[:, 1], u1[:, 0]), np.arctan2(u2[:, 1], u2[:, 0])], -1)
-    res = np.abs(_residual(Mn, bn, t[:, None])[:, 0]).max(-1)
+    F0, F1 = _residual(Mn, bn, t[:, None])
+    res = np.maximum(np.abs(F0[:, 0]), np.abs(F1[:, 0]))
     return t, consistent & (res <= RESIDUAL_TOL)
 
 
@@ -209,7 +215,7 @@ def _general(Mn, bn, U, s, Vt, tol, merge):
     a0 = 0.5 * rho2 * (P[:, 0, 0] + P[:, 1, 1]) + r
     a1, b1 = 2 * rho * q[:, 0], 2 * rho * q[:, 1]
     a2, b2 = 0.5 * rho2 * (P[:, 0, 0] - P[:, 1, 1]), rho2 * P[:, 0, 1]
-    phi, have = _quartic_phi(a0, a1, b1, a2, b2, tangent=merge > 0)                          # (m, 4)
+    phi, have = _quartic_phi(a0, a1, b1, a2, b2, tangent=merge > 0)           # (m, 4)
     single = point | circle
     phi = np.where(single[:, None], 0.0, phi)
     have = np.where(single[:, None], np.arange(4) == 0, have) & reach[:, None]
@@ -222,7 +228,7 @@ def _general(Mn, bn, U, s, Vt, tol, merge):
     ok = have & on_torus & (res <= RESIDUAL_TOL)
     t = wrap(t)
     # one solution found twice (a double root) is one
-    for j in range(1, SLOTS):
+    for j in range(1, SLOTS if merge > 0 else 1):
         for i in range(j):
             same = (np.abs(wrap(t[:, j] - t[:, i])) < merge).all(-1)
             ok[:, j] &= ~(same & ok[:, i])
@@ -242,15 +248,16 @@ def _quartic_phi(a0, a1, b1, a2, b2, tangent: bool = True):
     phi = np.angle(np.where(ok, z, 1.0))
     A = (a0, a1, b1, a2, b2)
     A = tuple(v[:, None] for v in A)
-    fv = _f(A, phi)
+    fv, d = _f_df(A, phi)
     for _ in range(4):
-        d = _df(A, phi)
         good = d != 0.0
         cand = phi - fv / np.where(good, d, 1.0)
-        fc = _f(A, cand)
+        fc, dc = _f_df(A, cand)
         better = good & (np.abs(fc) < np.abs(fv))
+        if not np.count_nonzero(better):    # (the next step would be this one again)
+            break
         phi = np.where(better, cand, phi)
-        fv = np.where(better, fc, fv)
+        fv, d = np.where(better, fc, fv), np.where(better, dc, d)
     return (_tangent(A, phi) if tangent else phi), ok
 
 
@@ -275,6 +282,15 @@ def _tangent(A, phi):
     split = 2.0 * np.sqrt(2.0 * band / np.maximum(np.abs(_ddf(A, d)), 1e-300))
     touch = (np.abs(_f(A, d)) <= band) & (np.abs(wrap(d - phi)) <= split)
     return np.where(touch, d, phi)
+
+
+def _f_df(A, phi):
+    """``(f, f')`` at ``phi`` from one cosine and sine of it."""
+    _, a1, b1, a2, b2 = A
+    c, s = np.cos(phi), np.sin(phi)
+    c2, s2 = c * c - s * s, 2.0 * s * c
+    return (A[0] + a1 * c + b1 * s + a2 * c2 + b2 * s2,
+            b1 * c - a1 * s + 2.0 * (b2 * c2 - a2 * s2))
 
 
 def _f(A, phi):
