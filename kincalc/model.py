@@ -302,7 +302,9 @@ class Robot:
         Parameters
         ----------
         T : array_like (4, 4)
-            The target ``T_world_tool``, lengths in m.
+            The target ``T_world_tool``, lengths in m. Its rotation is read as the CLI
+            reads one: a rotation to 6 digits, re-orthonormalised (the nearest rotation)
+            unless it is one to rounding already.
         orientation : bool
             False: reach the position only (robots that do not control orientation).
         **options
@@ -323,10 +325,20 @@ class Robot:
         TargetMismatch
             The target's kind does not fit the robot (an orientation for a robot that sets
             none, ...).
+        ValueError
+            ``T`` is not a pose: its rotation not orthonormal with determinant +1 to 6
+            digits, or its last row not 0 0 0 1.
         """
         # lazily: the engine is large, and a robot is often loaded only to be shown
         from .ik import Target, solve
-        return solve(self, Target(np.asarray(T, float), orientation), **options)
+        from .ik.target import api_poses, defect_text
+        T = np.asarray(T, float)
+        if orientation and T.shape == (4, 4):
+            poses, defect = api_poses(T[None])
+            if defect[0] is not None:
+                raise ValueError(defect_text("T", defect[0], "T"))
+            T = poses[0]
+        return solve(self, Target(T, orientation), **options)
 
     def ik_batch(self, T):
         """Every IK solution for each of many poses, vectorised over the poses.
@@ -334,7 +346,8 @@ class Robot:
         Parameters
         ----------
         T : array_like (N, 4, 4) or (4, 4)
-            Targets ``T_world_tool``, lengths in m.
+            Targets ``T_world_tool``, lengths in m; rotations read as :meth:`ik` reads them
+            (a matrix that is not a pose is solved as given: no solution).
 
         Returns
         -------
@@ -350,6 +363,10 @@ class Robot:
             then answers numerically.
         """
         from .ik.engine import solve_batch
+        from .ik.target import api_poses
+        T = np.asarray(T, float)
+        if T.ndim in (2, 3) and T.shape[-2:] == (4, 4):
+            T = api_poses(T.reshape(-1, 4, 4))[0].reshape(T.shape)
         return solve_batch(self, T)
 
     def link_transforms(self, q) -> np.ndarray:

@@ -104,3 +104,11 @@ SHARPEN_NEAR_PARALLEL = 1e-2
 #: the two roots that touch there come out of subproblem 6 about the square root of
 #: rounding apart
 SNAP_PARALLEL = 1e-6
+
+#: a rotation matrix the user gives (a pose, ``--matrix``, a robot file's base or tool) is one
+#: when ``R R^T`` is the identity to this, entrywise, with ``det R > 0``: rounding every entry
+#: to 6 decimals moves ``R R^T`` by up to ``2 sqrt(3) 5e-7 = 1.7e-6``
+ROTATION_TOL = 2e-6
+#: a rotation matrix orthonormal to this (entrywise) is one to rounding, kept as given: a
+#: product of a few rotations, as FK makes, is some 1e-16 off
+ORTHONORMAL = 1e-14

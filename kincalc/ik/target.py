@@ -188,18 +188,18 @@ def target_form(given) -> str | None:
 
 #: what can be wrong with the values of one request (:func:`targets_from`'s ``defect``):
 #: ``zero`` (a zero quaternion, axis, approach or TCV approach part), ``not rotation``
-#: (a matrix that is not a rotation to 1e-6: rows orthonormal, determinant +1),
+#: (a matrix that is not a rotation to 6 digits: rows orthonormal, determinant +1),
 #: ``last row`` (a pose whose last row is not 0 0 0 1, to 1e-9)
 DEFECTS = ("zero", "not rotation", "last row")
-#: a rotation's rows must be orthonormal to this (plus 1e-5 on the diagonal: matrices
-#: typed to 6 digits pass)
-ROTATION_TOL = 1e-6
 
 
 def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.ndarray]:
     """The targets of ``N`` requests of one ``form``, vectorised.
 
-    Whole poses are re-orthonormalised (the nearest rotation, by SVD).
+    Rotation matrices (whole poses and the ``matrix`` form) are re-orthonormalised, the
+    nearest rotation by SVD, unless they are already orthonormal to rounding
+    (:func:`kincalc.spatial.nearest_rotations`): a matrix typed to 6 or 12 digits is a
+    rotation again.
 
     Parameters
     ----------
@@ -240,8 +240,7 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
         defect[~(np.abs(M[:, 3] - [0.0, 0.0, 0.0, 1.0]) <= 1e-9).all(-1)] = "last row"
         _rotations(M[:, :3, :3], defect)
         good = defect == None  # noqa: E711
-        u, _, vt = np.linalg.svd(M[good, :3, :3])
-        T[good, :3, :3] = u @ vt
+        T[good, :3, :3] = sp.nearest_rotations(M[good, :3, :3])
         T[good, :3, 3] = M[good, :3, 3]
         return Targets(T), defect
     if form in ("approach", "tcv"):
@@ -272,8 +271,35 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
                 "euler_xyz": sp.matrix_from_euler_xyz}[form]
         R = make(values)
     good = defect == None  # noqa: E711
-    T[good, :3, :3] = R[good]
+    T[good, :3, :3] = sp.nearest_rotations(R[good]) if form == "matrix" else R[good]
     return Targets(T), defect
+
+
+def api_poses(T) -> tuple[np.ndarray, np.ndarray]:
+    """Poses given to the Python API read as the CLI reads them: each rotation checked to
+    :data:`~kincalc.tolerances.ROTATION_TOL` and re-orthonormalised
+    (:func:`kincalc.spatial.nearest_rotations`), the last row
+    checked; a pose that is not one (or not finite) is kept as given.
+
+    Parameters
+    ----------
+    T : array_like (N, 4, 4), ``T_world_tool`` (world frame, SI)
+
+    Returns
+    -------
+    poses : ndarray (N, 4, 4)
+    defect : ndarray (N,) of object
+        None, or one of :data:`DEFECTS` (worded by :func:`defect_text`) for a finite
+        matrix that is not a pose.
+    """
+    T = np.asarray(T, float)
+    targets, defect = targets_from("T", T.reshape(len(T), 16))
+    finite = np.isfinite(T).all((-1, -2))
+    defect[~finite] = None
+    poses = targets.T
+    keep = (defect != None) | ~finite  # noqa: E711
+    poses[keep] = T[keep]
+    return poses, defect
 
 
 def defect_text(form: str, defect: str, what: str) -> str:
@@ -304,14 +330,9 @@ def defect_text(form: str, defect: str, what: str) -> str:
 
 
 def _rotations(R, defect) -> None:
-    """Mark ``defect`` "not rotation" where ``R (N, 3, 3)`` is not a rotation (to
-    :data:`ROTATION_TOL`) and no other defect is marked."""
-    with np.errstate(invalid="ignore"):
-        # |R R^T - I| <= 1e-6 + 1e-5 |I| entrywise (numpy's allclose)
-        orth = (np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3))
-                <= ROTATION_TOL + 1e-5 * np.eye(3)).all((-1, -2))
-        bad = ~(orth & (np.linalg.det(R) > 0))
-    defect[bad & (defect == None)] = "not rotation"  # noqa: E711
+    """Mark ``defect`` "not rotation" where ``R (N, 3, 3)`` is not a rotation to 6 digits
+    (:func:`kincalc.spatial.is_rotation`) and no other defect is marked."""
+    defect[~sp.is_rotation(R) & (defect == None)] = "not rotation"  # noqa: E711
 
 
 def to_si(form: str | None, values, units):

@@ -118,3 +118,48 @@ def test_user_units_to_si():
     T[:3, 3] = [100, 200, 300]
     assert np.allclose(to_si("T", T.ravel()[None], units).reshape(4, 4)[:3, 3], [.1, .2, .3])
     assert np.allclose(to_si("tcv", [[100, 0, 0, 0, 0, 2]], units), [[.1, 0, 0, 0, 0, 2]])
+
+
+# --- a rotation typed to a few digits ---------------------------------------------------------
+
+def test_a_matrix_typed_to_6_digits_is_the_rotation_it_stands_for():
+    """The ``matrix`` and ``T`` forms re-orthonormalise a matrix that is a rotation to 6
+    digits (the nearest rotation, by SVD: orthonormal to rounding, within 1e-6 of the
+    typed one); one that is a rotation to rounding already keeps its bits."""
+    from kincalc.spatial import nearest_rotations
+    rng = np.random.default_rng(6)
+    n = 2000          # (1e-6 refused 2.4 % of them: rounding moves R R^T by up to 1.7e-6)
+    R = np.array([rz(a) @ ry(b) @ rx(c) for a, b, c in rng.uniform(-3, 3, (n, 3))])
+    typed = np.round(R, 6)
+    for form, values in (("matrix", typed.reshape(n, 9)),
+                         ("T", np.concatenate([typed, np.zeros((n, 3, 1))], 2).reshape(n, 12))):
+        t, defect = targets_from(form, values, xyz=np.zeros((n, 3)))
+        assert (defect == None).all()  # noqa: E711
+        got = t.T[:, :3, :3]
+        assert np.abs(got @ np.swapaxes(got, 1, 2) - np.eye(3)).max() < 1e-14
+        assert np.abs(got - R).max() < 1e-6
+    assert np.array_equal(nearest_rotations(R), R)           # FK-exact: untouched
+
+
+def test_the_python_api_reads_a_pose_as_the_cli_does():
+    """robot.ik and robot.ik_batch on a pose typed to 6 digits: the solutions of the rotation
+    it stands for (before, 'orientation not reachable, off by 4e-5 deg'); not a pose:
+    ValueError naming the defect."""
+    from kincalc import load_robot
+    r = load_robot("puma560")
+    q = np.radians([10, 20, 30, 40, 50, 60])
+    T = r.fk(q)
+    T6 = np.round(T, 6)
+    res = r.ik(T6)
+    assert len(res.solutions) == 8 and res.reachable
+    assert min(np.abs(s.q - q).max() for s in res.solutions) < 1e-5
+    assert r.ik_batch(T6[None]).counts.tolist() == [8]
+    bad = T6.copy()
+    bad[0, :3] *= 1.01
+    with pytest.raises(ValueError, match="not a rotation"):
+        r.ik(bad)
+    bad = T6.copy()
+    bad[3, 3] = 2.0
+    with pytest.raises(ValueError, match="last row"):
+        r.ik(bad)
+    assert r.ik_batch(np.stack([bad, T6])).counts.tolist() == [0, 8]

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ...limits import DECIMAL, MAX_EXPRESSION, MAX_MAGNITUDE, cut, parse_decimal, quote
-from ...spatial import matrix_from_rpy, transform
+from ...spatial import is_rotation, matrix_from_rpy, nearest_rotations, transform
 from .nodes import NodeReader
 
 POSE_KEYS = {"xyz", "rpy", "matrix"}
@@ -224,15 +224,12 @@ class Reader(NodeReader):
                           for k, r in enumerate(rows)])
             if not np.allclose(M[3], [0, 0, 0, 1], atol=1e-9):
                 self.fail(matrix, f"{mwhat}: the last row must be [0, 0, 0, 1]")
-            R = M[:3, :3]
-            if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+            if not is_rotation(M[:3, :3]):
                 self.fail(matrix, f"{mwhat}: the upper-left 3x3 block is not a "
                                   "rotation (orthonormal, determinant +1)")
             M = M.copy()
             M[:3, 3] *= self.L
-            # re-orthonormalise the rotation given to 6 digits
-            u, _, vt = np.linalg.svd(R)
-            M[:3, :3] = u @ vt
+            M[:3, :3] = nearest_rotations(M[:3, :3])       # one given to 6 digits
             return M
         xyz = self.vector(fields["xyz"], f"{what}.xyz", 3) * self.L if "xyz" in fields else np.zeros(3)
         rpy = self.vector(fields["rpy"], f"{what}.rpy", 3) * self.A if "rpy" in fields else np.zeros(3)
