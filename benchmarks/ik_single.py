@@ -9,10 +9,11 @@ within the limits by :func:`kincalc.ik.selftest.sample_configurations`), and its
 ratio to a reference measured in the same run: the median time of one
 ``numpy.linalg.eig`` of a random 24x24 matrix (the eigenproblem at the heart of
 the general-6R solver; it makes figures from different machines comparable).
-For the general 6R robots it also prints the median time of one call of
-``solve_general_6r_batch`` on a batch of one pose (``g6r 1``, over the same poses),
-and its time per pose on each ``--batch`` size (median of 3 runs), each with its ratio
-to the reference.
+For the general 6R robots, and a seeded random arm of the three-parallel-offset family
+(solved in closed form; the elimination solved it before), it also prints the median time
+of one call of ``solve_general_6r_batch`` on a batch of one pose (``g6r 1``, over the same
+poses), and its time per pose on each ``--batch`` size (median of 3 runs), each with its
+ratio to the reference.
 
 Times are wall-clock (``time.perf_counter``) unless ``--cpu`` asks for the
 thread's CPU time (``time.thread_time``), steadier on a shared machine.
@@ -51,6 +52,19 @@ def random_general_6r(seed: int = 7) -> Robot:
     return Robot(name="random_6r", convention="dh", joints=joints)
 
 
+def random_three_parallel_offset(seed: int = 7) -> Robot:
+    """A seeded random arm of the three-parallel-offset family: DH twists 0 between axes 2-4,
+    axes 5 and 6 a link apart (lengths in [-0.5, 0.5] m, the other twists any)."""
+    rng = np.random.default_rng(seed)
+    twist = [rng.uniform(0.3, 2.8), 0.0, 0.0, rng.uniform(0.3, 2.8), rng.uniform(0.3, 2.8),
+             rng.uniform(-np.pi, np.pi)]
+    joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=twist[i],
+                         a=0.3 if i == 4 else rng.uniform(-0.5, 0.5), d=rng.uniform(-0.5, 0.5),
+                         theta=rng.uniform(-np.pi, np.pi), limits=(-np.pi, np.pi))
+                   for i in range(6))
+    return Robot(name="random_3par_offset", convention="dh", joints=joints)
+
+
 def median_time(fn, args_list, clock) -> float:
     times = []
     for a in args_list:
@@ -79,7 +93,8 @@ def main():
           f"{'g6r 1 ms':>9s} {'x eig':>6s}"
           + "".join(f" {'N=' + str(n) + ' ms/pose':>16s} {'x eig':>6s}" for n in args.batch))
 
-    robots = [kincalc.load_robot(n) for n in args.robots] + [random_general_6r()]
+    robots = [kincalc.load_robot(n) for n in args.robots] + [random_general_6r(),
+                                                             random_three_parallel_offset()]
     for r in robots:
         family = plan(r)[1]
         fam = family.name if family else "numerical"
@@ -88,7 +103,8 @@ def main():
         t_ik = median_time(r.ik, T, clock)
         sols = np.mean([len(r.ik(t).solutions) for t in T[:50]])
         line = f"{r.name:18s} {fam:20s} {t_ik * 1e3:8.3f} {t_ik / ref:6.1f} {sols:5.1f}"
-        if fam == "general-6r" and solve_general_6r_batch is not None:
+        # (the elimination on a three-parallel-offset arm: what solved it before its family)
+        if fam in ("general-6r", "three-parallel-offset") and solve_general_6r_batch is not None:
             t1 = median_time(lambda t: solve_general_6r_batch(r, t[None]), T, clock)
             line += f" {t1 * 1e3:9.3f} {t1 / ref:6.1f}"
             for n in args.batch:
