@@ -129,7 +129,11 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
                     f"{_n(l1 * l1)} - {_n(l2 * l2)}) / (2·{_n(l1)}·{_n(l2)}) = {_n(c)} (the law "
                     f"of cosines: p the point placed, o on the axis of {pivot}, l1 and l2 the "
                     f"triangle's sides)")
-        return f"{head} -> {q} = ±{_angle(np.arccos(np.clip(c, -1, 1)), units)}: {got}"
+        root = _angle(np.arccos(np.clip(c, -1, 1)), units)
+        if A > 0:
+            return f"{head} -> {q} = ±{root}: {got}"
+        # A < 0: atan2(B, A) + acos((t - C) / |A|), the + branch of the labels, is -acos(c)
+        return f"{head} -> {q} = ∓{root} (the + branch is -{root}): {got}"
     r = np.hypot(A, B)
     c = (t - C) / r
     return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> "

@@ -164,7 +164,9 @@ def _(r: NumericMissed, robot, units) -> str:
 @reason_text.register
 def _(r: NoRoot, robot, units) -> str:
     name = robot.joints[r.joint].name
-    text = (f"{name}: cos({name} - {r.phase * units.a:.4g} {units.angle}) would have to be "
+    phase = float(r.phase * units.a) + 0.0             # (-0.0 as 0)
+    sign = "+" if phase < 0 else "-"
+    text = (f"{name}: cos({name} {sign} {abs(phase):.4g} {units.angle}) would have to be "
             f"{r.need:.4g}, outside [-1, 1]: no real angle, {r.what} is out of reach on that "
             "branch")
     if r.reversed_chain:

@@ -278,8 +278,14 @@ def joint_amount(robot, joint: str, x: float, units: dict) -> str:
     return f"{x:.4g}" + (f" {unit}" if unit else "")
 
 
+#: significant digits a table shows at most: a double holds about 16
+SIGNIFICANT = 16
+
+
 def num(x, precision: int) -> str:
-    """A number for a table: fixed decimals, no negative zero, inf/nan spelled out."""
+    """A number for a table: fixed decimals (no more than leave :data:`SIGNIFICANT`
+    significant digits: 11184349.22705329 at --precision 12, not 11184349.227053290233),
+    no negative zero, inf/nan spelled out."""
     if x is None:
         return "-"
     if isinstance(x, bool):
@@ -288,7 +294,8 @@ def num(x, precision: int) -> str:
         return str(x)
     if math.isinf(x) or math.isnan(x):
         return str(x)
-    s = f"{x:.{precision}f}"
+    whole = len(str(int(abs(x)))) if abs(x) >= 1 else 0
+    s = f"{x:.{min(precision, max(SIGNIFICANT - whole, 0))}f}"
     if s.lstrip("-").strip("0.") == "":
         s = s.lstrip("-")
     return s

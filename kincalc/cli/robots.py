@@ -33,7 +33,13 @@ def list_(
     debug: DebugOpt = False,
 ):
     """List every bundled robot: name, joints, convention, how ik answers, and title."""
-    from ..errors import KincalcError
+    from ..errors import KincalcError, UsageError
+    from ..ik.solvers import SOLVERS
+    from ..limits import quote
+    known = sorted(SOLVERS) + ["general-6r", "numerical"]
+    if family is not None and family.removeprefix("reversed-") not in known:
+        raise UsageError(f"--family: no IK family {quote(family)}; the families are "
+                         f"{', '.join(known)} (and reversed-... of the six-joint ones)")
     from ..conventions.library import bundled_names, library_dir
     from ..conventions.reader import load_robot_file
     entries = []

@@ -60,7 +60,7 @@ class Continuum(NamedTuple):
         if self.total is None:
             return f"axes of {a} and {b} aligned: they turn the tool about one line"
         return (f"{a} {'+' if self.sign > 0 else '-'} {b} = "
-                f"{float(wrap(self.total)) * per_rad:.4f} {angle_unit}")
+                f"{_shown(self.total, per_rad)} {angle_unit}")
 
 
 class ParallelContinuum(NamedTuple):
@@ -115,6 +115,12 @@ class ParallelContinuum(NamedTuple):
                  ("- " if s < 0 else "+ ") + names[j]
                  for k, (j, s) in enumerate(zip(self.joints, self.signs))]
         rest = ", ".join(names[j] for j in self.joints if j != self.free)
-        return (f"{' '.join(terms)} = {float(wrap(self.total)) * per_rad:.4f} {angle_unit} "
+        return (f"{' '.join(terms)} = {_shown(self.total, per_rad)} {angle_unit} "
                 f"(axis of {names[self.free]} parallel to theirs: {names[self.free]} free, "
                 f"{rest} follow it)")
+
+
+def _shown(total: float, per_rad: float) -> str:
+    """A relation's total (rad) in the display unit, to 4 decimals (a total rounding to zero
+    is 0.0000, not -0.0000)."""
+    return f"{round(float(wrap(total)) * per_rad, 4) + 0.0:.4f}"

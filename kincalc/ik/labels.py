@@ -20,6 +20,8 @@ A label is made of
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from .branches import TIE_BREAK
@@ -118,17 +120,27 @@ def _texts(robot, family: str) -> tuple:
 
 def _text(robot, family, words, signs, free_bits, every_sign=False) -> str:
     """One label: the geometric ``words`` (codes of :data:`WORDS`), the ``signs`` of the
-    steps they do not name (``every_sign``: of every step), the free joints (bit j: joint
-    j)."""
+    steps they do not name and of joints not free (``every_sign``: of every step), the free
+    joints (bit j: joint j)."""
     names = [j.name for j in robot.joints]
     parts = [WORDS[w][x - 1] for w, x in enumerate(words) if x]
     geo = geometry(robot, family)
     named = set() if every_sign else \
         set().union(*(geo.named()[w] for w, x in enumerate(words) if x))
+    # (a free joint's step has one root, its representative: no sign tells it apart; an
+    # open joint's "any" says it is free)
     parts += [f"{names[j]}:{lab}" for j, lab in sorted(signs)
-              if j not in named and (every_sign or lab != TIE_BREAK)]
+              if j not in named and (every_sign or lab != TIE_BREAK and (
+                  lab == "any" or not free_bits >> j & 1))]
     said = {j for j, lab in signs if lab == "any"}          # open: "any" says it already
     free = [names[j] for j in range(robot.dof) if free_bits >> j & 1 and j not in said]
     if free:
         parts.append("(" + ", ".join(free) + " free)")
     return " ".join(parts) if parts else "unique"
+
+
+def label_order(text: str) -> tuple:
+    """A label as a sort key that orders the numbers in it by value (``root 2`` before
+    ``root 10``)."""
+    return tuple((0, int(w), "") if w.isdigit() else (1, 0, w)
+                 for w in re.split(r"(\d+)", text))

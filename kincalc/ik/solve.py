@@ -23,6 +23,7 @@ from .engine import Solved, solve_targets
 from .continua import Continuum, ParallelContinuum
 from .families import APPROACH_FAMILIES, TCV, THREE_PARALLEL, plan
 from .joint_limits import same_solution
+from .labels import label_order
 from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
                       OrientationOut, OutOfReach)
 from ..spatial import turn_toward, wrap
@@ -184,7 +185,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     family = sv.spec
     T = np.asarray(target.T, float)
     sols, rejected = _solutions(robot, sv, explain)
-    sols.sort(key=lambda s: (not s.within_limits, s.branch))
+    sols.sort(key=lambda s: (not s.within_limits, label_order(s.branch)))
     if near is not None:
         sols = [replace(s, q=q, change=q - near) for s in sols
                 for q in [_toward(robot, s.q, near)]]

@@ -144,6 +144,16 @@ def test_every_json_number_appears_in_the_table(capsys, argv):
             assert any(abs(round(leaf, 4) - x) < 1.5e-4 for x in shown), leaf
 
 
+def test_robots_list_of_a_family_that_does_not_exist_says_so(capsys):
+    """A mistyped family is an error naming the families (it printed an empty table, exit 0);
+    one no bundled robot has is an empty list."""
+    code, out, err = run(capsys, "robots", "list", "--family", "spherical-wirst")
+    assert code == 2 and "spherical-wirst" in err and "spherical-wrist" in err
+    assert len(err.strip().splitlines()) == 1
+    doc = run_json(capsys, "robots", "list", "--family", "three-parallel-offset")
+    assert doc["robots"] == []
+
+
 def test_robots_list_and_show(capsys):
     doc = run_json(capsys, "robots", "list")
     names = [r["name"] for r in doc["robots"]]
@@ -320,3 +330,16 @@ def test_ik_tcv_option(capsys):
     w = run_json(capsys, "fk", "fer_rrpr", "30", "50", "0.25", "40")["tcv"]
     doc = run_json(capsys, "ik", "fer_rrpr", "--tcv", *map(str, w))
     assert any(np.allclose(s["q"], [30, 50, 0.25, 40], atol=1e-6) for s in doc["solutions"])
+
+
+def test_precision_never_prints_more_digits_than_a_double_holds(capsys):
+    """--precision 12 on a manipulability of 1.1e7 mm^3: 16 significant digits at most, the
+    value the JSON holds (it printed 11184349.22705329023302)."""
+    argv = ("jacobian", "puma560", "10", "20", "30", "40", "50", "60", "--unit", "mm")
+    code, table, _ = run(capsys, *argv, "--precision", "12")
+    doc = run_json(capsys, *argv)
+    value = doc["manipulability"]
+    line = next(x for x in table.splitlines() if x.strip().startswith("manipulability"))
+    shown = line.split()[-1]
+    assert code == 0 and len(shown.replace(".", "").lstrip("-0")) <= 16, shown
+    assert float(shown) == pytest.approx(value, rel=1e-15)

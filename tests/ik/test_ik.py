@@ -493,10 +493,12 @@ def test_all_branches_says_why_a_branch_has_no_real_angle():
     assert d.joint == 2 and d.need == pytest.approx(value, rel=1e-9) and abs(d.need) > 1
     assert abs(wrap(d.phase + np.arctan2(d4, a3))) < 1e-9
     text = ik_document(res)["dead_ends"][0]          # worded at the edge, in degrees
-    m = re.search(r"cos\(q3 - (-?[0-9.]+) deg\) would have to be (-?[0-9.]+)", text)
+    # cos(q3 - phase), the phase's sign written once: "q3 + 87.31", never "q3 - -87.31"
+    m = re.search(r"cos\(q3 ([-+]) ([0-9.]+) deg\) would have to be (-?[0-9.]+)", text)
     assert m, text
-    assert float(m.group(2)) == pytest.approx(value, rel=1e-3)
-    assert abs(wrap(np.radians(float(m.group(1))) - d.phase)) < 1e-3
+    assert float(m.group(3)) == pytest.approx(value, rel=1e-3)
+    phase = float(m.group(2)) * (1 if m.group(1) == "-" else -1)
+    assert abs(wrap(np.radians(phase) - d.phase)) < 1e-3
     # without --all-branches nothing is collected
     assert solve(r, Target(T)).dead_ends is None
 
@@ -546,3 +548,37 @@ def test_near_beyond_a_limit_orders_by_the_configuration():
     near = np.radians([10, -30, 150, 20, 40, 30])
     res = solve(r, Target(r.fk(near)), near=near)
     assert close(res.solutions[0].q, near, r)
+
+
+def test_a_continuum_total_that_rounds_to_zero_is_written_without_a_sign():
+    """PUMA 560 at q5 = 0 with q4 + q6 = 0: the relation reads 'q4 + q6 = 0.0000 deg' (it
+    read '-0.0000', the total a rounding below zero)."""
+    r = load_robot("puma560")
+    res = r.ik(r.fk(np.radians([0, 45, 180, 0, 0, 0])))
+    texts = [s.continuum.text([j.name for j in r.joints], "deg", 180 / np.pi)
+             for s in res.solutions if s.continuum is not None]
+    assert texts and all(t.startswith("q4 + q6 = ") for t in texts)
+    assert not any("-0.0000" in t for t in texts)
+
+
+def test_a_label_s_sign_is_the_branch_the_explained_formula_calls_so():
+    """The FER homework's arm (a TCV target): joint 2 from cos q2 = (t - C) / A with A < 0.
+    The root labelled q2:+ is atan2(B, A) + acos(...) = -60 deg; the trace wrote "q2 =
+    ±60°" beside it, as if + were +60. It now names the + branch's value."""
+    import re
+
+    from kincalc.analysis.results import ik_document
+    r = load_robot("fer_rrpr")
+    w = np.array([0.963019, 0.555999, -0.642013])          # --tcv 0.3 0.173205 0.3 w4 w5 w6
+    T = np.eye(4)
+    T[:3, 3] = [0.3, 0.173205, 0.3]
+    n = np.linalg.norm(w)
+    res = solve(r, Target(T, orientation=False, tcv=(w / n, np.pi * np.log(n))), explain=True)
+    doc = ik_document(res)
+    assert len(res.solutions) == 2
+    for s, d in zip(res.solutions, doc["solutions"]):
+        q2 = np.degrees(s.q[1])
+        line = next(t for t in (str(x) for x in d["trace"]) if "cos q2" in t)
+        plus = re.search(r"the \+ branch is (-?[0-9.]+)", line)
+        assert plus, line
+        assert ("q2:+" in s.branch) == (abs(q2 - float(plus.group(1))) < 1e-3), (s.branch, q2)

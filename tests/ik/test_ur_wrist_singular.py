@@ -504,6 +504,8 @@ def test_reversed_arm_with_the_wrist_point_on_axis_1_turns_it_into_the_wrists_re
     S = np.array([s.q for s in res.solutions])
     assert_reproduces(robot, S, T)
     assert all(5 in s.free for s in res.solutions)
+    # a free joint's step has one root: its label names it free, with no sign ("j6:+")
+    assert all("(j6 free)" in s.branch and "j6:" not in s.branch for s in res.solutions)
     B = robot.ik_batch(T[None])
     assert B.counts[0] == len(S)
     assert_reproduces(robot, B.q[0][B.valid[0]], T)
