@@ -208,6 +208,13 @@ def _slide_step(d, value, d_value, units) -> str:
             f"placed must go, f: where {d} = 0 leaves it, along the axis of {d})")
 
 
+def _tcv_step(q, value, q_value, units) -> str:
+    """``q = pi ln |w4..w6|``: the last joint of a tool configuration vector."""
+    length = float(np.ravel(value)[0])
+    return (f"{q} = pi ln|w4..w6| = pi ln({_n(length)}) (w4..w6: the vector's approach part, "
+            f"e^({q}/pi) times the tool's z axis): {_result(q, q_value, units)}")
+
+
 #: the writer of each kind of noted step (:mod:`kincalc.ik.worked`): ``(joint name, the
 #: kind's other fields (what, the pivot joint's name), value, the joint's value, units)``
 _STEPS = {
@@ -216,6 +223,7 @@ _STEPS = {
     "turn": lambda q, extra, v, x, units: _turn_step(q, v, x, units),
     "roll": lambda q, extra, v, x, units: _roll_step(q, v, x, units),
     "slide": lambda q, extra, v, x, units: _slide_step(q, v, x, units),
+    "tcv": lambda q, extra, v, x, units: _tcv_step(q, v, x, units),
 }
 
 

@@ -260,6 +260,12 @@ def ik_document(result) -> dict:
         out["target"]["approach"] = json_numbers(np.asarray(result.target.approach, float))
     if result.target.swivel is not None:
         out["target"]["swivel"] = json_numbers(result.target.swivel * u.a)
+    if result.target.tcv is not None:          # the vector given: w1..w3 position, w4..w6
+        a, roll = result.target.tcv           # the approach times exp(q_n / pi)
+        w = np.concatenate([np.asarray(result.target.T, float)[:3, 3] * u.l,
+                            np.asarray(a, float) * np.exp(roll / np.pi)])
+        out["target"]["tcv"] = json_numbers(w)
+        out["target"]["roll"] = json_numbers(roll * u.a)
     out.update({
         "reachable": result.reachable,
         "reason": reason_text(result.reason, robot, u),

@@ -173,8 +173,11 @@ def _tables(doc, robot, precision, explain):
     else:
         from .render import vec
         length = "" if u["length"] == "unitless" else f" {u['length']}"
-        what = ("approach " + vec(doc["target"]["approach"], precision)
-                if "approach" in doc["target"] else "no orientation given")
+        t = doc["target"]
+        what = ("approach " + vec(t["approach"], precision) if "approach" in t else
+                f"tool configuration vector: w4..w6 {vec(t['tcv'][3:], precision)}, the last "
+                f"joint {num(t['roll'], precision)} {u['angle']}" if "tcv" in t else
+                "no orientation given")
         c.print(f"target position: {vec([r[3] for r in doc['target']['T'][:3]], precision)}"
                 f"{length}  ({what})")
     m = doc["method"]

@@ -24,7 +24,7 @@ from .pieces import angle_about, axis_normal, rotate, target_rotation, tool_poin
 from .place import place
 from .screws import Screws
 from .wrists import undo
-from .worked import note_roll
+from .worked import note_roll, note_tcv
 
 
 def position_3(S: Screws, targets, br: Branches) -> Branches:
@@ -264,6 +264,7 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     if br.N != 1:
         raise ValueError("tcv: one target at a time")
     qn = float(targets.roll[0])
+    br = note_tcv(br, n - 1, np.exp(qn / np.pi))
     p = S.move_point(n - 1, qn, S.M[:3, 3])
     br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3], what="the tool")
     q = np.full((br.N, br.K), qn)

@@ -127,3 +127,11 @@ def note_roll(S, br: Branches, joint: int, e, u) -> Branches:
     E = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
     return br.note("roll", np.concatenate(np.broadcast_arrays(u @ E.T, E @ e), -1),
                    f"roll:{joint}")
+
+
+def note_tcv(br: Branches, joint: int, length: float) -> Branches:
+    """``br`` with the last joint of a tool configuration vector noted, ``q = pi ln |w4..w6|``
+    (``length`` the approach part's, unitless; ``explain`` only)."""
+    if not br.explain:
+        return br
+    return br.note("|w4..w6|", np.full((br.N, br.K, 1), float(length)), f"tcv:{joint}")

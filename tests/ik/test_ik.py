@@ -582,3 +582,26 @@ def test_a_label_s_sign_is_the_branch_the_explained_formula_calls_so():
         plus = re.search(r"the \+ branch is (-?[0-9.]+)", line)
         assert plus, line
         assert ("q2:+" in s.branch) == (abs(q2 - float(plus.group(1))) < 1e-3), (s.branch, q2)
+
+
+def test_a_tcv_target_is_shown_and_its_last_joint_explained():
+    """The FER homework's --tcv: the JSON target keeps the vector and the last joint it sets
+    (q4 = pi ln |w4..w6|, here ln 1.28402538 = pi/4: 45 deg), and --explain shows that step
+    (the target read "no orientation given"; the trace began at q3)."""
+    from kincalc.cli.main import main
+    import contextlib
+    import io
+    import json
+    argv = ["ik", "fer_rrpr", "--tcv", "0.3", "0.173205", "0.3", "0.963019", "0.555999",
+            "-0.642013", "--explain", "--json"]
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(argv) == 0
+    doc = json.loads(buf.getvalue())
+    w = [0.3, 0.173205, 0.3, 0.963019, 0.555999, -0.642013]
+    assert doc["target"]["tcv"] == pytest.approx(w, abs=1e-12)
+    assert doc["target"]["roll"] == pytest.approx(180 * np.log(np.linalg.norm(w[3:])), abs=1e-9)
+    for s in doc["solutions"]:
+        first = s["trace"][0]
+        assert first["step"] == "q4" and "pi ln|w4..w6|" in first["text"]
+        assert s["q"][3] == pytest.approx(doc["target"]["roll"], abs=1e-6)
