@@ -26,7 +26,8 @@ import numpy as np
 from ..errors import InputError
 from ..ik import IKResult, IKSolution, Target, solve
 from ..ik.reasons import Blocked, Found
-from ..ik.solve import limits_reason, violation_list
+from ..ik.solve import violation_list
+from ..ik.verdict import limits_reason
 from ..model import Joint, Robot
 from ..spatial import matrix_from_axis_angle, transform
 

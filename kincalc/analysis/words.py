@@ -100,11 +100,13 @@ def _(r: NoSolution, robot, units) -> str:
 
 @reason_text.register
 def _(r: OrientationOut, robot, units) -> str:
-    if r.what == "approach vector":
+    if r.what == "approach vector" and r.closest is not None:
         return (f"the position is reachable but the approach vector is not: the best "
                 f"solution's approach is off by {angle(r.closest[1], units)}")
-    head = (f"the position is reachable but this {r.what} is not for a robot that controls "
-            f"{r.controls}: ")
+    head = (f"the position is reachable but this {r.what} is not" + (
+        f" for a robot that controls {r.controls}" if r.controls else "") + ": ")
+    if r.closest is None and not r.rolls:
+        return head + f"no configuration reaches the position with this {r.what}"
     if r.rolls:
         rolls = ", ".join(f"{angle(a, units)} ({branch})" for a, branch in r.rolls)
         count = "solution" if len(r.rolls) == 1 else f"{len(r.rolls)} solutions"

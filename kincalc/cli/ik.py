@@ -159,6 +159,18 @@ def _plot_solutions(robot, result, target, units, dpi):
     return str(target.path)
 
 
+def _target_position(t: dict, u: dict, precision: int) -> str:
+    """The line of a target without a whole pose: its position and what else it gives (an
+    approach, a tool configuration vector, or nothing)."""
+    from .render import num, vec
+    length = "" if u["length"] == "unitless" else f" {u['length']}"
+    what = ("approach " + vec(t["approach"], precision) if "approach" in t else
+            f"tool configuration vector: w4..w6 {vec(t['tcv'][3:], precision)}, the last "
+            f"joint {num(t['roll'], precision)} {u['angle']}" if "tcv" in t else
+            "no orientation given")
+    return f"target position: {vec([r[3] for r in t['T'][:3]], precision)}{length}  ({what})"
+
+
 def _tables(doc, robot, precision, explain):
     from rich import box
     from rich.markup import escape
@@ -171,15 +183,7 @@ def _tables(doc, robot, precision, explain):
     if doc["target"]["orientation_given"]:
         c.print(matrix_table(doc["target"]["T"], precision, title="target T (world <- tool)"))
     else:
-        from .render import vec
-        length = "" if u["length"] == "unitless" else f" {u['length']}"
-        t = doc["target"]
-        what = ("approach " + vec(t["approach"], precision) if "approach" in t else
-                f"tool configuration vector: w4..w6 {vec(t['tcv'][3:], precision)}, the last "
-                f"joint {num(t['roll'], precision)} {u['angle']}" if "tcv" in t else
-                "no orientation given")
-        c.print(f"target position: {vec([r[3] for r in doc['target']['T'][:3]], precision)}"
-                f"{length}  ({what})")
+        c.print(_target_position(doc["target"], u, precision))
     m = doc["method"]
     rows = [("method", f"{m['family']}: {m['description']}"), ("controls", m["controls"])]
     if doc.get("locked"):

@@ -53,7 +53,9 @@ class OrientationOut(NamedTuple):
     direction', or 'approach vector' for a tool configuration vector) is not, for a robot
     that controls ``controls``. ``rolls``: for a five-joint arm that reaches the position
     and the approach, ``((roll error rad, branch), ...)`` of each solution; otherwise
-    ``closest``: ``(branch, orientation error rad)`` of the closest solution."""
+    ``closest``: ``(branch, orientation error rad)`` of the closest solution; neither where
+    no candidate reached the position (this orientation moved the point the family
+    places, and the position alone is within reach)."""
     what: str
     controls: str = ""
     rolls: tuple = ()

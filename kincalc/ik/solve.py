@@ -18,16 +18,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..errors import TargetMismatch
-from ..tolerances import ACCEPT_POSITION
 from .engine import Solved, solve_targets
 from .continua import Continuum, ParallelContinuum
-from .families import APPROACH_FAMILIES, TCV, THREE_PARALLEL, plan
+from .families import THREE_PARALLEL, plan
 from .joint_limits import same_solution
 from .labels import label_order
-from .reasons import (Blocked, Found, Missed, NoRoot, NoSolution, NumericFound, NumericMissed,
-                      OrientationOut, OutOfReach)
+from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
 from ..spatial import turn_toward, wrap
 from .target import Targets
+from .verdict import out_of_reach, reason as answer_reason
 
 @dataclass(frozen=True)
 class Target:
@@ -191,7 +190,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                 for q in [_toward(robot, s.q, near)]]
         sols.sort(key=lambda s: (not s.within_limits, _scaled_norm(robot, s.change)))
     reachable = any(s.within_limits for s in sols)
-    reason = _reason(robot, family, T, target, sols, rejected)
+    reason = answer_reason(robot, family, T, target, sols, rejected)
     result_rejected = note = dead = None
     if all_branches:
         from .combinations import cross_combinations
@@ -409,7 +408,7 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                                change=None if near is None else q - near))
         reason = NumericFound(res.restarts)
     else:
-        reason = _out_of_reach(robot, T)
+        reason = out_of_reach(robot, T)
         if not isinstance(reason, OutOfReach):
             reason = NumericMissed(Missed(res.position_error, res.orientation_error), RESTARTS,
                                    full if orientation and full < 6 else None)
@@ -419,78 +418,3 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                     units=units, near=near)
 
 
-def limits_reason(sols) -> Found | Blocked:
-    """``Found`` (how many of ``sols``, one or more, are within the limits), else ``Blocked``
-    (each broken joint and the least amount any solution is beyond it)."""
-    if any(s.within_limits for s in sols):
-        return Found(len(sols), sum(s.within_limits for s in sols))
-    worst = {}
-    for s in sols:
-        for i, amount, side in s.violations:
-            worst[i] = min(worst.get(i, np.inf), amount)
-    return Blocked(len(sols), tuple(sorted(worst.items())))
-
-
-def _reason(robot, family, T, target, sols, rejected):
-    """Why the answer is what it is (:mod:`kincalc.ik.reasons`)."""
-    if sols:
-        return limits_reason(sols)
-    if rejected:
-        placed = _placing(robot, rejected)
-        if not placed:
-            best = min(rejected, key=lambda r: (r["position_error"], r["branch"]))
-            return NoSolution(best["reason"])
-        if family is TCV:
-            return OrientationOut("approach vector",
-                                  closest=(placed[0]["branch"], placed[0]["orientation_error"]))
-        what = "approach direction" if target.approach is not None else "orientation"
-        if family.name in APPROACH_FAMILIES and target.approach is None \
-                and _reach_approach(robot, placed, T[:3, 2]):
-            # the five-joint solvers place the tool and its approach: what is left is the
-            # roll about the approach, one value per solution of the family
-            return OrientationOut(what, family.controls, rolls=tuple(
-                (r["orientation_error"], r["branch"]) for r in placed))
-        return OrientationOut(what, family.controls,
-                              closest=(placed[0]["branch"], placed[0]["orientation_error"]))
-    return _out_of_reach(robot, T)
-
-
-def _placing(robot, rejected) -> list:
-    """The rejected candidates that reach the target position, each once, in order of
-    their orientation error (then branch): the facts a reason may quote. Candidates
-    within rounding of each other in position are equal here; which of them is "best"
-    must not depend on the last bits of their position errors."""
-    tol = ACCEPT_POSITION * max(robot.characteristic_length, 1e-12) * 1e3
-    placed = sorted((r for r in rejected if r["position_error"] <= tol),
-                    key=lambda r: (r["orientation_error"] or 0.0, r["branch"]))
-    out = []
-    for r in placed:
-        if not any(r["branch"] == o["branch"] and np.allclose(
-                np.where(robot.is_revolute, wrap(r["q"] - o["q"]), r["q"] - o["q"]), 0,
-                atol=1e-9) for o in out):
-            out.append(r)
-    return out
-
-
-def _reach_approach(robot, candidates, a) -> bool:
-    """Whether every candidate's tool z axis is the approach ``a`` (unit, world)."""
-    from ..tolerances import ACCEPT_ORIENTATION
-    z = robot.fk(np.array([c["q"] for c in candidates]))[:, :3, 2]
-    return bool(np.all(np.linalg.norm(np.cross(z, a), axis=-1) <= ACCEPT_ORIENTATION)
-                and np.all(z @ a > 0))
-
-
-def _out_of_reach(robot, T):
-    """Why nothing was found, from the nearest reachable position (see
-    :mod:`kincalc.analysis.reach`): out of reach of the geometry and where, out of reach
-    within the limits, or within reach (then the pose as a whole is not)."""
-    from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
-    p = np.asarray(T, float)[:3, 3]
-    tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
-    _, _, dist = nearest_position(robot, p)
-    if dist <= tol:
-        return NoSolution()
-    _, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
-    if dist_free <= tol:
-        return OutOfReach(distance=dist)
-    return OutOfReach(where_outside(robot, p, p_free, dist_free))

@@ -465,14 +465,14 @@ def test_five_joint_arm_with_an_unreachable_roll_says_so():
 def test_the_closest_solution_of_a_reason_does_not_hang_on_rounding():
     """Two candidates that both place the tool: the reason names the one with the smaller
     orientation error, whatever the last bits of their position errors say."""
-    from kincalc.ik.solve import _placing
+    from kincalc.ik.verdict import placing
     r = load_robot("puma560")
     q = np.zeros(6)
     a = {"q": q, "branch": "a", "position_error": 2.0e-15, "orientation_error": 0.5}
     b = {"q": q + 0.1, "branch": "b", "position_error": 2.1e-15, "orientation_error": 0.2}
     far = {"q": q + 0.2, "branch": "c", "position_error": 0.05, "orientation_error": 0.0}
-    assert [p["branch"] for p in _placing(r, [a, b, far])] == ["b", "a"]
-    assert [p["branch"] for p in _placing(r, [b, a, far])] == ["b", "a"]
+    assert [p["branch"] for p in placing(r, [a, b, far])] == ["b", "a"]
+    assert [p["branch"] for p in placing(r, [b, a, far])] == ["b", "a"]
 
 
 def test_all_branches_says_why_a_branch_has_no_real_angle():
@@ -605,3 +605,28 @@ def test_a_tcv_target_is_shown_and_its_last_joint_explained():
         first = s["trace"][0]
         assert first["step"] == "q4" and "pi ln|w4..w6|" in first["text"]
         assert s["q"][3] == pytest.approx(doc["target"]["roll"], abs=1e-6)
+
+
+@pytest.mark.parametrize("name,xyz,rpy,kind,distance", [
+    ("spong_scara", [0.3755, 0.4209, -0.3], [0, 0, 20], "orientation", 0.0),
+    ("planar_3r", [1.0, 1.0, 0.5], [0, 0, 30], "out of reach", 0.5),
+])
+def test_no_candidate_at_the_position_says_whether_the_position_is_within_reach(
+        name, xyz, rpy, kind, distance):
+    """A target no candidate reaches in position: a SCARA given its tool z upside down
+    (the position is reachable; the orientation moved the point on axis 4 that the family
+    places), a planar arm given a point 0.5 off its plane. The answer said 'position off by
+    0.2 m, orientation off by 180 deg' and 'position off by 0.5393'; now what reach says."""
+    from kincalc.ik.reasons import OrientationOut, OutOfReach
+    from kincalc.spatial import matrix_from_rpy, transform
+    r = load_robot(name)
+    T = transform(matrix_from_rpy(np.radians(rpy)), np.array(xyz, float))
+    res = r.ik(T)
+    assert not res.solutions and not res.reachable
+    if kind == "orientation":
+        assert isinstance(res.reason, OrientationOut) and res.reason.closest is None
+        from kincalc.analysis.reach import reach
+        assert reach(r, Target(T)).verdict == "orientation-unreachable"
+    else:
+        assert isinstance(res.reason, OutOfReach)
+        assert res.reason.outside.distance == pytest.approx(distance, rel=1e-6)
