@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import ACCEPT_POSITION, NEAR_MISS
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, NEAR_MISS
 from .families import APPROACH_FAMILIES, TCV
 from .reasons import Blocked, Found, NoSolution, OrientationOut, OutOfReach
 
@@ -93,7 +93,6 @@ def placing(robot, rejected) -> list:
 
 def _reach_approach(robot, candidates, a) -> bool:
     """Whether every candidate's tool z axis is the approach ``a`` (unit, world)."""
-    from ..tolerances import ACCEPT_ORIENTATION
     z = robot.fk(np.array([c["q"] for c in candidates]))[:, :3, 2]
     return bool(np.all(np.linalg.norm(np.cross(z, a), axis=-1) <= ACCEPT_ORIENTATION)
                 and np.all(z @ a > 0))
