@@ -21,6 +21,7 @@ A label is made of
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 
 import numpy as np
 
@@ -139,6 +140,7 @@ def _text(robot, family, words, signs, free_bits, every_sign=False) -> str:
     return " ".join(parts) if parts else "unique"
 
 
+@lru_cache(maxsize=4096)
 def label_order(text: str) -> tuple:
     """A label as a sort key that orders the numbers in it by value (``root 2`` before
     ``root 10``)."""

@@ -30,6 +30,7 @@ import numpy as np
 from .. import spatial as sp
 from ..errors import UsageError
 from ..spatial import invert_transform
+from ..tolerances import ORTHONORMAL
 
 KINDS = ("pose", "position", "approach", "tcv", "swivel")
 
@@ -275,6 +276,9 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
     return Targets(T), defect
 
 
+_EYE, _LAST_ROW = np.eye(3), np.array([0.0, 0.0, 0.0, 1.0])
+
+
 def api_poses(T) -> tuple[np.ndarray, np.ndarray]:
     """Poses given to the Python API read as the CLI reads them: each rotation checked to
     :data:`~kincalc.tolerances.ROTATION_TOL` and re-orthonormalised
@@ -293,6 +297,10 @@ def api_poses(T) -> tuple[np.ndarray, np.ndarray]:
         matrix that is not a pose.
     """
     T = np.asarray(T, float)
+    R = T[:, :3, :3]
+    if (np.abs(R @ np.swapaxes(R, -1, -2) - _EYE) <= ORTHONORMAL).all() \
+            and (T[:, 3] == _LAST_ROW).all():
+        return T, np.full(len(T), None, object)      # poses to rounding (FK's): as given
     targets, defect = targets_from("T", T.reshape(len(T), 16))
     finite = np.isfinite(T).all((-1, -2))
     defect[~finite] = None
