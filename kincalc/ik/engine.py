@@ -123,7 +123,11 @@ class Solved:
             q = self.q.reshape(N * K, -1)
             ids = np.arange(-1, -1 - N * K, -1)          # distinct where no solution
             rows = self.candidate.reshape(-1).nonzero()[0]
-            lab[rows], i = labels(self.robot, self.spec.name, q[rows], self.signs, rows % K,
+            # a target kind's solutions (a tool configuration vector's) take the words of the
+            # robot's own family, as the same solutions of a whole pose do
+            own = plan(self.robot)[1] if self.spec.name in TARGET_FAMILIES else None
+            words = self.spec.name if own is None else own.name
+            lab[rows], i = labels(self.robot, words, q[rows], self.signs, rows % K,
                                   free[rows])
             ids[rows] = np.where(self.valid.reshape(-1)[rows], i, ids[rows])
             ids = ids.reshape(N, K)
@@ -131,7 +135,7 @@ class Solved:
             if np.count_nonzero(order[:, 1:] == order[:, :-1]):          # rare
                 same = (ids[:, :, None] == ids[:, None, :]).sum(-1) > 1    # (N, K)
                 rows = same.reshape(-1).nonzero()[0]
-                lab[rows] = labels(self.robot, self.spec.name, q[rows], self.signs, rows % K,
+                lab[rows] = labels(self.robot, words, q[rows], self.signs, rows % K,
                                    free[rows], every_sign=True)[0]
             self.memo["labels"] = lab.reshape(N, K)
         return self.memo["labels"]

@@ -630,3 +630,22 @@ def test_no_candidate_at_the_position_says_whether_the_position_is_within_reach(
     else:
         assert isinstance(res.reason, OutOfReach)
         assert res.reason.outside.distance == pytest.approx(distance, rel=1e-6)
+
+
+def test_a_tcv_target_labels_a_solution_as_its_whole_pose_does():
+    """The FER homework's arm: the same two solutions from --tcv and from their whole pose
+    carry the same labels (the TCV's lacked the shoulder word: 'q2:- q3:root 2' against
+    'shoulder front q2:- q3:root 2')."""
+    r = load_robot("fer_rrpr")
+    q = np.array([np.radians(30), np.radians(60), 0.3, np.radians(45)])
+    T = r.fk(q)
+    w = T[:3, 2] * np.exp(q[3] / np.pi)
+    by_tcv = solve(r, Target(T, orientation=False, tcv=(T[:3, 2], q[3])))
+    by_pose = r.ik(T)
+    # (the pose's other solution turns q4 by 180 deg where the TCV's keeps q4: joints 1-3,
+    # which the labels name, are the same)
+    labels = lambda res: sorted((tuple(np.round(s.q[:3], 6)), s.branch)  # noqa: E731
+                                for s in res.solutions)
+    assert len(by_tcv.solutions) == 2 and labels(by_tcv) == labels(by_pose)
+    assert all("shoulder" in s.branch for s in by_tcv.solutions)
+    assert np.allclose(np.linalg.norm(w), np.exp(q[3] / np.pi))
