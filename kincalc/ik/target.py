@@ -276,7 +276,7 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
     return Targets(T), defect
 
 
-_EYE, _LAST_ROW = np.eye(3), np.array([0.0, 0.0, 0.0, 1.0])
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 
 
 def api_poses(T) -> tuple[np.ndarray, np.ndarray]:
@@ -297,8 +297,7 @@ def api_poses(T) -> tuple[np.ndarray, np.ndarray]:
         matrix that is not a pose.
     """
     T = np.asarray(T, float)
-    R = T[:, :3, :3]
-    if (np.abs(R @ np.swapaxes(R, -1, -2) - _EYE) <= ORTHONORMAL).all() \
+    if (sp.orthonormality_error(T[:, :3, :3]) <= ORTHONORMAL).all() \
             and (T[:, 3] == _LAST_ROW).all():
         return T, np.full(len(T), None, object)      # poses to rounding (FK's): as given
     targets, defect = targets_from("T", T.reshape(len(T), 16))

@@ -25,11 +25,12 @@ vector forms), :mod:`~kincalc.spatial.angles` (RPY and Euler angles) and
 
 from .angles import (euler_xyz_from_matrix, euler_zyz_from_matrix, matrix_from_euler_xyz,
                      matrix_from_euler_zyz, matrix_from_rpy, rpy_from_matrix)
-from .rotations import (LEVI_CIVITA, TURN, axis_angle_from_matrix, cross, is_rotation,
-                        matrix_from_axis_angle, matrix_from_quaternion, matrix_from_rotvec,
-                        matrix_from_unit_axis_angle, nearest_rotations, quaternion_from_matrix,
-                        rot_x, rot_y, rot_z, rotation_angle, rotation_error, rotvec_from_matrix,
-                        skew, turn_toward, wrap)
+from .orthonormal import is_rotation, nearest_rotations, orthonormality_error
+from .rotations import (LEVI_CIVITA, TURN, axis_angle_from_matrix, cross,
+                        matrix_from_axis_angle,
+                        matrix_from_quaternion, matrix_from_rotvec, matrix_from_unit_axis_angle,
+                        quaternion_from_matrix, rot_x, rot_y, rot_z, rotation_angle,
+                        rotation_error, rotvec_from_matrix, skew, turn_toward, wrap)
 from .transforms import (TCV_MAX_ROLL, adjoint, invert_transform, log_transform,
                          tcv_from_transform, transform, transform_from_tcv)
 
@@ -44,5 +45,5 @@ __all__ = [
     "rotvec_from_matrix", "matrix_from_rotvec",
     "tcv_from_transform", "transform_from_tcv",
     "log_transform", "adjoint", "rotation_error", "rotation_angle",
-    "matrix_from_unit_axis_angle", "is_rotation", "nearest_rotations",
+    "matrix_from_unit_axis_angle", "is_rotation", "nearest_rotations", "orthonormality_error",
 ]

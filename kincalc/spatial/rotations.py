@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..tolerances import ORTHONORMAL, ROTATION_TOL, SMALL_ANGLE
+from ..tolerances import SMALL_ANGLE
 
 
 #: one turn (rad)
@@ -454,43 +454,3 @@ def matrix_from_unit_axis_angle(axis, angle) -> np.ndarray:
     return np.array([[c + x * xC, x * yC - z * s, x * zC + y * s],
                      [y * xC + z * s, c + y * yC, y * zC - x * s],
                      [z * xC - y * s, z * yC + x * s, c + z * zC]])
-
-
-def is_rotation(R) -> np.ndarray:
-    """Whether matrices are rotations as a user types them: ``R R^T`` the identity to
-    :data:`~kincalc.tolerances.ROTATION_TOL` entrywise (6 decimals pass) and ``det R > 0``.
-
-    Parameters
-    ----------
-    R : array_like (..., 3, 3)
-
-    Returns
-    -------
-    ndarray (...) of bool (False for a matrix with a NaN)
-    """
-    R = np.asarray(R, float)
-    with np.errstate(invalid="ignore"):
-        orth = (np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3)) <= ROTATION_TOL).all((-1, -2))
-        return orth & (np.linalg.det(R) > 0)
-
-
-def nearest_rotations(R) -> np.ndarray:
-    """The nearest rotations (``U V^T`` of the SVD) to matrices that are rotations to a few
-    digits (:func:`is_rotation`); a matrix orthonormal to
-    :data:`~kincalc.tolerances.ORTHONORMAL` already is kept as given, bit for bit (an FK
-    pose solved as computed).
-
-    Parameters
-    ----------
-    R : array_like (..., 3, 3)
-
-    Returns
-    -------
-    ndarray (..., 3, 3), a new array
-    """
-    R = np.array(R, float)
-    off = np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3)).max((-1, -2)) > ORTHONORMAL
-    if np.count_nonzero(off):
-        u, _, vt = np.linalg.svd(R[off])
-        R[off] = u @ vt
-    return R
