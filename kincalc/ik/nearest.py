@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .cache import per_robot
+from .newton import levenberg_marquardt
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
@@ -58,56 +59,22 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
     col = np.where(robot.is_revolute, 1.0, L)      # x = q / col is scale-free
     rows = 3 if R_goal is None else 6
     X = np.array(X0, float)
-    B, n = X.shape
+    B = len(X)
     p_goal = np.broadcast_to(np.asarray(p_goal, float), (B, 3))
     if R_goal is not None:
         R_goal = np.broadcast_to(np.asarray(R_goal, float), (B, 3, 3))
 
-    def evaluate(Xs, idx):
-        J, T = jacobian_and_pose(robot.chain, Xs)
+    def evaluate(x, idx):
+        J, T = jacobian_and_pose(robot.chain, x * col)
         e = _pose_error(T[:, :3, 3], T[:, :3, :3], p_goal[idx],
                         None if R_goal is None else R_goal[idx], L)
         J = J[:, :rows] * col
         J[:, :3] /= L
-        return J, e
+        return e, lambda keep: J[keep]
 
-    J, E = evaluate(X, np.arange(B))
-    err = np.einsum("bi,bi->b", E, E)
-    lam = np.full(B, 1e-3)
-    active = err > tol ** 2
-    eye = np.eye(n)
-    for _ in range(iterations):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            break
-        Ja, ea, Xa = J[idx], E[idx], X[idx]
-
-        def solve(Jm, e, damping):
-            JT = np.swapaxes(Jm, 1, 2)
-            A = JT @ Jm
-            A += (damping * (1.0 + np.trace(A, axis1=1, axis2=2) / n))[:, None, None] * eye
-            return np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
-        step = solve(Ja, ea, lam[idx])
-        # a joint on its limit that the step pushes outwards is held, and the step is
-        # solved again without it (clipping afterwards would shorten the step of the
-        # joints that can still move, and they would crawl)
-        held = ((Xa <= lo) & (step < 0)) | ((Xa >= hi) & (step > 0))
-        r = np.flatnonzero(held.any(axis=1))
-        if r.size:
-            free = ~held[r]
-            step[r] = solve(Ja[r] * free[:, None, :], ea[r], lam[idx[r]]) * free
-        moved = np.linalg.norm(step, axis=1)
-        step *= np.minimum(1.0, 0.5 / np.maximum(moved, 1e-300))[:, None]
-        Xn = np.clip(Xa + step * col, lo, hi)
-        Jn, En = evaluate(Xn, idx)
-        errn = np.einsum("bi,bi->b", En, En)
-        better = errn < err[idx]
-        ok = idx[better]
-        X[ok], J[ok], E[ok], err[ok] = Xn[better], Jn[better], En[better], errn[better]
-        lam[ok] = np.maximum(lam[ok] / 3.0, 1e-12)
-        lam[idx[~better]] *= 4.0
-        # stop where converged, or where the damping says no step helps any more
-        active[idx] = (err[idx] > tol ** 2) & (lam[idx] < 1e6) & ~(better & (moved < 1e-15))
+    x, E, _ = levenberg_marquardt(evaluate, X / col, lo=lo / col, hi=hi / col,
+                                  iterations=iterations, tol=tol)
+    X = x * col
     if turns.any():
         base = np.where(np.isfinite(lo0), lo0, -np.pi)[turns]
         X[:, turns] = base + np.mod(X[:, turns] - base, 2 * np.pi)

@@ -1,5 +1,6 @@
-"""Gauss-Newton polishing: the one iteration every solver uses to finish a candidate
-that is already near a solution.
+"""Newton's method for kinematic equations, batched: Gauss-Newton polishing of candidates
+already near a solution (:func:`polish`), and Levenberg-Marquardt descent from starts that
+may be far from one (:func:`levenberg_marquardt`).
 
 Three places end near, not on, a solution: roots of a quartic or a sampled resultant
 (good to ~1e-10; :mod:`kincalc.ik.place`), the eigenvalues of the general 6R elimination
@@ -18,6 +19,13 @@ damping keeps a step along a nearly singular direction (where two solutions are 
 to merge, and the linear model does not hold) short; a robot only nearly of its family
 needs the undamped step, since there the direction it must move along is the nearly
 singular one.
+
+The descent is for a start that may be far from a solution, or a target that has none
+(the nearest reachable point, :mod:`kincalc.ik.nearest`; the numerical solver,
+:mod:`kincalc.ik.numeric`): Levenberg-Marquardt, whose damping adapts (it falls after a
+step that lowers ``|e|`` and rises after one that does not, which is rejected), with box
+limits on the variables (a variable on a limit that the step pushes outwards is held and
+the step solved again without it, then the step is clipped to the box).
 """
 
 from __future__ import annotations
@@ -151,3 +159,123 @@ def _step(J, e, damping: float) -> np.ndarray:
     f = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
     ue = (e[..., None, :] @ U)[..., 0, :]                     # U^T e, (m, k)
     return ((f * ue)[..., None, :] @ Vt)[..., 0, :]
+
+
+#: the least damping of :func:`levenberg_marquardt` (relative to ``1 + tr(J^T J) / n``):
+#: far below the square of a nearly singular Jacobian's smallest singular value (1e-6
+#: next to a singularity), so that convergence along it stays quadratic
+LAMBDA_MIN = 1e-18
+
+
+def levenberg_marquardt(evaluate: Callable, x, *, lo, hi, iterations: int, tol: float,
+                        fixed=None, damping: float = 1e-3, max_step: float = 0.5,
+                        floor: float = 0.0, creep: int = 0, give_up: float = 1e6):
+    """Levenberg-Marquardt from a batch of starts, each stopping on its own.
+
+    The step solves ``(J^T J + mu I) dx = J^T e``, ``mu = lambda (1 + tr(J^T J) / n)``
+    (or its dual ``dx = J^T (J J^T + mu I)^-1 e``, the same step, when there are fewer
+    residuals than variables), shortened to at most ``max_step`` in norm. ``lambda`` starts
+    at ``damping``; it is divided by 3 (down to :data:`LAMBDA_MIN`) after a step that
+    lowers ``|e|`` and multiplied by 4 after one that does not (which is rejected).
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(x (m, n), rows (m,)) -> (e (m, r), jacobian)``: the residuals ``target -
+        model(x)`` of the candidates ``rows`` (indices into ``x``), in comparable units
+        (inf where the model refuses ``x``), and ``jacobian(keep (m,) bool) -> J (k, r,
+        n)``, ``d model / d x`` of the candidates ``keep`` (asked for accepted points only).
+    x : array_like (M, n)
+        Starts, within the limits (not modified).
+    lo, hi : array_like (n,) or (M, n)
+        The box (``-inf`` / ``inf`` for none).
+    iterations, tol : int, float
+        Steps at most (accepted or not); a candidate has converged when ``|e| <= tol``.
+    fixed : array_like (n,) or (M, n) of bool, optional
+        Variables held at their start.
+    damping, max_step : float
+        The first ``lambda`` (small for starts next to a solution: quadratic convergence
+        from the first step), and the longest step (norm).
+    floor, creep, give_up : float, int, float
+        A descent also ends at a rejected step once ``|e| <= floor`` (rounding reached;
+        0: off), after ``creep`` accepted steps in a row that each lower ``|e|`` by less
+        than a part in 1e9 (a minimum that is no solution; 0: off), and when ``lambda``
+        reaches ``give_up`` (no step lowers ``|e|``).
+
+    Returns
+    -------
+    x, e, steps : ndarray (M, n), (M, r), (M,) of int
+        The best point each candidate reached, its residuals and the iterations taken.
+    """
+    x = np.array(x, dtype=float)
+    M, n = x.shape
+    lo, hi = np.broadcast_to(lo, (M, n)), np.broadcast_to(hi, (M, n))
+    movable = np.ones((M, n), bool) if fixed is None else ~np.broadcast_to(fixed, (M, n))
+    e, jacobian = evaluate(x, np.arange(M))
+    err = np.einsum("mr,mr->m", e, e)
+    active = err > tol ** 2
+    if not np.count_nonzero(active):
+        return x, e, np.zeros(M, int)
+    J = np.zeros(e.shape + (n,))
+    J[active] = jacobian(active)
+    lam, steps, crept = np.full(M, float(damping)), np.zeros(M, int), np.zeros(M, int)
+    for _ in range(iterations):
+        idx = np.flatnonzero(active)
+        if not idx.size:
+            break
+        xa, lo_a, hi_a = x[idx], lo[idx], hi[idx]
+        step = _held_step(J[idx], e[idx], lam[idx], xa, lo_a, hi_a, movable[idx])
+        moved = np.sqrt(np.einsum("mn,mn->m", step, step))
+        step *= np.minimum(1.0, max_step / np.maximum(moved, 1e-300))[:, None]
+        xn = np.clip(xa + step, lo_a, hi_a)
+        en, jac_n = evaluate(xn, idx)
+        errn = np.einsum("mr,mr->m", en, en)
+        steps[idx] += 1
+        before = err[idx]
+        better = errn < before
+        ok = idx[better]
+        stop = better & (moved < 1e-15)
+        if floor:                 # a rejected step below it: rounding is reached
+            stop |= ~better & (before <= floor ** 2)
+        if creep:
+            crept[ok] = np.where(errn[better] > (1 - 1e-9) ** 2 * before[better], crept[ok] + 1, 0)
+            stop |= better & (crept[idx] >= creep)
+        x[ok], e[ok], err[ok] = xn[better], en[better], errn[better]
+        if ok.size:
+            J[ok] = jac_n(better)
+        lam[ok] = np.maximum(lam[ok] / 3.0, LAMBDA_MIN)
+        lam[idx[~better]] *= 4.0
+        active[idx] = (err[idx] > tol ** 2) & (lam[idx] < give_up) & ~stop
+    return x, e, steps
+
+
+def _held_step(J, e, lam, x, lo, hi, free) -> np.ndarray:
+    """The step ``(m, n)`` of :func:`_damped` from ``x (m, n)`` in the box ``lo, hi``,
+    moving the variables ``free (m, n)`` only: a variable on a limit that the step pushes
+    outwards is held, and the step solved again without it (clipping alone would shorten
+    the other variables' steps too)."""
+    every = free.all()
+    step = _damped(J, e, lam) if every else _damped(J * free[:, None, :], e, lam) * free
+    for _ in range(x.shape[1]):
+        held = ((x <= lo) & (step < 0)) | ((x >= hi) & (step > 0))
+        if not held.any():
+            break
+        free = free & ~held
+        r = np.flatnonzero(held.any(axis=1))
+        step[r] = _damped(J[r] * free[r, None, :], e[r], lam[r]) * free[r]
+    return step
+
+
+def _damped(J, e, lam) -> np.ndarray:
+    """``dx (m, n)``: the Levenberg-Marquardt step of ``J (m, r, n)``, ``e (m, r)`` with
+    damping ``lam (m,)`` (:func:`levenberg_marquardt`), through the smaller of the normal
+    equations and their dual."""
+    m, r, n = J.shape
+    mu = lam * (1.0 + np.einsum("mrn,mrn->m", J, J) / n)         # tr(J^T J) = |J|_F^2
+    Jt = J.swapaxes(-1, -2)
+    k = min(r, n)
+    A = J @ Jt if r < n else Jt @ J                                # (m, k, k)
+    A.reshape(m, k * k)[:, ::k + 1] += mu[:, None]                 # (the diagonal, a view)
+    if r < n:
+        return (Jt @ np.linalg.solve(A, e[..., None]))[..., 0]
+    return np.linalg.solve(A, Jt @ e[..., None])[..., 0]

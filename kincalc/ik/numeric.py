@@ -49,6 +49,7 @@ from typing import Callable
 import numpy as np
 
 from ..jacobian import finite_difference_jacobian
+from .newton import levenberg_marquardt
 from ..spatial import rotation_error, rotvec_from_matrix
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
@@ -192,45 +193,15 @@ class _Problem:
         k : int
             Iterations used (at most ``iters``).
         """
-        e = self.error(q)
-        E = float(np.linalg.norm(e))
-        lam = 1e-3
-        k = creep = 0
-        while k < iters and E > STOP:
-            k += 1
-            J = self.scaled_jacobian(q)
-            free = np.ones(self.n, bool) if fixed is None else ~fixed
-            for _ in range(2):
-                Jf = J[:, free]
-                A = Jf @ Jf.T + lam ** 2 * np.eye(len(e))
-                dxf = Jf.T @ np.linalg.lstsq(A, e, rcond=None)[0]
-                dx = np.zeros(self.n)
-                dx[free] = dxf
-                block = self.held(q, dx) & free
-                if not block.any():
-                    break
-                free &= ~block
-                dx[~free] = 0.0
-            norm = float(np.linalg.norm(dx))
-            if norm > MAX_STEP:                       # a trust region: linearisation holds
-                dx *= MAX_STEP / norm
-            q_new = self.project(q + self.s * dx)
-            e_new = self.error(q_new)
-            E_new = float(np.linalg.norm(e_new))
-            if E_new < E:
-                stalled = E <= TOL and E_new > 0.25 * E      # at the rounding floor
-                # at a minimum that is no solution (a target out of reach), each step
-                # gains a few parts in 1e12: after CREEP such steps in a row, stop
-                creep = creep + 1 if E_new > (1.0 - 1e-9) * E else 0
-                q, e, E = q_new, e_new, E_new
-                lam = max(lam / 10, 1e-12)
-                if stalled or creep >= CREEP:
-                    break
-            else:
-                lam *= 10
-                if lam > 1e8 or E <= TOL:
-                    break
-        return q, E, k
+        def evaluate(x, rows):
+            q = x[0] * self.s
+            return self.error(q)[None], lambda keep: self.scaled_jacobian(q)[None]
+
+        x, e, k = levenberg_marquardt(
+            evaluate, (np.asarray(q, float) / self.s)[None], lo=self.lo / self.s,
+            hi=self.hi / self.s, iterations=iters, tol=STOP, fixed=fixed,
+            damping=1e-6, max_step=MAX_STEP, floor=TOL, creep=CREEP, give_up=1e8)
+        return x[0] * self.s, float(np.linalg.norm(e[0])), int(k[0])
 
     def null_step(self, q, x0, free):
         """The step towards ``x0`` in the null space of the task, moving ``free (n,)`` joints only.

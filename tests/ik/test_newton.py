@@ -1,9 +1,9 @@
-"""The one Gauss-Newton polish (kincalc.ik.newton) and the solvers that finish with it."""
+"""The one Newton iteration (kincalc.ik.newton: the Gauss-Newton polish and the Levenberg-Marquardt descent) and the solvers that use it."""
 
 import numpy as np
 
 import kincalc
-from kincalc.ik.newton import _step, polish
+from kincalc.ik.newton import _damped, _step, levenberg_marquardt, polish
 from kincalc.ik.numeric import solve_numeric
 from kincalc.ik.general6r import solve_general_6r
 from kincalc.ik.selftest import sample_configurations
@@ -116,3 +116,53 @@ def test_general_6r_keeps_every_solution_at_a_nearly_singular_pose():
         return np.abs(np.angle(np.exp(1j * (a - b)))).max(-1)
     for q in reference:
         assert wrapped(found, q).min() < 1e-5, f"missed {np.round(q, 4)}"
+
+
+def _circle_and_diagonal(x, rows):
+    """x^2 + y^2 = 1 and x = y: the solutions (+-1, +-1) / sqrt(2)."""
+    e = np.stack([1.0 - (x[:, 0] ** 2 + x[:, 1] ** 2), x[:, 1] - x[:, 0]], axis=-1)
+    return e, lambda keep: np.stack([np.stack([2 * x[keep, 0], 2 * x[keep, 1]], -1),
+                                     np.stack([np.ones(keep.sum()), -np.ones(keep.sum())],
+                                              -1)], axis=1)
+
+
+def test_levenberg_marquardt_converges_from_far_starts():
+    starts = np.random.default_rng(3).uniform(-5, 5, (200, 2))
+    x, e, steps = levenberg_marquardt(_circle_and_diagonal, starts, lo=-np.inf, hi=np.inf,
+                                      iterations=100, tol=1e-14)
+    root = np.sqrt(0.5)
+    assert np.abs(e).max() <= 1e-14
+    assert np.allclose(np.abs(x), root, atol=1e-14) and np.allclose(x[:, 0], x[:, 1])
+    assert (steps < 100).all()
+
+
+def test_levenberg_marquardt_holds_limits_and_fixed_variables():
+    # the circle's root (0.707, 0.707) lies beyond x <= 0.5: the nearest point of the box
+    # on the way, with x held on its limit, and a fixed y never moves
+    x, e, _ = levenberg_marquardt(_circle_and_diagonal, [[0.2, 0.3]], lo=[-1, -1],
+                                  hi=[0.5, 2], iterations=200, tol=1e-14)
+    assert x[0, 0] == 0.5 and np.abs(e).max() > 1e-3           # held exactly on the limit
+    x, _, _ = levenberg_marquardt(_circle_and_diagonal, [[0.2, 0.3]], lo=-np.inf,
+                                  hi=np.inf, iterations=50, tol=1e-14, fixed=[False, True])
+    a = x[0, 0]                     # y held: a stationary point of |e|^2 along x alone
+    assert x[0, 1] == 0.3 and abs(-4 * a * (0.91 - a * a) - 2 * (0.3 - a)) < 1e-6
+
+
+def test_levenberg_marquardt_rejects_points_the_model_refuses():
+    # the model is undefined for x > 1 (inf residuals): every step there is rejected
+    def evaluate(x, rows):
+        e = np.where(x > 1.0, np.inf, 2.0 - 3.0 * x)
+        return e, lambda keep: np.full((keep.sum(), 1, 1), 3.0)
+    x, e, _ = levenberg_marquardt(evaluate, [[0.0]], lo=-np.inf, hi=np.inf, iterations=60,
+                                  tol=1e-14, max_step=10.0)
+    assert abs(x[0, 0] - 2 / 3) < 1e-14 and np.isfinite(e).all()
+
+
+def test_damped_step_primal_and_dual_agree():
+    rng = np.random.default_rng(11)
+    for r, n in ((3, 7), (6, 6), (6, 4)):
+        J, e, lam = rng.normal(size=(5, r, n)), rng.normal(size=(5, r)), np.full(5, 1e-2)
+        mu = lam * (1 + (J * J).sum((1, 2)) / n)
+        H = J.swapaxes(1, 2) @ J + mu[:, None, None] * np.eye(n)
+        want = np.linalg.solve(H, (J.swapaxes(1, 2) @ e[..., None]))[..., 0]
+        assert np.allclose(_damped(J, e, lam), want, atol=1e-12)
