@@ -363,3 +363,25 @@ def test_super_fibonacci_rotations_are_proper_and_spread(count, min_gap, cover):
     assert worst < cover, worst
     # uniform on SO(3): the mean rotation matrix is zero
     assert np.abs(R.mean(axis=0)).max() < 3.0 / math.sqrt(count)
+
+
+def test_plane_of_a_planar_arm_in_bounded_memory():
+    """The plane of motion of a planar arm, from 40,000 tool points: its normal is the
+    joint axes' direction, found from the points' 3x3 scatter (the SVD of the points
+    themselves built a 20,000 x 20,000 matrix, 3 GiB, for `workspace --plot`)."""
+    import tracemalloc
+
+    from kincalc.analysis.workspace.sections import _planes
+    robot = load("planar_3r")
+    rng = np.random.default_rng(2)
+    lo, hi = np.clip(robot.limits, -np.pi, np.pi).T
+    P = robot.fk(rng.uniform(lo, hi, (40_000, robot.dof)))[:, :3, 3]
+    tracemalloc.start()
+    try:
+        (plane,) = _planes(robot, P, 2, 0.01)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50e6
+    axis = robot.fk(np.zeros(robot.dof))[:3, 2]          # the joint axes' common direction
+    assert abs(abs(plane["normal"] @ axis) - 1) < 1e-9

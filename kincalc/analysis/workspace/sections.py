@@ -311,7 +311,8 @@ def _planes(robot, P, dim, pix):
     h = (P - c1) @ z1
     common = dict(c1=c1, z1=z1, e1=e1)
     if dim == 2:
-        basis = np.linalg.svd(P[:: max(1, len(P) // 20000)] - P.mean(axis=0))[2]
+        D = P[:: max(1, len(P) // 20000)] - P.mean(axis=0)
+        basis = np.linalg.svd(D.T @ D)[2]        # principal directions, 3x3 (not D's U)
         n = basis[2]
         turning = revolute and abs(abs(n @ z1) - 1) < 1e-6
         u, v = _in_plane(n, e1 if turning else _positive(basis[0]))
