@@ -137,6 +137,9 @@ def parse_roster(text: str, file: str = "<roster>") -> list[Student]:
                 column = _header(row, file, line)
                 continue
             sid = row[column].strip() if column < len(row) else ""
+            if "\n" in sid or "\r" in sid:     # (quoted: the rest is on other lines, unquoted)
+                raise RosterError(file, line, f"the id runs on over lines {line}-{end} (a "
+                                              "quoted cell with a line break): one line each")
             why = id_problem(sid)
             if why is not None:
                 raise RosterError(file, line, why)

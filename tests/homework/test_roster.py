@@ -73,6 +73,8 @@ def test_roster_reading():
     ("id\n", None, "no students"),
     ("id\ns1\x00\n", 2, "not a safe file name"),
     ('id\ns1\n"s2"x\n', 3, "not a CSV file"),
+    # an id cell over two lines names them and quotes neither (the next line may be anything)
+    ('id\n"s1\nSECRET"\n', 2, "runs on over lines 2-3"),
 ])
 def test_bad_rosters_name_their_line(text, line, words):
     if words is None:                                  # a short row is fine: its id is there
@@ -81,6 +83,7 @@ def test_bad_rosters_name_their_line(text, line, words):
     with pytest.raises(RosterError) as info:
         parse_roster(text, "roster.csv")
     assert info.value.line == line and words in str(info.value)
+    assert "SECRET" not in str(info.value)
     assert str(info.value).startswith("roster.csv" + ("" if line is None else f":{line}") + ": ")
 
 
