@@ -268,6 +268,9 @@ BAD_FILES = [
             (f"'name' is {MAX_NAME + 1} characters long",), at="name: arr"),
     BadFile("expression-too-long", sub(DH, "a: l1,", "a: \"" + "+".join(["l1"] * 200) + "\","),
             ("joint 2 (q2)", f"expression longer than {MAX_EXPRESSION} characters"), at="name: q2"),
+    # 201 parentheses deep, 403 characters: Python's parser refuses it (a SyntaxError)
+    BadFile("expression-too-deep", sub(DH, "a: l1,", "a: \"" + "(" * 201 + "1" + ")" * 201 + "\","),
+            ("joint 2 (q2)", "expression too deeply nested"), at="name: q2"),
     BadFile("expression-name-quoted-cut", sub(DH, "a: l1,", "a: " + "z" * 400 + ","),
             ("joint 2 (q2)", "unknown name", "(400 characters)"), at="name: q2"),
     BadFile("expression-unknown-name", sub(DH, "a: l2,", "a: l3 + 0.1,"),

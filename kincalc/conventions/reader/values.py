@@ -102,7 +102,9 @@ class Reader(NodeReader):
         src = src.strip()
         try:
             tree = ast.parse(src, mode="eval")
-        except SyntaxError:
+        except SyntaxError as exc:          # (Python's parser stops at 200 parentheses deep)
+            if "nested" in str(exc.msg):
+                self.fail(node, f"{what}: expression too deeply nested")
             self.fail(node, f"{what} must be a number or an expression like 'l1 + 0.1', "
                             f"not {self.shown(node)}")
         except (RecursionError, MemoryError, ValueError):
