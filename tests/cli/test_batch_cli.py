@@ -645,6 +645,18 @@ def test_json_lines_on_stdin_whose_first_record_is_a_stray_word(first):
     assert json_documents(out)[0]["error"] == "record 1: no joints (give q)"
 
 
+@pytest.mark.parametrize("header", [b"theta1,theta2,", b"theta1;theta2", b"theta1\ttheta2"])
+def test_a_first_line_like_a_csv_header_that_cannot_be_one_says_what_a_header_is(header):
+    """A trailing comma, ';' or tabs: not taken as a CSV header, so the input is JSON lines;
+    record 1's error says what a header is (it said only 'not JSON', as every row did)."""
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-"], header + b"\n30,60\n")
+    docs = json_documents(out)
+    assert status == 2 and [d["index"] for d in docs] == [0, 1]
+    assert docs[0]["error"].endswith("as a CSV header it cannot be used: column names "
+                                     "separated by commas, none empty")
+    assert "CSV" not in docs[1]["error"]
+
+
 @pytest.mark.parametrize("command", ["fk", "jacobian", "ik", "reach"])
 def test_a_bad_record_is_its_own_error_and_the_run_goes_on(command, tmp_path):
     """Through the command line: each fault of issue 14 costs its own record only (one

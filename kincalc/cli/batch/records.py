@@ -120,7 +120,7 @@ def _json_records(indices, lines, kind: str = "ik") -> list:
         try:
             rec = _json_object(_text(line))
         except RecordError as exc:
-            out.append((i, None, f"record {i + 1}: {exc}"))
+            out.append((i, None, f"record {i + 1}: {exc}{_header_hint(i, line)}"))
             continue
         same.setdefault(tuple(rec), []).append((len(out), i, rec))
         out.append(None)
@@ -135,6 +135,15 @@ def _json_records(indices, lines, kind: str = "ik") -> list:
             except RecordError as exc:
                 out[at] = (i, None, f"record {i + 1}: {exc}")
     return out
+
+
+def _header_hint(i: int, line) -> str:
+    """What to add to the error of record ``i``: for a first line that looks like a CSV header
+    the auto-detection did not take (a name first, then separators), what a header is."""
+    if i or not line or not line[:1].isalpha() or not any(c in line for c in b",;\t"):
+        return ""
+    return ("; as a CSV header it cannot be used: column names separated by commas, none "
+            "empty")
 
 
 def _text(line) -> str:
