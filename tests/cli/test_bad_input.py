@@ -144,6 +144,10 @@ BAD_FILES = [
     BadFile("yaml-python-name-tag", sub(DH, "title: Three-link test arm",
                                         "title: !!python/name:os.system"),
             ("the tag '!!python/name:os.system' is not allowed", "plain YAML"), at="title:"),
+    # a merge key: the user wrote no tag, so the message names the '<<'
+    BadFile("yaml-merge-key", sub(DH, "tool: {xyz: [0, 0, 0.05]}",
+                                  "tool: {<<: {xyz: [0, 0, 0.05]}}"),
+            ("a merge key '<<' is not allowed; write its keys out", "plain YAML"), at="tool:"),
     BadFile("yaml-custom-tag", sub(DH, "d: 0.1,", "d: !metres 0.1,"),
             ("the tag '!metres' is not allowed",), at="name: q1"),
 

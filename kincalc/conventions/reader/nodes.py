@@ -73,8 +73,10 @@ def _plain_tags(root, file: str):
         seen.add(id(node))
         if node.tag not in PLAIN_TAGS:
             tag = node.tag.replace("tag:yaml.org,2002:", "!!")
-            raise RobotFileError(file, node_line(node), f"the tag {quote(tag)} is not allowed "
-                                 "(kincalc reads plain YAML: text, numbers, lists, mappings)")
+            what = ("a merge key '<<' is not allowed; write its keys out" if tag == "!!merge"
+                    else f"the tag {quote(tag)} is not allowed")
+            raise RobotFileError(file, node_line(node), what + " (kincalc reads plain YAML: "
+                                 "text, numbers, lists, mappings)")
         if isinstance(node, yaml.SequenceNode):
             todo.extend(node.value)
         elif isinstance(node, yaml.MappingNode):
