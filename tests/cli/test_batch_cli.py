@@ -620,6 +620,12 @@ def test_csv_headers_that_cannot_be_used():
                           (("q1", "q2"), "column 'q1' without 'q3', 'q4', 'q5', 'q6'")]:
         (_, _, err), = records.parse_records(header, robot, 0, [b"1,2,3"])
         assert err.startswith(f"record 1: {error}"), err
+    # fk and jacobian take joints only: their hint lists no pose column
+    for kind in ("fk", "jacobian"):
+        (_, _, err), = records.parse_records(("Q1",), robot, 0, [b"1"], kind)
+        assert err == "record 1: unknown column 'Q1' (columns: the joints q1,q2,q3,q4,q5,q6)"
+    (_, _, err), = records.parse_records(("Q1",), robot, 0, [b"1"], "reach")
+    assert "roll,pitch,yaw" in err and "the joints q1" in err
 
 
 @pytest.mark.parametrize("first", [b"garbage", b"q", b" Theta1 "])

@@ -55,7 +55,7 @@ def parse_chunk(header, robot, start: int, lines, kind: str = "ik") -> tuple:
     records of the other lines and a :class:`~kincalc.cli.batch.uniform.Together` (its
     ``at`` the positions of its lines in ``lines``) or None."""
     if header is not None:
-        return _csv_records(header, robot, start, lines), None
+        return _csv_records(header, robot, start, lines, kind), None
     from .uniform import read_together
     together = read_together(lines, lambda line: _together_fields(line, robot))
     if together is None:
@@ -87,18 +87,19 @@ def _together_fields(line, robot):
     return tuple((key, len(value)) for key, value in kw.items())
 
 
-def header_problem(header, robot) -> str | None:
+def header_problem(header, robot, kind: str = "ik") -> str | None:
     """Why the CSV header ``header`` (from :func:`read_header`: the column names, or the
-    reason it cannot be read) cannot be used for ``robot``'s records, or None."""
-    return header if isinstance(header, str) else _csv_layout(header, robot)[1]
+    reason it cannot be read) cannot be used for ``robot``'s records of command ``kind``,
+    or None."""
+    return header if isinstance(header, str) else _csv_layout(header, robot, kind)[1]
 
 
-def _csv_records(header, robot, start: int, lines) -> list:
+def _csv_records(header, robot, start: int, lines, kind: str) -> list:
     out = []
     if isinstance(header, str):
         reason, layout = header, None
     else:
-        layout, reason = _csv_layout(header, robot)
+        layout, reason = _csv_layout(header, robot, kind)
     for i, line in enumerate(lines, start):
         try:
             if layout is None:
@@ -346,10 +347,11 @@ def _lock(value) -> tuple:
     return tuple(zip(names, numbers))
 
 
-def _csv_layout(header, robot):
+def _csv_layout(header, robot, kind: str = "ik"):
     """``(layout, None)``: the pose keys a CSV record fills and the column of each of their
     values, ``[(key, [column, ...])]``; or ``(None, reason)`` when the header cannot be
-    used (a column twice, or one that is not a pose or joint column)."""
+    used (a column twice, or one that is not a pose or joint column; the columns named are
+    those of command ``kind``: fk and jacobian take joints only)."""
     seen = set()
     for h in header:
         if h in seen:
@@ -370,8 +372,10 @@ def _csv_layout(header, robot):
         return layout, None
     unknown = [h for h in extra if h not in _columns(robot)]
     if unknown:
-        return None, (f"unknown column {quote(unknown[0])} (columns: x,y,z with roll,pitch,"
-                      f"yaw or qw,qx,qy,qz or ax,ay,az; or the joints {','.join(names)})")
+        joints = f"the joints {','.join(names)}"
+        return None, f"unknown column {quote(unknown[0])} (columns: " + (
+            joints if kind in ("fk", "jacobian") else
+            f"x,y,z with roll,pitch,yaw or qw,qx,qy,qz or ax,ay,az; or {joints}") + ")"
     # every column known, but a group or the joints not whole
     group = next((g for g in (*CSV_GROUPS, tuple(names)) if extra[0] in g), ())
     missing = [c for c in group if c not in where]

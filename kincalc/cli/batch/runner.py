@@ -122,9 +122,9 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         raise InputError(f"--batch {_shown(src)}: record {source.stopped} runs on for more than "
                          f"{size_text(MAX_BATCH_SKIP_BYTES)} without a newline (not a file of "
                          "lines?); reading stopped there")
-    if not answered and header is not None and header_problem(header, robot):
+    if not answered and header is not None and header_problem(header, robot, kind):
         # a header no record follows: its fault is said once (each record says it otherwise)
-        raise InputError(f"--batch {_shown(src)}: line 1: {header_problem(header, robot)}")
+        raise InputError(f"--batch {_shown(src)}: line 1: {header_problem(header, robot, kind)}")
     if not answered and fmt == "csv":           # no record: the output's header alone
         sys.stdout.write(csv_header(kind, robot))
     return 2 if bad else 1 if no else 0
