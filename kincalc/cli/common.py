@@ -165,6 +165,9 @@ InputFormatOpt = Annotated[str, typer.Option(
     help="Input format of --batch. auto: a name ending in .jsonl or .ndjson is JSON lines, "
          "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
          "line is a header of column names, else JSON lines.")]
+DpiOpt = Annotated[int, typer.Option(
+    "--dpi", metavar="N", click_type=Integer(10, 1200),
+    help="Pixels per inch of a PNG plot, 10 to 1200 (one 5-inch panel is 5N pixels square).")]
 JobsOpt = Annotated[int, typer.Option(
     "--jobs", "-j", metavar="N", click_type=Integer(1, MAX_JOBS),
     help=f"With --batch: solve chunks of records in N processes, N at most {MAX_JOBS} "

@@ -6,8 +6,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, FileName, InputFormatOpt,
-                     Integer, JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt,
+from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, DpiOpt, FileName, InputFormatOpt,
+                     JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt,
                      TipLinkOpt, UnitOpt, display_units, load_robot, output, output_target,
                      parse_locks)
 from .redundant import RedundancyOptions, with_redundancy_options
@@ -33,8 +33,6 @@ PlotOpt = Annotated[Optional[str], typer.Option(
 ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let --plot replace an existing regular file (never a link, a device or "
                     "the robot or --pose file).")]
-DpiOpt = Annotated[int, typer.Option("--dpi", metavar="N", click_type=Integer(10, 1200),
-                                     help="Pixels per inch of a PNG --plot.")]
 SweepFormatOpt = Annotated[str, typer.Option(
     "--format", metavar="jsonl|csv",
     help="Output format of --batch; with --sweep, csv prints one row per value and branch "

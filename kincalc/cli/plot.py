@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from .common import (BaseLinkOpt, DebugOpt, DegOpt, FileName, ForceOpt, Integer, JointsArg,
+from .common import (BaseLinkOpt, DebugOpt, DegOpt, DpiOpt, FileName, ForceOpt, JointsArg,
                      RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot, output_target,
                      parse_joints)
 
@@ -15,9 +15,6 @@ OutputOpt = Annotated[str, typer.Option(
     "--output", "-o", metavar="FILE", show_default=False, click_type=FileName(),
     help="The drawing to write; its suffix picks the format: .png, .svg or .pdf. An "
          "existing FILE is not replaced without --force.")]
-DpiOpt = Annotated[int, typer.Option(
-    "--dpi", metavar="N", click_type=Integer(10, 1200),
-    help="Pixels per inch of a PNG (one 5-inch panel is 5N pixels square).")]
 
 
 def plot(

@@ -7,7 +7,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..limits import MAX_ORIENTATIONS, MAX_SAMPLES
-from .common import (NUMBER, SEED, BaseLinkOpt, DebugOpt, DegOpt, FileName, Integer, JsonOpt,
+from .common import (NUMBER, SEED, BaseLinkOpt, DebugOpt, DegOpt, DpiOpt, FileName, Integer, JsonOpt,
                      PrecisionOpt, RobotArg, TipLinkOpt, UnitOpt, display_units, load_robot,
                      output, output_target)
 
@@ -35,8 +35,7 @@ def workspace(
              "the shoulder (a planar arm: its plane), with their boundary, the dexterous part "
              "hatched and manipulability in colour, to FILE (.png, .svg or .pdf; needs the "
              "'plot' extra). An existing FILE is not replaced without --force.")] = None,
-    dpi: Annotated[int, typer.Option("--dpi", metavar="N", click_type=Integer(10, 1200),
-                                     help="Resolution of a PNG --plot.")] = 100,
+    dpi: DpiOpt = 100,
     force: Annotated[bool, typer.Option(
         "--force", help="Let --plot replace an existing regular file (never a link, a "
                         "device or the robot file).")] = False,
