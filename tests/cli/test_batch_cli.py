@@ -1004,3 +1004,31 @@ def test_record_errors_name_record_fields_and_matrix_takes_rows(command, tmp_pat
     assert out[0]["error"] == "record 1: quat must not be the zero quaternion"
     assert out[1]["error"] == "record 2: T gives the whole pose; do not combine it with xyz"
     assert "error" not in out[2] and {**out[2], "index": 3} == out[3]
+
+
+def test_fk_batch_output_is_ik_and_reach_batch_input():
+    """`kincalc fk R --batch | kincalc ik R --batch -`: fk's records (index, T, xyz, rpy,
+    within_limits) are read by their T, so every configuration comes back among the
+    solutions of its pose; fk's error records stay error records, one answer each."""
+    robot = load_robot("puma560")
+    Q = np.degrees(sample_configurations(robot, 40, np.random.default_rng(8)))
+    lines = [json.dumps({"q": q.tolist()}).encode() for q in Q]
+    lines.insert(7, b'{"q": [1, 2, 3]}')                         # an fk error record
+    status, out, _ = run_cli(["fk", "puma560", "--batch", "-"], b"\n".join(lines))
+    assert status == 2
+    status, ik_out, err = run_cli(["ik", "puma560", "--batch", "-"], out.encode())
+    docs = json_documents(ik_out)
+    assert status == 2 and err == "" and [d["index"] for d in docs] == list(range(41))
+    assert docs[7]["error"] == "record 8: an error record of fk --batch, not a pose"
+    for q, doc in zip(Q, docs[:7] + docs[8:]):
+        sols = np.array([s["q"] for s in doc["solutions"]])
+        gap = np.abs((sols - q + 180) % 360 - 180).max(axis=1)
+        assert gap.min() < 1e-6
+    status, reach_out, _ = run_cli(["reach", "puma560", "--batch", "-"], out.encode())
+    assert [d.get("verdict") for d in json_documents(reach_out)] == \
+        ["reachable"] * 7 + [None] + ["reachable"] * 33
+    # a record whose xyz is not its T's position is not read as either
+    rec = json.loads(out.splitlines()[0])
+    rec["xyz"][0] += 0.01
+    status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"], json.dumps(rec).encode())
+    assert "xyz is not T's position" in json_documents(ik_out)[0]["error"]

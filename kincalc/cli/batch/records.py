@@ -236,6 +236,14 @@ def _numbers(value, count: int, key: str) -> tuple:
     return out
 
 
+def _matrix_numbers(value, key: str) -> tuple:
+    """:func:`_numbers` of a matrix field (``T``, ``matrix``): 16 or 12 / 9 numbers, or
+    their rows."""
+    if type(value) is list and value and type(value[0]) is list:
+        value = [x for row in value for x in (row if type(row) is list else [row])]
+    return _numbers(value, _FIELDS[key], key)
+
+
 def _within_range(values) -> bool:
     """Whether every value is within MAX_MAGNITUDE (so finite: an overflow to infinity
     is caught, and no value is NaN, which neither a JSON number nor a decimal CSV cell can
@@ -271,6 +279,9 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
     """The keywords of the JSON record ``rec`` (field -> value; numbers as tuples of
     floats), or :class:`RecordError` saying what is wrong (an unknown field named with the
     fields of ``kind``'s records)."""
+    if "index" in rec and ("T" in rec or "error" in rec) and kind in ("ik", "reach") and \
+            _FK_RECORD.issuperset(rec):
+        rec = _fk_pose(rec)
     if not _KNOWN.issuperset(rec):
         unknown = next(k for k in rec if k not in _KNOWN)
         raise RecordError(f"unknown field {quote(unknown)} ({TAKEN[kind]})")
@@ -282,10 +293,8 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
                 raise RecordError("id must be a string, a finite number, true, false or null")
         elif key == "lock":
             value = _lock(value)
-        elif key in ("T", "matrix"):                   # 16 or 12 / 9 numbers, or their rows
-            if type(value) is list and value and type(value[0]) is list:
-                value = [x for row in value for x in (row if type(row) is list else [row])]
-            value = _numbers(value, _FIELDS[key], key)
+        elif key in ("T", "matrix"):
+            value = _matrix_numbers(value, key)
         else:
             value = _numbers(value, _FIELDS[key], key)
         out[key] = value
@@ -293,6 +302,23 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
         raise RecordError("no joints (give q)" if kind in ("fk", "jacobian") else
                           "no pose (give xyz and an orientation, T or q)")
     return out
+
+
+#: the fields of an output record of fk --batch (kincalc.cli.batch.chunks)
+_FK_RECORD = frozenset({"index", "id", "T", "xyz", "rpy", "within_limits", "error"})
+
+
+def _fk_pose(rec: dict) -> dict:
+    """An ``fk --batch`` output record read as a pose: its ``T`` (and ``id``), once its
+    ``xyz`` is checked to be T's position; ``rpy``, ``within_limits`` and ``index`` are not
+    read (the output's records are numbered afresh). Its error record is an error."""
+    if "error" in rec:
+        raise RecordError("an error record of fk --batch, not a pose")
+    T = _matrix_numbers(rec["T"], "T")
+    if "xyz" in rec and len(T) == 16 and \
+            _numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
+        raise RecordError("xyz is not T's position (an fk --batch record is read by its T)")
+    return {key: rec[key] for key in ("id", "T") if key in rec}
 
 
 def _fields_together(keys: tuple, recs: list):
