@@ -174,9 +174,9 @@ class TargetMismatch(UsageError):
                   "orientation": "(an orientation in any form)", "prefix": ""}
 
     def __init__(self, robot: str, need: str, controls: str = "", approach_ok: bool = False,
-                 why: str = ""):
+                 why: str = "", tcv_ok: bool = False):
         self.robot, self.need, self.controls = robot, need, controls
-        self.approach_ok, self.why = approach_ok, why
+        self.approach_ok, self.tcv_ok, self.why = approach_ok, tcv_ok, why
         super().__init__(self.words(self.VOCABULARY))
 
     def words(self, w: dict) -> str:
@@ -200,13 +200,20 @@ class TargetMismatch(UsageError):
                     f"give a full orientation {w['orientation']}")
         if self.need == "orientation":
             return (f"{self.robot} controls {self.controls}: give an orientation too "
-                    f"{w['orientation']}" + (f" or an approach direction ({a})"
-                                             if self.approach_ok else ""))
+                    f"{w['orientation']}"
+                    + (f" or {_named('an approach direction', a)}" if self.approach_ok else "")
+                    + (f" or {_named('a tool configuration vector', w['tcv'])}"
+                       if self.tcv_ok else ""))
         if self.need == "not approach":
             return (f"{w['prefix'].format(field=a)}{self.robot} is solved numerically "
                     f"({self.why}), which needs a full orientation or the position alone")
         return (f"{self.robot}: {w['tcv']} targets need a robot of 3 or 4 joints whose last "
                 "joint is revolute (the tool roll); give the pose another way")
+
+
+def _named(thing: str, field: str) -> str:
+    """``thing`` followed by the ``field`` that gives it, unless that is the thing's name."""
+    return thing if field == thing else f"{thing} ({field})"
 
 
 class UnsupportedRobot(KincalcError):

@@ -334,7 +334,7 @@ def _closed_streams() -> None:
 #: them (:class:`kincalc.errors.TargetMismatch`)
 TARGET_WORDS = {"approach": "--approach", "tcv": "--tcv", "prefix": "{field}: ",
                 "orientation": "(--rpy, --euler-zyz, --euler-xyz, --quat, --axis-angle, "
-                               "--matrix, --tcv, --pose or --from-q)"}
+                               "--matrix, --pose or --from-q)"}
 
 
 def _words(exc) -> str:

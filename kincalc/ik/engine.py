@@ -39,6 +39,7 @@ from ..jacobian import rank_deficient
 from .joint_limits import normalise, open_joints, open_values, same_solution, violations
 from .labels import labels
 from .near_miss import near_misses, polished
+from .small_arms import takes_tcv
 from .solvers import run_solver
 from .target import Targets
 
@@ -281,7 +282,8 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
     if targets.kind == "approach" and not five:
         raise TargetMismatch(robot.name, "full orientation", family.controls)
     if family.needs_orientation and targets.kind == "position":
-        raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five)
+        raise TargetMismatch(robot.name, "orientation", family.controls, approach_ok=five,
+                             tcv_ok=takes_tcv(robot.is_revolute))
 
 
 def _check(robot, family, method, targets, joints, candidate, br, polish=True) -> Solved:

@@ -225,6 +225,12 @@ def _free_pair(S: Screws, targets, br: Branches, a: int, b: int) -> Branches:
                      labels=(None, TIE_BREAK))
 
 
+def takes_tcv(revolute) -> bool:
+    """Whether a chain of joints of these types (``revolute (n,)`` bool) takes a tool
+    configuration vector target: 3 or 4 joints, the last revolute (the tool roll)."""
+    return len(revolute) in (3, 4) and bool(revolute[-1])
+
+
 def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     """A tool configuration vector ``w = [p; e^(qn/pi) r3]`` for one target.
 
@@ -259,7 +265,7 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     """
     from ..errors import TargetMismatch
     n = S.n
-    if not S.revolute[n - 1] or n - 1 not in (2, 3):
+    if not takes_tcv(S.revolute):
         raise TargetMismatch(robot.name, "tcv robot")
     if br.N != 1:
         raise ValueError("tcv: one target at a time")

@@ -10,6 +10,10 @@ CASES = [
      "not a rotation matrix"),
     (["ik", "puma560", "--pose", "/nonexistent/pose.txt"], "cannot read"),
     (["ik", "puma560", "--xyz", "0.5", "0", "0.3"], "give an orientation too"),
+    # the ways a target can give it: --tcv only for a robot that takes one
+    (["ik", "puma560", "--xyz", "0.5", "0", "0.3"], "--matrix, --pose or --from-q)"),
+    (["ik", "fer_rrpr", "--xyz", "0.5", "0", "0.3"],
+     "--pose or --from-q) or a tool configuration vector (--tcv)"),
     (["ik", "puma560", "--xyz", "0.5", "0", "0.3", "--rpy", "0", "0", "0", "--quat", "1", "0", "0", "0"],
      "at most one orientation"),
     (["ik", "iiwa7", "--xyz", "0.5", "0", "0.3", "--near", "1 2"], "--near: iiwa7 has 7 joints"),
