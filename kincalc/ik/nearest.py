@@ -15,6 +15,7 @@ import numpy as np
 
 from .cache import per_robot
 from .newton import levenberg_marquardt
+from ..spatial import into_turn
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
@@ -76,8 +77,7 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
                                   iterations=iterations, tol=tol)
     X = x * col
     if turns.any():
-        base = np.where(np.isfinite(lo0), lo0, -np.pi)[turns]
-        X[:, turns] = base + np.mod(X[:, turns] - base, 2 * np.pi)
+        X[:, turns] = into_turn(X[:, turns], np.where(np.isfinite(lo0), lo0, -np.pi)[turns])
     pe = np.linalg.norm(E[:, :3], axis=1) * L
     oe = None if R_goal is None else np.linalg.norm(E[:, 3:], axis=1)
     return X, pe, oe

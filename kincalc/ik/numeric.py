@@ -50,7 +50,7 @@ import numpy as np
 
 from ..jacobian import finite_difference_jacobian
 from .newton import levenberg_marquardt
-from ..spatial import rotation_error, rotvec_from_matrix
+from ..spatial import TURN, into_turn, rotation_error, rotvec_from_matrix
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
 #: 1e-9 relative); iterations go on down to STOP or until they make no progress
@@ -300,10 +300,9 @@ class _Problem:
         """``q (n,)``, the same pose, each revolute joint turned by whole turns into
         ``[lo, lo + 2 pi)`` (``[hi - 2 pi, hi)`` when only ``hi`` is finite; unchanged when
         neither is): within the limits unless it lies in the gap of a range under a turn."""
-        base = np.where(np.isfinite(self.lo), self.lo, self.hi - 2 * np.pi)
+        base = np.where(np.isfinite(self.lo), self.lo, self.hi - TURN)
         turn = self.revolute & np.isfinite(base)
-        with np.errstate(invalid="ignore"):
-            return np.where(turn, base + np.mod(q - base, 2 * np.pi), q)
+        return np.where(turn, into_turn(q, np.where(turn, base, 0.0)), q)
 
     def descend(self, start, limited: bool):
         """Levenberg-Marquardt from ``start (n,)`` (within the limits) onto the target.

@@ -49,6 +49,23 @@ def wrap(x) -> np.ndarray:
     return y if y.ndim else np.asarray(y)
 
 
+def into_turn(x, base) -> np.ndarray:
+    """Angles moved by whole turns into ``[base, base + 2 pi)``.
+
+    Parameters
+    ----------
+    x : array_like (...)
+        Angles (rad).
+    base : array_like, broadcasting with ``x``
+        The start of each turn (rad), finite.
+
+    Returns
+    -------
+    ndarray (...)
+    """
+    return base + np.mod(np.asarray(x, float) - base, TURN)
+
+
 def turn_toward(x, near, lo, hi) -> np.ndarray:
     """Angles moved by whole turns (up to 3) to the value nearest ``near`` within limits.
 

@@ -240,3 +240,13 @@ def test_turn_toward_is_the_nearest_whole_turn_within_the_limits():
             assert got[i] == pytest.approx(want, abs=1e-12)
     X = rng.uniform(-4, 4, (5, 3, 4))                     # leading axes
     assert turn_toward(X, np.zeros(4), -np.full(4, np.pi), np.full(4, np.pi)).shape == X.shape
+
+
+def test_into_turn_is_the_one_whole_turn_from_base():
+    rng = np.random.default_rng(4)
+    x, base = rng.uniform(-50, 50, 1000), rng.uniform(-10, 10, 1000)
+    y = sp.into_turn(x, base)
+    k = (y - x) / (2 * np.pi)
+    assert np.allclose(k, np.rint(k), atol=1e-9)                    # whole turns
+    assert ((y >= base) & (y < base + 2 * np.pi)).all()
+    assert sp.into_turn(-np.pi / 2, 0.0) == 1.5 * np.pi and sp.into_turn(2 * np.pi, 0.0) == 0.0

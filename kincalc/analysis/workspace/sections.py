@@ -41,6 +41,7 @@ import numpy as np
 
 from .dexterity import orientation_hits
 from .sampling import joint_ranges
+from ...spatial import into_turn
 
 #: pixels across the larger side of a section
 SECTION_BINS = 150
@@ -200,7 +201,7 @@ def _through_axis(P, w, turns, c1, z1, e1):
     lo, hi = turns
     out, ws = [], []
     for side, target in ((1.0, 0.0), (-1.0, np.pi)):
-        phi = np.mod(target - theta - lo, 2 * np.pi) + lo          # the first turn >= lo
+        phi = into_turn(target - theta, lo)                           # the first turn >= lo
         ok = phi <= hi + 1e-12
         out.append(c1 + h[ok, None] * z1 + side * r[ok, None] * e1)
         ws.append(w[ok])
