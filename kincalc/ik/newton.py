@@ -254,28 +254,54 @@ def _held_step(J, e, lam, x, lo, hi, free) -> np.ndarray:
     moving the variables ``free (m, n)`` only: a variable on a limit that the step pushes
     outwards is held, and the step solved again without it (clipping alone would shorten
     the other variables' steps too)."""
-    every = free.all()
-    step = _damped(J, e, lam) if every else _damped(J * free[:, None, :], e, lam) * free
+    step = _damped(J, e, lam) if free.all() else _damped(J, e, lam, free)
     for _ in range(x.shape[1]):
         held = ((x <= lo) & (step < 0)) | ((x >= hi) & (step > 0))
         if not held.any():
             break
         free = free & ~held
         r = np.flatnonzero(held.any(axis=1))
-        step[r] = _damped(J[r] * free[r, None, :], e[r], lam[r]) * free[r]
+        step[r] = _damped(J[r], e[r], lam[r], free[r])
     return step
 
 
-def _damped(J, e, lam) -> np.ndarray:
+def _damped(J, e, lam, free=None) -> np.ndarray:
     """``dx (m, n)``: the Levenberg-Marquardt step of ``J (m, r, n)``, ``e (m, r)`` with
-    damping ``lam (m,)`` (:func:`levenberg_marquardt`), through the smaller of the normal
-    equations and their dual."""
+    damping ``lam (m,)`` (:func:`levenberg_marquardt`) moving the variables ``free (m, n)``
+    only (None: all), through the normal equations of the free variables, or their dual
+    where there are more of them than residuals (a redundant arm: there the normal
+    equations are singular but for the damping). Should either be singular to rounding,
+    the step is the same one through the SVD."""
     m, r, n = J.shape
+    if free is not None:
+        J = J * free[:, None, :]
     mu = lam * (1.0 + np.einsum("mrn,mrn->m", J, J) / n)         # tr(J^T J) = |J|_F^2
+    dual = (n if free is None else np.count_nonzero(free, axis=1)) > r
+    try:
+        if np.all(dual):
+            return _solved(J, e, mu, True)
+        if not np.any(dual):
+            return _solved(J, e, mu, False)
+        out = np.empty((m, n))
+        out[dual] = _solved(J[dual], e[dual], mu[dual], True)
+        out[~dual] = _solved(J[~dual], e[~dual], mu[~dual], False)
+        return out
+    except np.linalg.LinAlgError:
+        U, s, Vt = np.linalg.svd(J, full_matrices=False)
+        f = np.where(s > 0, s, 0.0) / np.where(s > 0, s * s + mu[:, None], 1.0)
+        ue = np.einsum("mrk,mr->mk", U, e) * f
+        step = np.einsum("mk,mkn->mn", ue, Vt)
+        return step if free is None else step * free
+
+
+def _solved(J, e, mu, dual: bool) -> np.ndarray:
+    """:func:`_damped`'s step through the dual ``J^T (J J^T + mu I)^-1 e`` or the normal
+    equations ``(J^T J + mu I)^-1 J^T e``."""
+    m = len(J)
     Jt = J.swapaxes(-1, -2)
-    k = min(r, n)
-    A = J @ Jt if r < n else Jt @ J                                # (m, k, k)
+    A = J @ Jt if dual else Jt @ J                                 # (m, k, k)
+    k = A.shape[-1]
     A.reshape(m, k * k)[:, ::k + 1] += mu[:, None]                 # (the diagonal, a view)
-    if r < n:
+    if dual:
         return (Jt @ np.linalg.solve(A, e[..., None]))[..., 0]
     return np.linalg.solve(A, Jt @ e[..., None])[..., 0]

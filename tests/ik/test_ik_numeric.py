@@ -157,3 +157,22 @@ def test_a_descent_at_a_minimum_that_is_no_solution_stops():
     res = solve_numeric(fk, T, np.array([0.3, 0.2, 0.1]), orientation=False, restarts=0)
     assert not res.converged and abs(res.position_error - 2.0) < 1e-8
     assert res.iterations < 250
+
+
+def test_least_change_steps_with_joints_pinned_at_limits_do_not_break_the_solve():
+    """The Panda at a reachable pose from a start 2 rad away: the least-change steps pin
+    four of its seven joints at their limits, leaving three free for six residuals; the
+    Levenberg-Marquardt step took the dual system of all seven joints, singular to rounding
+    (numpy's LinAlgError, an internal error on the command line; found by an A/B of the
+    numerical solver on 1,322 poses)."""
+    r = load_robot("panda")
+    T = np.array([[-0.816062887319047, -0.5466857033862944, 0.18755294093544078, -0.4436389988138915],
+                  [0.01894196624800381, -0.3496304373199432, -0.9366961936583946, -0.333758478479491],
+                  [0.5776526342493038, -0.7608503788607178, 0.2956757263157434, 0.4719822479585126],
+                  [0.0, 0.0, 0.0, 1.0]])
+    q0 = np.array([1.7043062376733187, 1.280817475864358, -1.8533695662018004,
+                   -0.6541549519088394, 0.3365414410467884, 3.5512307390526217,
+                   -2.6960587088338497])
+    res = r.ik(T, near=q0, numeric=True)
+    (sol,) = res.solutions
+    assert np.abs(r.fk(sol.q) - T).max() < 1e-9 and sol.within_limits

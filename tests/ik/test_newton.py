@@ -166,3 +166,31 @@ def test_damped_step_primal_and_dual_agree():
         H = J.swapaxes(1, 2) @ J + mu[:, None, None] * np.eye(n)
         want = np.linalg.solve(H, (J.swapaxes(1, 2) @ e[..., None]))[..., 0]
         assert np.allclose(_damped(J, e, lam), want, atol=1e-12)
+
+
+def test_levenberg_marquardt_with_fewer_free_variables_than_residuals():
+    """A redundant system (6 residuals, 7 variables) with 4 variables fixed: the step's
+    system is chosen by the free variables (3 < 6: the normal equations), not by all 7
+    (the dual J J^T, of rank 3, was singular to rounding: numpy's LinAlgError from the
+    numerical solver's least-change steps on the Panda). The descent reaches the
+    least-squares point of the 3 free variables."""
+    rng = np.random.default_rng(21)
+    A, b = rng.normal(size=(6, 7)), rng.normal(size=6)
+    fixed = np.array([True, False, True, True, False, False, True])
+    x0 = rng.normal(size=7)
+
+    def evaluate(x, rows):
+        return b - x @ A.T, lambda keep: np.broadcast_to(A, (int(keep.sum()), 6, 7))
+    x, e, _ = levenberg_marquardt(evaluate, x0[None], lo=-np.inf, hi=np.inf, iterations=100,
+                                  tol=1e-14, fixed=fixed)
+    free = ~fixed
+    best = np.linalg.lstsq(A[:, free], b - A[:, fixed] @ x0[fixed], rcond=None)[0]
+    assert np.array_equal(x[0, fixed], x0[fixed])
+    assert np.allclose(x[0, free], best, atol=1e-9)
+
+
+def test_damped_step_of_a_rank_deficient_system_is_the_svd_one():
+    """Both forms singular to rounding (a zero Jacobian with no damping left): the SVD
+    step, zero here, rather than numpy's LinAlgError."""
+    J, e = np.zeros((2, 3, 4)), np.ones((2, 3))
+    assert np.array_equal(_damped(J, e, np.zeros(2)), np.zeros((2, 4)))
