@@ -108,6 +108,10 @@ ORIENTATIONS = ("rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix",
                 "tcv")
 #: the fields that give the whole pose on their own
 WHOLE = ("T", "q")
+#: how a file (a batch record, a sheet's ``pose``) names the parts of an IK target, for the
+#: core's messages about them (:class:`kincalc.errors.TargetMismatch`)
+FIELD_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
+               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, T or q)"}
 
 
 class BadTarget(UsageError):

@@ -1032,3 +1032,15 @@ def test_fk_batch_output_is_ik_and_reach_batch_input():
     rec["xyz"][0] += 0.01
     status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"], json.dumps(rec).encode())
     assert "xyz is not T's position" in json_documents(ik_out)[0]["error"]
+
+
+def test_a_record_without_orientation_lists_tcv_only_for_a_robot_that_takes_one():
+    """The orientation hint of a batch record: a 6R arm's offered tcv, then refused it; a
+    SCARA's named it twice."""
+    status, out, _ = run_cli(["ik", "ur5", "--batch", "-"], b'{"xyz": [0.3, 0.1, 0.4]}\n')
+    error = json_documents(out)[0]["error"]
+    assert error.endswith("(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, T or q)")
+    status, out, _ = run_cli(["ik", "adept_cobra600", "--batch", "-"],
+                             b'{"xyz": [300, 100, 40]}\n')
+    error = json_documents(out)[0]["error"]
+    assert error.endswith("T or q) or a tool configuration vector (tcv)")

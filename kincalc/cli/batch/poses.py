@@ -9,11 +9,6 @@ FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
               frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
               frozenset({"T"}), frozenset({"q"})}
 
-#: how a batch record names the parts of an IK target, for the core's messages about
-#: them (:class:`kincalc.errors.TargetMismatch`)
-RECORD_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
-                "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
-                               "or q)"}
 
 
 def head(i, kw) -> dict:
@@ -25,7 +20,8 @@ def head(i, kw) -> dict:
 def words(exc) -> str:
     """A core error's message for a record, its fields named as records name them."""
     from ...errors import TargetMismatch
-    return exc.words(RECORD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
+    from ...ik.target import FIELD_WORDS
+    return exc.words(FIELD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
 
 
 def record_poses(robot, units, parsed, together=None, start: int = 0):

@@ -6,7 +6,8 @@ from dataclasses import replace
 
 from ...errors import KincalcError, TargetMismatch
 from ...limits import quote
-from ..sheet import SHEET_WORDS, Sheet, SheetError, sheet_words
+from ...ik.target import FIELD_WORDS
+from ..sheet import Sheet, SheetError, sheet_words
 from .common import ItemResult, Report
 from .dh import grade_dh
 from .fk import grade_fk
@@ -30,7 +31,7 @@ def grade(sheet: Sheet) -> Report:
             except SheetError:
                 raise
             except KincalcError as exc:   # e.g. a pose this robot cannot be asked for
-                text = exc.words(SHEET_WORDS) if isinstance(exc, TargetMismatch) \
+                text = exc.words(FIELD_WORDS) if isinstance(exc, TargetMismatch) \
                     else sheet_words(str(exc))
                 raise SheetError(sheet.path, item.line, f"item {quote(item.id)}: {text}") from None
         results.append(replace(r, line=item.line))

@@ -18,12 +18,12 @@ from __future__ import annotations
 
 from .format import (DEFAULT_ANGLE_DEG, DEFAULT_MATRIX, DEFAULT_POSITION, DH_SAMPLES,
                      HINT_FACTOR, ITEM_KEYS, Item, KINDS, KIND_KEYS, MIX_FACTOR,
-                     POSE_FIELDS, SHEET_KEYS, SHEET_WORDS, Sheet, SheetError,
+                     POSE_FIELDS, SHEET_KEYS, Sheet, SheetError,
                      TOLERANCE_KEYS, Tolerance, sheet_words)
 from .reader import load_sheet, parse_sheet, sheet_robot_path
 
 __all__ = ["DEFAULT_ANGLE_DEG", "DEFAULT_MATRIX", "DEFAULT_POSITION", "DH_SAMPLES",
            "HINT_FACTOR", "ITEM_KEYS", "Item", "KINDS", "KIND_KEYS", "MIX_FACTOR",
-           "POSE_FIELDS", "SHEET_KEYS", "SHEET_WORDS", "Sheet", "SheetError",
+           "POSE_FIELDS", "SHEET_KEYS", "Sheet", "SheetError",
            "TOLERANCE_KEYS", "Tolerance", "load_sheet", "parse_sheet", "sheet_robot_path",
            "sheet_words"]

@@ -97,11 +97,6 @@ class Sheet:
 _OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
 
 
-#: how a sheet names the parts of an IK target (its ``pose`` keys), for the core's
-#: messages about them (:class:`kincalc.errors.TargetMismatch`)
-SHEET_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
-               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, tcv, T "
-                              "or q)"}
 
 
 def sheet_words(message: str) -> str:
