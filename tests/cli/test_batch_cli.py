@@ -432,7 +432,7 @@ class _Zeros(_Bytes):
 
 
 def _records(source, size=2048, input_format="auto"):
-    header, chunks = runner._chunked(source, size, input_format)
+    header, chunks, _ = runner._chunked(source, size, input_format)
     return header, [line for (start, lines), _ in chunks for line in lines]
 
 
@@ -544,9 +544,9 @@ def test_an_endless_line_ends_the_input_after_a_bounded_read():
 def test_a_chunk_is_what_has_arrived_from_a_pipe():
     """With nothing more ready, the lines so far are a chunk of their own, flagged so that
     their answers are written before the reader waits (with --jobs N too)."""
-    header, chunks = runner._chunked(_Bytes(b"{}\n{}\n", b"{}\n", ready=False), 2048)
+    header, chunks, _ = runner._chunked(_Bytes(b"{}\n{}\n", b"{}\n", ready=False), 2048)
     assert list(chunks) == [((0, [b"{}", b"{}"]), True), ((2, [b"{}"]), True)]
-    header, chunks = runner._chunked(_Bytes(b"{}\n" * 5, ready=True), 2)
+    header, chunks, _ = runner._chunked(_Bytes(b"{}\n" * 5, ready=True), 2)
     assert [(c[0], len(c[1]), f) for c, f in chunks] == [(0, 2, False), (2, 2, False),
                                                           (4, 1, True)]
 
@@ -661,6 +661,10 @@ def test_a_first_line_like_a_csv_header_that_cannot_be_one_says_what_a_header_is
     assert docs[0]["error"].endswith("as a CSV header it cannot be used: column names "
                                      "separated by commas, none empty")
     assert "CSV" not in docs[1]["error"]
+    # JSON lines by --input-format (or a .jsonl name): a valid header is no hint's business
+    status, out, err = run_cli(["fk", "bk_rr", "--batch", "-", "--input-format", "jsonl"],
+                               b"theta1,theta2\n30,60\n")
+    assert "CSV" not in json_documents(out)[0]["error"]
 
 
 @pytest.mark.parametrize("command", ["fk", "jacobian", "ik", "reach"])

@@ -38,9 +38,9 @@ def test_jobs_share_a_short_numerical_batch_in_order(tmp_path, capsys, monkeypat
     chunks = []
     real = runner.process_chunk
 
-    def counted(kind, robot, units, header, fmt, frame, item, locks=None):
+    def counted(kind, robot, units, header, fmt, frame, item, **options):
         chunks.append(len(item[1]))
-        return real(kind, robot, units, header, fmt, frame, item, locks=locks)
+        return real(kind, robot, units, header, fmt, frame, item, **options)
     monkeypatch.setattr(runner, "process_chunk", counted)
     c1, one, _ = run(capsys, "ik", "iiwa14", "--batch", str(src), "--rad")
     assert len(chunks) >= 2 and sum(chunks) == len(rows)

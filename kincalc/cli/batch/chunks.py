@@ -11,7 +11,8 @@ from .formats import (ANSWER, answer_line, csv_rows, ik_solutions, reachable, ro
 from .poses import head, record_poses, words
 from .records import parse_chunk, parse_records
 
-def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> tuple:
+def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None,
+                  guessed: bool = False) -> tuple:
     """Parse, solve and format one chunk ``item = (first index, lines)``; returns
     ``(text, any record bad, any pose without a solution)``, the text str, or ASCII bytes
     for ik's JSON lines. Pure: safe to run in a
@@ -21,13 +22,13 @@ def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None) -> t
     import numpy as np
     start, lines = item
     if kind == "ik":
-        parsed, together = parse_chunk(header, robot, start, lines)
+        parsed, together = parse_chunk(header, robot, start, lines, guessed=guessed)
         with np.errstate(all="ignore"):
             answers, errors, no = _ik_chunk(robot, units, parsed, locks or {}, together, start)
         if fmt == "jsonl":
             return _ik_text(start, len(lines), answers, errors), bool(errors), no
         return csv_rows(kind, robot, _merge(_ik_records(answers), errors)), bool(errors), no
-    parsed = parse_records(header, robot, start, lines, kind)
+    parsed = parse_records(header, robot, start, lines, kind, guessed)
     parsed = [(i, None, f"record {i + 1}: lock: only ik --batch holds joints")
               if err is None and "lock" in kw else (i, kw, err) for i, kw, err in parsed]
     solve = {"fk": _fk_chunk, "jacobian": _jacobian_chunk, "reach": _reach_chunk}[kind]

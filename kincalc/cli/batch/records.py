@@ -32,13 +32,16 @@ class RecordError(ValueError):
 
 # --- records: one line of bytes -> pose keywords, or the reason it cannot be used ---------
 
-def parse_records(header, robot, start: int, lines, kind: str = "ik") -> list:
+def parse_records(header, robot, start: int, lines, kind: str = "ik",
+                  guessed: bool = False) -> list:
     """``[(index, keywords or None, error or None)]`` of one chunk of lines (bytes, or
     None for a line over the length limit), the first being record ``start``. ``header``
     is None for JSON lines, the column names for CSV, or the reason the CSV header cannot
     be used. ``kind`` is the command ('ik', 'reach', 'fk' or 'jacobian'), whose fields an
-    unknown field's message lists."""
-    parsed, together = parse_chunk(header, robot, start, lines, kind)
+    unknown field's message lists. ``guessed``: JSON lines because the first line is no
+    CSV header (not by the input's name or --input-format): a first record that looks like
+    one says what a header is."""
+    parsed, together = parse_chunk(header, robot, start, lines, kind, guessed)
     if together is None:
         return parsed
     keys = [key for key, _ in together.fields]
@@ -49,7 +52,8 @@ def parse_records(header, robot, start: int, lines, kind: str = "ik") -> list:
     return list(heapq.merge(parsed, read, key=lambda r: r[0]))
 
 
-def parse_chunk(header, robot, start: int, lines, kind: str = "ik") -> tuple:
+def parse_chunk(header, robot, start: int, lines, kind: str = "ik",
+                guessed: bool = False) -> tuple:
     """:func:`parse_records` with the JSON lines read together
     (:mod:`~kincalc.cli.batch.uniform`) kept as arrays: ``(parsed, together)``, the
     records of the other lines and a :class:`~kincalc.cli.batch.uniform.Together` (its
@@ -59,12 +63,13 @@ def parse_chunk(header, robot, start: int, lines, kind: str = "ik") -> tuple:
     from .uniform import read_together
     together = read_together(lines, lambda line: _together_fields(line, robot))
     if together is None:
-        return _json_records(range(start, start + len(lines)), lines, kind), None
+        return _json_records(range(start, start + len(lines)), lines, kind, guessed), None
     if len(together.at) == len(lines):
         return [], together
     taken = set(together.at.tolist())
     rest = [k for k in range(len(lines)) if k not in taken]
-    return _json_records([start + k for k in rest], [lines[k] for k in rest], kind), together
+    return _json_records([start + k for k in rest], [lines[k] for k in rest], kind,
+                         guessed), together
 
 
 #: the pose forms whose records may be read together: those ik solves in one vectorised
@@ -110,7 +115,7 @@ def _csv_records(header, robot, start: int, lines, kind: str) -> list:
     return out
 
 
-def _json_records(indices, lines, kind: str = "ik") -> list:
+def _json_records(indices, lines, kind: str = "ik", guessed: bool = False) -> list:
     """:func:`parse_records` of JSON lines, record ``indices[k]`` being ``lines[k]``. The
     objects are read one by one; their fields are checked together for the records that
     have the same fields, when those are pose fields of a fixed count and ``id``
@@ -121,7 +126,8 @@ def _json_records(indices, lines, kind: str = "ik") -> list:
         try:
             rec = _json_object(_text(line))
         except RecordError as exc:
-            out.append((i, None, f"record {i + 1}: {exc}{_header_hint(i, line)}"))
+            hint = _header_hint(i, line) if guessed else ""
+            out.append((i, None, f"record {i + 1}: {exc}{hint}"))
             continue
         same.setdefault(tuple(rec), []).append((len(out), i, rec))
         out.append(None)

@@ -95,9 +95,10 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     # share them, as gc.freeze is meant for)
     gc.freeze()
     try:
-        header, chunks = _chunked(source, chunk_lines(kind, robot, locks), input_format,
-                                  robot)
-        work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks)
+        header, chunks, guessed = _chunked(source, chunk_lines(kind, robot, locks),
+                                           input_format, robot)
+        work = partial(process_chunk, kind, robot, units, header, fmt, frame, locks=locks,
+                       guessed=guessed)
         # the workers start before any other thread of this process does (the progress
         # bar's): a fork copies a lock another thread holds, locked for good
         pool = start_pool(jobs) if jobs > 1 else None
@@ -297,9 +298,11 @@ def _too_long(line: bytes) -> bool:
 
 
 def _chunked(source, size: int = 0, input_format: str = "auto", robot=None):
-    """``(header, chunks)``: the header (None for JSON lines, the CSV column names, or the
-    reason a CSV header cannot be used) and an iterator of ``((first index, lines),
-    flush)``, at most ``size`` records a chunk (default CHUNK_LINES). ``flush`` says that
+    """``(header, chunks, guessed)``: the header (None for JSON lines, the CSV column names,
+    or the reason a CSV header cannot be used), an iterator of ``((first index, lines),
+    flush)``, at most ``size`` records a chunk (default CHUNK_LINES), and whether the input
+    is JSON lines because its first line is no CSV header (neither its name nor
+    --input-format said). ``flush`` says that
     nothing more has arrived: from a pipe a chunk is what has arrived, and its answers (and
     those of the chunks before it) should be written before waiting for more, so that a
     producer writing one pose at a time gets each answer at once."""
@@ -335,7 +338,7 @@ def _chunked(source, size: int = 0, input_format: str = "auto", robot=None):
                 source.stopped = index          # the over-long record is the last one
         finally:
             source.close()
-    return header, chunks()
+    return header, chunks(), fmt == "auto" and header is None
 
 
 class _Output:
