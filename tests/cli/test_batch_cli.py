@@ -1031,11 +1031,21 @@ def test_fk_batch_output_is_ik_and_reach_batch_input():
     status, reach_out, _ = run_cli(["reach", "puma560", "--batch", "-"], out.encode())
     assert [d.get("verdict") for d in json_documents(reach_out)] == \
         ["reachable"] * 7 + [None] + ["reachable"] * 33
-    # a record whose xyz is not its T's position is not read as either
+    # an fk record is read only as fk wrote it: every field its own, of its own form
     rec = json.loads(out.splitlines()[0])
-    rec["xyz"][0] += 0.01
+    for change, error in [({"xyz": [rec["xyz"][0] + 0.01] + rec["xyz"][1:]},
+                           "xyz is not T's position"),
+                          ({"index": "x"}, "index: expected a whole number from 0"),
+                          ({"rpy": "junk"}, "rpy: expected 3 numbers"),
+                          ({"within_limits": {"a": 1}}, "within_limits: expected true or false"),
+                          ({"foo": 1}, "unknown field 'foo' (an fk --batch record has index, "
+                                       "T, xyz, rpy, within_limits and perhaps id)")]:
+        status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"],
+                                    json.dumps({**rec, **change}).encode())
+        assert error in json_documents(ik_out)[0]["error"], change
+    del rec["rpy"]
     status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"], json.dumps(rec).encode())
-    assert "xyz is not T's position" in json_documents(ik_out)[0]["error"]
+    assert json_documents(ik_out)[0]["error"] == "record 1: an fk --batch record without rpy"
 
 
 def test_a_record_without_orientation_lists_tcv_only_for_a_robot_that_takes_one():

@@ -27,7 +27,8 @@ A record holds a pose in any of the forms of PRODUCT.md:
 * JSON: ``{"xyz": [x, y, z], "rpy": [r, p, y]}``, with ``euler_zyz``,
   ``euler_xyz``, ``quat``, ``axis_angle``, ``matrix``, ``approach`` or ``tcv``
   instead of ``rpy``; or ``{"T": [[...], ...]}`` (4x4); or ``{"q": [...]}``
-  (the pose FK gives for these joints);
+  (the pose FK gives for these joints); or an answer of ``fk --batch`` (read by its
+  ``T``, its other fields checked; its error record stays an error);
 * CSV: columns ``x, y, z`` with ``roll, pitch, yaw`` or ``qw, qx, qy, qz`` or
   ``ax, ay, az`` (approach), or one column per joint named as in the robot file
   (plain comma-separated decimal numbers, no quoting).

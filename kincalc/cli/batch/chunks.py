@@ -9,7 +9,7 @@ from typing import NamedTuple
 from .formats import (ANSWER, answer_line, csv_rows, ik_solutions, reachable, rounded,
                       strict_json)
 from .poses import head, record_poses, words
-from .records import parse_chunk, parse_records
+from .records import FK_FIELDS, parse_chunk, parse_records
 
 def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None,
                   guessed: bool = False) -> tuple:
@@ -101,8 +101,8 @@ def _fk_chunk(robot, units, parsed, frame):
     from ...ik.joint_limits import within_limits
     within = within_limits(robot, q)
     Tl, xyz, rpyl = rounded(T), rounded(T[:, :3, 3]), rounded(rpy)
-    recs = [{**head(i, kw), "T": Tl[k], "xyz": xyz[k], "rpy": rpyl[k],
-             "within_limits": bool(within[k])} for k, (i, kw) in enumerate(good)]
+    recs = [{**head(i, kw), **dict(zip(FK_FIELDS, (Tl[k], xyz[k], rpyl[k], bool(within[k]))))}
+            for k, (i, kw) in enumerate(good)]
     return _merge(recs, errors), False
 
 

@@ -285,8 +285,7 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
     """The keywords of the JSON record ``rec`` (field -> value; numbers as tuples of
     floats), or :class:`RecordError` saying what is wrong (an unknown field named with the
     fields of ``kind``'s records)."""
-    if "index" in rec and ("T" in rec or "error" in rec) and kind in ("ik", "reach") and \
-            _FK_RECORD.issuperset(rec):
+    if kind in ("ik", "reach") and _fk_record(rec):
         rec = _fk_pose(rec)
     if not _KNOWN.issuperset(rec):
         unknown = next(k for k in rec if k not in _KNOWN)
@@ -310,19 +309,41 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
     return out
 
 
-#: the fields of an output record of fk --batch (kincalc.cli.batch.chunks)
-_FK_RECORD = frozenset({"index", "id", "T", "xyz", "rpy", "within_limits", "error"})
+#: the fields of an answer of fk --batch after its head (``index``, ``id``), in the order
+#: written (kincalc.cli.batch.chunks), and of its error record
+FK_FIELDS = ("T", "xyz", "rpy", "within_limits")
+FK_ERROR = ("error",)
+
+
+def _fk_record(rec: dict) -> bool:
+    """Whether the JSON record ``rec`` is an output record of ``fk --batch`` (an ``index``,
+    and then a ``T`` or an ``error``)."""
+    return "index" in rec and ("T" in rec or "error" in rec)
 
 
 def _fk_pose(rec: dict) -> dict:
-    """An ``fk --batch`` output record read as a pose: its ``T`` (and ``id``), once its
-    ``xyz`` is checked to be T's position; ``rpy``, ``within_limits`` and ``index`` are not
-    read (the output's records are numbered afresh). Its error record is an error."""
+    """An ``fk --batch`` output record read as a pose: ``{"T": ..., "id": ...}``, once its
+    fields are checked to be the answer's own (``index`` a whole number, ``xyz`` T's
+    position, ``rpy`` three numbers, ``within_limits`` true or false); ``rpy``,
+    ``within_limits`` and ``index`` are not read further (the answers are numbered afresh).
+    Its error record, and any other field, are errors."""
+    fields = FK_ERROR if "error" in rec else FK_FIELDS
+    other = next((k for k in rec if k not in ("index", "id") + fields), None)
+    if other is not None:
+        raise RecordError(f"unknown field {quote(other)} (an fk --batch record has index, "
+                          f"{', '.join(fields)} and perhaps id)")
     if "error" in rec:
         raise RecordError("an error record of fk --batch, not a pose")
+    missing = next((k for k in fields if k not in rec), None)
+    if missing is not None:
+        raise RecordError(f"an fk --batch record without {missing}")
+    if type(rec["index"]) is not int or rec["index"] < 0:
+        raise RecordError("index: expected a whole number from 0 (an fk --batch record)")
+    if type(rec["within_limits"]) is not bool:
+        raise RecordError("within_limits: expected true or false (an fk --batch record)")
+    _numbers(rec["rpy"], 3, "rpy")
     T = _matrix_numbers(rec["T"], "T")
-    if "xyz" in rec and len(T) == 16 and \
-            _numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
+    if len(T) >= 12 and _numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
         raise RecordError("xyz is not T's position (an fk --batch record is read by its T)")
     return {key: rec[key] for key in ("id", "T") if key in rec}
 
