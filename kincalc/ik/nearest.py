@@ -83,6 +83,16 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
     return X, pe, oe
 
 
+def principal_directions(P) -> tuple:
+    """The directions along which the points ``P (M, 3)`` (M >= 3) spread, widest first:
+    ``(centre (3,), spreads (3,), directions (3, 3) as rows, m)``, the SVD of the points
+    about their centre, every ``M // 20000``-th point of ``m`` taken (units of ``P``)."""
+    c = P.mean(axis=0)
+    sub = P[:: max(1, len(P) // 20000)] - c
+    _, s, Vt = np.linalg.svd(sub, full_matrices=False)    # (the m x m U is never built)
+    return c, s, Vt, len(sub)
+
+
 def motion_frame(P, robot):
     """The affine span of the tool points ``P``: where the tool moves.
 
@@ -101,11 +111,9 @@ def motion_frame(P, robot):
         Orthonormal columns; d is 3 for a spatial arm (origin 0, world axes), 2 for a
         planar one (world x, y when the plane is horizontal), 1 for a line.
     """
-    c = P.mean(axis=0)
-    sub = P[:: max(1, len(P) // 20000)] - c
-    _, s, Vt = np.linalg.svd(sub, full_matrices=False)
+    c, s, Vt, m = principal_directions(P)
     L = max(robot.characteristic_length, 1e-12)
-    d = int(np.sum(s > 1e-9 * L * np.sqrt(len(sub))))
+    d = int(np.sum(s > 1e-9 * L * np.sqrt(m)))
     if d == 3:
         return np.zeros(3), np.eye(3)
     if d == 2 and abs(abs(Vt[2, 2]) - 1.0) < 1e-9:

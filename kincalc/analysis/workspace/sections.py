@@ -41,6 +41,7 @@ import numpy as np
 
 from .dexterity import orientation_hits
 from .sampling import joint_ranges
+from ...ik.nearest import principal_directions
 from ...spatial import into_turn
 
 #: pixels across the larger side of a section
@@ -312,8 +313,7 @@ def _planes(robot, P, dim, pix):
     h = (P - c1) @ z1
     common = dict(c1=c1, z1=z1, e1=e1)
     if dim == 2:
-        D = P[:: max(1, len(P) // 20000)] - P.mean(axis=0)
-        basis = np.linalg.svd(D.T @ D)[2]        # principal directions, 3x3 (not D's U)
+        basis = principal_directions(P)[2]
         n = basis[2]
         turning = revolute and abs(abs(n @ z1) - 1) < 1e-6
         u, v = _in_plane(n, e1 if turning else _positive(basis[0]))
