@@ -75,7 +75,7 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
 
     x, E, _ = levenberg_marquardt(evaluate, X / col, lo=lo / col, hi=hi / col,
                                   iterations=iterations, tol=tol)
-    X = x * col
+    X = np.clip(x * col, lo, hi)          # (x is clipped to lo / col, which times col may pass lo)
     if turns.any():
         X[:, turns] = into_turn(X[:, turns], np.where(np.isfinite(lo0), lo0, -np.pi)[turns])
     pe = np.linalg.norm(E[:, :3], axis=1) * L

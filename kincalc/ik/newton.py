@@ -148,15 +148,19 @@ def _step(J, e, damping: float) -> np.ndarray:
     damp keep their accuracy (several times faster than an SVD per candidate). Undamped,
     through the SVD, without squaring the condition number."""
     if damping:
-        Jt = J.swapaxes(-1, -2)
-        H = Jt @ J
-        n = H.shape[-1]
-        diag = H.reshape(H.shape[:-2] + (n * n,))[..., ::n + 1]          # a view of H
-        diag += (damping * np.add.reduce(diag, axis=-1) + 1e-300)[..., None]
-        return np.linalg.solve(H, Jt @ e[..., None])[..., 0]
+        mu = damping * np.einsum("...rn,...rn->...", J, J) + 1e-300     # tr(J^T J) = |J|_F^2
+        return _solved(J, e, mu, False)
+    return _svd_step(J, e, 0.0)
+
+
+def _svd_step(J, e, mu) -> np.ndarray:
+    """``dx (m, n) = V f(S) U^T e`` of ``J (m, r, n) = U S V^T``, ``e (m, r)``, with the
+    filter factors ``f(s) = s / (s^2 + mu)`` (``mu (m,)`` or 0: the pseudo-inverse), and 0
+    for singular values below rounding (``eps max(r, n)`` times the largest)."""
     U, s, Vt = np.linalg.svd(J, full_matrices=False)
     keep = s > np.finfo(float).eps * max(J.shape[-2:]) * s[..., :1]
-    f = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
+    safe = np.where(keep, s, 1.0)
+    f = np.where(keep, 1.0 / (safe + np.asarray(mu, float)[..., None] / safe), 0.0)
     ue = (e[..., None, :] @ U)[..., 0, :]                     # U^T e, (m, k)
     return ((f * ue)[..., None, :] @ Vt)[..., 0, :]
 
@@ -174,7 +178,7 @@ def levenberg_marquardt(evaluate: Callable, x, *, lo, hi, iterations: int, tol: 
 
     The step solves ``(J^T J + mu I) dx = J^T e``, ``mu = lambda (1 + tr(J^T J) / n)``
     (or its dual ``dx = J^T (J J^T + mu I)^-1 e``, the same step, when there are fewer
-    residuals than variables), shortened to at most ``max_step`` in norm. ``lambda`` starts
+    residuals than free variables), shortened to at most ``max_step`` in norm. ``lambda`` starts
     at ``damping``; it is divided by 3 (down to :data:`LAMBDA_MIN`) after a step that
     lowers ``|e|`` and multiplied by 4 after one that does not (which is rejected).
 
@@ -212,8 +216,9 @@ def levenberg_marquardt(evaluate: Callable, x, *, lo, hi, iterations: int, tol: 
     lo, hi = np.broadcast_to(lo, (M, n)), np.broadcast_to(hi, (M, n))
     movable = np.ones((M, n), bool) if fixed is None else ~np.broadcast_to(fixed, (M, n))
     e, jacobian = evaluate(x, np.arange(M))
+    e = np.array(e, dtype=float)                            # (written in: the caller's copy)
     err = np.einsum("mr,mr->m", e, e)
-    active = err > tol ** 2
+    active = (err > tol ** 2) & np.isfinite(err)          # (a start the model refuses stays)
     if not np.count_nonzero(active):
         return x, e, np.zeros(M, int)
     J = np.zeros(e.shape + (n,))
@@ -229,24 +234,42 @@ def levenberg_marquardt(evaluate: Callable, x, *, lo, hi, iterations: int, tol: 
         step *= np.minimum(1.0, max_step / np.maximum(moved, 1e-300))[:, None]
         xn = np.clip(xa + step, lo_a, hi_a)
         en, jac_n = evaluate(xn, idx)
-        errn = np.einsum("mr,mr->m", en, en)
+        errn, before = np.einsum("mr,mr->m", en, en), err[idx]
         steps[idx] += 1
-        before = err[idx]
-        better = errn < before
+        # |en|^2 < |e|^2 as (en - e).(en + e) < 0: a gain far below |e|^2 still counts
+        better = np.einsum("mr,mr->m", en - e[idx], en + e[idx]) < 0
         ok = idx[better]
-        stop = better & (moved < 1e-15)
+        stop = (better & (moved < 1e-15)) | (moved == 0)       # (every free variable held)
         if floor:                 # a rejected step below it: rounding is reached
             stop |= ~better & (before <= floor ** 2)
         if creep:
             crept[ok] = np.where(errn[better] > (1 - 1e-9) ** 2 * before[better], crept[ok] + 1, 0)
             stop |= better & (crept[idx] >= creep)
         x[ok], e[ok], err[ok] = xn[better], en[better], errn[better]
-        if ok.size:
-            J[ok] = jac_n(better)
+        J[ok] = jac_n(better) if ok.size else J[ok]
         lam[ok] = np.maximum(lam[ok] / 3.0, LAMBDA_MIN)
         lam[idx[~better]] *= 4.0
         active[idx] = (err[idx] > tol ** 2) & (lam[idx] < give_up) & ~stop
     return x, e, steps
+
+
+def pushed_out(x, lo, hi, step, slack: float = 0.0) -> np.ndarray:
+    """Which variables lie on a limit (within ``slack``) that ``step`` pushes them beyond.
+
+    Parameters
+    ----------
+    x, step : ndarray (..., n)
+        The variables and a step (any scale: its sign is read).
+    lo, hi : array_like, broadcasting with ``x``
+        The limits.
+    slack : float
+        How near a limit counts as on it (units of ``x``).
+
+    Returns
+    -------
+    ndarray (..., n) of bool
+    """
+    return ((x <= lo + slack) & (step < 0)) | ((x >= hi - slack) & (step > 0))
 
 
 def _held_step(J, e, lam, x, lo, hi, free) -> np.ndarray:
@@ -256,7 +279,7 @@ def _held_step(J, e, lam, x, lo, hi, free) -> np.ndarray:
     the other variables' steps too)."""
     step = _damped(J, e, lam) if free.all() else _damped(J, e, lam, free)
     for _ in range(x.shape[1]):
-        held = ((x <= lo) & (step < 0)) | ((x >= hi) & (step > 0))
+        held = pushed_out(x, lo, hi, step)
         if not held.any():
             break
         free = free & ~held
@@ -287,10 +310,7 @@ def _damped(J, e, lam, free=None) -> np.ndarray:
         out[~dual] = _solved(J[~dual], e[~dual], mu[~dual], False)
         return out
     except np.linalg.LinAlgError:
-        U, s, Vt = np.linalg.svd(J, full_matrices=False)
-        f = np.where(s > 0, s, 0.0) / np.where(s > 0, s * s + mu[:, None], 1.0)
-        ue = np.einsum("mrk,mr->mk", U, e) * f
-        step = np.einsum("mk,mkn->mn", ue, Vt)
+        step = _svd_step(J, e, mu)
         return step if free is None else step * free
 
 

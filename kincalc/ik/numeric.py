@@ -49,7 +49,7 @@ from typing import Callable
 import numpy as np
 
 from ..jacobian import finite_difference_jacobian
-from .newton import levenberg_marquardt
+from .newton import levenberg_marquardt, pushed_out
 from ..spatial import TURN, into_turn, rotation_error, rotvec_from_matrix
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
@@ -166,7 +166,7 @@ class _Problem:
         -------
         ndarray (n,) of bool
         """
-        return ((q <= self.lo + 1e-12) & (dx < 0)) | ((q >= self.hi - 1e-12) & (dx > 0))
+        return pushed_out(q, self.lo, self.hi, dx, 1e-12)
 
     def project(self, q):
         """``q`` clipped to the limits.
@@ -201,7 +201,8 @@ class _Problem:
             evaluate, (np.asarray(q, float) / self.s)[None], lo=self.lo / self.s,
             hi=self.hi / self.s, iterations=iters, tol=STOP, fixed=fixed,
             damping=1e-6, max_step=MAX_STEP, floor=TOL, creep=CREEP, give_up=1e8)
-        return x[0] * self.s, float(np.linalg.norm(e[0])), int(k[0])
+        # (within the limits exactly: x is clipped to lo / s, which times s may pass lo)
+        return self.project(x[0] * self.s), float(np.linalg.norm(e[0])), int(k[0])
 
     def null_step(self, q, x0, free):
         """The step towards ``x0`` in the null space of the task, moving ``free (n,)`` joints only.

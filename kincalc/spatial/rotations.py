@@ -63,7 +63,8 @@ def into_turn(x, base) -> np.ndarray:
     -------
     ndarray (...)
     """
-    return base + np.mod(np.asarray(x, float) - base, TURN)
+    r = np.mod(np.asarray(x, float) - base, TURN)
+    return base + np.where(r < TURN, r, 0.0)        # (mod of a tiny negative rounds to TURN)
 
 
 def turn_toward(x, near, lo, hi) -> np.ndarray:

@@ -250,3 +250,9 @@ def test_into_turn_is_the_one_whole_turn_from_base():
     assert np.allclose(k, np.rint(k), atol=1e-9)                    # whole turns
     assert ((y >= base) & (y < base + 2 * np.pi)).all()
     assert sp.into_turn(-np.pi / 2, 0.0) == 1.5 * np.pi and sp.into_turn(2 * np.pi, 0.0) == 0.0
+
+
+def test_into_turn_of_a_tiny_negative_angle_stays_below_the_turn():
+    # np.mod(-1e-17, 2 pi) rounds to 2 pi itself, outside [0, 2 pi)
+    assert sp.into_turn(-1e-17, 0.0) == 0.0
+    assert sp.into_turn(1.0 - 1e-17, 1.0) == 1.0

@@ -194,3 +194,32 @@ def test_damped_step_of_a_rank_deficient_system_is_the_svd_one():
     step, zero here, rather than numpy's LinAlgError."""
     J, e = np.zeros((2, 3, 4)), np.ones((2, 3))
     assert np.array_equal(_damped(J, e, np.zeros(2)), np.zeros((2, 4)))
+
+
+def test_levenberg_marquardt_counts_a_gain_far_below_the_residual():
+    """Out of reach: a residual of 8.6 that no step lowers, and a reachable part of 2.7e-8
+    (|e|^2 changes by 1e-15, below the rounding of 74): taken all the same, since the
+    gain is computed as (e' - e).(e' + e), not as a difference of squared norms."""
+    def evaluate(x, rows):
+        e = np.stack([np.full(len(x), 8.6), 0.1 - x[:, 0]], axis=-1)
+        return e, lambda keep: np.broadcast_to([[0.0], [1.0]], (int(keep.sum()), 2, 1))
+    x, e, _ = levenberg_marquardt(evaluate, [[0.1 - 2.7e-8]], lo=-np.inf, hi=np.inf,
+                                  iterations=50, tol=1e-14)
+    assert x[0, 0] == 0.1 and e[0, 1] == 0.0
+
+
+def test_numerical_solutions_are_within_prismatic_limits_to_the_last_bit():
+    """A prismatic joint held on its limit: the descent clips in scaled units (q / scale),
+    and q = x scale may land an ulp beyond the limit (0.30000000000000004 for 0.3)."""
+    hi, scale = 0.3, 0.543718592964824                 # (hi / scale) * scale > hi in floats
+    assert (hi / scale) * scale > hi
+
+    def fk(q):
+        T = np.eye(4)
+        T[0, 3], T[1, 3] = q
+        return T
+    T = np.eye(4)
+    T[0, 3], T[1, 3] = 5.0, 0.1
+    res = solve_numeric(fk, T, np.zeros(2), limits=[[-1, hi], [-1, 1]],
+                        revolute=[False, False], scale=scale, orientation=False, restarts=0)
+    assert res.q[0] == hi and res.q[1] == 0.1

@@ -7,7 +7,8 @@ import heapq
 import itertools
 import math
 
-from ...limits import DECIMAL, MAX_MAGNITUDE, MAX_RECORD_BYTES, quote, size_text
+from ...limits import DECIMAL, MAX_RECORD_BYTES, quote, size_text
+from .values import NUMBER_TYPES, RecordError, json_kind, numbers, range_error, within_range
 
 #: pose keys of a JSON record and the number of values each takes
 POSE_KEYS = {"xyz": 3, "rpy": 3, "euler_zyz": 3, "euler_xyz": 3, "quat": 4, "axis_angle": 4,
@@ -24,10 +25,6 @@ _JSON_WORDS = {"null", "true", "false", "NaN", "Infinity"}
 BOM = b"\xef\xbb\xbf"
 #: the bytes of a blank line, which is skipped (any other line is a record)
 BLANK = b" \t\r"
-
-
-class RecordError(ValueError):
-    """A batch record that cannot be used; the message names what is wrong."""
 
 
 # --- records: one line of bytes -> pose keywords, or the reason it cannot be used ---------
@@ -195,7 +192,7 @@ def _json_object(text: str) -> dict:
         raise RecordError(f"not JSON ({getattr(exc, 'msg', 'a number too long to read')})") \
             from None
     if type(rec) is not dict:
-        raise RecordError(f"expected a JSON object ({{...}}), not {_json_kind(rec)}")
+        raise RecordError(f"expected a JSON object ({{...}}), not {json_kind(rec)}")
     return rec
 
 
@@ -217,61 +214,14 @@ def _unique_fields(pairs) -> dict:
     return out
 
 
-def _json_kind(value) -> str:
-    """How a JSON value reads in a message: null, true, an array, a string, ..."""
-    if value is None or isinstance(value, bool):
-        return "null" if value is None else str(value).lower()
-    return {list: "an array", dict: "an object", str: "a string"}.get(type(value), "a number")
-
-
-def _numbers(value, count: int, key: str) -> tuple:
-    """The floats of the JSON array of field ``key``: ``count`` numbers (any number for
-    0), each finite and within MAX_MAGNITUDE."""
-    if type(value) is not list or (count and len(value) != count):
-        raise RecordError(f"{key}: expected {count or 'a list of'} numbers")
-    if not _NUMBER_TYPES.issuperset(map(type, value)):     # true, "1", [...], null
-        bad = next(v for v in value if type(v) not in _NUMBER_TYPES)
-        raise RecordError(f"{key}: {_json_kind(bad)} is not a number")
-    try:
-        out = tuple(map(float, value))
-    except OverflowError:                               # an integer beyond any float
-        k = next(k for k, v in enumerate(value) if abs(v) > MAX_MAGNITUDE)
-        raise RecordError(f"{key}: value {k + 1} is beyond {_LIMIT}, {_WHY}") from None
-    if not _within_range(out):
-        _range_error(out, lambda k: f"{key}: value {k + 1}")
-    return out
-
-
 def _matrix_numbers(value, key: str) -> tuple:
-    """:func:`_numbers` of a matrix field (``T``, ``matrix``): 16 or 12 / 9 numbers, or
+    """:func:`~kincalc.cli.batch.values.numbers` of a matrix field (``T``, ``matrix``): 16 or 12 / 9 numbers, or
     their rows."""
     if type(value) is list and value and type(value[0]) is list:
         value = [x for row in value for x in (row if type(row) is list else [row])]
-    return _numbers(value, _FIELDS[key], key)
+    return numbers(value, _FIELDS[key], key)
 
 
-def _within_range(values) -> bool:
-    """Whether every value is within MAX_MAGNITUDE (so finite: an overflow to infinity
-    is caught, and no value is NaN, which neither a JSON number nor a decimal CSV cell can
-    be; the JSON words NaN and Infinity are refused by the parser). Two C calls: this runs
-    for every array of every record."""
-    return not values or (min(values) >= -MAX_MAGNITUDE and max(values) <= MAX_MAGNITUDE)
-
-
-def _range_error(values, name):
-    """Raise the RecordError for the first value that is not finite or too large;
-    ``name(k)`` names value k in the message."""
-    for k, x in enumerate(values):
-        if not math.isfinite(x):
-            raise RecordError(f"{name(k)} is not a finite number")
-        if abs(x) > MAX_MAGNITUDE:
-            raise RecordError(f"{name(k)} ({x:.6g}) is beyond {_LIMIT}, {_WHY}")
-
-
-_NUMBER_TYPES = frozenset({int, float})
-#: MAX_MAGNITUDE as the messages write it (1e9), and why it is there
-_LIMIT = f"{MAX_MAGNITUDE:.0e}".replace("e+0", "e").replace("e+", "e")
-_WHY = "kincalc's limit for the magnitude of a number"
 #: the fields of a JSON record, with the count of numbers of each (0: any)
 _FIELDS = {**POSE_KEYS, "T": 0, "q": 0}
 _KNOWN = frozenset(_FIELDS) | {"id", "lock"}
@@ -301,7 +251,7 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
         elif key in ("T", "matrix"):
             value = _matrix_numbers(value, key)
         else:
-            value = _numbers(value, _FIELDS[key], key)
+            value = numbers(value, _FIELDS[key], key)
         out[key] = value
     if len(out) == ("id" in out) + ("lock" in out):
         raise RecordError("no joints (give q)" if kind in ("fk", "jacobian") else
@@ -341,9 +291,9 @@ def _fk_pose(rec: dict) -> dict:
         raise RecordError("index: expected a whole number from 0 (an fk --batch record)")
     if type(rec["within_limits"]) is not bool:
         raise RecordError("within_limits: expected true or false (an fk --batch record)")
-    _numbers(rec["rpy"], 3, "rpy")
+    numbers(rec["rpy"], 3, "rpy")
     T = _matrix_numbers(rec["T"], "T")
-    if len(T) >= 12 and _numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
+    if len(T) >= 12 and numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
         raise RecordError("xyz is not T's position (an fk --batch record is read by its T)")
     return {key: rec[key] for key in ("id", "T") if key in rec}
 
@@ -369,13 +319,13 @@ def _fields_together(keys: tuple, recs: list):
         if count is None or not all(type(v) is list and len(v) == count for v in values):
             return None
         flat = list(itertools.chain.from_iterable(values))
-        if not _NUMBER_TYPES.issuperset(map(type, flat)):
+        if not NUMBER_TYPES.issuperset(map(type, flat)):
             return None
         try:
             flat = list(map(float, flat))
         except OverflowError:
             return None
-        if not _within_range(flat):
+        if not within_range(flat):
             return None
         rows = iter(flat)
         columns.append(list(zip(*[rows] * count)))
@@ -396,8 +346,8 @@ def _lock(value) -> tuple:
         raise RecordError("lock: expected an object of joints and their values, like "
                           '{"A3": 30}')
     names = list(value)
-    numbers = _numbers([value[k] for k in names], len(names), "lock")
-    return tuple(zip(names, numbers))
+    held = numbers([value[k] for k in names], len(names), "lock")
+    return tuple(zip(names, held))
 
 
 def _csv_layout(header, robot, kind: str = "ik"):
@@ -469,8 +419,8 @@ def _csv_record(header, layout, text: str) -> dict:
                 raise RecordError(f"column {quote(h)}: " + (
                     "empty cell" if not c else f"{quote(c)} is not a number"))
         values = list(map(float, cells))
-    if not _within_range(values):
-        _range_error(values, lambda k: f"column {quote(header[k])}")
+    if not within_range(values):
+        range_error(values, lambda k: f"column {quote(header[k])}")
     return {key: tuple(values[k] for k in cols) for key, cols in layout}
 
 
