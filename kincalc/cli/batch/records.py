@@ -362,7 +362,8 @@ def _csv_layout(header, robot, kind: str = "ik"):
         seen.add(h)
     where = {h: k for k, h in enumerate(header)}
     layout, used = [], set()
-    for cols, key in CSV_GROUPS.items():
+    groups = {} if kind in ("fk", "jacobian") else CSV_GROUPS       # (these take joints only)
+    for cols, key in groups.items():
         if all(c in where for c in cols):
             layout.append((key, [where[c] for c in cols]))
             used |= set(cols)
@@ -373,14 +374,14 @@ def _csv_layout(header, robot, kind: str = "ik"):
     extra = [h for h in header if h not in used]
     if not extra:
         return layout, None
-    unknown = [h for h in extra if h not in _columns(robot)]
+    unknown = [h for h in extra if h not in names and not any(h in g for g in groups)]
     if unknown:
         joints = f"the joints {','.join(names)}"
         return None, f"unknown column {quote(unknown[0])} (columns: " + (
-            joints if kind in ("fk", "jacobian") else
-            f"x,y,z with roll,pitch,yaw or qw,qx,qy,qz or ax,ay,az; or {joints}") + ")"
+            f"x,y,z with roll,pitch,yaw or qw,qx,qy,qz or ax,ay,az; or {joints}" if groups
+            else joints) + ")"
     # every column known, but a group or the joints not whole
-    group = next((g for g in (*CSV_GROUPS, tuple(names)) if extra[0] in g), ())
+    group = next((g for g in (*groups, tuple(names)) if extra[0] in g), ())
     missing = [c for c in group if c not in where]
     return None, (f"column {quote(extra[0])} without {', '.join(map(quote, missing))}: "
                   f"give {','.join(group)} together")
