@@ -12,8 +12,8 @@ on. Families:
 * ``three-parallel-offset``: the same with axes 5 and 6 skew (IK-Geo's ``IK_3_parallel``):
   joints 1 and 5 together from subproblem 6.
 * ``parallel-four-wrist``: 6 joints, joints 1-4 rotating about or sliding along one
-  direction (3 R + 1 P, a SCARA-type arm) and axes 5, 6 intersecting: the textbook's
-  offset-wrist R-P-R-R-R-R.
+  direction (3 R + 1 P, joint 4 revolute: a SCARA-type arm) and axes 5, 6 intersecting:
+  the textbook's offset-wrist R-P-R-R-R-R.
 * ``position-3``: 3 joints whose tool point moves in 3-D: the point alone.
 * ``planar-3``: 3 revolute joints with parallel axes: a point on axis 3 by joints 1-2,
   joint 3 from the orientation.
