@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import wrap
-from ..subproblems import sp1, sp2, sp4
+from ..subproblems import sp1, sp2, sp3, sp4
 from ..subproblems.solutions import Solutions, dot
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
@@ -235,13 +235,47 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     u, at = rotate(Rt, k5), rotate(Rt, a0)                                      # (N, 1, 3)
     br = br.branch([3], sp4(h, k5, k4, dot(u, h), fixed=axis_sp4(S, 0, 3)))
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
-    psi, cp, sp = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], k5), u)
+    k5t = S.turn(3, br.cos[3], br.sin[3], k5)
+    psi, cp, sp = turn_onto(h, k5t, u)
+    psi, cp, sp = _turn_along_h(S, k5t, ct, c0, psi, cp, sp)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
     br = br.set(4, *turn_onto(k5, a0, z))
     br = br.with_extra("psi", psi)
     br = place(S, br, (0, 1), o3, ct - S.turn(0, cp, sp, c0 - o3), what="axis 3")
     q3 = s3 * (br.extra["psi"] - br.value[0] - s2 * br.value[1])
     return br.set(2, q3, np.cos(q3), np.sin(q3))
+
+
+def _turn_along_h(S: Screws, k5t, ct, c0, psi, cp, sp):
+    """The planar arm's turn ``psi`` (with its cosine and sine, ``(N, K)``) where axis 5,
+    turned by joint 4 (``k5t (N, K, 3)``), lies along h (a singular configuration: the turn
+    and joint 5 about parallel axes are one continuum, and subproblem 1 leaves psi to
+    rounding): a representative that joints 1 and 2 can follow, the one that puts axis 3's
+    point (``ct - R_h(psi) (c0 - o3)``, ``ct (N, K, 3)`` the target's wrist-pair point)
+    in the middle of what they reach from axis 1 (subproblem 3). Elsewhere unchanged."""
+    h = S.axis[0]
+    along = dot(np.cross(k5t, h), np.cross(k5t, h)) < SINGULAR_TURN ** 2
+    if not np.count_nonzero(along):
+        return psi, cp, sp
+    o1, o2, o3 = S.point[0], S.point[1], S.point[2]
+
+    def across(v):                       # the part of v across h
+        return v - dot(v, h)[..., None] * h
+    l1, l2 = np.linalg.norm(across(o2 - o1)), np.linalg.norm(across(o3 - o2))
+    v, w = across(c0 - o3), across(ct[along] - o1)
+    # |w - R(psi) v| ranges over [| |w| - |v| |, |w| + |v|]; joints 1, 2 reach [|l1 - l2|,
+    # l1 + l2] from axis 1: the middle of both, where there is one
+    nv, nw = np.linalg.norm(v), np.linalg.norm(w, axis=-1)
+    lo, hi = np.maximum(abs(l1 - l2), abs(nw - nv)), np.minimum(l1 + l2, nw + nv)
+    sol = sp3(v, w, h, 0.5 * (lo + hi))
+    psi, cp, sp = psi.copy(), cp.copy(), sp.copy()
+    psi[along], cp[along], sp[along] = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
+    return psi, cp, sp
+
+
+#: where axis 5 turned by joint 4 counts as along the parallel axes of a planar shoulder
+#: (the sine of their angle): below it subproblem 1 gives the turn only to rounding
+SINGULAR_TURN = 1e-9
 
 
 def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:

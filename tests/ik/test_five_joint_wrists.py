@@ -186,3 +186,30 @@ def test_three_placing_axes_with_a_turn_to_spare(shoulder):
             assert sols and all(_reaches(r, s, T) for s in sols) and len(sols) <= 4
             for root in newton_roots(r, T, 150, rng) + [q]:
                 assert any(_same(r, s.q, root) for s in sols), np.degrees(root)
+
+
+def test_planar_shoulder_with_axis_5_along_the_parallel_axes():
+    """Axis 5 turned by joint 4 onto the direction of axes 1-3 (q4 = 0 here: joint 4's twist
+    undoes joint 3's): the planar arm's turn and joint 5 are one continuum, which subproblem 1
+    left to rounding; the turn taken then could be one joints 1 and 2 cannot follow, and a
+    pose FK gives was "no solution" (3 of 10 such poses of a random-robot campaign). Now a
+    representative they can follow: solutions that reach the pose, flagged singular."""
+    rng = np.random.default_rng(61)
+    answered = 0
+    for _ in range(6):
+        twist = rng.uniform(.5, 2.5)
+        rows = [(0.0, rng.uniform(.2, .4), .1), (0.0, rng.uniform(.15, .3), 0.0),
+                (twist, .2, .1), (-twist, 0.0, rng.uniform(.1, .3)), (np.pi / 2, 0.0, 0.0)]
+        joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d, theta=0.0)
+                       for i, (al, a, d) in enumerate(rows))
+        r = Robot(name="five", convention="dh", joints=joints,
+                  tool=transform(rot_z(0.4), [0, 0, 0.1]))
+        assert plan(r)[1].name == "planar-shoulder"
+        for q in sample_configurations(r, 5, rng):
+            q[3] = 0.0
+            T = r.fk(q)
+            sols = solve(r, Target(T)).solutions
+            assert sols, np.degrees(q)
+            assert all(_reaches(r, s, T) and s.singular for s in sols)
+            answered += 1
+    assert answered == 30
