@@ -104,6 +104,10 @@ SHARPEN_NEAR_PARALLEL = 1e-2
 #: the two roots that touch there come out of subproblem 6 about the square root of
 #: rounding apart
 SNAP_PARALLEL = 1e-6
+#: a planar shoulder's axis 5, turned by joint 4, counts as along its parallel axes within
+#: this sine: there subproblem 1 gives the planar turn only to rounding, and the turn is
+#: a representative of the continuum (kincalc.ik.five_joints)
+ALONG_PARALLEL = 1e-9
 
 #: a rotation matrix the user gives (a pose, ``--matrix``, a robot file's base or tool) is one
 #: when ``R R^T`` is the identity to this, entrywise, with ``det R > 0``: rounding every entry

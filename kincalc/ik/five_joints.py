@@ -18,6 +18,7 @@ import numpy as np
 from ..spatial import wrap
 from ..subproblems import sp1, sp2, sp3, sp4
 from ..subproblems.solutions import Solutions, dot
+from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
                      rotate_back, target_rotation, turn_onto)
@@ -254,7 +255,7 @@ def _turn_along_h(S: Screws, k5t, ct, c0, psi, cp, sp):
     point (``ct - R_h(psi) (c0 - o3)``, ``ct (N, K, 3)`` the target's wrist-pair point)
     in the middle of what they reach from axis 1 (subproblem 3). Elsewhere unchanged."""
     h = S.axis[0]
-    along = dot(np.cross(k5t, h), np.cross(k5t, h)) < SINGULAR_TURN ** 2
+    along = dot(np.cross(k5t, h), np.cross(k5t, h)) < ALONG_PARALLEL ** 2
     if not np.count_nonzero(along):
         return psi, cp, sp
     o1, o2, o3 = S.point[0], S.point[1], S.point[2]
@@ -271,11 +272,6 @@ def _turn_along_h(S: Screws, k5t, ct, c0, psi, cp, sp):
     psi, cp, sp = psi.copy(), cp.copy(), sp.copy()
     psi[along], cp[along], sp[along] = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
     return psi, cp, sp
-
-
-#: where axis 5 turned by joint 4 counts as along the parallel axes of a planar shoulder
-#: (the sine of their angle): below it subproblem 1 gives the turn only to rounding
-SINGULAR_TURN = 1e-9
 
 
 def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
