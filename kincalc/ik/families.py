@@ -12,7 +12,7 @@ on. Families:
 * ``three-parallel-offset``: the same with axes 5 and 6 skew (IK-Geo's ``IK_3_parallel``):
   joints 1 and 5 together from subproblem 6.
 * ``parallel-four-wrist``: 6 joints, joints 1-4 rotating about or sliding along one
-  direction (3 R + 1 P, joint 4 revolute: a SCARA-type arm) and axes 5, 6 intersecting:
+  direction (3 R + 1 P, the slide anywhere: a SCARA-type arm) and axes 5, 6 intersecting:
   the textbook's offset-wrist R-P-R-R-R-R.
 * ``position-3``: 3 joints whose tool point moves in 3-D: the point alone.
 * ``planar-3``: 3 revolute joints with parallel axes: a point on axis 3 by joints 1-2,
@@ -320,8 +320,8 @@ def _classify_6(S: Screws, point_tol: float, par: float) -> Family | None:
                       "three parallel axes (2, 3, 4), axes 5 and 6 skew: joints 1 and 5 from "
                       "two equations along the parallel axes (subproblem 6)",
                       "position and orientation", True, structure=(("parallel", (1, 2, 3)),))
-    if wrist_pair and rev[3] and _moves_along(S, range(4), S.axis[3], par) \
-            and not rev[:3].all() and not _parallel(S.axis[4], S.axis[3]):
+    if wrist_pair and np.count_nonzero(~rev[:4]) == 1 \
+            and _moves_along(S, range(4), S.axis[3], par) and not _parallel(S.axis[4], S.axis[3]):
         return Family("parallel-four-wrist",
                       "joints 1-4 all rotate about or slide along one direction (a SCARA-type "
                       "arm) and axes 5, 6 intersect (an offset wrist)",

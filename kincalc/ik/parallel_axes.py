@@ -309,6 +309,23 @@ def _carried(sigma) -> tuple:
     return () if sigma is None else ("sigma", sigma)
 
 
+def _slide_fourth(S: Screws, br: Branches, p4) -> Branches:
+    """Joints 1, 2 and 4 of an offset-wrist arm whose fourth joint slides along the
+    direction h of the three revolute ones (R-R-R-P): a slide along h commutes with turns
+    about axes along h, so the slide is the height of axis 4's point ``o4`` along h, and
+    joints 1 and 2 place axis 3's point where the turn ``psi`` about h (``br.extra``) puts
+    it, ``p4 - x4 h - R_h(psi) (o4 - o3)`` (``p4 (N, K, 3)``: where ``o4`` must go)."""
+    h, o3, o4 = S.axis[3], S.point[2], S.point[3]
+    x4 = dot(p4 - o4, h)
+    br = br.set(3, x4, np.ones_like(x4), np.zeros_like(x4))
+    psi = br.extra["psi"]
+    # R_h(psi) as a turn about axis 3 (along h; its sign makes psi a turn about axis 4's)
+    s3 = float(np.sign(S.axis[2] @ h))
+    arm = S.turn(2, np.cos(psi), s3 * np.sin(psi), o4 - o3)
+    return place(S, br, (0, 1), o3, p4 - br.value[3][..., None] * h - arm,
+                 what="axis 3")
+
+
 def _undo_56(S: Screws, br: Branches, j: int):
     """``(R6^T R5^T e, E6^-1 E5^-1 o4)``, each ``(N, K, 3)``: ``e = axis_normal(S, j)`` (axis
     ``j`` along h) and axis 4's point ``o4`` with joints 5 and 6 of a parallel wrist undone.
@@ -377,7 +394,9 @@ def _elbow_vectors(S: Screws, br: Branches, T, elbow, q6=None):
     undo1 = (lambda x: back(S, br, 0, x)) if elbow[0] == 1 else (lambda x: x)
     perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
     W = undo1(np.full((N, K, 3), tool_point(S, T, o6)))
-    o4 = back(S, br, 4, np.full((N, K, 3), S.point[3]))           # E5^-1 o4
+    # the last elbow joint's point (axis 4's; axis 3's when joint 4 slides along h, which
+    # moves nothing across h)
+    o4 = back(S, br, 4, np.full((N, K, 3), S.point[elbow[-1]]))   # E5^-1 o4
     ab = perp(W - S.point[elbow[0]]), perp(undo1(_tool_point_of(S, T, o4)) - W)
     if q6 is None:
         return ab
@@ -391,7 +410,8 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     Three revolute joints and one prismatic (the textbook's offset-wrist arm): rotations
     about parallel axes add up, so joint 5 comes from the component of axis 6 along h
     (the cone form of subproblem 4), joint 6 and the sum of the revolute angles about h
-    from subproblem 1; joints 1-3 then place axis 4's point, and joint 4 closes the sum.
+    from subproblem 1; joints 1-3 then place axis 4's point, and joint 4 closes the sum
+    (a slide fourth: :func:`_slide_fourth`, and joint 3 closes it).
 
     At the wrist singularity (axis 6 parallel to h) only the signed sum of the revolute
     angles about h and ``sigma q6`` is fixed, as for a three-parallel arm: joint 6 takes
@@ -411,18 +431,22 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     h = S.axis[3]
-    elbow = tuple(i for i in range(3) if S.revolute[i]) + (3,)
+    turning = tuple(i for i in range(4) if S.revolute[i])      # the three about h
     Rt = target_rotation(S, T)
-    br, sigma = _parallel_wrist(S, T, br, Rt, 3, elbow)
+    br, sigma = _parallel_wrist(S, T, br, Rt, 3, turning)
     r, p4 = _undo_56(S, br, 3)
     psi = angle_about(S, 3, rotate(Rt, r))[0]
     p4 = _tool_point_of(S, T, p4)
     br = br.with_extra("psi", psi, *_carried(sigma))
-    br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
+    if S.revolute[3]:
+        br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
+    else:
+        br = _slide_fourth(S, br, p4)
     sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
-    partial = sum(sign[i] * br.value[i] for i in range(3) if S.revolute[i])
-    q4 = (br.extra["psi"] - partial) * sign[3]
-    br = br.set(3, q4, np.cos(q4), np.sin(q4))
+    last = turning[-1]                           # the revolute joint that closes the sum
+    partial = sum(sign[i] * br.value[i] for i in turning[:-1])
+    q = (br.extra["psi"] - partial) * sign[last]
+    br = br.set(last, q, np.cos(q), np.sin(q))
     if np.count_nonzero(br.free[5]):
         total = br.extra["psi"] + br.extra["sigma"] * br.value[5]
         br = br.with_extra("parallel continuum", np.stack(
