@@ -255,7 +255,8 @@ def _turn_along_h(S: Screws, k5t, ct, c0, psi, cp, sp):
     point (``ct - R_h(psi) (c0 - o3)``, ``ct (N, K, 3)`` the target's wrist-pair point)
     in the middle of what they reach from axis 1 (subproblem 3). Elsewhere unchanged."""
     h = S.axis[0]
-    along = dot(np.cross(k5t, h), np.cross(k5t, h)) < ALONG_PARALLEL ** 2
+    off = np.cross(k5t, h)
+    along = dot(off, off) < ALONG_PARALLEL ** 2
     if not np.count_nonzero(along):
         return psi, cp, sp
     o1, o2, o3 = S.point[0], S.point[1], S.point[2]

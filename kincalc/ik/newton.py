@@ -246,9 +246,9 @@ def levenberg_marquardt(evaluate: Callable, x, *, lo, hi, iterations: int, tol: 
             crept[ok] = np.where(errn[better] > (1 - 1e-9) ** 2 * before[better], crept[ok] + 1, 0)
             stop |= better & (crept[idx] >= creep)
         x[ok], e[ok], err[ok] = xn[better], en[better], errn[better]
-        J[ok] = jac_n(better) if ok.size else J[ok]
-        lam[ok] = np.maximum(lam[ok] / 3.0, LAMBDA_MIN)
-        lam[idx[~better]] *= 4.0
+        if ok.size:
+            J[ok] = jac_n(better)
+        lam[idx] = np.where(better, np.maximum(lam[idx] / 3.0, LAMBDA_MIN), lam[idx] * 4.0)
         active[idx] = (err[idx] > tol ** 2) & (lam[idx] < give_up) & ~stop
     return x, e, steps
 

@@ -10,7 +10,6 @@ FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
               frozenset({"T"}), frozenset({"q"})}
 
 
-
 def head(i, kw) -> dict:
     """The fields an output record of record ``i`` (its keywords ``kw``, or None) begins
     with: its index, and its id when it has one."""

@@ -97,8 +97,6 @@ class Sheet:
 _OPTION_KEYS = {"--from-q": "q", "--pose": "T", "--matrix": "matrix"}
 
 
-
-
 def sheet_words(message: str) -> str:
     """A message about command-line pose options, in the words of a sheet's ``pose`` keys
     (``--euler-zyz`` -> ``euler_zyz``, ``--from-q`` -> ``q``)."""
