@@ -36,7 +36,8 @@ from .cache import per_robot
 from ..fk import FEW, entry_frames, tool_from_cs
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
-from .joint_limits import normalise, open_joints, open_values, same_solution, violations
+from .joint_limits import (normalise, on_continua, open_joints, open_values, same_solution,
+                           violations)
 from .labels import labels
 from .near_miss import near_misses, polished
 from .small_arms import takes_tcv
@@ -310,6 +311,9 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
+    free = br.free_mask()
+    if np.count_nonzero(free):
+        valid &= ~on_continua(robot, q, valid, free)
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
                        family.needs_orientation) if polish else None
@@ -327,7 +331,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
                    orientation_error=np.full((N, K), np.nan) if oe is None else
                    np.where(candidate, oe, np.nan),
                    violation=viol, within=np.logical_and.reduce(viol == 0.0, axis=-1),
-                   free=br.free_mask(), continuum=br.extra.get("continuum"))
+                   free=free, continuum=br.extra.get("continuum"))
     signs = br.signs
     if br.full is not None:
         checked, memo["at"] = _in_layout(robot, checked, br.full, len(br.full_signs))

@@ -70,6 +70,39 @@ def same_solution(robot, a, b) -> np.ndarray:
     return (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE).all(-1)
 
 
+def on_continua(robot, q, valid, free) -> np.ndarray:
+    """Valid slots that lie on another slot's continuum: where a slot leaves joints free (a
+    singular target), another that agrees with it in every other joint
+    (:func:`same_solution`'s rule) and leaves no joint free that it does not reaches the
+    target by the same fixed joints, so it is a member of that continuum, found as a point
+    (a root the solver took where the free joint's roots meet).
+
+    Parameters
+    ----------
+    robot : Robot
+    q : ndarray (N, K, n), joint values (rad / m)
+    valid : ndarray (N, K) of bool
+    free : ndarray (N, K, n) of bool, the joints each slot leaves free
+
+    Returns
+    -------
+    ndarray (N, K) of bool, the slots to drop (of two alike, the later)
+    """
+    drop = np.zeros(valid.shape, bool)
+    for pose, a in zip(*np.nonzero(valid & free.any(-1))):
+        fixed = ~free[pose, a]
+        d = q[pose] - q[pose, a]
+        same = (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE)[:, fixed].all(-1)
+        within = ~(free[pose] & fixed).any(-1)              # free only where a is
+        same &= valid[pose] & within & ~drop[pose]
+        same[a] = False
+        # of two with the same free joints the later goes, one with fewer goes always
+        same &= (np.arange(len(same)) > a) | (free[pose] != free[pose, a]).any(-1)
+        if not drop[pose, a]:
+            drop[pose] |= same
+    return drop
+
+
 @per_robot
 def _revolute(robot) -> tuple:
     """``(index of the revolute joints or None when there is none, all joints revolute)``.

@@ -43,7 +43,7 @@ from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
-from ..tolerances import FREE_REACH
+from ..tolerances import FOLD_NEAR_AXIS, FREE_REACH
 from .branches import TIE_BREAK, Branches
 from .pieces import polish_points, split_fold, turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
@@ -427,6 +427,13 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     al, be, ga = _coefficients(S, P, g)
     al = al - np.moveaxis(t, -1, 0)
     if S.revolute[b]:
+        # a double root in x_c that puts the point on axis b (good to the square root of
+        # rounding only): joint b does not move it there and is free (0), not decided by
+        # how far that rounding left the point off the axis
+        across = _circle(S, b, g)[1]
+        on = dot(across, across) <= (FOLD_NEAR_AXIS * S.scale) ** 2
+        if np.count_nonzero(on):
+            be, ga = np.where(on, 0.0, be), np.where(on, 0.0, ga)
         # both roots of the invariant that depends on x_b the most, not (cos, sin) from the
         # two together: they barely differ where axes a and b are nearly parallel, and the
         # two elbows there share a double root in x_c (the second root: TIE_BREAK)

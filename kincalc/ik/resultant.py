@@ -73,18 +73,44 @@ def roots_in_c(S: Screws, c: int, R) -> Solutions:
         K = 4
         coeffs = np.stack([F[..., k % R.shape[-1]] for k in range(K, -K - 1, -1)], -1)
         z = polynomial_roots(coeffs)
+        z = _multiple_roots(z, np.abs(np.abs(z) - 1.0), 1e-3)
         ok = np.isfinite(z) & (np.abs(np.abs(z) - 1.0) < 1e-3)
         x = np.angle(np.where(ok, z, 1.0))
     else:
         span = 4.0 * S.scale
         coeffs = rows_times(R, _poly_fit_matrix().T)                       # highest first
         y = polynomial_roots(coeffs)
+        y = _multiple_roots(y, np.abs(y.imag), 1e-4)
         ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
         x = span * np.where(ok, y.real, 0.0)
     order = np.argsort(np.where(ok, x, np.inf), axis=-1)
     x, ok = np.take_along_axis(x, order, -1), np.take_along_axis(ok, order, -1)
     x = np.where(ok, x, 0.0)
     return Solutions((x,), (np.cos(x),), (np.sin(x),), ok, ok, np.zeros_like(ok))
+
+
+def _multiple_roots(z, off, real):
+    """The roots ``z (..., d)`` of a polynomial, each root that lies ``off (..., d)`` from
+    the real ones' locus (the real axis, the unit circle) beyond ``real`` but within
+    :data:`CLUSTER` replaced by the mean of the roots within ``3 off`` of it.
+
+    A real root of multiplicity ``m`` comes out of a companion matrix as ``m`` roots about
+    ``eps^(1/m)`` around it (a point placed on axis b by a slide where both of joint b's
+    roots meet: a fourfold root, 4e-4 off); the mean of such a cluster is good to rounding,
+    and is real. A complex pair that is not a split real root gives its mean too, the FK
+    check rejects it."""
+    split = (off >= real) & (off < CLUSTER)
+    if not np.count_nonzero(split):
+        return z
+    with np.errstate(invalid="ignore"):
+        near = np.abs(z[..., :, None] - z[..., None, :]) <= 3.0 * off[..., :, None]
+        mean = (near * z[..., None, :]).sum(-1) / near.sum(-1)
+    return np.where(split, mean, z)
+
+
+#: how far from the real roots' locus a root may lie and still be one of a real multiple
+#: root split by rounding (:func:`_multiple_roots`; a fourfold root splits by ~1e-4)
+CLUSTER = 1e-2
 
 
 def _poly_fit_matrix() -> np.ndarray:

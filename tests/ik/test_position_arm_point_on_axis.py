@@ -1,0 +1,79 @@
+"""R-R-P position arms with a shoulder offset whose tool point lies on axis 2 when the slide
+is at 0: there joint 2 does not move the point, so every value of it reaches the target
+(a continuum, "j2 free").
+
+The placement eliminates joint 2 and solves a resultant in the slide, in which that slide
+value is a fourfold root (both of joint 2's roots meet there); a companion matrix splits it
+into four complex roots about 1e-4 apart, which were all dropped as complex, and the
+continuum came out as two isolated "solutions" with joint 2 decided by rounding (found by a
+random-robot campaign; the same arm without the offset said "j2 free"). Checked from FK
+alone: every configuration on the line (j1, any j2, 0) reaches the target, and every root
+Gauss-Newton finds from random starts is a solution or a member of the continuum.
+"""
+
+import numpy as np
+
+from kincalc.ik import Target, solve
+from kincalc.model import Joint, Robot
+from kincalc.spatial import wrap
+
+
+def _arm(rng) -> Robot:
+    """A random R-R-P arm (standard DH, m, rad) with a shoulder offset ``a1`` whose tool
+    point is on axis 2 (z1, through frame 2's origin since ``a2 = 0``) at ``d3 = 0``: z1 is
+    ``(0, sin alpha2, cos alpha2)`` in frame 2."""
+    al1, al2 = rng.uniform(0.5, 2.6, 2)
+    t = rng.uniform(0.1, 0.5)
+    joints = (Joint("j1", "revolute", alpha=al1, a=rng.uniform(0.1, 0.4),
+                    d=rng.uniform(0.2, 0.6), theta=0.0, limits=(-np.pi, np.pi)),
+              Joint("j2", "revolute", alpha=al2, a=0.0, d=rng.uniform(0.05, 0.3), theta=0.0,
+                    limits=(-np.pi, np.pi)),
+              Joint("j3", "prismatic", alpha=0.0, a=0.0, d=0.0, theta=0.0, limits=(-1.0, 1.0)))
+    tool = np.eye(4)
+    tool[:3, 3] = t * np.array([0.0, np.sin(al2), np.cos(al2)])
+    return Robot(name="rrp_offset", convention="dh", joints=joints, tool=tool)
+
+
+def _position_roots(robot, p, starts, rng) -> list:
+    """Configurations placing the tool point at ``p`` that Gauss-Newton finds from random
+    starts (kincalc's FK and Jacobian only), regular or not, distinct to 1e-6."""
+    roots = []
+    for q in rng.uniform(-np.pi, np.pi, (starts, 3)) * [1, 1, 0.3]:
+        for _ in range(80):
+            e = p - robot.fk(q)[:3, 3]
+            if np.abs(e).max() < 1e-14:
+                break
+            q = q + np.linalg.lstsq(robot.jacobian(q)[:3], e, rcond=None)[0]
+        if np.abs(robot.fk(q)[:3, 3] - p).max() < 1e-11:
+            roots.append(np.where(robot.is_revolute, wrap(q), q))
+    return roots
+
+
+def _matches(robot, sols, q) -> bool:
+    """``q`` is a solution or a member of a solution's continuum (equal in its fixed joints)."""
+    for s in sols:
+        d = np.where(robot.is_revolute, wrap(s.q - q), s.q - q)
+        fixed = [j for j in range(3) if j not in s.free]
+        if np.abs(d[fixed]).max() < 1e-6:
+            return True
+    return False
+
+
+def test_the_point_on_axis_2_leaves_joint_2_free():
+    rng = np.random.default_rng(404)
+    for _ in range(6):
+        r = _arm(rng)
+        for _ in range(4):
+            j1, j2 = rng.uniform(-np.pi, np.pi, 2)
+            p = r.fk([j1, j2, 0.0])[:3, 3]
+            sols = solve(r, Target(r.fk([j1, j2, 0.0]), orientation=False)).solutions
+            for s in sols:
+                assert np.abs(r.fk(s.q)[:3, 3] - p).max() < 1e-9
+            on_line = [s for s in sols if abs(s.q[2]) < 1e-6]
+            assert len(on_line) == 1 and on_line[0].free == (1,), [s.q for s in sols]
+            for x in rng.uniform(-np.pi, np.pi, 5):          # the whole line reaches p
+                q = on_line[0].q.copy()
+                q[1] = x
+                assert np.abs(r.fk(q)[:3, 3] - p).max() < 1e-12
+            for root in _position_roots(r, p, 30, rng):
+                assert _matches(r, sols, root), (root, [s.q for s in sols])
