@@ -126,7 +126,8 @@ def stages_in_process(r, path, poses):
     units = display_units(r, True, None)
     qdisp = np.where(r.is_revolute, units.a, units.l)
     stages = dict.fromkeys(["read JSON records", "build poses (vectorised)", "ik_batch",
-                            "limit flags + branch labels", "write JSON lines"], 0.0)
+                            "limit flags + branch labels", "singular flags",
+                            "write JSON lines"], 0.0)
 
     def timed(name, f, *a):
         t = time.perf_counter()
@@ -144,7 +145,8 @@ def stages_in_process(r, path, poses):
         owner, _ = np.nonzero(B.valid)
         within = timed("limit flags + branch labels", lambda: B.within[B.valid])
         labels = timed("limit flags + branch labels", lambda: B.labels[B.valid].tolist())
-        answers = chunks.Answers(full, q, labels, within, owner)
+        singular = timed("singular flags", lambda: B.singular[B.valid])
+        answers = chunks.Answers(full, q, labels, within, singular, owner)
         timed("write JSON lines", chunks._ik_text, k, len(chunk), answers, [])
     # the whole of the same work (chunks parsed, solved and written as the CLI does)
     t0 = time.perf_counter()

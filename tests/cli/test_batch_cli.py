@@ -172,12 +172,37 @@ def test_ik_batch_solutions_reach_the_pose_and_match_the_single_command(tmp_path
         c, single, _ = run(capsys, "ik", "puma560", "--from-q",
                            " ".join(repr(float(v)) for v in np.degrees(q)), "--json")
         doc = json.loads(single)
-        mine = {(s["branch"], s["within_limits"]) for s in rec["solutions"]}
-        theirs = {(s["branch"], s["within_limits"]) for s in doc["solutions"]}
+        mine = {(s["branch"], s["within_limits"], s["singular"]) for s in rec["solutions"]}
+        theirs = {(s["branch"], s["within_limits"], s["singular"]) for s in doc["solutions"]}
         assert mine == theirs
         for s in rec["solutions"]:              # same joint values, branch by branch
             other = next(o for o in doc["solutions"] if o["branch"] == s["branch"])
             assert np.allclose(s["q"], other["q"], atol=1e-7)
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5"])
+def test_ik_batch_flags_the_singular_solutions_the_single_command_flags(name, tmp_path, capsys):
+    """Wrist-singular (q5 = 0, 180 deg), stretched-elbow and random poses: each record's
+    solutions carry the branch, limit flag and singular flag of the single command's."""
+    r = load_robot(name)
+    rng = np.random.default_rng(31)
+    Q = np.degrees(sample_configurations(r, 12, rng))
+    Q[:4, 4] = [0, 180, 0, -180]
+    Q[4:7, 2] = 0.0 if name == "ur5" else 90.0    # UR5: the elbow stretched
+    src = write(tmp_path, "q.jsonl", [{"q": [float(v) for v in q]} for q in Q])
+    code, out, err = run(capsys, "ik", name, "--batch", src)
+    assert code in (0, 1), err
+    flagged = 0
+    for rec, q in zip(lines(out), Q):
+        c, single, _ = run(capsys, "ik", name, "--from-q",
+                           " ".join(repr(float(v)) for v in q), "--json")
+        doc = json.loads(single)
+        mine = sorted((s["branch"], s["within_limits"], s["singular"]) for s in rec["solutions"])
+        theirs = sorted((s["branch"], s["within_limits"], s["singular"])
+                        for s in doc["solutions"])
+        assert mine == theirs, q
+        flagged += sum(s["singular"] for s in rec["solutions"])
+    assert flagged >= 4                     # the singular poses' solutions are flagged
 
 
 def test_ik_batch_pose_forms_csv_and_general_robots(tmp_path, capsys):

@@ -107,17 +107,17 @@ IDS = ["é%s\u2603 \"q\"", "50%", 3.5, -0.0, 1e300, 12345678901234567890, -7, Tr
 def reference_line(head, sols) -> str:
     """An ik answer's line: json.dumps of the document, each q written by "%.12g"."""
     marks = [f"\x00q{k}\x00" for k in range(len(sols))]
-    doc = {**head, "reachable": any(w for _, _, w in sols),
-           "solutions": [{"q": m, "branch": lab, "within_limits": w}
-                         for m, (_, lab, w) in zip(marks, sols)]}
+    doc = {**head, "reachable": any(w for _, _, w, _ in sols),
+           "solutions": [{"q": m, "branch": lab, "within_limits": w, "singular": g}
+                         for m, (_, lab, w, g) in zip(marks, sols)]}
     text = json.dumps(doc)
-    for m, (q, _, _) in zip(marks, sols):
+    for m, (q, _, _, _) in zip(marks, sols):
         text = text.replace(json.dumps(m), "[" + ", ".join("%.12g" % v for v in q) + "]")
     return text
 
 
 def random_answers(rng, count, n):
-    heads, q, labels, within, owner = [], [], [], [], []
+    heads, q, labels, within, singular, owner = [], [], [], [], [], []
     pool = np.concatenate([values(f, 400, seed=int(rng.integers(1000))) for f in FAMILIES]
                           + [np.array(SPECIAL)])
     for k in range(count):
@@ -128,9 +128,10 @@ def random_answers(rng, count, n):
             q.append(rng.choice(pool, n))
             labels.append(WORDS[int(rng.integers(len(WORDS)))])
             within.append(bool(rng.random() < 0.5))
+            singular.append(bool(rng.random() < 0.3))
             owner.append(k)
     return (heads, np.array(q, float).reshape(-1, n), labels, np.array(within, bool),
-            np.array(owner, np.intp))
+            np.array(singular, bool), np.array(owner, np.intp))
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 6, 7])
@@ -139,9 +140,9 @@ def test_ik_lines_are_json_dumps_with_12_digit_joint_values(n, rows, monkeypatch
     monkeypatch.setattr(formats, "ROWS", rows)          # one block, or many and short ones
     rng = np.random.default_rng(n)
     for count in (0, 1, 2, 300):
-        heads, q, labels, within, owner = random_answers(rng, count, n)
-        got = formats.ik_lines(heads, q, labels, within, owner)
-        want = [reference_line(h, [(q[j], labels[j], bool(within[j]))
+        heads, q, labels, within, singular, owner = random_answers(rng, count, n)
+        got = formats.ik_lines(heads, q, labels, within, singular, owner)
+        want = [reference_line(h, [(q[j], labels[j], bool(within[j]), bool(singular[j]))
                                    for j in np.flatnonzero(owner == k)])
                 for k, h in enumerate(heads)]
         assert len(got) == count
@@ -151,7 +152,7 @@ def test_ik_lines_are_json_dumps_with_12_digit_joint_values(n, rows, monkeypatch
 
 def test_ik_lines_with_no_solution_at_all():
     heads = [{"index": 3}, {"index": 4, "id": "x"}]
-    assert formats.ik_lines(heads, np.zeros((0, 6)), [], np.zeros(0, bool),
+    assert formats.ik_lines(heads, np.zeros((0, 6)), [], np.zeros(0, bool), np.zeros(0, bool),
                             np.zeros(0, np.intp)) == \
         ['{"index": 3, "reachable": false, "solutions": []}',
          '{"index": 4, "id": "x", "reachable": false, "solutions": []}']
@@ -194,7 +195,8 @@ def test_batch_lines_are_the_reference_lines_of_their_own_documents(tmp_path, ca
         if "error" in doc:
             assert line == json.dumps(doc)
             continue
-        sols = [(s["q"], s["branch"], s["within_limits"]) for s in doc["solutions"]]
+        sols = [(s["q"], s["branch"], s["within_limits"], s["singular"])
+                for s in doc["solutions"]]
         assert line == reference_line({k: doc[k] for k in doc if k in ("index", "id")}, sols)
         assert [["%.12g" % float(v) for v in q] for q in csv_q.get(i, [])] == \
             [line_q.split(", ") for line_q in

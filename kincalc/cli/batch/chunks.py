@@ -175,13 +175,14 @@ class Answers(NamedTuple):
     """The solved IK records of a chunk: ``heads [(index, keywords)]`` the records;
     ``q (s, n)`` the joint values of all their solutions, in display units rounded to 12
     decimals (-0.0 as 0.0); ``labels (s,)`` the branch words; ``within (s,)`` bool, within
-    the limits; ``owner (s,)`` the record (position in ``heads``) of each solution,
+    the limits; ``singular (s,)`` bool, at a singular configuration; ``owner (s,)`` the record (position in ``heads``) of each solution,
     ascending."""
 
     heads: list
     q: object
     labels: list
     within: object
+    singular: object
     owner: object
 
     @staticmethod
@@ -195,6 +196,7 @@ class Answers(NamedTuple):
                        np.concatenate([b.q for b in blocks] + [np.zeros((0, n))]),
                        [lab for b in blocks for lab in b.labels],
                        np.concatenate([b.within for b in blocks] + [np.zeros(0, bool)]),
+                       np.concatenate([b.singular for b in blocks] + [np.zeros(0, bool)]),
                        np.concatenate([b.owner + o for b, o in zip(blocks, offsets)]
                                       + [np.zeros(0, np.intp)]))
 
@@ -206,7 +208,8 @@ def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
     formatting of one template."""
     from operator import itemgetter
     heads = answers.heads
-    sols = ik_solutions(answers.q, answers.labels, answers.within, answers.owner, len(heads))
+    sols = ik_solutions(answers.q, answers.labels, answers.within, answers.singular,
+                        answers.owner, len(heads))
     reach = reachable(answers.within, answers.owner, len(heads))
     if not errors and len(heads) == count and reach.all() and \
             list(map(itemgetter(1), heads)).count(None) == count and \
@@ -227,13 +230,13 @@ def _ik_text(start: int, count: int, answers: Answers, errors) -> bytes:
 def _ik_records(answers: Answers) -> list:
     """The answers as output records (dicts, for the CSV rows)."""
     import numpy as np
-    q, within = answers.q.tolist(), answers.within.tolist()
+    q, within, singular = answers.q.tolist(), answers.within.tolist(), answers.singular.tolist()
     ends = np.searchsorted(answers.owner, np.arange(1, len(answers.heads) + 1)).tolist()
     reach = reachable(answers.within, answers.owner, len(answers.heads)).tolist()
     recs, start = [], 0
     for (i, kw), end, r in zip(answers.heads, ends, reach):
-        sols = [{"q": q[j], "branch": answers.labels[j], "within_limits": within[j]}
-                for j in range(start, end)]
+        sols = [{"q": q[j], "branch": answers.labels[j], "within_limits": within[j],
+                 "singular": singular[j]} for j in range(start, end)]
         recs.append({**head(i, kw), "reachable": r, "solutions": sols})
         start = end
     return recs
@@ -290,8 +293,8 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
         owner, _ = np.nonzero(valid)
         no = not reachable(within, owner, len(T)).all()     # as ik's: none within the limits
         blocks.append(Answers(full, np.round(q * qdisp, 12) + 0.0, B.labels[valid].tolist(),
-                              within, owner))
-    heads, q, labels, within, owner = [], [], [], [], []
+                              within, B.singular[valid], owner))
+    heads, q, labels, within, singular, owner = [], [], [], [], [], []
     for i, kw, target in partial:
         try:
             result = solve_locked(robot, target, held) if held else solve(robot, target)
@@ -305,10 +308,11 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
         q += [s.q for s in sols]
         labels += [s.branch for s in sols]
         within += [not s.violations for s in sols]
+        singular += [s.singular for s in sols]
     if heads:
         q = np.array(q, float).reshape(-1, robot.dof) * qdisp
         blocks.append(Answers(heads, np.round(q, 12) + 0.0, labels, np.array(within, bool),
-                              np.array(owner, np.intp)))
+                              np.array(singular, bool), np.array(owner, np.intp)))
     return blocks, errors, no
 
 

@@ -20,7 +20,8 @@ def csv_header(kind, robot) -> str:
     elif kind == "reach":
         cols = REACH_FIELDS
     else:
-        cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "error"]
+        cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "singular",
+                                                                 "error"]
     # a joint's name is a cell like any other: quoted where it holds a comma or a quote, and
     # made safe for spreadsheets (a name "=cmd" is no formula)
     return _csv_line([csv_cell(c) for c in cols])
@@ -48,7 +49,7 @@ def strict_json():
 _ENCODER = None
 
 
-def ik_lines(heads, q, labels, within, owner) -> list:
+def ik_lines(heads, q, labels, within, singular, owner) -> list:
     """The JSON line (without its newline) of each of ``len(heads)`` ik answers.
 
     Parameters
@@ -62,6 +63,8 @@ def ik_lines(heads, q, labels, within, owner) -> list:
         The branch words of the solutions.
     within : ndarray (s,) of bool
         Whether each solution is within the joint limits.
+    singular : ndarray (s,) of bool
+        Whether each solution is at a singular configuration.
     owner : ndarray (s,) of int
         The answer (position in ``heads``) of each solution, ascending.
 
@@ -71,7 +74,7 @@ def ik_lines(heads, q, labels, within, owner) -> list:
     all violate the limits ``"reachable": false`` with them (the text of the solutions by
     :func:`ik_solutions`).
     """
-    sols = ik_solutions(q, labels, within, owner, len(heads))
+    sols = ik_solutions(q, labels, within, singular, owner, len(heads))
     reach = reachable(within, owner, len(heads)).tolist()
     return [answer_line(h["index"], h, t, r).decode("ascii")
             for h, t, r in zip(heads, sols, reach)]
@@ -86,14 +89,14 @@ def reachable(within, owner, count: int):
     return out
 
 
-def ik_solutions(q, labels, within, owner, count: int) -> list:
+def ik_solutions(q, labels, within, singular, owner, count: int) -> list:
     """The text (ASCII bytes) of the solutions of each of ``count`` ik answers, between the
     brackets of ``"solutions": [...]``, or None for an answer without a solution (the
     arguments as :func:`ik_lines`').
 
     The solutions of all answers are written at once, as rows of one byte grid: ``{"q": [``
     and the cells of :func:`~kincalc.cli.batch.numtext.g12_cells`, then the rest of the
-    solution by a table of its branch word and limit flag, then ", " or, after an answer's
+    solution by a table of its branch word, limit flag and singular flag, then ", " or, after an answer's
     last solution, a newline; the zero bytes of the grid removed, the text cut at the
     newlines. (Formatting per solution in Python was the largest cost of a batch run;
     ``%.12g`` a number at a time, 150 ns, more than half of that.)
@@ -104,14 +107,15 @@ def ik_solutions(q, labels, within, owner, count: int) -> list:
     s, n = q.shape
     strict = strict_json()
     words = {lab: k for k, lab in enumerate(dict.fromkeys(labels))}
-    tails = [f'], "branch": {strict.encode(lab)}, "within_limits": {flag}}}'.encode()
-             for lab in words for flag in ("false", "true")]
+    tails = [f'], "branch": {strict.encode(lab)}, "within_limits": {flag}, '
+             f'"singular": {sing}}}'.encode()
+             for lab in words for flag in ("false", "true") for sing in ("false", "true")]
     width = -(-max(map(len, tails), default=0) // 8)            # words of the longest
     table = np.zeros((len(tails) or 1, width * 8), np.uint8)
     for k, tail in enumerate(tails):
         table[k, :len(tail)] = np.frombuffer(tail, np.uint8)
-    tails = table.view("<u8")[np.fromiter(map(words.__getitem__, labels), np.intp, s) * 2
-                              + within]
+    tails = table.view("<u8")[np.fromiter(map(words.__getitem__, labels), np.intp, s) * 4
+                              + within * 2 + singular]
     last = np.ones(s, bool)                                     # an answer's last solution
     last[:-1] = owner[1:] != owner[:-1]
     grid = np.empty((min(s, ROWS), 2 + CELL // 8 * n + width), "<u8")   # one, kept cached
@@ -189,7 +193,7 @@ def csv_rows(kind, robot, records) -> str:
     for r in records:
         head = [r["index"], csv_cell(r.get("id"))]
         if "error" in r:
-            width = {"fk": 7, "jacobian": 6 * n + 3, "ik": n + 3}[kind]
+            width = {"fk": 7, "jacobian": 6 * n + 3, "ik": n + 4}[kind]
             w.writerow(head + [""] * width + [r["error"]])
         elif kind == "fk":
             w.writerow(head + r["xyz"] + r["rpy"] + [csv_cell(r["within_limits"]), ""])
@@ -197,8 +201,9 @@ def csv_rows(kind, robot, records) -> str:
             w.writerow(head + [x for row in r["J"] for x in row] +
                        [r["rank"], r["manipulability"], csv_cell(r["singular"]), ""])
         elif not r["solutions"]:
-            w.writerow(head + ["", "no solution"] + [""] * n + ["", ""])
+            w.writerow(head + ["", "no solution"] + [""] * n + ["", "", ""])
         else:
             for k, s in enumerate(r["solutions"]):
-                w.writerow(head + [k, s["branch"]] + s["q"] + [csv_cell(s["within_limits"]), ""])
+                w.writerow(head + [k, s["branch"]] + s["q"] + [csv_cell(s["within_limits"]),
+                                                                csv_cell(s["singular"]), ""])
     return buf.getvalue()
