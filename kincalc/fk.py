@@ -225,7 +225,7 @@ def _prefixes(chain, motions):
     return P
 
 
-def tool_from_cs(chain, c, s, x):
+def tool_from_cs(chain, c, s, x, frames=None):
     """Tool poses from each joint's cosine and sine (revolute) or travel (prismatic).
 
     For checking IK candidates whose angles are known by their cosines and sines.
@@ -241,6 +241,9 @@ def tool_from_cs(chain, c, s, x):
     x : ndarray (n, M)
         The prismatic joints' travel (m), offsets not applied. Rows of revolute joints:
         any finite values.
+    frames : ndarray (3, 4, n + 1, M), optional
+        For more than :data:`FEW` configurations: receives every joint's frame and the tool
+        pose, entry by entry (the layout of :func:`entry_frames`).
 
     Returns
     -------
@@ -257,7 +260,7 @@ def tool_from_cs(chain, c, s, x):
         c[i], s[i] = c[i] * co[i] - s[i] * so[i], s[i] * co[i] + c[i] * so[i]
     x = x + chain.offset[:, None]
     if M > FEW:
-        return _walk(chain, c, s, x)
+        return _walk(chain, c, s, x, frames)
     coef = np.empty((4, M, chain.dof))
     coef[0], coef[1], coef[2], coef[3] = np.transpose(c), np.transpose(s), x.T, 1.0
     T = _prefixes(chain, _motions(chain, coef))[-1]

@@ -322,13 +322,14 @@ def _rank(M) -> np.ndarray:
     return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
 
 
-def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
+def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) -> np.ndarray:
     """Is the Jacobian's rank below the generic rank (a singular configuration) at each of
     ``m`` configurations given by their frames?
 
     The rank test of :func:`scaled_ranks` (same tolerance), with the SVD taken only where the
-    determinant does not prove the full rank of a 6-joint arm (``s_min >= |det| /
-    |J|_F^5``).
+    determinant does not prove the full rank of a 6-joint arm: ``s_min = |det| / prod`` of
+    the other five, whose squares sum to at most ``|J|_F^2``, so that their product is at
+    most ``(|J|_F^2 / 5)^(5/2)`` (the arithmetic-geometric mean inequality).
 
     Parameters
     ----------
@@ -342,24 +343,31 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple) -> np.ndarray:
     ranks : tuple of int
         ``(rank, position rank)`` of the Jacobian at a generic configuration
         (``robot.generic_ranks``).
+    columns : ndarray (k,) of int, optional
+        Test these configurations of ``frames`` only (default all: ``k = m``).
 
     Returns
     -------
-    ndarray (m,) of bool
+    ndarray (k,) of bool
         Either rank below the generic one (the linear rows against the position rank).
     """
-    n, m = frames.shape[2] - 1, frames.shape[3]
-    # the transposed Jacobian (6, n, m) joint by joint, its linear rows divided by L (times L
-    # for a prismatic joint): it has the same singular values
+    n = frames.shape[2] - 1
+    # the transposed Jacobian (6, n, m) joint by joint, made scale-free as scaled_ranks makes
+    # it: linear rows divided by L, prismatic columns times L (their linear rows then as they
+    # are, their angular rows 0); it has the same singular values
     J = frames_jacobian(frames, revolute)
-    J[:3] *= np.where(revolute, 1.0 / length, length)[:, None]
+    if columns is not None:
+        J = J[..., columns]
+    m = J.shape[-1]
+    J[:3] *= np.where(revolute, 1.0 / length, 1.0)[:, None]
     J = J.transpose(2, 1, 0)                                  # (m, n, 6)
     full, full_pos = ranks
     out = np.zeros(m, bool)
     todo = slice(None)
     if n == 6 == full and full_pos == 3:
         fro = np.sqrt(np.add.reduce(J * J, axis=(1, 2)))
-        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) * fro ** 5
+        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) \
+            * (fro * fro / 5.0) ** 2.5
         if not np.count_nonzero(todo):
             return out
     M = J[todo]

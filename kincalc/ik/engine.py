@@ -87,19 +87,21 @@ class Solved:
         return self.valid.sum(axis=1)
 
     def _frames(self, mask):
-        """The slots ``mask (N, K)`` (candidates), :data:`FLAGS` at a time: ``(rows, frames)``,
-        their flat indices into the ``N K`` slots and their frames entry by entry ``(3, 4, n +
-        1, m)`` (:func:`kincalc.fk.entry_frames`, world frame, m): those the check evaluated
-        for a few candidates (a single pose), else evaluated now, a block at a time."""
+        """The slots ``mask (N, K)`` (candidates), :data:`FLAGS` at a time: ``(rows, frames,
+        columns)``, their flat indices into the ``N K`` slots, frames entry by entry ``(3, 4,
+        n + 1, m')`` (:func:`kincalc.fk.entry_frames`, world frame, m) and which of them are
+        theirs (``(m,)``, or None: all, ``m' = m``): those the check evaluated (a view of the
+        span of its columns that holds them), or where it kept none, evaluated now."""
         A, rows = self.memo.get("frames"), mask.reshape(-1).nonzero()[0]
         for start in range(0, len(rows), FLAGS):
             r = rows[start:start + FLAGS]
             if A is None:
-                yield r, entry_frames(self.robot.chain, self.q.reshape(mask.size, -1)[r])
+                yield r, entry_frames(self.robot.chain, self.q.reshape(mask.size, -1)[r]), None
                 continue
             at, K = self.memo.get("at"), mask.shape[1]      # A: the slots the check kept
             c = r if at is None else r // K * (A.shape[-1] // mask.shape[0]) + at[r % K]
-            yield r, A if len(c) == A.shape[-1] else A[..., c]
+            span = A[..., c[0]:c[-1] + 1]                   # (a view; c ascends)
+            yield r, span, None if len(c) == span.shape[-1] else c - c[0]
 
     def slot_extra(self, name: str):
         """The solver's per-slot quantity ``name`` (``Branches.extra``: ``"parallel
@@ -154,9 +156,9 @@ class Solved:
                 sing = self.valid & np.logical_or.reduce(
                     self.free & ~open_joints(self.signs, n), axis=-1)
             flat = sing.reshape(-1)
-            for rows, A in self._frames(self.valid):
+            for rows, A, columns in self._frames(self.valid):
                 flat[rows] |= rank_deficient(A, r.is_revolute, r.characteristic_length,
-                                             r.generic_ranks)
+                                             r.generic_ranks, columns)
             self.memo["singular"] = sing
         return self.memo["singular"]
 
@@ -295,8 +297,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
     all checked again.
 
     A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
-    normalised joint values, kept for the labels and the singular test; many by the column walk
-    from the solver's cosines and sines."""
+    normalised joint values, many by the column walk from the solver's cosines and sines; the
+    frames are kept for the singular test."""
     c, s, x = joints
     N, K = candidate.shape
     n = robot.dof
@@ -306,7 +308,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
         A, f = entry_frames(robot.chain, q.reshape(-1, n), coefficients=True)
         tool, f, memo["frames"] = A[:, :, n], f.transpose(0, 2, 1), A
     else:
-        cols, p = tool_from_cs(robot.chain, c, s, x)
+        memo["frames"] = np.empty((3, 4, n + 1, N * K))           # for the flags
+        cols, p = tool_from_cs(robot.chain, c, s, x, memo["frames"])
         tool, f = np.stack(cols + [p], 1), (c, s, x)
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach

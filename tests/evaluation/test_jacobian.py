@@ -239,3 +239,27 @@ def test_position_singularities_name_the_arm_at_hand():
         Jv = r.jacobian(np.array(q, float))[:3]
         assert np.isclose(np.linalg.norm(d), 1, atol=2e-3)
         assert np.abs(d @ Jv).max() < 2e-3 * np.abs(Jv).max()
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5", "kuka_kr16", "stanford_arm"])
+def test_the_determinant_screen_decides_as_the_svd_rank(name):
+    """``rank_deficient`` takes the SVD only where the determinant does not prove full rank;
+    its verdict is the SVD rank test's (``scaled_ranks``) at random configurations and at
+    configurations 1e-9 to 1e-3 rad from the wrist singularity, on both sides of the
+    tolerance (SINGULAR_TOL of the largest singular value)."""
+    from kincalc.fk import entry_frames
+    from kincalc.ik.selftest import sample_configurations
+    from kincalc.jacobian import rank_deficient, scaled_ranks
+    r = load_robot(name)
+    rng = np.random.default_rng(17)
+    Q = sample_configurations(r, 400, rng)
+    Q[200:, 4] = rng.choice([-1.0, 1.0], 200) * 10.0 ** rng.uniform(-9, -3, 200)
+    got = rank_deficient(entry_frames(r.chain, Q), r.is_revolute, r.characteristic_length,
+                         r.generic_ranks)
+    rank, prank = scaled_ranks(r.jacobian(Q), r.is_revolute, r.characteristic_length)
+    want = (rank < r.generic_ranks[0]) | (prank < r.generic_ranks[1])
+    assert (got == want).all()
+    assert 0 < want.sum() < 200                 # both verdicts near the singularity
+    some = rng.choice(400, 50, replace=False)   # and a subset of the frames' columns
+    assert (rank_deficient(entry_frames(r.chain, Q), r.is_revolute, r.characteristic_length,
+                           r.generic_ranks, some) == want[some]).all()
