@@ -357,7 +357,7 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) 
     # are, their angular rows 0); it has the same singular values
     J = frames_jacobian(frames, revolute)
     if columns is not None:
-        J = J[..., columns]
+        J = np.take(J, columns, axis=-1)                    # (C order, as J)
     m = J.shape[-1]
     J[:3] *= np.where(revolute, 1.0 / length, 1.0)[:, None]
     J = J.transpose(2, 1, 0)                                  # (m, n, 6)
@@ -366,7 +366,7 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) 
     todo = slice(None)
     if n == 6 == full and full_pos == 3:
         fro = np.sqrt(np.add.reduce(J * J, axis=(1, 2)))
-        todo = np.abs(np.linalg.det(J)) <= SINGULAR_TOL * np.maximum(fro, 1.0) \
+        todo = abs_det6(J.transpose(2, 1, 0)) <= SINGULAR_TOL * np.maximum(fro, 1.0) \
             * (fro * fro / 5.0) ** 2.5
         if not np.count_nonzero(todo):
             return out
@@ -378,6 +378,57 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) 
         sub[rest] |= _rank(M[rest, :, :3]) < full_pos
     out[todo] = sub
     return out
+
+
+#: from this many matrices on, :func:`abs_det6` takes the closed forms (numpy calls on rows
+#: of the batch), below it LAPACK's (a call per matrix, fewer numpy calls)
+SCHUR_FROM = 64
+
+
+def abs_det6(J) -> np.ndarray:
+    """``|det|`` of each 6x6 matrix of a batch.
+
+    For :data:`SCHUR_FROM` matrices or more, by the Schur complement of the top-left 3x3
+    block ``A``: ``det J = det(S) / det(A)^2`` with ``S = det(A) D - C adj(A) B``, all in
+    closed form along the batch (some 8 times faster than LAPACK's LU a matrix at a time),
+    where ``A`` is well-conditioned: ``|det A|`` at least 1e-2 of ``(|A|_F^2 / 3)^(3/2)``,
+    its largest possible value, so that the division loses no more than two digits; by
+    LAPACK for the others.
+
+    Parameters
+    ----------
+    J : ndarray (6, 6, m)
+        The matrices entry by entry (``J[r, c]`` is the batch of entries r, c).
+
+    Returns
+    -------
+    ndarray (m,)
+    """
+    m = J.shape[-1]
+    if m < SCHUR_FROM:
+        return np.abs(np.linalg.det(J.transpose(2, 0, 1)))
+    A, B, C, D = J[:3, :3], J[:3, 3:], J[3:, :3], J[3:, 3:]
+    adj = _adjugate3(A)
+    dA = np.add.reduce(A[0] * adj[:, 0], 0)
+    S = D * dA - np.einsum("ikm,kjm->ijm", C, np.einsum("ikm,kjm->ijm", adj, B))
+    dS = np.add.reduce(S[0] * _adjugate3(S)[:, 0], 0)
+    poor = np.abs(dA) < 1e-2 * (np.add.reduce(A * A, axis=(0, 1)) / 3.0) ** 1.5
+    out = np.abs(dS) / np.where(poor, 1.0, dA * dA)
+    if np.count_nonzero(poor):
+        out[poor] = np.abs(np.linalg.det(J[..., poor].transpose(2, 0, 1)))
+    return out
+
+
+def _adjugate3(a) -> np.ndarray:
+    """The adjugate (transposed cofactors) of each 3x3 matrix of ``a (3, 3, m)``, ``(3, 3,
+    m)``: ``a adj(a) = det(a) I``."""
+    return np.array([
+        [a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1], a[0, 2] * a[2, 1] - a[0, 1] * a[2, 2],
+         a[0, 1] * a[1, 2] - a[0, 2] * a[1, 1]],
+        [a[1, 2] * a[2, 0] - a[1, 0] * a[2, 2], a[0, 0] * a[2, 2] - a[0, 2] * a[2, 0],
+         a[0, 2] * a[1, 0] - a[0, 0] * a[1, 2]],
+        [a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0], a[0, 1] * a[2, 0] - a[0, 0] * a[2, 1],
+         a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]]])
 
 
 def finite_difference_jacobian(fk, q, revolute, scale: float, h: float = 1e-6):

@@ -263,3 +263,21 @@ def test_the_determinant_screen_decides_as_the_svd_rank(name):
     some = rng.choice(400, 50, replace=False)   # and a subset of the frames' columns
     assert (rank_deficient(entry_frames(r.chain, Q), r.is_revolute, r.characteristic_length,
                            r.generic_ranks, some) == want[some]).all()
+
+
+def test_abs_det6_is_the_lu_determinant_in_every_case():
+    """The closed-form Schur determinant against LAPACK's (numpy.linalg.det): random
+    matrices, nearly singular ones, ones whose top-left block is singular or nearly so, and
+    scales from 1e-3 to 1e3; absolute error against |J|_F^6 (the singular test's unit)."""
+    from kincalc.jacobian import SCHUR_FROM, abs_det6
+    rng = np.random.default_rng(23)
+    m = 4 * SCHUR_FROM
+    J = rng.normal(size=(m, 6, 6)) * 10.0 ** rng.uniform(-3, 3, (m, 1, 1))
+    J[0::4, :, 5] = 0.5 * J[0::4, :, 4] + 1e-9 * J[0::4, :, 3]       # nearly singular
+    J[1::4, :3, :3] *= 1e-4                                          # a poor block A
+    J[2::4, :3, 2] = J[2::4, :3, 1]                                  # a singular block A
+    fro = np.sqrt((J * J).sum((1, 2)))
+    for batch in (J, J[:3]):                                         # closed forms, LAPACK
+        got = abs_det6(np.ascontiguousarray(batch.transpose(1, 2, 0)))
+        want = np.abs(np.linalg.det(batch))
+        assert (np.abs(got - want) <= 1e-14 * fro[:len(batch)] ** 6).all()
