@@ -34,6 +34,14 @@ STRUCTURE_ANGLE_TOL = 1e-4
 #: the closed form's answers are then the robot's own, to rounding
 EXACT_POINT_TOL = 1e-11
 EXACT_ANGLE_TOL = 1e-12
+#: a robot only nearly of its family whose axes are within this of it (of the arm's size;
+#: rad) keeps the nearest robot's continua at a singular pose (kincalc.ik.nearly): along
+#: one, its FK differs from that robot's by far less than the check sees (ACCEPT_POSITION,
+#: ACCEPT_ORIENTATION). A twist written with 11 significant digits (1.5707963268 for pi/2)
+#: is 5e-12 off. At 3e-11 and beyond the nearest robot's closed form starts to miss such
+#: poses outright (their singular roots lie beyond its tangent bands), and the general 6R
+#: elimination's points of the broken continuum are the better answer
+KEEP_CONTINUA = 1e-11
 
 #: an IK candidate is a solution when FK reaches the target to ACCEPT_POSITION x the
 #: arm's size and, for the orientation the robot controls, ACCEPT_ORIENTATION rad;

@@ -3,7 +3,9 @@ robot that has its structure exactly (:func:`~kincalc.ik.families.idealised`), a
 candidates are refined by Newton's method on the robot as given
 (:mod:`kincalc.ik.refine`); for six revolute joints the general 6R elimination's
 solutions, which need no structure, are joined in, so that none is lost where branches
-of the structured robot meet (a singular pose)."""
+of the structured robot meet (a singular pose). A robot within
+:data:`~kincalc.tolerances.KEEP_CONTINUA` of the structure keeps the nearest robot's
+continua instead, as the exact family's."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import numpy as np
 from .refine import refine
 from ..spatial import wrap
 from .screws import Screws
+from ..tolerances import KEEP_CONTINUA
 
 
 def on_true_robot(robot, family, targets, q, candidate, br):
@@ -23,7 +26,9 @@ def on_true_robot(robot, family, targets, q, candidate, br):
     the free masks are cleared and the continua dropped (they belong to the idealised
     robot). For six revolute joints and whole poses the general 6R elimination's solutions
     are appended as ``G`` more slots (their signs ``root k`` of joint 3, as the general 6R
-    family's: two solutions the words do not tell apart still differ).
+    family's: two solutions the words do not tell apart still differ). Within
+    :data:`~kincalc.tolerances.KEEP_CONTINUA` of the structure the free slots are kept as
+    they are, continua and free masks with them, the others refined, nothing appended.
 
     Parameters
     ----------
@@ -56,18 +61,24 @@ def on_true_robot(robot, family, targets, q, candidate, br):
             "tcv": "position"}[targets.kind]
     if mode == "pose" and not family.needs_orientation:
         mode = "position"
-    idx = np.nonzero(candidate)
+    move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
+    # within KEEP_CONTINUA the robot reaches the pose along a continuum of the nearest one
+    # to what the check sees: its continua are kept, their representatives as they are
+    # (Newton's method there runs along the continuum)
+    keep = move <= KEEP_CONTINUA * max(robot.characteristic_length, 1e-12) \
+        and turn <= KEEP_CONTINUA
+    idx = np.nonzero(candidate & ~br.free_mask().any(-1) if keep else candidate)
     if len(idx[0]):
         q = q.copy()
         q[idx] = refine(robot, q[idx], targets.T[idx[0]], mode=mode,
                         approach=None if targets.approach is None else targets.approach[idx[0]])
-    br = br.without_free()
-    move, turn = structure_defect(Screws.of(robot), plan(robot)[0])
     method = (f"{family.description}; the axes have this structure only to within "
               f"{move:.2g} m and {turn:.2g} rad, so it was solved for the nearest robot "
               "that has it and every solution refined by Newton's method on the robot as "
               "given")
-    if robot.dof == 6 and robot.is_revolute.all() and targets.kind == "pose":
+    if not keep:
+        br = br.without_free()
+    if not keep and robot.dof == 6 and robot.is_revolute.all() and targets.kind == "pose":
         from .general6r.solve import ROOTS, ranked_solutions
         Qg, okg = ranked_solutions(robot, targets.T)
         q = np.concatenate([q, Qg], axis=1)
