@@ -71,11 +71,13 @@ def same_solution(robot, a, b) -> np.ndarray:
 
 
 def on_continua(robot, q, valid, free) -> np.ndarray:
-    """Valid slots that lie on another slot's continuum: where a slot leaves joints free (a
-    singular target), another that agrees with it in every other joint
-    (:func:`same_solution`'s rule) and leaves no joint free that it does not reaches the
-    target by the same fixed joints, so it is a member of that continuum, found as a point
-    (a root the solver took where the free joint's roots meet).
+    """Valid slots that are members of another slot's continuum.
+
+    A slot that leaves joints free (a singular target) stands for every value of them; a
+    valid slot equal to it in all its other joints (:func:`same_solution`'s rule) and free
+    in none of those reaches the same target on that continuum: a point of it that the
+    solver found as a root of its own (where the free joint's roots meet). Of two slots
+    with the same free joints the later goes.
 
     Parameters
     ----------
@@ -86,20 +88,20 @@ def on_continua(robot, q, valid, free) -> np.ndarray:
 
     Returns
     -------
-    ndarray (N, K) of bool, the slots to drop (of two alike, the later)
+    ndarray (N, K) of bool, the slots to drop
     """
     drop = np.zeros(valid.shape, bool)
-    for pose, a in zip(*np.nonzero(valid & free.any(-1))):
-        fixed = ~free[pose, a]
-        d = q[pose] - q[pose, a]
-        same = (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE)[:, fixed].all(-1)
-        within = ~(free[pose] & fixed).any(-1)              # free only where a is
-        same &= valid[pose] & within & ~drop[pose]
-        same[a] = False
-        # of two with the same free joints the later goes, one with fewer goes always
-        same &= (np.arange(len(same)) > a) | (free[pose] != free[pose, a]).any(-1)
-        if not drop[pose, a]:
-            drop[pose] |= same
+    pose, a = np.nonzero(valid & np.logical_or.reduce(free, axis=-1))
+    if not len(pose):
+        return drop
+    fa = free[pose, a][:, None]                                             # (m, 1, n)
+    d = q[pose] - q[pose, a][:, None]                                       # (m, K, n)
+    same = np.logical_and.reduce(
+        (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE) | fa, axis=-1)
+    same &= valid[pose] & ~np.logical_or.reduce(free[pose] & ~fa, axis=-1)
+    later = np.arange(q.shape[1]) > a[:, None]
+    same &= later | np.logical_or.reduce(free[pose] != fa, axis=-1)         # (not a itself)
+    np.logical_or.at(drop, pose, same)                  # (a pose may have several such a)
     return drop
 
 

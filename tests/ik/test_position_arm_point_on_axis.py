@@ -77,3 +77,21 @@ def test_the_point_on_axis_2_leaves_joint_2_free():
                 assert np.abs(r.fk(q)[:3, 3] - p).max() < 1e-12
             for root in _position_roots(r, p, 30, rng):
                 assert _matches(r, sols, root), (root, [s.q for s in sols])
+
+
+def test_a_point_of_a_continuum_goes_with_it_and_nothing_else_does():
+    """The rule by which the engine drops such points (``on_continua``), slot by slot."""
+    from kincalc.ik.joint_limits import on_continua
+    r = _arm(np.random.default_rng(1))
+    base = np.array([0.3, 0.0, 0.0])
+    q = np.array([base,                                # 0: j2 free
+                  base + [0, 2.0, 0],                  # 1: j2 elsewhere: on 0's continuum
+                  base + [1e-3, 2.0, 0],               # 2: j1 differs: its own
+                  base + [2 * np.pi, 0.0, 1e-9],       # 3: 0 again, a turn and 1e-9 away
+                  base + [0, 1.0, 0],                  # 4: free in j3 alone: no one's
+                  base + [0, 1.5, 0]])[None]           # 5: like 1, but not valid
+    free = np.zeros((1, 6, 3), bool)
+    free[0, [0, 3], 1] = True
+    free[0, 4, 2] = True
+    valid = np.array([[True, True, True, True, True, False]])
+    assert on_continua(r, q, valid, free).tolist() == [[False, True, False, True, False, False]]
