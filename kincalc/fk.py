@@ -83,9 +83,9 @@ def _walk(chain, c, s, x, frames=None):
     x : ndarray (n, M), or a sequence of n rows (M,)
         The prismatic joints' travel, offsets included (m). Rows of revolute joints: any
         finite values.
-    frames : ndarray (3, 4, n + 1, M), optional
+    frames : ndarray (3, 4, n + 1, M) or (3, 2, n + 1, M), optional
         Receives each joint's frame just after its motion and the tool pose, entry by entry
-        (the layout of :func:`entry_frames`).
+        (the layout of :func:`entry_frames`), or their last two columns (axis, origin).
 
     Returns
     -------
@@ -111,10 +111,12 @@ def _walk(chain, c, s, x, frames=None):
 
 
 def _put(frames, i, cols, p) -> None:
-    """Frame ``i`` of ``frames (3, 4, n + 1, M)`` from its columns and origin ``(3, M)``."""
-    for j in range(3):
-        frames[:, j, i] = cols[j]
-    frames[:, 3, i] = p
+    """Frame ``i`` of ``frames (3, 4, n + 1, M)`` from its columns and origin ``(3, M)``; of
+    ``frames (3, 2, n + 1, M)`` its last two, the axis (column 2) and the origin."""
+    first = 4 - frames.shape[1]
+    for j in range(first, 3):
+        frames[:, j - first, i] = cols[j]
+    frames[:, -1, i] = p
 
 
 def _angles(chain, flat) -> tuple:
@@ -241,9 +243,10 @@ def tool_from_cs(chain, c, s, x, frames=None):
     x : ndarray (n, M)
         The prismatic joints' travel (m), offsets not applied. Rows of revolute joints:
         any finite values.
-    frames : ndarray (3, 4, n + 1, M), optional
+    frames : ndarray (3, 4, n + 1, M) or (3, 2, n + 1, M), optional
         For more than :data:`FEW` configurations: receives every joint's frame and the tool
-        pose, entry by entry (the layout of :func:`entry_frames`).
+        pose, entry by entry (the layout of :func:`entry_frames`), or their last two columns
+        (axis, origin: what a Jacobian needs).
 
     Returns
     -------

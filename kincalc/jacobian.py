@@ -71,9 +71,9 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
 
     Parameters
     ----------
-    frames : ndarray (3, 4, n + 1, M)
+    frames : ndarray (3, 4, n + 1, M) or (3, 2, n + 1, M)
         The joint frames and the tool pose entry by entry (:func:`kincalc.fk.entry_frames`,
-        world frame, m).
+        world frame, m), or their last two columns (axis, origin).
     revolute : ndarray (n,) of bool
         True for revolute joints.
 
@@ -84,8 +84,8 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
         m/s to m/s and rad/s); a zero entry is +0.0.
     """
     n = frames.shape[2] - 1
-    z = frames[:, 2, :n]                                          # (3, n, M) the axes
-    d = frames[:, 3, n:] - frames[:, 3, :n]                       # origin to tool point
+    z = frames[:, -2, :n]                                         # (3, n, M) the axes
+    d = frames[:, -1, n:] - frames[:, -1, :n]                     # origin to tool point
     J = np.empty((6,) + z.shape[1:])
     for r, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
         np.subtract(z[a] * d[b], z[b] * d[a], out=J[r])
@@ -333,9 +333,9 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) 
 
     Parameters
     ----------
-    frames : ndarray (3, 4, n + 1, m)
+    frames : ndarray (3, 4, n + 1, m) or (3, 2, n + 1, m)
         The joint frames and the tool pose entry by entry (:func:`kincalc.fk.entry_frames`,
-        world frame, m).
+        world frame, m), or their last two columns (axis, origin).
     revolute : ndarray (n,) of bool
         True for revolute joints.
     length : float

@@ -308,7 +308,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
         A, f = entry_frames(robot.chain, q.reshape(-1, n), coefficients=True)
         tool, f, memo["frames"] = A[:, :, n], f.transpose(0, 2, 1), A
     else:
-        memo["frames"] = np.empty((3, 4, n + 1, N * K))           # for the flags
+        memo["frames"] = np.empty((3, 2, n + 1, N * K))   # axes, origins: for the flags
         cols, p = tool_from_cs(robot.chain, c, s, x, memo["frames"])
         tool, f = np.stack(cols + [p], 1), (c, s, x)
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
