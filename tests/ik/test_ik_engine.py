@@ -185,8 +185,9 @@ def test_singular_flags_equal_the_svd_rank_test(name):
     F, tool = frames_and_tool(r.chain, Q)
     rev, L = r.is_revolute[:, None], r.characteristic_length
     z = F[:, :, :3, 2]
+    # scale-free: linear rows over L, prismatic columns times L (m/s per m/s stays as is)
     J = np.concatenate([np.where(rev, np.cross(z, tool[:, None, :3, 3] - F[:, :, :3, 3]) / L,
-                                 z * L), np.where(rev, z, 0.0)], axis=-1)
+                                 z), np.where(rev, z, 0.0)], axis=-1)
     sv = np.linalg.svd(J, compute_uv=False)
     full, full_pos = r.generic_ranks
     rank = (sv > SINGULAR_TOL * np.maximum(sv[:, :1], 1.0)).sum(-1)
