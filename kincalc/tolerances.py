@@ -82,6 +82,11 @@ NEAR_MISS_UNCONTROLLED = 1e-2
 
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6
+#: ... and two polished candidates of a resultant's double root when they agree to this (rad,
+#: or of the arm's size): Gauss-Newton converges there linearly, and candidates reaching it
+#: from several roots of the fitted resultant (a cluster's mean, a real root beside it) stop
+#: some 1e-6 apart, each reaching the target (kincalc.ik.place)
+SAME_DOUBLE_ROOT = 1e-5
 
 #: a joint counts as within its limits up to this much beyond them (rad; times the
 #: arm's size for prismatic joints): rounding of a solution at its limit

@@ -13,7 +13,10 @@ and flags every candidate in one pass:
    (:mod:`~kincalc.ik.near_miss`);
 2. revolute joints moved by whole turns to the representative nearest their limits
    (:func:`~kincalc.ik.joint_limits.normalise`);
-3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first;
+3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first
+   (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
+   continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a polished copy of another's
+   double root (:func:`~kincalc.ik.near_miss.copies`);
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
@@ -30,16 +33,16 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from ..errors import TargetMismatch, UnsupportedRobot
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, DUPLICATE
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, tool_from_cs
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
-from .joint_limits import (normalise, on_continua, open_joints, open_values, same_solution,
+from .joint_limits import (duplicates, normalise, on_continua, open_joints, open_values,
                            violations)
 from .labels import labels
-from .near_miss import near_misses, polished
+from .near_miss import copies, near_misses, polished
 from .small_arms import takes_tcv
 from .solvers import run_solver
 from .target import Targets
@@ -289,12 +292,14 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
                              tcv_ok=takes_tcv(robot.is_revolute))
 
 
-def _check(robot, family, method, targets, joints, candidate, br, polish=True) -> Solved:
+def _check(robot, family, method, targets, joints, candidate, br, polish=True,
+           polished_slots=None) -> Solved:
     """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
     each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`), in the slots of ``br``; the
     answer laid out in the family's slots (:func:`_in_layout`) where the solver kept fewer.
     Candidates that miss by a hair (``polish``: :mod:`kincalc.ik.near_miss`) are polished and
-    all checked again.
+    all checked again (``polished_slots``: those, of which one that reached another's double
+    root goes).
 
     A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
     normalised joint values, many by the column walk from the solver's cosines and sines; the
@@ -314,6 +319,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
+    if polished_slots is not None:
+        valid &= ~copies(robot, q, valid, polished_slots)
     free = br.free_mask()
     if np.count_nonzero(free):
         valid &= ~on_continua(robot, q, valid, free)
@@ -328,7 +335,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True) -
         x[:, at] = q2.reshape(-1, n)[at].T
         c, s = c.copy(), s.copy()
         c[:, at], s[:, at] = np.cos(x[:, at]), np.sin(x[:, at])
-        return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False)
+        return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False,
+                      polished_slots=near)
     checked = dict(q=q, candidate=candidate, valid=valid,
                    position_error=np.where(candidate, pe, 0.0),
                    orientation_error=np.full((N, K), np.nan) if oe is None else
@@ -409,71 +417,6 @@ def _errors(targets: Targets, tool) -> tuple:
     d = d * d
     chord = np.sqrt(np.add.reduce(d[:, :3], axis=(0, 1))) / (2.0 * 2.0 ** 0.5)
     return np.sqrt(np.add.reduce(d[:, 3], 0)), 2.0 * np.arcsin(np.minimum(chord, 1.0))
-
-
-def duplicates(robot, q, valid, f=None) -> np.ndarray:
-    """Valid slots that are the same solution as an earlier kept one (every joint within
-    ``DUPLICATE``, wrapped: :func:`~kincalc.ik.joint_limits.same_solution`).
-
-    Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
-    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are 1-Lipschitz,
-    so two slots within ``DUPLICATE`` in every joint have keys within ``sum_k |w_k| DUPLICATE``,
-    and only the pairs that pass are compared joint by joint (distinct solutions almost never do).
-
-    Parameters
-    ----------
-    robot : Robot
-    q : ndarray (N, K, n), joint values (rad / m)
-    valid : ndarray (N, K) of bool
-    f : three ndarray (n, N K), optional: the joints' cosines, sines and values, joint-major
-        (of ``q`` plus any constant per joint, such as the chain's offsets)
-
-    Returns
-    -------
-    ndarray (N, K) of bool, the slots to drop
-    """
-    N, K, n = q.shape
-    drop = np.zeros((N, K), bool)
-    if K < 2 or np.count_nonzero(valid) < 2:
-        return drop
-    if f is None:
-        x = q.reshape(-1, n).T
-        f = np.cos(x), np.sin(x), x
-    w, reach = _duplicate_key(robot)
-    key = (w[0] @ f[0] + w[1] @ f[1] + w[2] @ f[2]).reshape(N, K)
-    # poses with two valid keys within reach: neighbours once each pose's keys are sorted
-    ordered = np.where(valid, key, np.nan)
-    ordered.sort(axis=1)                                             # NaN (invalid) last
-    suspect = ordered[:, 1:] - ordered[:, :-1] <= reach              # NaN: False
-    if not np.count_nonzero(suspect):
-        return drop
-    poses = np.flatnonzero(suspect.any(1))
-    kv, ok = key[poses], valid[poses]
-    near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
-        & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
-    pose, j, i = np.nonzero(near)
-    pose = poses[pose]
-    same = same_solution(robot, q[pose, j], q[pose, i])                 # (pairs,)
-    pose, j, i = pose[same], j[same], i[same]
-    # ascending: a slot's verdict before later ones (not np.unique, which imports numpy.ma:
-    # 15 ms of the first call that meets a duplicate)
-    for slot in np.flatnonzero(np.bincount(j)).tolist():
-        at = j == slot
-        kept = ~drop[pose[at], i[at]]
-        drop[pose[at][kept], slot] = True
-    return drop
-
-
-@per_robot
-def _duplicate_key(robot) -> tuple:
-    """The weights ``(3, n)`` of :func:`duplicates`' screening key (of the cosines, the
-    sines and the values) and how far apart the keys of two duplicates can be. Cached per
-    robot."""
-    rev = robot.is_revolute
-    w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
-    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
-    return np.array([np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0),
-                     np.where(rev, 0.0, w)]), reach
 
 
 def singular(robot, Q, F, tool) -> np.ndarray:

@@ -70,6 +70,71 @@ def same_solution(robot, a, b) -> np.ndarray:
     return (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE).all(-1)
 
 
+def duplicates(robot, q, valid, f=None) -> np.ndarray:
+    """Valid slots that are the same solution as an earlier kept one (every joint within
+    ``DUPLICATE``, wrapped: :func:`~kincalc.ik.joint_limits.same_solution`).
+
+    Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
+    ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are 1-Lipschitz,
+    so two slots within ``DUPLICATE`` in every joint have keys within ``sum_k |w_k| DUPLICATE``,
+    and only the pairs that pass are compared joint by joint (distinct solutions almost never do).
+
+    Parameters
+    ----------
+    robot : Robot
+    q : ndarray (N, K, n), joint values (rad / m)
+    valid : ndarray (N, K) of bool
+    f : three ndarray (n, N K), optional: the joints' cosines, sines and values, joint-major
+        (of ``q`` plus any constant per joint, such as the chain's offsets)
+
+    Returns
+    -------
+    ndarray (N, K) of bool, the slots to drop
+    """
+    N, K, n = q.shape
+    drop = np.zeros((N, K), bool)
+    if K < 2 or np.count_nonzero(valid) < 2:
+        return drop
+    if f is None:
+        x = q.reshape(-1, n).T
+        f = np.cos(x), np.sin(x), x
+    w, reach = _duplicate_key(robot)
+    key = (w[0] @ f[0] + w[1] @ f[1] + w[2] @ f[2]).reshape(N, K)
+    # poses with two valid keys within reach: neighbours once each pose's keys are sorted
+    ordered = np.where(valid, key, np.nan)
+    ordered.sort(axis=1)                                             # NaN (invalid) last
+    suspect = ordered[:, 1:] - ordered[:, :-1] <= reach              # NaN: False
+    if not np.count_nonzero(suspect):
+        return drop
+    poses = np.flatnonzero(suspect.any(1))
+    kv, ok = key[poses], valid[poses]
+    near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
+        & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
+    pose, j, i = np.nonzero(near)
+    pose = poses[pose]
+    same = same_solution(robot, q[pose, j], q[pose, i])                 # (pairs,)
+    pose, j, i = pose[same], j[same], i[same]
+    # ascending: a slot's verdict before later ones (not np.unique, which imports numpy.ma:
+    # 15 ms of the first call that meets a duplicate)
+    for slot in np.flatnonzero(np.bincount(j)).tolist():
+        at = j == slot
+        kept = ~drop[pose[at], i[at]]
+        drop[pose[at][kept], slot] = True
+    return drop
+
+
+@per_robot
+def _duplicate_key(robot) -> tuple:
+    """The weights ``(3, n)`` of :func:`duplicates`' screening key (of the cosines, the
+    sines and the values) and how far apart the keys of two duplicates can be. Cached per
+    robot."""
+    rev = robot.is_revolute
+    w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
+    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    return np.array([np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0),
+                     np.where(rev, 0.0, w)]), reach
+
+
 def on_continua(robot, q, valid, free) -> np.ndarray:
     """Valid slots that are members of another slot's continuum.
 

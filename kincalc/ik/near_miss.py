@@ -18,7 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..fk import forward_kinematics
-from ..tolerances import NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED
+from ..spatial import wrap
+from ..tolerances import NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED, SAME_DOUBLE_ROOT
 from .joint_limits import normalise, violations
 
 
@@ -77,3 +78,22 @@ def polished(robot, targets, q, mask, valid, reaches):
     out = q.copy()
     out[rows[good], slots[good]] = y[good]
     return out
+
+
+def copies(robot, q, valid, polished_slots) -> np.ndarray:
+    """``(N, K)`` bool: polished slots (``polished_slots (N, K)``) that reached a solution
+    another valid slot of their pose has, every joint within
+    :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size): a double
+    root, which Gauss-Newton approaches only linearly, from several candidates. The later
+    of two polished slots goes; a slot that was not polished stays.
+
+    ``q (N, K, n)`` (rad / m), ``valid (N, K)``."""
+    N, K, n = q.shape
+    d = q[:, :, None] - q[:, None, :]                                       # [j, i]
+    L = max(robot.characteristic_length, 1e-12)
+    d = np.abs(np.where(robot.is_revolute, wrap(d), d / L))
+    same = np.logical_and.reduce(d <= SAME_DOUBLE_ROOT, axis=-1) \
+        & valid[:, :, None] & valid[:, None, :] & polished_slots[:, :, None]
+    same &= ~np.eye(K, dtype=bool) & (~polished_slots[:, None, :] | np.tri(K, k=-1, dtype=bool))
+    return np.logical_or.reduce(same, axis=-1)
+

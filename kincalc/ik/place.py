@@ -43,7 +43,7 @@ from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
-from ..tolerances import FOLD_NEAR_AXIS, FREE_REACH
+from ..tolerances import ACCEPT_POSITION, FREE_REACH
 from .branches import TIE_BREAK, Branches
 from .pieces import polish_points, split_fold, turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
@@ -427,13 +427,6 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     al, be, ga = _coefficients(S, P, g)
     al = al - np.moveaxis(t, -1, 0)
     if S.revolute[b]:
-        # a double root in x_c that puts the point on axis b (good to the square root of
-        # rounding only): joint b does not move it there and is free (0), not decided by
-        # how far that rounding left the point off the axis
-        across = _circle(S, b, g)[1]
-        on = dot(across, across) <= (FOLD_NEAR_AXIS * S.scale) ** 2
-        if np.count_nonzero(on):
-            be, ga = np.where(on, 0.0, be), np.where(on, 0.0, ga)
         # both roots of the invariant that depends on x_b the most, not (cos, sin) from the
         # two together: they barely differ where axes a and b are nearly parallel, and the
         # two elbows there share a double root in x_c (the second root: TIE_BREAK)
@@ -444,8 +437,22 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     else:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
-    br = _solve_a(S, P, br, PT)
-    return polish_points(S, P.joints, P.p0, br, PT)
+    br = polish_points(S, P.joints, P.p0, _solve_a(S, P, br, PT), PT)
+    return _on_axis_b(S, P, br) if S.revolute[b] else br
+
+
+def _on_axis_b(S: Screws, P: Plan, br) -> Branches:
+    """``br`` with joint b free (0) in the slots whose polished point lies on its axis (a
+    double root in x_c can put it there, where the roots of x_b, decided by rounding, are
+    any value): within half the check's tolerance of it, every x_b reaches the target."""
+    b, c = P.joints[1], P.joints[2]
+    g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
+    across = _circle(S, b, g)[1]
+    on = (dot(across, across) <= (0.5 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
+    if not np.count_nonzero(on):
+        return br
+    return br.set(b, np.where(on, 0.0, br.value[b]), np.where(on, 1.0, br.cos[b]),
+                  np.where(on, 0.0, br.sin[b]), free=br.free[b] | on)
 
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:

@@ -92,20 +92,25 @@ def roots_in_c(S: Screws, c: int, R) -> Solutions:
 def _multiple_roots(z, off, real):
     """The roots ``z (..., d)`` of a polynomial, each root that lies ``off (..., d)`` from
     the real ones' locus (the real axis, the unit circle) beyond ``real`` but within
-    :data:`CLUSTER` replaced by the mean of the roots within ``3 off`` of it.
+    :data:`CLUSTER` replaced by the mean of the roots within ``3 off`` of it, where those
+    are three or more and none of them is real.
 
     A real root of multiplicity ``m`` comes out of a companion matrix as ``m`` roots about
     ``eps^(1/m)`` around it (a point placed on axis b by a slide where both of joint b's
     roots meet: a fourfold root, 4e-4 off); the mean of such a cluster is good to rounding,
-    and is real. A complex pair that is not a split real root gives its mean too, the FK
-    check rejects it."""
+    and is real. Where the cluster holds a real root, that root stands for it (a mean
+    beside it would be the same solution twice, a little apart after Newton's method) and
+    its other real roots are roots of their own; a pair alone is a double root split by
+    far less than ``real`` (``eps^(1/2)``) or a complex pair. A cluster's mean that is not
+    a split real root is rejected by the FK check."""
     split = (off >= real) & (off < CLUSTER)
     if not np.count_nonzero(split):
         return z
     with np.errstate(invalid="ignore"):
         near = np.abs(z[..., :, None] - z[..., None, :]) <= 3.0 * off[..., :, None]
-        mean = (near * z[..., None, :]).sum(-1) / near.sum(-1)
-    return np.where(split, mean, z)
+        mean = (near * z[..., None, :]).sum(-1) / np.maximum(near.sum(-1), 1)
+    alone = ~np.logical_or.reduce(near & (off < real)[..., None, :], axis=-1)
+    return np.where(split & alone & (near.sum(-1) >= 3), mean, z)
 
 
 #: how far from the real roots' locus a root may lie and still be one of a real multiple

@@ -8,7 +8,8 @@ import pytest
 from kincalc import jacobian_report, load_robot
 from kincalc.fk import chain_frames, tool_from_cs
 from kincalc.ik import Target, solve
-from kincalc.ik.engine import duplicates, singular
+from kincalc.ik.engine import singular
+from kincalc.ik.joint_limits import duplicates
 from kincalc.ik.joint_limits import normalise, violations, within_limits
 from kincalc.spatial import wrap
 from kincalc.model import Joint, Robot

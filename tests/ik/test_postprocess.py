@@ -9,7 +9,8 @@ import pytest
 
 from kincalc import load_robot
 from kincalc.fk import FEW, chain_frames, entry_frames, frames_and_tool
-from kincalc.ik.engine import duplicates, singular
+from kincalc.ik.engine import singular
+from kincalc.ik.joint_limits import duplicates
 from kincalc.ik.joint_limits import normalise, violations
 from kincalc.ik.words import branch_geometry, geometry
 from kincalc.ik.selftest import sample_configurations
