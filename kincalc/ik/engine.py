@@ -36,7 +36,7 @@ from ..errors import TargetMismatch, UnsupportedRobot
 from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .cache import per_robot
-from ..fk import FEW, entry_frames, tool_from_cs
+from ..fk import FEW, entry_frames, forward_kinematics, tool_from_cs
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
 from .joint_limits import (duplicates, normalise, on_continua, open_joints, open_values,
@@ -320,10 +320,14 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     valid = candidate & reach
     valid &= ~duplicates(robot, q, valid, f)
     if polished_slots is not None:
-        valid &= ~copies(robot, q, valid, polished_slots)
+        miss = pe / max(robot.characteristic_length, 1e-12)
+        if oe is not None:
+            miss = miss + np.nan_to_num(oe)
+        valid &= ~copies(robot, q, valid, polished_slots, miss)
     free = br.free_mask()
     if np.count_nonzero(free):
-        valid &= ~on_continua(robot, q, valid, free)
+        held = _moves_freely(robot, family, targets, q, valid & free.any(-1), free, br)
+        valid &= ~on_continua(robot, q, valid, free & held[..., None])
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
                        family.needs_orientation) if polish else None
@@ -383,6 +387,25 @@ def _unset_slot(robot) -> tuple:
     v0 = violations(robot, q0)
     q0.flags.writeable = v0.flags.writeable = False
     return q0, v0, not v0.any()
+
+
+def _moves_freely(robot, family, targets, q, slots, free, br) -> np.ndarray:
+    """``(N, K)`` bool: of the ``slots (N, K)``, those whose ``free (N, K, n)`` joints are
+    free indeed: a slot with a continuum relation (its free joints move with others), or one
+    that still reaches its target with every free joint moved (by 1 rad, or a tenth of the
+    arm's size). A band of a double root can call a joint free that moves the point by a
+    hair more than the check allows; such a slot stands for itself alone, and no other
+    solution is taken for a point of it (:func:`~kincalc.ik.joint_limits.on_continua`)."""
+    out = np.zeros(slots.shape, bool)
+    for name in ("continuum", "parallel continuum"):
+        if name in br.extra:
+            out |= slots & (br.extra[name][..., 0] != 0)
+    test = slots & ~out
+    if np.count_nonzero(test):
+        step = np.where(robot.is_revolute, 1.0, 0.1 * robot.characteristic_length)
+        moved = forward_kinematics(robot.chain, np.where(free, q + step, q))      # (N, K, 4, 4)
+        out |= test & _reach(robot, family, targets, moved[..., :3, :].transpose(2, 3, 0, 1))[2]
+    return out
 
 
 def _reach(robot, family: Family, targets: Targets, tool) -> tuple:

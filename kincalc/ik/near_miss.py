@@ -80,20 +80,20 @@ def polished(robot, targets, q, mask, valid, reaches):
     return out
 
 
-def copies(robot, q, valid, polished_slots) -> np.ndarray:
-    """``(N, K)`` bool: polished slots (``polished_slots (N, K)``) that reached a solution
-    another valid slot of their pose has, every joint within
-    :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size): a double
-    root, which Gauss-Newton approaches only linearly, from several candidates. The later
-    of two polished slots goes; a slot that was not polished stays.
+def copies(robot, q, valid, polished_slots, error) -> np.ndarray:
+    """``(N, K)`` bool: of two valid slots of a pose, one of them polished (``polished_slots
+    (N, K)``), whose joints agree to :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or
+    of the arm's size), the one that misses its target by more (``error (N, K)``, a tie: the
+    later): they reached one double root, which Gauss-Newton approaches only linearly, from
+    two candidates.
 
     ``q (N, K, n)`` (rad / m), ``valid (N, K)``."""
     N, K, n = q.shape
     d = q[:, :, None] - q[:, None, :]                                       # [j, i]
     L = max(robot.characteristic_length, 1e-12)
     d = np.abs(np.where(robot.is_revolute, wrap(d), d / L))
-    same = np.logical_and.reduce(d <= SAME_DOUBLE_ROOT, axis=-1) \
-        & valid[:, :, None] & valid[:, None, :] & polished_slots[:, :, None]
-    same &= ~np.eye(K, dtype=bool) & (~polished_slots[:, None, :] | np.tri(K, k=-1, dtype=bool))
-    return np.logical_or.reduce(same, axis=-1)
-
+    same = np.logical_and.reduce(d <= SAME_DOUBLE_ROOT, axis=-1) & valid[:, :, None] \
+        & valid[:, None, :] & (polished_slots[:, :, None] | polished_slots[:, None, :])
+    worse = (error[:, :, None] > error[:, None, :]) \
+        | ((error[:, :, None] == error[:, None, :]) & np.tri(K, k=-1, dtype=bool))
+    return np.logical_or.reduce(same & worse, axis=-1)

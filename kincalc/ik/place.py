@@ -444,11 +444,13 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
 def _on_axis_b(S: Screws, P: Plan, br) -> Branches:
     """``br`` with joint b free (0) in the slots whose polished point lies on its axis (a
     double root in x_c can put it there, where the roots of x_b, decided by rounding, are
-    any value): within half the check's tolerance of it, every x_b reaches the target."""
+    any value): within a quarter of the check's tolerance of it, every x_b reaches the
+    target (the point moves by at most twice that distance, and the representative 0 was
+    not polished)."""
     b, c = P.joints[1], P.joints[2]
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
     across = _circle(S, b, g)[1]
-    on = (dot(across, across) <= (0.5 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
+    on = (dot(across, across) <= (0.25 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
     if not np.count_nonzero(on):
         return br
     return br.set(b, np.where(on, 0.0, br.value[b]), np.where(on, 1.0, br.cos[b]),

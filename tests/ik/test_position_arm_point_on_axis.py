@@ -124,3 +124,24 @@ def test_points_near_axis_2_are_not_free_and_not_twice():
                     d = np.abs(np.where(r.is_revolute, wrap(sols[a].q - sols[b].q),
                                         sols[a].q - sols[b].q))
                     assert d.max() > 1e-5, [s.q for s in sols]
+
+
+def test_a_joint_free_by_a_hair_takes_no_other_solution_with_it():
+    """A P-R-R arm (a campaign's robot, cm) whose tool point passes 2e-6 cm from axis 2: a
+    slot the double root's band calls "(j2 free)" moves the point by 1.6e-9 m when j2 turns,
+    more than the check allows, so the generating joints (j2 = 90 deg), equal to it but in
+    j2, are a solution of their own, not a point of its continuum (they had been dropped)."""
+    deg, cm = np.pi / 180, 0.01
+    rows = [("prismatic", 125.4382266673655, -25.781580435915384, -13.742879808957245, 0.0,
+             (-27.360036083159915 * cm, 41.443984382142155 * cm)),
+            ("revolute", 36.837867846941634, 2e-4, 0.0, -90.0, (-108.36716756434885 * deg,
+                                                               108.36716756434885 * deg)),
+            ("revolute", -35.652178916209174, 16.183683508911795, 21.60339423501872, -90.0,
+             (-314.51661414553354 * deg, 345.10702783584986 * deg))]
+    r = Robot(name="g025", convention="dh", joints=tuple(
+        Joint(f"j{i + 1}", kind, alpha=al * deg, a=a * cm, d=d * cm, theta=th * deg,
+              limits=lim) for i, (kind, al, a, d, th, lim) in enumerate(rows)))
+    q = np.array([0.09006536692266043, np.pi / 2, -3.141580285195012])
+    sols = solve(r, Target(r.fk(q), orientation=False)).solutions
+    assert any(np.abs(np.where(r.is_revolute, wrap(s.q - q), s.q - q)).max() < 1e-6
+               for s in sols), [s.q for s in sols]
