@@ -438,21 +438,26 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
     br = polish_points(S, P.joints, P.p0, _solve_a(S, P, br, PT), PT)
-    return _on_axis_b(S, P, br) if S.revolute[b] else br
+    return _on_axis_b(S, P, br, PT) if S.revolute[b] else br
 
 
-def _on_axis_b(S: Screws, P: Plan, br) -> Branches:
+def _on_axis_b(S: Screws, P: Plan, br, PT) -> Branches:
     """``br`` with joint b free (0) in the slots whose polished point lies on its axis (a
     double root in x_c can put it there, where the roots of x_b, decided by rounding, are
-    any value): within a quarter of the check's tolerance of it, every x_b reaches the
-    target (the point moves by at most twice that distance, and the representative 0 was
-    not polished)."""
-    b, c = P.joints[1], P.joints[2]
+    any value) and reaches its target ``PT (N, K, 3)``, each to a quarter of the check's
+    tolerance: every x_b then reaches the target to the check's (the point moves by at most
+    twice its distance from the axis; a double root is polished only to about the square
+    root of rounding, and 0 is not polished)."""
+    a, b, c = P.joints
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
     across = _circle(S, b, g)[1]
-    on = (dot(across, across) <= (0.25 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
+    band = (0.25 * ACCEPT_POSITION * S.scale) ** 2
+    on = (dot(across, across) <= band) & br.ok
     if not np.count_nonzero(on):
         return br
+    miss = S.move(a, br.value[a], br.cos[a], br.sin[a],
+                  S.move(b, br.value[b], br.cos[b], br.sin[b], g)) - PT
+    on &= dot(miss, miss) <= band
     return br.set(b, np.where(on, 0.0, br.value[b]), np.where(on, 1.0, br.cos[b]),
                   np.where(on, 0.0, br.sin[b]), free=br.free[b] | on)
 
