@@ -360,13 +360,13 @@ def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) 
         J = np.take(J, columns, axis=-1)                    # (C order, as J)
     m = J.shape[-1]
     J[:3] *= np.where(revolute, 1.0 / length, 1.0)[:, None]
-    J = J.transpose(2, 1, 0)                                  # (m, n, 6)
+    by_entry, J = J, J.transpose(2, 1, 0)                     # (6, n, m), (m, n, 6)
     full, full_pos = ranks
     out = np.zeros(m, bool)
     todo = slice(None)
     if n == 6 == full and full_pos == 3:
         fro = np.sqrt(np.add.reduce(J * J, axis=(1, 2)))
-        todo = abs_det6(J.transpose(2, 1, 0)) <= SINGULAR_TOL * np.maximum(fro, 1.0) \
+        todo = abs_det6(by_entry) <= SINGULAR_TOL * np.maximum(fro, 1.0) \
             * (fro * fro / 5.0) ** 2.5
         if not np.count_nonzero(todo):
             return out

@@ -400,11 +400,14 @@ def _moves_freely(robot, family, targets, q, slots, free, br) -> np.ndarray:
     for name in ("continuum", "parallel continuum"):
         if name in br.extra:
             out |= slots & (br.extra[name][..., 0] != 0)
-    test = slots & ~out
-    if np.count_nonzero(test):
+    pose, slot = np.nonzero(slots & ~out)
+    if len(pose):                       # (the slots to test only: FK of each moved once)
         step = np.where(robot.is_revolute, 1.0, 0.1 * robot.characteristic_length)
-        moved = forward_kinematics(robot.chain, np.where(free, q + step, q))      # (N, K, 4, 4)
-        out |= test & _reach(robot, family, targets, moved[..., :3, :].transpose(2, 3, 0, 1))[2]
+        f = free[pose, slot]
+        moved = forward_kinematics(robot.chain, np.where(f, q[pose, slot] + step,
+                                                         q[pose, slot]))         # (m, 4, 4)
+        out[pose, slot] = _reach(robot, family, targets.take(pose),
+                                 moved[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0]
     return out
 
 
