@@ -68,6 +68,7 @@ def on_true_robot(robot, family, targets, q, candidate, br):
     keep = move <= KEEP_CONTINUA * max(robot.characteristic_length, 1e-12) \
         and turn <= KEEP_CONTINUA
     idx = np.nonzero(candidate & ~br.free_mask().any(-1) if keep else candidate)
+    nearest = q, candidate
     if len(idx[0]):
         q = q.copy()
         q[idx] = refine(robot, q[idx], targets.T[idx[0]], mode=mode,
@@ -84,6 +85,36 @@ def on_true_robot(robot, family, targets, q, candidate, br):
         q = np.concatenate([q, Qg], axis=1)
         candidate = np.concatenate([candidate, okg], axis=1)
         br = br.appended(okg, ROOTS)
+        q, candidate, br = _with_valley_roots(robot, targets.T, q, candidate, br, K, nearest)
         method += ", and joined with the general 6R elimination's solutions"
     q = np.where(robot.is_revolute, wrap(q), q)
     return q, candidate, br, method
+
+
+def _with_valley_roots(robot, T, q, candidate, br, first: int, nearest):
+    """The candidates with the roots of the broken continua through them or through the
+    nearest robot's candidates ``nearest`` (``(q, candidate)`` before refinement: Newton's
+    method may have taken them off their curve) (:mod:`kincalc.ik.valleys`): the stalled
+    candidates on each curve replaced by its roots, put in the general 6R elimination's empty slots
+    (from ``first``; labelled ``root k`` of joint 3, as that elimination's), more slots
+    appended where they do not suffice."""
+    from .valleys import broken_continua
+    replaced, roots, rok = broken_continua(robot, T, q, candidate, *nearest)
+    candidate = candidate & ~replaced
+    if not np.count_nonzero(rok):
+        return q, candidate, br
+    N, K, n = q.shape
+    counts = rok.sum(1)
+    room = (~candidate[:, first:]).sum(1)
+    more = int(max(0, (counts - room).max()))
+    if more:
+        G = K - first
+        signs = tuple(((2, f"root {G + k + 1}"),) for k in range(more))
+        br = br.appended(np.zeros((N, more), bool), signs)
+        q = np.concatenate([q, np.zeros((N, more, n))], axis=1)
+        candidate = np.concatenate([candidate, np.zeros((N, more), bool)], axis=1)
+    q, candidate = q.copy(), candidate.copy()
+    for t in np.nonzero(counts)[0].tolist():
+        slots = first + np.nonzero(~candidate[t, first:])[0][:counts[t]]
+        q[t, slots], candidate[t, slots] = roots[t, rok[t]], True
+    return q, candidate, br

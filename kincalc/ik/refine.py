@@ -61,16 +61,19 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
         approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
 
     def evaluate(y, rows):
-        A, e = _linearised(robot, y * col, T[rows], L, mode,
+        A, e = linearised(robot, y * col, T[rows], L, mode,
                            None if approach is None else approach[rows])
         return e, lambda keep: A[keep] * col
     y, _, moved = polish(evaluate, q / col, iterations=iterations, tol=CONVERGED)
     return np.where(moved[:, None], y * col, q)
 
 
-def _linearised(robot, q, T, L, mode, approach):
-    """``(A (m, r, n), e (m, r))``: the Jacobian rows of the equations and their
-    residuals at ``q``, lengths divided by ``L``."""
+def linearised(robot, q, T, L, mode: str = "pose", approach=None):
+    """The equations of :func:`refine` linearised at ``q (m, n)`` (rad / m), for the targets
+    ``T (m, 4, 4)`` (world frame, m): ``(A (m, r, n), e (m, r))``, the derivative of the model
+    (``r`` rows: position, then orientation or approach; base frame) by the joints and the
+    residuals ``target - model``, lengths divided by ``L`` (m), orientations in rad (the
+    rotation vector of ``R_target R^T``)."""
     J, Tq = jacobian_and_pose(robot.chain, q, column_walk=True)   # (m, 6, n) base frame
     ep = (T[:, :3, 3] - Tq[:, :3, 3]) / L
     Jv = J[:, :3] / L

@@ -374,10 +374,17 @@ def rotvec_from_matrix(R) -> np.ndarray:
     -------
     ndarray (..., 3)
         Rotation vector (rad), norm in [0, pi]: axis and angle of
-        :func:`axis_angle_from_matrix`.
+        :func:`axis_angle_from_matrix`, also below its ``SMALL_ANGLE``: the quaternion's
+        vector part ``v`` times ``2 atan2(|v|, w) / |v|`` (``2 / w`` at ``v = 0``), so that a
+        rotation of 1e-13 rad, a Newton polish's residual at rounding, keeps its direction.
     """
-    axis, angle = axis_angle_from_matrix(R)
-    return axis * angle[..., None]
+    q = quaternion_from_matrix(R)
+    v, w = q[..., 1:], q[..., 0]
+    n = np.linalg.norm(v, axis=-1)
+    some = n > 0
+    factor = np.where(some, 2.0 * np.arctan2(n, w) / np.where(some, n, 1.0),
+                      2.0 / np.where(some, 1.0, w))
+    return v * factor[..., None]
 
 
 def matrix_from_rotvec(r) -> np.ndarray:

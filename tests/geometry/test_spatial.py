@@ -117,6 +117,19 @@ def test_rotation_vector_against_rodrigues_by_hand():
     assert np.allclose(sp.rotvec_from_matrix(np.eye(3)), 0)
 
 
+@pytest.mark.parametrize("angle", [1e-15, 1e-13, 1e-12, 3e-12, 1e-10])
+def test_rotation_vector_of_a_tiny_rotation_keeps_its_direction(angle):
+    """Below 2e-12 rad the axis of axis_angle_from_matrix is reported as z; the rotation
+    vector, a Newton polish's orientation residual, must keep the rotation's own direction
+    (it had pointed along z: a polish near rounding oscillated at 1e-12)."""
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        r = rng.standard_normal(3)
+        r *= angle / np.linalg.norm(r)
+        R = np.eye(3) + sp.skew(r) + 0.5 * sp.skew(r) @ sp.skew(r)     # exp to O(angle^3)
+        assert np.allclose(sp.rotvec_from_matrix(R), r, rtol=1e-3, atol=2e-16)
+
+
 def test_tcv_round_trip():
     T = sp.transform(sp.matrix_from_rpy([0.1, 0.2, 0.3]), [1, 2, 3])
     w = sp.tcv_from_transform(T, 0.7)

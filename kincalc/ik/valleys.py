@@ -1,0 +1,381 @@
+"""The broken continua of a robot only nearly of its family: their roots, traced.
+
+At a pose where the nearest structured robot is singular (a spherical wrist at q5 = 0, a
+three-parallel arm with axis 6 along its parallel axes), that robot reaches the pose along
+a continuum, a closed curve of configurations. A robot a defect ``d`` away from it reaches
+the pose only at isolated points of a curve next to it; elsewhere on that curve it misses by
+about ``d`` times the arm's size. Newton's method stalls along such a curve (the Jacobian is
+nearly singular along it) and the general 6R elimination places its roots there poorly, so
+the candidates on it reach the pose only to the defect, and the configuration the pose came
+from can be missing among them. This module follows the curve from such a candidate and
+returns its roots.
+
+* **The curve.** With the Jacobian ``A = U S V^T`` (scaled as :mod:`kincalc.ik.refine`'s
+  equations: lengths divided by the arm's size), it is the set of configurations where the
+  residual ``e`` has no component along the five largest singular directions,
+  ``U5^T e = 0``: five equations in six unknowns. It is followed by steps of :data:`STEP`
+  rad along its tangent (the right singular vector of the smallest singular value), each
+  corrected back onto it by Gauss-Newton on the five equations (the truncated
+  pseudo-inverse), until it closes on its start, ends, or :data:`MAX_STEPS`; an open trace
+  is followed the other way from its start too.
+* **The roots.** On the curve the residual is ``g u``, ``u`` the left singular vector of the
+  smallest singular value (its sign kept continuous along the curve). A solution is a zero
+  of ``g``: a change of sign between two steps brackets one, the Illinois regula falsi on
+  the chord between them places it, and Newton's method on the whole pose
+  (:func:`~kincalc.ik.refine.refine`) polishes it to rounding.
+
+Every array holds one configuration per row, and each row's values do not depend on the
+other rows (per-matrix SVDs and products): a pose's roots are the same alone and in a batch.
+Joints are revolute (rad): the caller, :mod:`kincalc.ik.nearly`, traces six-revolute robots
+only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..spatial import wrap
+from ..tolerances import NEAR_MISS
+from .refine import linearised, refine
+
+#: a candidate is traced when the smallest singular value of its scaled Jacobian is at most
+#: this times the largest (at a broken continuum it is about the defect) ...
+VALLEY = 1e-5
+#: ... and it reaches its pose to NEAR_MISS of the arm's size (rad): it lies on the curve.
+#: A traced candidate that reaches it only to more than this is a point of the curve where
+#: Newton's method stalled, not a solution, and gives way to the curve's roots
+STALLED = 1e-14
+#: two roots of a curve closer than this (rad, every joint) may be one (:func:`_one_per_root`)
+SAME_ROOT = 1e-2
+#: a traced curve is a broken continuum when its residual stays within this (scaled) all
+#: along it; elsewhere (an ordinary singular configuration, a double root where two
+#: branches meet) its roots are added and no candidate is dropped
+BROKEN = 1e-4
+#: a zero of g is kept as a root when it reaches the pose to this (scaled): a root is a
+#: solution to rounding (a double root's to some 1e-15); a change of sign that is no root
+#: (the curve's singular directions swapping, where two of them come close) ends above it
+ROOT = 1e-13
+#: the predictor's step along the tangent (rad, the joints' space)
+STEP = 0.2
+#: steps at most in each direction (a curve of 40 rad)
+MAX_STEPS = 400
+#: corrector iterations per step, its convergence (the five components, scaled) and the
+#: residual beyond which the curve is lost (it ends, or turns more sharply than a step)
+CORRECTIONS = 5
+#: ... and along the trace, where only the sign of g is read (off the curve by ``r``, g is
+#: off by about ``r`` times its slope, some defects smaller)
+TRACE_CORRECTIONS = 3
+ON_CURVE = 1e-16
+LOST = 1e-8
+#: Illinois iterations per root at most
+ILLINOIS = 20
+
+
+def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
+    """The roots of the curves through the candidates ``q[candidate]`` and ``q_more[more]``,
+    and which of the candidates they replace.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot as given; revolute joints.
+    T : ndarray (N, 4, 4)
+        The target poses ``T_world_tool`` (world frame, m).
+    q : ndarray (N, K, n)
+        Candidates (rad), refined on ``robot``.
+    candidate : ndarray (N, K) of bool
+        The slots that hold one.
+    q_more, more : ndarray (N, K', n), (N, K') of bool
+        More starting points (rad), not candidates themselves.
+
+    Returns
+    -------
+    replaced : ndarray (N, K) of bool
+        Candidates on a broken continuum, to be dropped: those that reach their pose only to
+        more than :data:`STALLED` are points of the curve where Newton's method stalled, and
+        the others are among the roots.
+    roots : ndarray (N, R, n)
+        Each pose's roots of its broken continua (rad, wrapped): the changes of sign of g
+        and the candidates on them that reach the pose to STALLED, one per root
+        (:func:`_one_per_root`).
+    ok : ndarray (N, R) of bool
+        The roots that hold one.
+    """
+    N, K, n = q.shape
+    L = max(robot.characteristic_length, 1e-12)
+    Q, seed = np.concatenate([q, q_more], axis=1), np.concatenate([candidate, more], axis=1)
+    replaced = np.zeros(seed.shape, bool)
+    found = [[] for _ in range(N)]
+    at = np.nonzero(seed)
+    if len(at[0]):
+        A, e = linearised(robot, Q[at], T[at[0]], L)
+        s = np.linalg.svd(A, compute_uv=False)
+        reach = np.maximum.reduce(np.abs(e), axis=-1)
+        on = (s[:, -1] <= VALLEY * s[:, 0]) & (reach <= NEAR_MISS)
+        valley = np.zeros(seed.shape, bool)
+        valley[at[0][on], at[1][on]] = True
+        residual = np.zeros(seed.shape)
+        residual[at] = reach
+        todo = valley.copy()
+        while np.count_nonzero(todo):
+            rows = np.nonzero(todo.any(1))[0]
+            first = todo[rows].argmax(1)                         # each pose's next start
+            paths, roots, broken = _loops(robot, T[rows], Q[rows, first], L)
+            for i, t in enumerate(rows.tolist()):
+                found[t] += roots[i]
+                on_it = _covered(paths[i], Q[t]) & valley[t]
+                on_it[first[i]] = True
+                if broken[i]:
+                    mine = on_it.copy()
+                    mine[K:] = False
+                    replaced[t] |= mine
+                    found[t] += list(Q[t, mine & (residual[t] <= STALLED)])
+                todo[t] &= ~on_it
+    found = [_one_per_root(robot, T[t], f, L) if len(f) > 1 else f
+             for t, f in enumerate(found)]
+    R = max([len(f) for f in found] + [0])
+    roots = np.zeros((N, R, n))
+    ok = np.zeros((N, R), bool)
+    for t, f in enumerate(found):
+        if f:
+            roots[t, :len(f)] = f
+            ok[t, :len(f)] = True
+    return replaced[:, :K], wrap(roots), ok
+
+
+def _one_per_root(robot, T, roots, L) -> list:
+    """``roots`` (``(n,)`` each) with those that are one root dropped: two within
+    :data:`SAME_ROOT` of each other (rad) are one where the curve between them reaches the
+    pose to :data:`STALLED` (a double root, or a stretch of the curve flat to rounding: no
+    value between them is better than another); the one that reaches closer stays."""
+    R = np.array(roots)
+    reach = np.maximum.reduce(np.abs(linearised(robot, R, np.broadcast_to(T, (len(R), 4, 4)),
+                                                L)[1]), axis=-1)
+    kept = []
+    for i in np.argsort(reach, kind="stable").tolist():
+        near = [k for k in kept if np.abs(wrap(R[i] - R[k])).max() <= SAME_ROOT]
+        if near:
+            mid = R[near] + 0.5 * wrap(R[i] - R[near])
+            y, e, _, _, _ = _corrected(robot, np.broadcast_to(T, (len(mid), 4, 4)), mid, L)
+            if np.count_nonzero(np.maximum.reduce(np.abs(e), axis=-1) <= STALLED):
+                continue
+        kept.append(i)
+    return [R[i] for i in sorted(kept)]
+
+
+def _covered(path, q) -> np.ndarray:
+    """``(K,)`` bool: the configurations ``q (K, n)`` within three quarters of a step of a
+    point of ``path (S, n)`` (rad, wrapped differences): on the curve, between two of its
+    points."""
+    if not len(path):
+        return np.zeros(len(q), bool)
+    d = np.abs(wrap(q[:, None, :] - path[None, :, :])).max(-1)
+    return d.min(1) < 0.75 * STEP
+
+
+def _loops(robot, T, y0, L) -> tuple[list, list, np.ndarray]:
+    """The curves through ``y0 (m, n)`` (targets ``T (m, 4, 4)``): per start, the points
+    visited ``(S, n)``, the list of roots found (``(n,)`` each, rad), and whether the curve
+    is a broken continuum ``(m,)``: it closed on its start, and ``g`` stays within
+    :data:`BROKEN` all along it."""
+    paths = [[] for _ in range(len(y0))]
+    roots = [[] for _ in range(len(y0))]
+    go = np.ones(len(y0), bool)
+    broken = np.zeros(len(y0), bool)
+    for direction in (1.0, -1.0):
+        rows = np.nonzero(go)[0]
+        if not len(rows):
+            break
+        Y, G, U, count, closed, far = _trace(robot, T[rows], y0[rows], L, direction)
+        if direction > 0:
+            broken = closed & ~far
+        b, k = _brackets(G, count, closed)
+        last = count[b] - 1
+        k1 = np.where(k == last, 0, k + 1)                      # the closing chord: to the start
+        ya = Y[b, k]
+        yb = ya + wrap(Y[b, k1] - ya)
+        b2, ya2, yb2, ga2, gb2, ua2 = _near_doubles(robot, T[rows], Y, G, U, count, closed, L)
+        b = np.concatenate([b, b2])
+        if len(b):
+            y, reach = _root(robot, T[rows[b]], np.concatenate([ya, ya2]),
+                             np.concatenate([yb, yb2]), np.concatenate([G[b[:len(k)], k], ga2]),
+                             np.concatenate([G[b[:len(k)], k1], gb2]),
+                             np.concatenate([U[b[:len(k)], k], ua2]), L)
+            for i, r in zip(b[reach <= ROOT].tolist(), y[reach <= ROOT]):
+                roots[rows[i]].append(r)
+        for i, r in enumerate(rows.tolist()):
+            paths[r].append(Y[i, :count[i]])
+        go[rows[closed | far]] = False
+    return ([np.concatenate(p) if p else np.zeros((0, y0.shape[1])) for p in paths], roots,
+            broken)
+
+
+def _brackets(G, count, closed) -> tuple[np.ndarray, np.ndarray]:
+    """``(trace, step)`` of every change of sign of ``g`` between step ``k`` and the next
+    (the start, after the last step of a closed trace); a zero at a step counts once."""
+    m, S = G.shape
+    k = np.arange(S)
+    nxt = np.concatenate([G[:, 1:], G[:, :1]], axis=1)          # the next; the last's: start
+    last = k[None, :] == count[:, None] - 1
+    nxt = np.where(last, G[:, :1], nxt)
+    valid = (k[None, :] < count[:, None] - 1) | (last & closed[:, None])
+    change = valid & (G != 0) & (G * nxt <= 0)
+    change[:, 0] |= (G[:, 0] == 0) & (count > 0)                  # the start itself a root
+    return np.nonzero(change)
+
+
+def _near_doubles(robot, T, Y, G, U, count, closed, L, parts: int = 8):
+    """Roots that no change of sign between two steps shows: two roots within one step, or
+    a double root where ``g`` touches zero. At each step where ``|g|`` has a local minimum
+    (along a closed trace, around its start too) with no change of sign beside it: a minimum
+    within :data:`STALLED` is a root there; one below a quarter of the largest ``|g|`` of
+    the trace has the two steps around it cut into ``parts`` each, their points corrected
+    onto the curve, and their changes of sign taken, or the least of them where it is
+    within STALLED. Returns ``(trace, ya, yb, ga, gb, ua)``: brackets (points ``(b, n)``,
+    ``g`` at them ``(b,)`` measured along ``ua (b, 6)``), ``ga = 0`` for a root at ``ya``."""
+    m, S = G.shape
+    n = Y.shape[-1]
+    k = np.arange(S)[None, :]
+    last = (count - 1)[:, None]
+    prev = np.where(k == 0, last, k - 1)                 # cyclic; ends of an open trace masked
+    nxt = np.where(k >= last, 0, k + 1)
+    gp, g, gn = np.take_along_axis(G, prev, 1), G, np.take_along_axis(G, nxt, 1)
+    inside = (k <= last) & (closed[:, None] | ((k > 0) & (k < last)))
+    low = inside & (np.abs(g) <= np.abs(gp)) & (np.abs(g) <= np.abs(gn)) & (gp * g > 0) & \
+        (g * gn > 0)
+    at_root = low & (np.abs(g) <= STALLED)
+    dip = low & ~at_root & (np.abs(g) <= 0.25 * np.maximum.reduce(np.abs(G), axis=-1,
+                                                                     keepdims=True))
+    b0, k0 = np.nonzero(at_root)
+    out = [(b0, Y[b0, k0], Y[b0, k0], np.zeros(len(b0)), np.ones(len(b0)), U[b0, k0])]
+    b, j = np.nonzero(dip)
+    if len(b):
+        y0 = Y[b, prev[b, j]]
+        y0 = Y[b, j] + wrap(y0 - Y[b, j])
+        chord = wrap(Y[b, nxt[b, j]] - Y[b, j]) + (Y[b, j] - y0)
+        f = np.arange(1, 2 * parts) / (2 * parts)
+        P = len(f)
+        pts = y0[:, None, :] + f[None, :, None] * chord[:, None, :]
+        yc, ec, uc, _, _ = _corrected(robot, np.repeat(T[b], P, axis=0), pts.reshape(-1, n), L,
+                                      TRACE_CORRECTIONS)
+        ua = np.repeat(U[b, j], P, axis=0)
+        gs = (_dot(uc, ec) * np.where(_dot(uc, ua) < 0, -1.0, 1.0)).reshape(len(b), P)
+        Ys = np.concatenate([y0[:, None], yc.reshape(len(b), P, n), (y0 + chord)[:, None]], 1)
+        Gs = np.concatenate([gp[b, j][:, None], gs, gn[b, j][:, None]], axis=1)
+        change = (Gs[:, :-1] != 0) & (Gs[:, :-1] * Gs[:, 1:] <= 0)
+        i, t = np.nonzero(change)
+        out.append((b[i], Ys[i, t], Ys[i, t + 1], Gs[i, t], Gs[i, t + 1], U[b[i], j[i]]))
+        least = np.abs(Gs).argmin(1)
+        i = np.nonzero(~change.any(1) & (np.abs(Gs[np.arange(len(b)), least]) <= STALLED))[0]
+        out.append((b[i], Ys[i, least[i]], Ys[i, least[i]], np.zeros(len(i)), np.ones(len(i)),
+                    U[b[i], j[i]]))
+    return tuple(np.concatenate([o[x] for o in out]) for x in range(6))
+
+
+def _trace(robot, T, y0, L, direction):
+    """Follow the curves from ``y0 (m, n)``: points ``Y (m, S, n)``, ``g`` there ``G (m, S)``,
+    the left singular vectors ``U (m, S, 6)`` it was measured along, the points per trace
+    ``count (m,)``, whether each closed on its start ``(m,)``, and whether it was left where
+    ``|g|`` exceeded :data:`BROKEN` ``(m,)`` (no broken continuum). A step the corrector does
+    not bring back onto the curve is halved, down to a sixteenth of :data:`STEP`, before
+    the trace ends there."""
+    m, n = y0.shape
+    S = MAX_STEPS + 1
+    Y, G, U = np.zeros((m, S, n)), np.zeros((m, S)), np.zeros((m, S, 6))
+    closed, far = np.zeros(m, bool), np.zeros(m, bool)
+    y, e, u, v, lost = _corrected(robot, T, y0, L)
+    big = np.abs(v).argmax(-1)                     # a deterministic first direction
+    v *= direction * np.sign(v[np.arange(m), big])[:, None]
+    live = ~lost
+    count = live.astype(int)
+    Y[:, 0], G[:, 0], U[:, 0] = y, _dot(u, e), u
+    h = np.full(m, STEP)
+    bend = np.zeros((m, n))                        # the tangent's turn per rad: the predictor's
+    for _ in range(4 * MAX_STEPS):
+        rows = np.nonzero(live)[0]
+        if not len(rows):
+            break
+        hr = h[rows, None]
+        yk, ek, uk, vk, lostk = _corrected(robot, T[rows], y[rows] + hr * v[rows]
+                                           + 0.5 * hr * hr * bend[rows], L, TRACE_CORRECTIONS)
+        h[rows[lostk]] *= 0.5
+        live[rows[lostk & (h[rows] < STEP / 16)]] = False
+        rows, yk, ek, uk, vk = rows[~lostk], yk[~lostk], ek[~lostk], uk[~lostk], vk[~lostk]
+        uk *= np.where(_dot(uk, u[rows]) < 0, -1.0, 1.0)[:, None]
+        vk *= np.where(_dot(vk, v[rows]) < 0, -1.0, 1.0)[:, None]
+        bend[rows] = (vk - v[rows]) / h[rows, None]
+        y[rows], u[rows], v[rows], h[rows] = yk, uk, vk, STEP
+        k = count[rows]
+        Y[rows, k], G[rows, k], U[rows, k] = yk, _dot(uk, ek), uk
+        count[rows] += 1
+        home = (k >= 4) & (np.abs(wrap(yk - Y[rows, 0])).max(-1) < 0.75 * STEP)
+        closed[rows[home]] = True
+        far[rows[np.abs(G[rows, k]) > BROKEN]] = True
+        live[rows[home | (count[rows] == S)]] = False
+        live &= ~far
+    return Y, G, U, count, closed, far
+
+
+def _corrected(robot, T, y, L, iterations: int = CORRECTIONS):
+    """Points ``y (m, n)`` moved onto the curve: ``(y, e, u, v, lost)``, the residual
+    ``e (m, 6)`` there, the left and right singular vectors of the smallest singular value
+    ``u (m, 6)``, ``v (m, n)``, and where the corrector did not converge ``(m,)``. A point
+    stops once its five components are below :data:`ON_CURVE` or no longer halve (rounding)."""
+    y = np.array(y, float)
+    best = np.full(len(y), np.inf)
+    go = np.ones(len(y), bool)
+    for it in range(iterations + 1):
+        A, e = linearised(robot, y, T, L)
+        Uf, s, Vt = np.linalg.svd(A)
+        f = (e[:, None, :] @ Uf[:, :, :-1])[:, 0]                 # U5^T e, (m, 5)
+        r = np.maximum.reduce(np.abs(f), axis=-1)
+        go &= (r > ON_CURVE) & (r < 0.5 * best)
+        best = np.minimum(best, r)
+        if it == iterations or not np.count_nonzero(go):
+            break
+        step = ((f / s[:, :-1])[:, None, :] @ Vt[:, :-1])[:, 0]
+        y = y + np.where(go[:, None], step, 0.0)
+    return y, e, Uf[:, :, -1], Vt[:, -1], r > LOST
+
+
+def _root(robot, T, ya, yb, ga, gb, ua, L) -> np.ndarray:
+    """The zeros of ``g`` between the curve's points ``ya`` and ``yb (b, n)`` (``g`` of
+    opposite signs there, measured along ``ua (b, 6)``; ``ga = 0``: at ``ya``), polished on
+    the whole pose: ``(b, n)`` (rad), and how closely each reaches it ``(b,)`` (scaled)."""
+    sa, sb = np.zeros(len(ya)), np.ones(len(ya))
+    fa, fb = np.array(ga, float), np.array(gb, float)
+    side = np.zeros(len(ya))
+    y = np.where((fa == 0)[:, None], ya, yb)
+    live = (fa != 0) & (fb != 0)
+    for _ in range(ILLINOIS):
+        rows = np.nonzero(live)[0]
+        if not len(rows):
+            break
+        sc = (sa[rows] * fb[rows] - sb[rows] * fa[rows]) / (fb[rows] - fa[rows])
+        yc, ec, uc, _, _ = _corrected(robot, T[rows],
+                                      ya[rows] + sc[:, None] * (yb[rows] - ya[rows]), L)
+        fc = _dot(uc, ec) * np.where(_dot(uc, ua[rows]) < 0, -1.0, 1.0)
+        y[rows] = yc
+        right = fc * fb[rows] > 0                    # the root lies between a and c
+        ra, rb = rows[~right], rows[right]
+        fa[rb[side[rb] == -1]] *= 0.5                # (Illinois: halve the end kept twice)
+        sb[rb], fb[rb], side[rb] = sc[right], fc[right], -1
+        fb[ra[side[ra] == 1]] *= 0.5
+        sa[ra], fa[ra], side[ra] = sc[~right], fc[~right], 1
+        live[rows[(fc == 0) | ((sb[rows] - sa[rows]) * STEP < 1e-13)]] = False
+    # Newton's method on the whole pose takes a root to rounding where it is well placed;
+    # along a flat stretch of g its step (g over the smallest singular value) may wander
+    # off: the better of the two is kept
+    polished = refine(robot, y, T, mode="pose")
+    before, after = (np.maximum.reduce(np.abs(linearised(robot, x, T, L)[1]), axis=-1)
+                     for x in (y, polished))
+    better = after < before
+    return np.where(better[:, None], polished, y), np.where(better, after, before)
+
+
+def _dot(a, b) -> np.ndarray:
+    """Row-wise dot products of ``a, b (m, k)``, summed along the components in order."""
+    out = a[:, 0] * b[:, 0]
+    for i in range(1, a.shape[1]):
+        out += a[:, i] * b[:, i]
+    return out
