@@ -69,6 +69,10 @@ ON_CURVE = 1e-16
 LOST = 1e-8
 #: Illinois iterations per root at most
 ILLINOIS = 20
+#: 1 / the golden ratio, and the golden-section steps of a dip of g (its interval of two steps
+#: shrinks to 1e-4 of itself)
+INV_PHI = 0.5 * (5 ** 0.5 - 1)
+GOLDEN = 20
 
 
 def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
@@ -224,17 +228,38 @@ def _brackets(G, count, closed) -> tuple[np.ndarray, np.ndarray]:
     return np.nonzero(change)
 
 
-def _near_doubles(robot, T, Y, G, U, count, closed, L, parts: int = 8):
+def _dip_bottom(robot, T, y0, chord, ua, side, L, iterations: int = GOLDEN):
+    """Where ``side g`` is least on the curve between ``y0`` and ``y0 + chord (b, n)`` (the
+    chord's points corrected onto the curve; ``g`` measured along ``ua (b, 6)``): a
+    golden-section search on the chord. Returns the point ``(b, n)`` and ``g`` there
+    ``(b,)``."""
+    def h(f):
+        y, e, u, _, _ = _corrected(robot, T, y0 + f[:, None] * chord, L, TRACE_CORRECTIONS)
+        return y, _dot(u, e) * np.where(_dot(u, ua) < 0, -1.0, 1.0)
+    a, b = np.zeros(len(y0)), np.ones(len(y0))
+    c, d = b - INV_PHI * (b - a), a + INV_PHI * (b - a)
+    hc, hd = side * h(c)[1], side * h(d)[1]
+    for _ in range(iterations):
+        left = hc < hd                                   # the least lies in [a, d]
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        x = np.where(left, b - INV_PHI * (b - a), a + INV_PHI * (b - a))
+        hx = side * h(x)[1]
+        c, d = np.where(left, x, d), np.where(left, c, x)
+        hc, hd = np.where(left, hx, hd), np.where(left, hc, hx)
+    return h(0.5 * (a + b))
+
+
+
+def _near_doubles(robot, T, Y, G, U, count, closed, L):
     """Roots that no change of sign between two steps shows: two roots within one step, or
     a double root where ``g`` touches zero. At each step where ``|g|`` has a local minimum
     (along a closed trace, around its start too) with no change of sign beside it: a minimum
     within :data:`STALLED` is a root there; one below a quarter of the largest ``|g|`` of
-    the trace has the two steps around it cut into ``parts`` each, their points corrected
-    onto the curve, and their changes of sign taken, or the least of them where it is
-    within STALLED. Returns ``(trace, ya, yb, ga, gb, ua)``: brackets (points ``(b, n)``,
+    the trace has the bottom of its dip found between the steps beside it
+    (:func:`_dip_bottom`): beyond zero, it brackets two roots; within STALLED, it is a
+    double root. Returns ``(trace, ya, yb, ga, gb, ua)``: brackets (points ``(b, n)``,
     ``g`` at them ``(b,)`` measured along ``ua (b, 6)``), ``ga = 0`` for a root at ``ya``."""
-    m, S = G.shape
-    n = Y.shape[-1]
+    S = G.shape[1]
     k = np.arange(S)[None, :]
     last = (count - 1)[:, None]
     prev = np.where(k == 0, last, k - 1)                 # cyclic; ends of an open trace masked
@@ -250,25 +275,17 @@ def _near_doubles(robot, T, Y, G, U, count, closed, L, parts: int = 8):
     out = [(b0, Y[b0, k0], Y[b0, k0], np.zeros(len(b0)), np.ones(len(b0)), U[b0, k0])]
     b, j = np.nonzero(dip)
     if len(b):
-        y0 = Y[b, prev[b, j]]
-        y0 = Y[b, j] + wrap(y0 - Y[b, j])
+        y0 = Y[b, j] + wrap(Y[b, prev[b, j]] - Y[b, j])
         chord = wrap(Y[b, nxt[b, j]] - Y[b, j]) + (Y[b, j] - y0)
-        f = np.arange(1, 2 * parts) / (2 * parts)
-        P = len(f)
-        pts = y0[:, None, :] + f[None, :, None] * chord[:, None, :]
-        yc, ec, uc, _, _ = _corrected(robot, np.repeat(T[b], P, axis=0), pts.reshape(-1, n), L,
-                                      TRACE_CORRECTIONS)
-        ua = np.repeat(U[b, j], P, axis=0)
-        gs = (_dot(uc, ec) * np.where(_dot(uc, ua) < 0, -1.0, 1.0)).reshape(len(b), P)
-        Ys = np.concatenate([y0[:, None], yc.reshape(len(b), P, n), (y0 + chord)[:, None]], 1)
-        Gs = np.concatenate([gp[b, j][:, None], gs, gn[b, j][:, None]], axis=1)
-        change = (Gs[:, :-1] != 0) & (Gs[:, :-1] * Gs[:, 1:] <= 0)
-        i, t = np.nonzero(change)
-        out.append((b[i], Ys[i, t], Ys[i, t + 1], Gs[i, t], Gs[i, t + 1], U[b[i], j[i]]))
-        least = np.abs(Gs).argmin(1)
-        i = np.nonzero(~change.any(1) & (np.abs(Gs[np.arange(len(b)), least]) <= STALLED))[0]
-        out.append((b[i], Ys[i, least[i]], Ys[i, least[i]], np.zeros(len(i)), np.ones(len(i)),
-                    U[b[i], j[i]]))
+        side = np.sign(g[b, j])
+        ys, gs = _dip_bottom(robot, T[b], y0, chord, U[b, j], side, L)
+        cross = gs * side < 0                            # two roots, one on each side
+        i = np.nonzero(cross)[0]
+        out.append((np.r_[b[i], b[i]], np.r_[y0[i], ys[i]], np.r_[ys[i], y0[i] + chord[i]],
+                    np.r_[gp[b[i], j[i]], gs[i]], np.r_[gs[i], gn[b[i], j[i]]],
+                    np.r_[U[b[i], j[i]], U[b[i], j[i]]]))
+        i = np.nonzero(~cross & (np.abs(gs) <= STALLED))[0]        # touches zero: a double root
+        out.append((b[i], ys[i], ys[i], np.zeros(len(i)), np.ones(len(i)), U[b[i], j[i]]))
     return tuple(np.concatenate([o[x] for o in out]) for x in range(6))
 
 

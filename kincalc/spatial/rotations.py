@@ -365,6 +365,12 @@ def matrix_from_axis_angle(axis, angle) -> np.ndarray:
 def rotvec_from_matrix(R) -> np.ndarray:
     """Rotation vectors ``axis * angle`` of rotation matrices.
 
+    Up to a quarter turn (``tr R >= 1``) from the skew part ``v = 2 sin(angle) axis`` and
+    ``2 cos(angle) = tr R - 1``: ``v atan2(|v|, tr R - 1) / |v|``, accurate to rounding in
+    direction and size down to the smallest angles (a Newton polish's orientation residual
+    near rounding keeps its direction); beyond, where the skew part loses the angle, through
+    the quaternion (:func:`axis_angle_from_matrix`).
+
     Parameters
     ----------
     R : array_like (..., 3, 3)
@@ -373,18 +379,19 @@ def rotvec_from_matrix(R) -> np.ndarray:
     Returns
     -------
     ndarray (..., 3)
-        Rotation vector (rad), norm in [0, pi]: axis and angle of
-        :func:`axis_angle_from_matrix`, also below its ``SMALL_ANGLE``: the quaternion's
-        vector part ``v`` times ``2 atan2(|v|, w) / |v|`` (``2 / w`` at ``v = 0``), so that a
-        rotation of 1e-13 rad, a Newton polish's residual at rounding, keeps its direction.
+        Rotation vector (rad), norm in [0, pi].
     """
-    q = quaternion_from_matrix(R)
-    v, w = q[..., 1:], q[..., 0]
-    n = np.linalg.norm(v, axis=-1)
-    some = n > 0
-    factor = np.where(some, 2.0 * np.arctan2(n, w) / np.where(some, n, 1.0),
-                      2.0 / np.where(some, 1.0, w))
-    return v * factor[..., None]
+    R = np.asarray(R, dtype=float)
+    v = np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0],
+                  R[..., 1, 0] - R[..., 0, 1]], axis=-1)
+    c2 = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0
+    sn = np.sqrt(v[..., 0] * v[..., 0] + v[..., 1] * v[..., 1] + v[..., 2] * v[..., 2])
+    out = v * (np.arctan2(sn, c2) / np.maximum(sn, 1e-300))[..., None]
+    far = c2 < 0.0
+    if np.count_nonzero(far):
+        axis, angle = axis_angle_from_matrix(R[far])
+        out[far] = axis * angle[..., None]
+    return out
 
 
 def matrix_from_rotvec(r) -> np.ndarray:
