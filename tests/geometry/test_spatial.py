@@ -130,6 +130,23 @@ def test_rotation_vector_of_a_tiny_rotation_keeps_its_direction(angle):
         assert np.allclose(sp.rotvec_from_matrix(R), r, rtol=1e-3, atol=2e-16)
 
 
+def test_rotation_vector_agrees_with_the_quaternion_route_at_every_angle():
+    """rotvec_from_matrix reads angles up to a quarter turn from the skew part and the trace;
+    the quaternion of axis_angle_from_matrix (Shepperd) is a second formulation."""
+    rng = np.random.default_rng(9)
+    axes = rng.normal(size=(400, 3))
+    angles = np.concatenate([rng.uniform(0, np.pi, 392),
+                             [1e-9, np.pi / 2 - 1e-9, np.pi / 2, np.pi / 2 + 1e-9, 2.0,
+                              np.pi - 1e-9, np.pi - 1e-12, 1e-6]])
+    R = sp.matrix_from_axis_angle(axes, angles)
+    axis, angle = sp.axis_angle_from_matrix(R)
+    want = axis * angle[:, None]
+    got = sp.rotvec_from_matrix(R)
+    half = angles > np.pi - 1e-6                    # a half turn: +-axis is one rotation
+    assert np.allclose(got[~half], want[~half], atol=1e-12)
+    assert np.allclose(np.abs(got[half]), np.abs(want[half]), atol=1e-6)
+
+
 def test_tcv_round_trip():
     T = sp.transform(sp.matrix_from_rpy([0.1, 0.2, 0.3]), [1, 2, 3])
     w = sp.tcv_from_transform(T, 0.7)

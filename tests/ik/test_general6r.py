@@ -24,10 +24,10 @@ from randrobots import random_pose, random_robot
 from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik.general6r import BATCH_SLOTS, solve_general_6r, solve_general_6r_batch
-from kincalc.ik.general6r.polish import polish_candidates, rotation_log, skew_trace
+from kincalc.ik.general6r.polish import polish_candidates
 from kincalc.ik.general6r.robot import robot_data
 from kincalc.model import Joint, Robot
-from kincalc.spatial import matrix_from_axis_angle, rotation_error, rotvec_from_matrix
+from kincalc.spatial import rotation_error, rotvec_from_matrix
 
 D = np.deg2rad
 
@@ -561,14 +561,6 @@ def test_polish_returns_to_the_solutions_and_gives_up_far_away():
     good = res < 1e-10
     assert not good.all()                                   # most give up
     assert all(_contains(S, q) for q in wrap(Q[good]))      # the rest found real ones
-
-
-def test_rotation_log_of_newton_matches_the_quaternion_route():
-    rng = np.random.default_rng(9)
-    axes = rng.normal(size=(400, 3))
-    angles = np.concatenate([rng.uniform(0, np.pi, 396), [0.0, 1e-9, np.pi - 1e-9, np.pi]])
-    R = matrix_from_axis_angle(axes, angles)
-    assert np.allclose(rotation_log(*skew_trace(R), R), rotvec_from_matrix(R), atol=1e-12)
 
 
 def test_pose_no_candidate_reaches_after_polishing():

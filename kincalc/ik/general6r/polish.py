@@ -9,55 +9,10 @@ from ...fk import entry_frames
 from ...jacobian import frames_jacobian, jacobian_and_pose, scaled_ranks
 from ...spatial import rotvec_from_matrix
 from ..newton import polish
-from .common import (ACCEPT_TOL, GIVE_UP, GIVE_UP_LAST, NEWTON_ITERS, STEP_MAX, nnz,
-                     reduce_sum)
+from .common import ACCEPT_TOL, GIVE_UP, GIVE_UP_LAST, NEWTON_ITERS, STEP_MAX, reduce_sum
 
 
 # --- Newton polishing on the real robot -----------------------------------
-
-_ROT_IDX = np.array([7, 2, 3, 5, 6, 1, 0, 4, 8])   # R21 R02 R10, R12 R20 R01, R00 R11 R22
-
-
-def skew_trace(R):
-    """The skew part and the trace of rotations.
-
-    Parameters
-    ----------
-    R : ndarray (m, 3, 3)
-
-    Returns
-    -------
-    v : ndarray (m, 3)
-        ``2 sin(angle) axis`` (the skew part, doubled).
-    c2 : ndarray (m,)
-        ``2 cos(angle)``.
-    """
-    g = R.reshape(-1, 9).take(_ROT_IDX, axis=1)
-    return g[:, :3] - g[:, 3:6], reduce_sum(g[:, 6:], axis=1) - 1.0
-
-
-def rotation_log(v, c2, R):
-    """Rotation vectors from :func:`skew_trace`.
-
-    Parameters
-    ----------
-    v, c2 : ndarray (m, 3), (m,)
-        :func:`skew_trace` of ``R``.
-    R : ndarray (m, 3, 3)
-        The rotations (read only beyond 90 degrees, where the skew part is inaccurate).
-
-    Returns
-    -------
-    ndarray (m, 3)
-        ``angle axis`` (rad).
-    """
-    sn = np.sqrt(reduce_sum(v * v, axis=1))
-    w = v * (np.arctan2(sn, c2) / np.maximum(sn, 1e-300))[:, None]
-    far = c2 < 0.0
-    if nnz(far):
-        w[far] = rotvec_from_matrix(R[far])
-    return w
-
 
 def newton_curvature(chain) -> float:
     """A bound on the second derivatives of Newton's residual ``(dp / L, dw)`` on ``chain``
@@ -122,9 +77,8 @@ def polish_candidates(chain, T, Q, iters=NEWTON_ITERS, give_up=GIVE_UP, curvatur
         F = np.ascontiguousarray(A[:, :, -1].transpose(2, 0, 1))        # tool poses (m, 3, 4)
         Tr = T if len(rows) == len(T) else T[rows]      # the first pass: every row, in order
         R = Tr[:, :, :3] @ F[:, :, :3].swapaxes(-1, -2)
-        v, c2 = skew_trace(R)
         # the Jacobian (that of jacobian_and_pose) only of the candidates that take a step
-        return (np.concatenate([Tr[:, :, 3] - F[:, :, 3], rotation_log(v, c2, R)], axis=1),
+        return (np.concatenate([Tr[:, :, 3] - F[:, :, 3], rotvec_from_matrix(R)], axis=1),
                 lambda keep: np.ascontiguousarray(frames_jacobian(
                     A if np.count_nonzero(keep) == len(keep) else A[..., keep],
                     chain.revolute).transpose(2, 0, 1)))
