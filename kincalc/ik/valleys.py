@@ -20,9 +20,16 @@ returns its roots.
   is followed the other way from its start too.
 * **The roots.** On the curve the residual is ``g u``, ``u`` the left singular vector of the
   smallest singular value (its sign kept continuous along the curve). A solution is a zero
-  of ``g``: a change of sign between two steps brackets one, the Illinois regula falsi on
-  the chord between them places it, and Newton's method on the whole pose
-  (:func:`~kincalc.ik.refine.refine`) polishes it to rounding.
+  of ``g``: a change of sign between two steps brackets one; where ``|g|`` dips between
+  two steps without changing sign, the bottom of the dip (a golden-section search) either
+  lies beyond zero, and brackets two roots, or touches it, a double root. The Illinois
+  regula falsi on the chord of a bracket places a root, and Newton's method on the whole
+  pose (:func:`~kincalc.ik.refine.refine`) polishes it to rounding where it can.
+* **The answer.** On a broken continuum (a closed curve along which ``|g|`` stays small)
+  the candidates are replaced by the curve's roots, one per root: two roots between which
+  the curve reaches the pose to rounding are one (the defect leaves them no better placed).
+  Elsewhere (an ordinary singular configuration) the roots found are added and nothing is
+  dropped.
 
 Every array holds one configuration per row, and each row's values do not depend on the
 other rows (per-matrix SVDs and products): a pose's roots are the same alone and in a batch.
@@ -47,8 +54,8 @@ VALLEY = 1e-5
 STALLED = 1e-14
 #: two roots of a curve closer than this (rad, every joint) may be one (:func:`_one_per_root`)
 SAME_ROOT = 1e-2
-#: a traced curve is a broken continuum when its residual stays within this (scaled) all
-#: along it; elsewhere (an ordinary singular configuration, a double root where two
+#: a traced curve is a broken continuum when it closes and ``|g|`` stays within this
+#: (scaled) all along it; elsewhere (an ordinary singular configuration, a double root where two
 #: branches meet) its roots are added and no candidate is dropped
 BROKEN = 1e-4
 #: a zero of g is kept as a root when it reaches the pose to this (scaled): a root is a
@@ -57,7 +64,7 @@ BROKEN = 1e-4
 ROOT = 1e-13
 #: the predictor's step along the tangent (rad, the joints' space)
 STEP = 0.2
-#: steps at most in each direction (a curve of 40 rad)
+#: steps at most in each direction (a curve of 80 rad)
 MAX_STEPS = 400
 #: corrector iterations per step, its convergence (the five components, scaled) and the
 #: residual beyond which the curve is lost (it ends, or turns more sharply than a step)
