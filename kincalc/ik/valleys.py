@@ -24,7 +24,11 @@ returns its roots.
   two steps without changing sign, the bottom of the dip (a golden-section search) either
   lies beyond zero, and brackets two roots, or touches it, a double root. The Illinois
   regula falsi on the chord of a bracket places a root, and Newton's method on the whole
-  pose (:func:`~kincalc.ik.refine.refine`) polishes it to rounding where it can.
+  pose (:func:`~kincalc.ik.refine.refine`) polishes it to rounding where it can. Beside a
+  root at a step (a start is a candidate, often a root) g is read just off it, and a small
+  closed curve is traced again in :data:`MIN_POINTS` steps; each candidate the answer
+  replaces has the zero of g next to it found along the curve (the general 6R elimination
+  places every root roughly, where the steps may pass two at once).
 * **The answer.** On a broken continuum (a closed curve along which ``|g|`` stays small)
   the candidates are replaced by the curve's roots, one per root: two roots between which
   the curve reaches the pose to rounding are one (the defect leaves them no better placed).
@@ -64,8 +68,10 @@ BROKEN = 1e-4
 ROOT = 1e-13
 #: the predictor's step along the tangent (rad, the joints' space)
 STEP = 0.2
-#: steps at most in each direction (a curve of 80 rad)
+#: steps at most in each direction (a curve of 80 rad), and at least around a closed curve (a
+#: small one is traced again with a step that makes them: its roots lie closer together)
 MAX_STEPS = 400
+MIN_POINTS = 32
 #: corrector iterations per step, its convergence (the five components, scaled) and the
 #: residual beyond which the curve is lost (it ends, or turns more sharply than a step)
 CORRECTIONS = 5
@@ -142,6 +148,14 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
                     replaced[t] |= mine
                     found[t] += list(Q[t, mine & (residual[t] <= STALLED)])
                 todo[t] &= ~on_it
+        # a replaced candidate lies next to a root of its curve (the general 6R elimination
+        # places every root roughly), which the trace's steps may have passed between two
+        # others: the zero of g next to each, found along the curve
+        t, k = np.nonzero(replaced & (residual > STALLED))
+        if len(t):
+            y, reach = _zero_nearby(robot, T[t], Q[t, k], L)
+            for i in np.nonzero(reach <= ROOT)[0].tolist():
+                found[t[i]].append(y[i])
     found = [_one_per_root(robot, T[t], f, L) if len(f) > 1 else f
              for t, f in enumerate(found)]
     R = max([len(f) for f in found] + [0])
@@ -174,6 +188,32 @@ def _one_per_root(robot, T, roots, L) -> list:
     return [R[i] for i in sorted(kept)]
 
 
+def _zero_nearby(robot, T, y, L, reach: float = 0.1, iterations: int = 16):
+    """The zero of ``g`` next to each point ``y (m, n)`` of a curve, by the secant method on
+    the distance along the curve's tangent at ``y`` (each point of that line corrected onto
+    the curve), within ``reach`` rad. Returns the points ``(m, n)`` and how closely each
+    reaches its pose ``(m,)`` (scaled)."""
+    y0, e0, u0, v0, _ = _corrected(robot, T, y, L)
+    s0, g0 = np.zeros(len(y)), _dot(u0, e0)
+    s1 = np.full(len(y), 1e-3)
+    y1, e1, u1, _, _ = _corrected(robot, T, y0 + s1[:, None] * v0, L)
+    g1 = _dot(u1, e1) * np.where(_dot(u1, u0) < 0, -1.0, 1.0)
+    best, gbest = np.where((np.abs(g1) < np.abs(g0))[:, None], y1, y0), np.minimum(
+        np.abs(g0), np.abs(g1))
+    for _ in range(iterations):
+        live = (g1 != g0) & (gbest > 0)
+        if not np.count_nonzero(live):
+            break
+        s2 = np.where(live, s1 - g1 * (s1 - s0) / np.where(live, g1 - g0, 1.0), s1)
+        s2 = np.clip(s2, -reach, reach)
+        y2, e2, u2, _, _ = _corrected(robot, T, y0 + s2[:, None] * v0, L)
+        g2 = _dot(u2, e2) * np.where(_dot(u2, u0) < 0, -1.0, 1.0)
+        better = live & (np.abs(g2) < gbest)
+        best[better], gbest[better] = y2[better], np.abs(g2[better])
+        s0, g0, s1, g1 = s1, g1, s2, g2
+    return best, np.maximum.reduce(np.abs(linearised(robot, best, T, L)[1]), axis=-1)
+
+
 def _covered(path, q) -> np.ndarray:
     """``(K,)`` bool: the configurations ``q (K, n)`` within three quarters of a step of a
     point of ``path (S, n)`` (rad, wrapped differences): on the curve, between two of its
@@ -198,6 +238,13 @@ def _loops(robot, T, y0, L) -> tuple[list, list, np.ndarray]:
         if not len(rows):
             break
         Y, G, U, count, closed, far = _trace(robot, T[rows], y0[rows], L, direction)
+        short = closed & (count < MIN_POINTS)
+        if np.count_nonzero(short):             # a small loop: again, in MIN_POINTS steps
+            i = np.nonzero(short)[0]
+            again = _trace(robot, T[rows[i]], y0[rows[i]], L, direction,
+                           STEP * count[i] / MIN_POINTS)
+            for x, y in zip((Y, G, U, count, closed, far), again):
+                x[i] = y
         if direction > 0:
             broken = closed & ~far
         b, k = _brackets(G, count, closed)
@@ -280,6 +327,16 @@ def _near_doubles(robot, T, Y, G, U, count, closed, L):
                                                                      keepdims=True))
     b0, k0 = np.nonzero(at_root)
     out = [(b0, Y[b0, k0], Y[b0, k0], np.zeros(len(b0)), np.ones(len(b0)), U[b0, k0])]
+    # a root at a step (a start is a candidate, often one) hides g's sign there: the step
+    # beside it may hold another root; g is read a hundredth of the way along each side
+    b0, k0 = np.nonzero(inside & (np.abs(g) <= STALLED))
+    for other, g_other in ((nxt, gn), (prev, gp)):
+        yk = Y[b0, k0]
+        far_end = yk + wrap(Y[b0, other[b0, k0]] - yk)
+        y, e, u, _, _ = _corrected(robot, T[b0], yk + 0.01 * (far_end - yk), L, TRACE_CORRECTIONS)
+        gs = _dot(u, e) * np.where(_dot(u, U[b0, k0]) < 0, -1.0, 1.0)
+        i = np.nonzero(gs * g_other[b0, k0] < 0)[0]
+        out.append((b0[i], y[i], far_end[i], gs[i], g_other[b0[i], k0[i]], U[b0[i], k0[i]]))
     b, j = np.nonzero(dip)
     if len(b):
         y0 = Y[b, j] + wrap(Y[b, prev[b, j]] - Y[b, j])
@@ -296,13 +353,13 @@ def _near_doubles(robot, T, Y, G, U, count, closed, L):
     return tuple(np.concatenate([o[x] for o in out]) for x in range(6))
 
 
-def _trace(robot, T, y0, L, direction):
+def _trace(robot, T, y0, L, direction, step=STEP):
     """Follow the curves from ``y0 (m, n)``: points ``Y (m, S, n)``, ``g`` there ``G (m, S)``,
     the left singular vectors ``U (m, S, 6)`` it was measured along, the points per trace
     ``count (m,)``, whether each closed on its start ``(m,)``, and whether it was left where
     ``|g|`` exceeded :data:`BROKEN` ``(m,)`` (no broken continuum). A step the corrector does
-    not bring back onto the curve is halved, down to a sixteenth of :data:`STEP`, before
-    the trace ends there."""
+    not bring back onto the curve is halved, down to a sixteenth of ``step`` (rad; one per
+    start, or one for all), before the trace ends there."""
     m, n = y0.shape
     S = MAX_STEPS + 1
     Y, G, U = np.zeros((m, S, n)), np.zeros((m, S)), np.zeros((m, S, 6))
@@ -313,7 +370,8 @@ def _trace(robot, T, y0, L, direction):
     live = ~lost
     count = live.astype(int)
     Y[:, 0], G[:, 0], U[:, 0] = y, _dot(u, e), u
-    h = np.full(m, STEP)
+    full = np.broadcast_to(np.asarray(step, float), (m,))
+    h = full.copy()
     bend = np.zeros((m, n))                        # the tangent's turn per rad: the predictor's
     for _ in range(4 * MAX_STEPS):
         rows = np.nonzero(live)[0]
@@ -323,16 +381,16 @@ def _trace(robot, T, y0, L, direction):
         yk, ek, uk, vk, lostk = _corrected(robot, T[rows], y[rows] + hr * v[rows]
                                            + 0.5 * hr * hr * bend[rows], L, TRACE_CORRECTIONS)
         h[rows[lostk]] *= 0.5
-        live[rows[lostk & (h[rows] < STEP / 16)]] = False
+        live[rows[lostk & (h[rows] < full[rows] / 16)]] = False
         rows, yk, ek, uk, vk = rows[~lostk], yk[~lostk], ek[~lostk], uk[~lostk], vk[~lostk]
         uk *= np.where(_dot(uk, u[rows]) < 0, -1.0, 1.0)[:, None]
         vk *= np.where(_dot(vk, v[rows]) < 0, -1.0, 1.0)[:, None]
         bend[rows] = (vk - v[rows]) / h[rows, None]
-        y[rows], u[rows], v[rows], h[rows] = yk, uk, vk, STEP
+        y[rows], u[rows], v[rows], h[rows] = yk, uk, vk, full[rows]
         k = count[rows]
         Y[rows, k], G[rows, k], U[rows, k] = yk, _dot(uk, ek), uk
         count[rows] += 1
-        home = (k >= 4) & (np.abs(wrap(yk - Y[rows, 0])).max(-1) < 0.75 * STEP)
+        home = (k >= 4) & (np.abs(wrap(yk - Y[rows, 0])).max(-1) < 0.75 * full[rows])
         closed[rows[home]] = True
         far[rows[np.abs(G[rows, k]) > BROKEN]] = True
         live[rows[home | (count[rows] == S)]] = False
