@@ -46,7 +46,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import NEAR_MISS
+from ..tolerances import NEAR_MISS, SAME_DOUBLE_ROOT
 from .refine import linearised, refine
 
 #: a candidate is traced when the smallest singular value of its scaled Jacobian is at most
@@ -170,19 +170,26 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
 
 def _one_per_root(robot, T, roots, L) -> list:
     """``roots`` (``(n,)`` each) with those that are one root dropped: two within
-    :data:`SAME_ROOT` of each other (rad) are one where the curve between them reaches the
-    pose to :data:`STALLED` (a double root, or a stretch of the curve flat to rounding: no
-    value between them is better than another); the one that reaches closer stays."""
+    :data:`SAME_ROOT` of each other (rad) are one where the curve halfway between them
+    reaches the pose to :data:`STALLED`, or about as closely as the worse of the two (a
+    double root, a stretch of the curve flat to rounding, or a root placed only to 1e-14: no
+    value between them is better than another), and two within ``SAME_DOUBLE_ROOT`` always
+    (:mod:`kincalc.tolerances`: where Newton's copies of a double root stop); the one that
+    reaches closer stays."""
     R = np.array(roots)
     reach = np.maximum.reduce(np.abs(linearised(robot, R, np.broadcast_to(T, (len(R), 4, 4)),
                                                 L)[1]), axis=-1)
     kept = []
     for i in np.argsort(reach, kind="stable").tolist():
-        near = [k for k in kept if np.abs(wrap(R[i] - R[k])).max() <= SAME_ROOT]
+        d = [np.abs(wrap(R[i] - R[k])).max() for k in kept]
+        if any(x <= SAME_DOUBLE_ROOT for x in d):       # Newton's copies of one double root
+            continue
+        near = [k for k, x in zip(kept, d) if x <= SAME_ROOT]
         if near:
             mid = R[near] + 0.5 * wrap(R[i] - R[near])
-            y, e, _, _, _ = _corrected(robot, np.broadcast_to(T, (len(mid), 4, 4)), mid, L)
-            if np.count_nonzero(np.maximum.reduce(np.abs(e), axis=-1) <= STALLED):
+            _, e, _, _, _ = _corrected(robot, np.broadcast_to(T, (len(mid), 4, 4)), mid, L)
+            if np.count_nonzero(np.maximum.reduce(np.abs(e), axis=-1)
+                                <= max(STALLED, 2.0 * reach[i])):
                 continue
         kept.append(i)
     return [R[i] for i in sorted(kept)]
