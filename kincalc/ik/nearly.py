@@ -3,7 +3,9 @@ robot that has its structure exactly (:func:`~kincalc.ik.families.idealised`), a
 candidates are refined by Newton's method on the robot as given
 (:mod:`kincalc.ik.refine`); for six revolute joints the general 6R elimination's
 solutions, which need no structure, are joined in, so that none is lost where branches
-of the structured robot meet (a singular pose). A robot within
+of the structured robot meet (a singular pose), and where the nearest robot has a
+continuum the candidates on the curve it breaks into give way to that curve's roots
+(:mod:`kincalc.ik.valleys`). A robot within
 :data:`~kincalc.tolerances.KEEP_CONTINUA` of the structure keeps the nearest robot's
 continua instead, as the exact family's."""
 
@@ -94,10 +96,10 @@ def on_true_robot(robot, family, targets, q, candidate, br):
 def _with_valley_roots(robot, T, q, candidate, br, first: int, nearest):
     """The candidates with the roots of the broken continua through them or through the
     nearest robot's candidates ``nearest`` (``(q, candidate)`` before refinement: Newton's
-    method may have taken them off their curve) (:mod:`kincalc.ik.valleys`): the stalled
-    candidates on each curve replaced by its roots, put in the general 6R elimination's empty slots
-    (from ``first``; labelled ``root k`` of joint 3, as that elimination's), more slots
-    appended where they do not suffice."""
+    method may have taken them off their curve) (:mod:`kincalc.ik.valleys`): the candidates
+    on each broken continuum replaced by its roots, put in the general 6R elimination's
+    empty slots (from ``first``; labelled ``root k`` of joint 3, as that elimination's),
+    more slots appended where they do not suffice."""
     from .valleys import broken_continua
     replaced, roots, rok = broken_continua(robot, T, q, candidate, *nearest)
     candidate = candidate & ~replaced
