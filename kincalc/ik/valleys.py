@@ -112,9 +112,9 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
         more than :data:`STALLED` are points of the curve where Newton's method stalled, and
         the others are among the roots.
     roots : ndarray (N, R, n)
-        Each pose's roots of its broken continua (rad, wrapped): the changes of sign of g
-        and the candidates on them that reach the pose to STALLED, one per root
-        (:func:`_one_per_root`).
+        Each pose's roots of the curves traced (rad, wrapped): the zeros of g found along
+        them (the module docstring) and the candidates on a broken continuum that reach the
+        pose to STALLED, one per root (:func:`_one_per_root`).
     ok : ndarray (N, R) of bool
         The roots that hold one.
     """
