@@ -87,8 +87,9 @@ def on_true_robot(robot, family, targets, q, candidate, br):
         q = np.concatenate([q, Qg], axis=1)
         candidate = np.concatenate([candidate, okg], axis=1)
         br = br.appended(okg, ROOTS)
-        q, candidate, br = _with_valley_roots(robot, targets.T, q, candidate, br, K, nearest)
         method += ", and joined with the general 6R elimination's solutions"
+    if not keep and robot.dof == 6 and targets.kind == "pose":
+        q, candidate, br = _with_valley_roots(robot, targets.T, q, candidate, br, K, nearest)
     q = np.where(robot.is_revolute, wrap(q), q)
     return q, candidate, br, method
 
@@ -99,7 +100,8 @@ def _with_valley_roots(robot, T, q, candidate, br, first: int, nearest):
     method may have taken them off their curve) (:mod:`kincalc.ik.valleys`): the candidates
     on each broken continuum replaced by its roots, put in the general 6R elimination's
     empty slots (from ``first``; labelled ``root k`` of joint 3, as that elimination's),
-    more slots appended where they do not suffice."""
+    more slots appended where they do not suffice (all of them for a robot with a slide,
+    which has no such slots)."""
     from .valleys import broken_continua
     replaced, roots, rok = broken_continua(robot, T, q, candidate, *nearest)
     candidate = candidate & ~replaced

@@ -37,8 +37,9 @@ returns its roots.
 
 Every array holds one configuration per row, and each row's values do not depend on the
 other rows (per-matrix SVDs and products): a pose's roots are the same alone and in a batch.
-Joints are revolute (rad): the caller, :mod:`kincalc.ik.nearly`, traces six-revolute robots
-only.
+Inside, a slide's value is divided by the arm's size, so that steps and distances in the
+joints' space (rad) weigh every joint alike; the caller, :mod:`kincalc.ik.nearly`, traces
+six-joint robots given a whole pose.
 """
 
 from __future__ import annotations
@@ -95,15 +96,15 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
     Parameters
     ----------
     robot : Robot
-        The robot as given; revolute joints.
+        The robot as given, six joints.
     T : ndarray (N, 4, 4)
         The target poses ``T_world_tool`` (world frame, m).
     q : ndarray (N, K, n)
-        Candidates (rad), refined on ``robot``.
+        Candidates (rad / m), refined on ``robot``.
     candidate : ndarray (N, K) of bool
         The slots that hold one.
     q_more, more : ndarray (N, K', n), (N, K') of bool
-        More starting points (rad), not candidates themselves.
+        More starting points (rad / m), not candidates themselves.
 
     Returns
     -------
@@ -112,7 +113,7 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
         more than :data:`STALLED` are points of the curve where Newton's method stalled, and
         the others are among the roots.
     roots : ndarray (N, R, n)
-        Each pose's roots of the curves traced (rad, wrapped): the zeros of g found along
+        Each pose's roots of the curves traced (rad, wrapped / m): the zeros of g found along
         them (the module docstring) and the candidates on a broken continuum that reach the
         pose to STALLED, one per root (:func:`_one_per_root`).
     ok : ndarray (N, R) of bool
@@ -120,12 +121,13 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
     """
     N, K, n = q.shape
     L = max(robot.characteristic_length, 1e-12)
-    Q, seed = np.concatenate([q, q_more], axis=1), np.concatenate([candidate, more], axis=1)
+    Q = np.concatenate([q, q_more], axis=1) / _scale(robot)          # scaled: slides over L
+    seed = np.concatenate([candidate, more], axis=1)
     replaced = np.zeros(seed.shape, bool)
     found = [[] for _ in range(N)]
     at = np.nonzero(seed)
     if len(at[0]):
-        A, e = linearised(robot, Q[at], T[at[0]], L)
+        A, e = _linearised(robot, Q[at], T[at[0]], L)
         s = np.linalg.svd(A, compute_uv=False)
         reach = np.maximum.reduce(np.abs(e), axis=-1)
         on = (s[:, -1] <= VALLEY * s[:, 0]) & (reach <= NEAR_MISS)
@@ -140,7 +142,7 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
             paths, roots, broken = _loops(robot, T[rows], Q[rows, first], L)
             for i, t in enumerate(rows.tolist()):
                 found[t] += roots[i]
-                on_it = _covered(paths[i], Q[t]) & valley[t]
+                on_it = _covered(robot, paths[i], Q[t]) & valley[t]
                 on_it[first[i]] = True
                 if broken[i]:
                     mine = on_it.copy()
@@ -165,7 +167,7 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
         if f:
             roots[t, :len(f)] = f
             ok[t, :len(f)] = True
-    return replaced[:, :K], wrap(roots), ok
+    return replaced[:, :K], _unscaled(robot, roots), ok
 
 
 def _one_per_root(robot, T, roots, L) -> list:
@@ -177,16 +179,16 @@ def _one_per_root(robot, T, roots, L) -> list:
     (:mod:`kincalc.tolerances`: where Newton's copies of a double root stop); the one that
     reaches closer stays."""
     R = np.array(roots)
-    reach = np.maximum.reduce(np.abs(linearised(robot, R, np.broadcast_to(T, (len(R), 4, 4)),
+    reach = np.maximum.reduce(np.abs(_linearised(robot, R, np.broadcast_to(T, (len(R), 4, 4)),
                                                 L)[1]), axis=-1)
     kept = []
     for i in np.argsort(reach, kind="stable").tolist():
-        d = [np.abs(wrap(R[i] - R[k])).max() for k in kept]
+        d = [np.abs(_diff(robot, R[i], R[k])).max() for k in kept]
         if any(x <= SAME_DOUBLE_ROOT for x in d):       # Newton's copies of one double root
             continue
         near = [k for k, x in zip(kept, d) if x <= SAME_ROOT]
         if near:
-            mid = R[near] + 0.5 * wrap(R[i] - R[near])
+            mid = R[near] + 0.5 * _diff(robot, R[i], R[near])
             _, e, _, _, _ = _corrected(robot, np.broadcast_to(T, (len(mid), 4, 4)), mid, L)
             if np.count_nonzero(np.maximum.reduce(np.abs(e), axis=-1)
                                 <= max(STALLED, 2.0 * reach[i])):
@@ -218,16 +220,16 @@ def _zero_nearby(robot, T, y, L, reach: float = 0.1, iterations: int = 16):
         better = live & (np.abs(g2) < gbest)
         best[better], gbest[better] = y2[better], np.abs(g2[better])
         s0, g0, s1, g1 = s1, g1, s2, g2
-    return best, np.maximum.reduce(np.abs(linearised(robot, best, T, L)[1]), axis=-1)
+    return best, np.maximum.reduce(np.abs(_linearised(robot, best, T, L)[1]), axis=-1)
 
 
-def _covered(path, q) -> np.ndarray:
+def _covered(robot, path, q) -> np.ndarray:
     """``(K,)`` bool: the configurations ``q (K, n)`` within three quarters of a step of a
     point of ``path (S, n)`` (rad, wrapped differences): on the curve, between two of its
     points."""
     if not len(path):
         return np.zeros(len(q), bool)
-    d = np.abs(wrap(q[:, None, :] - path[None, :, :])).max(-1)
+    d = np.abs(_diff(robot, q[:, None, :], path[None, :, :])).max(-1)
     return d.min(1) < 0.75 * STEP
 
 
@@ -258,7 +260,7 @@ def _loops(robot, T, y0, L) -> tuple[list, list, np.ndarray]:
         last = count[b] - 1
         k1 = np.where(k == last, 0, k + 1)                      # the closing chord: to the start
         ya = Y[b, k]
-        yb = ya + wrap(Y[b, k1] - ya)
+        yb = ya + _diff(robot, Y[b, k1], ya)
         b2, ya2, yb2, ga2, gb2, ua2 = _near_doubles(robot, T[rows], Y, G, U, count, closed, L)
         b = np.concatenate([b, b2])
         if len(b):
@@ -339,15 +341,15 @@ def _near_doubles(robot, T, Y, G, U, count, closed, L):
     b0, k0 = np.nonzero(inside & (np.abs(g) <= STALLED))
     for other, g_other in ((nxt, gn), (prev, gp)):
         yk = Y[b0, k0]
-        far_end = yk + wrap(Y[b0, other[b0, k0]] - yk)
+        far_end = yk + _diff(robot, Y[b0, other[b0, k0]], yk)
         y, e, u, _, _ = _corrected(robot, T[b0], yk + 0.01 * (far_end - yk), L, TRACE_CORRECTIONS)
         gs = _dot(u, e) * np.where(_dot(u, U[b0, k0]) < 0, -1.0, 1.0)
         i = np.nonzero(gs * g_other[b0, k0] < 0)[0]
         out.append((b0[i], y[i], far_end[i], gs[i], g_other[b0[i], k0[i]], U[b0[i], k0[i]]))
     b, j = np.nonzero(dip)
     if len(b):
-        y0 = Y[b, j] + wrap(Y[b, prev[b, j]] - Y[b, j])
-        chord = wrap(Y[b, nxt[b, j]] - Y[b, j]) + (Y[b, j] - y0)
+        y0 = Y[b, j] + _diff(robot, Y[b, prev[b, j]], Y[b, j])
+        chord = _diff(robot, Y[b, nxt[b, j]], Y[b, j]) + (Y[b, j] - y0)
         side = np.sign(g[b, j])
         ys, gs = _dip_bottom(robot, T[b], y0, chord, U[b, j], side, L)
         cross = gs * side < 0                            # two roots, one on each side
@@ -397,7 +399,7 @@ def _trace(robot, T, y0, L, direction, step=STEP):
         k = count[rows]
         Y[rows, k], G[rows, k], U[rows, k] = yk, _dot(uk, ek), uk
         count[rows] += 1
-        home = (k >= 4) & (np.abs(wrap(yk - Y[rows, 0])).max(-1) < 0.75 * full[rows])
+        home = (k >= 4) & (np.abs(_diff(robot, yk, Y[rows, 0])).max(-1) < 0.75 * full[rows])
         closed[rows[home]] = True
         far[rows[np.abs(G[rows, k]) > BROKEN]] = True
         live[rows[home | (count[rows] == S)]] = False
@@ -414,7 +416,7 @@ def _corrected(robot, T, y, L, iterations: int = CORRECTIONS):
     best = np.full(len(y), np.inf)
     go = np.ones(len(y), bool)
     for it in range(iterations + 1):
-        A, e = linearised(robot, y, T, L)
+        A, e = _linearised(robot, y, T, L)
         Uf, s, Vt = np.linalg.svd(A)
         f = (e[:, None, :] @ Uf[:, :, :-1])[:, 0]                 # U5^T e, (m, 5)
         r = np.maximum.reduce(np.abs(f), axis=-1)
@@ -455,11 +457,34 @@ def _root(robot, T, ya, yb, ga, gb, ua, L) -> np.ndarray:
     # Newton's method on the whole pose takes a root to rounding where it is well placed;
     # along a flat stretch of g its step (g over the smallest singular value) may wander
     # off: the better of the two is kept
-    polished = refine(robot, y, T, mode="pose")
-    before, after = (np.maximum.reduce(np.abs(linearised(robot, x, T, L)[1]), axis=-1)
+    polished = refine(robot, y * _scale(robot), T, mode="pose") / _scale(robot)
+    before, after = (np.maximum.reduce(np.abs(_linearised(robot, x, T, L)[1]), axis=-1)
                      for x in (y, polished))
     better = after < before
     return np.where(better[:, None], polished, y), np.where(better, after, before)
+
+
+def _scale(robot) -> np.ndarray:
+    """``(n,)``: a joint's unit in the scaled variables, 1 rad or the arm's size for a slide."""
+    return np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
+
+
+def _linearised(robot, y, T, L):
+    """:func:`~kincalc.ik.refine.linearised` on the pose at the scaled joints ``y (m, n)``:
+    ``(A (m, 6, n), e (m, 6))``, the columns of slides scaled as their variables."""
+    A, e = linearised(robot, y * _scale(robot), T, L)
+    return A * _scale(robot), e
+
+
+def _diff(robot, a, b) -> np.ndarray:
+    """``a - b`` of scaled joints, revolute ones wrapped to (-pi, pi]."""
+    return np.where(robot.is_revolute, wrap(a - b), a - b)
+
+
+def _unscaled(robot, y) -> np.ndarray:
+    """Scaled joints ``y (..., n)`` in rad / m, revolute ones wrapped."""
+    q = y * _scale(robot)
+    return np.where(robot.is_revolute, wrap(q), q)
 
 
 def _dot(a, b) -> np.ndarray:
