@@ -100,8 +100,9 @@ def _with_valley_roots(robot, T, q, candidate, br, first: int, nearest):
     method may have taken them off their curve) (:mod:`kincalc.ik.valleys`): the candidates
     on each broken continuum replaced by its roots, put in the general 6R elimination's
     empty slots (from ``first``; labelled ``root k`` of joint 3, as that elimination's),
-    more slots appended where they do not suffice (all of them for a robot with a slide,
-    which has no such slots)."""
+    more slots appended where they do not suffice; a robot with a slide has no such slots,
+    and its roots are labelled ``continuum root k`` of its last joint (joint 3's ``root k``
+    is its own family's slide)."""
     from .valleys import broken_continua
     replaced, roots, rok = broken_continua(robot, T, q, candidate, *nearest)
     candidate = candidate & ~replaced
@@ -111,9 +112,10 @@ def _with_valley_roots(robot, T, q, candidate, br, first: int, nearest):
     counts = rok.sum(1)
     room = (~candidate[:, first:]).sum(1)
     more = int(max(0, (counts - room).max()))
-    if more:
+    if more:                   # after the elimination's roots, or a robot's own continuum roots
         G = K - first
-        signs = tuple(((2, f"root {G + k + 1}"),) for k in range(more))
+        joint, word = (2, "root {}") if G else (robot.dof - 1, "continuum root {}")
+        signs = tuple(((joint, word.format(G + k + 1)),) for k in range(more))
         br = br.appended(np.zeros((N, more), bool), signs)
         q = np.concatenate([q, np.zeros((N, more, n))], axis=1)
         candidate = np.concatenate([candidate, np.zeros((N, more), bool)], axis=1)

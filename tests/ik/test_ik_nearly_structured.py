@@ -352,7 +352,8 @@ def test_a_broken_continuum_of_an_arm_with_a_slide(size):
     """The Stanford arm (R-R-P and a wrist) with its wrist axes ``size`` m apart, 30 poses at
     q5 = 0 and 180 deg: the generating joints are among the solutions to 1e-3 (2 or 3 of
     the 30 were missed when only six revolute joints were traced), every solution reaches
-    the pose to rounding, and ``ik_batch`` gives the same solutions."""
+    the pose to rounding, ``ik_batch`` gives the same solutions, and the traced roots are
+    labelled ``q6:continuum root k``, not by the slide's own ``d3:root k``."""
     r = _broken("stanford_arm", 3, "a", size)
     assert not plan(r)[1].exact and not r.is_revolute.all()
     rng = np.random.default_rng(3)
@@ -368,6 +369,12 @@ def test_a_broken_continuum_of_an_arm_with_a_slide(size):
         assert any(close(s.q, q, r, 1e-3) for s in sols), q
         got = sorted(np.round(s.q, 8).tolist() for s in sols)
         assert got == sorted(np.round(batch.q[i][batch.valid[i]], 8).tolist())
+        # every solution its own label; a traced root is named as one, not by the slide's
+        # own "d3:root k" (the family's two roots of d3)
+        assert len({s.branch for s in sols}) == len(sols)
+        for s in sols:
+            on_curve = abs(np.sin(s.q[4])) < 1e-3             # q5 at 0 or 180 deg: a root
+            assert ("continuum root" in s.branch) == on_curve, (s.branch, np.degrees(s.q))
 
 
 #: poses of a robot only nearly of its family where a root of the broken continuum was lost
