@@ -39,8 +39,8 @@ EXACT_ANGLE_TOL = 1e-12
 #: one, its FK differs from that robot's by far less than the check sees (ACCEPT_POSITION,
 #: ACCEPT_ORIENTATION). A twist written with 11 significant digits (1.5707963268 for pi/2)
 #: is 5e-12 off. At 3e-11 and beyond the nearest robot's closed form starts to miss such
-#: poses outright (their singular roots lie beyond its tangent bands), and the general 6R
-#: elimination's points of the broken continuum are the better answer
+#: poses outright (their singular roots lie beyond its tangent bands), and the roots of the
+#: broken continuum, traced on the robot as given (kincalc.ik.valleys), are the answer
 KEEP_CONTINUA = 1e-11
 
 #: an IK candidate is a solution when FK reaches the target to ACCEPT_POSITION x the

@@ -53,6 +53,13 @@ def normalise(robot, Q) -> np.ndarray:
     return Q
 
 
+def joint_scale(robot) -> np.ndarray:
+    """``(n,)``: each joint's unit in scale-free joint values, 1 for a revolute joint (rad)
+    and the arm's size (m, at least 1e-12) for a prismatic one: ``q / joint_scale`` weighs
+    every joint alike in a Newton step or a distance."""
+    return np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
+
+
 def same_solution(robot, a, b) -> np.ndarray:
     """Whether configurations are one solution: every joint within ``DUPLICATE``
     (:mod:`kincalc.tolerances`; rad, revolute joints compared modulo whole turns, or m).

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .cache import per_robot
+from .joint_limits import joint_scale
 from .newton import levenberg_marquardt
 from ..spatial import into_turn
 
@@ -57,7 +58,7 @@ def descend(robot, X0, p_goal, R_goal=None, *, iterations: int = 100, tol: float
     # trap the search on the wrong side)
     turns = robot.is_revolute & (hi0 - lo0 >= 2 * np.pi - 1e-12)
     lo, hi = np.where(turns, -np.inf, lo0), np.where(turns, np.inf, hi0)
-    col = np.where(robot.is_revolute, 1.0, L)      # x = q / col is scale-free
+    col = joint_scale(robot)                        # x = q / col is scale-free
     rows = 3 if R_goal is None else 6
     X = np.array(X0, float)
     B = len(X)

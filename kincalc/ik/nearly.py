@@ -81,14 +81,14 @@ def on_true_robot(robot, family, targets, q, candidate, br):
               "given")
     if not keep:
         br = br.without_free()
-    if not keep and robot.dof == 6 and robot.is_revolute.all() and targets.kind == "pose":
-        from .general6r.solve import ROOTS, ranked_solutions
-        Qg, okg = ranked_solutions(robot, targets.T)
-        q = np.concatenate([q, Qg], axis=1)
-        candidate = np.concatenate([candidate, okg], axis=1)
-        br = br.appended(okg, ROOTS)
-        method += ", and joined with the general 6R elimination's solutions"
     if not keep and robot.dof == 6 and targets.kind == "pose":
+        if robot.is_revolute.all():
+            from .general6r.solve import ROOTS, ranked_solutions
+            Qg, okg = ranked_solutions(robot, targets.T)
+            q = np.concatenate([q, Qg], axis=1)
+            candidate = np.concatenate([candidate, okg], axis=1)
+            br = br.appended(okg, ROOTS)
+            method += ", and joined with the general 6R elimination's solutions"
         q, candidate, br = _with_valley_roots(robot, targets.T, q, candidate, br, K, nearest)
     q = np.where(robot.is_revolute, wrap(q), q)
     return q, candidate, br, method

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..jacobian import jacobian_and_pose
 from ..spatial import cross, rotvec_from_matrix
+from .joint_limits import joint_scale
 from .newton import polish
 
 #: Newton steps at most; from 1e-7 off, three reach rounding, but next to a double
@@ -56,7 +57,7 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
     q = np.array(q, dtype=float).reshape(-1, robot.dof)
     T = np.broadcast_to(np.asarray(T, float), (len(q), 4, 4))
     L = max(robot.characteristic_length, 1e-12)
-    col = np.where(robot.is_revolute, 1.0, L)       # prismatic joints in units of L
+    col = joint_scale(robot)                        # prismatic joints in units of L
     if approach is not None:
         approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
 

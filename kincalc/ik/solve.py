@@ -21,7 +21,7 @@ from ..errors import TargetMismatch
 from .engine import Solved, solve_targets
 from .continua import Continuum, ParallelContinuum
 from .families import THREE_PARALLEL, plan
-from .joint_limits import same_solution
+from .joint_limits import joint_scale, same_solution
 from .labels import label_order
 from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
 from ..spatial import turn_toward, wrap
@@ -357,8 +357,7 @@ def _scaled_norm(robot, d) -> float:
     """|d| with revolute joints wrapped into (-pi, pi] (a change of a whole turn, made to
     keep a joint within its limits when ``near`` is beyond them, is the same
     configuration) and prismatic joints divided by the robot's characteristic length."""
-    s = np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
-    return float(np.linalg.norm(np.where(robot.is_revolute, wrap(d), d) / s))
+    return float(np.linalg.norm(np.where(robot.is_revolute, wrap(d), d) / joint_scale(robot)))
 
 
 def default_start(robot) -> np.ndarray:

@@ -48,6 +48,7 @@ import numpy as np
 
 from ..spatial import wrap
 from ..tolerances import NEAR_MISS, SAME_DOUBLE_ROOT
+from .joint_limits import joint_scale
 from .refine import linearised, refine
 
 #: a candidate is traced when the smallest singular value of its scaled Jacobian is at most
@@ -121,7 +122,7 @@ def broken_continua(robot, T, q, candidate, q_more, more) -> tuple:
     """
     N, K, n = q.shape
     L = max(robot.characteristic_length, 1e-12)
-    Q = np.concatenate([q, q_more], axis=1) / _scale(robot)          # scaled: slides over L
+    Q = np.concatenate([q, q_more], axis=1) / joint_scale(robot)          # scaled: slides over L
     seed = np.concatenate([candidate, more], axis=1)
     replaced = np.zeros(seed.shape, bool)
     found = [[] for _ in range(N)]
@@ -280,15 +281,20 @@ def _loops(robot, T, y0, L) -> tuple[list, list, np.ndarray]:
 def _brackets(G, count, closed) -> tuple[np.ndarray, np.ndarray]:
     """``(trace, step)`` of every change of sign of ``g`` between step ``k`` and the next
     (the start, after the last step of a closed trace); a zero at a step counts once."""
-    m, S = G.shape
-    k = np.arange(S)
-    nxt = np.concatenate([G[:, 1:], G[:, :1]], axis=1)          # the next; the last's: start
-    last = k[None, :] == count[:, None] - 1
-    nxt = np.where(last, G[:, :1], nxt)
-    valid = (k[None, :] < count[:, None] - 1) | (last & closed[:, None])
-    change = valid & (G != 0) & (G * nxt <= 0)
+    k, last, _, nxt = _neighbours(count, G.shape[1])
+    valid = (k < last) | ((k == last) & closed[:, None])
+    change = valid & (G != 0) & (G * np.take_along_axis(G, nxt, 1) <= 0)
     change[:, 0] |= (G[:, 0] == 0) & (count > 0)                  # the start itself a root
     return np.nonzero(change)
+
+
+def _neighbours(count, S: int) -> tuple:
+    """Of traces of ``count (m,)`` steps stored in ``S`` columns: each step's index ``(1,
+    S)``, each trace's last step ``(m, 1)``, and the steps before and after each step ``(m,
+    S)`` around a closed trace (the start follows the last; beyond the last, the start)."""
+    k = np.arange(S)[None, :]
+    last = (count - 1)[:, None]
+    return k, last, np.where(k == 0, last, k - 1), np.where(k >= last, 0, k + 1)
 
 
 def _dip_bottom(robot, T, y0, chord, ua, side, L, iterations: int = GOLDEN):
@@ -322,11 +328,7 @@ def _near_doubles(robot, T, Y, G, U, count, closed, L):
     (:func:`_dip_bottom`): beyond zero, it brackets two roots; within STALLED, it is a
     double root. Returns ``(trace, ya, yb, ga, gb, ua)``: brackets (points ``(b, n)``,
     ``g`` at them ``(b,)`` measured along ``ua (b, 6)``), ``ga = 0`` for a root at ``ya``."""
-    S = G.shape[1]
-    k = np.arange(S)[None, :]
-    last = (count - 1)[:, None]
-    prev = np.where(k == 0, last, k - 1)                 # cyclic; ends of an open trace masked
-    nxt = np.where(k >= last, 0, k + 1)
+    k, last, prev, nxt = _neighbours(count, G.shape[1])     # (an open trace's ends masked)
     gp, g, gn = np.take_along_axis(G, prev, 1), G, np.take_along_axis(G, nxt, 1)
     inside = (k <= last) & (closed[:, None] | ((k > 0) & (k < last)))
     low = inside & (np.abs(g) <= np.abs(gp)) & (np.abs(g) <= np.abs(gn)) & (gp * g > 0) & \
@@ -457,23 +459,18 @@ def _root(robot, T, ya, yb, ga, gb, ua, L) -> np.ndarray:
     # Newton's method on the whole pose takes a root to rounding where it is well placed;
     # along a flat stretch of g its step (g over the smallest singular value) may wander
     # off: the better of the two is kept
-    polished = refine(robot, y * _scale(robot), T, mode="pose") / _scale(robot)
+    polished = refine(robot, y * joint_scale(robot), T, mode="pose") / joint_scale(robot)
     before, after = (np.maximum.reduce(np.abs(_linearised(robot, x, T, L)[1]), axis=-1)
                      for x in (y, polished))
     better = after < before
     return np.where(better[:, None], polished, y), np.where(better, after, before)
 
 
-def _scale(robot) -> np.ndarray:
-    """``(n,)``: a joint's unit in the scaled variables, 1 rad or the arm's size for a slide."""
-    return np.where(robot.is_revolute, 1.0, max(robot.characteristic_length, 1e-12))
-
-
 def _linearised(robot, y, T, L):
     """:func:`~kincalc.ik.refine.linearised` on the pose at the scaled joints ``y (m, n)``:
     ``(A (m, 6, n), e (m, 6))``, the columns of slides scaled as their variables."""
-    A, e = linearised(robot, y * _scale(robot), T, L)
-    return A * _scale(robot), e
+    A, e = linearised(robot, y * joint_scale(robot), T, L)
+    return A * joint_scale(robot), e
 
 
 def _diff(robot, a, b) -> np.ndarray:
@@ -483,7 +480,7 @@ def _diff(robot, a, b) -> np.ndarray:
 
 def _unscaled(robot, y) -> np.ndarray:
     """Scaled joints ``y (..., n)`` in rad / m, revolute ones wrapped."""
-    q = y * _scale(robot)
+    q = y * joint_scale(robot)
     return np.where(robot.is_revolute, wrap(q), q)
 
 

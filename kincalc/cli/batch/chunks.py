@@ -175,8 +175,8 @@ class Answers(NamedTuple):
     """The solved IK records of a chunk: ``heads [(index, keywords)]`` the records;
     ``q (s, n)`` the joint values of all their solutions, in display units rounded to 12
     decimals (-0.0 as 0.0); ``labels (s,)`` the branch words; ``within (s,)`` bool, within
-    the limits; ``singular (s,)`` bool, at a singular configuration; ``owner (s,)`` the record (position in ``heads``) of each solution,
-    ascending."""
+    the limits; ``singular (s,)`` bool, at a singular configuration; ``owner (s,)`` the
+    record (position in ``heads``) of each solution, ascending."""
 
     heads: list
     q: object
