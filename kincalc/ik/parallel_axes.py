@@ -290,7 +290,7 @@ def _sixth(S: Screws, T, br: Branches, Rt, hj: int, elbow, v, aligned):
         br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = _near_singular_q6(S, br, T, hj, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
-    arcs, ok_arcs = _singular_q6(S, br, T, sigma, aligned, elbow)
+    arcs, ok_arcs = _singular_q6(S, br, T, v, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
     br = br.branch([5], Solutions((q6,), (np.cos(q6),), (np.sin(q6),), ok6, ok6,
@@ -349,16 +349,18 @@ def _tool_point_of(S: Screws, T, x) -> np.ndarray:
     return (T[:, None, :3, :3] @ local[..., None])[..., 0] + T[:, None, :3, 3]
 
 
-def _singular_q6(S: Screws, br: Branches, T, sigma, aligned, elbow=(1, 2, 3)):
+def _singular_q6(S: Screws, br: Branches, T, v, aligned, elbow=(1, 2, 3)):
     """Joint 6's representatives at the wrist singularity, two arcs per slot:
     ``(q6 (N, K, 2), ok (N, K, 2))`` (:func:`~kincalc.ik.wrists.parallel_wrist_q6`, its
     ``elbow``: a three-parallel arm's joints 2-4, with joint 1 undone; an offset-wrist arm's
     two revolute joints of 1-3 and joint 4, where a prismatic joint along h moves nothing
-    across h)."""
+    across h). ``v (N, K, 3)``: axis 6's direction, whose sense is taken along the elbow's
+    first axis (which may point against the h of the caller's joint)."""
     N, K = aligned.shape
     if not np.count_nonzero(aligned):
         return np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
-    q6, ok, _ = parallel_wrist_q6(S, *_elbow_vectors(S, br, T, elbow), sigma, elbow=elbow)
+    q6, ok, _ = parallel_wrist_q6(S, *_elbow_vectors(S, br, T, elbow),
+                                  _sense(v, S.axis[elbow[0]]), elbow=elbow)
     return q6, ok
 
 
@@ -377,9 +379,9 @@ def _near_singular_q6(S: Screws, br: Branches, T, hj: int, v, aligned, b, q6, el
     across = cross(b, S.axis[5])
     sine = np.sqrt(dot(across, across))     # (1 - cos^2 loses a sine below ~1e-8)
     near &= ~aligned
-    sigma = _sense(v, S.axis[hj])
     a, b, at = _elbow_vectors(S, br, T, elbow, q6)
-    moved = into_elbow_reach(S, a, b, sigma, q6, at, sine, elbow=elbow)
+    # (sigma along the elbow's first axis, as for the arcs)
+    moved = into_elbow_reach(S, a, b, _sense(v, S.axis[elbow[0]]), q6, at, sine, elbow=elbow)
     return np.where(near, moved, q6)
 
 

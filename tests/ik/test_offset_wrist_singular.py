@@ -21,6 +21,9 @@ import pytest
 from kincalc import load_robot
 from kincalc.conventions import mdh_to_dh, to_poe
 from kincalc.fk import chain_frames
+from kincalc.ik.families import plan
+from kincalc.ik.selftest import sample_configurations
+from kincalc.model import Joint, Robot
 from kincalc.spatial import wrap
 
 
@@ -115,3 +118,50 @@ def test_near_the_singularity_the_pose_is_still_solved():
             assert res.solutions
             for s in res.solutions:
                 assert np.allclose(robot.fk(s.q), T, atol=1e-9 * robot.characteristic_length)
+
+
+def _antiparallel_arm(rng, flipped: int, slide: int):
+    """An R-R-P-R-R-R (``slide`` = 2) or P-R-R-R-R-R (``slide`` = 0) offset-wrist arm, joints
+    1-4 about or along one direction, whose joint ``flipped`` (0-based, of 0-2) turns the
+    axes after it against those before (a twist of 180 deg), in standard DH; axis 6 is
+    along h at q5 = 0 and 180 deg."""
+    rows = [["revolute", 0.0, rng.uniform(.1, .4), rng.uniform(-.2, .2)],
+            ["revolute", 0.0, rng.uniform(.1, .4), rng.uniform(-.2, .2)],
+            ["revolute", 0.0, rng.uniform(.05, .2), 0.0],
+            ["revolute", np.pi / 2, 0.0, 0.0],
+            ["revolute", np.pi / 2, 0.0, rng.uniform(.3, .6)],
+            ["revolute", 0.0, 0.0, rng.uniform(.05, .2)]]
+    rows[slide][0] = "prismatic"
+    rows[flipped][1] = np.pi
+    joints = tuple(Joint(f"j{i + 1}", kind, alpha=al, a=a, d=d,
+                         theta=rng.uniform(-3, 3) if kind == "revolute" and i != 4 else 0.0,
+                         limits=(-0.5, 0.5) if kind == "prismatic" else (-np.pi, np.pi))
+                   for i, (kind, al, a, d) in enumerate(rows))
+    return Robot(name="antiparallel", convention="dh", joints=joints)
+
+
+@pytest.mark.parametrize("flipped, slide", [(0, 2), (1, 2), (2, 2), (0, 0), (1, 0), (2, 0)])
+def test_axes_pointing_against_each_other_keep_the_continuum(flipped, slide):
+    """The joints about h may point either way along it (a 180-degree twist): joint 6's
+    representatives are then read with the sense of axis 6 along the elbow's own first
+    axis. With the first elbow axis against axis 4 they were taken on the wrong side and
+    the singular poses had no solution at all."""
+    rng = np.random.default_rng(4100 + 10 * flipped + slide)
+    robot = _antiparallel_arm(rng, flipped, slide)
+    assert plan(robot)[1].name == "parallel-four-wrist"
+    Q = sample_configurations(robot, 16, rng)
+    Q[:, 4] = rng.choice([0.0, np.pi], len(Q))
+    T = robot.fk(Q)
+    for i, q0 in enumerate(Q):
+        res = robot.ik(T[i])
+        assert res.solutions, f"no solution for the pose of {q0}"
+        on = []
+        for s in res.solutions:
+            assert np.allclose(robot.fk(s.q), T[i], atol=1e-9 * robot.characteristic_length)
+            assert s.free == (5,) and s.continuum is not None
+            c = s.continuum
+            total = sum(sg * q0[k] for k, sg in zip(c.joints, c.signs))
+            fixed = [k for k in range(6) if k not in c.joints]
+            on.append(abs(wrap(total - c.total)) < 1e-9
+                      and np.abs(s.q[fixed] - q0[fixed]).max() < 1e-9)
+        assert any(on), (q0, [s.q for s in res.solutions])
