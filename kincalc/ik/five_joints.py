@@ -17,14 +17,15 @@ import numpy as np
 
 from ..spatial import wrap
 from ..subproblems import sp1, sp2, sp3, sp4
-from ..subproblems.solutions import Solutions, dot
+from ..subproblems.cone import cone_constants
+from ..subproblems.solutions import Solutions, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
                      rotate_back, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
-from .wrists import spherical_taking, undo
+from .wrists import band_arcs, free_for_the_wrist, spherical_taking, undo
 
 
 def position_approach(S: Screws, targets, br: Branches) -> Branches:
@@ -54,6 +55,8 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     br = place(S, br, (0, 1, 2), c0, ct[:, None, :], what="the point where axes 4 and 5 meet")
     if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
+    if targets.kind != "pose":
+        br = _free_for_the_approach(S, br, a, a0)
     v = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (3,), a[:, None, :]))
     wrist = sp2(np.full(v.shape, a0), v, S.axis[3], S.axis[4])
     if targets.kind != "pose":
@@ -61,6 +64,28 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     br, taken = _free_placing_joint(S, T, br, wrist)
     br = _wrist_from_the_pose(S, T, br, taken)
     return br if taken is None else _shared_line(S, br, taken)
+
+
+def _free_for_the_approach(S: Screws, br: Branches, a, a0) -> Branches:
+    """``br`` with a placing joint the placement left free (the point where axes 4 and 5
+    meet on its line) turned so that joints 4 and 5 can point the approach ``a (N, 3)``
+    (world frame): where their twist is not a right angle they reach only a band of
+    directions (:func:`~kincalc.ik.wrists.free_for_the_wrist`, the approach ``a0`` (3,) at
+    q = 0 as the pointed vector)."""
+    placing = tuple(j for j in (0, 1, 2) if S.revolute[j])
+    if not br.free_in(placing):
+        return br
+    for j in placing:
+        if br.free_in((j,)):
+            br = free_for_the_wrist(S, br, 3, _approach_cone(S), a[:, None, :], (0, 1, 2), j)
+    return br
+
+
+def _approach_cone(S: Screws):
+    """The directions joints 4 and 5 point the approach ``a0`` into: its cone about axis 5
+    measured along axis 4 (:func:`~kincalc.subproblems.cone.cone_constants`)."""
+    return S.constant("cone of the approach about axis 5",
+                      lambda: cone_constants(S.axis[3], S.M[:3, 2], S.axis[4]))
 
 
 def _free_placing_joint(S: Screws, T, br: Branches, wrist):
@@ -186,15 +211,22 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     that puts ``k4 . R3^T a`` (the approach seen from joint 4) at the middle of the values
     ``k4 . R5 a0`` joint 5 can give, ``(k4 . k5) (k5 . a0)`` (or as near as joint 3 can:
     subproblem 4), where joints 4 and 5 turn ``a0`` onto it (subproblem 2) with the most room.
+    Where joint 3's values in that band are two arcs (:func:`~kincalc.ik.wrists.band_arcs`),
+    the other root is the second arc's representative (``other arc``).
     """
     if targets.kind == "pose":
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
-    t3, c3, s3 = one_root(sp4(k4, v, k3, (k4 @ k5) * (k5 @ a0),
-                          fixed=axis_sp4(S, 3, 2)).negated())
-    br = br.set(2, t3, c3, s3, free=np.ones(br.ok.shape, bool))
-    v = S.turn(2, c3, -s3, v)
+    cone = _approach_cone(S)
+    third = sp4(k4, v, k3, cone.C, fixed=axis_sp4(S, 3, 2)).negated()
+    # where the band of k4 . R3^T a is two arcs of joint 3, the second root is the middle of
+    # the other one (a second representative: a piece of the continuum of its own)
+    two = band_arcs(k4, v, k3, cone)[3] & third.exact[..., 1]
+    ok = third.ok & pair(np.ones(two.shape, bool), two)
+    br = br.branch([2], Solutions(third.theta, third.c, third.s, ok, third.exact, ok),
+                   labels=(None, "other arc"), least_squares=True)
+    v = S.turn(2, br.cos[2], -br.sin[2], br.take(v))
     return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
 
 

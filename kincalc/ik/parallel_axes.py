@@ -259,7 +259,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     if elbow[0] == 1 and np.count_nonzero(br.free[0]):    # (rare: the wrist point on axis 1)
         # joints h, 5, 6 point axis 6 only within a band about h where twists are not right
         # angles: the free joint 1 turned into it (as a spherical wrist's free placing joint)
-        br = free_for_the_wrist(S, br, (hj, 4, 5), Rt, (0,), 0)
+        br = free_for_the_wrist(S, br, hj, axis_cone(S, hj, 4, 5), rotate(Rt, k6), (0,), 0)
     v = np.full(br.ok.shape + (3,), rotate(Rt, k6))          # R_t k6 at every slot
     if elbow[0] == 1:
         v = S.turn(0, br.cos[0], -br.sin[0], v)

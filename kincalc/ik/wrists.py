@@ -144,7 +144,8 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     if not after and br.free_in(before):                       # (rare: a singular target)
         for j in before:
             if S.revolute[j] and br.free_in((j,)):
-                br = free_for_the_wrist(S, br, joints, Rt, before, j)
+                br = free_for_the_wrist(S, br, joints[0], axis_cone(S, *joints),
+                                        rotate(Rt, k), before, j)
     vw = np.empty(br.ok.shape + (2, 3))
     if after:
         vw[...] = ke.T
@@ -155,27 +156,33 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :])
 
 
-def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> Branches:
+def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int) -> Branches:
     """``br`` with joint ``j`` of ``before``, where a singular target left it free (the
     wrist centre on its axis: any value places the centre), turned so that the wrist can
-    take the rotation left for it.
+    point its vector where the target asks.
 
-    A wrist whose twists are not right angles reaches only some directions of its last axis:
-    ``k1 . v`` (``v = R_W k3``) within ``[C - r, C + r]``, the range of ``k1 . R(k2, t) k3``.
-    The free joint turns ``v``; its representative 0 may leave it out of the wrist's reach
-    (a Stanford arm with a 30 deg wrist twist at d3 = 0: no solution). There it takes the
-    value that puts ``k1 . v`` in the middle of the range, ``C`` (subproblem 4, or its
-    least-squares angle): both roots, one per arc of the band, the second in a slot of its
-    own (``other arc``: a three-parallel arm places axis 4 from one arc only); it stays
-    free (the values around it reach too). Elsewhere, and for a wrist that reaches every
-    direction, nothing changes.
+    A wrist whose twists are not right angles points a vector of its last link (its last
+    axis ``k3``; the approach of a two-joint wrist) only within a band of directions:
+    ``k1 . v`` (``v`` the vector's target direction with the joints before the wrist undone)
+    within ``[C - r, C + r]``, the range of ``k1 . R(k2, t) k3``. The free joint turns
+    ``v``; its representative 0 may leave it out of the wrist's reach (a Stanford arm with
+    a 30 deg wrist twist at d3 = 0: no solution). There it takes the value that puts ``k1 .
+    v`` in the middle of the range, ``C`` (subproblem 4, or its least-squares angle): both
+    roots, one per arc of the band, the second in a slot of its own (``other arc``: a
+    three-parallel arm places axis 4 from one arc only); it stays free (the values around
+    it reach too). Where the representative is within the band and the band is two arcs of
+    the joint (:func:`band_arcs`), it stands for its own arc and the root in the other arc
+    comes as ``other arc``. Elsewhere, and for a wrist that reaches every direction,
+    nothing changes.
 
     Parameters
     ----------
     S : Screws, the chain (world frame at q = 0, SI)
     br : Branches, the joints ``before`` solved, ``j`` free in some slots
-    joints : tuple of int, the wrist's three joints (0-based)
-    Rt : ndarray (N, 1 or K, 3, 3), the rotation the product of exponentials must give
+    j1 : int, the wrist's first joint (0-based)
+    cone : ConeConstants, of the pointed vector turned by the wrist's second joint,
+        measured along axis ``j1`` (:func:`~kincalc.ik.pieces.axis_cone` for an axis)
+    u : ndarray (N, 1 or K, 3), the direction the target asks of the vector (world frame)
     before : tuple of int, the joints before the wrist (0-based, in chain order)
     j : int, the free revolute joint of ``before``
 
@@ -183,32 +190,63 @@ def free_for_the_wrist(S: Screws, br: Branches, joints, Rt, before, j: int) -> B
     -------
     Branches, ``2 K`` slots (fewer once dead ones are dropped)
     """
-    j1, j2, j3 = joints
-    k1 = S.axis[j1]
-    cone = axis_cone(S, j1, j2, j3)
-    u = np.broadcast_to(rotate(Rt, S.axis[j3]), br.ok.shape + (3,))       # R_t k3
-    v = undo(S, br, before, u)
-    r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
-    out = br.free[j] & (np.abs(dot(v, k1) - cone.C) > r + 1e-12)       # beyond the wrist
-    if not np.count_nonzero(out):
-        return br
+    k1, kj = S.axis[j1], S.axis[j]
     at = list(before).index(j)
-    u = undo(S, br, before[:at], u)                                    # joints before j undone
-    h = np.broadcast_to(k1, u.shape)
+    w = undo(S, br, before[:at], np.broadcast_to(u, br.ok.shape + (3,)))   # before j undone
+    h = np.broadcast_to(k1, w.shape)
     for i in reversed(before[at + 1:]):                                # R_after k1
         if S.revolute[i]:
             h = S.turn(i, br.cos[i], br.sin[i], h)
-    # k1 . R_after^T R(k_j, -q) u = C: subproblem 4 in -q
-    sol = sp4(h, u, S.axis[j], np.broadcast_to(cone.C, out.shape)).negated()
-    # one value per arc of the wrist's reach (each root of subproblem 4 is the middle of
-    # one): the joints after the wrist may place their point from one arc only (a
-    # three-parallel arm's axis 4)
-    keep = pair(br.value[j], br.value[j]), pair(br.cos[j], br.cos[j]), pair(br.sin[j], br.sin[j])
-    q, c, s = (np.where(out[..., None], x[0], y) for x, y in zip(
-        (sol.theta, sol.c, sol.s), keep))
-    ok = pair(np.ones(out.shape, bool), out & sol.ok[..., 1] & sol.exact[..., 1])
+    D, A, B, two = band_arcs(h, w, kj, cone)                         # k1 . v as j turns
+    f = D + A * br.cos[j] - B * br.sin[j]                              # at the representative
+    r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
+    out = br.free[j] & (np.abs(f - cone.C) > r + 1e-12)                # beyond the wrist
+    two &= br.free[j] & ~out          # the representative holds one of two arcs
+    if not np.count_nonzero(out | two):
+        return br
+    # k1 . R_after^T R(k_j, -q) w = C: subproblem 4 in -q; each root is the middle of an arc
+    sol = sp4(h, w, kj, np.broadcast_to(cone.C, out.shape)).negated()
+    # the root of the other arc: k1 . v falls there where it rises at the representative
+    slope = -A[..., None] * sol.s[0] - B[..., None] * sol.c[0]          # (N, K, 2)
+    here = -A * br.sin[j] - B * br.cos[j]
+    other = (np.where(slope[..., 0] * here < 0, 0, 1))[..., None]
+    second = [np.take_along_axis(x, other, -1)[..., 0] for x in (sol.theta[0], sol.c[0],
+                                                                   sol.s[0], sol.exact)]
+    # one value per arc of the wrist's reach: the joints after the wrist may place their
+    # point from one arc only (a three-parallel arm's axis 4)
+    q, c, s = (pair(np.where(out, x[..., 0], y), np.where(out, x[..., 1], z))
+               for x, y, z in zip((sol.theta[0], sol.c[0], sol.s[0]),
+                                  (br.value[j], br.cos[j], br.sin[j]), second))
+    ok = pair(np.ones(out.shape, bool),
+              (out & sol.ok[..., 1] & sol.exact[..., 1]) | (two & second[3]))
     return br.branch([j], Solutions((q,), (c,), (s,), ok, ok, np.zeros(ok.shape, bool)),
                      labels=(None, "other arc"), free=False)
+
+
+def band_arcs(h, w, k, cone) -> tuple:
+    """How a free joint (axis ``k``, turning by ``q``) moves the quantity a wrist must keep
+    within its band: ``h . R(k, -q) w = D + A cos q - B sin q``, against the band ``[C - r,
+    C + r]`` of ``cone`` (the wrist's reach, :func:`~kincalc.subproblems.cone.cone_constants`).
+
+    Parameters
+    ----------
+    h, w : ndarray (..., 3), the direction the band is measured along and the vector the
+        joint turns (one frame)
+    k : ndarray (3,), the joint's unit axis (same frame)
+    cone : ConeConstants, the band's ``C`` and ``rr``
+
+    Returns
+    -------
+    D, A, B : ndarray (...), the coefficients
+    two : ndarray (...) of bool, the band strictly within the range ``D +- hypot(A, B)``:
+        the joint's values in the band are two arcs, each monotonic in ``q`` and holding one
+        root of ``h . R(k, -q) w = C`` (elsewhere one arc holds both, or there is none)
+    """
+    D = dot(h, k) * dot(k, w)
+    A, B = dot(h, w) - D, dot(h, cross(k, w))
+    R = np.hypot(A, B)
+    r = 0.0 if cone.all_degenerate else cone.rr
+    return D, A, B, (cone.C - r > D - R + 1e-12) & (cone.C + r < D + R - 1e-12)
 
 
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):

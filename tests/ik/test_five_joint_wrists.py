@@ -158,6 +158,99 @@ def test_whole_pose_with_a_placing_joint_free(free):
         assert any(_same(r, s.q, q) and not s.free for s in sols), np.degrees(q)
 
 
+def _follow_the_free_joint(r, q, j, value, target, way, steps=60):
+    """Joint ``j`` of ``q`` moved to ``value`` in steps, turning ``way`` (+1 or -1) round,
+    joints 4 and 5 kept on the position and approach of ``target`` by Gauss-Newton after
+    each (finite differences): whether every step reaches them to 1e-12."""
+    q = np.array(q, float)
+
+    def miss(x):
+        F = r.fk(x)
+        return np.concatenate([F[:3, 3] - target[:3, 3], F[:3, 2] - target[:3, 2]])
+    start, turn = q[j], wrap(value - q[j])
+    if turn * way < 0:
+        turn += way * 2 * np.pi
+    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
+        q[j] = start + t * turn
+        for _ in range(30):
+            e = miss(q)
+            if np.abs(e).max() < 1e-13:
+                break
+            J = np.empty((6, 2))
+            for c, k in enumerate((3, 4)):
+                x = q.copy()
+                x[k] += 1e-7
+                J[:, c] = (miss(x) - e) / 1e-7
+            q[[3, 4]] -= np.linalg.lstsq(J, e, rcond=None)[0]
+        if np.abs(miss(q)).max() > 1e-12:
+            return False
+    return True
+
+
+@pytest.mark.parametrize("free", [0, 1])
+def test_approach_with_a_placing_joint_free(free):
+    """Position and approach, the point on the free joint's axis: where the twist of axes 4
+    and 5 is not a right angle they point the approach only within a band, and the free
+    joint's representative 0 left it outside (no solution, "approach not reachable"). The
+    free joint is now turned into the band; the generating joints lie on the continuum of a
+    representative (the free joint moved there, joints 4 and 5 following)."""
+    rng = np.random.default_rng(71 + free)
+    for _ in range(30):
+        r, q = _placing_joint_on_the_point(rng, free)
+        T = r.fk(q)
+        P = T.copy()
+        P[:3, :3] = np.eye(3)
+        sols = solve(r, Target(P, orientation=False, approach=T[:3, 2])).solutions
+        assert sols, np.degrees(q)
+        for s in sols:
+            F = r.fk(s.q)
+            assert np.allclose(F[:3, 3], T[:3, 3], atol=1e-9)
+            assert np.allclose(F[:3, 2], T[:3, 2], atol=1e-9)
+        placed = [s for s in sols if s.free == (free,) and _same(r, s.q, q, slice(free + 1, 3))]
+        assert any(_follow_the_free_joint(r, s.q, free, q[free], T, way)
+                   for s in placed for way in (1, -1)), np.degrees(q)
+
+
+def _three_joint_wrist_arm(rng):
+    """A poe arm of two placing joints and axes 3, 4 and 5 through one point ``c0`` at random
+    angles (their twists not right angles), the tool's approach ``a0`` random."""
+    c0 = rng.uniform(-.3, .3, 3)
+    k = [_unit(rng) for _ in range(5)]
+    o = [rng.uniform(-.4, .4, 3) for _ in range(2)] + [c0, c0, c0]
+    a0 = _unit(rng)
+    R = matrix_from_axis_angle(_unit(rng), rng.uniform(0, np.pi))
+    R = matrix_from_axis_angle(np.cross(R[:, 2], a0), np.arccos(R[:, 2] @ a0)) @ R  # z = a0
+    joints = tuple(Joint(f"q{i + 1}", "revolute", axis=tuple(k[i]), point=tuple(o[i]),
+                         limits=(-np.pi, np.pi)) for i in range(5))
+    return Robot(name="five", convention="poe", joints=joints,
+                 M=transform(R, c0 + rng.uniform(.05, .2) * a0))
+
+
+def test_approach_of_a_three_joint_wrist_on_two_arcs():
+    """Joint 3 is free for an approach, within the values where joints 4 and 5 can point
+    it. Where those are two arcs, one representative stood for one of them: the generating
+    joints on the other were not on any answer's continuum."""
+    rng = np.random.default_rng(81)
+    pieces = 0
+    for _ in range(12):
+        r = _three_joint_wrist_arm(rng)
+        assert plan(r)[1].name == "position-approach"
+        for q in sample_configurations(r, 5, rng):
+            T = r.fk(q)
+            P = T.copy()
+            P[:3, :3] = np.eye(3)
+            sols = solve(r, Target(P, orientation=False, approach=T[:3, 2])).solutions
+            for s in sols:
+                F = r.fk(s.q)
+                assert np.allclose(F[:3, 3], T[:3, 3], atol=1e-9)
+                assert np.allclose(F[:3, 2], T[:3, 2], atol=1e-9)
+            placed = [s for s in sols if s.free == (2,) and _same(r, s.q, q, slice(0, 2))]
+            assert any(_follow_the_free_joint(r, s.q, 2, q[2], T, way)
+                       for s in placed for way in (1, -1)), np.degrees(q)
+            pieces += sum("other arc" in s.branch for s in placed) > 0
+    assert pieces > 0                    # the case of two arcs was met
+
+
 @pytest.mark.parametrize("shoulder", ["parallel", "concurrent"])
 def test_three_placing_axes_with_a_turn_to_spare(shoulder):
     """Axes 1-3 parallel (a plane) or through one point (a sphere) place the wrist point with

@@ -485,6 +485,39 @@ def test_a_free_placement_joint_turns_a_wrist_that_reaches_few_directions(alpha4
         assert all(1 in s.free for s in res.solutions)
         got = np.sort(np.round(solved.q[i][solved.valid[i]], 9), axis=0)
         assert np.array_equal(got, np.sort(np.round(S, 9), axis=0))
+        # the generating joints are on the continuum of an answer: q2 turned there (either
+        # way round: the wrist's band may hold two arcs of q2, one per representative)
+        assert any(_follow_joint(r, T[i], s.q, 1, Q[i][1], way, (3, 4, 5))
+                   for s in res.solutions for way in (1, -1)), np.degrees(Q[i])
+
+
+def _follow_joint(r, T, q, j, value, way, others, steps=60) -> bool:
+    """Joint ``j`` of ``q`` moved to ``value`` in steps, turning ``way`` (+1 or -1) round,
+    the joints ``others`` kept on the pose ``T`` by Gauss-Newton after each (finite
+    differences): whether every step reaches it to 1e-12."""
+    q, others = np.array(q, float), list(others)
+
+    def miss(x):
+        F = r.fk(x)
+        return np.concatenate([F[:3, 3] - T[:3, 3], (F[:3, :3] - T[:3, :3]).ravel()])
+    start, turn = q[j], wrap(value - q[j])
+    if turn * way < 0:
+        turn += way * 2 * np.pi
+    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
+        q[j] = start + t * turn
+        for _ in range(30):
+            e = miss(q)
+            if np.abs(e).max() < 1e-13:
+                break
+            J = np.empty((len(e), len(others)))
+            for c, k in enumerate(others):
+                x = q.copy()
+                x[k] += 1e-7
+                J[:, c] = (miss(x) - e) / 1e-7
+            q[others] -= np.linalg.lstsq(J, e, rcond=None)[0]
+        if np.abs(miss(q)).max() > 1e-12:
+            return False
+    return True
 
 
 def test_wrist_singular_at_an_arm_singularity_gives_the_continuum():
