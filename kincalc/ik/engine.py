@@ -15,8 +15,9 @@ and flags every candidate in one pass:
    (:func:`~kincalc.ik.joint_limits.normalise`);
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first
    (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
-   continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a polished copy of another's
-   double root (:func:`~kincalc.ik.near_miss.copies`);
+   continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
+   root (:func:`~kincalc.ik.near_miss.copies`: within ``SAME_DOUBLE_ROOT``, polished, or the
+   joints halfway between the two reaching the target too);
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
@@ -37,10 +38,11 @@ from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, forward_kinematics, tool_from_cs
+from ..spatial import wrap
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
-from .joint_limits import (duplicates, normalise, on_continua, open_joints, open_values,
-                           violations)
+from .joint_limits import (close_pairs, duplicates, normalise, on_continua, open_joints,
+                           open_values, violations)
 from .labels import labels
 from .near_miss import copies, near_misses, polished
 from .small_arms import takes_tcv
@@ -318,12 +320,10 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
         tool, f = np.stack(cols + [p], 1), (c, s, x)
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach
-    valid &= ~duplicates(robot, q, valid, f)
-    if polished_slots is not None:
-        miss = pe / max(robot.characteristic_length, 1e-12)
-        if oe is not None:
-            miss = miss + np.nan_to_num(oe)
-        valid &= ~copies(robot, q, valid, polished_slots, miss)
+    pairs = close_pairs(robot, q, valid, f)
+    if len(pairs[0]):                                                      # (rare)
+        valid &= ~duplicates(robot, q, valid, pairs)
+        valid &= ~_one_double_root(robot, family, targets, q, valid, pairs, polished_slots)
     free = br.free_mask()
     if np.count_nonzero(free):
         held = _moves_freely(robot, family, targets, q, valid & free.any(-1), free, br)
@@ -353,6 +353,36 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
         signs = br.full_signs
     return Solved(family=family.name, spec=family, method=method, robot=robot, signs=signs,
                   branches=br, memo=memo, **checked)
+
+
+def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots):
+    """:func:`~kincalc.ik.near_miss.copies` of the close ``pairs`` of ``q (N, K, n)``
+    (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root: one of the two
+    polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
+    linearly, from two candidates), or the joints halfway between them reaching the target
+    too (two roots of a singular pose split by rounding: between two distinct roots the
+    target is missed by the slope times half their distance). The two, and the joints
+    halfway, are evaluated by the column walk, whose bits do not depend on the batch."""
+    pose, j, i = pairs
+    live = np.flatnonzero(valid[pose, j] & valid[pose, i])
+    one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
+    if not len(live):
+        return np.zeros(valid.shape, bool)
+    a, b = q[pose[live], i[live]], q[pose[live], j[live]]
+    d = b - a
+    half = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)
+    T = forward_kinematics(robot.chain, np.concatenate([b, a, half]), column_walk=True)
+    pe, oe, reach = _reach(robot, family, targets.take(np.tile(pose[live], 3)),
+                           T[:, :3].transpose(1, 2, 0)[..., None])
+    m = len(live)
+    error = pe[:, 0] / max(robot.characteristic_length, 1e-12)
+    if oe is not None:
+        error = error + np.nan_to_num(oe[:, 0])
+    miss[live] = error[:2 * m].reshape(2, m).T
+    one[live] = reach[2 * m:, 0]
+    if polished_slots is not None:
+        one |= polished_slots[pose, j] | polished_slots[pose, i]
+    return copies(robot, q, valid, pairs, one, miss)
 
 
 def _in_layout(robot, checked: dict, cols, K: int) -> tuple:

@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import DUPLICATE, LIMIT_TOL
+from ..tolerances import DUPLICATE, LIMIT_TOL, SAME_DOUBLE_ROOT
 from .cache import per_robot
 
 
@@ -77,14 +77,15 @@ def same_solution(robot, a, b) -> np.ndarray:
     return (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE).all(-1)
 
 
-def duplicates(robot, q, valid, f=None) -> np.ndarray:
-    """Valid slots that are the same solution as an earlier kept one (every joint within
-    ``DUPLICATE``, wrapped: :func:`~kincalc.ik.joint_limits.same_solution`).
+def close_pairs(robot, q, valid, f=None) -> tuple:
+    """The pairs of valid slots of a pose whose joints agree to the wider of ``DUPLICATE``
+    (rad / m) and ``SAME_DOUBLE_ROOT`` (rad, or of the arm's size): the candidates of
+    :func:`duplicates` and of :func:`~kincalc.ik.near_miss.copies`.
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
     ``f = (cos, sin)`` of revolute joints and the value of prismatic ones: both are 1-Lipschitz,
-    so two slots within ``DUPLICATE`` in every joint have keys within ``sum_k |w_k| DUPLICATE``,
-    and only the pairs that pass are compared joint by joint (distinct solutions almost never do).
+    so two slots within ``t_k`` in every joint have keys within ``sum_k |w_k| t_k``, and only
+    the pairs that pass are compared joint by joint (distinct solutions almost never do).
 
     Parameters
     ----------
@@ -96,29 +97,53 @@ def duplicates(robot, q, valid, f=None) -> np.ndarray:
 
     Returns
     -------
-    ndarray (N, K) of bool, the slots to drop
+    pose, j, i : ndarray (m,) of int, each pair's pose and slots, ``i < j``, ascending in ``j``
     """
     N, K, n = q.shape
-    drop = np.zeros((N, K), bool)
+    none = np.empty(0, np.intp)
     if K < 2 or np.count_nonzero(valid) < 2:
-        return drop
+        return none, none, none
     if f is None:
         x = q.reshape(-1, n).T
         f = np.cos(x), np.sin(x), x
-    w, reach = _duplicate_key(robot)
+    w, reach, tol = _pair_key(robot)
     key = (w[0] @ f[0] + w[1] @ f[1] + w[2] @ f[2]).reshape(N, K)
     # poses with two valid keys within reach: neighbours once each pose's keys are sorted
     ordered = np.where(valid, key, np.nan)
     ordered.sort(axis=1)                                             # NaN (invalid) last
     suspect = ordered[:, 1:] - ordered[:, :-1] <= reach              # NaN: False
     if not np.count_nonzero(suspect):
-        return drop
+        return none, none, none
     poses = np.flatnonzero(suspect.any(1))
     kv, ok = key[poses], valid[poses]
     near = (np.abs(kv[:, :, None] - kv[:, None, :]) <= reach) & ok[:, :, None] \
         & ok[:, None, :] & np.tri(K, k=-1, dtype=bool)             # [j, i]: i < j
     pose, j, i = np.nonzero(near)
     pose = poses[pose]
+    d = q[pose, j] - q[pose, i]
+    close = (np.abs(np.where(robot.is_revolute, wrap(d), d)) <= tol).all(-1)
+    return pose[close], j[close], i[close]
+
+
+def duplicates(robot, q, valid, pairs) -> np.ndarray:
+    """Valid slots that are the same solution as an earlier kept one (every joint within
+    ``DUPLICATE``, wrapped: :func:`same_solution`).
+
+    Parameters
+    ----------
+    robot : Robot
+    q : ndarray (N, K, n), joint values (rad / m)
+    valid : ndarray (N, K) of bool
+    pairs : tuple, :func:`close_pairs` of these slots
+
+    Returns
+    -------
+    ndarray (N, K) of bool, the slots to drop
+    """
+    drop = np.zeros(valid.shape, bool)
+    pose, j, i = pairs
+    if not len(pose):
+        return drop
     same = same_solution(robot, q[pose, j], q[pose, i])                 # (pairs,)
     pose, j, i = pose[same], j[same], i[same]
     # ascending: a slot's verdict before later ones (not np.unique, which imports numpy.ma:
@@ -131,15 +156,16 @@ def duplicates(robot, q, valid, f=None) -> np.ndarray:
 
 
 @per_robot
-def _duplicate_key(robot) -> tuple:
-    """The weights ``(3, n)`` of :func:`duplicates`' screening key (of the cosines, the
-    sines and the values) and how far apart the keys of two duplicates can be. Cached per
-    robot."""
+def _pair_key(robot) -> tuple:
+    """The weights ``(3, n)`` of :func:`close_pairs`' screening key (of the cosines, the
+    sines and the values), how far apart the keys of two close slots can be, and each
+    joint's closeness ``(n,)`` (rad / m). Cached per robot."""
     rev = robot.is_revolute
+    tol = np.maximum(DUPLICATE, SAME_DOUBLE_ROOT * joint_scale(robot))
     w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
-    reach = DUPLICATE * (w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
+    reach = (tol * w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
     return np.array([np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0),
-                     np.where(rev, 0.0, w)]), reach
+                     np.where(rev, 0.0, w)]), reach, tol
 
 
 def on_continua(robot, q, valid, free) -> np.ndarray:

@@ -20,7 +20,7 @@ import numpy as np
 from ..fk import forward_kinematics
 from ..spatial import wrap
 from ..tolerances import NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED, SAME_DOUBLE_ROOT
-from .joint_limits import normalise, violations
+from .joint_limits import joint_scale, normalise, violations
 
 
 
@@ -80,20 +80,21 @@ def polished(robot, targets, q, mask, valid, reaches):
     return out
 
 
-def copies(robot, q, valid, polished_slots, error) -> np.ndarray:
-    """``(N, K)`` bool: of two valid slots of a pose, one of them polished (``polished_slots
-    (N, K)``), whose joints agree to :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or
-    of the arm's size), the one that misses its target by more (``error (N, K)``, a tie: the
-    later): they reached one double root, which Gauss-Newton approaches only linearly, from
-    two candidates.
+def copies(robot, q, valid, pairs, one, miss) -> np.ndarray:
+    """``(N, K)`` bool: of two valid slots of a pose whose joints agree to
+    :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size) and that are one
+    double root, the one that misses its target by more (a tie: the later).
 
-    ``q (N, K, n)`` (rad / m), ``valid (N, K)``."""
-    N, K, n = q.shape
-    d = q[:, :, None] - q[:, None, :]                                       # [j, i]
-    L = max(robot.characteristic_length, 1e-12)
-    d = np.abs(np.where(robot.is_revolute, wrap(d), d / L))
-    same = np.logical_and.reduce(d <= SAME_DOUBLE_ROOT, axis=-1) & valid[:, :, None] \
-        & valid[:, None, :] & (polished_slots[:, :, None] | polished_slots[:, None, :])
-    worse = (error[:, :, None] > error[:, None, :]) \
-        | ((error[:, :, None] == error[:, None, :]) & np.tri(K, k=-1, dtype=bool))
-    return np.logical_or.reduce(same & worse, axis=-1)
+    ``q (N, K, n)`` (rad / m), ``valid (N, K)``; ``pairs``: ``(pose, j, i)`` of
+    :func:`~kincalc.ik.joint_limits.close_pairs`, ``one (m,)`` bool: the pair is one double
+    root (the caller's evidence: Gauss-Newton reached it from two candidates, or the joints
+    halfway between the two reach the target too); ``miss (m, 2)``: how far slots ``j`` and
+    ``i`` miss the target (the caller's measure)."""
+    pose, j, i = pairs
+    drop = np.zeros(valid.shape, bool)
+    d = q[pose, j] - q[pose, i]
+    d = np.abs(np.where(robot.is_revolute, wrap(d), d)) / joint_scale(robot)
+    same = one & (d <= SAME_DOUBLE_ROOT).all(-1) & valid[pose, j] & valid[pose, i]
+    worse_j = miss[:, 0] >= miss[:, 1]
+    drop[pose[same], np.where(worse_j, j, i)[same]] = True
+    return drop

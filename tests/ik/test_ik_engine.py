@@ -9,7 +9,7 @@ from kincalc import jacobian_report, load_robot
 from kincalc.fk import chain_frames, tool_from_cs
 from kincalc.ik import Target, solve
 from kincalc.ik.engine import singular
-from kincalc.ik.joint_limits import duplicates
+from kincalc.ik.joint_limits import close_pairs, duplicates
 from kincalc.ik.joint_limits import normalise, violations, within_limits
 from kincalc.spatial import wrap
 from kincalc.model import Joint, Robot
@@ -92,7 +92,7 @@ def test_duplicates_are_the_greedy_first_kept():
     q[:, 1:] += rng.choice([0.0, 1e-8, 1e-3, 2 * np.pi], (50, 5, 6)) * robot.is_revolute
     q[:, :, 2] += rng.choice([0.0, 1e-9, 0.1], (50, 6))      # the prismatic joint
     valid = rng.random((50, 6)) < 0.8
-    got = duplicates(robot, q, valid)
+    got = duplicates(robot, q, valid, close_pairs(robot, q, valid))
     for n in range(50):
         kept, want = [], np.zeros(6, bool)
         for k in range(6):
