@@ -204,7 +204,7 @@ def solve_locked(robot: Robot, target: Target, locks: dict[int, float], *,
         The current joints of the whole arm (rad / m).
     **options
         Those of :func:`kincalc.ik.solve` (``all_branches``, ``explain``, ``units``,
-        ``numeric``).
+        ``numeric``, ``reasons``).
 
     Raises
     ------

@@ -134,7 +134,7 @@ class IKResult:
 
 
 def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = False,
-          units=None, near=None, numeric: bool = False) -> IKResult:
+          units=None, near=None, numeric: bool = False, reasons: bool = True) -> IKResult:
     """Every IK solution of ``robot`` for ``target`` as an :class:`IKResult`.
 
     Parameters
@@ -156,6 +156,10 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     numeric : bool
         Find the one solution nearest ``near`` (default: the home joints) numerically
         (:mod:`kincalc.ik.numeric`); also done for a robot no analytic family covers.
+    reasons : bool
+        Find why the answer is what it is (``reason``: for a target out of reach, a search
+        for the nearest reachable point, some 0.1 s). False: ``reason`` is None, for a
+        caller that shows none (``ik --batch`` records).
 
     Returns
     -------
@@ -173,7 +177,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         near = np.asarray(near, float).reshape(robot.dof)
     if target.tcv is None and target.swivel is None and (family is None or numeric):
         result = _solve_numerical(robot, target, near, units,
-                                  why if family is None else "asked for")
+                                  why if family is None else "asked for", reasons)
         if all_branches:       # one solution, found numerically: there are no branches
             result = replace(result, rejected=[], dead_ends=[], note=(
                 "none: the numerical solver finds one solution, not the branches"))
@@ -190,7 +194,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                 for q in [_toward(robot, s.q, near)]]
         sols.sort(key=lambda s: (not s.within_limits, _scaled_norm(robot, s.change)))
     reachable = any(s.within_limits for s in sols)
-    reason = answer_reason(robot, family, T, target, sols, rejected)
+    reason = answer_reason(robot, family, T, target, sols, rejected) if reasons else None
     result_rejected = note = dead = None
     if all_branches:
         from .combinations import cross_combinations
@@ -376,8 +380,9 @@ def default_start(robot) -> np.ndarray:
     return np.clip(np.asarray(robot.home, float), lo, hi)
 
 
-def _solve_numerical(robot, target, near, units, why) -> IKResult:
-    """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``."""
+def _solve_numerical(robot, target, near, units, why, reasons=True) -> IKResult:
+    """One solution by :func:`kincalc.ik.numeric.solve_numeric`, nearest ``near``
+    (``reasons``: of :func:`solve`)."""
     if target.approach is not None:
         raise TargetMismatch(robot.name, "not approach", why=why)
     from .engine import singular
@@ -406,6 +411,8 @@ def _solve_numerical(robot, target, near, units, why) -> IKResult:
                                within_limits=not viol, violations=viol, singular=sing,
                                change=None if near is None else q - near))
         reason = NumericFound(res.restarts)
+    elif not reasons:
+        reason = None
     else:
         reason = out_of_reach(robot, T)
         if not isinstance(reason, OutOfReach):

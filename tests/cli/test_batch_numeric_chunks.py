@@ -58,3 +58,33 @@ def test_jobs_share_a_short_numerical_batch_in_order(tmp_path, capsys, monkeypat
             assert o["reachable"] is True
             q = np.array(o["solutions"][0]["q"])
             assert np.allclose(r.fk(q), np.array(rows[i]["T"]), atol=1e-8)
+
+
+def test_records_out_of_reach_search_for_no_reason(tmp_path, capsys, monkeypatch):
+    """A batch record shows no reason, so none is looked for: out of reach, a target's reason
+    searched for the nearest reachable point (some 0.1 s a record, and 3,000 records of
+    positions inside a planar arm's inner void gave no output in two minutes). The records
+    still say unreachable, in order, checked by the arm's reach (inner radius 5)."""
+    import sys
+
+    import kincalc.ik.verdict as verdict
+    solve_module = sys.modules["kincalc.ik.solve"]          # (kincalc.ik.solve: the function)
+
+    def searched(*args, **kwargs):
+        raise AssertionError("a batch record searched for its reason")
+    monkeypatch.setattr(verdict, "out_of_reach", searched)
+    monkeypatch.setattr(solve_module, "out_of_reach", searched)
+    rng = np.random.default_rng(8)
+    P = np.c_[rng.uniform(-3, 3, (40, 2)), np.zeros(40)]
+    P[::4] = [12.0, 3.0, 0.0]                           # reachable: l1 + l2 = 15, |l1 - l2| = 5
+    src = tmp_path / "p.csv"
+    src.write_text("x,y,z\n" + "".join(f"{x},{y},{z}\n" for x, y, z in P))
+    code, out, err = run(capsys, "ik", "bk_rr", "--batch", str(src))
+    recs = [json.loads(line) for line in out.splitlines()]
+    assert code == 1 and len(recs) == 40, err
+    r = load_robot("bk_rr")
+    for rec, p in zip(recs, P):
+        inside = 5.0 <= np.hypot(*p[:2]) <= 15.0
+        assert rec["reachable"] == inside
+        for s in rec["solutions"]:
+            assert np.allclose(r.fk(np.radians(s["q"]))[:3, 3], p, atol=1e-9)

@@ -297,7 +297,9 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
     heads, q, labels, within, singular, owner = [], [], [], [], [], []
     for i, kw, target in partial:
         try:
-            result = solve_locked(robot, target, held) if held else solve(robot, target)
+            # (a record shows no reason: no search for the nearest reachable point)
+            result = solve_locked(robot, target, held, reasons=False) if held else \
+                solve(robot, target, reasons=False)
         except KincalcError as exc:        # a question this robot cannot take: its record
             errors.append((i, {**head(i, kw), "error": f"record {i + 1}: {words(exc)}"}))
             continue
