@@ -267,6 +267,22 @@ def test_cli_bad_input_exit_2_one_line(capsys, arms, argv):
     assert err.count("\n") == 1 and err.startswith("kincalc"), err
 
 
+@pytest.mark.parametrize("rows", [
+    ["{name: a, type: revolute, alpha: 0, a: 0, d: 0, theta: 0}"],
+    ["{name: a, type: revolute, alpha: 0, a: 0, d: 0.5, theta: 0}",
+     "{name: b, type: revolute, alpha: 0, a: 0, d: 0.2, theta: 0}"],
+])
+def test_a_tool_point_no_joint_moves_has_no_volume(capsys, tmp_path, rows):
+    """Every axis through the tool point: the samples' points differ by rounding only, and
+    a grid sized to their spread asked for 539 GiB (a MemoryError, exit 3; an independent
+    hostile-input campaign). Now one line, exit 2."""
+    f = tmp_path / "still.yaml"
+    f.write_text(_yaml("still", rows))
+    code, out, err = run(capsys, "workspace", str(f), "--json")
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and "single point" in err, err
+
+
 def test_analyse_refuses_too_few_samples(arms):
     with pytest.raises(Exception, match="1000"):
         ws.analyse(load(arms["rr"]), 10, 0)

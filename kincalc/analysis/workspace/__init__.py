@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...errors import BadValue
+from ...errors import BadValue, UnsupportedRobot
 from ...limits import MAX_ORIENTATIONS, MAX_SAMPLES
 from .dexterity import dexterous, super_fibonacci, test_orientations
 from .sampling import envelope, joint_ranges, sample_tool_points
@@ -212,6 +212,10 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     t0 = time.perf_counter()
     Q, P = sample_tool_points(robot, rng, samples, progress)
     times["sampling"] = time.perf_counter() - t0
+    if np.ptp(P, axis=0).max() <= 1e-9 * max(robot.characteristic_length, 1e-12):
+        # (a grid sized to the samples' spread would be sized to rounding: no volume)
+        raise UnsupportedRobot(f"{robot.name}: no joint moves the tool point (every axis "
+                               "passes through it): the workspace is a single point")
 
     t0 = time.perf_counter()
     env = envelope(robot, Q, P)
