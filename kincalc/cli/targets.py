@@ -209,8 +209,11 @@ def _read_pose(src: str):
     except UnicodeDecodeError:
         raise InputError(f"{what}: not UTF-8 text; expected 16 numbers or JSON rows of a "
                          "4x4 matrix") from None
+    def not_finite(word):                    # (json reads NaN and Infinity; JSON has none)
+        raise InputError(f"{what}: {word} is not a finite number (JSON has no NaN or "
+                         "Infinity)")
     try:
-        data = _json.loads(text)
+        data = _json.loads(text, parse_constant=not_finite)
         if isinstance(data, dict):
             data = data.get("T", data.get("target", {}).get("T") if isinstance(
                 data.get("target"), dict) else None)

@@ -153,10 +153,17 @@ def _attribute_lines(data: bytes, at: int, line: int) -> dict:
         return {}
     out, pos, first = {}, at, line
     for m in _ATTRIBUTE.finditer(data, at, tag.end()):
-        first += data.count(b"\n", pos, m.start(2))      # (from the last: linear in the tag)
+        first += _breaks(data, pos, m.start(2))          # (from the last: linear in the tag)
         pos = m.start(2)
-        out[m.group(1).decode("utf-8", "replace")] = (first, first + m.group(2).count(b"\n"))
+        out[m.group(1).decode("utf-8", "replace")] = (first, first + _breaks(data, *m.span(2)))
     return out
+
+
+def _breaks(data: bytes, start: int, end: int) -> int:
+    """The line breaks in ``data[start:end]`` as XML (and expat's line numbers) count them:
+    LF, CR LF, and a lone CR."""
+    return data.count(b"\n", start, end) + data.count(b"\r", start, end) \
+        - data.count(b"\r\n", start, end)
 
 
 def _cut_tag(tag: str) -> str:
@@ -190,6 +197,16 @@ class _Reader:
             self.fail(node, f"<{node.tag}> has no '{name}' attribute")
         return default
 
+    def name(self, node: Element, attr: str = "name") -> str:
+        """A name attribute (a link's, a joint's, the link a joint names), on one line: the
+        messages quote names, and a message shows no line of the file but the one it names."""
+        value = self.attr(node, attr)
+        first, last = node.lines_of(attr)
+        if last > first:
+            self.fail(node, f"<{node.tag} {attr}> runs on over lines {first}-{last}: a name "
+                            "is one line", attr)
+        return value
+
     def numbers(self, node: Element, name: str, count: int, default: str) -> np.ndarray:
         text = self.attr(node, name, default)
         parts = text.split()
@@ -209,7 +226,7 @@ class _Reader:
         return np.array(values)
 
     def joint(self, node: Element) -> UrdfJoint:
-        name = self.attr(node, "name")
+        name = self.name(node)
         kind = self.attr(node, "type")
         where = f"joint {quote(name)}"
         if kind not in MOVING and kind != "fixed" and kind not in REFUSED:
@@ -221,7 +238,7 @@ class _Reader:
             sub = node.first(tag)
             if sub is None:
                 self.fail(node, f"{where} has no <{tag}>")
-            links[tag] = self.attr(sub, "link")
+            links[tag] = self.name(sub, "link")
         origin = node.first("origin")
         T = np.eye(4)
         if origin is not None:
@@ -329,7 +346,7 @@ def parse_urdf_text(text: str, file: str = "<urdf>", base_link: str | None = Non
     links = {}
     for node in root.children:
         if node.tag == "link":
-            name = reader.attr(node, "name")
+            name = reader.name(node)
             if name in links:
                 reader.fail(node, f"link {quote(name)} is defined twice")
             links[name] = node

@@ -41,3 +41,89 @@ def test_explain_on_a_robot_only_nearly_of_its_family(tmp_path):
     doc = json.loads(out)
     assert status in (0, 1) and len(doc["solutions"]) == 8
     assert all(s["trace"] for s in doc["solutions"])
+
+
+MARK = "KCNOTTHELINE_m4w9"        # written on a line no message may show
+
+
+def _shows_only_its_line(err: str, text: str, name: str) -> None:
+    """``err`` names a line of ``name`` and shows nothing of the file's other lines (the
+    marker sits on a line that is not the one named)."""
+    assert err.count("\n") == 1 and MARK not in err, err
+    line = int(err.split(f"{name}:", 1)[1].split(":", 1)[0])
+    assert MARK not in text.splitlines()[line - 1], (line, err)
+
+
+def test_a_name_over_two_lines_is_not_quoted_in_a_robot_file(tmp_path):
+    """A joint name written over two lines (a plain YAML scalar continued) was quoted in the
+    error of a later line of the joint, showing the other lines."""
+    text = ("name: arm\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+            f"  - name: q1\n      {MARK}\n    type: revolute\n    alpha: bad\n    a: 0.3\n"
+            "    d: 0\n    theta: 0\n")
+    (tmp_path / "arm.yaml").write_text(text)
+    argv = ["robots", "validate", str(tmp_path / "arm.yaml")]
+    status, out, err = run_cli(argv)
+    assert_contract(status, out, err, argv)
+    assert status == 2 and ":8: joint 1:" in err
+    _shows_only_its_line(err, text, "arm.yaml")
+
+
+def test_an_item_id_over_two_lines_in_a_sheet(tmp_path):
+    """The same for a homework sheet's item id, quoted in the errors of its item (now named
+    there by the line alone; such an id is still an id, sanitised where it is written)."""
+    text = (f"title: t\nrobot: planar_3r\nitems:\n  - id: one\n      {MARK}\n    kind: fk\n"
+            "    q: [1, 2, bad]\n    answer: {position: [1, 2, 0]}\n")
+    (tmp_path / "sheet.yaml").write_text(text)
+    argv = ["check", str(tmp_path / "sheet.yaml")]
+    status, out, err = run_cli(argv)
+    assert status == 2 and "sheet.yaml:7: 'q'" in err
+    _shows_only_its_line(err, text, "sheet.yaml")
+
+
+URDF = """<?xml version="1.0"?>
+<robot name="two_link">
+  <link name="base_link"/>
+  <link name="upper_arm"/>
+  <link name="forearm"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base_link"/><child link="upper_arm"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" effort="10" velocity="1"/>
+  </joint>
+  <joint name="elbow" type="revolute">
+    <parent link="upper_arm"/><child link="forearm"/>
+    <origin xyz="0.4 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" effort="10" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_urdf_names_and_values_over_lines(tmp_path):
+    """URDF names over two lines were quoted whole (a joint's name, the link it names), and
+    a lone CR, a line break to XML and to expat's line numbers, was not one to kincalc's
+    attribute lines: the value was quoted with the next line, an attribute after it named
+    on the tag's line."""
+    cases = [("elbow", f'elbow\n{MARK}', "<joint name> runs on over lines 11-12"),
+             ('child link="forearm"', f'child link="fore\n{MARK}"', "<child link> runs on"),
+             ('xyz="0.4 0 0"', f'xyz="abc\r{MARK} 0"', "a value over lines 13-14"),
+             ('<origin xyz="0.4 0 0"/>', '<origin\rxyz="abc"/>', "urdf:14: <origin xyz>")]
+    for old, new, want in cases:
+        text = URDF.replace(old, new, 1)
+        f = tmp_path / "a.urdf"
+        f.write_bytes(text.encode())
+        argv = ["robots", "validate", str(f)]
+        status, out, err = run_cli(argv)
+        assert status == 2 and want in err, (new, err)
+        assert err.count("\n") == 1 and MARK not in err, err
+
+
+def test_a_pose_file_with_nan_beside_its_matrix(tmp_path):
+    """A --pose JSON object was read by its T only: a NaN elsewhere in it was accepted,
+    where every number of a pose file must be finite (an ik --batch record refuses it)."""
+    (tmp_path / "pose.json").write_text(
+        '{"T": [[1,0,0,0.3],[0,1,0,0],[0,0,1,0.2],[0,0,0,1]], "position": [NaN]}\n')
+    argv = ["ik", "puma560", "--pose", str(tmp_path / "pose.json"), "--json"]
+    status, out, err = run_cli(argv)
+    assert_contract(status, out, err, argv)
+    assert status == 2 and "NaN is not a finite number" in err

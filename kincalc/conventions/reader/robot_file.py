@@ -354,8 +354,11 @@ class RobotReader(Reader):
         keys = POE_JOINT_KEYS if convention == "poe" else DH_JOINT_KEYS
         if isinstance(node, yaml.MappingNode):
             for knode, vnode in node.value:
-                if knode.value == "name" and isinstance(vnode, yaml.ScalarNode):
-                    self.joint_name = cut(printable(vnode.value))     # (for messages)
+                # (for messages; a name over several lines is not quoted: the joint's
+                # number names it, and a message shows nothing of other lines)
+                if knode.value == "name" and isinstance(vnode, yaml.ScalarNode) \
+                        and len(set(self.lines(vnode))) == 1:
+                    self.joint_name = cut(printable(vnode.value))
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
         if joint_name_problem(name):

@@ -189,8 +189,8 @@ class _SheetReader(AnswerReader, Reader):
         for node in inodes:
             item = self.item_entry(node, tol)
             if item.id in seen:
-                self.fail(node, f"id {quote(item.id)} is already used by the item on line "
-                                f"{seen[item.id]}")
+                self.fail(node, f"id {self.shown(self.plain_keys(node)['id'])} is already "
+                                f"used by the item on line {seen[item.id]}")
             seen[item.id] = item.line
             items.append(item)
             self.item = None
@@ -237,10 +237,11 @@ class _SheetReader(AnswerReader, Reader):
             text = None
             line = exc.line
         if text is not None:
+            parse = parse_robot_text
             if name.lower().endswith(".urdf"):        # the URDF's default chain
-                from ...conventions.urdf import parse_urdf_text as parse_robot_text
+                from ...conventions.urdf import parse_urdf_text as parse
             try:
-                robot = parse_robot_text(text, name)
+                robot = parse(text, name)
             except RobotFileError as exc:
                 line = exc.line
             else:
@@ -266,7 +267,9 @@ class _SheetReader(AnswerReader, Reader):
         if not self.is_mapping(node):
             self.fail(node, f"each item must be a mapping with 'id' and 'kind', not {self.kind(node)}")
         raw = self.plain_keys(node)
-        if "id" in raw and self.is_scalar(raw["id"]):
+        # (the id names the item in messages, unless it runs over lines: a message shows
+        # nothing of the file but the line it names)
+        if "id" in raw and self.is_scalar(raw["id"]) and len(set(self.lines(raw["id"]))) == 1:
             self.item = str(raw["id"].value)
         kind = None
         if "kind" in raw:           # a list or a mapping is no kind either
