@@ -419,9 +419,15 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
         lambda: _coefficients(S, P, S.move_point(c, samples(S, c), P.p0)))
     t = _targets(S, P, PT)                                                 # (N, K, 2)
     al = al_s[:, None, None, :] - np.moveaxis(t, -1, 0)[..., None]          # (2, N, K, m)
-    R = eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :],
-                  np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300))
-    br = br.branch([c], roots_in_c(S, c, R))
+    linear = np.abs(ga_s).max(-1) <= 1e-12 * max(np.abs(be_s).max(), 1e-300)
+    R = eliminate(S.revolute[b], al, be_s[:, None, None, :], ga_s[:, None, None, :], linear)
+
+    def resample(xc, slots):
+        """The resultant at joint c's values ``xc (r, m')`` of the ``slots (N, K)``."""
+        al, be, ga = _coefficients(S, P, S.move_point(c, xc, P.p0))      # (2, r, m')
+        return eliminate(S.revolute[b], al - np.moveaxis(t[slots], -1, 0)[..., None], be, ga,
+                         linear)
+    br = br.branch([c], roots_in_c(S, c, R, resample))
     PT, t = br.take(PT), br.take(t)
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
     al, be, ga = _coefficients(S, P, g)

@@ -64,29 +64,87 @@ def common_root(al, be, ga):
     return x, np.isfinite(x)
 
 
-def roots_in_c(S: Screws, c: int, R) -> Solutions:
+def roots_in_c(S: Screws, c: int, R, resample=None) -> Solutions:
     """The real roots of the resultant sampled at :func:`samples`, ``R (N, K, m)``: up to
-    eight slots, ascending."""
+    eight slots, ascending. ``resample(x (r, m'), slots (N, K) bool) -> R (r, m')``: the
+    resultant of the ``r`` slots ``slots`` at other values of joint c (rad / m). Where the
+    fit over the whole span leaves roots a little off
+    the real ones' locus (a cluster of real roots close together, which the fit's rounding
+    splits into complex pairs), they are found again on a window about them
+    (:func:`_refit`)."""
     from ..subproblems.roots import polynomial_roots
     if S.revolute[c]:
         F = np.fft.fft(R, axis=-1) / R.shape[-1]
         K = 4
         coeffs = np.stack([F[..., k % R.shape[-1]] for k in range(K, -K - 1, -1)], -1)
         z = polynomial_roots(coeffs)
-        z = _multiple_roots(z, np.abs(np.abs(z) - 1.0), 1e-3)
+        off = np.abs(np.abs(z) - 1.0)                  # (about the angle's distance)
+        z = _multiple_roots(z, off, 1e-3)
+        x = np.angle(np.where(np.isfinite(z), z, 1.0))
         ok = np.isfinite(z) & (np.abs(np.abs(z) - 1.0) < 1e-3)
-        x = np.angle(np.where(ok, z, 1.0))
+        near = (off >= 1e-3) & (off < CLUSTER) & ~ok
     else:
         span = 4.0 * S.scale
         coeffs = rows_times(R, _poly_fit_matrix().T)                       # highest first
         y = polynomial_roots(coeffs)
-        y = _multiple_roots(y, np.abs(y.imag), 1e-4)
+        off = np.abs(y.imag)
+        y = _multiple_roots(y, off, 1e-4)
+        x = span * np.where(np.isfinite(y), y.real, 0.0)
         ok = np.isfinite(y) & (np.abs(y.imag) < 1e-4) & (np.abs(y.real) <= 10.0)
-        x = span * np.where(ok, y.real, 0.0)
+        near = (off >= 1e-4) & (off < CLUSTER) & (np.abs(y.real) <= 10.0) & ~ok
+        off = off * span                                                    # (m)
+    if resample is not None:
+        # (a revolute c's resultant is a trigonometric polynomial: the window's degree 8
+        # holds it to rounding over 0.05 rad either side, no wider)
+        x, ok = _refit(x, ok, near & np.isfinite(x), np.where(near, off, 0.0), resample,
+                       0.05 if S.revolute[c] else np.inf)
     order = np.argsort(np.where(ok, x, np.inf), axis=-1)
     x, ok = np.take_along_axis(x, order, -1), np.take_along_axis(ok, order, -1)
     x = np.where(ok, x, 0.0)
     return Solutions((x,), (np.cos(x),), (np.sin(x),), ok, ok, np.zeros_like(ok))
+
+
+def _refit(x, ok, near, off, resample, widest):
+    """The roots ``x (N, K, d)`` (``ok`` the real ones) with those ``near`` the real locus
+    (``off (N, K, d)`` from it, in joint units) replaced, per slot, by the real roots of
+    the resultant fitted again on a window about them: ``resample`` at ``2 d + 1``
+    Chebyshev points of ``[lo - w, hi + w]``, ``lo``, ``hi`` the near roots' extremes and
+    ``w`` four times their largest offset. The window holds the cluster's roots well apart
+    (a fit over the whole span rounds them into complex pairs 4e-4 off, on an R-R-P-R arm
+    whose four roots lie within 0.02 m; the same arm in dh found them). A window wider than
+    ``widest`` either side, or one holding a real root already, is left as it is."""
+    from ..subproblems.roots import polynomial_roots
+    rows = np.flatnonzero(np.logical_or.reduce(near, axis=-1).reshape(-1))
+    if not len(rows):
+        return x, ok
+    shape = x.shape
+    x, ok, near, off = (a.reshape(-1, shape[-1]).copy() for a in (x, ok, near, off))
+    lo = np.where(near[rows], x[rows], np.inf).min(-1)
+    hi = np.where(near[rows], x[rows], -np.inf).max(-1)
+    w = 4.0 * np.where(near[rows], off[rows], 0.0).max(-1)
+    centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo) + w
+    # a window that holds a real root already is a multiple root's cluster
+    # (:func:`_multiple_roots` stood its mean or a real root for it): left as it is
+    single = ~np.logical_or.reduce(ok[rows] & (np.abs(x[rows] - centre[:, None])
+                                             <= half[:, None]), axis=-1) & (half <= widest)
+    rows, centre, half = rows[single], centre[single], half[single]
+    if not len(rows):
+        return x.reshape(shape), ok.reshape(shape)
+    n = 2 * POLY_DEGREE + 1
+    u = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    where = np.zeros(len(x), bool)
+    where[rows] = True
+    local = resample((centre[:, None] + half[:, None] * u), where.reshape(shape[:-1]))
+    v = polynomial_roots(rows_times(local, _poly_fit_matrix().T))       # (r, d) in u
+    good = np.isfinite(v) & (np.abs(v.imag) < 1e-6) & (np.abs(v.real) <= 1.0)
+    new = centre[:, None] + half[:, None] * np.where(good, v.real, 0.0)
+    # the slot's real roots and the window's, ascending; at most d in all
+    merged = np.concatenate([np.where(ok[rows], x[rows], np.inf), np.where(good, new, np.inf)],
+                            -1)
+    merged.sort(axis=-1)
+    merged = merged[:, :shape[-1]]
+    x[rows], ok[rows] = np.where(np.isfinite(merged), merged, 0.0), np.isfinite(merged)
+    return x.reshape(shape), ok.reshape(shape)
 
 
 def _multiple_roots(z, off, real):

@@ -147,3 +147,42 @@ def test_nearly_a_scara(twist, at):
             for r in newton_roots(robot, robot.fk(q), 40, np.random.default_rng(10)):
                 d = np.where(robot.is_revolute, wrap(S - r), S - r)
                 assert np.abs(d).max(-1).min() < 1e-6
+
+
+#: an R-R-P-R arm of an independent campaign (standard DH: alpha, a, d, theta, kind) whose
+#: slide's resultant has four real roots within 0.02 m at the pose of CLUSTER_Q: fitted over
+#: the slide's whole span the four came out as two complex pairs 4e-4 off in the poe form
+#: of the arm (the dh form's span found them): the pose had no solution in poe
+CLUSTER_ARM = [(-1.5707963267948966, -0.06515448300587022, -0.034090608231901021,
+                0.79965170995514478, "revolute"),
+               (1.5707963267948966, 0.0, 0.0, 0.85018275849967218, "revolute"),
+               (-1.0012709491905987, 0.0, 0.34760298939275847, -3.0011723173662355,
+                "prismatic"),
+               (-1.3578144153375622, -0.041173832521621968, -0.010183119352870541,
+                -2.4394620395296247, "revolute")]
+CLUSTER_TOOL = [[-0.57697728453721786, 0.80602697717007521, 0.1319762296859906,
+                 0.26179740364299192],
+                [0.61006230296146713, 0.31785960223516718, 0.72580249363876692,
+                 0.031628051456224493],
+                [0.54306647809767195, 0.49928527450844407, -0.67512444410317274,
+                 -0.15091477329357075], [0, 0, 0, 1]]
+CLUSTER_Q = [1.6673583962715002, -0.6290628099311482, -0.3395842475724461, 1.0605839862390827]
+
+
+def test_close_roots_of_the_slide_are_found_in_every_convention():
+    from kincalc.conventions import dh_to_mdh, to_poe
+    joints = tuple(Joint(f"j{i + 1}", kind, alpha=al, a=a, d=d, theta=th,
+                         limits=(-1.2, 1.2) if kind == "prismatic" else (-np.pi, np.pi))
+                   for i, (al, a, d, th, kind) in enumerate(CLUSTER_ARM))
+    r = Robot(name="cluster", convention="dh", joints=joints, tool=np.array(CLUSTER_TOOL))
+    q0 = np.array(CLUSTER_Q)
+    T = r.fk(q0)
+    answers = []
+    for arm in (r, dh_to_mdh(r), to_poe(r)):
+        assert plan(arm)[1].name == "point-plus-roll"
+        Q = np.array([s.q for s in arm.ik(T).solutions]).reshape(-1, 4)
+        assert len(Q) and np.abs(arm.fk(Q) - T).max() < 1e-9
+        d = np.abs(np.where(arm.is_revolute, wrap(Q - q0), Q - q0)).max(-1)
+        assert d.min() < 1e-9, (arm.convention, Q)
+        answers.append(np.sort(np.round(Q, 7), axis=0))
+    assert all(np.array_equal(a, answers[0]) for a in answers)
