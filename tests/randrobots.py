@@ -87,3 +87,29 @@ def degenerate_dh_robot(rng, n):
         return T
     return Robot(name="degenerate", convention="dh", joints=tuple(joints), base=frame(),
                  tool=frame())
+
+
+def follow_joint(miss, q, j, value, way, others, steps=60):
+    """The end of a continuum of solutions from ``q`` to joint ``j`` at ``value``, or None
+    where there is none: joint ``j`` moved there in ``steps``, turning ``way`` (+1 or -1)
+    round, the joints ``others`` kept on the target by Gauss-Newton after each (finite
+    differences of ``miss(q) -> residual vector``), every step reaching it to 1e-12."""
+    q, others = np.array(q, float), list(others)
+    start, turn = q[j], wrap(value - q[j])
+    if turn * way < 0:
+        turn += way * 2 * np.pi
+    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
+        q[j] = start + t * turn
+        for _ in range(30):
+            e = miss(q)
+            if np.abs(e).max() < 1e-13:
+                break
+            J = np.empty((len(e), len(others)))
+            for c, k in enumerate(others):
+                x = q.copy()
+                x[k] += 1e-7
+                J[:, c] = (miss(x) - e) / 1e-7
+            q[others] -= np.linalg.lstsq(J, e, rcond=None)[0]
+        if np.abs(miss(q)).max() > 1e-12:
+            return None
+    return q

@@ -28,7 +28,7 @@ from kincalc.ik.families import plan
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_axis_angle, matrix_from_rpy, rot_z, transform, wrap
-from randrobots import newton_roots
+from randrobots import follow_joint, newton_roots
 
 CONVENTIONS = ["dh", "mdh", "poe"]
 
@@ -158,33 +158,13 @@ def test_whole_pose_with_a_placing_joint_free(free):
         assert any(_same(r, s.q, q) and not s.free for s in sols), np.degrees(q)
 
 
-def _follow_the_free_joint(r, q, j, value, target, way, steps=60):
-    """Joint ``j`` of ``q`` moved to ``value`` in steps, turning ``way`` (+1 or -1) round,
-    joints 4 and 5 kept on the position and approach of ``target`` by Gauss-Newton after
-    each (finite differences): whether every step reaches them to 1e-12."""
-    q = np.array(q, float)
-
+def _follow_the_free_joint(r, q, j, value, target, way) -> bool:
+    """Joint ``j`` of ``q`` turned to ``value`` (``way`` round), joints 4 and 5 kept on the
+    position and approach of ``target`` (:func:`randrobots.follow_joint`)."""
     def miss(x):
         F = r.fk(x)
         return np.concatenate([F[:3, 3] - target[:3, 3], F[:3, 2] - target[:3, 2]])
-    start, turn = q[j], wrap(value - q[j])
-    if turn * way < 0:
-        turn += way * 2 * np.pi
-    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
-        q[j] = start + t * turn
-        for _ in range(30):
-            e = miss(q)
-            if np.abs(e).max() < 1e-13:
-                break
-            J = np.empty((6, 2))
-            for c, k in enumerate((3, 4)):
-                x = q.copy()
-                x[k] += 1e-7
-                J[:, c] = (miss(x) - e) / 1e-7
-            q[[3, 4]] -= np.linalg.lstsq(J, e, rcond=None)[0]
-        if np.abs(miss(q)).max() > 1e-12:
-            return False
-    return True
+    return follow_joint(miss, q, j, value, way, (3, 4)) is not None
 
 
 @pytest.mark.parametrize("free", [0, 1])

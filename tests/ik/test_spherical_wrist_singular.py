@@ -20,7 +20,7 @@ import zlib
 
 import numpy as np
 import pytest
-from randrobots import random_pose
+from randrobots import follow_joint, random_pose
 
 from kincalc import load_robot
 from kincalc.conventions import dh_to_mdh, to_poe
@@ -491,33 +491,13 @@ def test_a_free_placement_joint_turns_a_wrist_that_reaches_few_directions(alpha4
                    for s in res.solutions for way in (1, -1)), np.degrees(Q[i])
 
 
-def _follow_joint(r, T, q, j, value, way, others, steps=60) -> bool:
-    """Joint ``j`` of ``q`` moved to ``value`` in steps, turning ``way`` (+1 or -1) round,
-    the joints ``others`` kept on the pose ``T`` by Gauss-Newton after each (finite
-    differences): whether every step reaches it to 1e-12."""
-    q, others = np.array(q, float), list(others)
-
+def _follow_joint(r, T, q, j, value, way, others) -> bool:
+    """Joint ``j`` of ``q`` turned to ``value`` (``way`` round), the joints ``others`` kept
+    on the pose ``T`` (:func:`randrobots.follow_joint`)."""
     def miss(x):
         F = r.fk(x)
         return np.concatenate([F[:3, 3] - T[:3, 3], (F[:3, :3] - T[:3, :3]).ravel()])
-    start, turn = q[j], wrap(value - q[j])
-    if turn * way < 0:
-        turn += way * 2 * np.pi
-    for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
-        q[j] = start + t * turn
-        for _ in range(30):
-            e = miss(q)
-            if np.abs(e).max() < 1e-13:
-                break
-            J = np.empty((len(e), len(others)))
-            for c, k in enumerate(others):
-                x = q.copy()
-                x[k] += 1e-7
-                J[:, c] = (miss(x) - e) / 1e-7
-            q[others] -= np.linalg.lstsq(J, e, rcond=None)[0]
-        if np.abs(miss(q)).max() > 1e-12:
-            return False
-    return True
+    return follow_joint(miss, q, j, value, way, others) is not None
 
 
 def test_wrist_singular_at_an_arm_singularity_gives_the_continuum():
