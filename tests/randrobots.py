@@ -89,27 +89,36 @@ def degenerate_dh_robot(rng, n):
                  tool=frame())
 
 
+def gauss_newton(err, q, moving, iters=30, stop=1e-13):
+    """``q`` with the joints ``moving`` changed by Gauss-Newton steps (finite differences of
+    ``err(q) -> residual vector``) until the residual is below ``stop`` or ``iters`` steps
+    are taken (a copy)."""
+    q, moving = np.array(q, float), list(moving)
+    for _ in range(iters):
+        e = err(q)
+        if np.abs(e).max() < stop:
+            break
+        J = np.empty((len(e), len(moving)))
+        for c, k in enumerate(moving):
+            x = q.copy()
+            x[k] += 1e-7
+            J[:, c] = (err(x) - e) / 1e-7
+        q[moving] -= np.linalg.lstsq(J, e, rcond=None)[0]
+    return q
+
+
 def follow_joint(miss, q, j, value, way, others, steps=60):
     """The end of a continuum of solutions from ``q`` to joint ``j`` at ``value``, or None
     where there is none: joint ``j`` moved there in ``steps``, turning ``way`` (+1 or -1)
-    round, the joints ``others`` kept on the target by Gauss-Newton after each (finite
-    differences of ``miss(q) -> residual vector``), every step reaching it to 1e-12."""
-    q, others = np.array(q, float), list(others)
+    round, the joints ``others`` kept on the target by :func:`gauss_newton` on ``miss(q) ->
+    residual vector`` after each, every step reaching it to 1e-12."""
+    q = np.array(q, float)
     start, turn = q[j], wrap(value - q[j])
     if turn * way < 0:
         turn += way * 2 * np.pi
     for t in np.linspace(0.0, 1.0, steps + 1)[1:]:
         q[j] = start + t * turn
-        for _ in range(30):
-            e = miss(q)
-            if np.abs(e).max() < 1e-13:
-                break
-            J = np.empty((len(e), len(others)))
-            for c, k in enumerate(others):
-                x = q.copy()
-                x[k] += 1e-7
-                J[:, c] = (miss(x) - e) / 1e-7
-            q[others] -= np.linalg.lstsq(J, e, rcond=None)[0]
+        q = gauss_newton(miss, q, others)
         if np.abs(miss(q)).max() > 1e-12:
             return None
     return q

@@ -365,9 +365,9 @@ def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots):
     halfway, are evaluated by the column walk, whose bits do not depend on the batch."""
     pose, j, i = pairs
     live = np.flatnonzero(valid[pose, j] & valid[pose, i])
-    one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
     if not len(live):
         return np.zeros(valid.shape, bool)
+    one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
     a, b = q[pose[live], i[live]], q[pose[live], j[live]]
     d = b - a
     half = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)

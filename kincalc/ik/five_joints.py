@@ -72,11 +72,8 @@ def _free_for_the_approach(S: Screws, br: Branches, a, a0) -> Branches:
     (world frame): where their twist is not a right angle they reach only a band of
     directions (:func:`~kincalc.ik.wrists.free_for_the_wrist`, the approach ``a0`` (3,) at
     q = 0 as the pointed vector)."""
-    placing = tuple(j for j in (0, 1, 2) if S.revolute[j])
-    if not br.free_in(placing):
-        return br
-    for j in placing:
-        if br.free_in((j,)):
+    for j in (0, 1, 2):
+        if S.revolute[j] and br.free_in((j,)):
             br = free_for_the_wrist(S, br, 3, _approach_cone(S), a[:, None, :], (0, 1, 2), j)
     return br
 
@@ -222,7 +219,7 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     third = sp4(k4, v, k3, cone.C, fixed=axis_sp4(S, 3, 2)).negated()
     # where the band of k4 . R3^T a is two arcs of joint 3, the second root is the middle of
     # the other one (a second representative: a piece of the continuum of its own)
-    two = band_arcs(k4, v, k3, cone)[3] & third.exact[..., 1]
+    two = band_arcs(k4, v, k3, cone).two & third.exact[..., 1]
     ok = third.ok & pair(np.ones(two.shape, bool), two)
     br = br.branch([2], Solutions(third.theta, third.c, third.s, ok, third.exact, ok),
                    labels=(None, "other arc"), least_squares=True)

@@ -289,7 +289,7 @@ def _sixth(S: Screws, T, br: Branches, Rt, hj: int, elbow, v, aligned):
     a = rotate_back(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(
         br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
-    t6 = _near_singular_q6(S, br, T, hj, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
+    t6 = _near_singular_q6(S, br, T, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
     arcs, ok_arcs = _singular_q6(S, br, T, v, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
@@ -367,7 +367,7 @@ def _singular_q6(S: Screws, br: Branches, T, v, aligned, elbow=(1, 2, 3)):
 _COS_NEAR = float(np.cos(NEAR_ALIGNED))
 
 
-def _near_singular_q6(S: Screws, br: Branches, T, hj: int, v, aligned, b, q6, elbow):
+def _near_singular_q6(S: Screws, br: Branches, T, v, aligned, b, q6, elbow):
     """Joint 6's angle ``q6 (N, K)`` read from the orientation, moved into the elbow's reach
     where axis 6 is within :data:`NEAR_ALIGNED` of h but not aligned
     (:func:`~kincalc.ik.wrists.into_elbow_reach`; the candidate's small miss is polished

@@ -197,11 +197,11 @@ def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int
     for i in reversed(before[at + 1:]):                                # R_after k1
         if S.revolute[i]:
             h = S.turn(i, br.cos[i], br.sin[i], h)
-    D, A, B, two = band_arcs(h, w, kj, cone)                         # k1 . v as j turns
-    f = D + A * br.cos[j] - B * br.sin[j]                              # at the representative
-    r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
-    out = br.free[j] & (np.abs(f - cone.C) > r + 1e-12)                # beyond the wrist
-    two &= br.free[j] & ~out          # the representative holds one of two arcs
+    band = band_arcs(h, w, kj, cone)                                 # k1 . v as j turns
+    A, B = band.A, band.B
+    f = band.D + A * br.cos[j] - B * br.sin[j]                         # at the representative
+    out = br.free[j] & (np.abs(f - cone.C) > band.r + 1e-12)           # beyond the wrist
+    two = band.two & br.free[j] & ~out   # the representative holds one of two arcs
     if not np.count_nonzero(out | two):
         return br
     # k1 . R_after^T R(k_j, -q) w = C: subproblem 4 in -q; each root is the middle of an arc
@@ -223,7 +223,18 @@ def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int
                      labels=(None, "other arc"), free=False)
 
 
-def band_arcs(h, w, k, cone) -> tuple:
+class Band(NamedTuple):
+    """How a free joint moves the quantity a wrist must keep within its band
+    (:func:`band_arcs`)."""
+
+    D: np.ndarray           # (...) h . R(k, -q) w = D + A cos q - B sin q
+    A: np.ndarray
+    B: np.ndarray
+    r: object               # the band's half-width about the cone's C (0.0: a degenerate cone)
+    two: np.ndarray         # (...) bool: the joint's values in the band are two arcs
+
+
+def band_arcs(h, w, k, cone) -> Band:
     """How a free joint (axis ``k``, turning by ``q``) moves the quantity a wrist must keep
     within its band: ``h . R(k, -q) w = D + A cos q - B sin q``, against the band ``[C - r,
     C + r]`` of ``cone`` (the wrist's reach, :func:`~kincalc.subproblems.cone.cone_constants`).
@@ -237,16 +248,17 @@ def band_arcs(h, w, k, cone) -> tuple:
 
     Returns
     -------
-    D, A, B : ndarray (...), the coefficients
-    two : ndarray (...) of bool, the band strictly within the range ``D +- hypot(A, B)``:
-        the joint's values in the band are two arcs, each monotonic in ``q`` and holding one
-        root of ``h . R(k, -q) w = C`` (elsewhere one arc holds both, or there is none)
+    Band
+        The coefficients, ``r``, and ``two``: the band strictly within the range ``D +-
+        hypot(A, B)``, where the joint's values in the band are two arcs, each monotonic in
+        ``q`` and holding one root of ``h . R(k, -q) w = C`` (elsewhere one arc holds both,
+        or there is none).
     """
     D = dot(h, k) * dot(k, w)
     A, B = dot(h, w) - D, dot(h, cross(k, w))
     R = np.hypot(A, B)
-    r = 0.0 if cone.all_degenerate else cone.rr
-    return D, A, B, (cone.C - r > D - R + 1e-12) & (cone.C + r < D + R - 1e-12)
+    r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
+    return Band(D, A, B, r, (cone.C - r > D - R + 1e-12) & (cone.C + r < D + R - 1e-12))
 
 
 def parallel_wrist_q6(S: Screws, a, b, sigma, elbow=(1, 2, 3)):

@@ -26,6 +26,7 @@ from kincalc.ik import Target, solve
 from kincalc.ik.families import plan
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_rpy, transform, wrap
+from randrobots import gauss_newton
 
 CONVENTIONS = ["dh", "mdh", "poe"]
 
@@ -84,21 +85,10 @@ def _axes(robot, q):
 def _on_lines(robot, q, point, lines, moving, iters=60):
     """``q`` with the joints ``moving`` changed (Gauss-Newton, finite differences) until
     ``point(q)`` (a world point) lies on the axes ``lines``; None if it does not get there."""
-    q = np.asarray(q, float).copy()
-
     def err(x):
         k, o = _axes(robot, x)
         return np.concatenate([np.cross(k[j], point(x) - o[j]) for j in lines])
-    for _ in range(iters):
-        e = err(q)
-        if np.abs(e).max() < 1e-14:
-            return q
-        J = np.empty((len(e), len(moving)))
-        for c, j in enumerate(moving):
-            x = q.copy()
-            x[j] += 1e-7
-            J[:, c] = (err(x) - e) / 1e-7
-        q[moving] -= np.linalg.lstsq(J, e, rcond=None)[0]
+    q = gauss_newton(err, q, moving, iters, stop=1e-14)
     return q if np.abs(err(q)).max() < 1e-12 else None
 
 

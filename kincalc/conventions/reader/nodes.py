@@ -181,7 +181,7 @@ class NodeReader:
         """
         import yaml
         if isinstance(root, yaml.ScalarNode) and root.value != "" \
-                and len(set(self.lines(root))) == 1:         # (over lines: named by them)
+                and self.on_one_line(root):                 # (over lines: named by them)
             kind = what.replace("the ", "a ", 1)
             self.fail(root, f"{what} must be a mapping (key: value), not a text of "
                             f"{len(root.value)} characters (is it {kind}?)")
@@ -379,6 +379,12 @@ class NodeReader:
         """
         first, last = NodeReader.lines(node)
         return f"a text over lines {first}-{last}" if last > first else quote(node.value)
+
+    @staticmethod
+    def on_one_line(node) -> bool:
+        """Whether ``node`` is written on one line of the file (a message may quote it)."""
+        first, last = NodeReader.lines(node)
+        return first == last
 
     @staticmethod
     def lines(node) -> tuple[int, int]:

@@ -357,7 +357,7 @@ class RobotReader(Reader):
                 # (for messages; a name over several lines is not quoted: the joint's
                 # number names it, and a message shows nothing of other lines)
                 if knode.value == "name" and isinstance(vnode, yaml.ScalarNode) \
-                        and len(set(self.lines(vnode))) == 1:
+                        and self.on_one_line(vnode):
                     self.joint_name = cut(printable(vnode.value))
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")

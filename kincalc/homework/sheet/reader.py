@@ -269,7 +269,7 @@ class _SheetReader(AnswerReader, Reader):
         raw = self.plain_keys(node)
         # (the id names the item in messages, unless it runs over lines: a message shows
         # nothing of the file but the line it names)
-        if "id" in raw and self.is_scalar(raw["id"]) and len(set(self.lines(raw["id"]))) == 1:
+        if "id" in raw and self.is_scalar(raw["id"]) and self.on_one_line(raw["id"]):
             self.item = str(raw["id"].value)
         kind = None
         if "kind" in raw:           # a list or a mapping is no kind either
