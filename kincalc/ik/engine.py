@@ -17,7 +17,8 @@ and flags every candidate in one pass:
    (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
    continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
    root (:func:`~kincalc.ik.near_miss.copies`: within ``SAME_DOUBLE_ROOT``, polished, or the
-   joints halfway between the two reaching the target too);
+   joints halfway between the two reaching the target too, when both are checked again at
+   those joints and answered once there);
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
@@ -321,9 +322,12 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     pe, oe, reach = _reach(robot, family, targets, tool.reshape(3, 4, N, K))
     valid = candidate & reach
     pairs = close_pairs(robot, q, valid, f)
+    halfway = None
     if len(pairs[0]):                                                      # (rare)
         valid &= ~duplicates(robot, q, valid, pairs)
-        valid &= ~_one_double_root(robot, family, targets, q, valid, pairs, polished_slots)
+        drop, halfway = _one_double_root(robot, family, targets, q, valid, pairs,
+                                         polished_slots)
+        valid &= ~drop
     free = br.free_mask()
     if np.count_nonzero(free):
         held = _moves_freely(robot, family, targets, q, valid & free.any(-1), free, br)
@@ -331,12 +335,16 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
                        family.needs_orientation) if polish else None
+    moved = near                        # slots whose joints change for a second check
     if near is not None:
-        q2 = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
+        q = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
             robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0])
-        at = near.reshape(-1).nonzero()[0]
+    if polish and halfway is not None:
+        q, moved = _at_halfway(q, moved, *halfway)
+    if moved is not None:
+        at = moved.reshape(-1).nonzero()[0]
         x = x.copy()
-        x[:, at] = q2.reshape(-1, n)[at].T
+        x[:, at] = q.reshape(-1, n)[at].T
         c, s = c.copy(), s.copy()
         c[:, at], s[:, at] = np.cos(x[:, at]), np.sin(x[:, at])
         return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False,
@@ -355,23 +363,27 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
                   branches=br, memo=memo, **checked)
 
 
-def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots):
+def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots) -> tuple:
     """:func:`~kincalc.ik.near_miss.copies` of the close ``pairs`` of ``q (N, K, n)``
     (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root: one of the two
     polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
     linearly, from two candidates), or the joints halfway between them reaching the target
     too (two roots of a singular pose split by rounding: between two distinct roots the
     target is missed by the slope times half their distance). The two, and the joints
-    halfway, are evaluated by the column walk, whose bits do not depend on the batch."""
+    halfway, are evaluated by the column walk, whose bits do not depend on the batch.
+
+    Returns ``(drop, halfway)``: ``drop (N, K)`` the copies that go; ``halfway``, the pairs
+    whose halfway joints reach, ``(pose, j, i, half)`` with ``half (m, n)``, or None."""
     pose, j, i = pairs
     live = np.flatnonzero(valid[pose, j] & valid[pose, i])
     if not len(live):
-        return np.zeros(valid.shape, bool)
+        return np.zeros(valid.shape, bool), None
     one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
     a, b = q[pose[live], i[live]], q[pose[live], j[live]]
     d = b - a
-    half = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)
-    T = forward_kinematics(robot.chain, np.concatenate([b, a, half]), column_walk=True)
+    half = np.zeros((len(pose), robot.dof))
+    half[live] = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)
+    T = forward_kinematics(robot.chain, np.concatenate([b, a, half[live]]), column_walk=True)
     pe, oe, reach = _reach(robot, family, targets.take(np.tile(pose[live], 3)),
                            T[:, :3].transpose(1, 2, 0)[..., None])
     m = len(live)
@@ -380,9 +392,27 @@ def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots):
         error = error + np.nan_to_num(oe[:, 0])
     miss[live] = error[:2 * m].reshape(2, m).T
     one[live] = reach[2 * m:, 0]
+    met = one.copy()
     if polished_slots is not None:
         one |= polished_slots[pose, j] | polished_slots[pose, i]
-    return copies(robot, q, valid, pairs, one, miss)
+    drop, same = copies(robot, q, valid, pairs, one, miss)
+    met &= same
+    return drop, (pose[met], j[met], i[met], half[met]) if met.any() else None
+
+
+def _at_halfway(q, moved, pose, j, i, half) -> tuple:
+    """``q (N, K, n)`` with both slots ``j`` and ``i`` of each pose in ``pose`` (one double
+    root: :func:`_one_double_root`) at the joints ``half`` halfway between them, and the
+    slots ``moved (N, K)`` (or None) with those added: the double root checked again at its
+    middle, which is nearer it than either copy rounding split off (a double root's roots
+    move by the square root of a change of the pose), and the two, now one solution, left to
+    :func:`~kincalc.ik.joint_limits.duplicates`, which keeps the earlier slot in every
+    convention and batch."""
+    q = q.copy()
+    q[pose, j] = q[pose, i] = half
+    moved = np.zeros(q.shape[:2], bool) if moved is None else moved.copy()
+    moved[pose, j] = moved[pose, i] = True
+    return q, moved
 
 
 def _in_layout(robot, checked: dict, cols, K: int) -> tuple:

@@ -80,8 +80,8 @@ def polished(robot, targets, q, mask, valid, reaches):
     return out
 
 
-def copies(robot, q, valid, pairs, one, miss) -> np.ndarray:
-    """``(N, K)`` bool: of two valid slots of a pose whose joints agree to
+def copies(robot, q, valid, pairs, one, miss) -> tuple:
+    """Of two valid slots of a pose whose joints agree to
     :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size) and that are one
     double root, the one that misses its target by more (a tie: the later).
 
@@ -89,7 +89,10 @@ def copies(robot, q, valid, pairs, one, miss) -> np.ndarray:
     :func:`~kincalc.ik.joint_limits.close_pairs`, ``one (m,)`` bool: the pair is one double
     root (the caller's evidence: Gauss-Newton reached it from two candidates, or the joints
     halfway between the two reach the target too); ``miss (m, 2)``: how far slots ``j`` and
-    ``i`` miss the target (the caller's measure)."""
+    ``i`` miss the target (the caller's measure).
+
+    Returns ``(drop, same)``: ``drop (N, K)`` bool, the slots that go; ``same (m,)`` bool, the
+    pairs that are one double root."""
     pose, j, i = pairs
     drop = np.zeros(valid.shape, bool)
     d = q[pose, j] - q[pose, i]
@@ -97,4 +100,4 @@ def copies(robot, q, valid, pairs, one, miss) -> np.ndarray:
     same = one & (d <= SAME_DOUBLE_ROOT).all(-1) & valid[pose, j] & valid[pose, i]
     worse_j = miss[:, 0] >= miss[:, 1]
     drop[pose[same], np.where(worse_j, j, i)[same]] = True
-    return drop
+    return drop, same

@@ -288,3 +288,46 @@ def test_a_double_root_split_by_rounding_comes_back_once():
     batch = r.ik_batch(T[None])
     assert int(batch.valid.sum()) == len(sols)
     assert all(np.abs(wrap(a - b)).max() > 1e-5 for k, a in enumerate(Q) for b in Q[:k])
+
+
+#: a SCARA (slide, then three parallel revolute axes) and joints at its stretched elbow, where
+#: rounding splits the elbow's double root into two copies ~2e-6 rad apart (the random-robot
+#: campaign's scara43, in standard DH)
+STRETCHED_SCARA = [(0.0, 0.015780980739033904, 0.0, -2.3829135839389828, "prismatic"),
+                   (0.0, -0.46761020685489357, 0.0, -1.4512750156378911, "revolute"),
+                   (np.pi, 0.39639680419647433, 0.0, 2.3015301078042789, "revolute"),
+                   (0.0, 0.0, 0.0, 1.855797148969633, "revolute")]
+STRETCHED_Q = [-0.18517518399912003, 2.220760059970716, -2.301530107804279, 0.7149983989736426]
+STRETCHED_BASE = [[-0.16212194401091118, -0.91306169019129746, -0.37421227288149483,
+                   0.23199535664214543],
+                  [0.66357981337144911, -0.38155406417461668, 0.64348918203629935,
+                   0.48924691863826153],
+                  [-0.7303275337518339, -0.14399599305829219, 0.66774759260301364,
+                   0.36740131726466119], [0, 0, 0, 1]]
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_a_double_root_split_by_rounding_is_answered_at_its_middle(convention):
+    """Two copies of one double root (each reaching the target, 2.2e-6 rad apart, on either
+    side of the stretched elbow) are answered once, at the joints halfway between them: the
+    generating joints to 1e-8 (each copy is 1.1e-6 off), with the same joints and label in
+    standard DH, modified DH and the product of exponentials (which copy missed less, and its
+    label, elbow up or down, differed between them)."""
+    from kincalc.conventions.conversion import convert
+    joints = tuple(Joint(f"j{i + 1}", kind, alpha=al, a=a, d=d,
+                         theta=th if kind == "revolute" else 0.0)
+                   for i, (al, a, d, th, kind) in enumerate(STRETCHED_SCARA))
+    dh = Robot(name="stretched", convention="dh", joints=joints,
+               base=np.array(STRETCHED_BASE, float))
+    r = dh if convention == "dh" else convert(dh, convention)
+    q0 = np.array(STRETCHED_Q)
+    T = dh.fk(q0)
+    assert np.abs(r.fk(q0) - T).max() < 1e-14
+    sols = r.ik(T).solutions
+    assert len(sols) == 1, [(s.q, s.branch) for s in sols]
+    assert np.abs(wrap(np.array(sols[0].q) - q0)).max() < 1e-8
+    assert np.abs(r.fk(np.array(sols[0].q)) - T).max() < 1e-12
+    assert "elbow" not in sols[0].branch                # neither side of the stretched elbow
+    batch = r.ik_batch(T[None])
+    assert int(batch.valid.sum()) == 1
+    assert np.array_equal(batch.q[batch.valid][0], np.array(sols[0].q))
