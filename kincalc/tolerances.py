@@ -87,6 +87,18 @@ DUPLICATE = 1e-6
 #: from several roots of the fitted resultant (a cluster's mean, a real root beside it) stop
 #: some 1e-6 apart, each reaching the target (kincalc.ik.place)
 SAME_DOUBLE_ROOT = 1e-5
+#: ... and two solutions of a flat double root when they agree to this (rad, or of the arm's
+#: size), each misses the target by more than INEXACT and the joints halfway between them
+#: miss it by less than half the better one: where the target changes to second order only
+#: as the joints leave a double root (a stretched elbow's, an aligned wrist's), a solver
+#: places it no better than to the square root of its own error, and two copies 1e-4 rad
+#: either side of it both reach the target to 1e-11 (a reversed parallel-four-wrist arm
+#: at its stretched elbow). Two distinct roots that close each reach it to rounding, and
+#: between them it is missed
+SPLIT_DOUBLE_ROOT = 1e-3
+#: a solution that misses its target by more than this (m per m of the arm's size, plus rad)
+#: was not found to rounding (SPLIT_DOUBLE_ROOT)
+INEXACT = 1e-13
 
 #: a joint counts as within its limits up to this much beyond them (rad; times the
 #: arm's size for prismatic joints): rounding of a solution at its limit

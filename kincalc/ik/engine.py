@@ -17,8 +17,9 @@ and flags every candidate in one pass:
    (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
    continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
    root (:func:`~kincalc.ik.near_miss.copies`: within ``SAME_DOUBLE_ROOT``, polished, or the
-   joints halfway between the two reaching the target too, when both are checked again at
-   those joints and answered once there);
+   joints halfway between the two reaching the target too; the two sides of a flat double
+   root within ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again,
+   where those reach the target better than both;
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
@@ -35,7 +36,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from ..errors import TargetMismatch, UnsupportedRobot
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, INEXACT
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, forward_kinematics, tool_from_cs
@@ -326,7 +327,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     if len(pairs[0]):                                                      # (rare)
         valid &= ~duplicates(robot, q, valid, pairs)
         drop, halfway = _one_double_root(robot, family, targets, q, valid, pairs,
-                                         polished_slots)
+                                         polished_slots, again=polish)
         valid &= ~drop
     free = br.free_mask()
     if np.count_nonzero(free):
@@ -363,17 +364,26 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
                   branches=br, memo=memo, **checked)
 
 
-def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots) -> tuple:
+def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots,
+                     again: bool = False) -> tuple:
     """:func:`~kincalc.ik.near_miss.copies` of the close ``pairs`` of ``q (N, K, n)``
-    (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root: one of the two
+    (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root, and of those the
+    ones better answered halfway between their two solutions.
+
+    Two solutions within ``SAME_DOUBLE_ROOT`` are one double root where one of them was
     polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
-    linearly, from two candidates), or the joints halfway between them reaching the target
-    too (two roots of a singular pose split by rounding: between two distinct roots the
-    target is missed by the slope times half their distance). The two, and the joints
-    halfway, are evaluated by the column walk, whose bits do not depend on the batch.
+    linearly, from two candidates) or the joints halfway between them reach the target too
+    (between two distinct roots the target is missed by the slope times half their
+    distance). With ``again`` (the halfway joints can be checked again), two within
+    ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
+    halfway joints miss it by less than half the better: the two sides of a flat double root
+    (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
+    joints miss the target by less than half the better of the two: rounding split one root
+    (two exact roots close together keep the exact one). The two, and the joints halfway,
+    are evaluated by the column walk, whose bits do not depend on the batch.
 
     Returns ``(drop, halfway)``: ``drop (N, K)`` the copies that go; ``halfway``, the pairs
-    whose halfway joints reach, ``(pose, j, i, half)`` with ``half (m, n)``, or None."""
+    to answer halfway, ``(pose, j, i, half)`` with ``half (m, n)``, or None."""
     pose, j, i = pairs
     live = np.flatnonzero(valid[pose, j] & valid[pose, i])
     if not len(live):
@@ -392,12 +402,17 @@ def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots) ->
         error = error + np.nan_to_num(oe[:, 0])
     miss[live] = error[:2 * m].reshape(2, m).T
     one[live] = reach[2 * m:, 0]
-    met = one.copy()
+    better, sides = np.zeros(len(pose), bool), np.zeros(len(pose), bool)
+    least = miss[live].min(-1)
+    better[live] = error[2 * m:] < 0.5 * least
+    sides[live] = better[live] & (least > INEXACT)
     if polished_slots is not None:
         one |= polished_slots[pose, j] | polished_slots[pose, i]
-    drop, same = copies(robot, q, valid, pairs, one, miss)
-    met &= same
-    return drop, (pose[met], j[met], i[met], half[met]) if met.any() else None
+    drop, same = copies(robot, q, valid, pairs, one, miss, sides if again else None)
+    met = same & better
+    if not again or not met.any():
+        return drop, None
+    return drop, (pose[met], j[met], i[met], half[met])
 
 
 def _at_halfway(q, moved, pose, j, i, half) -> tuple:

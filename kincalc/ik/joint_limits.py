@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import DUPLICATE, LIMIT_TOL, SAME_DOUBLE_ROOT
+from ..tolerances import DUPLICATE, LIMIT_TOL, SPLIT_DOUBLE_ROOT
 from .cache import per_robot
 
 
@@ -79,7 +79,7 @@ def same_solution(robot, a, b) -> np.ndarray:
 
 def close_pairs(robot, q, valid, f=None) -> tuple:
     """The pairs of valid slots of a pose whose joints agree to the wider of ``DUPLICATE``
-    (rad / m) and ``SAME_DOUBLE_ROOT`` (rad, or of the arm's size): the candidates of
+    (rad / m) and ``SPLIT_DOUBLE_ROOT`` (rad, or of the arm's size): the candidates of
     :func:`duplicates` and of :func:`~kincalc.ik.near_miss.copies`.
 
     Pairs are screened first by one number per slot, ``key = sum_k w_k f_k(q_k)`` with
@@ -161,7 +161,7 @@ def _pair_key(robot) -> tuple:
     sines and the values), how far apart the keys of two close slots can be, and each
     joint's closeness ``(n,)`` (rad / m). Cached per robot."""
     rev = robot.is_revolute
-    tol = np.maximum(DUPLICATE, SAME_DOUBLE_ROOT * joint_scale(robot))
+    tol = np.maximum(DUPLICATE, SPLIT_DOUBLE_ROOT * joint_scale(robot))
     w = 1.0 + 0.37 * np.arange(robot.dof)                      # generic, fixed weights
     reach = (tol * w * np.where(rev, 1.61, 1.0)).sum() * (1 + 1e-9) + 1e-15
     return np.array([np.where(rev, w, 0.0), np.where(rev, 0.61 * w, 0.0),

@@ -19,7 +19,8 @@ import numpy as np
 
 from ..fk import forward_kinematics
 from ..spatial import wrap
-from ..tolerances import NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED, SAME_DOUBLE_ROOT
+from ..tolerances import (NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED, SAME_DOUBLE_ROOT,
+                          SPLIT_DOUBLE_ROOT)
 from .joint_limits import joint_scale, normalise, violations
 
 
@@ -80,24 +81,30 @@ def polished(robot, targets, q, mask, valid, reaches):
     return out
 
 
-def copies(robot, q, valid, pairs, one, miss) -> tuple:
-    """Of two valid slots of a pose whose joints agree to
-    :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size) and that are one
-    double root, the one that misses its target by more (a tie: the later).
+def copies(robot, q, valid, pairs, one, miss, flat=None) -> tuple:
+    """Of two valid slots of a pose that are one double root, the one that misses its target
+    by more (a tie: the later): slots whose joints agree to
+    :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size) with the
+    evidence ``one``, or to :data:`~kincalc.tolerances.SPLIT_DOUBLE_ROOT` with ``flat``.
 
     ``q (N, K, n)`` (rad / m), ``valid (N, K)``; ``pairs``: ``(pose, j, i)`` of
     :func:`~kincalc.ik.joint_limits.close_pairs`, ``one (m,)`` bool: the pair is one double
     root (the caller's evidence: Gauss-Newton reached it from two candidates, or the joints
-    halfway between the two reach the target too); ``miss (m, 2)``: how far slots ``j`` and
-    ``i`` miss the target (the caller's measure).
+    halfway between the two reach the target too); ``flat (m,)`` bool or None: the pair is
+    the two sides of a flat double root (the joints halfway miss the target by less than
+    either); ``miss (m, 2)``: how far slots ``j`` and ``i`` miss the target (the caller's
+    measure).
 
     Returns ``(drop, same)``: ``drop (N, K)`` bool, the slots that go; ``same (m,)`` bool, the
     pairs that are one double root."""
     pose, j, i = pairs
     drop = np.zeros(valid.shape, bool)
     d = q[pose, j] - q[pose, i]
-    d = np.abs(np.where(robot.is_revolute, wrap(d), d)) / joint_scale(robot)
-    same = one & (d <= SAME_DOUBLE_ROOT).all(-1) & valid[pose, j] & valid[pose, i]
+    d = (np.abs(np.where(robot.is_revolute, wrap(d), d)) / joint_scale(robot)).max(-1)
+    same = one & (d <= SAME_DOUBLE_ROOT)
+    if flat is not None:
+        same |= flat & (d <= SPLIT_DOUBLE_ROOT)
+    same &= valid[pose, j] & valid[pose, i]
     worse_j = miss[:, 0] >= miss[:, 1]
     drop[pose[same], np.where(worse_j, j, i)[same]] = True
     return drop, same

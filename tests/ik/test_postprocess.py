@@ -331,3 +331,55 @@ def test_a_double_root_split_by_rounding_is_answered_at_its_middle(convention):
     batch = r.ik_batch(T[None])
     assert int(batch.valid.sum()) == 1
     assert np.array_equal(batch.q[batch.valid][0], np.array(sols[0].q))
+
+
+def test_two_exact_roots_close_together_keep_an_exact_one():
+    """A PUMA 560 pose 5e-5 deg from the stretched elbow has two exact elbow roots 1.7e-6
+    rad apart, one double root to the engine (within SAME_DOUBLE_ROOT); their halfway joints
+    reach the pose (to 1e-13) but less well than either root, so an exact root is kept and
+    the pose is reached to rounding (answering halfway missed it by 1.1e-13)."""
+    r = load_robot("puma560")
+    T = r.fk(np.radians([10, -45, -87.30836366293622 + 5e-5, 20, 30, 40]))
+    sols = r.ik(T).solutions
+    assert len(sols) == 4
+    assert np.abs(r.fk(np.array([s.q for s in sols])) - T).max() < 1e-14
+
+
+#: a reversed parallel-four-wrist arm (its joint 6 a slide; the random-robot campaign's
+#: rp4w0) and joints at its stretched elbow, where the target changes to second order only:
+#: its closed form placed the double root 1.3e-4 rad either side, two solutions each
+#: reaching the pose to 2.5e-11 of the arm's size
+FLAT_ROOT_ARM = """name: flat_root
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, alpha: 0.29520298696420388, a: 0, d: 1.8845997542935491, theta: -1.017729444441605}
+  - {name: j2, type: revolute, alpha: -0.6465397763878199, a: 0.043082126964808426, d: -0.045217052155811309, theta: -0.94080727742463832}
+  - {name: j3, type: revolute, alpha: 0, a: 1.1569560610169152, d: 0, theta: 2.9627958727322854}
+  - {name: j4, type: revolute, alpha: 0, a: 1.1709599880758799, d: 0.94188729179636521, theta: -0.61894635022392341}
+  - {name: j5, type: revolute, alpha: 3.1415926535897931, a: -0.024094197631002828, d: 0, theta: -0.74334595584806573}
+  - {name: j6, type: prismatic, alpha: 1.6041831889192331, a: 0, d: -0.41922024986832057, theta: 1.2018906790119788}
+base: [[0.79405027124860639, 0.068018252180544969, -0.60403450571992867, -0.3871645751245717], [0.60024709989599367, -0.24444117777801777, 0.76154575021658744, -0.20641353948677632], [-0.095851895111487839, -0.96727556982320184, -0.23492634213033026, -0.016170672492288873], [0, 0, 0, 1]]
+tool: [[0.27734800978807694, -0.90513896767199375, -0.32218244934861062, 0.092121662282915906], [0.29046349547918149, -0.24065199494327327, 0.92613043094579162, -0.16050410016792882], [-0.91581059136734611, -0.35044267224683096, 0.19616547659537809, -0.10642034707206782], [0, 0, 0, 1]]
+"""
+FLAT_ROOT_Q = [-1.8976672705440027, 1.4691529834482973, -0.8957634032045916,
+               -2.5226463033658693, -1.1650687622997897, -1.092149781691231]
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_the_two_sides_of_a_flat_double_root_are_one_solution_between_them(convention):
+    """Two solutions 2.6e-4 rad apart, neither reaching the pose to rounding, whose halfway
+    joints reach it better than both, are the two sides of one double root: answered once,
+    at those joints (1e-7 from the generating joints, the pose to rounding), alike in
+    standard DH, modified DH and the product of exponentials."""
+    from kincalc import parse_robot_text
+    from kincalc.conventions.conversion import convert
+    dh = parse_robot_text(FLAT_ROOT_ARM)
+    r = dh if convention == "dh" else convert(dh, convention)
+    q0 = np.array(FLAT_ROOT_Q)
+    T = dh.fk(q0)
+    Q = np.array([s.q for s in r.ik(T).solutions])
+    assert np.abs(r.fk(Q) - T).max() < 1e-13
+    d = np.abs(np.where(r.is_revolute, wrap(Q - q0), Q - q0)).max(-1)
+    assert np.count_nonzero(d < 1e-2) == 1, d
+    assert d.min() < 1e-6
