@@ -332,7 +332,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     free = br.free_mask()
     if np.count_nonzero(free):
         held = _moves_freely(robot, family, targets, q, valid & free.any(-1), free, br)
-        valid &= ~on_continua(robot, q, valid, free & held[..., None])
+        valid &= ~on_continua(robot, q, valid, free & held[..., None],
+                              br.extra.get("continuum"))
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
                        family.needs_orientation) if polish else None

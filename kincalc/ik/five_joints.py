@@ -16,16 +16,16 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import wrap
-from ..subproblems import sp1, sp2, sp3, sp4
+from ..subproblems import sp1, sp2, sp4
 from ..subproblems.cone import cone_constants
-from ..subproblems.solutions import Solutions, dot, pair
+from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
                      rotate_back, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
-from .wrists import band_arcs, free_for_the_wrist, spherical_taking, undo
+from .wrists import band_arcs, free_for_the_wrist, parallel_wrist_q6, spherical_taking, undo
 
 
 def position_approach(S: Screws, targets, br: Branches) -> Branches:
@@ -247,6 +247,12 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     and 2 then place axis 3's point ``o3`` where ``c_t - R_h(psi) (c0 - o3)`` needs it, and
     joint 3 completes psi. Up to 4 solutions.
 
+    Where joint 4 turns axis 5 along h (a singular pose), joints 1, 2, 3 and 5 turn about
+    parallel axes and only ``psi + sigma q5`` is fixed: joint 5 takes the representatives of
+    :func:`~kincalc.ik.wrists.parallel_wrist_q6` (one per arc of the continuum, the second
+    ``other arc``), marked free, with the sum kept as the slot's continuum (``extra["parallel
+    continuum"]``: mask, sigma, total in rad), as on a three-parallel arm.
+
     Parameters
     ----------
     S : Screws, the family's (world frame at q = 0, SI)
@@ -267,41 +273,53 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     k5t = S.turn(3, br.cos[3], br.sin[3], k5)
     psi, cp, sp = turn_onto(h, k5t, u)
-    psi, cp, sp = _turn_along_h(S, k5t, ct, c0, psi, cp, sp)
     z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
-    br = br.set(4, *turn_onto(k5, a0, z))
-    br = br.with_extra("psi", psi)
-    br = place(S, br, (0, 1), o3, ct - S.turn(0, cp, sp, c0 - o3), what="axis 3")
+    br, psi, sigma = _fifth(S, br, Rt, k5t, ct, c0, psi, turn_onto(k5, a0, z))
+    br = br.with_extra("psi", psi, *(() if sigma is None else ("sigma", sigma)))
+    cp, sp = np.cos(br.extra["psi"]), np.sin(br.extra["psi"])
+    br = place(S, br, (0, 1), o3, br.take(ct) - S.turn(0, cp, sp, c0 - o3), what="axis 3")
     q3 = s3 * (br.extra["psi"] - br.value[0] - s2 * br.value[1])
-    return br.set(2, q3, np.cos(q3), np.sin(q3))
+    br = br.set(2, q3, np.cos(q3), np.sin(q3))
+    if np.count_nonzero(br.free[4]):
+        sigma = br.extra["sigma"]
+        total = br.value[0] + s2 * br.value[1] + s3 * q3 + sigma * br.value[4]
+        br = br.with_extra("parallel continuum", np.stack(
+            [br.free[4].astype(float), sigma, total], -1))
+    return br
 
 
-def _turn_along_h(S: Screws, k5t, ct, c0, psi, cp, sp):
-    """The planar arm's turn ``psi`` (with its cosine and sine, ``(N, K)``) where axis 5,
-    turned by joint 4 (``k5t (N, K, 3)``), lies along h (a singular configuration: the turn
-    and joint 5 about parallel axes are one continuum, and subproblem 1 leaves psi to
-    rounding): a representative that joints 1 and 2 can follow, the one that puts axis 3's
-    point (``ct - R_h(psi) (c0 - o3)``, ``ct (N, K, 3)`` the target's wrist-pair point)
-    in the middle of what they reach from axis 1 (subproblem 3). Elsewhere unchanged."""
-    h = S.axis[0]
-    off = np.cross(k5t, h)
-    along = dot(off, off) < ALONG_PARALLEL ** 2
-    if not np.count_nonzero(along):
-        return psi, cp, sp
-    o1, o2, o3 = S.point[0], S.point[1], S.point[2]
-
-    def across(v):                       # the part of v across h
-        return v - dot(v, h)[..., None] * h
-    l1, l2 = np.linalg.norm(across(o2 - o1)), np.linalg.norm(across(o3 - o2))
-    v, w = across(c0 - o3), across(ct[along] - o1)
-    # |w - R(psi) v| ranges over [| |w| - |v| |, |w| + |v|]; joints 1, 2 reach [|l1 - l2|,
-    # l1 + l2] from axis 1: the middle of both, where there is one
-    nv, nw = np.linalg.norm(v), np.linalg.norm(w, axis=-1)
-    lo, hi = np.maximum(abs(l1 - l2), abs(nw - nv)), np.minimum(l1 + l2, nw + nv)
-    sol = sp3(v, w, h, 0.5 * (lo + hi))
-    psi, cp, sp = psi.copy(), cp.copy(), sp.copy()
-    psi[along], cp[along], sp[along] = sol.theta[0][..., 0], sol.c[0][..., 0], sol.s[0][..., 0]
-    return psi, cp, sp
+def _fifth(S: Screws, br: Branches, Rt, k5t, ct, c0, psi, q5):
+    """Joint 5 of a planar-shoulder arm, ``q5 = (theta, c, s)`` each ``(N, K)``, and where axis
+    5 lies along h (``k5t (N, K, 3)``, turned by joint 4) the representatives of the
+    continuum instead: ``(br, psi, sigma)``, ``2 K`` slots (the second ``other arc``, live
+    only there), ``psi (N, 2K)`` the parallel joints' turn (``total - sigma q5`` on the
+    continuum), ``sigma (N, 2K)`` +1 where axis 5 points along h (None where no slot is on a
+    continuum). ``ct (N, K, 3)``: where the target needs the point ``c`` (``c0`` at q = 0)."""
+    h, o1, o3 = S.axis[0], S.point[0], S.point[2]
+    off = cross(k5t, h)
+    aligned = dot(off, off) < ALONG_PARALLEL ** 2
+    N, K = aligned.shape
+    arcs, ok_arcs = np.zeros((N, K, 2)), np.zeros((N, K, 2), bool)
+    sigma = total = None
+    if np.count_nonzero(aligned):
+        sigma = np.where(dot(k5t, h) > 0, 1.0, -1.0)
+        # R_t = R_h(total) R4 there: the turn about h of R4 e onto R_t e (e normal to k5)
+        e = axis_normal(S, 4)
+        total = turn_onto(h, S.turn(3, br.cos[3], br.sin[3], e),
+                          np.broadcast_to(rotate(Rt, e), k5t.shape))[0]
+        perp = lambda x: x - dot(x, h)[..., None] * h  # noqa: E731
+        b = perp(S.turn(0, np.cos(total), np.sin(total), np.broadcast_to(o3 - c0, ct.shape)))
+        arcs, ok_arcs, _ = parallel_wrist_q6(S, perp(ct - o1), b, sigma, elbow=(0, 1, 2))
+    t5 = pair(np.where(aligned, arcs[..., 0], q5[0]), arcs[..., 1])
+    ok5 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])
+    br = br.branch([4], Solutions((t5,), (np.cos(t5),), (np.sin(t5),), ok5, ok5,
+                                  pair(aligned, aligned)), labels=(None, "other arc"))
+    psi = br.take(psi)
+    if sigma is None:
+        return br, psi, None
+    sigma = br.take(sigma)
+    psi = np.where(br.free[4], br.take(total) - sigma * br.value[4], psi)
+    return br, psi, sigma
 
 
 def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:

@@ -168,14 +168,16 @@ def _pair_key(robot) -> tuple:
                      np.where(rev, 0.0, w)]), reach, tol
 
 
-def on_continua(robot, q, valid, free) -> np.ndarray:
+def on_continua(robot, q, valid, free, relation=None) -> np.ndarray:
     """Valid slots that are members of another slot's continuum.
 
     A slot that leaves joints free (a singular target) stands for every value of them; a
     valid slot equal to it in all its other joints (:func:`same_solution`'s rule) and free
     in none of those reaches the same target on that continuum: a point of it that the
-    solver found as a root of its own (where the free joint's roots meet). Of two slots
-    with the same free joints the later goes.
+    solver found as a root of its own (where the free joint's roots meet). Where the free
+    joint moves with another (``relation``: an aligned wrist's ``q_i + sigma q_j = total``),
+    the other joint is compared by that relation instead. Of two slots with the same free
+    joints the later goes.
 
     Parameters
     ----------
@@ -183,6 +185,9 @@ def on_continua(robot, q, valid, free) -> np.ndarray:
     q : ndarray (N, K, n), joint values (rad / m)
     valid : ndarray (N, K) of bool
     free : ndarray (N, K, n) of bool, the joints each slot leaves free
+    relation : ndarray (N, K, 5) or None
+        Each slot's continuum relation, ``(mask, i, j, sigma, total)`` (rad) where the mask is
+        not 0 (``Branches.extra["continuum"]``).
 
     Returns
     -------
@@ -194,13 +199,31 @@ def on_continua(robot, q, valid, free) -> np.ndarray:
         return drop
     fa = free[pose, a][:, None]                                             # (m, 1, n)
     d = q[pose] - q[pose, a][:, None]                                       # (m, K, n)
-    same = np.logical_and.reduce(
-        (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE) | fa, axis=-1)
+    close = np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE
+    if relation is not None:
+        close = _by_relation(q[pose], close, relation[pose, a])
+    same = np.logical_and.reduce(close | fa, axis=-1)
     same &= valid[pose] & ~np.logical_or.reduce(free[pose] & ~fa, axis=-1)
     later = np.arange(q.shape[1]) > a[:, None]
     same &= later | np.logical_or.reduce(free[pose] != fa, axis=-1)         # (not a itself)
     np.logical_or.at(drop, pose, same)                  # (a pose may have several such a)
     return drop
+
+
+def _by_relation(q, close, relation) -> np.ndarray:
+    """``close (m, K, n)`` (each joint of the slots ``q (m, K, n)`` equal to a free slot's)
+    with the related joint ``j`` of each free slot's continuum relation ``(m, 5)`` (:func:`
+    on_continua`) judged by the relation: ``q_i + sigma q_j = total``, wrapped."""
+    on = np.flatnonzero(relation[:, 0])
+    if not len(on):
+        return close
+    i, j = relation[on, 1].astype(np.intp), relation[on, 2].astype(np.intp)
+    at, slots = on[:, None], np.arange(q.shape[1])
+    qi, qj = q[at, slots, i[:, None]], q[at, slots, j[:, None]]             # (o, K)
+    off = wrap(qi + relation[on, 3:4] * qj - relation[on, 4:5])
+    close = close.copy()
+    close[at, slots, j[:, None]] = np.abs(off) < DUPLICATE
+    return close
 
 
 @per_robot

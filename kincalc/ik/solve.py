@@ -289,12 +289,18 @@ def _continuum(robot, sv: Solved, k: int):
         _, sigma, total = parallel[0, k].tolist()
         S = plan(robot)[0]
         S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
-        # the revolute joints about h and joint 6 (sigma): 2-4 of a three-parallel arm (h
-        # the axis of joint 2), the three of 1-4 of an offset-wrist arm (h that of joint 4)
-        about, h = ((1, 2, 3), S.axis[1]) if sv.spec.solver in THREE_PARALLEL else \
-            (tuple(i for i in range(4) if S.revolute[i]), S.axis[3])
+        # the revolute joints about h and the last joint (sigma): 2-4 of a three-parallel arm
+        # (h the axis of joint 2), 1-3 of a planar-shoulder arm (h that of joint 1), the three
+        # of 1-4 of an offset-wrist arm (h that of joint 4)
+        if sv.spec.solver in THREE_PARALLEL:
+            about, h = (1, 2, 3), S.axis[1]
+        elif sv.spec.solver == "planar-shoulder":
+            about, h = (0, 1, 2), S.axis[0]
+        else:
+            about, h = tuple(i for i in range(4) if S.revolute[i]), S.axis[3]
         signs = tuple(1 if float(S.axis[i] @ h) > 0 else -1 for i in about)
-        c = ParallelContinuum(about + (5,), signs + (int(sigma),), 5, float(total))
+        last = robot.dof - 1
+        c = ParallelContinuum(about + (last,), signs + (int(sigma),), last, float(total))
         if sv.spec.reverse:
             c = c.reversed(robot.dof)._replace(total=float(total))
         return c

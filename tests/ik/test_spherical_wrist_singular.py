@@ -527,3 +527,43 @@ def test_wrist_singular_at_an_arm_singularity_gives_the_continuum():
     assert joint_diff(r, reps[0].q, q)[0, :3].max() < 1e-9
     B = r.ik_batch(T[None])
     assert same_set(r, B.q[0][B.valid[0]], [s.q for s in res.solutions])
+
+
+#: an R-R-P arm with a twisted spherical wrist (the random-robot campaign's sw6p9), whose
+#: axes 4 and 6 line up at q5 = -3.1321 rad, and joints there at which the slide's placement
+#: is a double root: from its one copy the wrist came out aligned (joint 4 free), from the
+#: other it did not, two more representatives of the one continuum, no free joint named
+DOUBLE_PLACEMENT_ARM = """name: sw6p9
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, alpha: 2.195243305361338, a: -0.065019655279264954, d: 0.77513463222267232, theta: -1.3024508712180509}
+  - {name: j2, type: revolute, alpha: -1.3938500337545705, a: 0, d: -0.3720398255573279, theta: 1.4747797685843143}
+  - {name: j3, type: prismatic, alpha: 1.5707963267948966, a: 0.02729486238179726, d: 0.54261659036220733, theta: -2.3585201363837065}
+  - {name: j4, type: revolute, alpha: 1.5707963267948966, a: 0, d: -0.082607005865384969, theta: 1.3469431321770085}
+  - {name: j5, type: revolute, alpha: 1.5707963267948966, a: 0, d: 0, theta: 3.1321220184893042}
+  - {name: j6, type: revolute, alpha: -0.75466489103736745, a: 0, d: 0, theta: -1.3486985576508823}
+base: [[-0.59243738639974985, -0.80460523762468927, 0.040352878246175228, 0.18144413873207543], [-0.50745261778987949, 0.41160758505029915, 0.75701455509604254, -0.058129758417302169], [-0.62570742675313662, 0.42800655078629096, -0.6521507560296087, 0.20147082094170943], [0, 0, 0, 1]]
+tool: [[-0.33848975698645822, -0.021073125808461435, 0.9407340792083112, 0.13381218952081531], [-0.93694992764628626, -0.084767419676043732, -0.33902701609913705, -0.16643355378789887], [0.086887959458531838, -0.99617789973986381, 0.0089484395849941389, 0.27659825895935414], [0, 0, 0, 1]]
+"""
+DOUBLE_PLACEMENT_Q = [-0.0025410553114313394, 2.3681858491005414, -1.0613474861013623,
+                      2.685922449125057, -3.132122018489304, -0.22066813790976259]
+
+
+def test_a_wrist_continuum_is_reported_once_where_its_placement_is_a_double_root():
+    """Where two copies of one placement give the aligned wrist, the continuum (joint 4
+    free, q4 - q6 fixed) comes once: a solution with the same placement whose q4 - q6 is the
+    continuum's is a point of it, though its q6 differs from the representative's (two were
+    returned besides the representative, neither naming a free joint)."""
+    from kincalc import parse_robot_text
+    r = parse_robot_text(DOUBLE_PLACEMENT_ARM)
+    q0 = np.array(DOUBLE_PLACEMENT_Q)
+    T = r.fk(q0)
+    sols = r.ik(T).solutions
+    Q = np.array([s.q for s in sols])
+    assert_reproduces(r, Q, T)
+    assert wrist_facts(r, q0)["aligned"][0] < 1e-9
+    on = on_generating_continuum(r, Q, q0)
+    assert len(on) == 1 and sols[on[0]].free == (3,), [(s.q, s.branch) for s in sols]
+    same_arm = joint_diff(r, Q, q0)[:, :3].max(-1) < 1e-6
+    assert np.count_nonzero(same_arm) == 1
