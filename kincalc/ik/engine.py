@@ -16,7 +16,7 @@ and flags every candidate in one pass:
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first
    (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
    continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
-   root (:func:`~kincalc.ik.near_miss.copies`: within ``SAME_DOUBLE_ROOT``, polished, or the
+   root (:func:`~kincalc.ik.near_miss.double_roots`: within ``SAME_DOUBLE_ROOT``, polished, or the
    joints halfway between the two reaching the target too; the two sides of a flat double
    root within ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again,
    where those reach the target better than both;
@@ -36,17 +36,16 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from ..errors import TargetMismatch, UnsupportedRobot
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION, INEXACT
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, CHECK_ORIENTATION
 from .branches import Branches
 from .cache import per_robot
 from ..fk import FEW, entry_frames, forward_kinematics, tool_from_cs
-from ..spatial import wrap
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
 from .joint_limits import (close_pairs, duplicates, normalise, on_continua, open_joints,
                            open_values, violations)
 from .labels import labels
-from .near_miss import copies, near_misses, polished
+from .near_miss import at_halfway, double_roots, near_misses, polished
 from .small_arms import takes_tcv
 from .solvers import run_solver
 from .target import Targets
@@ -326,8 +325,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     halfway = None
     if len(pairs[0]):                                                      # (rare)
         valid &= ~duplicates(robot, q, valid, pairs)
-        drop, halfway = _one_double_root(robot, family, targets, q, valid, pairs,
-                                         polished_slots, again=polish)
+        drop, halfway = double_roots(robot, q, valid, pairs, polished_slots,
+                                     _judge(robot, family, targets), again=polish)
         valid &= ~drop
     free = br.free_mask()
     if np.count_nonzero(free):
@@ -341,8 +340,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     if near is not None:
         q = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
             robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0])
-    if polish and halfway is not None:
-        q, moved = _at_halfway(q, moved, *halfway)
+    if halfway is not None:                          # (the first check only)
+        q, moved = at_halfway(q, moved, *halfway)
     if moved is not None:
         at = moved.reshape(-1).nonzero()[0]
         x = x.copy()
@@ -365,70 +364,16 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
                   branches=br, memo=memo, **checked)
 
 
-def _one_double_root(robot, family, targets, q, valid, pairs, polished_slots,
-                     again: bool = False) -> tuple:
-    """:func:`~kincalc.ik.near_miss.copies` of the close ``pairs`` of ``q (N, K, n)``
-    (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root, and of those the
-    ones better answered halfway between their two solutions.
-
-    Two solutions within ``SAME_DOUBLE_ROOT`` are one double root where one of them was
-    polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
-    linearly, from two candidates) or the joints halfway between them reach the target too
-    (between two distinct roots the target is missed by the slope times half their
-    distance). With ``again`` (the halfway joints can be checked again), two within
-    ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
-    halfway joints miss it by less than half the better: the two sides of a flat double root
-    (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
-    joints miss the target by less than half the better of the two: rounding split one root
-    (two exact roots close together keep the exact one). The two, and the joints halfway,
-    are evaluated by the column walk, whose bits do not depend on the batch.
-
-    Returns ``(drop, halfway)``: ``drop (N, K)`` the copies that go; ``halfway``, the pairs
-    to answer halfway, ``(pose, j, i, half)`` with ``half (m, n)``, or None."""
-    pose, j, i = pairs
-    live = np.flatnonzero(valid[pose, j] & valid[pose, i])
-    if not len(live):
-        return np.zeros(valid.shape, bool), None
-    one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
-    a, b = q[pose[live], i[live]], q[pose[live], j[live]]
-    d = b - a
-    half = np.zeros((len(pose), robot.dof))
-    half[live] = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)
-    T = forward_kinematics(robot.chain, np.concatenate([b, a, half[live]]), column_walk=True)
-    pe, oe, reach = _reach(robot, family, targets.take(np.tile(pose[live], 3)),
-                           T[:, :3].transpose(1, 2, 0)[..., None])
-    m = len(live)
-    error = pe[:, 0] / max(robot.characteristic_length, 1e-12)
-    if oe is not None:
-        error = error + np.nan_to_num(oe[:, 0])
-    miss[live] = error[:2 * m].reshape(2, m).T
-    one[live] = reach[2 * m:, 0]
-    better, sides = np.zeros(len(pose), bool), np.zeros(len(pose), bool)
-    least = miss[live].min(-1)
-    better[live] = error[2 * m:] < 0.5 * least
-    sides[live] = better[live] & (least > INEXACT)
-    if polished_slots is not None:
-        one |= polished_slots[pose, j] | polished_slots[pose, i]
-    drop, same = copies(robot, q, valid, pairs, one, miss, sides if again else None)
-    met = same & better
-    if not again or not met.any():
-        return drop, None
-    return drop, (pose[met], j[met], i[met], half[met])
-
-
-def _at_halfway(q, moved, pose, j, i, half) -> tuple:
-    """``q (N, K, n)`` with both slots ``j`` and ``i`` of each pose in ``pose`` (one double
-    root: :func:`_one_double_root`) at the joints ``half`` halfway between them, and the
-    slots ``moved (N, K)`` (or None) with those added: the double root checked again at its
-    middle, which is nearer it than either copy rounding split off (a double root's roots
-    move by the square root of a change of the pose), and the two, now one solution, left to
-    :func:`~kincalc.ik.joint_limits.duplicates`, which keeps the earlier slot in every
-    convention and batch."""
-    q = q.copy()
-    q[pose, j] = q[pose, i] = half
-    moved = np.zeros(q.shape[:2], bool) if moved is None else moved.copy()
-    moved[pose, j] = moved[pose, i] = True
-    return q, moved
+def _judge(robot, family, targets):
+    """``judge(rows, T) -> (error (M,), reach (M,))`` of :func:`~kincalc.ik.near_miss.double_roots`:
+    how far the tool poses ``T (M, 4, 4)`` miss the targets ``rows (M,)`` (position over the
+    arm's size plus the orientation's angle) and whether they reach them (:func:`_reach`)."""
+    def judge(rows, T):
+        pe, oe, reach = _reach(robot, family, targets.take(rows),
+                               T[:, :3].transpose(1, 2, 0)[..., None])
+        error = pe[:, 0] / max(robot.characteristic_length, 1e-12)
+        return (error if oe is None else error + np.nan_to_num(oe[:, 0])), reach[:, 0]
+    return judge
 
 
 def _in_layout(robot, checked: dict, cols, K: int) -> tuple:

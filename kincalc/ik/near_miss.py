@@ -11,6 +11,11 @@ a few Gauss-Newton steps (:func:`kincalc.ik.refine.refine`, from the candidate w
 clipped into their limits) reach it. The polished value replaces the candidate only when it
 reaches the target to the acceptance (and, for one beyond its limits, is within them); the
 engine's check then judges it like any other.
+
+Two solutions that are one double root (two polished copies, two roots a pose's rounding
+split, the two sides of a flat one) are answered once (:func:`double_roots`): at the joints
+halfway between them where those reach the target better than both (:func:`at_halfway`),
+else the one that misses less (:func:`copies`).
 """
 
 from __future__ import annotations
@@ -19,8 +24,8 @@ import numpy as np
 
 from ..fk import forward_kinematics
 from ..spatial import wrap
-from ..tolerances import (NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED, SAME_DOUBLE_ROOT,
-                          SPLIT_DOUBLE_ROOT)
+from ..tolerances import (INEXACT, NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED,
+                          SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
 from .joint_limits import joint_scale, normalise, violations
 
 
@@ -108,3 +113,68 @@ def copies(robot, q, valid, pairs, one, miss, flat=None) -> tuple:
     worse_j = miss[:, 0] >= miss[:, 1]
     drop[pose[same], np.where(worse_j, j, i)[same]] = True
     return drop, same
+
+
+def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = False) -> tuple:
+    """:func:`copies` of the close ``pairs`` of ``q (N, K, n)``
+    (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root, and of those the
+    ones better answered halfway between their two solutions.
+
+    Two solutions within ``SAME_DOUBLE_ROOT`` are one double root where one of them was
+    polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
+    linearly, from two candidates) or the joints halfway between them reach the target too
+    (between two distinct roots the target is missed by the slope times half their
+    distance). With ``again`` (the halfway joints can be checked again), two within
+    ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
+    halfway joints miss it by less than half the better: the two sides of a flat double root
+    (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
+    joints miss the target by less than half the better of the two: rounding split one root
+    (two exact roots close together keep the exact one). The two, and the joints halfway,
+    are evaluated by the column walk, whose bits do not depend on the batch.
+
+    ``judge(rows, T) -> (error, reach)``, each ``(M,)``: how far the tool poses ``T (M, 4,
+    4)`` miss the targets of poses ``rows (M,)``, and whether they reach them (the engine's
+    measure and test).
+
+    Returns ``(drop, halfway)``: ``drop (N, K)`` the copies that go; ``halfway``, the pairs
+    to answer halfway, ``(pose, j, i, half)`` with ``half (m, n)`` (rad / m), or None."""
+    pose, j, i = pairs
+    live = np.flatnonzero(valid[pose, j] & valid[pose, i])
+    if not len(live):
+        return np.zeros(valid.shape, bool), None
+    one, miss = np.zeros(len(pose), bool), np.zeros((len(pose), 2))
+    a, b = q[pose[live], i[live]], q[pose[live], j[live]]
+    d = b - a
+    half = np.zeros((len(pose), robot.dof))
+    half[live] = a + 0.5 * np.where(robot.is_revolute, wrap(d), d)
+    T = forward_kinematics(robot.chain, np.concatenate([b, a, half[live]]), column_walk=True)
+    error, reach = judge(np.tile(pose[live], 3), T)
+    m = len(live)
+    miss[live] = error[:2 * m].reshape(2, m).T
+    one[live] = reach[2 * m:]
+    better, sides = np.zeros(len(pose), bool), np.zeros(len(pose), bool)
+    least = miss[live].min(-1)
+    better[live] = error[2 * m:] < 0.5 * least
+    sides[live] = better[live] & (least > INEXACT)
+    if polished_slots is not None:
+        one |= polished_slots[pose, j] | polished_slots[pose, i]
+    drop, same = copies(robot, q, valid, pairs, one, miss, sides if again else None)
+    met = same & better
+    if not again or not met.any():
+        return drop, None
+    return drop, (pose[met], j[met], i[met], half[met])
+
+
+def at_halfway(q, moved, pose, j, i, half) -> tuple:
+    """``q (N, K, n)`` with both slots ``j`` and ``i`` of each pose in ``pose`` (one double
+    root: :func:`double_roots`) at the joints ``half`` halfway between them, and the slots
+    ``moved (N, K)`` (or None) with those added: the double root checked again at its middle,
+    which is nearer it than either copy rounding split off (a double root's roots move by the
+    square root of a change of the pose), and the two, now one solution, left to
+    :func:`~kincalc.ik.joint_limits.duplicates`, which keeps the earlier slot in every
+    convention and batch."""
+    q = q.copy()
+    q[pose, j] = q[pose, i] = half
+    moved = np.zeros(q.shape[:2], bool) if moved is None else moved.copy()
+    moved[pose, j] = moved[pose, i] = True
+    return q, moved
