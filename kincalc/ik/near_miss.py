@@ -128,9 +128,10 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = Fa
     ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
     halfway joints miss it by less than half the better: the two sides of a flat double root
     (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
-    joints miss the target by less than half the better of the two: rounding split one root
-    (two exact roots close together keep the exact one). The two, and the joints halfway,
-    are evaluated by the column walk, whose bits do not depend on the batch.
+    joints miss the target by less than half the better of the two (rounding split one
+    root), or to ``INEXACT`` (rounding cannot tell one root from two there; two exact roots
+    farther apart keep an exact one). The two, and the joints halfway, are evaluated by the
+    column walk, whose bits do not depend on the batch.
 
     ``judge(rows, T) -> (error, reach)``, each ``(M,)``: how far the tool poses ``T (M, 4,
     4)`` miss the targets of poses ``rows (M,)``, and whether they reach them (the engine's
@@ -154,7 +155,7 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = Fa
     one[live] = reach[2 * m:]
     better, sides = np.zeros(len(pose), bool), np.zeros(len(pose), bool)
     least = miss[live].min(-1)
-    better[live] = error[2 * m:] < 0.5 * least
+    better[live] = (error[2 * m:] < 0.5 * least) | (error[2 * m:] <= INEXACT)
     sides[live] = better[live] & (least > INEXACT)
     if polished_slots is not None:
         one |= polished_slots[pose, j] | polished_slots[pose, i]

@@ -383,3 +383,43 @@ def test_the_two_sides_of_a_flat_double_root_are_one_solution_between_them(conve
     d = np.abs(np.where(r.is_revolute, wrap(Q - q0), Q - q0)).max(-1)
     assert np.count_nonzero(d < 1e-2) == 1, d
     assert d.min() < 1e-6
+
+
+#: an R-R-R-P arm (solved from the tool: a reversed point-plus-roll) and joints at which
+#: axis 2 lines up with the others: its placement's double root came as two copies 1.1e-6
+#: rad apart, each, and the joints halfway, reaching the pose to rounding (2e-15)
+ROUNDED_ROOT_ARM = """name: rounded_root
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, alpha: 0, a: 0.2096937988630283, d: -0.5384121136328055, theta: -1.6881100870589356}
+  - {name: j2, type: revolute, alpha: 3.1415926535897931, a: -0.040284228106519847, d: 0.010499303545724523, theta: -2.7754511846769168}
+  - {name: j3, type: revolute, alpha: 0, a: 1.011494383987845, d: 0, theta: -1.5474345275397001}
+  - {name: j4, type: prismatic, alpha: 0, a: 0, d: -0.069844423967616157, theta: 1.5473853954059864}
+base: [[0.0045098678879632592, -0.80816951481736932, -0.5889326756187766, -0.4673942376684328], [-0.81655123652244921, 0.33699527685810515, -0.46869847611122889, -0.10514225985376113], [0.57725535010538642, 0.48300747271153793, -0.65839201246637313, -0.39659297880757793], [0, 0, 0, 1]]
+tool: [[-0.41894344668768735, 0.095661125761802746, 0.9029592114239855, -0.061051421275444467], [-0.044216407566594368, -0.99540449493147332, 0.08493998335368165, -0.24565687474536729], [0.90693511222101542, -0.0043405631205474388, 0.42124798127997087, 0.23408960166271658], [0, 0, 0, 1]]
+"""
+ROUNDED_ROOT_Q = [-2.720762347406069, 2.7754511846769168, -2.1346067422546184,
+                  -1.875583763941596]
+
+
+def test_copies_that_rounding_cannot_tell_apart_are_answered_between_them():
+    """Two copies of a double root and the joints halfway all reaching the pose to rounding
+    (a few 1e-15, where which one misses least is noise) are answered halfway, 1e-8 from the
+    generating joints, with one label, in standard DH and the product of exponentials (the
+    copy that missed less was kept in one, 5.5e-7 from the other's answer, 'root 2' against
+    'root 1')."""
+    from kincalc import parse_robot_text
+    from kincalc.conventions.conversion import convert
+    dh = parse_robot_text(ROUNDED_ROOT_ARM)
+    q0 = np.array(ROUNDED_ROOT_Q)
+    T = dh.fk(q0)
+    answers = []
+    for r in (dh, convert(dh, "mdh"), convert(dh, "poe")):
+        sols = r.ik(T).solutions
+        assert len(sols) == 1, [(s.q, s.branch) for s in sols]
+        assert np.abs(r.fk(np.array(sols[0].q)) - T).max() < 1e-13
+        answers.append((np.array(sols[0].q), sols[0].branch))
+    for q, label in answers:
+        assert np.abs(np.where(dh.is_revolute, wrap(q - q0), q - q0)).max() < 1e-8
+        assert label == answers[0][1]
