@@ -21,7 +21,8 @@ from ..subproblems.cone import cone_constants
 from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
-from .pieces import (angle_about, axis_normal, axis_sp4, meeting_point, one_root, rotate,
+from .pieces import (angle_about, axis_normal, axis_sp4, closing_turn, meeting_point, one_root,
+                     rotate,
                      rotate_back, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
@@ -278,14 +279,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     br = br.with_extra("psi", psi, *(() if sigma is None else ("sigma", sigma)))
     cp, sp = np.cos(br.extra["psi"]), np.sin(br.extra["psi"])
     br = place(S, br, (0, 1), o3, br.take(ct) - S.turn(0, cp, sp, c0 - o3), what="axis 3")
-    q3 = s3 * (br.extra["psi"] - br.value[0] - s2 * br.value[1])
-    br = br.set(2, q3, np.cos(q3), np.sin(q3))
-    if np.count_nonzero(br.free[4]):
-        sigma = br.extra["sigma"]
-        total = br.value[0] + s2 * br.value[1] + s3 * q3 + sigma * br.value[4]
-        br = br.with_extra("parallel continuum", np.stack(
-            [br.free[4].astype(float), sigma, total], -1))
-    return br
+    return closing_turn(br, (0, 1, 2), (1.0, s2, s3), 4)
 
 
 def _fifth(S: Screws, br: Branches, Rt, k5t, ct, c0, psi, q5):

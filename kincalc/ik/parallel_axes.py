@@ -20,9 +20,9 @@ from ..subproblems.cone import ALIGNED_TOL, cone
 from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import SHARPEN_NEAR_PARALLEL, SNAP_PARALLEL
 from .branches import Branches
-from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, inverse_home,
-                     meeting_point, rotate, rotate_back, target_rotation, tool_point,
-                     turn_onto)
+from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, closing_turn,
+                     inverse_home, meeting_point, rotate, rotate_back, target_rotation,
+                     tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .wrists import NEAR_ALIGNED, free_for_the_wrist, into_elbow_reach, parallel_wrist_q6
@@ -109,14 +109,7 @@ def _elbow_about_h(S: Screws, T, br: Branches, Rt, sigma) -> Branches:
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
     s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
         1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3)))
-    q4 = s4 * (br.extra["psi"] - br.value[1] - s3 * br.value[2])
-    br = br.set(3, q4, np.cos(q4), np.sin(q4))
-    if np.count_nonzero(br.free[5]):
-        sigma = br.extra["sigma"]
-        total = br.value[1] + s3 * br.value[2] + s4 * q4 + sigma * br.value[5]
-        br = br.with_extra("parallel continuum", np.stack(
-            [br.free[5].astype(float), sigma, total], -1))
-    return br
+    return closing_turn(br, (1, 2, 3), (1.0, s3, s4), 5)
 
 
 
@@ -444,13 +437,5 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
         br = place(S, br, (0, 1, 2), S.point[3], p4, what="axis 4")
     else:
         br = _slide_fourth(S, br, p4)
-    sign = [float(np.sign(S.axis[i] @ h)) for i in range(4)]
-    last = turning[-1]                           # the revolute joint that closes the sum
-    partial = sum(sign[i] * br.value[i] for i in turning[:-1])
-    q = (br.extra["psi"] - partial) * sign[last]
-    br = br.set(last, q, np.cos(q), np.sin(q))
-    if np.count_nonzero(br.free[5]):
-        total = br.extra["psi"] + br.extra["sigma"] * br.value[5]
-        br = br.with_extra("parallel continuum", np.stack(
-            [br.free[5].astype(float), br.extra["sigma"], total], -1))
-    return br
+    sign = [float(np.sign(S.axis[i] @ h)) for i in turning]
+    return closing_turn(br, turning, sign, 5)

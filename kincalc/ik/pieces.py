@@ -1,8 +1,9 @@
 """The pieces the family solvers (:mod:`kincalc.ik.solvers`, :mod:`kincalc.ik.small_arms`,
 :mod:`kincalc.ik.five_joints`) and the point placement (:mod:`kincalc.ik.place`) are
 composed of: the target's rotation and points in the product of exponentials' terms, a
-joint's motion undone, the angle of one subproblem 1, a free joint's angle, a double root
-split where it folds a point through an axis, the Gauss-Newton polish of a placed point.
+joint's motion undone, the angle of one subproblem 1, a free joint's angle, the turn that
+joints about parallel axes close (and their continuum), a double root split where it folds
+a point through an axis, the Gauss-Newton polish of a placed point.
 
 ``S`` is a family's :class:`~kincalc.ik.screws.Screws` (world frame at q = 0, SI);
 ``R_t = R_T R_M^T`` is the rotation of the product of exponentials (``T = E_1 ... E_n M``),
@@ -127,6 +128,27 @@ def normal_sp1(S: Screws, j: int):
     ``j``, made once per screws."""
     return S.constant(("sp1 constants of the normal", j),
                       lambda: sp1_constants(axis_normal(S, j), S.axis[j]))
+
+
+def closing_turn(br: Branches, about, signs, free: int) -> Branches:
+    """``br`` with the last of the revolute joints ``about`` (turning about one direction h,
+    ``signs`` their senses along it, +1 or -1) closing the turn ``psi = sum s_i q_i`` that
+    the solver found (``br.extra["psi"]``, rad) and the others leave; where joint ``free``
+    (a wrist axis along h) is free, the signed sum ``psi + sigma q_free`` is kept as the
+    slot's continuum (``extra["parallel continuum"]``, ``(N, K, 3)``: mask, sigma, total in
+    rad; ``sigma`` from ``br.extra["sigma"]``).
+
+    The last step of the arms whose joints about parallel axes add up: three-parallel,
+    parallel-four-wrist and planar-shoulder."""
+    last = about[-1]
+    partial = sum(s * br.value[i] for i, s in zip(about[:-1], signs[:-1]))
+    q = (br.extra["psi"] - partial) * signs[-1]
+    br = br.set(last, q, np.cos(q), np.sin(q))
+    if np.count_nonzero(br.free[free]):
+        sigma = br.extra["sigma"]
+        br = br.with_extra("parallel continuum", np.stack(
+            [br.free[free].astype(float), sigma, br.extra["psi"] + sigma * br.value[free]], -1))
+    return br
 
 
 def turn_free_joint(S, a: int, b: int, f, g, sol):
