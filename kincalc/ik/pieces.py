@@ -140,14 +140,18 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
 
     The last step of the arms whose joints about parallel axes add up: three-parallel,
     parallel-four-wrist and planar-shoulder."""
-    last = about[-1]
-    partial = sum(s * br.value[i] for i, s in zip(about[:-1], signs[:-1]))
-    q = (br.extra["psi"] - partial) * signs[-1]
-    br = br.set(last, q, np.cos(q), np.sin(q))
+    q = br.extra["psi"]
+    for i, s in zip(about[:-1], signs[:-1]):          # (in order: the same bits as by hand)
+        q = q - s * br.value[i]
+    q = signs[-1] * q
+    br = br.set(about[-1], q, np.cos(q), np.sin(q))
     if np.count_nonzero(br.free[free]):
         sigma = br.extra["sigma"]
+        total = signs[0] * br.value[about[0]]
+        for i, s in zip(about[1:], signs[1:]):
+            total = total + s * br.value[i]
         br = br.with_extra("parallel continuum", np.stack(
-            [br.free[free].astype(float), sigma, br.extra["psi"] + sigma * br.value[free]], -1))
+            [br.free[free].astype(float), sigma, total + sigma * br.value[free]], -1))
     return br
 
 
