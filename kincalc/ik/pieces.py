@@ -19,7 +19,7 @@ from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, MO
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
-from ..subproblems.sp4 import sp4_constants
+from ..subproblems.sp4 import ROUNDING, sp4_constants
 from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .screws import Screws
@@ -153,6 +153,28 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
         br = br.with_extra("parallel continuum", np.stack(
             [br.free[free].astype(float), sigma, total + sigma * br.value[free]], -1))
     return br
+
+
+def free_on_axis(S: Screws, a: int, sol, f, g):
+    """Subproblem 1's ``sol`` for joint ``a`` with the joint also free (representative 0) where
+    ``f`` or ``g`` (``(N, K, 3)``, world frame, m) lies on its axis to rounding of the arm's
+    size: subproblem 1 judges that against the vectors' own length, itself rounding where both
+    are at the axis's point (a spherical arm's slide at 0 puts the point where axes 1 and 2
+    meet, and both then are free: :func:`~kincalc.ik.small_arms.point_plus_roll` turns them
+    to the orientation)."""
+    k, pa = S.axis[a], S.point[a]
+
+    def off(x):                               # squared distance from the axis
+        v = x - pa
+        v = v - dot(v, k)[..., None] * k
+        return dot(v, v)
+    tol = (ROUNDING * S.scale) ** 2
+    on = ((off(f) <= tol) | (off(g) <= tol)) & ~sol.free[..., 0]
+    if not np.count_nonzero(on):
+        return sol
+    at = on[..., None]
+    return Solutions((np.where(at, 0.0, sol.theta[0]),), (np.where(at, 1.0, sol.c[0]),),
+                     (np.where(at, 0.0, sol.s[0]),), sol.ok, sol.exact, sol.free | at)
 
 
 def turn_free_joint(S, a: int, b: int, f, g, sol):

@@ -45,7 +45,7 @@ from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
 from ..tolerances import ACCEPT_POSITION, FREE_REACH
 from .branches import TIE_BREAK, Branches
-from .pieces import polish_points, split_fold, turn_free_joint
+from .pieces import free_on_axis, polish_points, split_fold, turn_free_joint
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
@@ -294,7 +294,7 @@ def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
     if f is None:
         f = _point_before_a(S, P, br)
     if S.revolute[a]:
-        sol = sp1(f - S.point[a], g - S.point[a], S.axis[a])
+        sol = free_on_axis(S, a, sp1(f - S.point[a], g - S.point[a], S.axis[a]), f, g)
         br = note_turn(S, br, a, f, g)
         # f on axis a: the free angle turns f's way off it (as b moves) onto g's offset
         return br.set(a, *turn_free_joint(S, a, P.joints[1], f, g, sol),

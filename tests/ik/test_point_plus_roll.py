@@ -186,3 +186,40 @@ def test_close_roots_of_the_slide_are_found_in_every_convention():
         assert d.min() < 1e-9, (arm.convention, Q)
         answers.append(np.sort(np.round(Q, 7), axis=0))
     assert all(np.array_equal(a, answers[0]) for a in answers)
+
+
+#: an R-R-P-R arm whose axes meet at one point (all lengths zero but the slide) with random
+#: twists: at the slide's 0 the point of axis 4 lies where axes 1 and 2 meet (the random-robot
+#: campaign's rrpr413)
+MEETING_ARM = """name: meeting
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, alpha: -1.5707963267948966, a: 0, d: 0, theta: 1.7810902952702854}
+  - {name: j2, type: revolute, alpha: 1.5707963267948966, a: 0, d: 0, theta: -1.7083483440335729}
+  - {name: j3, type: prismatic, alpha: 1.2797042898941962, a: 0, d: 0, theta: -1.4433224169410506, limits: [-0.4, 0.4]}
+  - {name: j4, type: revolute, alpha: 2.0391319636298473, a: 0, d: 0, theta: -0.12828174295808559}
+base: [[0.45815793333931709, 0.60772877466010755, 0.64865787944676212, -0.10422208830080726], [0.41464286309215603, 0.49936626183989274, -0.76072638486041178, -0.16114988466626923], [-0.78623317419515293, 0.61749418862542815, -0.023201784604609088, 0.3846813473834455], [0, 0, 0, 1]]
+tool: [[-0.4570673152733602, -0.016888886670727687, 0.88927174407816767, -0.067853927677517467], [-0.69336409826750134, 0.63298262582551401, -0.34435333980772143, 0.26441434095132949], [-0.55707781910833387, -0.77398175747885722, -0.30102581707794074, 0.051722411544946612], [0, 0, 0, 1]]
+"""
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_the_slide_at_the_shoulder_centre_leaves_the_orientation_to_joints_1_2_4(convention):
+    """With the slide at 0 the point lies on axes 1 and 2: both are free for the point, and
+    with joint 4 they take the orientation (their axes meet there). Subproblem 1 judged joint
+    1's point on its axis against the point's own length, itself rounding there, so joint 1
+    was not free and a whole pose from those joints had no solution ("orientation not
+    reachable"). Now the generating joints are among the solutions, every one reaching it."""
+    from kincalc import parse_robot_text
+    from kincalc.conventions.conversion import convert
+    dh = parse_robot_text(MEETING_ARM)
+    r = dh if convention == "dh" else convert(dh, convention)
+    rng = np.random.default_rng(91)
+    for _ in range(10):
+        q = np.array([rng.uniform(-3, 3), rng.uniform(-3, 3), 0.0, rng.uniform(-3, 3)])
+        T = dh.fk(q)
+        Q = np.array([s.q for s in r.ik(T).solutions]).reshape(-1, 4)
+        assert len(Q) and np.abs(r.fk(Q) - T).max() < 1e-9, q
+        d = np.abs(np.where(r.is_revolute, wrap(Q - q), Q - q)).max(-1)
+        assert d.min() < 1e-7, (q, Q)
