@@ -22,8 +22,7 @@ from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, closing_turn, meeting_point, one_root,
-                     rotate,
-                     rotate_back, target_rotation, turn_onto)
+                     rotate, rotate_back, target_rotation, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import band_arcs, free_for_the_wrist, parallel_wrist_q6, spherical_taking, undo

@@ -155,21 +155,15 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
     return br
 
 
-def free_on_axis(S: Screws, a: int, sol, f, g):
-    """Subproblem 1's ``sol`` for joint ``a`` with the joint also free (representative 0) where
-    ``f`` or ``g`` (``(N, K, 3)``, world frame, m) lies on its axis to rounding of the arm's
-    size: subproblem 1 judges that against the vectors' own length, itself rounding where both
-    are at the axis's point (a spherical arm's slide at 0 puts the point where axes 1 and 2
-    meet, and both then are free: :func:`~kincalc.ik.small_arms.point_plus_roll` turns them
-    to the orientation)."""
-    k, pa = S.axis[a], S.point[a]
-
-    def off(x):                               # squared distance from the axis
-        v = x - pa
-        v = v - dot(v, k)[..., None] * k
-        return dot(v, v)
+def free_on_axis(S: Screws, sol, x, y):
+    """Subproblem 1's ``sol`` for the vectors ``x``, ``y`` (``(N, K, 3)``, m: from a point of
+    the joint's axis) with the joint also free (representative 0) where either is itself
+    within rounding of the arm's size: subproblem 1 judges a vector on the axis against its
+    own length, which is then rounding (a spherical arm's slide at 0 puts the point where
+    axes 1 and 2 meet, and both then are free: :func:`~kincalc.ik.small_arms.point_plus_roll`
+    turns them to the orientation)."""
     tol = (ROUNDING * S.scale) ** 2
-    on = ((off(f) <= tol) | (off(g) <= tol)) & ~sol.free[..., 0]
+    on = ((dot(x, x) <= tol) | (dot(y, y) <= tol)) & ~sol.free[..., 0]
     if not np.count_nonzero(on):
         return sol
     at = on[..., None]

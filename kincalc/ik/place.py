@@ -294,7 +294,8 @@ def _solve_a(S: Screws, P: Plan, br, g, f=None) -> Branches:
     if f is None:
         f = _point_before_a(S, P, br)
     if S.revolute[a]:
-        sol = free_on_axis(S, a, sp1(f - S.point[a], g - S.point[a], S.axis[a]), f, g)
+        x, y = f - S.point[a], g - S.point[a]
+        sol = free_on_axis(S, sp1(x, y, S.axis[a]), x, y)
         br = note_turn(S, br, a, f, g)
         # f on axis a: the free angle turns f's way off it (as b moves) onto g's offset
         return br.set(a, *turn_free_joint(S, a, P.joints[1], f, g, sol),
