@@ -92,9 +92,15 @@ class Screws:
             c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
         # (else several vectors per angle: the angles' shape is v's leading part)
         grow = (...,) + (None,) * (len(shape) - c.ndim)       # one angle for the vectors behind
-        # R v per vector by numpy's sum of products, not BLAS: each vector's bits do not
-        # depend on how many are turned (kincalc.subproblems.solutions.dot)
-        B = np.einsum("rj,mj->rm", R, v.reshape(-1, 3)).reshape((9,) + shape)
+        # R v per vector as products and sums along the batch, not BLAS: each vector's bits
+        # depend neither on how many are turned nor on v's layout (numpy's sum of products,
+        # which this replaced, took a transposed view's vectors by another kernel, two or
+        # more otherwise than one). x, z, then y is the order it summed the terms in.
+        v = v.transpose(_FIRST[len(shape)]).reshape(3, -1)
+        B = R[:, 0, None] * v[0]
+        B += R[:, 2, None] * v[2]
+        B += R[:, 1, None] * v[1]
+        B = B.reshape((9,) + shape)
         out = B[3:6]
         out *= c[grow]
         out += B[0:3]
@@ -317,6 +323,9 @@ class Screws:
 
 #: the axes that move a leading axis of n + 1 last: ``(1, ..., n, 0)``
 _LAST = [tuple(range(1, n + 1)) + (0,) for n in range(33)]
+
+#: the axes that move a last axis after n others first: ``(n, 0, ..., n - 1)``
+_FIRST = [(n,) + tuple(range(n)) for n in range(33)]
 
 
 def _rodrigues(k) -> np.ndarray:

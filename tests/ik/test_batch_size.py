@@ -54,12 +54,23 @@ def test_transposed_views_too():
                 assert np.array_equal(f(a[i:i + m]), whole[i:i + m]), (m, i)
 
 
-def test_turn_of_rows_is_their_bits_in_any_batch():
+@pytest.mark.parametrize("layout", ["rows", "transposed view"])
+def test_turn_of_rows_is_their_bits_in_any_batch(layout):
+    """Screws.turn gives each vector the same bits in any batch and either layout (numpy's
+    sum of products took a transposed view's rows by another kernel, two or more rows
+    otherwise than one, and the turned vectors, themselves such views, are turned again)."""
     from kincalc.ik.screws import Screws
-    S = Screws.of(_dh([(P / 2, 0.0, 0.2), (0.0, 0.4, 0.0), (0.0, 0.3, 0.0)]))
+    from kincalc.spatial import matrix_from_axis_angle
+    base = np.eye(4)
+    base[:3, :3] = matrix_from_axis_angle(np.array([0.3, -0.5, 0.8]) / np.sqrt(0.98), 0.7)
+    S = Screws.of(_dh([(P / 2, 0.0, 0.2), (0.0, 0.4, 0.0), (0.0, 0.3, 0.0)], base=base))
     rng = np.random.default_rng(6)
     v, x = rng.normal(size=(200, 3)), rng.uniform(-P, P, 200)
+    rows = S.turn(1, np.cos(x), np.sin(x), v)
+    if layout == "transposed view":
+        v = np.ascontiguousarray(v.T).T
     whole = S.turn(1, np.cos(x), np.sin(x), v)
+    assert np.array_equal(whole, rows)
     for m in (1, 2, 3, 5):
         for i in range(0, 200 - m, 7):
             alone = S.turn(1, np.cos(x[i:i + m]), np.sin(x[i:i + m]), v[i:i + m])
