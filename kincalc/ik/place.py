@@ -162,9 +162,8 @@ def _fit_c(S: Screws, c: int, values) -> tuple:
     """An invariant free of x_b as a function of x_c, from its samples: ``(A, B, C)`` of
     ``A cos + B sin + C`` (revolute c) or of ``A x^2 + B x + C`` (prismatic c)."""
     x = samples(S, c)
-    if S.revolute[c]:
-        F = np.fft.rfft(values) / len(values)
-        return 2 * F[1].real, -2 * F[1].imag, F[0].real
+    if S.revolute[c]:       # the first harmonic of the samples over a whole turn
+        return 2 * np.mean(values * np.cos(x)), 2 * np.mean(values * np.sin(x)), np.mean(values)
     A, B, C = np.polyfit(x, values, 2)
     return A, B, C
 
