@@ -98,7 +98,7 @@ def frames_jacobian(frames, revolute) -> np.ndarray:
     return J
 
 
-def jacobian_base(chain, q) -> np.ndarray:
+def jacobian_base(chain, q, *, column_walk: bool = False) -> np.ndarray:
     """The geometric Jacobian in the world (base) frame.
 
     Parameters
@@ -107,6 +107,8 @@ def jacobian_base(chain, q) -> np.ndarray:
         From ``robot.chain``.
     q : array_like (..., n)
         Joint values, rad / m.
+    column_walk : bool
+        As :func:`jacobian_and_pose`'s: each configuration's bits the same in any batch.
 
     Returns
     -------
@@ -120,10 +122,10 @@ def jacobian_base(chain, q) -> np.ndarray:
     ValueError
         ``q`` is a scalar or its last axis is not ``n`` long.
     """
-    return jacobian_and_pose(chain, q)[0]
+    return jacobian_and_pose(chain, q, column_walk=column_walk)[0]
 
 
-def jacobian_tool(chain, q) -> np.ndarray:
+def jacobian_tool(chain, q, *, column_walk: bool = False) -> np.ndarray:
     """The geometric Jacobian expressed in the tool frame.
 
     Parameters
@@ -132,6 +134,8 @@ def jacobian_tool(chain, q) -> np.ndarray:
         From ``robot.chain``.
     q : array_like (..., n)
         Joint values, rad / m.
+    column_walk : bool
+        As :func:`jacobian_and_pose`'s: each configuration's bits the same in any batch.
 
     Returns
     -------
@@ -144,7 +148,7 @@ def jacobian_tool(chain, q) -> np.ndarray:
     ValueError
         ``q`` is a scalar or its last axis is not ``n`` long.
     """
-    J, T = jacobian_and_pose(chain, q)
+    J, T = jacobian_and_pose(chain, q, column_walk=column_walk)
     return rotate_jacobian(J, np.swapaxes(T[..., :3, :3], -1, -2))
 
 

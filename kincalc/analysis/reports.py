@@ -34,7 +34,7 @@ def fk_report(robot, q, units: Units = Units(), frames: bool = False) -> FKResul
     and every ``T_0^i`` of the robot's own convention.
     """
     q = joint_vector(robot, q)
-    T = robot.fk(q)
+    T = robot.fk(q, column_walk=True)          # (the bits of the same q in a batch)
     links = cumulative = None
     if frames:
         links = robot.link_transforms(q)
@@ -61,8 +61,8 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     from ..spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
 
     q = joint_vector(robot, q)
-    Jb = jacobian_base(robot.chain, q)
-    T = robot.fk(q)
+    Jb = jacobian_base(robot.chain, q, column_walk=True)     # (the bits of q in a batch)
+    T = robot.fk(q, column_walk=True)
     J = Jb if frame == "base" else rotate_jacobian(Jb, T[:3, :3].T)
 
     L = robot.characteristic_length

@@ -186,7 +186,7 @@ class JacobianResult:
         if self.frame == "base":
             return self.J
         from ..jacobian import rotate_jacobian
-        return rotate_jacobian(self.J, self.robot.fk(self.q)[:3, :3])
+        return rotate_jacobian(self.J, self.robot.fk(self.q, column_walk=True)[:3, :3])
 
     def _display_J(self, J) -> list:
         J = np.array(J, dtype=float)

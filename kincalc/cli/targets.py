@@ -163,7 +163,7 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
         from .common import parse_joints
         tokens = from_q.replace(",", " ").split() if from_q is not None else [str(x) for x in q]
         qv = parse_joints(tokens, robot, units, option=name("q"))
-        return Target(robot.fk(qv), orientation=True)
+        return Target(robot.fk(qv, column_walk=True), orientation=True)
     if form == "T":
         values = _read_pose(pose) if pose is not None else pose_values(np.array(T, float), "T")
         what = f"--pose {pose}" if pose is not None else "T"

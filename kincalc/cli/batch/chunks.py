@@ -94,7 +94,7 @@ def _finite_rows(good, arrays, errors):
 def _fk_chunk(robot, units, parsed, frame):
     from ...spatial import rpy_from_matrix
     good, q, errors = _joint_rows(robot, units, parsed, "fk")
-    T = robot.fk(q)
+    T = robot.fk(q, column_walk=True)       # (a record's bits whatever its chunk)
     T[:, :3, 3] *= units.l
     rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
     good, (q, T, rpy) = _finite_rows(good, (q, T, rpy), errors)
@@ -111,11 +111,11 @@ def _jacobian_chunk(robot, units, parsed, frame):
 
     from ...jacobian import rotate_jacobian, scaled_ranks
     good, q, errors = _joint_rows(robot, units, parsed, "jacobian")
-    Jb = robot.jacobian(q)                                                 # (m, 6, n) SI, base
+    Jb = robot.jacobian(q, column_walk=True)                   # (m, 6, n) SI, base; as fk's
     good, (q, Jb) = _finite_rows(good, (q, Jb), errors)
     J = Jb
     if frame == "tool" and len(q):
-        J = rotate_jacobian(Jb, np.swapaxes(robot.fk(q)[:, :3, :3], -1, -2))
+        J = rotate_jacobian(Jb, np.swapaxes(robot.fk(q, column_walk=True)[:, :3, :3], -1, -2))
     # rank and singularity as 'kincalc jacobian' (analysis.jacobian_report)
     rank, position_rank = scaled_ranks(Jb, robot.is_revolute, robot.characteristic_length)
     full, full_pos = robot.generic_ranks

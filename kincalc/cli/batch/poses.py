@@ -87,7 +87,7 @@ def _form_poses(robot, units, form, items, together, start, errors):
     key = "q" if form == {"q"} else "T" if form == {"T"} else next(iter(form - {"xyz"}))
     items, v, xyz = _form_values(key, items, together, start)
     if key == "q":
-        return items, robot.fk(v / np.where(robot.is_revolute, units.a, units.l))
+        return items, robot.fk(v / np.where(robot.is_revolute, units.a, units.l), column_walk=True)
     if xyz is not None:
         xyz = xyz / units.l
     targets, defect = targets_from(key, to_si(key, v, units), xyz)
