@@ -339,7 +339,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     moved = near                        # slots whose joints change for a second check
     if near is not None:
         q = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
-            robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0])
+            robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0], free)
     if halfway is not None:                          # (the first check only)
         q, moved = at_halfway(q, moved, *halfway)
     if moved is not None:

@@ -59,10 +59,13 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: b
     return mask if np.count_nonzero(mask) else None
 
 
-def polished(robot, targets, q, mask, valid, reaches):
+def polished(robot, targets, q, mask, valid, reaches, free=None):
     """``q (N, K, n)`` (rad / m) with the slots ``mask (N, K)`` polished where that reaches
     the target (a copy; the other slots unchanged, bit for bit); a slot already ``valid (N,
-    K)`` (one beyond its limits) only where the polished value is within them.
+    K)`` (one beyond its limits) only where the polished value is within them. The joints a
+    slot leaves free (``free (N, K, n)`` bool, or None) keep their values where that
+    reaches the target (every value does, and the polish would move them at random), else
+    move too (a band of a double root can call free a joint that is not quite).
 
     The equations are those the target gives: the whole pose, the position and approach (an
     ``approach`` target), or the position alone (a position arm given a whole pose, whose
@@ -77,12 +80,19 @@ def polished(robot, targets, q, mask, valid, reaches):
     rows, slots = mask.nonzero()
     lo, hi = robot.limits.T
     start = np.clip(q[rows, slots], lo, hi)
-    aimed = targets.take(rows)
-    y = normalise(robot, refine(robot, start, aimed.T, mode=mode, approach=aimed.approach))
-    good = reaches(aimed, forward_kinematics(robot.chain, y, column_walk=True))
-    good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
+    held = None if free is None else free[rows, slots]
     out = q.copy()
-    out[rows[good], slots[good]] = y[good]
+    for holding in ((True, False) if held is not None and held.any() else (False,)):
+        aimed = targets.take(rows)
+        y = normalise(robot, refine(robot, start, aimed.T, mode=mode, approach=aimed.approach,
+                                    held=held if holding else None))
+        good = reaches(aimed, forward_kinematics(robot.chain, y, column_walk=True))
+        good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
+        out[rows[good], slots[good]] = y[good]
+        rows, slots, start = rows[~good], slots[~good], start[~good]
+        held = None if held is None else held[~good]
+        if not len(rows):
+            break
     return out
 
 

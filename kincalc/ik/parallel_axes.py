@@ -123,11 +123,12 @@ def _joints_1_5(S: Screws, T, Rt, br: Branches):
         h . R(-k1, q1)(R_t k6)    + h . R(k5, q5)(-k6)     = 0
 
     At the wrist singularity (axis 6 along h) the second equation's roots touch and come
-    out to about 1e-8 rad: a root within :data:`~kincalc.tolerances.SNAP_PARALLEL` of it is put on it (joint 5 where
-    axis 6 is along +-h, joint 1 turning ``R_t k6`` onto that line, subproblem 1) where that
-    aligns axis 6 to :data:`~kincalc.subproblems.cone.ALIGNED_TOL`. Returns the branches
-    with joints 1 and 5 set, ``v (N, K, 3)`` axis 6's direction ``R1^T R_t k6`` at their
-    slots and ``aligned (N, K)`` where it is along h (joint 6 then free)."""
+    out to about 1e-8 rad: a root within :data:`~kincalc.tolerances.SNAP_PARALLEL` of it is
+    put on it (joint 5 where axis 6 is along +-h, joint 1 turning ``R_t k6`` onto that line,
+    subproblem 1) where that aligns axis 6 to :data:`~kincalc.subproblems.cone.ALIGNED_TOL`.
+    Returns the branches with joints 1 and 5 set, ``v (N, K, 3)`` axis 6's direction ``R1^T
+    R_t k6`` at their slots and ``aligned (N, K)`` where it is along h (joint 6 then
+    free)."""
     h, k1, k5, k6 = S.axis[1], S.axis[0], S.axis[4], S.axis[5]
     o1, o5, o6 = S.point[0], S.point[4], S.point[5]
     N = len(T)

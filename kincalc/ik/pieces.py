@@ -265,18 +265,20 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     return Solutions((theta,), (c,), (s,), ok, exact, sol.free, sol.undetermined)
 
 
-def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3) -> Branches:
+def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3, held=None) -> Branches:
     """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
     live slot of ``br``: ``joints`` (0-based) move ``p0 (3,)`` onto ``PT (N, K, 3)`` (world
     frame at q = 0, m). Roots of a quartic or a resultant are good to ~1e-10: three steps
     reach rounding, and no more are taken (a wrong root polished longer creeps along an
-    ill-conditioned valley into the acceptance). Returns the branches with the joints
-    polished."""
+    ill-conditioned valley into the acceptance). ``held (N, K, m)`` bool or None: joints
+    that keep their values (a joint whose axis holds the target, which the point's error
+    across it would turn at random). Returns the branches with the joints polished."""
     from ..spatial import matrix_from_axis_angle
     from .newton import polish
     live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
     targets = PT[live]
+    moving = None if held is None else ~held[live]
     scale = max(S.scale, 1e-300)
 
     def evaluate(x, rows):
@@ -296,8 +298,9 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3) -> Branches:
         p = np.einsum("...ij,j->...i", R, p0) + t
 
         def jacobian(keep):
-            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
-                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
+            J = np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
+                          else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
+            return J if moving is None else J * moving[rows[keep]][:, None, :]
         return (targets[rows] - p) / scale, jacobian
     # damped: at a stretched or folded elbow two roots meet and J is singular
     x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,

@@ -443,8 +443,29 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     else:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
-    br = polish_points(S, P.joints, P.p0, _solve_a(S, P, br, PT), PT)
+    br, held = _held_on_axis(S, P, _solve_a(S, P, br, PT), PT)
+    br = polish_points(S, P.joints, P.p0, br, PT, held=held)
     return _on_axis_b(S, P, br, PT) if S.revolute[b] else br
+
+
+def _held_on_axis(S: Screws, P: Plan, br, PT) -> tuple:
+    """``(br, held)``: a revolute joint a free (0) where the target ``PT (N, K, 3)`` lies on
+    its axis (to a quarter of the check's tolerance: every value then places the point
+    alike), held there while joints b and c are polished (``held (N, K, 3)`` bool, or None):
+    a double root leaves the point before a off the axis by the square root of rounding,
+    and the polish would turn a at random to take up that error (the engine's polish of a
+    near miss holds a free joint too)."""
+    a = P.joints[0]
+    if not S.revolute[a]:
+        return br, None
+    across = _circle(S, a, PT)[1]
+    on = (dot(across, across) <= (0.25 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
+    if not np.count_nonzero(on):
+        return br, None
+    held = np.zeros(on.shape + (3,), bool)
+    held[..., 0] = on
+    return br.set(a, np.where(on, 0.0, br.value[a]), np.where(on, 1.0, br.cos[a]),
+                  np.where(on, 0.0, br.sin[a]), free=br.free[a] | on), held
 
 
 def _on_axis_b(S: Screws, P: Plan, br, PT) -> Branches:

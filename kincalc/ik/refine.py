@@ -29,7 +29,7 @@ CONVERGED = 1e-15
 
 
 def refine(robot, q, T, *, mode: str = "pose", approach=None,
-           iterations: int = ITERATIONS) -> np.ndarray:
+           iterations: int = ITERATIONS, held=None) -> np.ndarray:
     """Candidates ``q (M, n)`` (rad / m) moved onto solutions of ``robot.fk(q) = T``.
 
     Parameters
@@ -47,6 +47,8 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
         z axis, for five-joint arms. Fewer joints than equations: least squares
         (Gauss-Newton), which for a reachable target is Newton's method on the
         components the robot controls.
+    held : ndarray (M, n) of bool, optional
+        Joints that keep their starting values (their columns of the Jacobian are zero).
 
     Returns
     -------
@@ -61,10 +63,14 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
     if approach is not None:
         approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
 
+    moving = None if held is None else np.where(held, 0.0, 1.0)[:, None, :]    # (M, 1, n)
+
     def evaluate(y, rows):
         A, e = linearised(robot, y * col, T[rows], L, mode,
                            None if approach is None else approach[rows])
-        return e, lambda keep: A[keep] * col
+        if moving is None:
+            return e, lambda keep: A[keep] * col
+        return e, lambda keep: A[keep] * col * moving[rows[keep]]
     y, _, moved = polish(evaluate, q / col, iterations=iterations, tol=CONVERGED)
     return np.where(moved[:, None], y * col, q)
 
