@@ -407,7 +407,9 @@ def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
     sol = sol.negated(0).ordered()              # root k: the k-th smallest joint a
     br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
-    return polish_points(S, P.joints, P.p0, br, br.take(PT))
+    PT = br.take(PT)
+    br, held = _held_on_axis(S, P, br, PT)
+    return polish_points(S, P.joints, P.p0, br, PT, held=held)
 
 
 def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:

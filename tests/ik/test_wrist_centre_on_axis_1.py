@@ -1,4 +1,5 @@
-"""A spherical-wrist arm with a slide (R-R-P and a wrist) whose wrist centre lies on axis 1.
+"""Spherical-wrist arms whose wrist centre lies on axis 1: R-R-P (placed by the resultant)
+and R-R-R (three cones, subproblem 5).
 
 Then any value of joint 1 places the wrist centre (the wrist turns the orientation back): a
 continuum per placement of joints 2-3 and wrist branch, joint 1 named free. On axis 1 the
@@ -6,7 +7,8 @@ placement of joints 2-3 is a double root (the wrist centre's distance from the a
 its least), which the resultant splits by rounding and the polish of the placed point took
 up by turning joint 1 at random: one pose of an independent random-robot campaign gave 8
 solutions in dh, mdh and poe alike, joint 1 anywhere from -4e-5 to 0.08 rad, four points of
-each of its two continua, different in each convention.
+each of its two continua, different in each convention; an R-R-R arm gave 4 in dh and mdh
+and 2 in poe, joint 1 where the polish left it.
 
 Checked without the solver: every answer reaches the pose (FK); each names joint 1 free;
 no two answers hold the same placement and wrist branch; dh, mdh and poe answer alike; and
@@ -20,36 +22,60 @@ from randrobots import follow_joint
 
 from kincalc.conventions.conversion import convert
 from kincalc.model import Joint, Robot
+from kincalc.spatial import wrap
 
-#: the campaign's arm (standard DH, rad and m): alpha, a, d, theta, type
-ROWS = [(2.195243305361338, -0.065019655279264954, 0.77513463222267232, -1.3024508712180509,
-         "revolute"),
-        (-1.3938500337545705, 0.0, -0.3720398255573279, 1.4747797685843143, "revolute"),
-        (1.5707963267948966, 0.02729486238179726, 0.54261659036220733, -2.3585201363837065,
-         "prismatic"),
-        (1.5707963267948966, 0.0, -0.082607005865384969, 1.3469431321770085, "revolute"),
-        (1.5707963267948966, 0.0, 0.0, 3.1321220184893042, "revolute"),
-        (-0.75466489103736745, 0.0, 0.0, -1.3486985576508823, "revolute")]
-BASE = [[-0.59243738639974985, -0.80460523762468927, 0.040352878246175228, 0.18144413873207543],
-        [-0.50745261778987949, 0.41160758505029915, 0.75701455509604254, -0.058129758417302169],
-        [-0.62570742675313662, 0.42800655078629096, -0.6521507560296087, 0.20147082094170943],
-        [0.0, 0.0, 0.0, 1.0]]
-TOOL = [[-0.33848975698645822, -0.021073125808461435, 0.9407340792083112, 0.13381218952081531],
+#: the campaign's arms (standard DH, rad and m): alpha, a, d, theta, type; base, tool
+RRP = [(2.195243305361338, -0.065019655279264954, 0.77513463222267232, -1.3024508712180509,
+        "revolute"),
+       (-1.3938500337545705, 0.0, -0.3720398255573279, 1.4747797685843143, "revolute"),
+       (1.5707963267948966, 0.02729486238179726, 0.54261659036220733, -2.3585201363837065,
+        "prismatic"),
+       (1.5707963267948966, 0.0, -0.082607005865384969, 1.3469431321770085, "revolute"),
+       (1.5707963267948966, 0.0, 0.0, 3.1321220184893042, "revolute"),
+       (-0.75466489103736745, 0.0, 0.0, -1.3486985576508823, "revolute")]
+RRP_BASE = [[-0.59243738639974985, -0.80460523762468927, 0.040352878246175228, 0.18144413873207543],
+            [-0.50745261778987949, 0.41160758505029915, 0.75701455509604254, -0.058129758417302169],
+            [-0.62570742675313662, 0.42800655078629096, -0.6521507560296087, 0.20147082094170943],
+            [0.0, 0.0, 0.0, 1.0]]
+RRP_TOOL = [[-0.33848975698645822, -0.021073125808461435, 0.9407340792083112, 0.13381218952081531],
         [-0.93694992764628626, -0.084767419676043732, -0.33902701609913705, -0.16643355378789887],
         [0.086887959458531838, -0.99617789973986381, 0.0089484395849941389, 0.27659825895935414],
         [0.0, 0.0, 0.0, 1.0]]
 #: joints that put the wrist centre on axis 1 (to 5e-16 m), and the same with joint 4 turned
-GENERATING = [[-0.6841717756611994, -1.5545193877698245, -0.19440825664561923,
+RRP_GENERATING = [[-0.6841717756611994, -1.5545193877698245, -0.19440825664561923,
                -0.6778703146992617, -1.3893684715888792, 2.266913297144148],
               [-0.6841717756611994, -1.5545193877698245, -0.19440825664561923,
                -1.3469431321770085, -1.3893684715888792, 2.266913297144148]]
 
+RRR = [(-2.8350775233417935, -0.013086634857481358, -0.01153661832439918, -1.4198503023168889,
+        "revolute"),
+       (1.0741592311604422, 0.15886444097788224, -1.2114106783024328, -1.8766568604046496,
+        "revolute"),
+       (-0.60747438340544879, 0.043861985060586382, 0.33095264576828304, -2.0577056996917809,
+        "revolute"),
+       (2.7918636619633528, 0.0, 0.0, -2.1545886815259974, "revolute"),
+       (2.7780919372460078, 0.0, 0.0, 1.8242236258330147, "revolute"),
+       (0.0, -0.61099294122021264, 0.0, -2.1454685093012311, "revolute")]
+RRR_BASE = [[-0.63742804121497909, -0.7273534575990106, -0.25424877579174177, -0.37055984794705077],
+            [-0.5763375491648659, 0.66909335796803293, -0.46920049844996697, 0.18072591626567192],
+            [0.51139077200852068, -0.15254843834607429, -0.84569997768872129, 0.3379447290085027],
+            [0.0, 0.0, 0.0, 1.0]]
+RRR_TOOL = [[-0.3951607148221834, -0.24336791468352684, -0.88578782310653426, 0.085039003077114594],
+            [0.59005640587143293, 0.67179207602611046, -0.44780447125795381, 0.12079533768961487],
+            [0.70404648095939526, -0.69961951422978497, -0.12186503993176911, 0.026172035454550713],
+            [0.0, 0.0, 0.0, 1.0]]
+RRR_GENERATING = [[1.811754422535623, -4.817586207053446, -12.282272697692969,
+                   -0.21760717200651536, -0.7935495535497767, -2.4679177365997402]]
 
-def arm() -> Robot:
-    return Robot(name="wrist_on_axis_1", convention="dh", base=np.array(BASE),
-                 tool=np.array(TOOL), joints=tuple(
+CASES = [(RRP, RRP_BASE, RRP_TOOL, q) for q in RRP_GENERATING] + [
+    (RRR, RRR_BASE, RRR_TOOL, q) for q in RRR_GENERATING]
+
+
+def arm(rows, base, tool) -> Robot:
+    return Robot(name="wrist_on_axis_1", convention="dh", base=np.array(base),
+                 tool=np.array(tool), joints=tuple(
                      Joint(f"j{i + 1}", kind, alpha=al, a=a, d=d, theta=th)
-                     for i, (al, a, d, th, kind) in enumerate(ROWS)))
+                     for i, (al, a, d, th, kind) in enumerate(rows)))
 
 
 def wrist_centre_offset(r, q) -> float:
@@ -65,29 +91,48 @@ def wrist_centre_offset(r, q) -> float:
     return float(np.linalg.norm(d - (d @ k1) * k1))
 
 
-@pytest.mark.parametrize("q", GENERATING)
-def test_the_continuum_of_joint_1_is_answered_once_per_wrist_branch(q):
-    q = np.array(q)
-    r0 = arm()
+def answers(rows, base, tool, q) -> dict:
+    """``{convention: (robot, T, solutions)}`` of the arm in dh, mdh and poe at the pose of
+    ``q``, each solution checked: it reaches the pose (FK) and names joint 1 free."""
+    r0 = arm(rows, base, tool)
     assert wrist_centre_offset(r0, q) < 1e-12
-    answers = {}
+    out = {}
     for convention in ("dh", "mdh", "poe"):
         r = convert(r0, convention)
         T = r.fk(q)
-        sols = r.ik(T).solutions
-        S = np.array([s.q for s in sols])
-        assert len(S) and np.abs(r.fk(S) - T).max() < 1e-12
-        assert all(0 in s.free for s in sols)
-        placements = {(round(s.q[1], 6), round(s.q[2], 6), bool(s.q[4] > 0)) for s in sols}
-        assert len(placements) == len(sols), S
-        answers[convention] = S[np.lexsort(S.T[::-1])]
+        S = np.array([s.q for s in r.ik(T).solutions if 0 in s.free])
+        assert len(S) == len(r.ik(T).solutions) and np.abs(r.fk(S) - T).max() < 1e-12
+        out[convention] = r, T, S[np.lexsort(S.T[::-1])]
+    return out
 
-        def miss(x):
-            F = r.fk(x)
-            return np.concatenate([F[:3, 3] - T[:3, 3], (F[:3, :3] - T[:3, :3]).ravel()])
-        ends = [follow_joint(miss, s.q, 0, q[0], way, (1, 2, 3, 4, 5))
-                for s in sols for way in (1, -1)]
-        assert any(e is not None and np.abs(e - q).max() < 1e-6 for e in ends), convention
-    assert answers["dh"].shape == answers["mdh"].shape == answers["poe"].shape
-    assert np.abs(answers["dh"] - answers["mdh"]).max() < 1e-8
-    assert np.abs(answers["dh"] - answers["poe"]).max() < 1e-8
+
+def on_one_continuum(r, T, a, b) -> bool:
+    """Joint 1 of ``a`` turned (either way) to ``b``'s, the others kept on the pose ``T``
+    (Gauss-Newton), ends at ``b``."""
+    def miss(x):
+        F = r.fk(x)
+        return np.concatenate([F[:3, 3] - T[:3, 3], (F[:3, :3] - T[:3, :3]).ravel()])
+    ends = [follow_joint(miss, a, 0, b[0], way, (1, 2, 3, 4, 5)) for way in (1, -1)]
+    return any(e is not None and np.abs(wrap(e - b)).max() < 1e-6 for e in ends)
+
+
+@pytest.mark.parametrize("rows, base, tool, q", CASES, ids=["RRP", "RRP joint 4", "RRR"])
+def test_the_continuum_of_joint_1_is_answered_alike_in_every_convention(rows, base, tool, q):
+    q = np.array(q)
+    got = answers(rows, base, tool, q)
+    for convention, (r, T, S) in got.items():
+        assert any(on_one_continuum(r, T, x, q) for x in S), convention
+    assert got["dh"][2].shape == got["mdh"][2].shape == got["poe"][2].shape
+    assert np.abs(got["dh"][2] - got["mdh"][2]).max() < 1e-8
+    assert np.abs(got["dh"][2] - got["poe"][2]).max() < 1e-8
+
+
+@pytest.mark.parametrize("q", RRP_GENERATING)
+def test_the_rrp_arm_answers_each_continuum_once(q):
+    """Its two continua (one per wrist branch) once each: no answer is a point of another's.
+    (Not asked of the R-R-R arm: its continuum passes through the wrist's singularity,
+    where the two wrist branches meet, and its representatives are per wrist branch and
+    arc of the wrist's band.)"""
+    for convention, (r, T, S) in answers(RRP, RRP_BASE, RRP_TOOL, np.array(q)).items():
+        assert not any(on_one_continuum(r, T, S[i], S[k])
+                       for i in range(len(S)) for k in range(len(S)) if i != k), convention
