@@ -581,3 +581,29 @@ def test_a_kind_that_could_not_be_drawn_is_left_out_or_an_error(monkeypatch, cap
     assert "ik" not in [it["kind"] for it in yaml.safe_load(out)["items"]]
     code, _, err = run(capsys, "quiz", "bk_rr", "--seed", 17, "--items", "link,ik")
     assert code == 2 and "could not draw an 'ik' exercise" in err and "--items" in err
+
+
+def test_a_reach_exercise_of_a_numerically_solved_robot_draws_a_few_times(monkeypatch):
+    """Each draw of a 'reach' exercise is a reach analysis, numerical where no closed form
+    solves the robot (up to a second on a long chain: a fuzzed 12-joint arm's quiz took a
+    minute in 120 draws). Such a robot gets NUMERIC_ATTEMPTS draws of each answer, a
+    closed-form one ATTEMPTS; then the kind cannot be drawn."""
+    from kincalc.analysis import reach as reach_module
+    from kincalc.analysis.results import Units
+    from kincalc.homework.quiz import poses
+    from kincalc.homework.quiz.rules import ATTEMPTS, NUMERIC_ATTEMPTS, QuizError
+    calls = []
+
+    def never_fair(robot, target, **kw):         # a verdict no draw can use
+        calls.append(robot.name)
+
+        class Verdict:
+            verdict, reachable, distance = "not-found", False, 0.0
+        return Verdict()
+    monkeypatch.setattr(reach_module, "reach", never_fair)
+    for name, attempts in (("iiwa14", NUMERIC_ATTEMPTS), ("puma560", ATTEMPTS)):
+        calls.clear()
+        with pytest.raises(QuizError, match=f"in {2 * attempts} tries"):
+            poses.item_reach(load(name), np.random.default_rng(3), Units())
+        assert attempts <= len(calls) <= 3 * 2 * attempts        # (up to 3 forms a draw)
+    assert NUMERIC_ATTEMPTS < ATTEMPTS / 10

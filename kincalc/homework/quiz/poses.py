@@ -10,7 +10,7 @@ import numpy as np
 
 from ...errors import KincalcError
 from .numbers import joint_range, length_word, number_array, random_joints, unit_note
-from .rules import ATTEMPTS, IK_CLEARANCE, IK_SEPARATION, QuizError
+from .rules import ATTEMPTS, IK_CLEARANCE, IK_SEPARATION, NUMERIC_ATTEMPTS, QuizError
 
 
 # --- poses -------------------------------------------------------------------------------
@@ -136,13 +136,16 @@ def _beyond(robot, p, rng, samples) -> np.ndarray | None:
 
 def item_reach(robot, rng, units) -> dict:
     """Half of the time a reachable pose, otherwise one just beyond the reach along
-    the ray from the base; the answer is :func:`kincalc.analysis.reach.reach`'s verdict."""
+    the ray from the base; the answer is :func:`kincalc.analysis.reach.reach`'s verdict
+    (:data:`NUMERIC_ATTEMPTS` draws of each where no closed form solves the robot)."""
     from ...analysis.reach import reach
+    from ...ik.families import plan
     want = bool(rng.integers(2))
     samples = None
     L = robot.characteristic_length
-    for attempt in range(2 * ATTEMPTS):
-        if attempt == ATTEMPTS:
+    tries = ATTEMPTS if plan(robot)[1] is not None else NUMERIC_ATTEMPTS
+    for attempt in range(2 * tries):
+        if attempt == tries:
             want = not want      # e.g. an unlimited prismatic joint: no "no" to give
         _, q = random_joints(robot, rng, units)
         T = np.array(robot.fk(q))
@@ -172,4 +175,4 @@ def item_reach(robot, rng, units) -> dict:
                 }
             if not want:
                 break    # only the rounded form of a pose beyond reach is of interest
-    raise QuizError(f"could not draw a 'reach' exercise for {robot.name}")
+    raise QuizError(f"could not draw a 'reach' exercise for {robot.name} in {2 * tries} tries")

@@ -17,6 +17,9 @@ DEFAULT_KINDS = ("dh", "link", "fk", "ik", "jacobian", "singular", "reach")
 SIGNIFICANT = 10
 #: random draws tried for one exercise before giving up
 ATTEMPTS = 60
+#: ... for a ``reach`` exercise of a robot with no closed-form IK, each of whose draws a
+#: numerical search decides (up to a second on a long chain: 60 draws took a minute)
+NUMERIC_ATTEMPTS = 4
 #: a regular configuration of a ``singular`` item has its smallest scaled singular
 #: value above this (far from the rank threshold, so rounding cannot flip it)
 REGULAR_MARGIN = 1e-2
