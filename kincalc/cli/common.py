@@ -193,6 +193,19 @@ def display_units(robot, deg: bool, unit: str | None):
     return Units(angle="deg" if deg else "rad", length=unit or robot.length_unit)
 
 
+def value_tokens(text: str, option: str) -> list[str]:
+    """The values of an option that takes them in one string (``--from-q "0 -45 180"``),
+    apart by spaces or commas; an empty value between two commas or at an end is refused
+    (not dropped: ``"10,,20"`` would otherwise be two values)."""
+    parts = text.split(",")
+    tokens = [part.split() for part in parts]
+    if len(parts) > 1 and not all(tokens):
+        k = next(i for i, t in enumerate(tokens) if not t)
+        raise InputError(f"{option}: value {k + 1} is empty (values go apart by spaces or "
+                         "single commas)")
+    return [t for part in tokens for t in part]
+
+
 def parse_joints(tokens: list[str] | None, robot, units, option: str | None = None):
     """Joint values from the command line, converted to SI; home when none are given as
     Q arguments.

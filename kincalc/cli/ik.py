@@ -102,8 +102,8 @@ def ik(
         redundancy.check_swivel(rob, target, "--swivel")
     q_near = None
     if near is not None:
-        from .common import parse_joints
-        q_near = parse_joints(near.replace(",", " ").split(), rob, units, option="--near")
+        from .common import parse_joints, value_tokens
+        q_near = parse_joints(value_tokens(near, "--near"), rob, units, option="--near")
     options = dict(all_branches=all_branches, explain=explain, units=units, near=q_near,
                    numeric=numeric)
     locks = parse_locks(lock, rob, units)

@@ -160,8 +160,8 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     except BadTarget as exc:
         raise UsageError(exc.words(name)) from None
     if form == "q":
-        from .common import parse_joints
-        tokens = from_q.replace(",", " ").split() if from_q is not None else [str(x) for x in q]
+        from .common import parse_joints, value_tokens
+        tokens = value_tokens(from_q, name("q")) if from_q is not None else [str(x) for x in q]
         qv = parse_joints(tokens, robot, units, option=name("q"))
         return Target(robot.fk(qv, column_walk=True), orientation=True)
     if form == "T":

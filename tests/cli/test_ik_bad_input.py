@@ -28,6 +28,12 @@ CASES = [
     (["ik", "iiwa7", "--xyz", "0.5", "0", "0.3", "--approach", "0", "0", "1"],
      "--approach: iiwa7 is solved numerically"),
     (["ik", "puma560", "--from-q", "1 2"], "has 6 joints"),
+    # an empty value between commas is not dropped (a fuzz campaign: 7 values were 6)
+    (["ik", "puma560", "--from-q", "10,,20,30,40,50,60"], "--from-q: value 2 is empty"),
+    (["ik", "puma560", "--from-q", "10,20,30,40,50,60,"], "--from-q: value 7 is empty"),
+    (["reach", "puma560", "--from-q", ",10,20,30,40,50,60"], "--from-q: value 1 is empty"),
+    (["ik", "puma560", "--from-q", "0 0 0 0 0 0", "--near", "1,,2,3,4,5"],
+     "--near: value 2 is empty"),
     (["ik", "puma560", "--tcv", "1", "2", "3", "0", "0", "1"], "--tcv targets need"),
     (["ik", "puma560", "--from-q", "0 0 0 0 0 0", "--xyz", "1", "0", "0"], "whole pose"),
     (["ik", "puma560", "--rpy", "0", "0", "0"], "--xyz"),
