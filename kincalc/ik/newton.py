@@ -37,7 +37,7 @@ import numpy as np
 
 def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float = 0.0,
            stall: float = 0.0, give_up: dict | None = None, max_step: float = np.inf,
-           settle: float | None = None):
+           settle: float | None = None, fixed=None):
     """Gauss-Newton on a batch of candidates, each stopping when it has converged.
 
     Parameters
@@ -71,6 +71,8 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         ``dx`` from ``e`` leaves at most ``b = max |e - J dx| + C (|dx|_1 + max |e|) |dx|_1``
         (Taylor), so one with ``b < tol / 10`` stops with ``b`` as its residual, without the
         evaluation that would only confirm it. None: every step is evaluated.
+    fixed : array_like (M, n) of bool, optional
+        Variables each candidate keeps at its start (their Jacobian columns taken as 0).
 
     Returns
     -------
@@ -87,6 +89,7 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
     moved = np.zeros(M, bool)
     rows = np.arange(M)
     give_up = give_up or {}
+    moving = None if fixed is None else np.where(fixed, 0.0, 1.0)[:, None, :]   # (M, 1, n)
     for it in range(iterations + 1):
         if not len(rows):
             break
@@ -106,6 +109,8 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         J = jacobian(go)
         if stepping < len(go):                 # (every row steps: the common case)
             rows, e, r = rows[go], e[go], r[go]
+        if moving is not None:
+            J = J * moving[rows]
         moved[rows] = True
         dx, adx = _limited(_step(J, e, damping), max_step)
         x[rows] += dx

@@ -278,7 +278,6 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3, held=None) -> B
     live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
     targets = PT[live]
-    moving = None if held is None else ~held[live]
     scale = max(S.scale, 1e-300)
 
     def evaluate(x, rows):
@@ -298,13 +297,12 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3, held=None) -> B
         p = np.einsum("...ij,j->...i", R, p0) + t
 
         def jacobian(keep):
-            J = np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
-                          else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
-            return J if moving is None else J * moving[rows[keep]][:, None, :]
+            return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
+                             else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
         return (targets[rows] - p) / scale, jacobian
     # damped: at a stretched or folded elbow two roots meet and J is singular
     x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
-                     stall=1e-12)
+                     stall=1e-12, fixed=None if held is None else held[live])
     X = np.where(live[..., None], X, 0.0)
     X[live] = x
     for i, j in enumerate(joints):

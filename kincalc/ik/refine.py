@@ -48,7 +48,7 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
         (Gauss-Newton), which for a reachable target is Newton's method on the
         components the robot controls.
     held : ndarray (M, n) of bool, optional
-        Joints that keep their starting values (their columns of the Jacobian are zero).
+        Joints that keep their starting values (:func:`kincalc.ik.newton.polish`'s ``fixed``).
 
     Returns
     -------
@@ -63,15 +63,11 @@ def refine(robot, q, T, *, mode: str = "pose", approach=None,
     if approach is not None:
         approach = np.broadcast_to(np.asarray(approach, float), (len(q), 3))
 
-    moving = None if held is None else np.where(held, 0.0, 1.0)[:, None, :]    # (M, 1, n)
-
     def evaluate(y, rows):
         A, e = linearised(robot, y * col, T[rows], L, mode,
                            None if approach is None else approach[rows])
-        if moving is None:
-            return e, lambda keep: A[keep] * col
-        return e, lambda keep: A[keep] * col * moving[rows[keep]]
-    y, _, moved = polish(evaluate, q / col, iterations=iterations, tol=CONVERGED)
+        return e, lambda keep: A[keep] * col
+    y, _, moved = polish(evaluate, q / col, iterations=iterations, tol=CONVERGED, fixed=held)
     return np.where(moved[:, None], y * col, q)
 
 

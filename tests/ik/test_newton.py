@@ -79,6 +79,23 @@ def test_converges_quadratically_and_each_candidate_stops_on_its_own():
     assert seen[0] == 4 and seen[1] == 3 and len(seen) <= 7        # quadratic: few steps
 
 
+def test_fixed_variables_keep_their_start_and_the_others_solve_without_them():
+    # x0 + x1 = 3 and x0 - x1 = c: with x0 fixed (rows 0 and 2) only x1 moves, to the
+    # least-squares answer x1 = (3 - c) / 2 whatever x0; row 1 solves both exactly
+    c = np.array([1.0, 1.0, -1.0])
+    x0 = np.array([[0.5, 0.0], [0.5, 0.0], [2.0, 0.0]])
+    fixed = np.array([[True, False], [False, False], [True, False]])
+    A = np.array([[1.0, 1.0], [1.0, -1.0]])
+
+    def evaluate(x, rows):
+        return np.stack([3.0 - x[:, 0] - x[:, 1], c[rows] - x[:, 0] + x[:, 1]], -1), \
+            lambda keep: np.broadcast_to(A, (np.count_nonzero(keep), 2, 2))
+    x, _, _ = polish(evaluate, x0, iterations=5, tol=1e-14, fixed=fixed)
+    assert x[0, 0] == 0.5 and x[2, 0] == 2.0
+    assert np.allclose(x[[0, 2], 1], (3.0 - c[[0, 2]]) / 2, atol=1e-14)
+    assert np.allclose(x[1], [2.0, 1.0], atol=1e-14)
+
+
 def test_give_up_and_step_limit():
     # x^2 = -1 has no real root: dropped after 2 steps; steps capped at 0.1
     def evaluate(x, rows):
