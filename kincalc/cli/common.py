@@ -199,7 +199,7 @@ def value_tokens(text: str, option: str) -> list[str]:
     (not dropped: ``"10,,20"`` would otherwise be two values)."""
     parts = text.split(",")
     tokens = [part.split() for part in parts]
-    if len(parts) > 1 and not all(tokens):
+    if any(tokens) and not all(tokens):          # (none at all: too few values, said later)
         k = next(i for i, t in enumerate(tokens) if not t)
         raise InputError(f"{option}: value {k + 1} is empty (values go apart by spaces or "
                          "single commas)")

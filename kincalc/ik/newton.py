@@ -87,8 +87,7 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
     M = len(x)
     res = np.full(M, np.inf)
     moved = np.zeros(M, bool)
-    rows = np.arange(M)
-    give_up = give_up or {}
+    rows, give_up = np.arange(M), give_up or {}
     moving = None if fixed is None else np.where(fixed, 0.0, 1.0)[:, None, :]   # (M, 1, n)
     for it in range(iterations + 1):
         if not len(rows):
@@ -109,8 +108,7 @@ def polish(evaluate: Callable, x, *, iterations: int, tol: float, damping: float
         J = jacobian(go)
         if stepping < len(go):                 # (every row steps: the common case)
             rows, e, r = rows[go], e[go], r[go]
-        if moving is not None:
-            J = J * moving[rows]
+        J = J if moving is None else J * moving[rows]
         moved[rows] = True
         dx, adx = _limited(_step(J, e, damping), max_step)
         x[rows] += dx

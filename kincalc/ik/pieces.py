@@ -171,6 +171,61 @@ def free_on_axis(S: Screws, sol, x, y):
                      (np.where(at, 0.0, sol.s[0]),), sol.ok, sol.exact, sol.free | at)
 
 
+#: a point within this of a revolute joint's axis (of the arm's size) is on it: every value of
+#: the joint then moves it by at most half the check's tolerance (``ACCEPT_POSITION``)
+ON_AXIS = 0.25 * ACCEPT_POSITION
+
+
+def free_at_zero(br: Branches, j: int, on) -> Branches:
+    """``br`` with joint ``j`` free, at 0, in the slots ``on (N, K)``."""
+    return br.set(j, np.where(on, 0.0, br.value[j]), np.where(on, 1.0, br.cos[j]),
+                  np.where(on, 0.0, br.sin[j]), free=br.free[j] | on)
+
+
+def on_axis(S: Screws, j: int, p, within=None):
+    """``(N, K)`` bool: the points ``p (N, K, 3)`` (world frame at q = 0, m) within
+    :data:`ON_AXIS` of the arm's size of joint ``j``'s axis (and within ``within`` (N, K))."""
+    u = p - S.point[j]
+    across = u - dot(u, S.axis[j])[..., None] * S.axis[j]
+    on = dot(across, across) <= (ON_AXIS * S.scale) ** 2
+    return on if within is None else on & within
+
+
+def hold_on_target_axis(S: Screws, joints, br: Branches, PT) -> tuple:
+    """``(br, held)``: the first of the placing ``joints`` (a revolute one) free at 0 where
+    the target ``PT (N, K, 3)`` lies on its axis (:func:`on_axis`: every value then places
+    the point alike), and held there while the others are polished (``held (N, K, m)`` bool
+    for :func:`polish_points`, or None): a double root leaves the point before it off the
+    axis by the square root of rounding, and the polish would turn it at random to take up
+    that error (the engine's polish of a near miss holds a free joint too)."""
+    a = joints[0]
+    if not S.revolute[a]:
+        return br, None
+    on = on_axis(S, a, PT, br.ok)
+    if not np.count_nonzero(on):
+        return br, None
+    held = np.zeros(on.shape + (len(joints),), bool)
+    held[..., 0] = on
+    return free_at_zero(br, a, on), held
+
+
+def free_on_placed_axis(S: Screws, joints, p0, br: Branches, PT) -> Branches:
+    """``br`` with the second of the placing ``joints`` ``(a, b, c)`` (revolute) free at 0
+    in the slots whose polished point, ``p0 (3,)`` moved by joint c, lies on its axis (a
+    double root in x_c can put it there, where the roots of x_b, decided by rounding, are
+    any value) and reaches its target ``PT (N, K, 3)``, each within :data:`ON_AXIS` (a
+    double root is polished only to about the square root of rounding, and 0 is not
+    polished)."""
+    a, b, c = joints
+    g = S.move(c, br.value[c], br.cos[c], br.sin[c], p0)
+    on = on_axis(S, b, g, br.ok)
+    if not np.count_nonzero(on):
+        return br
+    miss = S.move(a, br.value[a], br.cos[a], br.sin[a],
+                  S.move(b, br.value[b], br.cos[b], br.sin[b], g)) - PT
+    return free_at_zero(br, b, on & (dot(miss, miss) <= (ON_AXIS * S.scale) ** 2))
+
+
 def turn_free_joint(S, a: int, b: int, f, g, sol):
     """The free angle of joint ``a`` (``sol``, subproblem 1's: the point ``f`` on its axis)
     chosen so that a target ``g`` a hair off the axis can be polished onto.

@@ -43,9 +43,10 @@ from ..subproblems.solutions import angles, cross, dot
 from ..subproblems.roots import quadratic
 from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
-from ..tolerances import ACCEPT_POSITION, FREE_REACH
+from ..tolerances import FREE_REACH
 from .branches import TIE_BREAK, Branches
-from .pieces import free_on_axis, polish_points, split_fold, turn_free_joint
+from .pieces import (free_on_axis, free_on_placed_axis, hold_on_target_axis, polish_points,
+                     split_fold, turn_free_joint)
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn
@@ -408,7 +409,7 @@ def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     sol = sol.negated(0).ordered()              # root k: the k-th smallest joint a
     br = br.branch([a, b, c], sol, labels=tuple(f"root {i + 1}" for i in range(4)))
     PT = br.take(PT)
-    br, held = _held_on_axis(S, P, br, PT)
+    br, held = hold_on_target_axis(S, P.joints, br, PT)
     return polish_points(S, P.joints, P.p0, br, PT, held=held)
 
 
@@ -445,50 +446,9 @@ def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     else:
         x, good = common_root(al, be, ga)
         br = br.set(b, x, np.ones_like(x), np.zeros_like(x), ok=good)
-    br, held = _held_on_axis(S, P, _solve_a(S, P, br, PT), PT)
+    br, held = hold_on_target_axis(S, P.joints, _solve_a(S, P, br, PT), PT)
     br = polish_points(S, P.joints, P.p0, br, PT, held=held)
-    return _on_axis_b(S, P, br, PT) if S.revolute[b] else br
-
-
-def _held_on_axis(S: Screws, P: Plan, br, PT) -> tuple:
-    """``(br, held)``: a revolute joint a free (0) where the target ``PT (N, K, 3)`` lies on
-    its axis (to a quarter of the check's tolerance: every value then places the point
-    alike), held there while joints b and c are polished (``held (N, K, 3)`` bool, or None):
-    a double root leaves the point before a off the axis by the square root of rounding,
-    and the polish would turn a at random to take up that error (the engine's polish of a
-    near miss holds a free joint too)."""
-    a = P.joints[0]
-    if not S.revolute[a]:
-        return br, None
-    across = _circle(S, a, PT)[1]
-    on = (dot(across, across) <= (0.25 * ACCEPT_POSITION * S.scale) ** 2) & br.ok
-    if not np.count_nonzero(on):
-        return br, None
-    held = np.zeros(on.shape + (3,), bool)
-    held[..., 0] = on
-    return br.set(a, np.where(on, 0.0, br.value[a]), np.where(on, 1.0, br.cos[a]),
-                  np.where(on, 0.0, br.sin[a]), free=br.free[a] | on), held
-
-
-def _on_axis_b(S: Screws, P: Plan, br, PT) -> Branches:
-    """``br`` with joint b free (0) in the slots whose polished point lies on its axis (a
-    double root in x_c can put it there, where the roots of x_b, decided by rounding, are
-    any value) and reaches its target ``PT (N, K, 3)``, each to a quarter of the check's
-    tolerance: every x_b then reaches the target to the check's (the point moves by at most
-    twice its distance from the axis; a double root is polished only to about the square
-    root of rounding, and 0 is not polished)."""
-    a, b, c = P.joints
-    g = S.move(c, br.value[c], br.cos[c], br.sin[c], P.p0)
-    across = _circle(S, b, g)[1]
-    band = (0.25 * ACCEPT_POSITION * S.scale) ** 2
-    on = (dot(across, across) <= band) & br.ok
-    if not np.count_nonzero(on):
-        return br
-    miss = S.move(a, br.value[a], br.cos[a], br.sin[a],
-                  S.move(b, br.value[b], br.cos[b], br.sin[b], g)) - PT
-    on &= dot(miss, miss) <= band
-    return br.set(b, np.where(on, 0.0, br.value[b]), np.where(on, 1.0, br.cos[b]),
-                  np.where(on, 0.0, br.sin[b]), free=br.free[b] | on)
+    return free_on_placed_axis(S, P.joints, P.p0, br, PT) if S.revolute[b] else br
 
 
 def _pair(S: Screws, P: Plan, br, PT, what) -> Branches:
