@@ -171,6 +171,11 @@ def free_on_axis(S: Screws, sol, x, y):
                      (np.where(at, 0.0, sol.s[0]),), sol.ok, sol.exact, sol.free | at)
 
 
+def across(k, v) -> np.ndarray:
+    """``v (..., 3)``'s part across the unit axis ``k (3,)``."""
+    return v - dot(v, k)[..., None] * k
+
+
 #: a point within this of a revolute joint's axis (of the arm's size) is on it: every value of
 #: the joint then moves it by at most half the check's tolerance (``ACCEPT_POSITION``)
 ON_AXIS = 0.25 * ACCEPT_POSITION
@@ -185,9 +190,8 @@ def free_at_zero(br: Branches, j: int, on) -> Branches:
 def on_axis(S: Screws, j: int, p, within=None):
     """``(N, K)`` bool: the points ``p (N, K, 3)`` (world frame at q = 0, m) within
     :data:`ON_AXIS` of the arm's size of joint ``j``'s axis (and within ``within`` (N, K))."""
-    u = p - S.point[j]
-    across = u - dot(u, S.axis[j])[..., None] * S.axis[j]
-    on = dot(across, across) <= (ON_AXIS * S.scale) ** 2
+    d = across(S.axis[j], p - S.point[j])
+    on = dot(d, d) <= (ON_AXIS * S.scale) ** 2
     return on if within is None else on & within
 
 
@@ -245,11 +249,11 @@ def turn_free_joint(S, a: int, b: int, f, g, sol):
     if not np.count_nonzero(sol.free):
         return theta, c, s
     k, gq = S.axis[a], g - S.point[a]
-    across = gq - dot(gq, k)[..., None] * k
+    gk = across(k, gq)
     move = np.cross(S.axis[b], f - S.point[b]) if S.revolute[b] else S.axis[b] + 0.0 * f
     lever = np.sqrt(np.add.reduce(move * move, -1))
     bound = np.minimum(ACCEPT_POSITION * S.scale, ACCEPT_ORIENTATION * lever)
-    off = sol.free[..., 0] & (np.add.reduce(across * across, -1) > bound * bound) & (
+    off = sol.free[..., 0] & (np.add.reduce(gk * gk, -1) > bound * bound) & (
         lever > MOVES * S.scale)                            # (b moves f at all)
     if not np.count_nonzero(off):
         return theta, c, s
@@ -294,12 +298,8 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     x = sol.theta[0][..., 0]
     f = S.move(b, x, sol.c[0][..., 0], sol.s[0][..., 0], g)
     k = S.axis[a]
-
-    def across(v):                               # v's part across axis a
-        return v - dot(v, k)[..., None] * k
-
-    u, m, w = across(f - S.point[a]), across(cross(S.axis[b], f - S.point[b])), \
-        across(PT - S.point[a])
+    u, m, w = across(k, f - S.point[a]), across(k, cross(S.axis[b], f - S.point[b])), \
+        across(k, PT - S.point[a])
     on, mm, off = dot(u, u), dot(m, m), dot(w, w)                       # squared lengths
     um = dot(u, m)
     disc = um * um + mm * (off - on)
