@@ -187,12 +187,11 @@ def free_at_zero(br: Branches, j: int, on) -> Branches:
                   np.where(on, 0.0, br.sin[j]), free=br.free[j] | on)
 
 
-def on_axis(S: Screws, j: int, p, within=None):
+def on_axis(S: Screws, j: int, p):
     """``(N, K)`` bool: the points ``p (N, K, 3)`` (world frame at q = 0, m) within
-    :data:`ON_AXIS` of the arm's size of joint ``j``'s axis (and within ``within`` (N, K))."""
+    :data:`ON_AXIS` of the arm's size of joint ``j``'s axis."""
     d = across(S.axis[j], p - S.point[j])
-    on = dot(d, d) <= (ON_AXIS * S.scale) ** 2
-    return on if within is None else on & within
+    return dot(d, d) <= (ON_AXIS * S.scale) ** 2
 
 
 def hold_on_target_axis(S: Screws, joints, br: Branches, PT) -> tuple:
@@ -205,7 +204,7 @@ def hold_on_target_axis(S: Screws, joints, br: Branches, PT) -> tuple:
     a = joints[0]
     if not S.revolute[a]:
         return br, None
-    on = on_axis(S, a, PT, br.ok)
+    on = on_axis(S, a, PT) & br.ok
     if not np.count_nonzero(on):
         return br, None
     held = np.zeros(on.shape + (len(joints),), bool)
@@ -222,7 +221,7 @@ def free_on_placed_axis(S: Screws, joints, p0, br: Branches, PT) -> Branches:
     polished)."""
     a, b, c = joints
     g = S.move(c, br.value[c], br.cos[c], br.sin[c], p0)
-    on = on_axis(S, b, g, br.ok)
+    on = on_axis(S, b, g) & br.ok
     if not np.count_nonzero(on):
         return br
     miss = S.move(a, br.value[a], br.cos[a], br.sin[a],
