@@ -15,7 +15,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure import common_point
-from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, MOVES
+from ..spatial import wrap
+from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, INEXACT,
+                          MOVES, SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
@@ -319,19 +321,43 @@ def split_fold(S, a: int, b: int, sol, g, PT):
     return Solutions((theta,), (c,), (s,), ok, exact, sol.free, sol.undetermined)
 
 
-def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3, held=None) -> Branches:
+#: Gauss-Newton steps on a placed point (:func:`polish_points`)
+POLISH_STEPS = 3
+
+
+def polish_points(S: Screws, joints, p0, br, PT, iters: int = POLISH_STEPS,
+                  held=None) -> Branches:
     """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
     live slot of ``br``: ``joints`` (0-based) move ``p0 (3,)`` onto ``PT (N, K, 3)`` (world
     frame at q = 0, m). Roots of a quartic or a resultant are good to ~1e-10: three steps
     reach rounding, and no more are taken (a wrong root polished longer creeps along an
     ill-conditioned valley into the acceptance). ``held (N, K, m)`` bool or None: joints
     that keep their values (a joint whose axis holds the target, which the point's error
-    across it would turn at random). Returns the branches with the joints polished."""
-    from ..spatial import matrix_from_axis_angle
+    across it would turn at random). Two polished slots that are one double root split by
+    rounding are then placed at its middle (:func:`_split_double_roots`). Returns the
+    branches with the joints polished."""
     from .newton import polish
     live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
-    targets = PT[live]
+    evaluate = _point_equations(S, joints, p0, PT[live])
+    fixed = None if held is None else held[live]
+    # damped: at a stretched or folded elbow two roots meet and J is singular
+    x, res, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
+                       stall=1e-12, fixed=fixed)
+    X = np.where(live[..., None], X, 0.0)
+    X[live] = _split_double_roots(S, joints, live, PT, x, res, evaluate, fixed)
+    for i, j in enumerate(joints):
+        x = X[..., i]
+        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
+            br.set(j, x, np.ones_like(x), np.zeros_like(x))
+    return br
+
+
+def _point_equations(S: Screws, joints, p0, targets):
+    """``evaluate(x (M, m), rows (M,)) -> (e (M, 3), jacobian)`` of
+    :func:`kincalc.ik.newton.polish`: how far ``joints`` at ``x`` leave ``p0`` from
+    ``targets[rows]`` (``targets (R, 3)``, m), over the arm's size."""
+    from ..spatial import matrix_from_axis_angle
     scale = max(S.scale, 1e-300)
 
     def evaluate(x, rows):
@@ -354,13 +380,56 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = 3, held=None) -> B
             return np.stack([cross(axes[i][keep], p[keep] - pts[i][keep]) if S.revolute[j]
                              else axes[i][keep] for i, j in enumerate(joints)], -1) / scale
         return (targets[rows] - p) / scale, jacobian
-    # damped: at a stretched or folded elbow two roots meet and J is singular
-    x, _, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
-                     stall=1e-12, fixed=None if held is None else held[live])
-    X = np.where(live[..., None], X, 0.0)
+    return evaluate
+
+
+def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> np.ndarray:
+    """``x (M, m)``, the polished joints of the ``live (N, K)`` slots, with each two slots of
+    a target that are one double root split by rounding both set to the joints halfway
+    between them.
+
+    Where two of the placement's roots meet (the point at a fold of the arm: a stretched
+    or folded elbow) a polynomial gives them split by rounding, up to some 5e-3 apart in a
+    joint that moves fast along the fold, and Gauss-Newton, whose Jacobian is singular
+    there, stops short of the root, leaving them some 1e-6 to 1e-3 apart, each placing the
+    point to 1e-14 .. 1e-9: the joints a later step derives from them (a wrist's) are then up
+    to 1e-3 off, and a pose that the point alone does not fix is missed by both. Two live
+    slots with the same target (``PT (N, K, 3)``) whose joints agree to
+    :data:`~kincalc.tolerances.SPLIT_DOUBLE_ROOT` (rad, or of the arm's size) are one double
+    root when neither places the point to :data:`~kincalc.tolerances.INEXACT` (``res
+    (M,)``, the polish's residuals over the arm's size: Gauss-Newton reaches a simple root
+    to rounding in its steps) and the joints halfway between them, polished
+    (:data:`POLISH_STEPS`; the valley of a fold is curved, and the straight middle lies
+    off it), place it better than half the better of the two, or to ``INEXACT``: the rule
+    by which the engine takes two solutions of a pose as one
+    (:func:`kincalc.ik.near_miss.double_roots`), here on the placement's own split, before
+    the joints that follow multiply it.
+    ``fixed (M, m)`` bool or None: the joints the polish holds."""
+    from .newton import polish
+    N, K = live.shape
+    if K < 2 or len(x) < 2:
+        return x
+    X = np.zeros((N, K, len(joints)))
     X[live] = x
-    for i, j in enumerate(joints):
-        x = X[..., i]
-        br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
-            br.set(j, x, np.ones_like(x), np.zeros_like(x))
-    return br
+    revolute = np.asarray([S.revolute[j] for j in joints])
+    d = X[:, None] - X[:, :, None]                                         # (N, K, K, m)
+    d = np.abs(np.where(revolute, wrap(d), d / max(S.scale, 1e-300))).max(-1)
+    close = (d <= SPLIT_DOUBLE_ROOT) & live[:, None] & live[:, :, None] \
+        & np.tri(K, k=-1, dtype=bool).T & (PT[:, None] == PT[:, :, None]).all(-1)
+    if not np.count_nonzero(close):
+        return x
+    row = np.full((N, K), -1)
+    row[live] = np.arange(len(x))
+    pose, i, j = close.nonzero()
+    a, b = row[pose, i], row[pose, j]
+    step = x[b] - x[a]
+    half = x[a] + 0.5 * np.where(revolute, wrap(step), step)
+    half, miss, _ = polish(lambda y, rows: evaluate(y, a[rows]), half, iterations=POLISH_STEPS,
+                           tol=1e-15, damping=1e-14, stall=1e-12,
+                           fixed=None if fixed is None else fixed[a])
+    least = np.minimum(res[a], res[b])
+    one = (least > INEXACT) & ((miss < 0.5 * least) | (miss <= INEXACT))
+    x = x.copy()
+    for a, b, h in zip(a[one].tolist(), b[one].tolist(), half[one]):    # (rare: at a fold)
+        x[a] = x[b] = h
+    return x

@@ -1,0 +1,175 @@
+"""A point placed by three joints of a revolute and prismatic mix with no structure (the
+resultant's placement, :mod:`kincalc.ik.place`) at a fold of the arm: where two of the
+placement's roots meet.
+
+There the resultant's polynomial gives the two roots split by rounding, up to some 5e-3
+apart in the joint that moves fast along the fold, and Gauss-Newton on the point (singular
+there) leaves them some 1e-4 apart, each placing the point to ~1e-9. Before the placement
+answered such a pair at its middle, a five-joint arm asked for a whole pose at the fold got
+no solution at all (both copies missed the roll by ~5e-4 rad), and asked for the position
+and approach got two copies 1.4e-3 rad from the generating joints.
+
+The folds are found here without kincalc: the point where axes 4 and 5 meet (the wrist
+centre) by a plain DH product, and the fold where the determinant of its derivative by
+joints 1-3 (central differences) changes sign, by bisection.
+"""
+
+import numpy as np
+import pytest
+
+from kincalc.ik import Target, solve
+from kincalc.model import Joint, Robot
+from kincalc.spatial import rot_y, rot_z, transform, wrap
+
+
+#: joints 1-3: a prismatic joint among them (the campaign's misses: R-R-P, P-R-P, R-P-R)
+MIXES = ("RRP", "PRP", "RPR", "PRR")
+
+
+def random_arm(rng, five: bool):
+    """Joints 1-3 of a mix of :data:`MIXES` with twists far from 0 and pi (no structure: the
+    resultant's placement); axes 4 and 5 meet (a4 = 0). Five joints: the tool looks along x5
+    from a point on that line; six: joint 6's axis through the same point (a spherical
+    wrist)."""
+    def twist():
+        return rng.uniform(0.3, 2.8) * rng.choice([-1, 1])
+    kinds = [{"R": "revolute", "P": "prismatic"}[c] for c in MIXES[rng.integers(len(MIXES))]]
+    rows = [(twist(), rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)) for _ in range(3)]
+    rows += [(twist(), 0.0, rng.uniform(-0.5, 0.5))]
+    if five:
+        rows += [(twist(), rng.uniform(-0.5, 0.5), 0.0)]
+        tool = transform(rot_y(np.pi / 2) @ rot_z(rng.uniform(-3, 3)), [0, 0, 0]) @ \
+            transform(None, [0, 0, rng.uniform(-0.5, 0.5)])
+    else:
+        rows += [(twist(), 0.0, 0.0), (rng.uniform(-3, 3), rng.uniform(-0.5, 0.5),
+                                      rng.uniform(-0.5, 0.5))]
+        tool = np.eye(4)
+    kinds += ["revolute"] * (len(rows) - 3)
+    joints = tuple(Joint(f"q{i + 1}", kind, alpha=al, a=a, d=d, theta=rng.uniform(-np.pi, np.pi))
+                   for i, (kind, (al, a, d)) in enumerate(zip(kinds, rows)))
+    return Robot("fold", "dh", joints, base=np.eye(4), tool=tool)
+
+
+def dh_frames(robot, q):
+    """The frames 0..n of a standard-DH chain (``A_i = Rz(theta_i) Tz(d_i) Tx(a_i)
+    Rx(alpha_i)``, ``q_i`` added to ``theta_i`` or, for a prismatic joint, to ``d_i``), base
+    first, tool last."""
+    T = [np.array(robot.base, float)]
+    for j, x in zip(robot.joints, q):
+        slide = j.type == "prismatic"
+        theta, d = (j.theta, j.d + x) if slide else (j.theta + x, j.d)
+        ct, st = np.cos(theta), np.sin(theta)
+        ca, sa = np.cos(j.alpha), np.sin(j.alpha)
+        A = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st],
+                      [0, sa, ca, d], [0, 0, 0, 1]])
+        T.append(T[-1] @ A)
+    T.append(T[-1] @ robot.tool)
+    return T
+
+
+def wrist_point(robot, q):
+    return dh_frames(robot, q)[4][:3, 3]          # frame 4's origin: on axes 4 and 5
+
+
+def fold_det(robot, q, h=1e-6):
+    J = np.empty((3, 3))
+    for j in range(3):
+        e = np.zeros(len(q))
+        e[j] = h
+        J[:, j] = (wrist_point(robot, q + e) - wrist_point(robot, q - e)) / (2 * h)
+    return np.linalg.det(J)
+
+
+def folds(robot, q, joint, grid=48):
+    """Configurations like ``q`` with ``joint`` moved onto a fold (sign changes of
+    :func:`fold_det` over a grid, bisected)."""
+    xs = np.linspace(-np.pi, np.pi, grid + 1) if robot.is_revolute[joint] else \
+        np.linspace(-1.0, 1.0, grid + 1)
+    vals = []
+    for x in xs:
+        y = q.copy()
+        y[joint] = x
+        vals.append(fold_det(robot, y))
+    out = []
+    for k in range(grid):
+        if np.sign(vals[k]) == np.sign(vals[k + 1]):
+            continue
+        a, b, fa = xs[k], xs[k + 1], vals[k]
+        for _ in range(55):
+            y = q.copy()
+            y[joint] = m = 0.5 * (a + b)
+            fm = fold_det(robot, y)
+            a, b, fa = (m, b, fm) if np.sign(fm) == np.sign(fa) else (a, m, fa)
+        y = q.copy()
+        y[joint] = 0.5 * (a + b)
+        out.append(y)
+    return out
+
+
+def fold_poses(seed, five, count):
+    rng = np.random.default_rng(seed)
+    cases = []
+    while len(cases) < count:
+        robot = random_arm(rng, five)
+        q0 = rng.uniform(-np.pi, np.pi, robot.dof)
+        cases += [(robot, q) for q in folds(robot, q0, 2)[:2]]
+    return cases[:count]
+
+
+def distance(robot, a, b):
+    d = np.asarray(a) - b
+    return np.abs(np.where(robot.is_revolute, wrap(d), d)).max()
+
+
+def check_answers(robot, T, sols, approach_only=False):
+    """Every answer reaches the target by the plain DH product; no two are copies."""
+    for s in sols:
+        F = dh_frames(robot, s.q)[-1]
+        assert np.linalg.norm(F[:3, 3] - T[:3, 3]) < 1e-9
+        if approach_only:
+            assert np.linalg.norm(F[:3, 2] - T[:3, 2]) < 1e-9
+        else:
+            assert np.abs(F[:3, :3] - T[:3, :3]).max() < 1e-9
+    for i, a in enumerate(sols):
+        for b in sols[:i]:
+            assert distance(robot, a.q, b.q) > 1e-2, (a.branch, b.branch)
+
+
+def test_the_fold_search_is_independent_of_kincalc():
+    robot, q = fold_poses(4, True, 1)[0]
+    assert np.allclose(dh_frames(robot, q)[-1], robot.fk(q), atol=1e-12)
+    assert abs(fold_det(robot, q)) < 1e-8
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 27])
+def test_a_five_joint_arm_at_a_fold_gets_its_whole_pose_back(seed):
+    """(Seed 27: copies some 5e-3 rad apart, beyond the 1e-3 that once bounded a
+    split double root.)"""
+    for robot, q in fold_poses(seed, True, 4):
+        T = dh_frames(robot, q)[-1]
+        sols = solve(robot, Target(T)).solutions
+        check_answers(robot, T, sols)
+        assert min((distance(robot, s.q, q) for s in sols), default=np.inf) < 1e-6
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_five_joint_arm_at_a_fold_places_the_approach_once(seed):
+    """Position and approach: five equations for five joints, singular at the fold, where
+    the generating joints are one double root, found to about the square root of rounding
+    (and answered once)."""
+    for robot, q in fold_poses(seed, True, 4):
+        T = dh_frames(robot, q)[-1]
+        P = np.eye(4)
+        P[:3, 3] = T[:3, 3]
+        sols = solve(robot, Target(P, orientation=False, approach=T[:3, 2])).solutions
+        check_answers(robot, T, sols, approach_only=True)
+        assert min((distance(robot, s.q, q) for s in sols), default=np.inf) < 1e-4
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_a_spherical_wrist_arm_at_a_fold_answers_its_double_root_once(seed):
+    for robot, q in fold_poses(seed, False, 4):
+        T = dh_frames(robot, q)[-1]
+        sols = solve(robot, Target(T)).solutions
+        check_answers(robot, T, sols)
+        assert min((distance(robot, s.q, q) for s in sols), default=np.inf) < 1e-4
