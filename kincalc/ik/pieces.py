@@ -17,7 +17,7 @@ import numpy as np
 from ..structure import common_point
 from ..spatial import wrap
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, INEXACT,
-                          MOVES, SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
+                          MOVES, SPLIT_DOUBLE_ROOT)
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
