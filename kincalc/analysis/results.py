@@ -188,20 +188,22 @@ class JacobianResult:
         from ..jacobian import rotate_jacobian
         return rotate_jacobian(self.J, self.robot.fk(self.q, column_walk=True)[:3, :3])
 
-    def _display_J(self, J) -> list:
+    def display_J(self, J) -> np.ndarray:
+        """``J (6, n)`` in display units, not rounded: linear rows in length per rad
+        (revolute) or length per length (prismatic); angular rows of revolute columns rad/rad,
+        of prismatic ones zero."""
         J = np.array(J, dtype=float)
-        # linear rows: length per rad (revolute) or length per length (prismatic)
-        scale = np.where(self.robot.is_revolute, self.units.l, 1.0)
-        J[:3, :] *= scale
-        # angular rows of prismatic columns are zero; revolute ones are rad/rad
-        return json_numbers(J)
+        J[:3, :] *= np.where(self.robot.is_revolute, self.units.l, 1.0)
+        return J
 
     def to_dict(self) -> dict:
         u = self.units
-        Jd = self._display_J(self.J)
-        s = np.linalg.svd(np.array(Jd), compute_uv=False)
+        # the measures from the unrounded matrix, as `jacobian --batch` takes them (the same
+        # bits for one configuration, whichever command prints it)
+        Jd = self.display_J(self.J)
+        s = np.linalg.svd(Jd, compute_uv=False)
         # the base-frame linear rows (the tool point's velocity) for the position measures
-        Jv = np.array(self._display_J(self._base_J()))[:3]
+        Jv = self.display_J(self._base_J())[:3]
         sv = np.linalg.svd(Jv, compute_uv=False)[: self.generic_position_rank]
         sn = self.sigma_normalised
         cond = float("inf") if self.singular or sn[-1] <= 0 else float(sn[0] / sn[-1])
@@ -210,7 +212,7 @@ class JacobianResult:
             "q": u.joints(self.robot, self.q),
             "frame": self.frame,
             "rows": ["vx", "vy", "vz", "wx", "wy", "wz"],
-            "J": Jd,
+            "J": json_numbers(Jd),
             "singular_values": json_numbers(s),
             "rank": self.rank,
             "manipulability": float(np.prod(s[: self.generic_rank])),
@@ -232,7 +234,7 @@ class JacobianResult:
             kind, JA = self.analytic
             out["analytic"] = {
                 "angles": kind,
-                "J": None if JA is None else self._display_J(JA),
+                "J": None if JA is None else json_numbers(self.display_J(JA)),
                 "error": self.analytic_error,
             }
         return out

@@ -20,7 +20,7 @@ def grade_jacobian(sheet: Sheet, item: Item) -> ItemResult:
 
     def expected(rob, q, frame):
         rep = jacobian_report(rob, q, units, frame=frame)
-        return np.array(rep._display_J(rep.J))
+        return rep.display_J(rep.J)
 
     J = expected(robot, item.q, item.frame)
     lin_tol, ang_tol = tol.position * units.l, tol.matrix
