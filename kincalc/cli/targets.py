@@ -165,7 +165,8 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
         qv = parse_joints(tokens, robot, units, option=name("q"))
         return Target(robot.fk(qv, column_walk=True), orientation=True)
     if form == "T":
-        values = _read_pose(pose) if pose is not None else pose_values(np.array(T, float), "T")
+        values = _read_pose(pose, units) if pose is not None else \
+            pose_values(np.array(T, float), "T")
         what = f"--pose {pose}" if pose is not None else "T"
     else:
         values = None if form is None else np.asarray(given[form], float).ravel()
@@ -188,7 +189,9 @@ def pose_values(M, what):
     return M
 
 
-def _read_pose(src: str):
+def _read_pose(src: str, units):
+    """The 16 or 12 numbers of the pose file ``src``, its translation in the length unit of
+    ``units`` (a JSON document's own ``units.length``, as fk and ik write it, converted)."""
     import json as _json
 
     import numpy as np
@@ -212,15 +215,36 @@ def _read_pose(src: str):
     def not_finite(word):                    # (json reads NaN and Infinity; JSON has none)
         raise InputError(f"{what}: {word} is not a finite number (JSON has no NaN or "
                          "Infinity)")
+    factor = 1.0
     try:
         data = _json.loads(text, parse_constant=not_finite)
         if isinstance(data, dict):
+            factor = _document_length(data, units, what)
             data = data.get("T", data.get("target", {}).get("T") if isinstance(
                 data.get("target"), dict) else None)
         M = np.array(data, dtype=float)
     except (ValueError, TypeError, RecursionError):
         M = np.array(_pose_words(text, what))
-    return pose_values(M, what)
+    M = pose_values(M, what)
+    if factor != 1.0:
+        M = M.astype(float)                              # (a copy)
+        M[[3, 7, 11]] *= factor
+    return M
+
+
+def _document_length(data: dict, units, what: str) -> float:
+    """The factor from a JSON pose document's length unit (its ``units.length``, as ``fk``
+    and ``ik --json`` write it) to the command's: 1 where it names none."""
+    from ..limits import quote
+    from ..units import LENGTH_UNITS
+    stated = data.get("units")
+    unit = stated.get("length") if isinstance(stated, dict) else None
+    if unit is None:
+        return 1.0
+    if not isinstance(unit, str) or unit not in LENGTH_UNITS:
+        raise InputError(f"{what}: units.length {quote(str(unit), 40)} is not a length unit "
+                         f"(use one of {', '.join(LENGTH_UNITS)})")
+    return LENGTH_UNITS[unit] * units.l
 
 
 def _pose_words(text: str, what: str) -> list:

@@ -326,6 +326,35 @@ def test_a_pose_file_with_a_byte_order_mark_and_a_bad_word(capsys, tmp_path):
         assert f"--pose {pose}: line 2: {bad!r} is not a number" in err, err
 
 
+def test_a_json_pose_document_is_read_in_its_own_length_unit(capsys, tmp_path):
+    # `fk --json --unit m | ik --pose -` in a robot's mm read the metres as mm: a target
+    # 0.8 mm from the base, "reachable", none of its solutions the joints fk was given
+    q = [10, -40, 30, 20, 30, 40]
+    T_m = np.array(run_json(capsys, "fk", "puma560", *map(str, q), "--unit", "m")["T"])
+    for unit, scale in (("m", 1.0), ("cm", 100.0), ("mm", 1000.0), ("in", 1 / 0.0254)):
+        doc = run_json(capsys, "fk", "puma560", *map(str, q), "--unit", unit)
+        pose = tmp_path / f"fk_{unit}.json"
+        pose.write_text(json.dumps(doc))
+        for given in ("mm", "m"):
+            got = run_json(capsys, "ik", "puma560", "--pose", str(pose), "--unit", given)
+            # the target, in the ik command's unit, is the pose fk printed, in its own
+            k = {"mm": 1000.0, "m": 1.0}[given]
+            assert np.allclose(np.array(got["target"]["T"])[:3, 3], T_m[:3, 3] * k,
+                               rtol=1e-9), (unit, given)
+            assert any(np.allclose(s["q"], q, atol=1e-6) for s in got["solutions"]), (unit, given)
+        assert np.allclose(np.array(doc["T"])[:3, 3], T_m[:3, 3] * scale, rtol=1e-9)
+    # an ik document's target is read alike; a unit kincalc does not know is refused
+    doc = run_json(capsys, "ik", "puma560", "--from-q", " ".join(map(str, q)), "--unit", "cm")
+    pose = tmp_path / "ik_cm.json"
+    pose.write_text(json.dumps(doc))
+    got = run_json(capsys, "ik", "puma560", "--pose", str(pose), "--unit", "m")
+    assert np.allclose(np.array(got["target"]["T"])[:3, 3], T_m[:3, 3], rtol=1e-9)
+    pose.write_text(json.dumps({"units": {"length": "furlong"}, "T": np.eye(4).tolist()}))
+    code, out, err = run(capsys, "ik", "puma560", "--pose", str(pose))
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "units.length 'furlong' is not a length unit" in err, err
+
+
 def test_ik_tcv_option(capsys):
     w = run_json(capsys, "fk", "fer_rrpr", "30", "50", "0.25", "40")["tcv"]
     doc = run_json(capsys, "ik", "fer_rrpr", "--tcv", *map(str, w))
