@@ -146,3 +146,24 @@ def label_order(text: str) -> tuple:
     ``root 10``)."""
     return tuple((0, int(w), "") if w.isdigit() else (1, 0, w)
                  for w in re.split(r"(\d+)", text))
+
+
+def solution_order(labels, within, owner=None) -> np.ndarray:
+    """The order in which ``ik`` and ``ik --batch`` list solutions: each pose's solutions
+    within the limits first, each group by branch label (:func:`label_order`), solutions
+    that tie in both in the order given.
+
+    Parameters
+    ----------
+    labels : list of str (s,), the solutions' branch labels
+    within : array_like (s,) of bool, within the joint limits
+    owner : array_like (s,) of int, optional, the pose of each (ascending; default one pose)
+
+    Returns
+    -------
+    ndarray (s,) of int, the solutions' indices in that order (poses kept in theirs)
+    """
+    rank = {t: k for k, t in enumerate(sorted(set(labels), key=label_order))}
+    key = np.fromiter((rank[t] for t in labels), np.intp, len(labels))
+    key += np.where(within, 0, len(rank))
+    return np.lexsort((key,) if owner is None else (key, owner))

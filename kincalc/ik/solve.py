@@ -22,7 +22,7 @@ from .engine import Solved, solve_targets
 from .continua import Continuum, ParallelContinuum
 from .families import THREE_PARALLEL, plan
 from .joint_limits import joint_scale, same_solution
-from .labels import label_order
+from .labels import solution_order
 from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
 from ..spatial import turn_toward, wrap
 from .target import Targets
@@ -188,7 +188,8 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
     family = sv.spec
     T = np.asarray(target.T, float)
     sols, rejected = _solutions(robot, sv, explain)
-    sols.sort(key=lambda s: (not s.within_limits, label_order(s.branch)))
+    sols = [sols[k] for k in solution_order([s.branch for s in sols],
+                                            [s.within_limits for s in sols]).tolist()]
     if near is not None:
         sols = [replace(s, q=q, change=q - near) for s in sols
                 for q in [_toward(robot, s.q, near)]]

@@ -269,6 +269,7 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
     from ...errors import KincalcError
     from ...errors import UnsupportedRobot
     from ...ik import Target
+    from ...ik.labels import solution_order
     from ...ik.solve import solve
     full, T, partial, errors = record_poses(robot, units, parsed, together, start)
     chain = robot
@@ -292,8 +293,11 @@ def _ik_group(robot, units, parsed, held, together=None, start: int = 0):
             within = within & held_within(robot, q, held)
         owner, _ = np.nonzero(valid)
         no = not reachable(within, owner, len(T)).all()     # as ik's: none within the limits
-        blocks.append(Answers(full, np.round(q * qdisp, 12) + 0.0, B.labels[valid].tolist(),
-                              within, B.singular[valid], owner))
+        labels = B.labels[valid].tolist()
+        order = solution_order(labels, within, owner)                     # as ik's
+        blocks.append(Answers(full, np.round(q[order] * qdisp, 12) + 0.0,
+                              [labels[k] for k in order.tolist()], within[order],
+                              B.singular[valid][order], owner))
     heads, q, labels, within, singular, owner = [], [], [], [], [], []
     for i, kw, target in partial:
         try:
