@@ -120,6 +120,58 @@ class ParallelContinuum(NamedTuple):
                 f"{rest} follow it)")
 
 
+class Followers(NamedTuple):
+    """At a singular target joint ``free`` (0-based) can take any value, and joints
+    ``joints`` change with it to keep the target, by no relation of sums: the wrist of an
+    arm whose wrist centre lies on axis 1, which turns the wrist's orientation with joint
+    1. Found from the Jacobian at the solution (:func:`followers`). The same interface as
+    :class:`Continuum`."""
+
+    free: int
+    joints: tuple
+
+    def reversed(self, n: int) -> "Followers":
+        """The same joints numbered in the original chain of a reversed one (joint k is
+        joint n - 1 - k)."""
+        return Followers(n - 1 - self.free, tuple(sorted(n - 1 - j for j in self.joints)))
+
+    def text(self, names, angle_unit: str, per_rad: float) -> str:
+        """The free joint and the joints that follow it, in words (no angle is shown)."""
+        rest = ", ".join(names[j] for j in self.joints)
+        verb = "follows" if len(self.joints) == 1 else "follow"
+        return f"{names[self.free]} free, {rest} {verb} it to keep the target"
+
+
+def followers(J, free, length: float, revolute) -> tuple:
+    """The joints that must move with joint ``free`` to keep a target, to first order.
+
+    Parameters
+    ----------
+    J : ndarray (r, n)
+        The target's rows of the geometric Jacobian at the solution (linear rows, m per
+        rad or m per m, first; angular rows after them), world frame.
+    free : sequence of int
+        The joints the target leaves free (0-based); the first is turned.
+    length : float
+        The arm's size (m): linear rows are divided by it, prismatic columns multiplied.
+    revolute : ndarray (n,) of bool
+
+    Returns
+    -------
+    tuple of int
+        The joints other than ``free`` whose least-squares change, for a unit turn of the
+        first free joint, is above 1e-6 (rad per rad, or of the arm's size): those that
+        follow it. Empty where it moves alone (the target does not see it).
+    """
+    import numpy as np
+    J = np.array(J, float)
+    J[:3] /= max(length, 1e-12)
+    J[:, ~np.asarray(revolute)] *= max(length, 1e-12)
+    rest = [j for j in range(J.shape[1]) if j not in free]
+    x = np.linalg.lstsq(J[:, rest], -J[:, free[0]], rcond=1e-10)[0]
+    return tuple(j for j, v in zip(rest, x.tolist()) if abs(v) > 1e-6)
+
+
 def _shown(total: float, per_rad: float) -> str:
     """A relation's total (rad) in the display unit, to 4 decimals (a total rounding to zero
     is 0.0000, not -0.0000)."""

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import TargetMismatch
 from .engine import Solved, solve_targets
-from .continua import Continuum, ParallelContinuum
+from .continua import Continuum, Followers, ParallelContinuum, followers
 from .families import THREE_PARALLEL, plan
 from .joint_limits import joint_scale, same_solution
 from .labels import solution_order
@@ -184,10 +184,11 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
         return result
     # the steps record their intermediate quantities (explain) and their dead ends
     # (all_branches) only when asked: a batch of poses records nothing
-    sv = solve_targets(robot, target.targets(), explain=explain or all_branches)
+    targets = target.targets()
+    sv = solve_targets(robot, targets, explain=explain or all_branches)
     family = sv.spec
     T = np.asarray(target.T, float)
-    sols, rejected = _solutions(robot, sv, explain)
+    sols, rejected = _solutions(robot, sv, explain, targets.kind)
     sols = [sols[k] for k in solution_order([s.branch for s in sols],
                                             [s.within_limits for s in sols]).tolist()]
     if near is not None:
@@ -211,8 +212,8 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                     dead_ends=dead)
 
 
-def _solutions(robot, sv: Solved, explain: bool):
-    """``(solutions, rejected candidates)`` of the engine's single target."""
+def _solutions(robot, sv: Solved, explain: bool, kind: str):
+    """``(solutions, rejected candidates)`` of the engine's single target, of ``kind``."""
     slots = [k for k, c in enumerate(sv.candidate[0].tolist()) if c]
     if not slots:
         return [], []
@@ -240,7 +241,7 @@ def _solutions(robot, sv: Solved, explain: bool):
         sol.__dict__.update(q=q[k], branch=branch[k], position_error=pe[k],
                             orientation_error=oe[k], within_limits=not viol, violations=viol,
                             singular=singular[k], free=joints,
-                            continuum=_continuum(robot, sv, k) if joints else None,
+                            continuum=_continuum(robot, sv, k, kind) if joints else None,
                             trace=_trace(sv, k) if explain else [], change=None)
         sols.append(sol)
     return sols, rejected
@@ -278,9 +279,10 @@ def _violation_list(v) -> list:
             for i, x in enumerate(v.tolist() if isinstance(v, np.ndarray) else v) if x != 0.0]
 
 
-def _continuum(robot, sv: Solved, k: int):
-    """The relation a singular target leaves free in slot ``k``, as an object with
-    ``text`` (:class:`~kincalc.ik.continua.Continuum`, ``ParallelContinuum``)."""
+def _continuum(robot, sv: Solved, k: int, kind: str):
+    """The relation a singular target (of ``kind``) leaves free in slot ``k``, as an object
+    with ``text`` (:class:`~kincalc.ik.continua.Continuum`, ``ParallelContinuum``,
+    ``Followers``)."""
     if sv.continuum is not None and sv.continuum[0, k, 0]:
         _, i, j, sign, total = sv.continuum[0, k].tolist()
         return _on_the_line(robot, sv.q[0, k], sv.free[0, k],
@@ -305,7 +307,20 @@ def _continuum(robot, sv: Solved, k: int):
         if sv.spec.reverse:
             c = c.reversed(robot.dof)._replace(total=float(total))
         return c
-    return None
+    return _followers(robot, sv.q[0, k], np.flatnonzero(sv.free[0, k]).tolist(), kind)
+
+
+def _followers(robot, q, free, kind: str):
+    """The joints that follow the first of the ``free`` joints of solution ``q`` to keep a
+    target of ``kind`` (``"pose"`` or ``"position"``), as a
+    :class:`~kincalc.ik.continua.Followers`; None where it moves alone, or for another
+    kind of target (an approach's free roll is open)."""
+    if kind not in ("pose", "position"):
+        return None
+    J = robot.jacobian(q)
+    J = J if kind == "pose" else J[:3]
+    joints = followers(J, free, robot.characteristic_length, robot.is_revolute)
+    return Followers(free[0], joints) if joints else None
 
 
 def _on_the_line(robot, q, free, c: Continuum):

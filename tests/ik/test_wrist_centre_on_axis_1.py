@@ -136,3 +136,41 @@ def test_the_rrp_arm_answers_each_continuum_once(q):
     for convention, (r, T, S) in answers(RRP, RRP_BASE, RRP_TOOL, np.array(q)).items():
         assert not any(on_one_continuum(r, T, S[i], S[k])
                        for i in range(len(S)) for k in range(len(S)) if i != k), convention
+
+
+#: a plain elbow arm (standard DH, rad and m: alpha, a, d, theta, type) and joints that put
+#: its wrist centre on axis 1 (an independent campaign's case: q1 was named free with no
+#: relation, so turning it alone looked allowed, and turned the tool by as much)
+ELBOW = [(-np.pi / 2, 0.0, 0.0, 0.0, "revolute"), (0.0, 0.3, 0.0, 0.0, "revolute"),
+         (np.pi / 2, 0.0, 0.0, 0.0, "revolute"), (np.pi / 2, 0.0, 0.2, 0.0, "revolute"),
+         (-np.pi / 2, 0.0, 0.0, 0.0, "revolute"), (np.pi / 2, 0.0, 0.0, 0.0, "revolute")]
+ELBOW_GENERATING = [1.0, -0.8993197572187999, -1.0390167986396537, -2.504273882511016,
+                    2.0954124801207135, 2.8228313412701045]
+
+
+@pytest.mark.parametrize("rows, base, tool, q", CASES + [(ELBOW, np.eye(4), np.eye(4),
+                                                          ELBOW_GENERATING)],
+                         ids=["RRP", "RRP joint 4", "RRR", "elbow"])
+def test_the_wrist_is_named_as_following_joint_1(rows, base, tool, q):
+    """Each answer's continuum names joint 1 free and the wrist's joints as following it:
+    joint 1 turned by 0.05 rad with those joints alone kept on the pose (Gauss-Newton)
+    stays on it, and turned alone it leaves the orientation. (Not further: the R-R-R arm's
+    wrist reaches a band of orientations only, and its continuum ends in an arc.)"""
+    r = arm(rows, base, tool)
+    T = r.fk(np.array(q))
+    assert wrist_centre_offset(r, q) < 1e-12
+
+    def miss(x):
+        F = r.fk(x)
+        return np.concatenate([F[:3, 3] - T[:3, 3], (F[:3, :3] - T[:3, :3]).ravel()])
+    sols = r.ik(T).solutions
+    assert sols
+    for s in sols:
+        c = s.continuum
+        assert (c.free, c.joints) == (0, (3, 4, 5)), c
+        assert c.text([j.name for j in r.joints], "deg", 1.0) == \
+            "j1 free, j4, j5, j6 follow it to keep the target"
+        alone = np.array(s.q)
+        alone[0] += 0.05
+        assert np.abs(miss(alone)).max() > 1e-3
+        assert follow_joint(miss, s.q, 0, s.q[0] + 0.05, 1, c.joints, steps=10) is not None
