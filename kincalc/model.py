@@ -71,6 +71,17 @@ class Joint:
     point: tuple[float, float, float] | None = None
     limits: tuple[float, float] | None = None
 
+    def __post_init__(self):
+        # numbers as Python floats and vectors as tuples, whatever the caller gave (numpy
+        # arrays and scalars included): a joint hashes and compares by value, as the
+        # per-robot caches and Robot's equality need
+        for name in ("alpha", "a", "d", "theta"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+        for name in ("axis", "point", "limits"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, tuple(float(v) for v in value))
+
     @property
     def revolute(self) -> bool:
         return self.type == "revolute"

@@ -43,3 +43,23 @@ def test_a_type_error_of_the_function_itself_is_raised_once():
     with pytest.raises(TypeError, match="inside f"):
         f(load_robot("puma560"), 3)
     assert calls == [3]                   # not run a second time, uncached
+
+
+def test_a_robot_built_with_numpy_arrays_hashes_and_is_labelled_as_one_of_tuples():
+    """A Python caller's joints with numpy axes, points and limits (an independent
+    campaign's poe arm): the robot did not hash, every per-robot cache was computed afresh,
+    and the branch labels' numbers, counted in a table made anew on each call, were all 0, so
+    every solution showed the +/- of every step."""
+    import numpy as np
+
+    from kincalc.conventions.conversion import convert
+    from kincalc.model import Joint, Robot
+    poe = convert(load_robot("puma560"), "poe")
+    arrays = Robot(poe.name, "poe", M=poe.M, tool=poe.tool, joints=tuple(
+        Joint(j.name, j.type, axis=np.array(j.axis), point=np.array(j.point),
+              limits=None if j.limits is None else np.array(j.limits)) for j in poe.joints))
+    assert hash(arrays) == hash(poe) and arrays == poe
+    q = np.radians([10, -30, 150, 25, 40, 35])
+    T = poe.fk(q)
+    assert [s.branch for s in arrays.ik(T).solutions] == [s.branch for s in poe.ik(T).solutions]
+    assert all("q1:" not in s.branch for s in arrays.ik(T).solutions)
