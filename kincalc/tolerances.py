@@ -80,6 +80,13 @@ ROUNDED_POSE = 1e-11
 #: only where it reaches the whole pose
 NEAR_MISS_UNCONTROLLED = 1e-2
 
+#: a branch word (shoulder, elbow, wrist: the sign of a product of a solution's axes and
+#: points, kincalc.ik.words) tells nothing where its product is within this (of the arm's
+#: size, or of 1 for the wrist's) of zero: there two solutions meet in a double root, which
+#: a closed form places only to the square root of rounding (a wrist at q5 = 0 found at
+#: q5 = -4.7e-8 in one convention and at 0 in another), so the word's sign is noise
+WORD_BOUNDARY = 1e-7
+
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6
 #: ... and two polished candidates of a resultant's double root when they agree to this (rad,

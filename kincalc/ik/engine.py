@@ -296,13 +296,15 @@ def check_kind(robot, family: Family, targets: Targets) -> None:
 
 
 def _check(robot, family, method, targets, joints, candidate, br, polish=True,
-           polished_slots=None) -> Solved:
+           polished_slots=None, middle=True) -> Solved:
     """Steps 1-3 of the module docstring for the candidates ``joints``: ``(c, s, x)``,
     each ``(n, N K)`` joint-major (:meth:`Branches.joint_major`), in the slots of ``br``; the
     answer laid out in the family's slots (:func:`_in_layout`) where the solver kept fewer.
     Candidates that miss by a hair (``polish``: :mod:`kincalc.ik.near_miss`) are polished and
     all checked again (``polished_slots``: those, of which one that reached another's double
-    root goes).
+    root goes). A double root is answered at its middle (``middle``) once: in the first
+    check, or in the second where two polished copies of it are met only there (Newton's
+    method approaches a double root linearly, and leaves its copies either side of it).
 
     A few candidates (a single pose: ``N K <= FEW``) are evaluated as stacked frames from their
     normalised joint values, many by the column walk from the solver's cosines and sines; the
@@ -326,7 +328,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     if len(pairs[0]):                                                      # (rare)
         valid &= ~duplicates(robot, q, valid, pairs)
         drop, halfway = double_roots(robot, q, valid, pairs, polished_slots,
-                                     _judge(robot, family, targets), again=polish)
+                                     _judge(robot, family, targets), again=middle)
         valid &= ~drop
     free = br.free_mask()
     if np.count_nonzero(free):
@@ -340,7 +342,7 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     if near is not None:
         q = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
             robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0], free)
-    if halfway is not None:                          # (the first check only)
+    if halfway is not None:
         q, moved = at_halfway(q, moved, *halfway)
     if moved is not None:
         at = moved.reshape(-1).nonzero()[0]
@@ -349,7 +351,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
         c, s = c.copy(), s.copy()
         c[:, at], s[:, at] = np.cos(x[:, at]), np.sin(x[:, at])
         return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False,
-                      polished_slots=near)
+                      polished_slots=polished_slots if near is None else near,
+                      middle=middle and halfway is None)
     checked = dict(q=q, candidate=candidate, valid=valid,
                    position_error=np.where(candidate, pe, 0.0),
                    orientation_error=np.full((N, K), np.nan) if oe is None else

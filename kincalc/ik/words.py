@@ -16,6 +16,7 @@ import numpy as np
 
 from ..fk import chain_frames, entry_frames
 from ..spatial import LEVI_CIVITA
+from ..tolerances import WORD_BOUNDARY
 from .cache import per_robot
 from .families import THREE_PARALLEL
 from .joint_polynomials import fit
@@ -179,7 +180,7 @@ class Rules(NamedTuple):
     #: (c + lin, 1): +-1, each product's sign: the words' sense in the world (a word's side
     #: seen from above, :attr:`Geometry.upward`, the front), the elbow's turn sense
     sign: np.ndarray
-    #: (words, 1): a product this close to 0 is 0 (1e-9 of its size: m, m^2, 1)
+    #: (words, 1): a product this close to 0 is 0 (WORD_BOUNDARY of its size: m, m^2, 1)
     zero: np.ndarray
     words: np.ndarray
     first: np.ndarray                # (words, 1)
@@ -256,7 +257,8 @@ def rules(robot, family: str) -> Rules | None:
                      :, :, None], selection=S, crosses=len(crossed), lin=len(lin),
                  sign=np.array(sign + ([geo.upward, 1.0, 1.0, 1.0] if extra else []),
                                float)[:, None],
-                 zero=1e-9 * np.array(size, float)[:, None], words=np.array(words, np.intp),
+                 zero=WORD_BOUNDARY * np.array(size, float)[:, None],
+                 words=np.array(words, np.intp),
                  first=np.array(first, np.int8)[:, None], spatial_elbow=bool(extra),
                  sizes=np.array(size + ([L * L, L, L * L, L] if extra else []), float),
                  elbow_row=words.index(1) if 1 in words else 0,
