@@ -71,16 +71,11 @@ class Joint:
     point: tuple[float, float, float] | None = None
     limits: tuple[float, float] | None = None
 
-    def __post_init__(self):
-        # numbers as Python floats and vectors as tuples, whatever the caller gave (numpy
-        # arrays and scalars included): a joint hashes and compares by value, as the
-        # per-robot caches and Robot's equality need
-        for name in ("alpha", "a", "d", "theta"):
-            object.__setattr__(self, name, float(getattr(self, name)))
-        for name in ("axis", "point", "limits"):
-            value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, tuple(float(v) for v in value))
+    def __post_init__(self):        # floats and tuples whatever was given: hashable by value
+        for name in ("alpha", "a", "d", "theta", "axis", "point", "limits"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, tuple(map(float, v)) if np.ndim(v) else float(v))
 
     @property
     def revolute(self) -> bool:
@@ -233,14 +228,14 @@ class Robot:
         """A length scale of the robot (m): the sum of the chain's fixed offsets.
 
         Used to make position tolerances and singularity tests scale-free.
-        Prismatic strokes count with their upper limit when finite.
+        Prismatic joints count with their offset (dh's ``d``) and upper limit when finite.
         """
-        F = self.chain.fixed
-        total = float(np.sum(np.linalg.norm(F[1:, :3, 3], axis=-1)))
+        F, c = self.chain.fixed, self.chain
+        total = np.sum(np.linalg.norm(F[1:, :3, 3], axis=-1)) + np.abs(c.offset[~c.revolute]).sum()
         for j in self.joints:
             if not j.revolute and j.limits is not None:
                 total += max(abs(j.limits[0]), abs(j.limits[1]))
-        return total if total > 0 else 1.0
+        return float(total) if total > 0 else 1.0
 
     @cached_property
     def generic_ranks(self) -> tuple[int, int]:

@@ -1,11 +1,14 @@
 """The relations a singular target leaves between joints, as data with their words: the
-continua the solvers mark (``Branches.extra["continuum"]``, ``["parallel continuum"]``) and
+continua the solvers mark (``Branches.extra["continuum"]``, ``["parallel continuum"]``), and
+where no sum is fixed the joints that follow a free one (read from the Jacobian), which
 :mod:`kincalc.ik.solve` hands to the results. Angles in rad, joints 0-based.
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
+
+import numpy as np
 
 from ..spatial import wrap
 
@@ -163,7 +166,6 @@ def followers(J, free, length: float, revolute) -> tuple:
         first free joint, is above 1e-6 (rad per rad, or of the arm's size): those that
         follow it. Empty where it moves alone (the target does not see it).
     """
-    import numpy as np
     J = np.array(J, float)
     J[:3] /= max(length, 1e-12)
     J[:, ~np.asarray(revolute)] *= max(length, 1e-12)

@@ -491,3 +491,26 @@ def test_a_root_of_a_broken_continuum_comes_back_once(name, joints, T):
     for i, s in enumerate(sols):
         for t in sols[:i]:
             assert not close(s.q, t.q, r, 1e-3), (np.degrees(s.q), s.branch, t.branch)
+
+
+def test_an_arm_whose_size_is_a_slides_offset_is_solved_in_every_convention():
+    """An R-R-P arm whose axes 1 and 2 miss by 5e-6 m and whose slide sits 0.1 m out at
+    q = 0 (an independent campaign's case): in dh its size came out 5e-6 m (the slide's
+    offset did not count, as a poe chain's fixed offsets count it), so its solutions, 6e-9 m
+    off, were judged against 5e-15 m and refused: 'out of reach'. Poe solved it."""
+    from kincalc.conventions.conversion import convert
+    from kincalc.model import Joint
+    r0 = Robot("slide", "dh", joints=(
+        Joint("q1", "revolute", alpha=np.pi / 2),
+        Joint("q2", "revolute", alpha=np.pi / 2, d=4.982232165458364e-06),
+        Joint("q3", "prismatic", d=-0.1)))
+    q = np.array([3.0484496286, 3.0182201647, -0.1583054277])
+    sizes = []
+    for convention in ("dh", "mdh", "poe"):
+        r = convert(r0, convention)
+        sizes.append(r.characteristic_length)
+        T = r.fk(q)
+        sols = solve(r, Target(T, orientation=False)).solutions
+        assert len(sols) == 4, convention
+        assert any(close(s.q, q, r, 1e-9) for s in sols), convention
+    assert max(sizes) < 1.01 * min(sizes)
