@@ -100,10 +100,14 @@ SAME_DOUBLE_ROOT = 1e-5
 #: as the joints leave a double root (a stretched elbow's, an aligned wrist's), a solver
 #: places it no better than to the square root of its own error, and two copies 1e-4 rad
 #: either side of it both reach the target to 1e-11 (a reversed parallel-four-wrist arm
-#: at its stretched elbow; a resultant's placement at a fold, its two copies some 5e-3 rad
-#: apart, kincalc.ik.pieces). Two distinct roots that close each reach it to rounding, and
+#: at its stretched elbow). Two distinct roots that close each reach it to rounding, and
 #: between them it is missed
-SPLIT_DOUBLE_ROOT = 1e-2
+SPLIT_DOUBLE_ROOT = 1e-3
+#: ... and two copies of a point that a resultant placed at a fold of the arm, by the same
+#: rule, when they agree to this (rad, or of the arm's size): there one joint moves along
+#: the fold hundreds of times faster than the others, and its copies stay some 5e-3 apart
+#: (kincalc.ik.pieces)
+SPLIT_PLACEMENT = 1e-2
 #: a solution that misses its target by more than this (m per m of the arm's size, plus rad)
 #: was not found to rounding: the forward kinematics of an exact one misses by some 1e-16 ..
 #: 2e-14 (SPLIT_DOUBLE_ROOT; two copies of a double root whose halfway joints miss by no more

@@ -164,6 +164,5 @@ def solution_order(labels, within, owner=None) -> np.ndarray:
     ndarray (s,) of int, the solutions' indices in that order (poses kept in theirs)
     """
     rank = {t: k for k, t in enumerate(sorted(set(labels), key=label_order))}
-    key = np.fromiter((rank[t] for t in labels), np.intp, len(labels))
-    key += np.where(within, 0, len(rank))
+    key = np.array([rank[t] for t in labels], np.intp) + np.where(within, 0, len(rank))
     return np.lexsort((key,) if owner is None else (key, owner))

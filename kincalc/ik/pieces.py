@@ -17,7 +17,7 @@ import numpy as np
 from ..structure import common_point
 from ..spatial import wrap
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, INEXACT,
-                          MOVES, SPLIT_DOUBLE_ROOT)
+                          MOVES, SPLIT_PLACEMENT)
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
@@ -395,7 +395,7 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     point to 1e-14 .. 1e-9: the joints a later step derives from them (a wrist's) are then up
     to 1e-3 off, and a pose that the point alone does not fix is missed by both. Two live
     slots with the same target (``PT (N, K, 3)``) whose joints agree to
-    :data:`~kincalc.tolerances.SPLIT_DOUBLE_ROOT` (rad, or of the arm's size) are one double
+    :data:`~kincalc.tolerances.SPLIT_PLACEMENT` (rad, or of the arm's size) are one double
     root when neither places the point to :data:`~kincalc.tolerances.INEXACT` (``res
     (M,)``, the polish's residuals over the arm's size: Gauss-Newton reaches a simple root
     to rounding in its steps) and the joints halfway between them, polished
@@ -414,7 +414,7 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     revolute = np.asarray([S.revolute[j] for j in joints])
     d = X[:, None] - X[:, :, None]                                         # (N, K, K, m)
     d = np.abs(np.where(revolute, wrap(d), d / max(S.scale, 1e-300))).max(-1)
-    close = (d <= SPLIT_DOUBLE_ROOT) & live[:, None] & live[:, :, None] \
+    close = (d <= SPLIT_PLACEMENT) & live[:, None] & live[:, :, None] \
         & np.tri(K, k=-1, dtype=bool).T & (PT[:, None] == PT[:, :, None]).all(-1)
     if not np.count_nonzero(close):
         return x
