@@ -127,16 +127,11 @@ class Followers(NamedTuple):
     """At a singular target joint ``free`` (0-based) can take any value, and joints
     ``joints`` change with it to keep the target, by no relation of sums: the wrist of an
     arm whose wrist centre lies on axis 1, which turns the wrist's orientation with joint
-    1. Found from the Jacobian at the solution (:func:`followers`). The same interface as
-    :class:`Continuum`."""
+    1. Found from the Jacobian at the solution, on the robot's own chain (:func:`followers`;
+    never reversed). Read through ``text``, as :class:`Continuum` is."""
 
     free: int
     joints: tuple
-
-    def reversed(self, n: int) -> "Followers":
-        """The same joints numbered in the original chain of a reversed one (joint k is
-        joint n - 1 - k)."""
-        return Followers(n - 1 - self.free, tuple(sorted(n - 1 - j for j in self.joints)))
 
     def text(self, names, angle_unit: str, per_rad: float) -> str:
         """The free joint and the joints that follow it, in words (no angle is shown)."""
