@@ -310,20 +310,34 @@ def scaled_ranks(J, revolute, length: float):
     rank, position_rank : ndarray of int (...,)
         The rank of ``J`` and of its rows ``vx vy vz``; zeros when ``J`` is empty.
     """
-    J = np.array(J, dtype=float)
+    J = scale_free(J, revolute, length)
     if J.size == 0:
         z = np.zeros(J.shape[:-2], int)
         return z, z
-    J[..., :3, :] /= length
-    J[..., :, ~np.asarray(revolute)] *= length
     return _rank(J), _rank(J[..., :3, :])
 
 
-def _rank(M) -> np.ndarray:
-    """The numerical rank of each matrix of ``M (..., r, c)``: its singular values above
-    ``SINGULAR_TOL`` times the largest (floored at 1)."""
-    s = np.linalg.svd(M, compute_uv=False)
+def scale_free(J, revolute, length: float) -> np.ndarray:
+    """A copy of the geometric Jacobian ``J (..., 6, n)`` (SI) without units: its linear
+    rows divided by ``length`` (m) and its prismatic columns (``revolute (n,)`` False)
+    multiplied by it, as :func:`scaled_ranks` takes it."""
+    J = np.array(J, dtype=float)
+    J[..., :3, :] /= length
+    J[..., :, ~np.asarray(revolute, bool)] *= length
+    return J
+
+
+def numerical_rank(s) -> np.ndarray:
+    """The number of singular values ``s (..., k)`` (descending) that count: above
+    ``SINGULAR_TOL`` times the largest, or times 1 when the largest is below 1 (int
+    ``(...)``; one rule for every rank test of a scale-free Jacobian)."""
+    s = np.asarray(s, float)
     return np.sum(s > SINGULAR_TOL * np.maximum(s[..., :1], 1.0), axis=-1)
+
+
+def _rank(M) -> np.ndarray:
+    """The numerical rank of each matrix of ``M (..., r, c)`` (:func:`numerical_rank`)."""
+    return numerical_rank(np.linalg.svd(M, compute_uv=False))
 
 
 def rank_deficient(frames, revolute, length: float, ranks: tuple, columns=None) -> np.ndarray:

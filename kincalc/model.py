@@ -320,8 +320,8 @@ class Robot:
         orientation : bool
             False: reach the position only (robots that do not control orientation).
         **options
-            Those of :func:`kincalc.ik.solve`: ``all_branches``, ``explain``, ``near``
-            (the current joints ``(n,)``, rad / m), ``numeric``.
+            Those of :func:`kincalc.ik.solve` (``all_branches``, ``explain``, ``near``: the
+            current joints ``(n,)``, rad / m, ``numeric``, ``units``, ``reasons``).
 
         Returns
         -------

@@ -163,13 +163,11 @@ def spherical_wrist(robot) -> Wrist | None:
     return Wrist(first=n - 3)
 
 
-def wrist_centre(robot, wrist: Wrist, dirs, pts) -> np.ndarray | None:
+def wrist_centre(wrist: Wrist, dirs, pts) -> np.ndarray | None:
     """The wrist centre (world frame, m) given the axes at a configuration.
 
     Parameters
     ----------
-    robot : Robot
-        Not used.
     wrist : Wrist
         From :func:`spherical_wrist`.
     dirs, pts : ndarray (n, 3)

@@ -37,8 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..ik.nearest import (POSITION_TOL, nearest_position, samples, unlimited,  # noqa: F401
-                         where_outside)
+from ..ik.nearest import POSITION_TOL, nearest_position, unlimited, where_outside
 from ..ik.reasons import OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 

@@ -13,7 +13,6 @@ from ..spatial import cross
 
 from ..errors import InputError
 from .results import FKResult, JacobianResult, Singularity, Units
-from ..tolerances import SINGULAR_TOL
 
 
 def joint_vector(robot, q) -> np.ndarray:
@@ -57,7 +56,8 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     analytic : {'rpy', 'zyz', 'xyz'} or None
         Also compute the analytic Jacobian for this angle set.
     """
-    from ..jacobian import analytic_jacobian, jacobian_base, rotate_jacobian
+    from ..jacobian import (analytic_jacobian, jacobian_base, numerical_rank, rotate_jacobian,
+                            scale_free)
     from ..spatial import euler_xyz_from_matrix, euler_zyz_from_matrix, rpy_from_matrix
 
     q = joint_vector(robot, q)
@@ -66,13 +66,10 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     J = Jb if frame == "base" else rotate_jacobian(Jb, T[:3, :3].T)
 
     L = robot.characteristic_length
-    Jn = Jb.copy()
-    Jn[:3, :] /= L
-    Jn[:, ~robot.is_revolute] *= L  # prismatic columns: m/m -> per unit of L
+    Jn = scale_free(Jb, robot.is_revolute, L)
     U, s, Vt = np.linalg.svd(Jn)
-    rank = int(np.sum(s > SINGULAR_TOL * max(s[0], 1.0)))
     Up, sv, _ = np.linalg.svd(Jn[:3])
-    pos_rank = int(np.sum(sv > SINGULAR_TOL * max(sv[0], 1.0)))
+    rank, pos_rank = int(numerical_rank(s)), int(numerical_rank(sv))
     full, full_pos = robot.generic_ranks
     singularity = None
     if rank < full or pos_rank < full_pos:
@@ -129,7 +126,7 @@ def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:
     wrist = spherical_wrist(robot)
     point = None
     if wrist is not None:
-        point = wrist_centre(robot, wrist, dirs, pts)
+        point = wrist_centre(wrist, dirs, pts)
         if rev[0] and point_line_distance(point, pts[0], dirs[0]) < tol_len:
             kinds.append("shoulder")
             texts.append("shoulder singularity: the wrist centre lies on the axis of joint 1")
@@ -153,9 +150,7 @@ def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:
                          + ("wrist centre" if wrist is not None else "axis of joint 4")
                          + " lie in one plane)")
 
-    null_space = Vt[-1] if n <= 6 and s.size == n and s[-1] < SINGULAR_TOL * max(s[0], 1.0) else None
-    if n > 6:
-        null_space = None
+    null_space = Vt[-1] if n <= 6 and rank < n else None      # (s holds all n values)
     lost = U[:, rank] if rank < 6 and n >= 6 else None
     if not kinds and stuck is not None:
         kinds.append("position")

@@ -16,9 +16,6 @@ from ..units import angle_factor, length_factor
 
 SCHEMA_VERSION = "1.0"
 
-ORIENTATION_FORMATS = ("matrix", "rpy", "euler_zyz", "euler_xyz", "quaternion",
-                       "axis_angle", "rotation_vector")
-
 
 @dataclass(frozen=True)
 class Units:
@@ -151,6 +148,16 @@ class Singularity:
     lost_motion: np.ndarray | None  # tool twist direction (6,) the arm cannot produce
 
 
+def display_jacobian(robot, J, units: Units) -> np.ndarray:
+    """Geometric Jacobians ``J (..., 6, n)`` (SI) in display units, a new array, not rounded:
+    linear rows in length per rad (revolute) or length per length (prismatic); angular rows
+    of revolute columns rad/rad, of prismatic ones zero. (``jacobian`` and ``jacobian
+    --batch`` take their measures from it.)"""
+    J = np.array(J, dtype=float)
+    J[..., :3, :] *= np.where(robot.is_revolute, units.l, 1.0)
+    return J
+
+
 @dataclass(frozen=True)
 class JacobianResult:
     """Jacobian and its measures at one configuration.
@@ -189,12 +196,8 @@ class JacobianResult:
         return rotate_jacobian(self.J, self.robot.fk(self.q, column_walk=True)[:3, :3])
 
     def display_J(self, J) -> np.ndarray:
-        """``J (6, n)`` in display units, not rounded: linear rows in length per rad
-        (revolute) or length per length (prismatic); angular rows of revolute columns rad/rad,
-        of prismatic ones zero."""
-        J = np.array(J, dtype=float)
-        J[:3, :] *= np.where(self.robot.is_revolute, self.units.l, 1.0)
-        return J
+        """``J (6, n)`` in display units (:func:`display_jacobian`)."""
+        return display_jacobian(self.robot, J, self.units)
 
     def to_dict(self) -> dict:
         u = self.units

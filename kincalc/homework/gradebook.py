@@ -11,7 +11,7 @@ import csv
 import io
 import os
 
-from .export import Outcome, number
+from .export import number
 from ..limits import printable
 
 #: the columns before the items' and after them

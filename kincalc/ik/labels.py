@@ -43,7 +43,8 @@ def labels(robot, family: str, q, signs, slot, free, every_sign: bool = False) -
     robot : Robot
     family : str
         The family's name (words only for :data:`WORDED`: a ``reversed-`` family has its
-        wrist at the base, and the words' rules read joints 4-6 as the wrist).
+        wrist at the base, and the words' rules read joints 4-6 as the wrist; the
+        reversed point-plus-roll, which has no wrist, is the one reversed family worded).
     q : ndarray (s, n)
         Their joint values (rad / m).
     signs : tuple

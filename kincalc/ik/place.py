@@ -348,10 +348,12 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     p = PT - oa
     first = sp4(h, p, w, fx.height, fixed=fx.first).negated()
     if br.explain:          # h . R(w, -x) p = cos x (h.p - (h.w)(w.p)) - sin x h.(w x p) + ...
-        br = br.dead_end(a, 0.0, 0.0, ~first.exact[..., 0] & br.ok, what)
         hw = h @ w
-        br = note_equation(br, a, "height", b, p @ h - hw * (p @ w), -(cross(w, p) @ h),
-                           hw * (p @ w), fx.height)
+        A, B, C = p @ h - hw * (p @ w), -(cross(w, p) @ h), hw * (p @ w)
+        br = br.dead_end(a, np.arctan2(B, A), (fx.height - C) / np.maximum(np.hypot(A, B),
+                                                                           1e-300),
+                         ~first.exact[..., 0] & br.ok, what)
+        br = note_equation(br, a, "height", b, A, B, C, fx.height)
     # q came from the target, rounded to its size: a stretched or folded elbow within
     # that rounding is the double root itself
     reach = (S.scale + np.sqrt(dot(p, p))) ** 2
@@ -365,9 +367,11 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     # robot's, only |q| varies)
     third = sp3(v, -u, kc, np.sqrt(dot(q, q)), scale=reach, fixed=fx.third)
     if br.explain:          # |u + R v|^2 = |u|^2 + |v|^2 + 2 cos x u.v + 2 sin x u.(k x v)
-        br = br.dead_end(c, 0.0, 0.0, ~third.exact[..., 0] & br.ok, what)
-        br = note_equation(br, c, "distance2", b, 2 * (u @ v), 2 * (u @ np.cross(kc, v)),
-                           u @ u + v @ v, dot(q, q), (np.sqrt(u @ u), np.sqrt(v @ v)))
+        A, B, C = 2 * (u @ v), 2 * (u @ np.cross(kc, v)), u @ u + v @ v
+        br = br.dead_end(c, np.arctan2(B, A), (dot(q, q) - C) / max(np.hypot(A, B), 1e-300),
+                         ~third.exact[..., 0] & br.ok, what)
+        br = note_equation(br, c, "distance2", b, A, B, C, dot(q, q),
+                           (np.sqrt(u @ u), np.sqrt(v @ v)))
     br = br.branch([c], third)
     q = br.take(q)
     elbow = u + S.turn(c, br.cos[c], br.sin[c], v)
@@ -402,7 +406,8 @@ def _shoulder_constants(S: Screws, P: Plan) -> _ShoulderConstants:
 
 def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Three revolute joints: subproblem 5 on ``R_a^T (pt - o_a) = (o_b - o_a) +
-    R_b ((o_c - o_b) + R_c (p0 - o_c))``."""
+    R_b ((o_c - o_b) + R_c (p0 - o_c))``. (No dead end is recorded: the roots come from
+    a quartic, not from one joint's ``cos(x - phase) = need``.)"""
     a, b, c = P.joints
     oa, ob, oc = S.point[a], S.point[b], S.point[c]
     sol = sp5(-(ob - oa), PT - oa, oc - ob, P.p0 - oc, S.axis[a], S.axis[b], S.axis[c])
@@ -415,7 +420,8 @@ def _three_cones(S: Screws, P: Plan, br, PT, what) -> Branches:
 
 def _resultant(S: Screws, P: Plan, br, PT, what) -> Branches:
     """Eliminate x_b: the resultant in x_c, sampled and solved per target; then x_b by
-    back-substitution, x_a, and Gauss-Newton."""
+    back-substitution, x_a, and Gauss-Newton. (No dead end is recorded: the roots come
+    from a polynomial, not from one joint's ``cos(x - phase) = need``.)"""
     a, b, c = P.joints
     al_s, be_s, ga_s = S.constant(                                         # (2, m)
         ("resultant samples", P.joints, tuple(P.p0)),

@@ -3,7 +3,7 @@
 :func:`solve` is the engine (:func:`kincalc.ik.engine.solve_targets`) run on a batch of
 one, turned into an :class:`IKResult`: the solutions (valid slots) with their labels,
 residuals, limit violations and singularity; why there is none when there is none
-(:func:`_reason`); and on request the branches that do not reach the target
+(:func:`kincalc.ik.verdict.reason`); and on request the branches that do not reach the target
 (``all_branches``: the candidates FK rejected, the textbook's cross combinations of
 the solutions' joint values, the steps that found no real root) and the intermediate
 quantities of each solution (``explain``). Robots no closed form covers are solved

@@ -75,11 +75,18 @@ class Targets:
         Returns
         -------
         Targets
-            ``T_tool_world`` per target, of the same kind; ``approach``, ``roll`` and
-            ``swivel`` kept as they are.
+            ``T_tool_world`` per target.
+
+        Raises
+        ------
+        ValueError
+            Targets of another kind than ``"pose"``: an approach, a roll or a swivel is
+            the tool's, with no meaning at the base (no reversed family takes one: the
+            approach families have five joints and are never reversed).
         """
-        return Targets(invert_transform(self.T), self.kind, self.approach, self.roll,
-                       self.swivel)
+        if self.kind != "pose":
+            raise ValueError(f"only whole poses are solved from the tool, not {self.kind}")
+        return Targets(invert_transform(self.T))
 
     def take(self, index) -> "Targets":
         """The targets at ``index``.

@@ -28,7 +28,7 @@ from .angles import (euler_xyz_from_matrix, euler_zyz_from_matrix, matrix_from_e
 from .orthonormal import is_rotation, nearest_rotations, orthonormality_error
 from .rotations import (LEVI_CIVITA, TURN, axis_angle_from_matrix, cross,
                         matrix_from_axis_angle,
-                        matrix_from_quaternion, matrix_from_rotvec, matrix_from_unit_axis_angle,
+                        matrix_from_quaternion, matrix_from_rotvec, 
                         quaternion_from_matrix, rot_x, rot_y, rot_z, rotation_angle,
                         rotation_error, rotvec_from_matrix, skew, turn_toward, wrap,
                         into_turn)
@@ -46,5 +46,5 @@ __all__ = [
     "rotvec_from_matrix", "matrix_from_rotvec",
     "tcv_from_transform", "transform_from_tcv",
     "log_transform", "adjoint", "rotation_error", "rotation_angle",
-    "matrix_from_unit_axis_angle", "is_rotation", "nearest_rotations", "orthonormality_error",
+    "is_rotation", "nearest_rotations", "orthonormality_error",
 ]

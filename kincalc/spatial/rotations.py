@@ -457,32 +457,3 @@ def rotation_angle(R) -> np.ndarray:
     z = R[..., 1, 0] - R[..., 0, 1]
     return np.arctan2(np.sqrt(x * x + y * y + z * z),
                       R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0)
-
-
-def matrix_from_unit_axis_angle(axis, angle) -> np.ndarray:
-    """Rodrigues' formula for one rotation: ``R = c I + s [k]x + (1 - c) k k^T``.
-
-    Written out in Python floats: the one-rotation case of :func:`matrix_from_axis_angle`
-    without its normalisation, checks and broadcasting (the geometric IK solvers build many
-    single rotations per pose).
-
-    Parameters
-    ----------
-    axis : array_like (3,)
-        The unit vector ``k``. It must already be unit; it is not checked.
-    angle : float
-        Rotation angle (rad), a scalar.
-
-    Returns
-    -------
-    ndarray (3, 3)
-        The rotation by ``angle`` about ``axis``.
-    """
-    x, y, z = np.asarray(axis, dtype=float).tolist()
-    angle = float(angle)
-    c, s = math.cos(angle), math.sin(angle)
-    C = 1.0 - c
-    xC, yC, zC = x * C, y * C, z * C
-    return np.array([[c + x * xC, x * yC - z * s, x * zC + y * s],
-                     [y * xC + z * s, c + y * yC, y * zC - x * s],
-                     [z * xC - y * s, z * yC + x * s, c + z * zC]])

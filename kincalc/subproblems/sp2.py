@@ -78,7 +78,7 @@ def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
                      second.free | first.free[..., 0])
 
 
-def free_angles(free, p1, p2, k1, k2) -> tuple:
+def free_angles(free, p1, p2, k1, k2, *, tol: float = 1e-9) -> tuple:
     """Which angle of subproblem 2 is undetermined where it is ill-posed.
 
     Parameters
@@ -87,6 +87,8 @@ def free_angles(free, p1, p2, k1, k2) -> tuple:
         The problems that are ill-posed (``sp2(...).free`` of a slot).
     p1, p2, k1, k2 : ndarray (..., 3)
         Unit vectors of ``R(k1, theta1) R(k2, theta2) p1 = p2``.
+    tol : float
+        The ``tol`` :func:`sp2` was given: a unit vector is along an axis within this sine.
 
     Returns
     -------
@@ -94,6 +96,6 @@ def free_angles(free, p1, p2, k1, k2) -> tuple:
         ``theta2`` where ``p1`` is along ``k2``, ``theta1`` where ``p2`` is along ``k1``,
         both otherwise (``k1`` along ``k2``).
     """
-    on2 = np.linalg.norm(np.cross(p1, k2), axis=-1) < 1e-9
-    on1 = np.linalg.norm(np.cross(p2, k1), axis=-1) < 1e-9
+    on2 = np.linalg.norm(np.cross(p1, k2), axis=-1) < tol
+    on1 = np.linalg.norm(np.cross(p2, k1), axis=-1) < tol
     return free & (on1 | ~on2), free & (on2 | ~on1)

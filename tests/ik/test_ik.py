@@ -503,6 +503,69 @@ def test_all_branches_says_why_a_branch_has_no_real_angle():
     assert solve(r, Target(T)).dead_ends is None
 
 
+def _kuka_wrist_point(p):
+    """The KR 6 R900's wrist point for a flange at ``p`` (m) pointing straight down: its
+    tool is Ry(180) on DH frame 6, so z6 points up, and the flange is d6 = -0.08 along z6
+    from the wrist point."""
+    return np.asarray(p) + [0.0, 0.0, 0.08]
+
+
+def test_all_branches_says_why_an_offset_shoulder_has_no_elbow_angle():
+    """An offset shoulder (axis 1 skew to the parallel axes 2 and 3: the KUKA) records the
+    elbow equation it could not meet, as the PUMA does, not 'cos(A3 - 0) would have to be
+    0'. Hand derivation (the robot file's numbers, m): axis 1 is the world z axis, axis 2
+    is 0.4 above the floor and 0.025 from axis 1, on the wrist point's side or on the other
+    (the two shoulder slots); the elbow's triangle has sides l2 = 0.455 and hypot(0.42,
+    0.035), so |q|^2 = l2^2 + l4^2 + o3^2 + 2 l2 hypot(l4, o3) cos(A3 - phase), q the wrist
+    point from axis 2 in the arm's plane."""
+    r = load_robot("kuka_kr6_r900")
+    T = np.diag([-1.0, 1.0, -1.0, 1.0])                     # the flange pointing down
+    T[:3, 3] = [0.5, 0.0, 3.0]
+    res = solve(r, Target(T), all_branches=True)
+    assert not res.reachable
+    w = _kuka_wrist_point(T[:3, 3])
+    rho, z = np.hypot(w[0], w[1]), w[2] - 0.4
+    side = np.hypot(0.42, 0.035)
+    expected = sorted(((rho + s * 0.025) ** 2 + z ** 2 - 0.455 ** 2 - side ** 2)
+                      / (2 * 0.455 * side) for s in (-1, 1))
+    needs = sorted(d.need for d in res.dead_ends if d.joint == 2)
+    assert needs == pytest.approx(expected, rel=1e-9)
+    assert all(abs(d.need) > 1 for d in res.dead_ends)
+    texts = ik_document(res)["dead_ends"]
+    assert len(texts) == 2 and not any("would have to be 0," in t for t in texts), texts
+
+
+#: the KR 6 R900 (robots/kuka_kr6_r900.yaml) with a lateral offset d2 = 150 mm
+KUKA_LATERAL = """name: kuka_lateral
+convention: dh
+units: {length: mm, angle: deg}
+base: {xyz: [0, 0, 0], rpy: [180, 0, 0]}
+joints:
+  - {name: A1, type: revolute, alpha: 90,  a: 25,  d: -400, theta: 0}
+  - {name: A2, type: revolute, alpha: 0,   a: 455, d: 150,  theta: 0}
+  - {name: A3, type: revolute, alpha: 90,  a: 35,  d: 0,    theta: -90}
+  - {name: A4, type: revolute, alpha: -90, a: 0,   d: -420, theta: 0}
+  - {name: A5, type: revolute, alpha: 90,  a: 0,   d: 0,    theta: 0}
+  - {name: A6, type: revolute, alpha: 0,   a: 0,   d: -80,  theta: 0}
+tool: {xyz: [0, 0, 0], rpy: [0, 180, 0]}
+"""
+
+
+def test_all_branches_says_why_an_offset_shoulder_cannot_face_the_target():
+    """The shoulder's first step: with a lateral offset d2 along the parallel axes, joint 1
+    must turn them so that the wrist point lies d2 off its own plane, impossible within d2
+    of axis 1: cos(A1 - phase) = d2 / rho, rho the wrist point's distance from axis 1."""
+    from kincalc import parse_robot_text
+    r = parse_robot_text(KUKA_LATERAL)
+    T = np.diag([-1.0, 1.0, -1.0, 1.0])
+    T[:3, 3] = [0.05, 0.0, 0.6]
+    res = solve(r, Target(T), all_branches=True)
+    assert not res.reachable
+    w = _kuka_wrist_point(T[:3, 3])
+    first = [d for d in res.dead_ends if d.joint == 0]
+    assert len(first) == 1 and abs(first[0].need) == pytest.approx(0.15 / np.hypot(w[0], w[1]),
+                                                                    rel=1e-9)
+
 ARM5 = """name: arm5
 title: five-joint arm with a pitch-roll wrist
 convention: dh

@@ -9,7 +9,7 @@ from .files import (check_output, default_style, fit_title, new_figure, panel_gr
                     save_figure, title_inches)
 from .scene import arm_scene
 from .style import (Drawing, JOINT_FACE, LINK_COLOUR, TICK_STEPS, TRIAD_COLOURS,
-                    TRIAD_FRACTION, require_matplotlib)
+                    require_matplotlib)
 from .views import draw_view, frames
 
 

@@ -109,6 +109,7 @@ def _fk_chunk(robot, units, parsed, frame):
 def _jacobian_chunk(robot, units, parsed, frame):
     import numpy as np
 
+    from ...analysis.results import display_jacobian
     from ...jacobian import rotate_jacobian, scaled_ranks
     good, q, errors = _joint_rows(robot, units, parsed, "jacobian")
     Jb = robot.jacobian(q, column_walk=True)                   # (m, 6, n) SI, base; as fk's
@@ -120,8 +121,7 @@ def _jacobian_chunk(robot, units, parsed, frame):
     rank, position_rank = scaled_ranks(Jb, robot.is_revolute, robot.characteristic_length)
     full, full_pos = robot.generic_ranks
     singular = (rank < full) | (position_rank < full_pos)
-    Jd = J.copy()
-    Jd[:, :3] *= np.where(robot.is_revolute, units.l, 1.0)
+    Jd = display_jacobian(robot, J, units)
     manip = np.prod(np.linalg.svd(Jd, compute_uv=False)[:, :full], axis=-1) if len(q) \
         else np.zeros(0)
     good, (Jd, manip, rank, singular) = _finite_rows(good, (Jd, manip, rank, singular), errors)

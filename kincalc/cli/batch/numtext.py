@@ -33,7 +33,6 @@ CELL = 24
 #: numbers formatted a block at a time (their work arrays stay in the cache)
 BLOCK = 8192
 
-_P10 = 10.0 ** np.arange(16)                      # exact: every power of ten to 1e22 is a double
 _SPLIT = 134217729.0                              # 2^27 + 1, Veltkamp's splitter
 
 
