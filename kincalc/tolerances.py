@@ -92,7 +92,10 @@ DUPLICATE = 1e-6
 #: ... and two polished candidates of a resultant's double root when they agree to this (rad,
 #: or of the arm's size): Gauss-Newton converges there linearly, and candidates reaching it
 #: from several roots of the fitted resultant (a cluster's mean, a real root beside it) stop
-#: some 1e-6 apart, each reaching the target (kincalc.ik.place)
+#: some 1e-6 apart, each reaching the target (kincalc.ik.place); never two that each reach
+#: the target to INEXACT while the joints halfway miss it by more: two roots, however close
+#: (next to a fold the target changes to second order only: a PUMA's two elbows 4e-6 rad
+#: apart, 2e-6 from the stretched elbow, each reach it to 1e-16 and halfway to 1e-12)
 SAME_DOUBLE_ROOT = 1e-5
 #: ... and two solutions of a flat double root when they agree to this (rad, or of the arm's
 #: size), each misses the target by more than INEXACT and the joints halfway between them
@@ -113,6 +116,12 @@ SPLIT_PLACEMENT = 1e-2
 #: 2e-14 (SPLIT_DOUBLE_ROOT; two copies of a double root whose halfway joints miss by no more
 #: are answered there, the middle of what rounding cannot tell apart)
 INEXACT = 2e-14
+#: a solution that reaches its target less well than this (m per m of the arm's size, plus
+#: rad) is polished by Newton to rounding (kincalc.ik.near_miss): a root that a few
+#: Gauss-Newton steps left short (a resultant's placement, a general 6R arm next to a
+#: singularity: 1e-12 .. 1e-9); far above rounding, so that the decision is the same however
+#: FK was evaluated (a batch's column walk, a single pose's frames)
+ROUGH = 1e-12
 
 #: a joint counts as within its limits up to this much beyond them (rad; times the
 #: arm's size for prismatic joints): rounding of a solution at its limit

@@ -17,9 +17,10 @@ and flags every candidate in one pass:
    (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
    continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
    root (:func:`~kincalc.ik.near_miss.double_roots`: within ``SAME_DOUBLE_ROOT``, polished, or the
-   joints halfway between the two reaching the target too; the two sides of a flat double
-   root within ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again,
-   where those reach the target better than both;
+   joints halfway between the two reaching the target too, unless both reach it to rounding
+   and the halfway joints miss it, two roots; the two sides of a flat double root within
+   ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again, where those
+   reach the target better than both;
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
@@ -95,7 +96,9 @@ class Solved:
     def _frames(self, mask):
         """The slots ``mask (N, K)`` (candidates), :data:`FLAGS` at a time: ``(rows, frames,
         columns)``, their flat indices into the ``N K`` slots, frames entry by entry ``(3, 4,
-        n + 1, m')`` (:func:`kincalc.fk.entry_frames`, world frame, m) and which of them are
+        n + 1, m')`` (:func:`kincalc.fk.entry_frames`, world frame, m; or their axis and
+        origin columns alone, ``(3, 2, n + 1, m')``, as the column walk keeps them for many
+        slots: what :func:`kincalc.jacobian.rank_deficient` reads) and which of them are
         theirs (``(m,)``, or None: all, ``m' = m``): those the check evaluated (a view of the
         span of its columns that holds them), or where it kept none, evaluated now."""
         A, rows = self.memo.get("frames"), mask.reshape(-1).nonzero()[0]
@@ -302,7 +305,8 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     answer laid out in the family's slots (:func:`_in_layout`) where the solver kept fewer.
     Candidates that miss by a hair (``polish``: :mod:`kincalc.ik.near_miss`) are polished and
     all checked again (``polished_slots``: those, of which one that reached another's double
-    root goes). A double root is answered at its middle (``middle``) once: in the first
+    root goes). A double root is answered at its middle (``middle``: bool, or ``(N,)`` per
+    pose) once: in the first
     check, or in the second where two polished copies of it are met only there (Newton's
     method approaches a double root linearly, and leaves its copies either side of it).
 
@@ -337,11 +341,10 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
                               br.extra.get("continuum"))
     viol = violations(robot, q)
     near = near_misses(robot, candidate, reach, pe, oe, valid, viol,
-                       family.needs_orientation) if polish else None
+                       family.needs_orientation, free) if polish else None
     moved = near                        # slots whose joints change for a second check
     if near is not None:
-        q = polished(robot, targets, q, near, valid, lambda aimed, T: _reach(
-            robot, family, aimed, T[:, :3].transpose(1, 2, 0)[..., None])[2][:, 0], free)
+        q = polished(robot, targets, q, near, valid, _judge(robot, family, targets), free)
     if halfway is not None:
         q, moved = at_halfway(q, moved, *halfway)
     if moved is not None:
@@ -350,9 +353,11 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
         x[:, at] = q.reshape(-1, n)[at].T
         c, s = c.copy(), s.copy()
         c[:, at], s[:, at] = np.cos(x[:, at]), np.sin(x[:, at])
+        if halfway is not None:             # (per pose: each pose's bits whatever its batch)
+            middle = np.broadcast_to(middle, (N,)).copy()
+            middle[halfway[0]] = False
         return _check(robot, family, method, targets, (c, s, x), candidate, br, polish=False,
-                      polished_slots=polished_slots if near is None else near,
-                      middle=middle and halfway is None)
+                      polished_slots=polished_slots if near is None else near, middle=middle)
     checked = dict(q=q, candidate=candidate, valid=valid,
                    position_error=np.where(candidate, pe, 0.0),
                    orientation_error=np.full((N, K), np.nan) if oe is None else

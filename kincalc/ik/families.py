@@ -18,6 +18,7 @@ on. Families:
 * ``planar-3``: 3 revolute joints with parallel axes: a point on axis 3 by joints 1-2,
   joint 3 from the orientation.
 * ``position-2``: 2 joints: the tool point (on a plane, a cylinder, ...).
+* ``planar-4``: 4 revolute joints, axes 1-3 parallel and axis 4 not: whole poses.
 * ``point-plus-roll``: 4 joints, the last revolute: a point on axis 4 by joints 1-3
   (SCARA, the R-R-P-R spherical arm), joint 4 from the orientation; or 3 joints whose tool
   turns about axis 3, a point of it placed by joints 1-2 on the surface they sweep.
@@ -26,7 +27,10 @@ on. Families:
 * ``planar-shoulder``, ``spherical-shoulder``: five revolute joints, axes 4 and 5 meeting
   on the approach line and axes 1-3 parallel or through one point, which place that point
   with a turn to spare: whole poses, the orientation first.
-* ``reversed-...``: the six-joint structures found on the chain seen from the tool.
+* ``wrist-pair``: five joints, axes 4 and 5 meeting at a point the tool carries (off its
+  approach line, or the approach along axis 5), placed by joints 1-3: whole poses.
+* ``reversed-...``: the six-joint structures, and the wrist pair, found on the chain seen
+  from the tool.
 * ``general-6r``: 6 revolute joints with no such structure: algebraic elimination
   (:mod:`kincalc.ik.general6r`).
 
@@ -70,10 +74,8 @@ class Family(NamedTuple):
 
     @property
     def solver(self) -> str:
-        """The key of :data:`~kincalc.ik.solvers.SOLVERS` for this family (``str``).
-
-        Its name without ``reversed-``; also the key of the batched solvers.
-        """
+        """The key of :data:`~kincalc.ik.solvers.SOLVERS` for this family (``str``): its
+        name without ``reversed-``."""
         return self.name.removeprefix("reversed-") if self.reverse else self.name
 
 
@@ -233,7 +235,8 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
     """The family of ``robot`` (or None) and a sentence saying why.
 
     A family is recognised when the axes meet and are parallel as it needs to within
-    :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` (of the arm's size) and
+    :data:`~kincalc.tolerances.STRUCTURE_POINT_TOL` (times the arm's size, or metres for
+    an arm smaller than 1 m) and
     :data:`~kincalc.tolerances.STRUCTURE_ANGLE_TOL` (rad), or both within the robot's own
     ``structure_tol`` when it has one. It is ``exact`` when they do to within
     ``EXACT_POINT_TOL`` and ``EXACT_ANGLE_TOL`` (rounding): a calibrated model or a
@@ -355,6 +358,10 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
         fam = _classify_5(S, point_tol, par)
         if fam is not None:
             return fam, ""
+    if n == 5 and rev[:2].all():                 # the wrist pair at the base
+        fam = _wrist_pair(S.reversed(), point_tol)
+        if fam is not None:
+            return _reversed(fam, n), ""
     roll = Family("point-plus-roll", "a point on axis 4 placed by joints 1-3, joint 4 from the "
                   "orientation about its axis", "position and rotation about axis 4", True)
     if n == 4 and rev[3] and pos_rank == 3 and _independent_motions(S, (0, 1, 2), S.point[3]):
@@ -363,9 +370,26 @@ def _classify_small(robot, S: Screws, point_tol: float, par: float
         R = S.reversed()
         if _independent_motions(R, (0, 1, 2), R.point[3]):
             return _reversed(roll._replace(controls="position and rotation about axis 1"), n), ""
+    # (axes 2-4 parallel, the same seen from the tool, is a point of axis 4 and a roll)
+    planar = _planar_4(S, par) if n == 4 and rev.all() else None
+    if planar is not None:
+        return planar, ""
     why = (f"no analytic solver for this structure yet ({n} joints, "
            f"{''.join('R' if r else 'P' for r in rev)})")
     return None, why
+
+
+def _planar_4(S: Screws, par: float) -> Family | None:
+    """Four revolute joints, axes 1-3 parallel and axis 4 not."""
+    h = S.axis[0]
+    if not (_parallel(h, S.axis[1], par) and _parallel(h, S.axis[2], par)) \
+            or _parallel(h, S.axis[3], par):
+        return None
+    return Family("planar-4", "four joints, axes 1-3 parallel and axis 4 not: the turn about "
+                  "the parallel axes and joint 4 from the orientation (subproblem 1), joints 1 "
+                  "and 2 place axis 3, joint 3 completes the turn",
+                  "position and orientation (the poses four joints reach)", True,
+                  structure=(("parallel", (0, 1, 2)),))
 
 
 def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
@@ -395,7 +419,25 @@ def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
                       "for joints 2 and 3, joint 5 from the orientation",
                       "position, the approach direction within the arm's plane, and the roll "
                       "about it", True, structure=(("parallel", (1, 2, 3)), ("roll", (4,))))
-    return None
+    return None if pair else _wrist_pair(S, point_tol)
+
+
+def _wrist_pair(S: Screws, point_tol: float) -> Family | None:
+    """Five joints, axes 4 and 5 (revolute) meeting at a point the tool carries, placed by
+    joints 1-3, not a ``position-approach`` arm (the point off the approach line, or the
+    approach along axis 5): whole poses only (a position and an approach leave the roll,
+    which moves the point or does not turn joint 5)."""
+    tol = point_tol * max(S.scale, 1.0)
+    c = common_point(S.point[3:5], S.axis[3:5], tol)
+    if c is None or not S.revolute[3:5].all() or not _independent_motions(S, (0, 1, 2), c):
+        return None
+    return Family("wrist-pair",
+                  "five joints, axes 4 and 5 meeting at a point the tool carries (off its "
+                  "approach line, or the approach along axis 5): joints 1-3 place that point "
+                  "where the pose puts it, joints 4 and 5 take the orientation left "
+                  "(subproblem 2, then the roll)",
+                  "position and orientation (the poses five joints reach)", True,
+                  structure=(("meet", (3, 4)),))
 
 
 def _shoulder_5(S: Screws, c, tol: float, par: float) -> Family | None:

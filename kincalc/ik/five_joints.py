@@ -22,7 +22,7 @@ from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, closing_turn, meeting_point, one_root,
-                     rotate, rotate_back, target_rotation, turn_onto)
+                     rotate, rotate_back, target_rotation, tool_point, turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import band_arcs, free_for_the_wrist, parallel_wrist_q6, spherical_taking, undo
@@ -49,29 +49,60 @@ def position_approach(S: Screws, targets, br: Branches) -> Branches:
     -------
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
-    T, a0 = targets.T, S.M[:3, 2]
-    a = targets.approach if targets.kind == "approach" else T[:, :3, 2]
-    c0, ct = _wrist_pair_point(S, T, a)
+    a = targets.approach if targets.kind == "approach" else targets.T[:, :3, 2]
+    return _point_then_pair(S, targets, br, S.M[:3, 2], a)
+
+
+def wrist_pair(S: Screws, targets, br: Branches) -> Branches:
+    """Five joints, axes 4 and 5 meeting at a point ``c`` the tool carries, off its approach
+    line (a tool offset sideways) or on it with the approach along axis 5; whole poses.
+
+    Joints 1-3 place ``c`` where the pose puts it, then joints 4 and 5 turn a direction the
+    tool carries onto the pose's and the roll follows, as :func:`position_approach` does
+    with the approach: here the tool's axis at q = 0 farthest from axis 5 (the approach may
+    lie along axis 5, which does not turn it).
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    col = S.constant("tool axis across axis 5",
+                     lambda: int(np.argmin(np.abs(S.M[:3, :3].T @ S.axis[4]))))
+    return _point_then_pair(S, targets, br, S.M[:3, col], targets.T[:, :3, col])
+
+
+def _point_then_pair(S: Screws, targets, br: Branches, a0, a) -> Branches:
+    """Joints 1-3 place ``c`` (:func:`_wrist_pair_point`), joints 4 and 5 turn the tool's
+    direction ``a0 (3,)`` at q = 0 onto ``a (N, 3)`` (world frame): the approach, or for a
+    whole pose any direction the tool carries."""
+    T = targets.T
+    c0, ct = _wrist_pair_point(S, targets, a)
     br = place(S, br, (0, 1, 2), c0, ct[:, None, :], what="the point where axes 4 and 5 meet")
     if placement(S, (0, 1, 2), tuple(c0)).still:        # axis 3 through the point too
         return _three_joint_wrist(S, targets, br, a)
     if targets.kind != "pose":
-        br = _free_for_the_approach(S, br, a, a0)
+        br = _free_for_the_approach(S, br, a)
     v = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (3,), a[:, None, :]))
     wrist = sp2(np.full(v.shape, a0), v, S.axis[3], S.axis[4])
     if targets.kind != "pose":
         return br.branch([3, 4], wrist, least_squares=True)
     br, taken = _free_placing_joint(S, T, br, wrist)
-    br = _wrist_from_the_pose(S, T, br, taken)
+    br = _wrist_from_the_pose(S, T, br, a0, taken)
     return br if taken is None else _shared_line(S, br, taken)
 
 
-def _free_for_the_approach(S: Screws, br: Branches, a, a0) -> Branches:
+def _free_for_the_approach(S: Screws, br: Branches, a) -> Branches:
     """``br`` with a placing joint the placement left free (the point where axes 4 and 5
     meet on its line) turned so that joints 4 and 5 can point the approach ``a (N, 3)``
     (world frame): where their twist is not a right angle they reach only a band of
-    directions (:func:`~kincalc.ik.wrists.free_for_the_wrist`, the approach ``a0`` (3,) at
-    q = 0 as the pointed vector)."""
+    directions (:func:`~kincalc.ik.wrists.free_for_the_wrist`, with the tool's approach at
+    q = 0 as the pointed vector: :func:`_approach_cone`)."""
     for j in (0, 1, 2):
         if S.revolute[j] and br.free_in((j,)):
             br = free_for_the_wrist(S, br, 3, _approach_cone(S), a[:, None, :], (0, 1, 2), j)
@@ -167,7 +198,7 @@ def _shared_line(S: Screws, br: Branches, taken) -> Branches:
     return br.with_extra("continuum", c) if np.count_nonzero(c[..., 0]) else br
 
 
-def _wrist_from_the_pose(S: Screws, T, br: Branches, taken=None) -> Branches:
+def _wrist_from_the_pose(S: Screws, T, br: Branches, a0, taken=None) -> Branches:
     """Joints 4 and 5 of a whole pose from its rotation, in the slots where subproblem 2's
     answer is that one or leaves joint 4 free, and in the slots ``taken`` (N, K) of
     :func:`_free_placing_joint` (joint 4 there already the pose's).
@@ -177,12 +208,13 @@ def _wrist_from_the_pose(S: Screws, T, br: Branches, taken=None) -> Branches:
     turns the tool about its approach, a roll the pose fixes; near there subproblem 2's
     roots are good to about 1e-8 rad only, past the FK check. The rotation left for the two
     joints, ``W = (R1 R2 R3)^T R_t = R4 R5``, decomposes well: ``R4 k5 = W k5`` (subproblem
-    1 about axis 4), then ``R5 a0 = R4^T W a0`` (subproblem 1 about axis 5). A slot takes it
+    1 about axis 4), then ``R5 a0 = R4^T W a0`` (subproblem 1 about axis 5; ``a0 (3,)`` the
+    tool's direction subproblem 2 turned, at q = 0). A slot takes it
     where subproblem 2 left joint 4 free or found it within 1e-6 rad (elsewhere the slot
     reaches the approach but not the roll: the FK check drops it, and the reason quotes it).
 
     ``T (N, 4, 4)`` the poses, ``br`` with joints 1-5 set (world frame at q = 0, SI)."""
-    k4, k5, a0 = S.axis[3], S.axis[4], S.M[:3, 2]
+    k4, k5 = S.axis[3], S.axis[4]
     Rt = target_rotation(S, T)
     W = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (2, 3),                # W k5, W a0
                                         (Rt @ np.stack([k5, a0], -1)).swapaxes(-1, -2)))
@@ -211,7 +243,8 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     Where joint 3's values in that band are two arcs (:func:`~kincalc.ik.wrists.band_arcs`),
     the other root is the second arc's representative (``other arc``).
     """
-    if targets.kind == "pose":
+    if targets.kind == "pose":               # the pose sets joint 3 too: not free for it
+        br = br.set(2, br.value[2], br.cos[2], br.sin[2], free=np.zeros(br.ok.shape, bool))
         return spherical_taking(S, br, (2, 3, 4), target_rotation(S, targets.T), before=(0, 1))
     k3, k4, k5, a0 = S.axis[2], S.axis[3], S.axis[4], S.M[:3, 2]
     v = undo(S, br, (0, 1), np.full(br.ok.shape + (3,), a[:, None, :]))
@@ -227,13 +260,16 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
 
 
-def _wrist_pair_point(S: Screws, T, a):
-    """``(c0, ct)``: the point where axes 4 and 5 meet, at q = 0 ``(3,)`` and where the targets
-    ``T (N, 4, 4)`` with approaches ``a (N, 3)`` need it, a fixed distance behind the tool
-    point along the approach, ``(N, 3)`` (world frame, m)."""
-    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+def _wrist_pair_point(S: Screws, targets, a):
+    """``(c0, ct)``: the point where axes 4 and 5 meet, at q = 0 ``(3,)``, and where the
+    ``targets`` need it ``(N, 3)`` (world frame, m): where a whole pose puts it (the tool
+    carries it), or for an approach ``a (N, 3)`` alone a fixed distance behind the tool point
+    along the approach (the point on the approach line)."""
     c0 = meeting_point(S, 3, S.n)
-    return c0, T[:, :3, 3] - float((p0 - c0) @ a0) * a
+    if targets.kind == "pose":
+        return c0, tool_point(S, targets.T, c0)[:, 0]
+    a0, p0 = S.M[:3, 2], S.M[:3, 3]
+    return c0, targets.T[:, :3, 3] - float((p0 - c0) @ a0) * a
 
 
 def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
@@ -266,7 +302,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     T = targets.T
     h, k4, k5, a0, o3 = S.axis[0], S.axis[3], S.axis[4], S.M[:3, 2], S.point[2]
     s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
-    c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
+    c0, ct = _wrist_pair_point(S, targets, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = rotate(Rt, k5), rotate(Rt, a0)                                      # (N, 1, 3)
     br = br.branch([3], sp4(h, k5, k4, dot(u, h), fixed=axis_sp4(S, 0, 3)))
@@ -336,7 +372,7 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     O = meeting_point(S, 0, 3)
-    c0, ct = _wrist_pair_point(S, T, T[:, :3, 2])
+    c0, ct = _wrist_pair_point(S, targets, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u = rotate_back(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
     br = br.branch([3, 4], sp2(u, np.full(u.shape, c0 - O), S.axis[3], S.axis[4]))

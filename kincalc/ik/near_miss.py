@@ -25,15 +25,21 @@ import numpy as np
 from ..fk import forward_kinematics
 from ..spatial import wrap
 from ..tolerances import (INEXACT, NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED,
-                          SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
+                          ROUGH, SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
 from .joint_limits import joint_scale, normalise, violations
 
 
 
-def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: bool = True):
+def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: bool = True,
+                free=None):
     """``(N, K)`` bool, or None when there is none: candidates that miss the target by at most
-    :data:`~kincalc.tolerances.NEAR_MISS` (``reach`` False), and solutions beyond their limits
-    by at most :data:`~kincalc.tolerances.NEAR_LIMIT`.
+    :data:`~kincalc.tolerances.NEAR_MISS` (``reach`` False), solutions beyond their limits
+    by at most :data:`~kincalc.tolerances.NEAR_LIMIT`, and solutions that reach the target
+    less well than :data:`~kincalc.tolerances.ROUGH` (of the arm's size, or rad in the
+    components the robot controls: a root a few Gauss-Newton steps left 1e-10 short, which
+    the polish takes to rounding), other than a continuum's representatives (``free (N, K, n)``
+    bool, or None: the joints each leaves free), which may miss by the width of the band that
+    made the target singular.
 
     ``pe (N, K)`` position errors (m), ``oe (N, K)`` orientation errors (rad) or None,
     ``violation (N, K, n)`` (rad / m, :func:`~kincalc.ik.joint_limits.violations`);
@@ -41,28 +47,35 @@ def near_misses(robot, candidate, reach, pe, oe, valid, violation, controlled: b
     :data:`~kincalc.tolerances.NEAR_MISS_UNCONTROLLED` (next to a double root of the position,
     the joints and the orientation are good to the square root of rounding only)."""
     miss = candidate & ~reach
-    some_miss, some_beyond = np.count_nonzero(miss), np.count_nonzero(violation)
-    if not (some_miss or some_beyond):              # every candidate a solution within limits
-        return None
     L = max(robot.characteristic_length, 1e-12)
-    mask = np.zeros(miss.shape, bool)
+    rough = pe > ROUGH * L
+    if oe is not None and controlled:
+        rough |= oe > ROUGH
+    rough &= valid
+    if free is not None:
+        rough &= ~np.logical_or.reduce(free, axis=-1)
+    some_miss, some_beyond = np.count_nonzero(miss), np.count_nonzero(violation)
+    some_rough = np.count_nonzero(rough)
+    if not (some_miss or some_beyond or some_rough):  # every candidate exact, within limits
+        return None
+    mask = rough
     if some_miss:
-        mask = miss & (pe <= NEAR * L)
+        near = miss & (pe <= NEAR * L)
         if oe is not None:
-            near = oe <= NEAR
-            if not controlled:
-                near |= oe <= NEAR_MISS_UNCONTROLLED
-            mask &= near
+            near &= oe <= (NEAR if controlled else max(NEAR, NEAR_MISS_UNCONTROLLED))
+        mask = mask | near
     if some_beyond:
         v = (np.abs(violation) / np.where(robot.is_revolute, 1.0, L)).max(-1)
         mask |= valid & (v > 0.0) & (v <= NEAR_LIMIT)
     return mask if np.count_nonzero(mask) else None
 
 
-def polished(robot, targets, q, mask, valid, reaches, free=None):
+def polished(robot, targets, q, mask, valid, judge, free=None):
     """``q (N, K, n)`` (rad / m) with the slots ``mask (N, K)`` polished where that reaches
-    the target (a copy; the other slots unchanged, bit for bit); a slot already ``valid (N,
-    K)`` (one beyond its limits) only where the polished value is within them. The joints a
+    the target (a copy; the other slots unchanged, bit for bit), each from its own joints (from
+    the limit for a joint a hair beyond it: :data:`~kincalc.tolerances.NEAR_LIMIT`); a slot
+    already ``valid (N, K)`` only where the polished value moves it into the limits, or reaches
+    the target better without leaving them. The joints a
     slot leaves free (``free (N, K, n)`` bool, or None) keep their values where that
     reaches the target (every value does, and the polish would move them at random), else
     move too (a band of a double root can call free a joint that is not quite).
@@ -70,26 +83,35 @@ def polished(robot, targets, q, mask, valid, reaches, free=None):
     The equations are those the target gives: the whole pose, the position and approach (an
     ``approach`` target), or the position alone (a position arm given a whole pose, whose
     double root moves by ~1e-6 when the pose is rounded to 12 digits, is polished on the pose
-    so that its orientation follows too). ``reaches(targets, T) -> (M,) bool`` is the engine's
-    test of ``M`` tool poses ``T (M, 4, 4)`` against ``M`` targets, which the polished value
-    must pass."""
+    so that its orientation follows too). ``judge(rows, T) -> (error (M,), reach (M,))`` is the
+    engine's measure and test of ``M`` tool poses ``T (M, 4, 4)`` against the targets of
+    poses ``rows (M,)`` (as :func:`double_roots` takes it), which the polished value must
+    pass."""
     from .refine import refine             # (the Newton polish: imported when a pose needs it)
     mode = targets.kind
     if mode not in ("pose", "position", "approach"):
         return q
     rows, slots = mask.nonzero()
     lo, hi = robot.limits.T
-    start = np.clip(q[rows, slots], lo, hi)
+    start = q[rows, slots]
+    inside = np.clip(start, lo, hi)                  # a hair beyond a limit: from the limit
+    start = np.where(np.abs(inside - start) / joint_scale(robot) <= NEAR_LIMIT, inside, start)
+    was_within = (violations(robot, q[rows, slots]) == 0.0).all(-1)
+    before = judge(rows, forward_kinematics(robot.chain, q[rows, slots], column_walk=True))[0]
     held = None if free is None else free[rows, slots]
     out = q.copy()
     for holding in ((True, False) if held is not None and held.any() else (False,)):
         aimed = targets.take(rows)
         y = normalise(robot, refine(robot, start, aimed.T, mode=mode, approach=aimed.approach,
                                     held=held if holding else None))
-        good = reaches(aimed, forward_kinematics(robot.chain, y, column_walk=True))
-        good &= ~valid[rows, slots] | (violations(robot, y) == 0.0).all(-1)
+        error, good = judge(rows, forward_kinematics(robot.chain, y, column_walk=True))
+        within = (violations(robot, y) == 0.0).all(-1)
+        # a solution moves into its limits, or nearer its target without leaving them
+        good &= ~valid[rows, slots] | (within & ~was_within) | (
+            (error < before) & (within | ~was_within))
         out[rows[good], slots[good]] = y[good]
         rows, slots, start = rows[~good], slots[~good], start[~good]
+        was_within, before = was_within[~good], before[~good]
         held = None if held is None else held[~good]
         if not len(rows):
             break
@@ -98,7 +120,7 @@ def polished(robot, targets, q, mask, valid, reaches, free=None):
 
 def copies(robot, q, valid, pairs, one, miss, flat=None) -> tuple:
     """Of two valid slots of a pose that are one double root, the one that misses its target
-    by more (a tie: the later): slots whose joints agree to
+    by more (a tie, or both within ``INEXACT``: the later): slots whose joints agree to
     :data:`~kincalc.tolerances.SAME_DOUBLE_ROOT` (rad, or of the arm's size) with the
     evidence ``one``, or to :data:`~kincalc.tolerances.SPLIT_DOUBLE_ROOT` with ``flat``.
 
@@ -120,12 +142,15 @@ def copies(robot, q, valid, pairs, one, miss, flat=None) -> tuple:
     if flat is not None:
         same |= flat & (d <= SPLIT_DOUBLE_ROOT)
     same &= valid[pose, j] & valid[pose, i]
+    # (two copies that both reach the target to rounding tie: which misses less is noise,
+    # and would differ between a batch's FK and a single pose's)
+    miss = np.where(miss <= INEXACT, 0.0, miss)
     worse_j = miss[:, 0] >= miss[:, 1]
     drop[pose[same], np.where(worse_j, j, i)[same]] = True
     return drop, same
 
 
-def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = False) -> tuple:
+def double_roots(robot, q, valid, pairs, polished_slots, judge, again=False) -> tuple:
     """:func:`copies` of the close ``pairs`` of ``q (N, K, n)``
     (:func:`~kincalc.ik.joint_limits.close_pairs`) that are one double root, and of those the
     ones better answered halfway between their two solutions.
@@ -134,13 +159,14 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = Fa
     polished (``polished_slots (N, K)`` or None: Gauss-Newton approaches a double root only
     linearly, from two candidates) or the joints halfway between them reach the target too
     (between two distinct roots the target is missed by the slope times half their
-    distance). With ``again`` (the halfway joints can be checked again), two within
+    distance), except where both reach the target to ``INEXACT`` and the halfway joints
+    miss it by more: two roots, however close (next to a fold the slope is small). With
+    ``again`` (bool, or ``(N,)`` per pose: the halfway joints can be checked again), two within
     ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
     halfway joints miss it by less than half the better: the two sides of a flat double root
     (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
     joints miss the target by less than half the better of the two (rounding split one
-    root), or to ``INEXACT`` (rounding cannot tell one root from two there; two exact roots
-    farther apart keep an exact one). The two, and the joints halfway, are evaluated by the
+    root), or to ``INEXACT`` (rounding cannot tell one root from two there). The two, and the joints halfway, are evaluated by the
     column walk, whose bits do not depend on the batch.
 
     ``judge(rows, T) -> (error, reach)``, each ``(M,)``: how far the tool poses ``T (M, 4,
@@ -169,9 +195,17 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again: bool = Fa
     sides[live] = better[live] & (least > INEXACT)
     if polished_slots is not None:
         one |= polished_slots[pose, j] | polished_slots[pose, i]
-    drop, same = copies(robot, q, valid, pairs, one, miss, sides if again else None)
-    met = same & better
-    if not again or not met.any():
+    # two solutions that each reach the target to rounding, with the target missed between
+    # them, are two roots however close: next to a fold the target changes to second order
+    # only, and the joints halfway still reach it (two elbows 4e-6 rad apart, 2e-6 from the
+    # stretched elbow: each to 1e-16, halfway to 1e-12)
+    distinct = np.zeros(len(pose), bool)
+    distinct[live] = (miss[live].max(-1) <= INEXACT) & (error[2 * m:] > INEXACT)
+    one &= ~distinct
+    again = np.broadcast_to(again, valid.shape[:1])[pose]       # (per pair)
+    drop, same = copies(robot, q, valid, pairs, one, miss, sides & again)
+    met = same & better & again
+    if not met.any():
         return drop, None
     return drop, (pose[met], j[met], i[met], half[met])
 

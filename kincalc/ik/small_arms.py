@@ -1,6 +1,7 @@
 """The closed forms of the arms of two to four joints, for a batch of targets (see
 :mod:`kincalc.ik.solvers`, whose table :data:`~kincalc.ik.solvers.SOLVERS` names them):
-the position families, the planar and point-plus-roll arms, and the tool configuration
+the position families, the planar (three joints, and four with a tilted last joint) and
+point-plus-roll arms, and the tool configuration
 vector (the five-joint arms are in :mod:`kincalc.ik.five_joints`).
 
 Each solver takes the family's screws ``S`` (world frame at q = 0, SI; see
@@ -20,7 +21,8 @@ from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
 from .branches import TIE_BREAK, Branches
-from .pieces import angle_about, axis_normal, rotate, target_rotation, tool_point
+from .pieces import (angle_about, axis_normal, closing_turn, rotate, target_rotation,
+                     tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .wrists import undo
@@ -89,6 +91,40 @@ def planar_3(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     return _last_axis_roll(S, targets, br, (0, 1))
+
+
+def planar_4(S: Screws, targets, br: Branches) -> Branches:
+    """Four revolute joints, axes 1-3 parallel (direction ``h``) and axis 4 not: a planar arm
+    carrying a tilted joint; whole poses.
+
+    The parallel joints turn the arm by ``psi = q1 + s2 q2 + s3 q3`` about h (``s_i`` the
+    sign of axis i along h), so ``R_h(psi) R4 = R_t``: ``psi`` turns axis 4 onto ``R_t k4``
+    (subproblem 1 about h), joint 4 turns a normal of its axis onto ``R_h(-psi) R_t e``
+    (subproblem 1). A point ``o4`` of axis 4 moves with the tool and only joints 1-3 move
+    it, so joints 1 and 2 place axis 3's point ``o3`` at ``T M^-1 o4 - R_h(psi) (o4 - o3)``
+    (two elbows), and joint 3 completes the turn.
+
+    Parameters
+    ----------
+    S : Screws, the family's (world frame at q = 0, SI)
+    targets : Targets, ``N`` poses ``T (N, 4, 4)`` (world frame, SI)
+    br : Branches, one slot per target
+
+    Returns
+    -------
+    Branches, every joint solved: the candidates, which the engine checks by FK
+    """
+    T = targets.T
+    h, k4, o3, o4 = S.axis[0], S.axis[3], S.point[2], S.point[3]
+    s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
+    Rt = target_rotation(S, T)                                               # (N, 1, 3, 3)
+    u = rotate(Rt, k4)                                                       # R_h(psi) k4
+    psi, cp, sp = turn_onto(h, np.broadcast_to(k4, u.shape), u)
+    t4, c4, s4 = angle_about(S, 3, S.turn(0, cp, -sp, rotate(Rt, axis_normal(S, 3))))
+    br = br.set(3, t4, c4, s4).with_extra("psi", psi)
+    pt = tool_point(S, T, o4) - S.turn(0, cp, sp, o4 - o3)                   # (N, 1, 3)
+    br = place(S, br, (0, 1), o3, pt, what="axis 3")
+    return closing_turn(br, (0, 1, 2), (1.0, s2, s3), 3)
 
 
 def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:

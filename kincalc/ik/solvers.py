@@ -14,12 +14,13 @@ from __future__ import annotations
 
 from .branches import Branches
 from .families import TARGET_FAMILIES, Family
-from .five_joints import pitch_roll, planar_shoulder, position_approach, spherical_shoulder
+from .five_joints import (pitch_roll, planar_shoulder, position_approach, spherical_shoulder,
+                          wrist_pair)
 from .parallel_axes import parallel_four_wrist, three_parallel, three_parallel_offset
 from .pieces import meeting_point, target_rotation, tool_point
 from .place import place
 from .screws import Screws
-from .small_arms import planar_3, point_plus_roll, position_2, position_3, tcv
+from .small_arms import planar_3, planar_4, point_plus_roll, position_2, position_3, tcv
 from .target import Targets
 from .wrists import spherical_taking
 
@@ -68,8 +69,10 @@ SOLVERS = {
     "position-3": position_3,
     "position-2": position_2,
     "planar-3": planar_3,
+    "planar-4": planar_4,
     "point-plus-roll": point_plus_roll,
     "position-approach": position_approach,
+    "wrist-pair": wrist_pair,
     "pitch-roll": pitch_roll,
     "planar-shoulder": planar_shoulder,
     "spherical-shoulder": spherical_shoulder,

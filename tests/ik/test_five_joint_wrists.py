@@ -98,6 +98,8 @@ def test_three_joint_wrist_after_two_placing_joints(convention):
             T = r.fk(q)
             res = solve(r, Target(T))
             assert all(_reaches(r, s, T) for s in res.solutions)
+            # the whole pose sets joint 3 too (it was listed free, with the others following)
+            assert not any(s.free for s in res.solutions)
             trials += 1
             found += any(_same(r, s.q, q) for s in res.solutions)
             # the approach alone: the roll is open, joint 3 a representative of it

@@ -115,16 +115,20 @@ def test_a_free_placement_joint_takes_the_orientation(make, q):
 
 
 def test_three_parallel_joints_before_the_roll_are_not_point_plus_roll():
+    """They place a point of axis 4 only on a plane, with a turn to spare: the orientation
+    decides it (planar-4, tests/ik/test_planar_4.py), and both elbows come back (this arm
+    was once solved numerically, one solution)."""
     robot = _poe([(0, 1, 0), (0, -1, 0), (0, 1, 0), (-1, 0, 0)],
                  [(0.1, -0.2, 0.3), (0, 0.1, -0.2), (-0.2, -0.2, 0), (0, 0, 0.1)],
                  [[0, -1, 0, 0], [0, 0, 1, 0], [-1, 0, 0, 0], [0, 0, 0, 1]])
-    fam, why = plan(robot)[1:]
-    assert fam is None and "no analytic solver" in why
-    T = robot.fk(np.radians([-74.78, -12.16, -138.59, -348.08]))
-    res = robot.ik(T)                                 # numerically, and it says so
-    assert len(res.solutions) == 1 and "not every branch" in res.method
-    Tq = robot.fk(res.solutions[0].q)
-    assert np.abs(Tq - T).max() < 1e-9
+    assert plan(robot)[1].name == "planar-4"
+    q = np.radians([-74.78, -12.16, -138.59, -348.08])
+    T = robot.fk(q)
+    res = robot.ik(T)
+    assert len(res.solutions) == 2
+    Tq = robot.fk(np.array([s.q for s in res.solutions]))
+    assert np.abs(Tq - T).max() < 1e-12
+    assert min(np.abs(wrap(s.q - q)).max() for s in res.solutions) < 1e-9
 
 
 @pytest.mark.parametrize("twist, at", [(1e-7, 0), (-1e-6, 0), (1e-5, 1), (-3e-4, 1)])

@@ -15,6 +15,7 @@ from kincalc.ik.joint_limits import normalise, violations
 from kincalc.ik.words import branch_geometry, geometry
 from kincalc.ik.selftest import sample_configurations
 from kincalc.model import Joint, Robot
+from kincalc.spatial import wrap
 from kincalc.spatial import LEVI_CIVITA, wrap
 
 
@@ -333,16 +334,18 @@ def test_a_double_root_split_by_rounding_is_answered_at_its_middle(convention):
     assert np.array_equal(batch.q[batch.valid][0], np.array(sols[0].q))
 
 
-def test_two_exact_roots_close_together_keep_an_exact_one():
+def test_two_exact_roots_close_together_are_two_solutions():
     """A PUMA 560 pose 5e-5 deg from the stretched elbow has two exact elbow roots 1.7e-6
-    rad apart, one double root to the engine (within SAME_DOUBLE_ROOT); their halfway joints
-    reach the pose (to 1e-13) but less well than either root, so an exact root is kept and
-    the pose is reached to rounding (answering halfway missed it by 1.1e-13)."""
+    rad apart on each shoulder and wrist branch; their halfway joints reach the pose only to
+    1e-13, less well than either root: two roots, as EAIK and ik-geo find them (an earlier
+    engine took them for one double root and kept 4 solutions of 8)."""
     r = load_robot("puma560")
-    T = r.fk(np.radians([10, -45, -87.30836366293622 + 5e-5, 20, 30, 40]))
+    q = np.radians([10, -45, -87.30836366293622 + 5e-5, 20, 30, 40])
+    T = r.fk(q)
     sols = r.ik(T).solutions
-    assert len(sols) == 4
+    assert len(sols) == 8 and len({s.branch for s in sols}) == 8
     assert np.abs(r.fk(np.array([s.q for s in sols])) - T).max() < 1e-14
+    assert min(np.abs(wrap(s.q - q)).max() for s in sols) < 1e-8    # (a root 1.7e-6 from another)
 
 
 #: a reversed parallel-four-wrist arm (its joint 6 a slide; the random-robot campaign's
