@@ -393,9 +393,12 @@ class Branches:
             c = extra["continuum"].copy()
             c[..., 1], c[..., 2], c[..., 4] = n - 1 - c[..., 1], n - 1 - c[..., 2], -c[..., 4]
             extra["continuum"] = c
-        if "parallel continuum" in extra:      # (mask, sigma, total)
+        if "parallel continuum" in extra:      # (mask, sigma, total, free, about, against)
             c = extra["parallel continuum"].copy()
-            c[..., 2] = -c[..., 2]
+            c[..., 2], c[..., 3] = -c[..., 2], n - 1 - c[..., 3]
+            for k in (4, 5):                   # joint bits: bit i becomes bit n - 1 - i
+                bits = c[..., k].astype(np.int64)
+                c[..., k] = sum(((bits >> i) & 1) << (n - 1 - i) for i in range(n))
             extra["parallel continuum"] = c
         X = self.X[:, ::-1] * np.array([-1.0, 1.0, -1.0])[:, None, None, None]
         def renumbered(signs):

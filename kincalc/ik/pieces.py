@@ -137,8 +137,9 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
     ``signs`` their senses along it, +1 or -1) closing the turn ``psi = sum s_i q_i`` that
     the solver found (``br.extra["psi"]``, rad) and the others leave; where joint ``free``
     (a wrist axis along h) is free, the signed sum ``psi + sigma q_free`` is kept as the
-    slot's continuum (``extra["parallel continuum"]``, ``(N, K, 3)``: mask, sigma, total in
-    rad; ``sigma`` from ``br.extra["sigma"]``).
+    slot's continuum (``extra["parallel continuum"]``, ``(N, K, 6)``: mask, sigma, total in
+    rad, the free joint, the joints ``about`` as bits (bit i: joint i) and those of them
+    turning against h (``signs`` -1) as bits; ``sigma`` from ``br.extra["sigma"]``).
 
     The last step of the arms whose joints about parallel axes add up: three-parallel,
     parallel-four-wrist and planar-shoulder."""
@@ -152,8 +153,12 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
         total = signs[0] * br.value[about[0]]
         for i, s in zip(about[1:], signs[1:]):
             total = total + s * br.value[i]
+        mask = br.free[free].astype(float)
+        joints = (free, sum(1 << i for i in about),
+                  sum(1 << i for i, s in zip(about, signs) if s < 0))
         br = br.with_extra("parallel continuum", np.stack(
-            [br.free[free].astype(float), sigma, total + sigma * br.value[free]], -1))
+            [mask, sigma, total + sigma * br.value[free]]
+            + [np.full(mask.shape, float(x)) for x in joints], -1))
     return br
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import TargetMismatch
 from .engine import Solved, solve_targets
 from .continua import Continuum, Followers, ParallelContinuum, followers
-from .families import THREE_PARALLEL, plan
+from .families import plan
 from .joint_limits import joint_scale, same_solution
 from .labels import solution_order
 from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
@@ -289,24 +289,13 @@ def _continuum(robot, sv: Solved, k: int, kind: str):
                             Continuum(int(i), int(j), int(sign), float(total)))
     parallel = sv.slot_extra("parallel continuum")
     if parallel is not None and parallel[0, k, 0]:
-        _, sigma, total = parallel[0, k].tolist()
-        S = plan(robot)[0]
-        S = S.constant("reversed", S.reversed) if sv.spec.reverse else S
-        # the revolute joints about h and the last joint (sigma): 2-4 of a three-parallel arm
-        # (h the axis of joint 2), 1-3 of a planar-shoulder arm (h that of joint 1), the three
-        # of 1-4 of an offset-wrist arm (h that of joint 4)
-        if sv.spec.solver in THREE_PARALLEL:
-            about, h = (1, 2, 3), S.axis[1]
-        elif sv.spec.solver == "planar-shoulder":
-            about, h = (0, 1, 2), S.axis[0]
-        else:
-            about, h = tuple(i for i in range(4) if S.revolute[i]), S.axis[3]
-        signs = tuple(1 if float(S.axis[i] @ h) > 0 else -1 for i in about)
-        last = robot.dof - 1
-        c = ParallelContinuum(about + (last,), signs + (int(sigma),), last, float(total))
-        if sv.spec.reverse:
-            c = c.reversed(robot.dof)._replace(total=float(total))
-        return c
+        # the joints about h (the solver's closing turn) and the free one, by its sense
+        _, sigma, total, free, about, against = parallel[0, k].tolist()
+        joints = [i for i in range(robot.dof) if int(about) >> i & 1] + [int(free)]
+        signs = [-1 if int(against) >> i & 1 else 1 for i in joints[:-1]] + [int(sigma)]
+        pairs = sorted(zip(joints, signs))
+        return ParallelContinuum(tuple(i for i, _ in pairs), tuple(s for _, s in pairs),
+                                 int(free), float(total))
     return _followers(robot, sv.q[0, k], np.flatnonzero(sv.free[0, k]).tolist(), kind)
 
 
