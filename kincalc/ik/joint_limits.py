@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..spatial import wrap
-from ..tolerances import DUPLICATE, LIMIT_TOL, SPLIT_DOUBLE_ROOT
+from ..tolerances import DUPLICATE, INEXACT, LIMIT_TOL, SPLIT_DOUBLE_ROOT
 from .cache import per_robot
 
 
@@ -75,6 +75,23 @@ def same_solution(robot, a, b) -> np.ndarray:
     """
     d = np.asarray(a, float) - np.asarray(b, float)
     return (np.abs(np.where(robot.is_revolute, wrap(d), d)) < DUPLICATE).all(-1)
+
+
+def halfway_is_better(least, half) -> np.ndarray:
+    """Are two copies of one root better answered halfway between them? ``least (...)``: how
+    far the better copy misses its target, ``half (...)``: how far the joints halfway between
+    the two miss it (one measure: over the arm's size, plus rad). Yes where the halfway
+    joints miss by less than half the better copy (rounding split one root: a double root's
+    two roots move apart by the square root of a change, and its middle lies nearer it than
+    either), or to ``INEXACT`` (rounding cannot tell one root from two there). The rule of
+    the engine's double roots (:func:`kincalc.ik.near_miss.double_roots`) and of a
+    placement's (:func:`kincalc.ik.pieces.polish_points`).
+
+    Returns
+    -------
+    ndarray (...) of bool
+    """
+    return (half < 0.5 * least) | (half <= INEXACT)
 
 
 def close_pairs(robot, q, valid, f=None) -> tuple:

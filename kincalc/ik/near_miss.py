@@ -26,7 +26,7 @@ from ..fk import forward_kinematics
 from ..spatial import wrap
 from ..tolerances import (INEXACT, NEAR_LIMIT, NEAR_MISS as NEAR, NEAR_MISS_UNCONTROLLED,
                           ROUGH, SAME_DOUBLE_ROOT, SPLIT_DOUBLE_ROOT)
-from .joint_limits import joint_scale, normalise, violations
+from .joint_limits import halfway_is_better, joint_scale, normalise, violations
 
 
 
@@ -191,7 +191,7 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again=False) -> 
     one[live] = reach[2 * m:]
     better, sides = np.zeros(len(pose), bool), np.zeros(len(pose), bool)
     least = miss[live].min(-1)
-    better[live] = (error[2 * m:] < 0.5 * least) | (error[2 * m:] <= INEXACT)
+    better[live] = halfway_is_better(least, error[2 * m:])
     sides[live] = better[live] & (least > INEXACT)
     if polished_slots is not None:
         one |= polished_slots[pose, j] | polished_slots[pose, i]

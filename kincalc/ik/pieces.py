@@ -24,6 +24,7 @@ from ..subproblems.sp1 import sp1_constants
 from ..subproblems.sp4 import ROUNDING, sp4_constants
 from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
+from .joint_limits import halfway_is_better
 from .screws import Screws
 
 
@@ -405,9 +406,10 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     (M,)``, the polish's residuals over the arm's size: Gauss-Newton reaches a simple root
     to rounding in its steps) and the joints halfway between them, polished
     (:data:`POLISH_STEPS`; the valley of a fold is curved, and the straight middle lies
-    off it), place it better than half the better of the two, or to ``INEXACT``: the rule
-    by which the engine takes two solutions of a pose as one
-    (:func:`kincalc.ik.near_miss.double_roots`), here on the placement's own split, before
+    off it), place it better than half the better of the two, or to ``INEXACT``
+    (:func:`~kincalc.ik.joint_limits.halfway_is_better`): the rule by which the engine takes
+    two solutions of a pose as one (:func:`kincalc.ik.near_miss.double_roots`), here on the
+    placement's own split, before
     the joints that follow multiply it.
     ``fixed (M, m)`` bool or None: the joints the polish holds."""
     from .newton import polish
@@ -433,7 +435,7 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
                            tol=1e-15, damping=1e-14, stall=1e-12,
                            fixed=None if fixed is None else fixed[a])
     least = np.minimum(res[a], res[b])
-    one = (least > INEXACT) & ((miss < 0.5 * least) | (miss <= INEXACT))
+    one = (least > INEXACT) & halfway_is_better(least, miss)
     x = x.copy()
     for a, b, h in zip(a[one].tolist(), b[one].tolist(), half[one]):    # (rare: at a fold)
         x[a] = x[b] = h
