@@ -34,6 +34,21 @@ def random_robot(rng, convention="dh", n=6, types=None, base_tool=True):
                  base=base, tool=tool, M=M)
 
 
+def dh_frames(robot, q) -> list:
+    """The frames of a standard-DH chain by a plain product, without kincalc's FK:
+    ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` with ``q_i`` added to ``theta_i``, or to
+    ``d_i`` for a prismatic joint; ``[base, frame 1, ..., frame n, tool pose]`` (4, 4) each."""
+    T = [np.array(robot.base, float)]
+    for j, x in zip(robot.joints, q):
+        slide = j.type == "prismatic"
+        theta, d = (j.theta, j.d + x) if slide else (j.theta + x, j.d)
+        ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(j.alpha), np.sin(j.alpha)
+        T.append(T[-1] @ np.array([[ct, -st * ca, st * sa, j.a * ct],
+                                   [st, ct * ca, -ct * sa, j.a * st], [0, sa, ca, d], [0, 0, 0, 1]]))
+    T.append(T[-1] @ np.array(robot.tool, float))
+    return T
+
+
 def newton_roots(robot, T, starts, rng) -> list:
     """Every configuration reaching the pose ``T (4, 4)`` that Gauss-Newton finds from
     ``starts`` random starts drawn from ``rng`` (kincalc's FK and Jacobian only, no IK:

@@ -39,8 +39,8 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     At the wrist singularity (axis 6 parallel to h, q5 = 0 or 180 deg) only the signed
     sum ``q2 + s3 q3 + s4 q4 + sigma q6`` is fixed: joint 6 takes the representatives of
     :func:`~kincalc.ik.wrists.parallel_wrist_q6` (one per arc of the continuum), marked
-    free, with the sum kept as the slot's continuum (``extra["parallel continuum"]``,
-    ``(N, K, 3)``: mask, sigma, total in rad).
+    free, with the sum kept as the slot's continuum (``extra["parallel continuum"]``:
+    :func:`~kincalc.ik.pieces.closing_turn`).
 
     Parameters
     ----------
@@ -413,7 +413,7 @@ def parallel_four_wrist(S: Screws, targets, br: Branches) -> Branches:
     angles about h and ``sigma q6`` is fixed, as for a three-parallel arm: joint 6 takes
     the representatives of :func:`~kincalc.ik.wrists.parallel_wrist_q6` (the elbow of the
     two revolute joints among 1-3), marked free, with the sum kept as the slot's
-    continuum (``extra["parallel continuum"]``: mask, sigma, total in rad).
+    continuum (``extra["parallel continuum"]``: :func:`~kincalc.ik.pieces.closing_turn`).
 
     Parameters
     ----------

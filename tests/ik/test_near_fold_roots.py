@@ -12,25 +12,12 @@ sign of the determinant of its derivative by joints 1-3 (central differences).
 
 import numpy as np
 import pytest
+from randrobots import dh_frames
 
 from kincalc import load_robot
 from kincalc.conventions import to_poe
 from kincalc.ik import Target, solve
 from kincalc.spatial import wrap
-
-
-def dh_frames(robot, q):
-    """Frames 0..n of a standard-DH chain (``A_i = Rz(theta_i + q_i) Tz(d_i) Tx(a_i)
-    Rx(alpha_i)``), base first, tool last."""
-    T = [np.array(robot.base, float)]
-    for j, x in zip(robot.joints, q):
-        ct, st = np.cos(j.theta + x), np.sin(j.theta + x)
-        ca, sa = np.cos(j.alpha), np.sin(j.alpha)
-        A = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st],
-                      [0, sa, ca, j.d], [0, 0, 0, 1]])
-        T.append(T[-1] @ A)
-    T.append(T[-1] @ robot.tool)
-    return T
 
 
 def centre_det(robot, q, h=1e-6):

@@ -16,6 +16,7 @@ joints 1-3 (central differences) changes sign, by bisection.
 
 import numpy as np
 import pytest
+from randrobots import dh_frames
 
 from kincalc.ik import Target, solve
 from kincalc.model import Joint, Robot
@@ -48,23 +49,6 @@ def random_arm(rng, five: bool):
     joints = tuple(Joint(f"q{i + 1}", kind, alpha=al, a=a, d=d, theta=rng.uniform(-np.pi, np.pi))
                    for i, (kind, (al, a, d)) in enumerate(zip(kinds, rows)))
     return Robot("fold", "dh", joints, base=np.eye(4), tool=tool)
-
-
-def dh_frames(robot, q):
-    """The frames 0..n of a standard-DH chain (``A_i = Rz(theta_i) Tz(d_i) Tx(a_i)
-    Rx(alpha_i)``, ``q_i`` added to ``theta_i`` or, for a prismatic joint, to ``d_i``), base
-    first, tool last."""
-    T = [np.array(robot.base, float)]
-    for j, x in zip(robot.joints, q):
-        slide = j.type == "prismatic"
-        theta, d = (j.theta, j.d + x) if slide else (j.theta + x, j.d)
-        ct, st = np.cos(theta), np.sin(theta)
-        ca, sa = np.cos(j.alpha), np.sin(j.alpha)
-        A = np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st],
-                      [0, sa, ca, d], [0, 0, 0, 1]])
-        T.append(T[-1] @ A)
-    T.append(T[-1] @ robot.tool)
-    return T
 
 
 def wrist_point(robot, q):

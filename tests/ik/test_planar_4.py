@@ -11,7 +11,7 @@ and Jacobian only) is among them.
 
 import numpy as np
 import pytest
-from randrobots import newton_roots
+from randrobots import dh_frames, newton_roots
 
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
@@ -33,13 +33,7 @@ def random_arm(rng, parallel: str):
 
 
 def dh_pose(robot, q):
-    T = np.array(robot.base, float)
-    for j, x in zip(robot.joints, q):
-        ct, st = np.cos(j.theta + x), np.sin(j.theta + x)
-        ca, sa = np.cos(j.alpha), np.sin(j.alpha)
-        T = T @ np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st],
-                          [0, sa, ca, j.d], [0, 0, 0, 1]])
-    return T @ robot.tool
+    return dh_frames(robot, q)[-1]
 
 
 def distance(a, b):

@@ -10,7 +10,7 @@ robot's FK and Jacobian only) is among them.
 
 import numpy as np
 import pytest
-from randrobots import newton_roots
+from randrobots import dh_frames, newton_roots
 
 from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
@@ -40,14 +40,7 @@ def random_arm(rng, meeting: str, kinds="RRRRR", roll_tool=None):
 
 
 def dh_pose(robot, q):
-    T = np.array(robot.base, float)
-    for j, x in zip(robot.joints, q):
-        slide = j.type == "prismatic"
-        theta, d = (j.theta, j.d + x) if slide else (j.theta + x, j.d)
-        ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(j.alpha), np.sin(j.alpha)
-        T = T @ np.array([[ct, -st * ca, st * sa, j.a * ct], [st, ct * ca, -ct * sa, j.a * st],
-                          [0, sa, ca, d], [0, 0, 0, 1]])
-    return T @ robot.tool
+    return dh_frames(robot, q)[-1]
 
 
 def distance(robot, a, b):
