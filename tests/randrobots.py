@@ -49,6 +49,16 @@ def dh_frames(robot, q) -> list:
     return T
 
 
+def three_conventions(robot, T) -> list:
+    """The IK solutions of a standard-DH ``robot`` for the pose ``T``, and of its modified-DH
+    and product-of-exponentials forms, each a sorted list of joint vectors (wrapped, 7
+    decimals): equal lists, one solution set."""
+    from kincalc.conventions import dh_to_mdh, to_poe
+    from kincalc.ik import Target, solve
+    return [sorted(np.round(wrap(np.array(s.q)), 7).tolist() for s in solve(r, Target(T)).solutions)
+            for r in (robot, dh_to_mdh(robot), to_poe(robot))]
+
+
 def newton_roots(robot, T, starts, rng) -> list:
     """Every configuration reaching the pose ``T (4, 4)`` that Gauss-Newton finds from
     ``starts`` random starts drawn from ``rng`` (kincalc's FK and Jacobian only, no IK:

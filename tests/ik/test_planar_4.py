@@ -11,9 +11,8 @@ and Jacobian only) is among them.
 
 import numpy as np
 import pytest
-from randrobots import dh_frames, newton_roots
+from randrobots import dh_frames, newton_roots, three_conventions
 
-from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_rpy, transform, wrap
@@ -68,6 +67,5 @@ def test_the_three_conventions_give_the_same_solutions():
     robot = random_arm(rng, "123")
     q = rng.uniform(-np.pi, np.pi, 4)
     T = dh_pose(robot, q)
-    sets = [sorted(np.round(wrap(np.array(s.q)), 7).tolist() for s in solve(r, Target(T)).solutions)
-            for r in (robot, dh_to_mdh(robot), to_poe(robot))]
+    sets = three_conventions(robot, T)
     assert len(sets[0]) == 2 and sets[0] == sets[1] == sets[2]

@@ -10,9 +10,8 @@ robot's FK and Jacobian only) is among them.
 
 import numpy as np
 import pytest
-from randrobots import dh_frames, newton_roots
+from randrobots import dh_frames, newton_roots, three_conventions
 
-from kincalc.conventions import dh_to_mdh, to_poe
 from kincalc.ik import Target, solve
 from kincalc.model import Joint, Robot
 from kincalc.spatial import matrix_from_rpy, transform, wrap
@@ -97,8 +96,7 @@ def test_the_three_conventions_give_the_same_solutions():
     robot = random_arm(rng, "45")
     q = rng.uniform(-np.pi, np.pi, 5)
     T = dh_pose(robot, q)
-    sets = [sorted(np.round(wrap(np.array(s.q)), 7).tolist() for s in solve(r, Target(T)).solutions)
-            for r in (robot, dh_to_mdh(robot), to_poe(robot))]
+    sets = three_conventions(robot, T)
     assert sets[0] and sets[0] == sets[1] == sets[2]
 
 
