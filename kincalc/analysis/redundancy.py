@@ -30,6 +30,7 @@ from ..ik.solve import violation_list
 from ..ik.verdict import limits_reason
 from ..model import Joint, Robot
 from ..spatial import matrix_from_axis_angle, transform
+from .words import continuum_text
 
 
 def joint_motion(axis, point, revolute: bool, value) -> np.ndarray:
@@ -264,5 +265,7 @@ class _Renamed:
     inner: object
     keep: list
 
-    def text(self, names, *args):
-        return self.inner.text([names[i] for i in self.keep], *args)
+
+@continuum_text.register
+def _(c: _Renamed, names, units) -> str:
+    return continuum_text(c.inner, [names[i] for i in c.keep], units)

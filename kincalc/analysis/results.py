@@ -298,7 +298,7 @@ def ik_document(result) -> dict:
 
 
 def _ik_solution(robot, s, u: Units, result) -> dict:
-    from .words import singularity_text
+    from .words import continuum_text, singularity_text
     names = [j.name for j in robot.joints]
     d = {
         "q": u.joints(robot, s.q),
@@ -312,7 +312,7 @@ def _ik_solution(robot, s, u: Units, result) -> dict:
                        for i, amount, side in s.violations],
         "singular": s.singular,
         "singularity": singularity_text(robot, s),
-        "continuum": None if s.continuum is None else s.continuum.text(names, u.angle, u.a),
+        "continuum": None if s.continuum is None else continuum_text(s.continuum, names, u),
     }
     if s.change is not None:
         d["change_from_near"] = u.joints(robot, s.change)

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from functools import singledispatch
 
+from ..ik.continua import Continuum, Followers, ParallelContinuum
+from ..spatial import wrap
 from ..tolerances import ACCEPT_POSITION
 from ..ik.reasons import (ArmMissed, Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
                          NumericMissed, OrientationOut, Outside, OutOfReach)
@@ -174,6 +176,44 @@ def _(r: NoRoot, robot, units) -> str:
     if r.reversed_chain:
         text = "on the reversed chain (each joint turned the other way): " + text
     return text
+
+
+@singledispatch
+def continuum_text(c, names, units) -> str:
+    """A relation a singular target leaves between joints (:mod:`kincalc.ik.continua`), in
+    words and the display angle unit: ``names`` the joints' names by 0-based index, the
+    total wrapped to (-180, 180] deg or (-pi, pi] rad, to 4 decimals."""
+    raise TypeError(f"no words for {type(c).__name__}")
+
+
+@continuum_text.register
+def _(c: Continuum, names, units) -> str:
+    a, b = names[c.i], names[c.j]
+    if c.total is None:
+        return f"axes of {a} and {b} aligned: they turn the tool about one line"
+    return f"{a} {'+' if c.sign > 0 else '-'} {b} = {_total(c.total, units)}"
+
+
+@continuum_text.register
+def _(c: ParallelContinuum, names, units) -> str:
+    terms = [("-" if s < 0 else "") + names[j] if k == 0 else ("- " if s < 0 else "+ ") + names[j]
+             for k, (j, s) in enumerate(zip(c.joints, c.signs))]
+    rest = ", ".join(names[j] for j in c.joints if j != c.free)
+    return (f"{' '.join(terms)} = {_total(c.total, units)} (axis of {names[c.free]} parallel "
+            f"to theirs: {names[c.free]} free, {rest} follow it)")
+
+
+@continuum_text.register
+def _(c: Followers, names, units) -> str:
+    rest = ", ".join(names[j] for j in c.joints)
+    return (f"{names[c.free]} free, {rest} {'follows' if len(c.joints) == 1 else 'follow'} it "
+            "to keep the target")
+
+
+def _total(total: float, units) -> str:
+    """A relation's total (rad) in the display unit, to 4 decimals (a total rounding to zero
+    is 0.0000, not -0.0000)."""
+    return f"{round(float(wrap(total)) * units.a, 4) + 0.0:.4f} {units.angle}"
 
 
 def dead_end_texts(dead_ends, robot, units) -> list:

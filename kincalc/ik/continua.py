@@ -1,7 +1,8 @@
-"""The relations a singular target leaves between joints, as data with their words: the
-continua the solvers mark (``Branches.extra["continuum"]``, ``["parallel continuum"]``), and
-where no sum is fixed the joints that follow a free one (read from the Jacobian), which
-:mod:`kincalc.ik.solve` hands to the results. Angles in rad, joints 0-based.
+"""The relations a singular target leaves between joints, as data: the continua the solvers
+mark (``Branches.extra["continuum"]``, ``["parallel continuum"]``), and where no sum is
+fixed the joints that follow a free one (read from the Jacobian), which
+:mod:`kincalc.ik.solve` hands to the results. Angles in rad, joints 0-based; worded at the
+edge (:func:`kincalc.analysis.words.continuum_text`).
 """
 
 from __future__ import annotations
@@ -10,7 +11,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..spatial import wrap
 
 
 class Continuum(NamedTuple):
@@ -41,37 +41,12 @@ class Continuum(NamedTuple):
         return Continuum(n - 1 - self.i, n - 1 - self.j, self.sign,
                          None if self.total is None else -self.total)
 
-    def text(self, names, angle_unit: str, per_rad: float) -> str:
-        """The relation in words: ``a + b = total`` (or ``a - b``), in the display angle unit.
-
-        Parameters
-        ----------
-        names : sequence of str
-            The joints' names, by 0-based index.
-        angle_unit : str
-            The display angle unit's name.
-        per_rad : float
-            Display angle units per rad.
-
-        Returns
-        -------
-        str
-            ``total`` wrapped to (-pi, pi] and shown in the display unit; without a ``total``,
-            the sentence that the two axes are aligned.
-        """
-        a, b = names[self.i], names[self.j]
-        if self.total is None:
-            return f"axes of {a} and {b} aligned: they turn the tool about one line"
-        return (f"{a} {'+' if self.sign > 0 else '-'} {b} = "
-                f"{_shown(self.total, per_rad)} {angle_unit}")
-
 
 class ParallelContinuum(NamedTuple):
     """A three-parallel arm at its wrist singularity: joints ``joints`` (0-based) turn
     about parallel axes, so only ``sum(sign_k q_k)`` is fixed, to ``total`` (rad).
     Joint ``free`` can take any value the elbow can follow. The others follow it: the
-    sum, and the planar elbow placing axis 4. It has the same interface as
-    :class:`Continuum` (``reversed``, ``text``) for the dispatcher."""
+    sum, and the planar elbow placing axis 4. It has :class:`Continuum`'s ``reversed``."""
 
     joints: tuple
     signs: tuple
@@ -97,47 +72,16 @@ class ParallelContinuum(NamedTuple):
         return ParallelContinuum(tuple(i for i, _ in pairs), tuple(s for _, s in pairs),
                                  n - 1 - self.free, -self.total)
 
-    def text(self, names, angle_unit: str, per_rad: float) -> str:
-        """The relation in words: the signed sum, its total, and which joint is free.
-
-        Parameters
-        ----------
-        names : sequence of str
-            The joints' names, by 0-based index.
-        angle_unit : str
-            The display angle unit's name.
-        per_rad : float
-            Display angle units per rad.
-
-        Returns
-        -------
-        str
-            ``total`` wrapped to (-pi, pi] and shown in the display unit.
-        """
-        terms = [("-" if s < 0 else "") + names[j] if k == 0 else
-                 ("- " if s < 0 else "+ ") + names[j]
-                 for k, (j, s) in enumerate(zip(self.joints, self.signs))]
-        rest = ", ".join(names[j] for j in self.joints if j != self.free)
-        return (f"{' '.join(terms)} = {_shown(self.total, per_rad)} {angle_unit} "
-                f"(axis of {names[self.free]} parallel to theirs: {names[self.free]} free, "
-                f"{rest} follow it)")
-
 
 class Followers(NamedTuple):
     """At a singular target joint ``free`` (0-based) can take any value, and joints
     ``joints`` change with it to keep the target, by no relation of sums: the wrist of an
     arm whose wrist centre lies on axis 1, which turns the wrist's orientation with joint
     1. Found from the Jacobian at the solution, on the robot's own chain (:func:`followers`;
-    never reversed). Read through ``text``, as :class:`Continuum` is."""
+    never reversed)."""
 
     free: int
     joints: tuple
-
-    def text(self, names, angle_unit: str, per_rad: float) -> str:
-        """The free joint and the joints that follow it, in words (no angle is shown)."""
-        rest = ", ".join(names[j] for j in self.joints)
-        verb = "follows" if len(self.joints) == 1 else "follow"
-        return f"{names[self.free]} free, {rest} {verb} it to keep the target"
 
 
 def followers(J, free, length: float, revolute) -> tuple:
@@ -167,9 +111,3 @@ def followers(J, free, length: float, revolute) -> tuple:
     rest = [j for j in range(J.shape[1]) if j not in free]
     x = np.linalg.lstsq(J[:, rest], -J[:, free[0]], rcond=1e-10)[0]
     return tuple(j for j, v in zip(rest, x.tolist()) if abs(v) > 1e-6)
-
-
-def _shown(total: float, per_rad: float) -> str:
-    """A relation's total (rad) in the display unit, to 4 decimals (a total rounding to zero
-    is 0.0000, not -0.0000)."""
-    return f"{round(float(wrap(total)) * per_rad, 4) + 0.0:.4f}"

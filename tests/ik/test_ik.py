@@ -618,7 +618,9 @@ def test_a_continuum_total_that_rounds_to_zero_is_written_without_a_sign():
     read '-0.0000', the total a rounding below zero)."""
     r = load_robot("puma560")
     res = r.ik(r.fk(np.radians([0, 45, 180, 0, 0, 0])))
-    texts = [s.continuum.text([j.name for j in r.joints], "deg", 180 / np.pi)
+    from kincalc.analysis.results import Units
+    from kincalc.analysis.words import continuum_text
+    texts = [continuum_text(s.continuum, [j.name for j in r.joints], Units("deg"))
              for s in res.solutions if s.continuum is not None]
     assert texts and all(t.startswith("q4 + q6 = ") for t in texts)
     assert not any("-0.0000" in t for t in texts)

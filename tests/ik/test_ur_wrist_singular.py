@@ -35,7 +35,8 @@ from kincalc.ik.families import classify
 from kincalc.ik.screws import Screws
 from kincalc.spatial import wrap
 from kincalc.model import Joint, Robot
-from kincalc.analysis.words import singularity_text
+from kincalc.analysis.results import Units
+from kincalc.analysis.words import continuum_text, singularity_text
 
 UR = ["ur5", "ur10", "ur10e", "ur3", "ur5e", "ur16e", "ur20", "ur5_mdh", "ur5_poe"]
 
@@ -231,7 +232,7 @@ def test_wrist_singular_poses_give_the_continuum(name, r):
             assert abs(rel(s.q)) < 1e-9
             if abs(wrap(s.q[0] - q[0])) < 1e-9:          # the generating branch: it too
                 assert abs(rel(q)) < 1e-9
-            assert " = " in c.text([j.name for j in r.joints], "deg", 180 / np.pi)
+            assert " = " in continuum_text(c, [j.name for j in r.joints], Units("deg"))
         assert on_branch >= 1, (name, q)
         assert on_continuum(r, sols, q), (name, q, sols)
         # the batch: the same representatives, reproducing the pose

@@ -20,6 +20,8 @@ import numpy as np
 import pytest
 from randrobots import follow_joint
 
+from kincalc.analysis.results import Units
+from kincalc.analysis.words import continuum_text
 from kincalc.conventions.conversion import convert
 from kincalc.model import Joint, Robot
 from kincalc.spatial import wrap
@@ -168,7 +170,7 @@ def test_the_wrist_is_named_as_following_joint_1(rows, base, tool, q):
     for s in sols:
         c = s.continuum
         assert (c.free, c.joints) == (0, (3, 4, 5)), c
-        assert c.text([j.name for j in r.joints], "deg", 1.0) == \
+        assert continuum_text(c, [j.name for j in r.joints], Units("deg")) == \
             "j1 free, j4, j5, j6 follow it to keep the target"
         alone = np.array(s.q)
         alone[0] += 0.05
