@@ -23,54 +23,17 @@ class Continuum(NamedTuple):
     sign: int
     total: float | None = None
 
-    def reversed(self, n: int) -> "Continuum":
-        """The same relation for the original chain of a reversed one.
-
-        Joint k of the reversed chain is joint n - 1 - k, turned the other way.
-
-        Parameters
-        ----------
-        n : int
-            Number of joints.
-
-        Returns
-        -------
-        Continuum
-            Joints renumbered, ``total`` negated (None stays None).
-        """
-        return Continuum(n - 1 - self.i, n - 1 - self.j, self.sign,
-                         None if self.total is None else -self.total)
-
 
 class ParallelContinuum(NamedTuple):
     """A three-parallel arm at its wrist singularity: joints ``joints`` (0-based) turn
     about parallel axes, so only ``sum(sign_k q_k)`` is fixed, to ``total`` (rad).
     Joint ``free`` can take any value the elbow can follow. The others follow it: the
-    sum, and the planar elbow placing axis 4. It has :class:`Continuum`'s ``reversed``."""
+    sum, and the planar elbow placing axis 4."""
 
     joints: tuple
     signs: tuple
     free: int
     total: float
-
-    def reversed(self, n: int) -> "ParallelContinuum":
-        """The same relation for the original chain of a reversed one.
-
-        Joint k of the reversed chain is joint n - 1 - k, turned the other way.
-
-        Parameters
-        ----------
-        n : int
-            Number of joints.
-
-        Returns
-        -------
-        ParallelContinuum
-            Joints renumbered (in ascending order, their signs with them), ``total`` negated.
-        """
-        pairs = sorted((n - 1 - i, s) for i, s in zip(self.joints, self.signs))
-        return ParallelContinuum(tuple(i for i, _ in pairs), tuple(s for _, s in pairs),
-                                 n - 1 - self.free, -self.total)
 
 
 class Followers(NamedTuple):

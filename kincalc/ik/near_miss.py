@@ -161,13 +161,12 @@ def double_roots(robot, q, valid, pairs, polished_slots, judge, again=False) -> 
     (between two distinct roots the target is missed by the slope times half their
     distance), except where both reach the target to ``INEXACT`` and the halfway joints
     miss it by more: two roots, however close (next to a fold the slope is small). With
-    ``again`` (bool, or ``(N,)`` per pose: the halfway joints can be checked again), two within
-    ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and the
-    halfway joints miss it by less than half the better: the two sides of a flat double root
-    (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where those
-    joints miss the target by less than half the better of the two (rounding split one
-    root), or to ``INEXACT`` (rounding cannot tell one root from two there). The two, and the joints halfway, are evaluated by the
-    column walk, whose bits do not depend on the batch.
+    ``again`` (bool, or ``(N,)`` per pose: the halfway joints can be checked again), two
+    within ``SPLIT_DOUBLE_ROOT`` are one where neither reaches the target to ``INEXACT`` and
+    the halfway joints miss it by less than half the better: the two sides of a flat double
+    root (:mod:`kincalc.tolerances`). A pair is answered halfway (``again`` only) where
+    :func:`~kincalc.ik.joint_limits.halfway_is_better`. The two, and the joints halfway, are
+    evaluated by the column walk, whose bits do not depend on the batch.
 
     ``judge(rows, T) -> (error, reach)``, each ``(M,)``: how far the tool poses ``T (M, 4,
     4)`` miss the targets of poses ``rows (M,)``, and whether they reach them (the engine's
