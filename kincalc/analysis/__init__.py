@@ -1,6 +1,7 @@
 """What kincalc says about a robot, above the engine: the FK and Jacobian reports
 (:mod:`~kincalc.analysis.reports`), the result documents (:mod:`~kincalc.analysis.results`)
-and the sentences of answers (:mod:`~kincalc.analysis.words`), reachability
+and the sentences of answers (:mod:`~kincalc.analysis.words`), IK requests in the user's
+units (:mod:`~kincalc.analysis.requests`), reachability
 (:mod:`~kincalc.analysis.reach`), the workspace (:mod:`~kincalc.analysis.workspace`),
 whether two robot descriptions are the same robot (:mod:`~kincalc.analysis.compare`),
 formulas (:mod:`~kincalc.analysis.symbolic`, sympy) and pictures

@@ -146,7 +146,8 @@ def build_target(robot, units, *, xyz=None, rpy=None, euler_zyz=None, euler_xyz=
     import numpy as np
 
     from ..ik import Target
-    from ..ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+    from ..analysis.requests import to_si
+    from ..ik.target import BadTarget, defect_text, target_form, targets_from
     given = {"xyz": xyz, "rpy": rpy, "euler_zyz": euler_zyz, "euler_xyz": euler_xyz,
              "quat": quat, "axis_angle": axis_angle, "matrix": matrix, "approach": approach,
              "tcv": tcv, "T": T if pose is None else pose, "q": q if from_q is None else from_q}

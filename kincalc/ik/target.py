@@ -18,7 +18,8 @@ of many requests of one format at once (RPY, Euler angles, quaternions, axis-ang
 matrices, whole poses, approach directions, TCVs). The command line, the batch runner
 and the homework grader all go through these two; what is wrong is returned as data
 (:class:`BadTarget`, the ``defect`` codes) that each of them words with its own names
-for the fields.
+for the fields. Values arrive here in SI: the edge converts the user's units first
+(:func:`kincalc.analysis.requests.to_si`).
 """
 
 from __future__ import annotations
@@ -115,10 +116,6 @@ ORIENTATIONS = ("rpy", "euler_zyz", "euler_xyz", "quat", "axis_angle", "matrix",
                 "tcv")
 #: the fields that give the whole pose on their own
 WHOLE = ("T", "q")
-#: how a file (a batch record, a sheet's ``pose``) names the parts of an IK target, for the
-#: core's messages about them (:class:`kincalc.errors.TargetMismatch`)
-FIELD_WORDS = {"approach": "approach", "tcv": "tcv", "prefix": "{field}: ",
-               "orientation": "(rpy, euler_zyz, euler_xyz, quat, axis_angle, matrix, T or q)"}
 
 
 class BadTarget(UsageError):
@@ -351,38 +348,3 @@ def _rotations(R, defect) -> None:
     """Mark ``defect`` "not rotation" where ``R (N, 3, 3)`` is not a rotation to 6 digits
     (:func:`kincalc.spatial.is_rotation`) and no other defect is marked."""
     defect[~sp.is_rotation(R) & (defect == None)] = "not rotation"  # noqa: E711
-
-
-def to_si(form: str | None, values, units):
-    """Values of ``form`` in the user's units converted to SI.
-
-    Angles of ``rpy``, ``euler_*`` and the angle of ``axis_angle`` from the display angle
-    unit, the position of ``T`` and ``tcv`` from the display length unit; other forms
-    are unit-free.
-
-    Parameters
-    ----------
-    form : str or None
-        The request's form (:func:`target_form`).
-    values : array_like (N, k)
-        The values in the user's units.
-    units : Units
-        The display units (:class:`kincalc.analysis.results.Units`): ``a`` and ``l``, display
-        units per rad and per m.
-
-    Returns
-    -------
-    ndarray (N, k)
-        A new array (rad, m).
-    """
-    v = np.array(values, float)
-    v = v.reshape(len(v), -1)
-    if form in ("rpy", "euler_zyz", "euler_xyz"):
-        v /= units.a
-    elif form == "axis_angle":
-        v[:, 3] /= units.a
-    elif form == "tcv":
-        v[:, :3] /= units.l
-    elif form == "T":
-        v[:, [3, 7, 11]] /= units.l
-    return v

@@ -4,7 +4,8 @@ batch runner and homework sheets, against hand-built rotations."""
 import numpy as np
 import pytest
 
-from kincalc.ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+from kincalc.analysis.requests import to_si
+from kincalc.ik.target import BadTarget, defect_text, target_form, targets_from
 from kincalc.analysis.results import Units
 
 

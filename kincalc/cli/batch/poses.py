@@ -19,7 +19,7 @@ def head(i, kw) -> dict:
 def words(exc) -> str:
     """A core error's message for a record, its fields named as records name them."""
     from ...errors import TargetMismatch
-    from ...ik.target import FIELD_WORDS
+    from ...analysis.requests import FIELD_WORDS
     return exc.words(FIELD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
 
 
@@ -81,7 +81,8 @@ def _form_poses(robot, units, form, items, together, start, errors):
     import numpy as np
 
     from ...errors import KincalcError
-    from ...ik.target import defect_text, targets_from, to_si
+    from ...analysis.requests import to_si
+    from ...ik.target import defect_text, targets_from
     from ..common import check_numbers
     from ..targets import pose_values
     key = "q" if form == {"q"} else "T" if form == {"T"} else next(iter(form - {"xyz"}))

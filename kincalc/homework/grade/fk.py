@@ -19,7 +19,8 @@ def _rotation_from(kind: str, values, units) -> np.ndarray:
     """The rotation ``(3, 3)`` of an orientation answer of ``kind`` in the sheet's units,
     built by :mod:`kincalc.ik.target` as a pose's is; NaN for a degenerate answer (a zero
     quaternion or axis)."""
-    from ...ik.target import targets_from, to_si
+    from ...analysis.requests import to_si
+    from ...ik.target import targets_from
     v = np.asarray(values, float)
     if kind == "matrix":
         return v

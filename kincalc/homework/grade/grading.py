@@ -6,7 +6,7 @@ from dataclasses import replace
 
 from ...errors import KincalcError, TargetMismatch
 from ...limits import quote
-from ...ik.target import FIELD_WORDS
+from ...analysis.requests import FIELD_WORDS
 from ..sheet import Sheet, SheetError, sheet_words
 from .common import ItemResult, Report
 from .dh import grade_dh

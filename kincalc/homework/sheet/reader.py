@@ -382,7 +382,8 @@ class _SheetReader(AnswerReader, Reader):
         """The ``pose`` mapping as a :class:`~kincalc.ik.Target` (built by
         :mod:`kincalc.ik.target`, as the command line's and the batch records' are)."""
         from ...ik import Target
-        from ...ik.target import BadTarget, defect_text, target_form, targets_from, to_si
+        from ...analysis.requests import to_si
+        from ...ik.target import BadTarget, defect_text, target_form, targets_from
         f = self.mapping(node, "'pose'", {k: False for k in POSE_FIELDS})
         if not f:
             self.fail(node, "'pose' is empty: give xyz with an orientation, T, tcv or q")
