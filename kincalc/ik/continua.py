@@ -11,6 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..jacobian import scale_free
+
 
 
 class Continuum(NamedTuple):
@@ -68,9 +70,7 @@ def followers(J, free, length: float, revolute) -> tuple:
         first free joint, is above 1e-6 (rad per rad, or of the arm's size): those that
         follow it. Empty where it moves alone (the target does not see it).
     """
-    J = np.array(J, float)
-    J[:3] /= max(length, 1e-12)
-    J[:, ~np.asarray(revolute)] *= max(length, 1e-12)
+    J = scale_free(J, revolute, max(length, 1e-12))
     rest = [j for j in range(J.shape[1]) if j not in free]
     x = np.linalg.lstsq(J[:, rest], -J[:, free[0]], rcond=1e-10)[0]
     return tuple(j for j, v in zip(rest, x.tolist()) if abs(v) > 1e-6)

@@ -136,11 +136,12 @@ def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     """Per-sample Yoshikawa measure ``(N,)`` (as ``kincalc jacobian`` reports it, in
     display units) and statistics including the normalised condition number."""
     from ...tolerances import SINGULAR_TOL
+    from ...jacobian import scale_free
+    from ..results import display_jacobian
     J = robot.jacobian(Q)
     n = robot.dof
     full, _ = robot.generic_ranks
-    Jd = J.copy()
-    Jd[:, :3, :] *= np.where(robot.is_revolute, units.l, 1.0)
+    Jd = display_jacobian(robot, J, units)
     if full == n:
         w = np.sqrt(np.abs(np.linalg.det(np.swapaxes(Jd, 1, 2) @ Jd)))
     elif full == 6:
@@ -148,9 +149,7 @@ def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     else:
         w = np.prod(np.linalg.svd(Jd, compute_uv=False)[:, :full], axis=1)
     L = robot.characteristic_length
-    Jn = J[: min(len(J), CONDITION_SAMPLES)]
-    Jn[:, :3, :] /= L
-    Jn[:, :, ~robot.is_revolute] *= L
+    Jn = scale_free(J[: min(len(J), CONDITION_SAMPLES)], robot.is_revolute, L)
     s = np.linalg.svd(Jn, compute_uv=False)
     cond = s[:, 0] / np.maximum(s[:, full - 1], 1e-300)
     singular = s[:, full - 1] < SINGULAR_TOL * np.maximum(s[:, 0], 1.0)

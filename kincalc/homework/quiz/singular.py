@@ -22,10 +22,8 @@ def scaled_sigma(robot, q) -> np.ndarray:
     ``r`` their generic ranks. A configuration is singular when it is below
     :data:`kincalc.tolerances.SINGULAR_TOL`.
     """
-    J = np.array(robot.jacobian(q))
-    L = robot.characteristic_length
-    J[..., :3, :] /= L
-    J[..., :, ~robot.is_revolute] *= L
+    from ...jacobian import scale_free
+    J = scale_free(robot.jacobian(q), robot.is_revolute, robot.characteristic_length)
     full, full_pos = robot.generic_ranks
     s = np.linalg.svd(J, compute_uv=False)
     sv = np.linalg.svd(J[..., :3, :], compute_uv=False)
