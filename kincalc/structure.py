@@ -13,7 +13,7 @@ import numpy as np
 
 from .spatial import cross
 
-from .tolerances import GEOMETRY_TOL
+from .tolerances import GEOMETRY_TOL, STRUCTURE_POINT_TOL
 
 
 def joint_axes(robot, q=None) -> tuple[np.ndarray, np.ndarray]:
@@ -144,8 +144,10 @@ def spherical_wrist(robot) -> Wrist | None:
     Parameters
     ----------
     robot : Robot
-        The robot. Its axes are tested at ``robot.home`` (not at q = 0), to within
-        ``GEOMETRY_TOL * 1e3 * robot.characteristic_length`` (m) of one point.
+        The robot. Its axes are tested at ``robot.home`` (not at q = 0), to within the
+        tolerance by which the IK families recognise a wrist
+        (:func:`kincalc.ik.families.classify`): the robot's ``structure_tol``, else
+        ``STRUCTURE_POINT_TOL``, times its characteristic length or 1 m, whichever is larger.
 
     Returns
     -------
@@ -157,7 +159,8 @@ def spherical_wrist(robot) -> Wrist | None:
     if n < 4 or not all(j.revolute for j in robot.joints[n - 3:]):
         return None
     dirs, pts = joint_axes(robot, robot.home)
-    tol = GEOMETRY_TOL * 1e3 * robot.characteristic_length
+    tol = getattr(robot, "structure_tol", None)
+    tol = (STRUCTURE_POINT_TOL if tol is None else tol) * max(robot.characteristic_length, 1.0)
     if common_point(pts[n - 3:], dirs[n - 3:], tol) is None:
         return None
     return Wrist(first=n - 3)

@@ -281,3 +281,21 @@ def test_abs_det6_is_the_lu_determinant_in_every_case():
         got = abs_det6(np.ascontiguousarray(batch.transpose(1, 2, 0)))
         want = np.abs(np.linalg.det(batch))
         assert (np.abs(got - want) <= 1e-14 * fro[:len(batch)] ** 6).all()
+
+
+@pytest.mark.parametrize("offset, wrist", [(0.0, True), (1e-7, True), (2e-5, True),
+                                           (1e-2, False)])
+def test_a_spherical_wrist_is_one_thing_for_ik_and_the_singularity_report(offset, wrist):
+    """The singularity report's wrist (``structure.spherical_wrist``) and the IK's family
+    agree on a wrist whose axes miss one point by ``offset`` (m, a5 of the arm above): a
+    rounded datasheet's wrist is (nearly) spherical for both, a 1 cm offset for neither.
+    (The report once took 1e-6 of the arm's size and the families 1e-4.)"""
+    from kincalc import parse_robot_text
+    from kincalc.ik.families import plan
+    from kincalc.structure import spherical_wrist
+    text = ELBOW_ARM.replace("{name: q5, type: revolute, alpha: 90, a: 0,",
+                             f"{{name: q5, type: revolute, alpha: 90, a: {offset!r},")
+    r = parse_robot_text(text)
+    assert r.joints[4].a == offset
+    assert (plan(r)[1].name == "spherical-wrist") is wrist
+    assert (spherical_wrist(r) is not None) is wrist
