@@ -85,7 +85,7 @@ def halfway_is_better(least, half) -> np.ndarray:
     two roots move apart by the square root of a change, and its middle lies nearer it than
     either), or to ``INEXACT`` (rounding cannot tell one root from two there). The rule of
     the engine's double roots (:func:`kincalc.ik.near_miss.double_roots`) and of a
-    placement's (:func:`kincalc.ik.pieces.polish_points`).
+    placement's (:func:`kincalc.ik.point_polish.polish_points`).
 
     Returns
     -------

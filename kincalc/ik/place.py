@@ -45,8 +45,9 @@ from ..subproblems.sp3 import sp3_constants
 from ..subproblems.sp4 import ROUNDING, abc_constants, from_abc, shared_roots, sp4_constants
 from ..tolerances import FREE_REACH
 from .branches import TIE_BREAK, Branches
-from .pieces import (free_on_axis, free_on_placed_axis, hold_on_target_axis, polish_points,
-                     split_fold, turn_free_joint)
+from .pieces import (free_on_axis, free_on_placed_axis, hold_on_target_axis, split_fold,
+                     turn_free_joint)
+from .point_polish import polish_points
 from .resultant import common_root, eliminate, roots_in_c, samples
 from .screws import Screws
 from .worked import note_equation, note_quadratic, note_slide, note_turn

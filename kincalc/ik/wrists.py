@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..subproblems import sp1
-from ..subproblems.sp4 import sp4
+from ..subproblems.sp4 import coefficients, sp4
 from ..subproblems.cone import cone
 from ..subproblems.solutions import Solutions, cross, dot, pair
 from .branches import Branches
@@ -254,8 +254,7 @@ def band_arcs(h, w, k, cone) -> Band:
         ``q`` and holding one root of ``h . R(k, -q) w = C`` (elsewhere one arc holds both,
         or there is none).
     """
-    D = dot(h, k) * dot(k, w)
-    A, B = dot(h, w) - D, dot(h, cross(k, w))
+    A, B, D = coefficients(h, w, k)                                  # subproblem 4's
     R = np.hypot(A, B)
     r = 0.0 if cone.all_degenerate else cone.rr                       # (r = 0: rr holds 1)
     return Band(D, A, B, r, (cone.C - r > D - R + 1e-12) & (cone.C + r < D + R - 1e-12))

@@ -27,7 +27,8 @@ import numpy as np
 
 from ..tolerances import GEOMETRY_TOL
 from . import unit_pair
-from .solutions import Solutions, cross, dot, norm
+from .solutions import Solutions, norm
+from .sp4 import coefficients
 
 
 def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL,
@@ -67,10 +68,7 @@ def sp6(h, k, p, d1, d2, *, tol: float = GEOMETRY_TOL,
         broadcast.
     """
     h, k, p = np.broadcast_arrays(*(np.asarray(v, float) for v in (h, k, p)))
-    kp = dot(k, p)
-    a_cos = dot(h, p - kp[..., None] * k)
-    a_sin = dot(h, cross(k, p))
-    const = dot(h, k) * kp
+    a_cos, a_sin, const = coefficients(h, p, k)            # each term a subproblem 4's
     M = np.stack([np.stack([a_cos[..., 0], a_sin[..., 0], a_cos[..., 1], a_sin[..., 1]], -1),
                   np.stack([a_cos[..., 2], a_sin[..., 2], a_cos[..., 3], a_sin[..., 3]], -1)],
                  -2)
