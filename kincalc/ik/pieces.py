@@ -204,9 +204,10 @@ def hold_on_target_axis(S: Screws, joints, br: Branches, PT) -> tuple:
     """``(br, held)``: the first of the placing ``joints`` (a revolute one) free at 0 where
     the target ``PT (N, K, 3)`` lies on its axis (:func:`on_axis`: every value then places
     the point alike), and held there while the others are polished (``held (N, K, m)`` bool
-    for :func:`~kincalc.ik.point_polish.polish_points`, or None): a double root leaves the point before it off the
-    axis by the square root of rounding, and the polish would turn it at random to take up
-    that error (the engine's polish of a near miss holds a free joint too)."""
+    for :func:`~kincalc.ik.point_polish.polish_points`, or None): a double root leaves the
+    point before it off the axis by the square root of rounding, and the polish would turn
+    it at random to take up that error (the engine's polish of a near miss holds a free
+    joint too)."""
     a = joints[0]
     if not S.revolute[a]:
         return br, None
