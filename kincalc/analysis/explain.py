@@ -134,6 +134,11 @@ def _cosine_step(q, what, pivot, value, q_value, units) -> str:
             return f"{head} -> {q} = ±{root}: {got}"
         # A < 0: atan2(B, A) + acos((t - C) / |A|), the + branch of the labels, is -acos(c)
         return f"{head} -> {q} = ∓{root} (the + branch is -{root}): {got}"
+    if A == 0 and B == 0:              # the joint's axis holds the point: it moves nothing
+        every = abs(t - C) <= 1e-9 * max(big, 1e-300)
+        return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> A = B = 0: {q} leaves t "
+                + (f"as it is, and t = C: every {q} solves it ({q} free): {got}" if every
+                   else f"as it is, and t is not C: no {q} solves it: {got}"))
     r = np.hypot(A, B)
     c = (t - C) / r
     return (f"{_terms(A, B, C, q)} = t = {_n(t)} (t: {lhs}) -> "
@@ -164,6 +169,11 @@ def _quadratic_step(d, what, pivot, value, d_value, units) -> str:
     lead = lambda x, w: {"1": "", "-1": "-"}.get(_n(x), _n(x) + " ") + w  # noqa: E731
     more = lambda x, w: (f" {'-' if x < 0 else '+'} {_n(abs(x))}{w}"  # noqa: E731
                          if x != 0.0 else "")
+    if A == 0.0 and B == 0.0:          # the slide moves the point along the axis
+        every = abs(t - C) <= 1e-9 * max(big, 1e-300)
+        return (f"{_n(C)} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> {d} leaves t as it is, "
+                + (f"and t = C: every {d} solves it ({d} free): {got}" if every
+                   else f"and t is not C: no {d} solves it: {got}"))
     if A == 0.0:
         return (f"{lead(B, d)}{more(C, '')} = t = {_n(t)} (t: {_lhs(what, pivot)}) -> "
                 f"{d} = (t - C) / B: {got}")

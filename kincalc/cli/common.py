@@ -206,6 +206,17 @@ def value_tokens(text: str, option: str) -> list[str]:
     return [t for part in tokens for t in part]
 
 
+def refuse_unknown_option(token) -> None:
+    """Refuse, as click would, a token of a command's free values (its joint values, which
+    may be negative) that is no number but looks like an option (``--frobnicate``)."""
+    if isinstance(token, str) and token.startswith("-"):
+        try:
+            parse_decimal(token.strip())
+        except ValueError:
+            raise UsageError(f"no such option: {token}{_suggest_option(token)}"
+                             f" (see '{_command_path()} --help')") from None
+
+
 def parse_joints(tokens: list[str] | None, robot, units, option: str | None = None):
     """Joint values from the command line, converted to SI; home when none are given as
     Q arguments.
@@ -222,9 +233,7 @@ def parse_joints(tokens: list[str] | None, robot, units, option: str | None = No
         try:
             values.append(parse_decimal(tok.strip()))
         except ValueError:
-            if tok.startswith("-"):
-                raise UsageError(f"no such option: {tok}{_suggest_option(tok)}"
-                                 f" (see '{_command_path()} --help')") from None
+            refuse_unknown_option(tok)
             raise InputError(f"{where}joint value {tok!r} is not a number") from None
     if len(values) != robot.dof:
         raise InputError(f"{where}{robot.name} has {robot.dof} joints "

@@ -1132,3 +1132,19 @@ def test_a_records_digits_do_not_depend_on_the_records_read_with_it(command, tmp
     else:                       # (the single command's 12 decimals, the batch's 12 digits)
         assert np.allclose(sorted(s["q"] for s in single["solutions"]),
                            sorted(s["q"] for s in together[0]["solutions"]), atol=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["fk", "jacobian"])
+@pytest.mark.parametrize("extra", [["--frobnicate"], ["--lock", "A3=30"]])
+def test_an_unknown_option_with_batch_is_named(tmp_path, capsys, kind, extra):
+    """An unknown option after ``--batch`` is refused as one, not as joint values given
+    with the batch (fk and jacobian take their joint values, which may be negative, as
+    free tokens; a fuzz campaign's finding); joint values themselves still get the batch's
+    refusal."""
+    src = tmp_path / "q.jsonl"
+    src.write_text('{"q": [0, 0, 0, 0, 0, 0]}\n')
+    status, out, err = run(capsys, kind, "puma560", "--batch", str(src), *extra)
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and f"no such option: {extra[0]}" in err, err
+    status, out, err = run(capsys, kind, "puma560", "--batch", str(src), "0", "-45")
+    assert status == 2 and "do not give joint values" in err, err

@@ -1620,3 +1620,28 @@ def test_a_kind_that_is_no_text_is_an_invalid_sheet(kind, shown, answer):
         parse_sheet(text, "hw.yaml", ".")
     assert info.value.line == 5 and "'kind' must be one of" in str(info.value)
     assert str(info.value).endswith(f"not {shown}")
+
+
+@pytest.mark.parametrize("name", ["../secret.yaml", "link.yaml", "linkdir/arm.yaml",
+                                  "sub/../../secret.yaml", "/etc/passwd",
+                                  "{TMP}/secret.yaml", "{TMP}/outside/arm.yaml"])
+def test_nothing_outside_the_folder_is_asked_about(folders, name, monkeypatch):
+    """A robot path that leads out is refused before the file system is asked anything
+    about where it leads (no lstat or stat of the file, of a folder on the way to it, or
+    of a link's target): only the sheet's folder, the folders above it, and the links in it
+    are looked at. (os.path.realpath of the name itself looked at /etc/passwd; a fuzz
+    campaign's strace.)"""
+    name = name.replace("{TMP}", str(folders.parent))
+    asked = []
+    for fn in ("lstat", "stat"):
+        real = getattr(os, fn)
+        monkeypatch.setattr(os, fn, lambda p, *a, _real=real, **k: (
+            asked.append(os.fsdecode(p)), _real(p, *a, **k))[1])
+    with pytest.raises(InputError, match="is outside the sheet's folder"):
+        sheet_robot_path(name, str(folders))
+    root = str(folders.resolve())
+    for p in asked:
+        p = os.path.abspath(p)
+        assert p == root or p.startswith(root + os.sep) or root.startswith(p.rstrip(os.sep)
+                                                                           + os.sep) \
+            or p == os.sep, (name, p)

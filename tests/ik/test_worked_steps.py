@@ -225,3 +225,21 @@ def test_a_scaras_roll_is_a_step():
         want = f"theta4 = {float(wrap(s.q[3])) * 180 / np.pi:.6g}°"
         assert steps[3]["text"].startswith("theta4 = atan2(u2, u1) - atan2(e2, e1) = ")
         assert want in steps[3]["text"], (want, steps[3]["text"])
+
+
+def test_a_joint_whose_axis_holds_the_point_is_said_to_be_free():
+    """Two joints, the second's axis through the tool point (a = 0 after it): its step is
+    ``0 cos q2 + 0 sin q2 + 0 = t``, which every q2 solves. It once read ``0° ± nan°``
+    (acos of 0 / 0), in the table and in the JSON trace (a fuzz campaign's finding)."""
+    from kincalc import parse_robot_text
+    r = parse_robot_text("name: min\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                         "  - {name: j1, type: revolute, alpha: 0, a: 1, d: 0, theta: 0}\n"
+                         "  - {name: j2, type: revolute, alpha: 0, a: 0, d: 0, theta: 0}\n")
+    T = np.eye(4)
+    T[0, 3] = 1.0
+    res = solve(r, Target(T, orientation=False), explain=True)
+    assert len(res.solutions) == 1 and res.solutions[0].free == (1,)
+    text = " ".join(e["text"] for e in worked_steps(r, res.solutions[0], T, Units("deg", "m"),
+                                                    res.family))
+    assert "nan" not in text.lower()
+    assert "every j2 solves it (j2 free)" in text

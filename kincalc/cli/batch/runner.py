@@ -58,6 +58,10 @@ def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given
     import typer
 
     from ...errors import UsageError
+    from ..common import refuse_unknown_option
+    for v in given:
+        for token in v or ():
+            refuse_unknown_option(token)
     if any(v is not None and len(v) for v in given):
         raise UsageError("--batch reads its input from a file; do not give "
                          f"{'pose options' if kind in ('ik', 'reach') else 'joint values'} too")

@@ -83,8 +83,9 @@ def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
         raise InputError(f"robot {q} is not a file name")
     bases = [*robots_dirs, folder]
     roots = [os.path.realpath(b) for b in bases]
-    candidates = [name] if os.path.isabs(name) else [os.path.join(b, name) for b in bases]
-    inside = [c for c in candidates if _within(os.path.realpath(c), roots)]
+    candidates = [(name, os.sep)] if os.path.isabs(name) else \
+        [(os.path.join(b, name), r) for b, r in zip(bases, roots)]
+    inside = [c for c, start in candidates if _real_inside(start, name, roots) is not None]
     for c in inside:
         if os.path.isfile(c):
             return c
@@ -109,6 +110,40 @@ def sheet_robot_path(name: str, folder: str, robots_dirs=()) -> str:
 def _within(path: str, roots) -> bool:
     """Whether the real path ``path`` is one of the real paths ``roots`` or inside one."""
     return any(path == r or path.startswith(r.rstrip(os.sep) + os.sep) for r in roots)
+
+
+#: symbolic links followed at most in one sheet's robot path (the kernel's own bound)
+_MAX_LINKS = 40
+
+
+def _real_inside(start: str, path: str, roots) -> str | None:
+    """The real path of ``path`` taken from the real folder ``start``, or None where it leads
+    out of the real paths ``roots``: :func:`os.path.realpath`'s walk, component by component,
+    except that nothing outside ``roots`` is asked about (an ancestor of a root is a real
+    folder already; a component outside every root ends the walk without a look at it)."""
+    todo = [c for c in path.split(os.sep) if c not in ("", ".")][::-1]
+    here, links = start, 0
+    while todo:
+        part = todo.pop()
+        if part == "..":
+            here = os.path.dirname(here)
+            continue
+        nxt = os.path.join(here, part)
+        if any(r == nxt or r.startswith(nxt.rstrip(os.sep) + os.sep) for r in roots):
+            here = nxt                                # on the way to a root: real already
+            continue
+        if not _within(nxt, roots):
+            return None
+        if not os.path.islink(nxt):
+            here = nxt
+            continue
+        links += 1
+        if links > _MAX_LINKS:
+            return None
+        target = os.readlink(nxt)
+        todo += [c for c in target.split(os.sep) if c not in ("", ".")][::-1]
+        here = os.sep if os.path.isabs(target) else here
+    return here if _within(here, roots) else None
 
 
 class _SheetReader(AnswerReader, Reader):
