@@ -419,7 +419,13 @@ def _classify_5(S: Screws, point_tol: float, par: float) -> Family | None:
                       "for joints 2 and 3, joint 5 from the orientation",
                       "position, the approach direction within the arm's plane, and the roll "
                       "about it", True, structure=(("parallel", (1, 2, 3)), ("roll", (4,))))
-    return None if pair else _wrist_pair(S, point_tol)
+    if pair:
+        return None
+    fam = _wrist_pair(S, point_tol)
+    if fam is None and c is not None and S.revolute.all():
+        # axes 1-3 cannot place c alone (parallel, or through one point): a turn to spare
+        fam = _shoulder_5(S, c, tol, par, on_approach=False)
+    return fam
 
 
 def _wrist_pair(S: Screws, point_tol: float) -> Family | None:
@@ -440,28 +446,32 @@ def _wrist_pair(S: Screws, point_tol: float) -> Family | None:
                   structure=(("meet", (3, 4)),))
 
 
-def _shoulder_5(S: Screws, c, tol: float, par: float) -> Family | None:
-    """Five revolute joints, axes 4 and 5 meeting at ``c`` on the approach line, axes 1-3
+def _shoulder_5(S: Screws, c, tol: float, par: float, on_approach: bool = True
+                ) -> Family | None:
+    """Five revolute joints, axes 4 and 5 meeting at ``c`` (on the approach line, or
+    ``on_approach`` False: elsewhere in the tool, or with the approach along axis 5), axes 1-3
     parallel (a plane) or through one point (a sphere): the shoulder places ``c`` with a turn
     to spare, which a whole pose's orientation decides."""
     h = S.axis[0]
+    where, meet = ("on the tool's approach line", "meet-approach") if on_approach else \
+        ("at a point the tool carries", "meet")
     if _parallel(h, S.axis[1], par) and _parallel(h, S.axis[2], par) \
             and not _parallel(h, S.axis[3], par):
         return Family("planar-shoulder",
-                      "five joints, axes 1-3 parallel and axes 4 and 5 meeting on the tool's "
-                      "approach line: joint 4 from the height of axis 5 (subproblem 4), the "
+                      f"five joints, axes 1-3 parallel and axes 4 and 5 meeting {where}: "
+                      "joint 4 from the height of axis 5 (subproblem 4), the "
                       "planar arm's turn and joint 5 from the orientation (subproblem 1), "
                       "joints 1 and 2 place axis 3, joint 3 completes the turn",
                       "position and orientation (the poses five joints reach)", True,
-                      structure=(("parallel", (0, 1, 2)), ("meet-approach", (3, 4))))
+                      structure=(("parallel", (0, 1, 2)), (meet, (3, 4))))
     o = common_point(S.point[:3], S.axis[:3], tol)
     if o is not None and float(np.linalg.norm(c - o)) > tol:
         return Family("spherical-shoulder",
-                      "five joints, axes 1-3 meeting at one point and axes 4 and 5 meeting on "
-                      "the tool's approach line: joints 4 and 5 turn the wrist point into the "
+                      f"five joints, axes 1-3 meeting at one point and axes 4 and 5 meeting "
+                      f"{where}: joints 4 and 5 turn the wrist point into the "
                       "pose's frame (subproblem 2), the shoulder takes the orientation left",
                       "position and orientation (the poses five joints reach)", True,
-                      structure=(("meet", (0, 1, 2)), ("meet-approach", (3, 4))))
+                      structure=(("meet", (0, 1, 2)), (meet, (3, 4))))
     return None
 
 

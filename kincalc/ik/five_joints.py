@@ -72,9 +72,15 @@ def wrist_pair(S: Screws, targets, br: Branches) -> Branches:
     -------
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
-    col = S.constant("tool axis across axis 5",
-                     lambda: int(np.argmin(np.abs(S.M[:3, :3].T @ S.axis[4]))))
+    col = _across_axis_5(S)
     return _point_then_pair(S, targets, br, S.M[:3, col], targets.T[:, :3, col])
+
+
+def _across_axis_5(S: Screws) -> int:
+    """The tool's axis (a column of its rotation at q = 0) farthest from axis 5: a direction
+    joint 5 turns, which a whole pose fixes (the approach may lie along axis 5)."""
+    return S.constant("tool axis across axis 5",
+                      lambda: int(np.argmin(np.abs(S.M[:3, :3].T @ S.axis[4]))))
 
 
 def _point_then_pair(S: Screws, targets, br: Branches, a0, a) -> Branches:
@@ -274,14 +280,15 @@ def _wrist_pair_point(S: Screws, targets, a):
 
 def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     """Five revolute joints, axes 1-3 parallel (direction ``h``), axes 4 and 5 meeting at a
-    point ``c`` of the approach line; a whole pose.
+    point ``c`` the tool carries (on its approach line, or off it, or with the approach along
+    axis 5); a whole pose.
 
     The three parallel joints turn the arm by ``psi = q1 + s2 q2 + s3 q3`` about h (``s_i``
     the sign of axis i along h), so ``R_h(psi) R4 R5 = R_t``. Joint 4 from the height of
     axis 5 along h, ``h . R4 k5 = h . R_t k5`` (subproblem 4); psi turns ``R4 k5`` onto ``R_t
-    k5``, joint 5 turns ``a0`` onto ``R4^T R_h(-psi) R_t a0`` (subproblem 1 each). Joints 1
-    and 2 then place axis 3's point ``o3`` where ``c_t - R_h(psi) (c0 - o3)`` needs it, and
-    joint 3 completes psi. Up to 4 solutions.
+    k5``, joint 5 turns ``a0`` (the tool's axis farthest from axis 5) onto ``R4^T R_h(-psi)
+    R_t a0`` (subproblem 1 each). Joints 1 and 2 then place axis 3's point ``o3`` where
+    ``c_t - R_h(psi) (c0 - o3)`` needs it, and joint 3 completes psi. Up to 4 solutions.
 
     Where joint 4 turns axis 5 along h (a singular pose), joints 1, 2, 3 and 5 turn about
     parallel axes and only ``psi + sigma q5`` is fixed: joint 5 takes the representatives of
@@ -300,7 +307,8 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     Branches, every joint solved: the candidates, which the engine checks by FK
     """
     T = targets.T
-    h, k4, k5, a0, o3 = S.axis[0], S.axis[3], S.axis[4], S.M[:3, 2], S.point[2]
+    h, k4, k5, o3 = S.axis[0], S.axis[3], S.axis[4], S.point[2]
+    a0 = S.M[:3, _across_axis_5(S)]
     s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
     c0, ct = _wrist_pair_point(S, targets, T[:, :3, 2])
     Rt = target_rotation(S, T)
@@ -353,7 +361,7 @@ def _fifth(S: Screws, br: Branches, Rt, k5t, ct, c0, psi, q5):
 
 def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     """Five revolute joints, axes 1-3 meeting at a point ``O`` (a spherical shoulder), axes 4
-    and 5 meeting at a point ``c`` of the approach line; a whole pose.
+    and 5 meeting at a point ``c`` the tool carries; a whole pose.
 
     The shoulder's rotation ``R123 = R_t (R4 R5)^T`` takes ``c0 - O`` to ``c_t - O``, so
     ``R4 R5 u = c0 - O`` with ``u = R_t^T (c_t - O)`` (subproblem 2), and the shoulder takes

@@ -233,13 +233,17 @@ def test_approach_of_a_three_joint_wrist_on_two_arcs():
     assert pieces > 0                    # the case of two arcs was met
 
 
+@pytest.mark.parametrize("tool", ["approach", "sideways", "rolling"])
 @pytest.mark.parametrize("shoulder", ["parallel", "concurrent"])
-def test_three_placing_axes_with_a_turn_to_spare(shoulder):
+def test_three_placing_axes_with_a_turn_to_spare(shoulder, tool):
     """Axes 1-3 parallel (a plane) or through one point (a sphere) place the wrist point with
     a turn to spare, which the orientation decides (two of the campaign's arms answered "no
     solution" for every pose they reach, the next version solved them numerically, one
     solution of up to four). Every solution Gauss-Newton finds from 150 random starts is
-    among kincalc's, and kincalc's reach the pose."""
+    among kincalc's, and kincalc's reach the pose. The point where axes 4 and 5 meet lies on
+    the tool's approach line, or off it (a tool carried sideways), or the approach lies along
+    axis 5 (joint 5 rolls the tool; an independent campaign's planar arm with a pitch and a
+    roll, which was solved numerically, one solution)."""
     rng = np.random.default_rng(51)
     for _ in range(3):
         if shoulder == "parallel":
@@ -248,11 +252,15 @@ def test_three_placing_axes_with_a_turn_to_spare(shoulder):
         else:
             rows = [(rng.uniform(.3, 2.8), 0.0, 0.0), (np.pi / 2, 0.0, 0.0),
                     (rng.uniform(.3, 2.8), rng.uniform(.1, .3), 0.0)]
-        rows += [(rng.uniform(.3, 2.8), 0.0, rng.uniform(.1, .3)), (np.pi / 2, 0.0, 0.0)]
+        rows += [(rng.uniform(.3, 2.8), 0.0, rng.uniform(.1, .3)),
+                 (0.0 if tool == "rolling" else np.pi / 2, 0.0, 0.0)]
         joints = tuple(Joint(f"q{i + 1}", "revolute", alpha=al, a=a, d=d,
                              theta=rng.uniform(-3, 3)) for i, (al, a, d) in enumerate(rows))
-        r = Robot(name="five", convention="dh", joints=joints,
-                  tool=transform(rot_z(0.4), [0, 0, 0.1]))
+        r = Robot(name="five", convention="dh", joints=joints, tool={
+            "approach": transform(rot_z(0.4), [0, 0, 0.1]),
+            "sideways": transform(matrix_from_rpy(rng.uniform(-3, 3, 3)),
+                                  rng.uniform(-.2, .2, 3)),
+            "rolling": transform(rot_z(0.4), [0, 0, 0.1])}[tool])
         assert plan(r)[1].name == {"parallel": "planar-shoulder",
                                    "concurrent": "spherical-shoulder"}[shoulder]
         for q in sample_configurations(r, 4, rng):
