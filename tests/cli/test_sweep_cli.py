@@ -77,11 +77,33 @@ def test_more_bad_sweeps():
                          "the same value"),
                         (["iiwa14", "--from-q", Q0, "--sweep", "3", "--format", "csv", "--json"],
                          "--json and --format csv"),
-                        # (a UR arm's joints 2-6: three parallel axes place the wrist point
-                        # with a turn to spare, a five-joint structure with no closed form)
-                        (["ur5", "--from-q", "10 20 30 40 50 60", "--sweep", "1", "--steps",
-                          "5"], "no closed form covers")):
+                        # (a general 6R arm's joints 1-4 and 6: no structure)
+                        (["manocha_canny_6r", "--from-q", "10 20 30 40 50 60", "--sweep", "5",
+                          "--from", "0", "--to", "20"], "no closed form covers")):
         status, out, err = run_cli(["ik", *argv])
         assert status == 2 and words in err and err.count("\n") == 1, (argv, err)
     status, out, err = run_cli(["selftest", "puma560", "--lock-joint", "1"])
     assert status == 2 and "redundant arms" in err
+
+
+def test_a_ur_arm_held_at_its_first_joint_is_solved_in_closed_form():
+    """A UR arm's joints 2-6 (three parallel axes placing the point where axes 5 and 6 meet,
+    with a turn to spare: the planar shoulder, that point off the tool's approach line) were
+    refused as having no closed form. Held at q1 = 10 deg a pose FK gave from q1 = 10 deg has
+    the UR5's solutions with that q1: four, each reaching the pose; at 0 and 20 deg none
+    (five joints reach a pose only where the held joint lets them)."""
+    import numpy as np
+
+    from kincalc import load_robot
+    r = load_robot("ur5")
+    q0 = np.radians([10, 20, 30, 40, 50, 60])
+    status, out, err = run_cli(["ik", "ur5", "--from-q", "10 20 30 40 50 60", "--sweep", "1",
+                                "--from", "0", "--to", "20", "--steps", "3", "--json"])
+    assert status == 0, err
+    points = {p["value"]: p["solutions"] for p in json.loads(out)["points"]}
+    assert points[0.0] == [] and points[20.0] == []
+    sols = points[10.0]
+    assert len(sols) == 4 and len({s["label"] for s in sols}) == 4
+    for s in sols:
+        assert np.abs(r.fk(np.radians(s["q"])) - r.fk(q0)).max() < 1e-9
+    assert any(np.allclose(s["q"], np.degrees(q0), atol=1e-9) for s in sols)
