@@ -26,7 +26,7 @@ from ..subproblems.sp4 import coefficients, sp4
 from ..subproblems.cone import cone
 from ..subproblems.solutions import Solutions, cross, dot, pair
 from .branches import Branches
-from .pieces import axis_cone, axis_normal, normal_sp1, one_root, rotate
+from .pieces import axis_cone, axis_normal, normal_sp1, one_root, rotate, rotate_back
 from ..spatial import wrap
 from ..tolerances import ACCEPT_POSITION, ROUNDED_POSE
 from .screws import Screws
@@ -146,6 +146,11 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
             if S.revolute[j] and br.free_in((j,)):
                 br = free_for_the_wrist(S, br, joints[0], axis_cone(S, *joints),
                                         rotate(Rt, k), before, j)
+    if after and br.free_in(after):             # (rare: a wrist at the base, after it free)
+        for j in after:
+            if S.revolute[j] and br.free_in((j,)):
+                br = free_for_the_wrist(S, br, joints[0], axis_cone(S, *joints), k, after, j,
+                                        along=rotate_back(Rt, S.axis[joints[0]]))
     vw = np.empty(br.ok.shape + (2, 3))
     if after:
         vw[...] = ke.T
@@ -156,7 +161,8 @@ def spherical_taking(S: Screws, br: Branches, joints, Rt, before=(), after=()) -
     return spherical(S, br, joints, vw[..., 0, :], vw[..., 1, :])
 
 
-def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int) -> Branches:
+def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int,
+                       along=None) -> Branches:
     """``br`` with joint ``j`` of ``before``, where a singular target left it free (the
     wrist centre on its axis: any value places the centre), turned so that the wrist can
     point its vector where the target asks.
@@ -185,6 +191,12 @@ def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int
     u : ndarray (N, 1 or K, 3), the direction the target asks of the vector (world frame)
     before : tuple of int, the joints before the wrist (0-based, in chain order)
     j : int, the free revolute joint of ``before``
+    along : ndarray (N, 1 or K, 3), optional
+        For a free joint *after* the wrist (a wrist at the base): ``R_t^T k1``, the
+        direction the wrist's reach is measured along with the target's rotation undone;
+        ``u`` is then the wrist's own vector at q = 0 and ``before`` the joints after the
+        wrist (``k1 . R_t R_after^T u``, the same form with the roles of the two sides
+        exchanged).
 
     Returns
     -------
@@ -193,7 +205,7 @@ def free_for_the_wrist(S: Screws, br: Branches, j1: int, cone, u, before, j: int
     k1, kj = S.axis[j1], S.axis[j]
     at = list(before).index(j)
     w = undo(S, br, before[:at], np.broadcast_to(u, br.ok.shape + (3,)))   # before j undone
-    h = np.broadcast_to(k1, w.shape)
+    h = np.broadcast_to(k1 if along is None else along, w.shape)
     for i in reversed(before[at + 1:]):                                # R_after k1
         if S.revolute[i]:
             h = S.turn(i, br.cos[i], br.sin[i], h)

@@ -340,3 +340,60 @@ def test_planar_shoulder_singular_continuum_holds_the_generating_joints():
             followed += 1
             other += all("other arc" in s.branch for s in reached)
     assert followed == 32 and other > 0              # the second arc was met
+
+
+def _normed(v):
+    return np.asarray(v, float) / np.linalg.norm(v)
+
+
+@pytest.mark.parametrize("tool", ["approach", "sideways", "rolling"])
+def test_spherical_shoulder_with_axis_5_through_the_shoulder_point(tool):
+    """Axes 1-3 through O, axes 4 and 5 through c, and joint 4 at the value that turns axis 5
+    through O (built in poe: axis 5 at q = 0 is the line c-O turned back about axis 4 by
+    that value). Joint 5 then turns nothing the shoulder cannot undo: a curve of solutions,
+    joint 5 free and joints 1-3 following, joint 4 fixed. An independent campaign found no
+    solution for such poses of arms whose tool is off the approach line or rolled by joint 5
+    (joint 5's representative 0 asked the shoulder for a turn out of its reach), and joint 4
+    named free (with joint 5) for the others. Now joint 5 alone is free, turned into the
+    shoulder's reach, and the generating joints lie on the curve of a representative (joint
+    5 moved to its value, joints 1-3 kept on the pose by Gauss-Newton)."""
+    rng = np.random.default_rng(97)
+    checked = 0
+    while checked < 8:
+        O = np.zeros(3)
+        c = rng.uniform(-.4, .4, 3)
+        k4 = _normed(rng.normal(size=3))
+        t4 = rng.uniform(-3, 3)
+        k5 = matrix_from_axis_angle(k4, -t4) @ _normed(O - c)
+        axes = [_normed(rng.normal(size=3)) for _ in range(3)] + [k4, k5]
+        points = [O, O, O, c, c]
+        if tool == "rolling":
+            z = k5
+            x = _normed(np.cross(z, rng.normal(size=3)))
+            M = transform(np.column_stack([x, np.cross(z, x), z]), c + 0.15 * k5)
+        elif tool == "approach":
+            z = _normed(rng.normal(size=3))
+            x = _normed(np.cross(z, rng.normal(size=3)))
+            M = transform(np.column_stack([x, np.cross(z, x), z]), c + 0.1 * z)
+        else:
+            M = transform(matrix_from_rpy(rng.uniform(-3, 3, 3)), rng.uniform(-.4, .4, 3))
+        r = Robot(name="five", convention="poe", M=M, joints=tuple(
+            Joint(f"q{i + 1}", "revolute", axis=k, point=p)
+            for i, (k, p) in enumerate(zip(axes, points))))
+        if plan(r)[1].name != "spherical-shoulder":
+            continue
+        q = rng.uniform(-np.pi, np.pi, 5)
+        q[3] = t4
+        T = r.fk(q)
+        sols = solve(r, Target(T)).solutions
+        assert sols, np.degrees(q)
+        for s in sols:
+            assert _reaches(r, s, T) and s.singular and s.free == (4,)
+            assert abs(wrap(s.q[3] - t4)) < 1e-9
+
+        def miss(x):
+            return (r.fk(x) - T)[:3].ravel()
+        assert any(follow_joint(miss, s.q, 4, q[4], way, (0, 1, 2)) is not None and
+                   _same(r, follow_joint(miss, s.q, 4, q[4], way, (0, 1, 2)), q)
+                   for s in sols for way in (1, -1)), np.degrees(q)
+        checked += 1
