@@ -141,8 +141,10 @@ MOVES = 1e-5
 
 #: a point a double root of subproblem 4 leaves within this (of the arm's size) of an axis is
 #: folded through it (kincalc.ik.pieces.split_fold): the band of the tangent (ROUNDING) moves
-#: it by up to ~2e-7
-FOLD_NEAR_AXIS = 1e-6
+#: it by up to ~2e-7, which turns the joint about that axis by 2e-7 / its distance, 2e-4
+#: rad 1e-3 from it (a planar arm of links equal to 1e-4, 1e-7 rad from folded: its two
+#: elbows 2e-3 rad apart in joint 1)
+FOLD_NEAR_AXIS = 1e-3
 
 #: a three-parallel-offset arm (kincalc.ik.solvers): subproblem 6's roots for joints 1 and 5
 #: with axis 6 within this sine of the parallel axes are sharpened by Newton's method on the

@@ -323,6 +323,40 @@ def test_planar_arm_of_equal_links_a_hair_from_folded_onto_its_first_axis(eps):
         assert not any(s.free for s in res.solutions)
 
 
+@pytest.mark.parametrize("eps", [1e-6, 1e-7])
+def test_planar_arm_of_nearly_equal_links_a_hair_from_folded(eps):
+    """Links 1 and 1 - 1e-4 (a planar 3R arm, a whole planar pose), q2 = +-(180 deg - eps):
+    the point on axis 3 lies about 1e-4 off axis 1, so the elbow's two roots, 2 eps apart,
+    take joint 1 some 2 eps / 1e-4 apart. Joint 2's cosine within rounding of -1 was taken
+    as one double root, and the split that answers a double root folding the point onto
+    axis 1 held only within 1e-6 of the arm's size of it: one solution, the other elbow
+    (4e-3 rad away at 1e-6) lost (an independent campaign's planar-shoulder arm with a1 ~
+    a2). Both are found, each reaching the pose: the generating joints and the other elbow
+    by the plane's triangle (q2' = -q2, q1' = atan2(p) - atan2(l2 sin q2', l1 + l2 cos q2'),
+    q3' completing the turn)."""
+    from kincalc.model import Joint, Robot
+    l1, l2 = 1.0, 1.0 - 1e-4
+    r = Robot(name="nearly equal", convention="dh", joints=tuple(
+        Joint(f"q{i + 1}", "revolute", alpha=0.0, a=a, d=0.0, theta=0.0)
+        for i, a in enumerate((l1, l2, 0.3))))
+    rng = np.random.default_rng(29)
+    for _ in range(4):
+        q = np.array([rng.uniform(-np.pi, np.pi), rng.choice([-1.0, 1.0]) * (np.pi - eps),
+                      rng.uniform(-np.pi, np.pi)])
+        T = r.fk(q)
+        res, sols = _solved(r, T)
+        assert len(sols) == 2, (np.rad2deg(q), res.reason)
+        assert _reaches(r, sols, T).all()
+        p = np.array([l1 * np.cos(q[0]) + l2 * np.cos(q[0] + q[1]),
+                      l1 * np.sin(q[0]) + l2 * np.sin(q[0] + q[1])])
+        q2 = -q[1]
+        q1 = np.arctan2(p[1], p[0]) - np.arctan2(l2 * np.sin(q2), l1 + l2 * np.cos(q2))
+        other = np.array([q1, q2, q.sum() - q1 - q2])
+        assert _distance(r, other, q) > 1e-3          # the elbows, far apart in joint 1
+        for root in (q, other):
+            assert _distance(r, sols, root).min() <= 1e-6, np.rad2deg(root)
+
+
 def test_planar_arm_of_equal_links_folded_within_the_acceptance_leaves_joint_1_free():
     # 1e-10 rad from folded: the point 5e-11 m from axis 1, within the acceptance: one
     # representative of the continuum, joint 1 free
