@@ -301,6 +301,12 @@ def test_bk_6r_a_hair_from_its_wrist_centre_on_axis_2_and_q5_180():
     assert all(1 in s.free for s in res.solutions)
 
 
+def _a_hair_from_folded(rng, eps):
+    """Joints ``(3,)`` of a planar 3R arm: q1 and q3 at random, q2 = +-(180 deg - eps)."""
+    return np.array([rng.uniform(-np.pi, np.pi), rng.choice([-1.0, 1.0]) * (np.pi - eps),
+                     rng.uniform(-np.pi, np.pi)])
+
+
 @pytest.mark.parametrize("eps", [1e-6, 1e-7, 1e-8])
 def test_planar_arm_of_equal_links_a_hair_from_folded_onto_its_first_axis(eps):
     """craig_3r (L1 = L2) with q2 = +-(180 deg - eps): the point on axis 3 lies eps L1 off
@@ -312,8 +318,7 @@ def test_planar_arm_of_equal_links_a_hair_from_folded_onto_its_first_axis(eps):
     r = kincalc.load_robot("craig_3r")
     rng = np.random.default_rng(16)
     for _ in range(6):
-        q = np.array([rng.uniform(-np.pi, np.pi), rng.choice([-1.0, 1.0]) * (np.pi - eps),
-                      rng.uniform(-np.pi, np.pi)])
+        q = _a_hair_from_folded(rng, eps)
         T = r.fk(q)
         res, sols = _solved(r, T)
         mirror = np.array([q[0] + q[1], -q[1], q[1] + q[2]])
@@ -341,8 +346,7 @@ def test_planar_arm_of_nearly_equal_links_a_hair_from_folded(eps):
         for i, a in enumerate((l1, l2, 0.3))))
     rng = np.random.default_rng(29)
     for _ in range(4):
-        q = np.array([rng.uniform(-np.pi, np.pi), rng.choice([-1.0, 1.0]) * (np.pi - eps),
-                      rng.uniform(-np.pi, np.pi)])
+        q = _a_hair_from_folded(rng, eps)
         T = r.fk(q)
         res, sols = _solved(r, T)
         assert len(sols) == 2, (np.rad2deg(q), res.reason)
