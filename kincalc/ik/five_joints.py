@@ -23,7 +23,8 @@ from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_normal, axis_sp4, closing_turn, meeting_point, one_root,
-                     rotate, rotate_back, target_rotation, tool_point, turn_onto)
+                     rotate, rotate_back, senses_along, target_rotation, tool_point,
+                     turn_onto)
 from .place import place, plan as placement
 from .screws import Screws
 from .wrists import band_arcs, free_for_the_wrist, parallel_wrist_q6, spherical_taking, undo
@@ -310,7 +311,6 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     T = targets.T
     h, k4, k5, o3 = S.axis[0], S.axis[3], S.axis[4], S.point[2]
     a0 = S.M[:3, _across_axis_5(S)]
-    s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
     c0, ct = _wrist_pair_point(S, targets, T[:, :3, 2])
     Rt = target_rotation(S, T)
     u, at = rotate(Rt, k5), rotate(Rt, a0)                                      # (N, 1, 3)
@@ -323,7 +323,7 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     br = br.with_extra("psi", psi, *(() if sigma is None else ("sigma", sigma)))
     cp, sp = np.cos(br.extra["psi"]), np.sin(br.extra["psi"])
     br = place(S, br, (0, 1), o3, br.take(ct) - S.turn(0, cp, sp, c0 - o3), what="axis 3")
-    return closing_turn(br, (0, 1, 2), (1.0, s2, s3), 4)
+    return closing_turn(br, (0, 1, 2), senses_along(S, (0, 1, 2)), 4)
 
 
 def _fifth(S: Screws, br: Branches, Rt, k5t, ct, c0, psi, q5):

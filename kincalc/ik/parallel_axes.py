@@ -21,8 +21,8 @@ from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import SHARPEN_NEAR_PARALLEL, SNAP_PARALLEL
 from .branches import Branches
 from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, closing_turn,
-                     inverse_home, meeting_point, rotate, rotate_back, target_rotation,
-                     tool_point, turn_onto)
+                     inverse_home, meeting_point, rotate, rotate_back, senses_along,
+                     target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .wrists import NEAR_ALIGNED, free_for_the_wrist, into_elbow_reach, parallel_wrist_q6
@@ -95,7 +95,7 @@ def _elbow_about_h(S: Screws, T, br: Branches, Rt, sigma) -> Branches:
     """The last step of a three-parallel arm, joints 1, 5 and 6 set: the angle of joints 2-4
     about h (subproblem 1), joints 2 and 3 placing axis 4, joint 4 closing the sum; the sum
     kept as the continuum where joint 6 is free (see :func:`three_parallel`)."""
-    h, o1 = S.axis[1], S.point[0]
+    o1 = S.point[0]
     # joints 2 + 3 + 4 about h: R234 e = R1^T R_t R6^T R5^T e; where joints 2, 3 put
     # axis 4's point: E1^-1 T M^-1 E6^-1 E5^-1 (p4)
     r, p4 = _undo_56(S, br, 1)
@@ -107,9 +107,7 @@ def _elbow_about_h(S: Screws, T, br: Branches, Rt, sigma) -> Branches:
     p4 = o1 + x[..., 1, :]
     br = br.with_extra("psi", psi, *_carried(sigma))
     br = place(S, br, (1, 2), S.point[3], p4, what="axis 4")
-    s3, s4 = S.constant("axes 3, 4 along h", lambda: tuple(
-        1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in (2, 3)))
-    return closing_turn(br, (1, 2, 3), (1.0, s3, s4), 5)
+    return closing_turn(br, (1, 2, 3), senses_along(S, (1, 2, 3)), 5)
 
 
 

@@ -131,6 +131,15 @@ def normal_sp1(S: Screws, j: int):
                       lambda: sp1_constants(axis_normal(S, j), S.axis[j]))
 
 
+def senses_along(S: Screws, about) -> tuple:
+    """The sense (+1.0 or -1.0) along the first one's axis ``h`` of each revolute joint
+    ``about`` (0-based, parallel axes; the first 1.0): the ``signs`` of
+    :func:`closing_turn`. Computed once per chain."""
+    h = S.axis[about[0]]
+    return S.constant(("senses along h", tuple(about)), lambda: tuple(
+        1.0 if float(S.axis[i] @ h) > 0 else -1.0 for i in about))
+
+
 def closing_turn(br: Branches, about, signs, free: int) -> Branches:
     """``br`` with the last of the revolute joints ``about`` (turning about one direction h,
     ``signs`` their senses along it, +1 or -1) closing the turn ``psi = sum s_i q_i`` that

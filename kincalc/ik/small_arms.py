@@ -21,8 +21,8 @@ from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
 from ..subproblems.turns import nearest_turn, two_turns
 from .branches import TIE_BREAK, Branches
-from .pieces import (angle_about, axis_normal, closing_turn, rotate, target_rotation,
-                     tool_point, turn_onto)
+from .pieces import (angle_about, axis_normal, closing_turn, rotate, senses_along,
+                     target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
 from .wrists import undo
@@ -116,7 +116,6 @@ def planar_4(S: Screws, targets, br: Branches) -> Branches:
     """
     T = targets.T
     h, k4, o3, o4 = S.axis[0], S.axis[3], S.point[2], S.point[3]
-    s2, s3 = (1.0 if S.axis[i] @ h > 0 else -1.0 for i in (1, 2))
     Rt = target_rotation(S, T)                                               # (N, 1, 3, 3)
     u = rotate(Rt, k4)                                                       # R_h(psi) k4
     psi, cp, sp = turn_onto(h, np.broadcast_to(k4, u.shape), u)
@@ -124,7 +123,7 @@ def planar_4(S: Screws, targets, br: Branches) -> Branches:
     br = br.set(3, t4, c4, s4).with_extra("psi", psi)
     pt = tool_point(S, T, o4) - S.turn(0, cp, sp, o4 - o3)                   # (N, 1, 3)
     br = place(S, br, (0, 1), o3, pt, what="axis 3")
-    return closing_turn(br, (0, 1, 2), (1.0, s2, s3), 3)
+    return closing_turn(br, (0, 1, 2), senses_along(S, (0, 1, 2)), 3)
 
 
 def point_plus_roll(S: Screws, targets, br: Branches) -> Branches:
