@@ -62,7 +62,7 @@ def singular_configuration(robot, shown, rng, units):
         grid = np.linspace(lo, hi, 721) / scale
         f = _sigma_along(robot, base, i, grid)
         minima = [k for k in range(len(grid)) if f[k] <= f[max(k - 1, 0)]
-                  and f[k] <= f[min(k + 1, len(grid) - 1)]]
+                  and f[k] <= f[min(k + 1, len(grid) - 1)] and _may_vanish(f, k)]
         sweep = functools.partial(_sigma_along, robot, base, i)
         for k in sorted(minima, key=lambda k: f[k])[:3]:
             x = _zoom(sweep, grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)])
@@ -95,6 +95,16 @@ def singular_configuration(robot, shown, rng, units):
             if float(scaled_sigma(robot, q)) < SINGULAR_TOL * SINGULAR_MARGIN:
                 return written, q
     return None
+
+
+def _may_vanish(f, k: int) -> bool:
+    """May the sampled minimum ``f[k]`` of :func:`scaled_sigma` along a joint be a zero
+    between its neighbours? Where the Jacobian loses rank as a joint passes, sigma is a cone
+    ``c |x - x*|``: with ``x*`` within half a step of sample k, ``f[k]`` is at most a quarter
+    of its neighbours' sum. A smooth minimum above 0 is flat over a step (a half of that sum):
+    no zoom. Values below 1e-3 are zoomed into in any case (a zero that touches)."""
+    lo, hi = f[max(k - 1, 0)], f[min(k + 1, len(f) - 1)]
+    return bool(f[k] < 1e-3 or f[k] <= 0.3 * (lo + hi))
 
 
 def _sigma_along(robot, base, i: int, x) -> np.ndarray:
