@@ -310,10 +310,11 @@ _SKEW = LEVI_CIVITA.reshape(3, 3, 3).transpose(0, 2, 1)
 def dot(a, b) -> np.ndarray:
     """The dot product ``a . b`` over the last axis.
 
-    Summed along the components, ``(a0 b0 + a1 b1) + a2 b2`` with every product and sum a
-    numpy call of its own, never by a BLAS product over the batch: BLAS rounds a row by a
-    kernel that depends on how many rows it is given (a lone row, the tail of a block), and
-    a pose's decisions at a singular configuration would then depend on its batch.
+    Summed along the components, ``(a0 b0 + a1 b1) + a2 b2``, each sum a numpy call on
+    whole components, never by a BLAS product or a reduction over the batch: BLAS rounds a
+    row by a kernel that depends on how many rows it is given (a lone row, the tail of a
+    block), and a pose's decisions at a singular configuration would then depend on its
+    batch. Both ways of forming the products give the same bits.
 
     Parameters
     ----------
@@ -331,16 +332,23 @@ def dot(a, b) -> np.ndarray:
     ValueError
         When the leading shapes do not broadcast.
     """
-    if b.ndim == 1:
-        (b0, b1, b2), a0, a1, a2 = b.tolist(), a[..., 0], a[..., 1], a[..., 2]
-    elif a.ndim == 1:
-        (b0, b1, b2), a0, a1, a2 = a.tolist(), b[..., 0], b[..., 1], b[..., 2]
-    else:
-        a0, a1, a2, b0, b1, b2 = a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2]
-    out = a0 * b0
-    out += a1 * b1
-    out += a2 * b2
+    if (a.ndim == 1 or b.ndim == 1) and a.size + b.size > _FEW:
+        # a fixed vector against many: its components as Python floats (numpy broadcasts
+        # a (3,) row slowly)
+        (b0, b1, b2), a = (b.tolist(), a) if b.ndim == 1 else (a.tolist(), b)
+        out = a[..., 0] * b0
+        out += a[..., 1] * b1
+        out += a[..., 2] * b2
+        return out
+    p = a * b                   # the same products and sums, in the same order: same bits
+    out = p[..., 0] + p[..., 1]
+    out += p[..., 2]
     return out
+
+
+#: up to this many components in all, :func:`dot` multiplies a fixed vector as an array
+#: (fewer numpy calls)
+_FEW = 192
 
 
 def rows_times(X, B) -> np.ndarray:
