@@ -84,8 +84,10 @@ NEAR_MISS_UNCONTROLLED = 1e-2
 #: points, kincalc.ik.words) tells nothing where its product is within this (of the arm's
 #: size, or of 1 for the wrist's) of zero: there two solutions meet in a double root, which
 #: a closed form places only to the square root of rounding (a wrist at q5 = 0 found at
-#: q5 = -4.7e-8 in one convention and at 0 in another), so the word's sign is noise
-WORD_BOUNDARY = 1e-7
+#: q5 = -4.7e-8 in one convention and at 0 in another; a UR-type wrist at q5 = 180 deg
+#: found 2.9e-7 rad off in the poe file `kincalc convert` writes, a robot 1e-14 away),
+#: so the word's sign is noise
+WORD_BOUNDARY = 1e-6
 
 #: two IK solutions are one when every joint agrees to this (rad, or m; wrapped)
 DUPLICATE = 1e-6

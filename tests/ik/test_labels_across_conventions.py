@@ -90,3 +90,63 @@ def test_the_generating_solution_is_named_alike_in_every_convention(rows, tool, 
         assert min(d) < 1e-5, convention
         named[convention] = sorted(s.branch for s in sols)
     assert all(v == named["dh"] for v in named.values()), named
+
+
+#: a UR-type arm of general twists (the campaign's, in rad) and the poe file that ``kincalc
+#: convert`` writes of it (14 significant digits: a robot 1e-14 away)
+UR_DH = """name: ur
+convention: dh
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, alpha: -0.5144357970253287, a: 0.0, d: -0.2762,
+     theta: 3.0075513670366285}
+  - {name: j2, type: revolute, alpha: 0.0, a: -0.3209, d: 0.1935, theta: -2.489712177969911}
+  - {name: j3, type: revolute, alpha: 0.0, a: 0.2497, d: 0.0, theta: 0.0}
+  - {name: j4, type: revolute, alpha: 1.8037105154735398, a: 0.0, d: 0.0311, theta: 0.0}
+  - {name: j5, type: revolute, alpha: -2.436235289688805, a: 0.0, d: 0.0, theta: 0.0}
+  - {name: j6, type: revolute, alpha: -1.8101333271208788, a: -0.0533, d: -0.0329, theta: 0.0}
+base: {xyz: [0.2822, 0.1755, -0.1666],
+       rpy: [-0.8620355708525193, -1.5839910159399737, 0.7472801725338922]}
+tool: {xyz: [-0.0451, 0.1521, -0.0267],
+       rpy: [0.8022754972642334, -0.4517261170011724, 0.8029910822575512]}
+"""
+UR_POE = """name: ur
+convention: poe
+units: {length: m, angle: rad}
+joints:
+  - {name: j1, type: revolute, axis: [0, 0, 1], point: [0, 0, 0]}
+  - {name: j2, type: revolute, axis: [-0.065756853981424, -0.48763007189051, 0.87057047339232],
+     point: [0, 0, -0.2762]}
+  - {name: j3, type: revolute, axis: [-0.065756853981424, -0.48763007189051, 0.87057047339232],
+     point: [-0.28818355979258, -0.22823125599286, -0.20353783891737]}
+  - {name: j4, type: revolute, axis: [-0.065756853981424, -0.48763007189051, 0.87057047339232],
+     point: [-0.073841820140884, -0.12406002875887, -0.128998828596272]}
+  - {name: j5, type: revolute, axis: [0.51019410873139, -0.63366404729848, -0.58152544791874],
+     point: [-0.075886858299706, -0.139225323994665, -0.10192408687377]}
+  - {name: j6, type: revolute, axis: [-0.35380202687712, 0.060100755222141, 0.93338739277932],
+     point: [-0.075886858299706, -0.139225323994665, -0.10192408687377]}
+base: {xyz: [0.2822, 0.1755, -0.1666],
+       rpy: [2.27955708273727, -1.55760163764982, -2.3943124810559]}
+tool: {xyz: [-0.075644519012213, -0.2469735749355, -0.28167098496014],
+       rpy: [-1.0027983655312, 0.58343351323581, 0.58679876678898]}
+"""
+
+
+def test_a_wrist_at_q5_180_is_named_alike_in_the_poe_file_convert_writes(tmp_path):
+    """The UR-type arm at q5 = 180 deg, the wrist's flip boundary: in its dh file the double
+    root is found at q5 = -180, in the poe file ``convert`` writes (a robot 1e-14 away) at
+    179.9999836 deg, 2.9e-7 rad off, which the wrist word took as ``no-flip`` (campaign
+    case). Both solutions reach the pose in both files, and are named alike."""
+    from kincalc import load_robot
+    q = np.radians([41.79595799306966, -24.893254768947955, -31.370637322935107,
+                    45.98822826334494, 180.0, 6.024518181892522])
+    named = {}
+    for name, text in (("dh", UR_DH), ("poe", UR_POE)):
+        (tmp_path / f"{name}.yaml").write_text(text)
+        r = load_robot(str(tmp_path / f"{name}.yaml"))
+        T = load_robot(str(tmp_path / "dh.yaml")).fk(q) if name == "poe" else r.fk(q)
+        sols = [s for s in r.ik(T).solutions if abs(abs(s.q[4]) - np.pi) < 1e-3]
+        assert len(sols) == 2 and all(np.abs(r.fk(s.q) - T).max() < 1e-9 for s in sols)
+        named[name] = sorted(s.branch for s in sols)
+    assert named["dh"] == named["poe"] == ["shoulder right elbow down j5:+",
+                                            "shoulder right elbow up j5:+"], named
