@@ -171,14 +171,22 @@ def _fit_c(S: Screws, c: int, values) -> tuple:
 
 
 def _reference_point(S: Screws, a: int, b: int) -> np.ndarray:
-    """The point of axis a nearest to axis b (a point of a when they are parallel):
-    distances measured from there do not depend on x_b when the axes meet."""
+    """The point of axis a nearest to axis b: distances measured from there do not depend on
+    x_b when the axes meet. Where the axes are parallel, or that point lies beyond
+    FAR_REFERENCE arm sizes (nearly parallel: a twist written as 1.5707963 put it 1e6 m
+    away, and the distances squared from there kept nothing of the arm), a point of a."""
     wa, pa, wb, pb = S.axis[a], S.point[a], S.axis[b], S.point[b]
     n = np.cross(wa, wb)
     nn = n @ n
     if nn < 1e-18:
         return pa
-    return pa + (np.cross(pb - pa, wb) @ n / nn) * wa
+    along = np.cross(pb - pa, wb) @ n / nn
+    return pa + along * wa if abs(along) <= FAR_REFERENCE * max(S.scale, 1.0) else pa
+
+
+#: the reference point of joint a's distances (:func:`_reference_point`) lies within this
+#: many arm sizes of its axis's point
+FAR_REFERENCE = 100.0
 
 
 # --- the invariants of joint a ---------------------------------------------------------

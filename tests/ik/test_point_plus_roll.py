@@ -227,3 +227,44 @@ def test_the_slide_at_the_shoulder_centre_leaves_the_orientation_to_joints_1_2_4
         assert len(Q) and np.abs(r.fk(Q) - T).max() < 1e-9, q
         d = np.abs(np.where(r.is_revolute, wrap(Q - q), Q - q)).max(-1)
         assert d.min() < 1e-7, (q, Q)
+
+
+#: an R-R-P-R arm of a fuzz campaign, as URDF: joint 2's axis turned a right angle written
+#: with a few digits (TWIST), its slide turned by (0, -0.4, 0.7)
+NEARLY_RIGHT_URDF = """<?xml version="1.0"?>
+<robot name="r">
+  <link name="l0"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>
+  <joint name="j0" type="revolute"><parent link="l0"/><child link="l1"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>
+  <joint name="j1" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0.3 0.05 0" rpy="TWIST 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0.2 0 0.02" rpy="0 -0.4 0.7"/><axis xyz="1 0 0"/>
+    <limit lower="-2.5" upper="2.5" effort="1" velocity="1"/></joint>
+  <joint name="j3" type="continuous"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0 0.1 0.25" rpy="0 0 0"/><axis xyz="0 0 1"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("twist", ["1.5708", "1.57079633", "1.5707963"])
+def test_a_right_angle_written_with_few_digits_places_the_point(tmp_path, twist):
+    """Axes 1 and 2 some 1e-8 .. 4e-6 rad from parallel: the point of axis 1 nearest to
+    axis 2, from which the placement measured its distances, lay up to 1e6 m away, and the
+    distances squared from there (1e12 m^2) kept nothing of the arm: 28 .. 78 % of FK
+    poses had no solution ("orientation unreachable"). Every pose solved now, each solution
+    reproducing it, the generating joints and every root Gauss-Newton finds among them."""
+    from kincalc import load_robot
+    path = tmp_path / "arm.urdf"
+    path.write_text(NEARLY_RIGHT_URDF.replace("TWIST", twist))
+    robot = load_robot(str(path))
+    assert plan(robot)[1].name == "point-plus-roll"
+    rng = np.random.default_rng(4)
+    for i, q in enumerate(rng.uniform([-2.4, -2.4, -0.5, -3], [2.4, 2.4, 0.5, 3], (30, 4))):
+        S = _assert_solves(robot, q)
+        if i < 3:
+            for r in newton_roots(robot, robot.fk(q), 40, np.random.default_rng(10)):
+                d = np.where(robot.is_revolute, wrap(S - r), S - r)
+                assert np.abs(d).max(-1).min() < 1e-6
