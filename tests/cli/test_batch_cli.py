@@ -943,6 +943,41 @@ def test_ctrl_c_exits_130_with_whole_lines_and_no_traceback(tmp_path, jobs):
     assert leftover.stdout.split() == []
 
 
+@pytest.mark.parametrize("gap", [0.01, 0.1, 0.3])
+def test_ctrl_c_twice_with_two_workers_ends_the_run(tmp_path, gap):
+    """A second Ctrl-C while the pool shut down after the first broke the shutdown half-way,
+    and the run hung for good (the workers waiting on a pipe; a third Ctrl-C exited with a
+    multiprocessing traceback): fuzz campaign, 8 runs of 8. The run ends now, with nothing on
+    stderr, no worker left, the output whole lines; 130, or killed by the second SIGINT where
+    it came as Python was exiting (its handler then the default: a shell shows 130)."""
+    import signal
+    import time
+    # a redundant arm's records (solved numerically, slowly): the workers are busy
+    src = write(tmp_path, "q7.jsonl", ['{"q": [%d, 20, 30, 40, 50, 60, 70]}\n' % (k % 170)
+                                       for k in range(600)])
+    p = _kincalc("ik", "iiwa14", "--batch", src, "-j", "2", stdout=subprocess.PIPE,
+                 stderr=subprocess.PIPE, start_new_session=True,
+                 preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        first = os.read(p.stdout.fileno(), 1 << 16)
+        os.killpg(p.pid, signal.SIGINT)
+        time.sleep(gap)
+        try:
+            os.killpg(p.pid, signal.SIGINT)
+        except ProcessLookupError:
+            pass
+        rest, err = p.communicate(timeout=60)
+    finally:
+        group = subprocess.run(["pgrep", "-g", str(p.pid)], capture_output=True,
+                               text=True).stdout.split()
+        for pid in group:                      # do not leave them behind either way
+            os.kill(int(pid), 9)
+        p.wait()
+    assert p.returncode in (130, -signal.SIGINT) and err == b""
+    assert (first + rest).endswith(b"\n")
+    assert group == []
+
+
 def test_workers_exit_when_the_parent_is_killed():
     """A killed parent never shuts its pool down: the workers, blocked reading their task
     queue (whose write end they hold too), stayed forever."""

@@ -43,6 +43,26 @@ def start_pool(jobs: int):
     return pool
 
 
+def stop_pool(pool, now: bool) -> None:
+    """Shut ``pool`` down: the items not started are dropped, and with ``now`` (a Ctrl-C, a
+    closed stdout, an error: nothing more is wanted) the workers are stopped at once rather
+    than left to finish theirs. Ctrl-C is ignored until they are gone: a second Ctrl-C that
+    broke the shutdown half-way left the run hung for good, the workers waiting on a pipe."""
+    import signal
+    try:
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:                          # not the main thread: leave signals alone
+        old = None
+    try:
+        if now:                                 # (3.14 has pool.terminate_workers())
+            for process in list((getattr(pool, "_processes", None) or {}).values()):
+                process.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGINT, old)
+
+
 def _submit(pool, fn, item):
     """``pool.submit(fn, item)`` with SIGINT blocked, so that a worker it forks is born
     with SIGINT blocked (until :func:`_worker_start` ignores it)."""

@@ -10,7 +10,7 @@ from ...limits import (MAX_BATCH_SKIP_BYTES, MAX_JOBS, MAX_RECORD_BYTES, open_in
                        size_text)
 from .chunks import process_chunk
 from .formats import csv_header
-from .pool import ordered_map, start_pool
+from .pool import ordered_map, start_pool, stop_pool
 from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
 
 #: the most bytes one read of the input takes
@@ -117,11 +117,15 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
                 advance(source.position)
                 if answered == 1:
                     gc.freeze()
+    except BaseException:                       # Ctrl-C, a closed stdout: stop the workers
+        if pool is not None:
+            stop_pool(pool, now=True)
+            pool = None
+        raise
     finally:
         gc.unfreeze()
         if pool is not None:
-            # on Ctrl-C or a closed stdout: drop what has not started, let the rest finish
-            pool.shutdown(wait=True, cancel_futures=True)
+            stop_pool(pool, now=False)
         source.close()
     if source.stopped is not None:
         raise InputError(f"--batch {_shown(src)}: record {source.stopped} runs on for more than "
