@@ -405,7 +405,10 @@ def _write_error(exc: BaseException) -> str:
 
 
 def _one_line(text: str) -> str:
-    return " ".join(text.split())
+    """A message on one line, with no control character (a file name may hold an escape
+    sequence: :func:`kincalc.limits.printable`)."""
+    from ..limits import printable
+    return " ".join(printable(text).split())
 
 
 def run() -> None:  # pragma: no cover - console-script shim

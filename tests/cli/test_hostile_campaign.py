@@ -127,3 +127,20 @@ def test_a_pose_file_with_nan_beside_its_matrix(tmp_path):
     status, out, err = run_cli(argv)
     assert_contract(status, out, err, argv)
     assert status == 2 and "NaN is not a finite number" in err
+
+
+def test_a_file_name_with_an_escape_sequence_reaches_no_terminal_raw(tmp_path):
+    """A student who named a sheet ``bad<ESC>[31m.yaml`` recoloured the grader's terminal:
+    the error lines (``check``, a missing robot file) and ``robots validate``'s "ok" line
+    echoed file names raw. Their control characters are shown as U+FFFD now."""
+    esc = "\x1b[2J"
+    robot = tmp_path / f"ok{esc}name.yaml"
+    robot.write_text((ROOT / "robots" / "puma560.yaml").read_text())
+    sheet = tmp_path / f"bad{esc}.yaml"
+    sheet.write_text("robot: puma560\nitems: [\n")
+    for argv, status in ((["robots", "validate", robot], 0), (["check", sheet], 2),
+                         (["fk", tmp_path / f"none{esc}.yaml", "0"], 2)):
+        got, out, err = run_cli(argv)
+        assert got == status, (argv, err)
+        text = out + err
+        assert "\x1b" not in text and "\ufffd[2J" in text, text
