@@ -39,18 +39,28 @@ def console():
 
     Its ``print`` never crops a table: one wider than the console is printed as stacked
     panels (:func:`fit_table`). When stdout is not a terminal the width is COLUMNS
-    (default 120) and no line ends in a space."""
+    (default 120) and no line ends in a space. The width is :data:`MIN_WIDTH` at least
+    (COLUMNS=0 on a terminal printed nothing, a few columns split the numbers)."""
     out = None
     width = None
     if not sys.stdout.isatty():
         try:
-            width = max(int(os.environ.get("COLUMNS", "")), 40)
+            width = max(int(os.environ.get("COLUMNS", "")), MIN_WIDTH)
         except ValueError:
             width = 120
         out = _NoTrailingSpaces(sys.stdout)
+    else:
+        import shutil
+        # COLUMNS, else the terminal's size (rich reads COLUMNS=0 as a width of 0)
+        width = max(shutil.get_terminal_size((120, 24)).columns, MIN_WIDTH)
     return _console_class()(file=out, highlight=False,
                             no_color=bool(os.environ.get("NO_COLOR")) or None,
                             width=width, soft_wrap=False)
+
+
+#: tables and text are laid out for at least this many columns (a narrower terminal wraps
+#: the lines, a number stays whole)
+MIN_WIDTH = 40
 
 
 class _NoTrailingSpaces:

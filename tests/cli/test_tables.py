@@ -440,6 +440,21 @@ def test_no_trailing_spaces_when_not_a_terminal():
     assert out.isatty() is False
 
 
+@pytest.mark.parametrize("columns", ["0", "1", "20", "-5", "abc", None])
+def test_a_terminal_of_few_or_zero_columns_gets_tables_40_wide(monkeypatch, columns):
+    """On a terminal, COLUMNS=0 printed nothing (exit 0) and COLUMNS=20 split numbers over
+    lines: rich took COLUMNS as it was. The width is 40 at least, as when piped."""
+    import sys
+
+    from kincalc.cli.render import MIN_WIDTH, console
+    monkeypatch.setattr(sys.stdout, "isatty", lambda: True, raising=False)
+    if columns is None:
+        monkeypatch.delenv("COLUMNS", raising=False)
+    else:
+        monkeypatch.setenv("COLUMNS", columns)
+    assert console().width >= MIN_WIDTH == 40
+
+
 def test_jacobian_rows_are_labelled(monkeypatch):
     """Every row of the geometric and the analytic Jacobian carries its name (vx..wz, and
     the angle rates), also in every panel of a table split to fit the width."""
