@@ -245,25 +245,54 @@ def replacing(target, *, binary: bool = True):
         mode = stat.S_IMODE(old.st_mode) & 0o777
     except FileNotFoundError:
         mode = 0o666 & ~_umask()
+    # Ctrl-C is held back until the file is written and named, or its temporary removed: a
+    # Ctrl-C as a block ended (roster sheets, 4 runs of 12) left .kincalc-XXXX.tmp behind
+    with _ctrl_c_held():
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=".kincalc-", suffix=".tmp", dir=folder)
+        except OSError as exc:
+            t.fail(f"cannot write in {folder}: {exc.strerror}")
+        try:
+            if hasattr(os, "fchmod"):
+                os.fchmod(fd, mode)
+            with os.fdopen(fd, "wb" if binary else "w",
+                           **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
+                yield fh
+                fh.flush()
+                os.fsync(fh.fileno())
+            check_target(t)                       # changed while we worked?
+            _commit(tmp, path, t)
+        except OSError as exc:
+            t.fail(f"cannot write: {exc.strerror or exc}")
+        finally:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def _ctrl_c_held():
+    """Ctrl-C (SIGINT) held back in this block, taken after it (by the handler there was).
+
+    A handler of this process's own, not a blocked signal: the signal may be delivered to
+    any thread (a blocked main thread does not keep another from taking it), and Python runs
+    the handler in the main thread all the same."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    old = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    if old is signal.SIG_IGN:                 # (a run started with Ctrl-C ignored)
+        signal.signal(signal.SIGINT, old)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=".kincalc-", suffix=".tmp", dir=folder)
-    except OSError as exc:
-        t.fail(f"cannot write in {folder}: {exc.strerror}")
-    try:
-        if hasattr(os, "fchmod"):
-            os.fchmod(fd, mode)
-        with os.fdopen(fd, "wb" if binary else "w",
-                       **({} if binary else {"encoding": "utf-8", "newline": ""})) as fh:
-            yield fh
-            fh.flush()
-            os.fsync(fh.fileno())
-        check_target(t)                       # changed while we worked?
-        _commit(tmp, path, t)
-    except OSError as exc:
-        t.fail(f"cannot write: {exc.strerror or exc}")
+        yield
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        signal.signal(signal.SIGINT, old)
+        if caught and callable(old):
+            old(signal.SIGINT, None)          # (Python's own: KeyboardInterrupt)
+        elif caught and old == signal.SIG_DFL:
+            raise KeyboardInterrupt
 
 
 def _commit(tmp: str, path: str, t: Target) -> None:

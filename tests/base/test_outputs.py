@@ -361,3 +361,20 @@ def test_make_folder_names_the_option(tmp_path):
     (tmp_path / "f").write_text("")
     with pytest.raises(InputError, match=r"^--feedback-dir .*f/sub: cannot make the folder"):
         outputs.make_folder(str(tmp_path / "f" / "sub"), "--feedback-dir")
+
+
+def test_a_ctrl_c_while_a_file_is_written_leaves_no_temporary_file(tmp_path):
+    """Ctrl-C as ``quiz --roster -o DIR`` wrote its sheets left an empty ``.kincalc-XXXX.tmp``
+    in 4 runs of 12 (fuzz campaign): the interrupt came between the temporary file's making
+    and its naming or removal. It is taken once the file is written and named now: the file
+    whole, no temporary file, and the KeyboardInterrupt after."""
+    import signal
+    target = tmp_path / "sheet.yaml"
+    with pytest.raises(KeyboardInterrupt):
+        with replacing(str(target)) as fh:
+            fh.write(b"first half, ")
+            os.kill(os.getpid(), signal.SIGINT)
+            fh.write(b"second half")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sheet.yaml"]
+    assert target.read_bytes() == b"first half, second half"
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
