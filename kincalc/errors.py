@@ -101,13 +101,19 @@ class RobotFileError(KincalcError):
         self.detail = message
         self.joint = joint
         self.joint_name = joint_name
-        where = file if line is None else f"{file}:{line}"
+        from .limits import quote
+        shown = file if len(str(file)) <= SHOWN_FILE else quote(file, SHOWN_FILE)
+        where = shown if line is None else f"{shown}:{line}"
         who = ""
         if joint is not None:
             who = f"joint {joint}" + (f" ({joint_name})" if joint_name else "") + ": "
         #: what is wrong and with which joint, without the file's name and line
         self.what = who + message
         super().__init__(f"{where}: {self.what}")
+
+
+#: a file name longer than this (characters) is cut in a message
+SHOWN_FILE = 300
 
 
 class InputError(KincalcError):

@@ -144,3 +144,12 @@ def test_a_file_name_with_an_escape_sequence_reaches_no_terminal_raw(tmp_path):
         assert got == status, (argv, err)
         text = out + err
         assert "\x1b" not in text and "\ufffd[2J" in text, text
+
+
+def test_a_very_long_robot_file_name_is_cut_in_the_error_line():
+    """A 5,000-character path that names no file was echoed whole: a 5,077-character error
+    line. Cut to 300 characters now, with the name's length."""
+    path = "/nonexist/" + "a" * 5000 + ".yaml"
+    status, out, err = run_cli(["fk", path, "0"])
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and len(err) < 500 and "(5015 characters)" in err
