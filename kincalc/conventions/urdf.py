@@ -98,6 +98,12 @@ class _Reader:
         if last > first:
             self.fail(node, f"<{node.tag} {attr}> runs on over lines {first}-{last}: a name "
                             "is one line", attr)
+        if node.tag != "joint":     # a link's (a joint's is checked with its type)
+            if not value.strip():
+                self.fail(node, f"<{node.tag} {attr}> is empty: a link has a name", attr)
+            if not value.isprintable():         # (a character reference: &#13;, &#27;)
+                self.fail(node, f"link {quote(value)}: its name must not hold a control "
+                                "character (a newline, a tab, ...)", attr)
         return value
 
     def numbers(self, node: Element, name: str, count: int, default: str) -> np.ndarray:

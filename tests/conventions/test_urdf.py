@@ -237,6 +237,10 @@ def test_a_chain_that_cannot_be_chosen_is_one_line(kwargs, words):
     # a joint's name heads a table's column: a newline split the table's lines
     (_chain_text().replace('name="ja"', 'name="el&#10;bow"', 1),
      "joint 'el\\nbow': its name must not hold a control character"),
+    # a link's name too (fuzz campaign: a CR and an empty name were taken)
+    (_chain_text().replace('"b"', '"b&#13;c"'),
+     "link 'b\\rc': its name must not hold a control character"),
+    (_chain_text().replace('"b"', '""'), "<link name> is empty: a link has a name"),
     (_chain_text().replace('name="ja"', 'name="' + "j" * 65 + '"', 1),
      "its name is 65 characters long; kincalc takes names of up to 64"),
     (_chain_text().replace('<limit lower="-1" upper="1"/>', "", 1),
