@@ -279,6 +279,11 @@ BAD_FILES = [
             ("joint 2 (q2)", "unknown name", "(400 characters)"), at="name: q2"),
     BadFile("expression-unknown-name", sub(DH, "a: l2,", "a: l3 + 0.1,"),
             ("joint 3 (q3)", "'a'", "unknown name 'l3'", "l1, l2"), at="name: q3"),
+    # a parameter uses those before it only: the message said "(parameters: none defined)"
+    BadFile("parameter-names-a-later-one", sub(DH, "{l1: 0.3, l2: 0.25}",
+                                               "{l1: l2, l2: 0.25}"),
+            ("parameter 'l1'", "unknown name 'l2'", "a parameter may use only those before it"),
+            at="parameters:"),
     BadFile("expression-division-by-zero", sub(DH, "a: l1,", "a: l1 / (l2 - 0.25),"),
             ("joint 2 (q2)", "'a'", "division by zero"), at="name: q2"),
     BadFile("expression-pi-in-degree-file", sub(DH, "alpha: 90,", "alpha: pi/2,"),

@@ -141,8 +141,12 @@ class Reader(NodeReader):
                 return self.params[e.id]
             names = sorted(self.params)
             known = ", ".join(cut(n) for n in names[:10]) + (
-                f", ... ({len(names)} in all)" if len(names) > 10 else "") or "none defined"
-            raise _ExprError(f"unknown name {quote(e.id)} (parameters: {known})")
+                f", ... ({len(names)} in all)" if len(names) > 10 else "")
+            # (a parameter may use those above it: {l1: l2, l2: 1} names l2 too early)
+            raise _ExprError(f"unknown name {quote(e.id)} ("
+                             + (f"parameters known here: {known})" if known else
+                                "no parameter is known here: a parameter may use only "
+                                "those before it)"))
         if isinstance(e, ast.UnaryOp) and isinstance(e.op, (ast.USub, ast.UAdd)):
             v = self._eval(e.operand)
             return -v if isinstance(e.op, ast.USub) else v
