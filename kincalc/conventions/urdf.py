@@ -156,8 +156,9 @@ class _Reader:
         sub = node.first("limit")
         if kind in ("revolute", "prismatic"):
             if sub is None:
-                self.fail(node, f"{where}: a {kind} joint needs <limit lower upper> "
-                                "(a revolute joint without limits is 'continuous')")
+                self.fail(node, f"{where}: a {kind} joint needs <limit lower upper>"
+                                + (" (a revolute joint without limits is 'continuous')"
+                                   if kind == "revolute" else ""))
             missing = [a for a in ("lower", "upper") if a not in sub.attrs]
             if missing:     # (URDF's default 0 would hold the joint still)
                 self.fail(sub, f"{where}: <limit> has no {' or '.join(missing)}: a {kind} "

@@ -244,7 +244,9 @@ def test_a_chain_that_cannot_be_chosen_is_one_line(kwargs, words):
     (_chain_text().replace('name="ja"', 'name="' + "j" * 65 + '"', 1),
      "its name is 65 characters long; kincalc takes names of up to 64"),
     (_chain_text().replace('<limit lower="-1" upper="1"/>', "", 1),
-     "a revolute joint needs <limit lower upper>"),
+     "a revolute joint needs <limit lower upper> (a revolute joint without limits is "
+     "'continuous')"),
+
     # URDF's default of a missing bound, 0, held the joint still: limits [0, 0]
     (_chain_text().replace('<limit lower="-1" upper="1"/>', '<limit effort="1"/>', 1),
      "joint 'ja': <limit> has no lower or upper: a revolute joint needs both"),
@@ -285,6 +287,16 @@ def test_bad_urdfs_are_one_line_naming_file_and_line(text, words):
     msg = str(e.value)
     assert msg.startswith("bad.urdf:") and "\n" not in msg
     assert words in msg
+
+
+def test_a_slide_without_limits_is_not_told_about_revolute_joints():
+    """A prismatic joint without <limit> was told "(a revolute joint without limits is
+    'continuous')"."""
+    text = _chain_text(joint_type="prismatic").replace('<limit lower="-1" upper="1"/>', "", 1)
+    with pytest.raises(RobotFileError) as e:
+        parse_urdf_text(text, "bad.urdf")
+    assert str(e.value).endswith("joint 'ja': a prismatic joint needs <limit lower upper>")
+
 
 
 def test_a_robot_name_that_is_no_name_or_too_long_is_the_files():
