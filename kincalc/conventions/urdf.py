@@ -269,7 +269,10 @@ def parse_urdf_text(text: str, file: str = "<urdf>", base_link: str | None = Non
     if not links:
         reader.fail(root, "the URDF has no <link>")
     chain = _chain(reader, root, links, joints, by_child, base_link, tip_link)
-    return _robot(reader, root, chain, stem)
+    between = "" if base_link is None and tip_link is None else (
+        f" from {'the root' if base_link is None else 'link ' + quote(base_link)} to "
+        f"{'its tip' if tip_link is None else 'link ' + quote(tip_link)}")
+    return _robot(reader, root, chain, stem, between)
 
 
 def _chain(reader, root, links, joints, by_child, base_link, tip_link) -> list:
@@ -370,8 +373,9 @@ def _names(names: list[str], most: int = 8) -> str:
     return shown + (f", ... ({len(names)} in all)" if len(names) > most else "")
 
 
-def _robot(reader, root, chain: list, stem: str) -> Robot:
-    """The poe robot of ``chain``: frames accumulated from the base link at q = 0."""
+def _robot(reader, root, chain: list, stem: str, between: str = "") -> Robot:
+    """The poe robot of ``chain``: frames accumulated from the base link at q = 0
+    (``between``: the chain's ends as the user chose them, for a message)."""
     T = np.eye(4)
     out = []
     for j, upwards in chain:
@@ -385,7 +389,7 @@ def _robot(reader, root, chain: list, stem: str) -> Robot:
         out.append(Joint(name=j.name, type=MOVING[j.type], axis=tuple(axis.tolist()),
                          point=tuple(T[:3, 3].tolist()), limits=j.limits))
     if not out:
-        reader.fail(root, "the chain has no moving joint")
+        reader.fail(root, f"the chain{between} has no moving joint")
     if len(out) > MAX_JOINTS:
         reader.fail(root, f"the chain has {len(out)} moving joints; kincalc takes robots of up "
                           f"to {MAX_JOINTS}")

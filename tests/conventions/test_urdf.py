@@ -484,3 +484,15 @@ def test_ur5_urdf_converts_to_urs_dh_table():
                        atol=1e-9)
     assert np.allclose([abs(np.sin(j.alpha)) for j in dh.joints], [1, 0, 0, 1, 1, 0],
                        atol=1e-9)
+
+
+def test_a_chain_of_fixed_joints_the_user_chose_names_its_ends():
+    """--base-link and --tip-link on two sibling frames (fixed joints only between them)
+    was "the chain has no moving joint", naming neither."""
+    text = _chain_text(extra='<link name="d"/><link name="e"/>'
+                             '<joint name="fd" type="fixed"><parent link="c"/><child link="d"/>'
+                             '</joint><joint name="fe" type="fixed"><parent link="c"/>'
+                             '<child link="e"/></joint>')
+    with pytest.raises(RobotFileError) as e:
+        parse_urdf_text(text, "bad.urdf", base_link="d", tip_link="e")
+    assert str(e.value).endswith("the chain from link 'd' to link 'e' has no moving joint")
