@@ -335,6 +335,8 @@ def _tables(doc, precision: int, quiet: bool):
             c.print(_ik_table(d, precision))
         elif not item["passed"] and item["kind"] in ("link", "fk", "jacobian") \
                 and "expected" in d:
+            if "expected_tcv" in d:
+                c.print(matrix_table([d["expected_tcv"]], precision, title="expected tcv"))
             c.print(matrix_table(d["expected"], precision, title="expected"))
     c.print()
     c.print(f"[bold]{score_line(doc['score'])}[/bold]", highlight=False)

@@ -175,6 +175,9 @@ def _item_lines(item: dict, question, markdown: bool) -> list[str]:
     if item["kind"] == "ik" and (d.get("sets") or d.get("missed")):
         lines += [*_ik_table(d, esc), ""]
     elif not item["passed"] and item["kind"] in ("link", "fk", "jacobian") and "expected" in d:
+        if "expected_tcv" in d:
+            block = _matrix_block([d["expected_tcv"]])
+            lines += ["expected tcv:", "", *(block if markdown else block[1:-1]), ""]
         block = _matrix_block(d["expected"])
         lines += ["expected:", "", *(block if markdown else block[1:-1]), ""]
     return lines

@@ -1257,6 +1257,24 @@ def test_fk_answer_as_tool_configuration_vector():
     wrong = one(f"- {{id: w, kind: fk, q: [30, 60, 0.3, 45], answer: {{tcv: {js(bad)}}}}}",
                 robot="fer_rrpr")
     assert not wrong.passed and "tcv" in wrong.message
+    # what was expected is the vector the answer was compared with, not only T_0^4 (a
+    # seeds check: the table showed the matrix alone)
+    assert np.allclose(wrong.details["expected_tcv"], w, atol=1e-12)
+
+
+def test_a_wrong_tcv_answer_shows_the_expected_vector(tmp_path):
+    q = np.array([math.radians(30), math.radians(60), 0.3, math.radians(45)])
+    T = fer_fk(q)
+    w = np.concatenate([T[:3, 3], math.exp(q[3] / math.pi) * T[:3, 2]])
+    text = ("robot: fer_rrpr\nitems:\n  - {id: w, kind: fk, q: [30, 60, 0.3, 45], "
+            "answer: {tcv: [0.3, 0.173205, 0.3, 1.205e6, 6.96e5, -8.04e5]}}\n")
+    status, out, _ = run_check(tmp_path, text)
+    assert status == 1
+    lines = out.splitlines()
+    row = lines[lines.index("expected tcv") + 2].split()
+    assert np.allclose([float(v) for v in row], w, atol=1e-4)
+    status, out, _ = run_check(tmp_path, text, "--feedback-dir", "fb")
+    assert "expected tcv:" in (tmp_path / "fb" / "hw.md").read_text()
 
 
 def test_a_pose_the_robot_cannot_be_asked_for_names_file_line_and_sheet_keys(tmp_path):

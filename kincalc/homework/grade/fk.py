@@ -63,6 +63,10 @@ def grade_fk(sheet: Sheet, item: Item) -> ItemResult:
     T = robot.fk(item.q)
     err = _fk_errors(item.answer, T, units, item.q[-1])
     details = {"expected": units.pose(T), "errors": err}
+    if "tcv" in item.answer:                  # (the vector the answer is compared with)
+        from ...spatial import tcv_from_transform
+        w = tcv_from_transform(T, item.q[-1])
+        details["expected_tcv"] = [*(w[:3] * units.l).tolist(), *w[3:].tolist()]
     parts = ", ".join(f"{k} {fmt(v)}" for k, v in err.items())
     error = max(err.values()) if err else None
     if _fk_ok(err, tol, units):
