@@ -65,7 +65,26 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
                 np.asarray(value), solution.q[j], units)})
     if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
         out += _wrist_steps(robot, solution.q, names, T, units)
+    shown = {part.strip() for step in out for part in step["step"].split(",")}
+    rest = [(n, q) for n, q in zip(names, solution.q) if n not in shown]
+    if rest:                    # joints whose steps the closed form does not write out
+        out.append({"step": ", ".join(n for n, _ in rest), "text": (
+            f"{_UNWORKED.get(family.removeprefix('reversed-'), _UNWORKED[''])} (not written "
+            f"out here): " + ", ".join(
+                f"{n} = {_n(q * units.l)}{_unit(units)}" if not r else _result(n, q, units)
+                for (n, q), r in zip(rest, [robot.is_revolute[names.index(n)]
+                                           for n, _ in rest])))})
     return out
+
+
+#: how a family finds the joints whose steps it does not note, in words
+_UNWORKED = {
+    "general-6r": "the elimination of Raghavan and Roth as Manocha and Canny solve it: one "
+                  "joint's values are the real eigenvalues of the companion form of a 12x12 "
+                  "matrix polynomial, two more come from its null vector and the rest by "
+                  "back-substitution, each solution then polished by Newton's method",
+    "": "the family's closed form, subproblems on the robot's axes (man kincalc-ik, FAMILIES)",
+}
 
 
 def _n(x, scale=0.0) -> str:

@@ -316,7 +316,7 @@ def _ik_solution(robot, s, u: Units, result) -> dict:
     }
     if s.change is not None:
         d["change_from_near"] = u.joints(robot, s.change)
-    if s.trace:
+    if s.trace is not None:                   # (explain: a family that noted no step says so)
         from .explain import worked_steps
         d["trace"] = worked_steps(robot, s, np.asarray(result.target.T, float), u,
                                   result.family)

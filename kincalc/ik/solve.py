@@ -13,7 +13,7 @@ SI); :mod:`kincalc.analysis.words` words them in the user's units.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -104,7 +104,9 @@ class IKSolution:
     #: joints the target leaves undetermined (indices; a representative value is shown)
     free: tuple = ()
     continuum: object = None      # the relation left free at a singularity (Continuum, ...)
-    trace: list = field(default_factory=list)
+    #: with ``explain``: the steps the closed form noted (a list, empty where it noted
+    #: none: the general 6R elimination); None without
+    trace: list | None = None
     #: change from the --near configuration (n,), rad / m, when one was given
     change: np.ndarray | None = None
 
@@ -242,7 +244,7 @@ def _solutions(robot, sv: Solved, explain: bool, kind: str):
                             orientation_error=oe[k], within_limits=not viol, violations=viol,
                             singular=singular[k], free=joints,
                             continuum=_continuum(robot, sv, k, kind) if joints else None,
-                            trace=_trace(sv, k) if explain else [], change=None)
+                            trace=_trace(sv, k) if explain else None, change=None)
         sols.append(sol)
     return sols, rejected
 
