@@ -291,8 +291,8 @@ def _ctrl_c_held():
         signal.signal(signal.SIGINT, old)
         if caught and callable(old):
             old(signal.SIGINT, None)          # (Python's own: KeyboardInterrupt)
-        elif caught and old == signal.SIG_DFL:
-            raise KeyboardInterrupt
+        elif caught:
+            raise KeyboardInterrupt           # (the default action, or a handler not Python's)
 
 
 def _commit(tmp: str, path: str, t: Target) -> None:

@@ -66,14 +66,13 @@ def worked_steps(robot, solution, T, units, family: str) -> list:
     if family == "spherical-wrist" and robot.dof == 6 and robot.is_revolute[3:].all():
         out += _wrist_steps(robot, solution.q, names, T, units)
     shown = {part.strip() for step in out for part in step["step"].split(",")}
-    rest = [(n, q) for n, q in zip(names, solution.q) if n not in shown]
+    rest = [j for j, name in enumerate(names) if name not in shown]
     if rest:                    # joints whose steps the closed form does not write out
-        out.append({"step": ", ".join(n for n, _ in rest), "text": (
-            f"{_UNWORKED.get(family.removeprefix('reversed-'), _UNWORKED[''])} (not written "
-            f"out here): " + ", ".join(
-                f"{n} = {_n(q * units.l)}{_unit(units)}" if not r else _result(n, q, units)
-                for (n, q), r in zip(rest, [robot.is_revolute[names.index(n)]
-                                           for n, _ in rest])))})
+        how = _UNWORKED.get(family.removeprefix("reversed-"), _UNWORKED[""])
+        values = [_result(names[j], solution.q[j], units) if robot.is_revolute[j] else
+                  f"{names[j]} = {_n(solution.q[j] * units.l)}{_unit(units)}" for j in rest]
+        out.append({"step": ", ".join(names[j] for j in rest),
+                    "text": f"{how} (not written out here): {', '.join(values)}"})
     return out
 
 
