@@ -128,7 +128,7 @@ def _terms(A, B, C, q) -> str:
 def _cosine_step(q, what, pivot, value, q_value, units) -> str:
     """``A cos q + B sin q + C = t`` in the textbook's words."""
     A, B, C, t, l1, l2 = value
-    f = units.l ** 2 if what == "distance2" else units.l
+    f = {"distance2": units.l ** 2, "direction": 1.0}.get(what, units.l)
     A, B, C, t = A * f, B * f, C * f, t * f
     big = max(abs(A), abs(B), abs(C), abs(t))
     A, B, C, t = (0.0 if abs(x) <= 1e-12 * big else x for x in (A, B, C, t))
@@ -170,6 +170,9 @@ def _lhs(what, pivot) -> str:
         return f"|p - o|², p the point placed, o on the axis of {pivot}"
     if what == "height":
         return f"the height along the axis of {pivot} of p, the point placed"
+    if what == "direction":
+        return (f"the component along the axis of {pivot} of the last axis's direction, where "
+                "the target's orientation puts it")
     return f"p, the point placed, across the axis of {pivot}"
 
 

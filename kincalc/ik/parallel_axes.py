@@ -25,6 +25,7 @@ from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, closin
                      target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
+from .worked import note_equation
 from .wrists import NEAR_ALIGNED, free_for_the_wrist, into_elbow_reach, parallel_wrist_q6
 
 
@@ -58,6 +59,10 @@ def three_parallel(S: Screws, targets, br: Branches) -> Branches:
     ct = tool_point(S, T, c56)
     # joint 1: h . R(k1, -q1)(ct - o1) = h . (c56 - o1)
     height = S.constant("height of the wrist point", lambda: h @ (c56 - o1))
+    if br.explain:          # h . R(k, -x) p = cos x (h.p - (h.k)(k.p)) - sin x h.(k x p) + ...
+        p, hk = ct - o1, h @ k1
+        br = note_equation(br, 0, "height", 1, dot(p, h) - hk * dot(p, k1),
+                           -dot(cross(k1, p), h), hk * dot(p, k1), height)
     br = br.branch([0], sp4(h, ct - o1, k1, height, fixed=axis_sp4(S, 1, 0)).negated())
     Rt = target_rotation(S, T)
     br, sigma = _parallel_wrist(S, T, br, Rt, 1, (1, 2, 3))
@@ -256,6 +261,10 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
     if elbow[0] == 1:
         v = S.turn(0, br.cos[0], -br.sin[0], v)
     fifth = cone(h, k6, k5, v, fixed=axis_cone(S, hj, 4, 5))
+    if br.explain:          # h . R(k5, x) k6 = cos x (h.k6 - (h.k5)(k5.k6)) + sin x h.(k5 x k6)
+        hk, kk = h @ k5, k5 @ k6                                  # + (h.k5)(k5.k6)
+        br = note_equation(br, 4, "direction", hj, h @ k6 - hk * kk, h @ np.cross(k5, k6),
+                           hk * kk, dot(v, h))
     # at the singularity joint 6 is the free one: joint 5's roots go in as not free, and
     # where axis 6 is along h (the same in both roots) is carried to the new slots
     br = br.branch([4], fifth, free=False)

@@ -58,7 +58,8 @@ def note_equation(br: Branches, joint: int, what: str, pivot: int, A, B, C, t,
     ----------
     br : Branches, at the slots the coefficients belong to
     joint : int, the joint solved (0-based)
-    what : str, ``height``, ``distance2`` or ``across`` (the module docstring)
+    what : str, ``height``, ``distance2``, ``across`` (the module docstring) or ``direction``
+        (the component along joint ``pivot``'s axis of the last axis's direction, unitless)
     pivot : int, the joint whose invariant it is (0-based)
     A, B, C, t : array_like, broadcast to (N, K) (SI: m, or m^2 for ``distance2``)
     sides : pair of array_like, broadcast to (N, K), optional

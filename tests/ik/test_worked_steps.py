@@ -24,7 +24,7 @@ def _explained(name, q_deg):
 @pytest.mark.parametrize("name", ["puma560", "puma560_mdh", "kuka_kr16", "abb_irb120",
                                   "stanford_arm", "bk_scara_euler", "siciliano_arm_6r",
                                   "spong_spherical_rrp", "stanford_arm_mdh", "spong_scara",
-                                  "adept_cobra600"])
+                                  "adept_cobra600", "ur5", "mycobot_280", "bk_offset_wrist"])
 def test_noted_equations_hold_at_the_solutions(name):
     """Each noted ``A cos q + B sin q + C = t`` holds at the solution's own q, and each noted
     turn is ``q = atan2(p2, p1) - atan2(f2, f1)``: the notes are the steps that made q."""
