@@ -255,7 +255,26 @@ _STEPS = {
     "roll": lambda q, extra, v, x, units: _roll_step(q, v, x, units),
     "slide": lambda q, extra, v, x, units: _slide_step(q, v, x, units),
     "tcv": lambda q, extra, v, x, units: _tcv_step(q, v, x, units),
+    "sum": lambda q, extra, v, x, units: _sum_step(q, extra, v, x, units),
 }
+
+
+def _sum_step(q, extra, value, q_value, units) -> str:
+    """The last joint about parallel axes closing their turn ``psi``: ``q = s (psi - sum
+    s_i q_i)`` (``extra``: its sense, then each other joint's name and sense)."""
+    psi, *others = (float(x) for x in value)
+    names, senses = extra[1::2], extra[2::2]
+
+    def signed(pairs):                      # "a + b - c" from (sign, word) pairs
+        text = " ".join(f"{s} {w}" for s, w in pairs)
+        return text[2:] if text.startswith("+ ") else "-" + text[2:]
+    words = signed(zip(senses, names))
+    numbers = signed((("+" if (s == "+") == (x >= 0) else "-"), _angle(abs(x), units))
+                     for s, x in zip(senses, others))
+    lead, close = ("", "") if extra[0] == "+" else ("-(", ")")
+    return (f"{q} = {lead}ψ - ({words}){close} = {lead}{_angle(psi, units)} - ({numbers})"
+            f"{close}: {_result(q, q_value, units)} (ψ: the turn about the parallel axes the "
+            "orientation asks for, the sum of their joints' turns, each with its sense)")
 
 
 def _angle(x, units, digits: int = RESULT_DIGITS) -> str:

@@ -24,6 +24,7 @@ from ..subproblems.sp4 import ROUNDING, sp4_constants
 from ..subproblems.solutions import Solutions, cross, dot
 from .branches import Branches
 from .screws import Screws
+from .worked import note_sum
 
 
 def inverse_home(S: Screws) -> np.ndarray:
@@ -155,7 +156,7 @@ def closing_turn(br: Branches, about, signs, free: int) -> Branches:
     for i, s in zip(about[:-1], signs[:-1]):          # (in order: the same bits as by hand)
         q = q - s * br.value[i]
     q = signs[-1] * q
-    br = br.set(about[-1], q, np.cos(q), np.sin(q))
+    br = note_sum(br, about, signs).set(about[-1], q, np.cos(q), np.sin(q))
     if np.count_nonzero(br.free[free]):
         sigma = br.extra["sigma"]
         total = signs[0] * br.value[about[0]]

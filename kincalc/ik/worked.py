@@ -130,6 +130,19 @@ def note_roll(S, br: Branches, joint: int, e, u) -> Branches:
                    f"roll:{joint}")
 
 
+def note_sum(br: Branches, about, signs) -> Branches:
+    """``br`` with the last of the joints ``about`` (turning about one direction, ``signs``
+    their senses along it) noted as closing the turn ``psi = sum s_i q_i``
+    (``br.extra["psi"]``, rad) the others leave (``explain`` only)."""
+    if not br.explain:
+        return br
+    value = np.stack([br.extra["psi"], *(br.value[i] for i in about[:-1])], -1)
+    sense = lambda s: "+" if s > 0 else "-"                             # noqa: E731
+    return br.note("psi", value, ":".join(
+        ["sum", str(about[-1]), sense(signs[-1])]
+        + [f"{i}:{sense(s)}" for i, s in zip(about[:-1], signs[:-1])]))
+
+
 def note_tcv(br: Branches, joint: int, length: float) -> Branches:
     """``br`` with the last joint of a tool configuration vector noted, ``q = pi ln |w4..w6|``
     (``length`` the approach part's, unitless; ``explain`` only)."""

@@ -56,6 +56,13 @@ def test_noted_equations_hold_at_the_solutions(name):
                 elif parts[0] == "slide":
                     g, f = value
                     assert abs(g - f - s.q[int(parts[1])]) < 1e-9
+                elif parts[0] == "sum":     # q = s (psi - sum s_i q_i), the others' values
+                    psi, *others = value
+                    sense = lambda x: 1.0 if x == "+" else -1.0          # noqa: E731
+                    rest = [(int(i), sense(x)) for i, x in zip(parts[3::2], parts[4::2])]
+                    assert [s.q[i] for i, _ in rest] == others
+                    x = sense(parts[2]) * (psi - sum(w * s.q[i] for i, w in rest))
+                    assert abs(wrap(x - s.q[int(parts[1])])) < 1e-9
 
 
 @pytest.mark.parametrize("types", ["PRR", "RPR", "RRP", "PRP"])
@@ -274,3 +281,27 @@ def test_explain_names_every_joint_of_every_solution(name):
                 assert abs(d) < 1e-3
     without = solve(robot, Target(T))
     assert all(s.trace is None for s in without.solutions)
+
+
+def test_a_closing_turn_against_the_axis_is_worked_with_its_sense():
+    """The last joint about parallel axes closes their turn psi (UR, offset-wrist, planar
+    arms): ``q = s (psi - sum s_i q_i)``. A planar-4 arm whose joint 2 turns against the
+    others: the step holds at every solution and the table writes the sense."""
+    from kincalc.model import Joint, Robot
+    P = np.pi
+    r = Robot(name="p4", convention="dh", base=np.eye(4), tool=np.eye(4), joints=(
+        Joint("a", "revolute", alpha=0.0, a=0.4, d=0.1, theta=0.0, limits=(-P, P)),
+        Joint("b", "revolute", alpha=P, a=0.3, d=0.05, theta=0.0, limits=(-P, P)),
+        Joint("c", "revolute", alpha=P / 2, a=0.1, d=0.0, theta=0.0, limits=(-P, P)),
+        Joint("d", "revolute", alpha=0.0, a=0.0, d=0.2, theta=0.0, limits=(-P, P))))
+    T = r.fk(np.array([0.3, -1.2, 0.8, 0.4]))
+    res = solve(r, Target(T), explain=True)
+    assert res.family == "planar-4" and res.solutions
+    for s in res.solutions:
+        (_, value, kind), = [n for n in s.trace if n[2].startswith("sum:")]
+        assert kind == "sum:2:-:0:+:1:+"
+        psi = value[0]
+        assert abs(wrap(-(psi - (s.q[0] + s.q[1])) - s.q[2])) < 1e-9
+        text = next(w["text"] for w in worked_steps(r, s, T, Units(), res.family)
+                    if w["step"] == "c")
+        assert text.startswith("c = -(ψ - (a + b)) = -(")
