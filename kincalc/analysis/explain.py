@@ -256,7 +256,21 @@ _STEPS = {
     "slide": lambda q, extra, v, x, units: _slide_step(q, v, x, units),
     "tcv": lambda q, extra, v, x, units: _tcv_step(q, v, x, units),
     "sum": lambda q, extra, v, x, units: _sum_step(q, extra, v, x, units),
+    "dir": lambda q, extra, v, x, units: _direction_step(q, v, x, units),
 }
+
+
+def _direction_step(q, value, q_value, units) -> str:
+    """``q = atan2(b2, b1) - atan2(a2, a1)``: the parallel axes' direction seen from the tool
+    turned onto it with the joints before ``q`` undone (a UR-type arm's joint 6); both
+    within rounding of ``q``'s axis at the wrist singularity, where ``q`` is free."""
+    if max(abs(float(x)) for x in value) <= 1e-9:
+        return (f"the parallel axes lie along the axis of {q}: {q} is free (the wrist "
+                f"singularity), shown at {_result(q, q_value, units)}")
+    return _angle_between(q, "b", "a", [float(x) for x in value], q_value, units,
+                          f"a: the direction of the parallel axes with the target's "
+                          f"orientation undone, b: that direction with the joints before {q} "
+                          f"undone; both in the plane normal to the axis of {q}")
 
 
 def _sum_step(q, extra, value, q_value, units) -> str:

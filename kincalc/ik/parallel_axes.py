@@ -25,7 +25,7 @@ from .pieces import (angle_about, axis_cone, axis_normal, axis_sp4, back, closin
                      target_rotation, tool_point, turn_onto)
 from .place import place
 from .screws import Screws
-from .worked import note_equation
+from .worked import note_direction, note_equation
 from .wrists import NEAR_ALIGNED, free_for_the_wrist, into_elbow_reach, parallel_wrist_q6
 
 
@@ -291,6 +291,7 @@ def _sixth(S: Screws, T, br: Branches, Rt, hj: int, elbow, v, aligned):
         br.ok.shape + (3,), h))
     b = S.turn(4, br.cos[4], -br.sin[4], h)
     t6 = _near_singular_q6(S, br, T, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
+    br = note_direction(S, br, 5, a, b)
     arcs, ok_arcs = _singular_q6(S, br, T, v, aligned, elbow)
     q6 = pair(np.where(aligned, arcs[..., 0], t6), arcs[..., 1])
     ok6 = pair(np.where(aligned, ok_arcs[..., 0], True), aligned & ok_arcs[..., 1])

@@ -111,6 +111,15 @@ def note_quadratic(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) 
                    f"quad:{joint}:{what}:{pivot}")
 
 
+def note_direction(S, br: Branches, joint: int, f, g) -> Branches:
+    """``br`` with joint ``joint``'s turn of the directions ``f`` onto ``g`` (``(N, K, 3)``,
+    unit vectors) noted (``explain`` only): as :func:`note_turn`, of directions."""
+    if not br.explain:
+        return br
+    e = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
+    return br.note("direction", np.concatenate([g @ e.T, f @ e.T], -1), f"dir:{joint}")
+
+
 def note_slide(S, br: Branches, joint: int, f, g) -> Branches:
     """``br`` with the sliding ``joint``'s move of the points ``f`` onto ``g`` (``(N, K,
     3)``, m) noted (``explain`` only)."""

@@ -44,7 +44,7 @@ def test_noted_equations_hold_at_the_solutions(name):
                     x = s.q[int(parts[1])]
                     scale = max(abs(A), abs(B), abs(C), abs(t), 1e-300)
                     assert abs(A * np.cos(x) + B * np.sin(x) + C - t) < 1e-8 * scale
-                elif parts[0] in ("turn", "roll"):
+                elif parts[0] in ("turn", "roll", "dir"):
                     g1, g2, f1, f2 = value
                     x = s.q[int(parts[1])]
                     assert abs(wrap(np.arctan2(g2, g1) - np.arctan2(f2, f1) - x)) < 1e-8
@@ -305,3 +305,19 @@ def test_a_closing_turn_against_the_axis_is_worked_with_its_sense():
         text = next(w["text"] for w in worked_steps(r, s, T, Units(), res.family)
                     if w["step"] == "c")
         assert text.startswith("c = -(ψ - (a + b)) = -(")
+
+
+def test_a_ur_arms_joint_6_is_worked_and_said_free_at_the_wrist_singularity():
+    """Joint 6 of a UR-type arm turns the parallel axes' direction seen from the tool onto
+    it (a worked step, checked at every solution above); at q5 = 0 the two lie along axis 6
+    and the step says joint 6 is free, with the representative shown."""
+    r, T, res = _explained("ur5", [10, -50, 80, -30, 0, 20])
+    for s in res.solutions:
+        text = next(w["text"] for w in worked_steps(r, s, T, Units(), res.family)
+                    if w["step"] == "wrist_3")
+        assert "wrist_3 is free (the wrist singularity)" in text
+    r, T, res = _explained("ur5", [10, -50, 80, -30, 60, 20])
+    for s in res.solutions:
+        text = next(w["text"] for w in worked_steps(r, s, T, Units(), res.family)
+                    if w["step"] == "wrist_3")
+        assert text.startswith("wrist_3 = atan2(b2, b1) - atan2(a2, a1) = atan2(")
