@@ -8,7 +8,9 @@ Exit statuses (PRODUCT.md): 0 done; 1 a well-formed question answered "no";
 
 from __future__ import annotations
 
+import contextlib
 import errno
+import signal
 import sys
 
 import click
@@ -233,8 +235,20 @@ def main(argv: list[str] | None = None) -> int:
     debug = "--debug" in args
     _quiet_numeric_warnings(debug)
     _closed_streams()
-    with inputs_recorded():             # no output of this run replaces a file it read
-        return _run(args, debug, click, KincalcError)
+    handler = signal.getsignal(signal.SIGINT)
+    try:
+        with inputs_recorded():         # no output of this run replaces a file it read
+            status = _run(args, debug, click, KincalcError)
+            if status == 130:           # interrupted: the next Ctrl-Cs are ignored until
+                with contextlib.suppress(ValueError):       # the program ends (one in its
+                    signal.signal(signal.SIGINT, signal.SIG_IGN)  # teardown: a traceback)
+            return status
+    finally:
+        # (a caller in this process gets its handler back)
+        if argv is not None and handler is not None and \
+                signal.getsignal(signal.SIGINT) is not handler:
+            with contextlib.suppress(ValueError):
+                signal.signal(signal.SIGINT, handler)
 
 
 def _run(args: list, debug: bool, click, KincalcError) -> int:

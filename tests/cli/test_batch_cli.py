@@ -978,6 +978,37 @@ def test_ctrl_c_twice_with_two_workers_ends_the_run(tmp_path, gap):
     assert group == []
 
 
+def test_a_ctrl_c_leaves_the_next_ones_ignored_until_the_program_ends(tmp_path, monkeypatch):
+    """Under load, a second Ctrl-C that came after the run had stopped, while kincalc
+    returned (3 runs of 60), came out as a KeyboardInterrupt traceback. The first one now
+    leaves Ctrl-C ignored while the run stops; main() gives an in-process caller its
+    handler back."""
+    import signal
+    calls = []
+    real = runner.process_chunk
+
+    def interrupted(*a, **k):                 # Ctrl-C while the first chunk is solved
+        if not calls:
+            calls.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+            calls.append(signal.getsignal(signal.SIGINT))
+        return real(*a, **k)
+    monkeypatch.setattr(runner, "process_chunk", interrupted)
+    src = write(tmp_path, "q.jsonl", ['{"q": [0, 0, 0, 0, 0, 0]}\n'] * 3)
+    status, out, err = run_cli(["fk", "puma560", "--batch", src])
+    assert status == 130 and err == ""
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    # as the program (argv from sys.argv): Ctrl-C stays ignored after the run stopped
+    calls.clear()
+    monkeypatch.setattr(sys, "argv", ["kincalc", "fk", "puma560", "--batch", str(src)])
+    monkeypatch.setattr(sys, "stdout", io.StringIO())
+    try:
+        assert main() == 130
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def test_workers_exit_when_the_parent_is_killed():
     """A killed parent never shuts its pool down: the workers, blocked reading their task
     queue (whose write end they hold too), stayed forever."""

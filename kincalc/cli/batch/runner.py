@@ -117,15 +117,10 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
                 advance(source.position)
                 if answered == 1:
                     gc.freeze()
-    except BaseException:                       # Ctrl-C, a closed stdout: stop the workers
-        if pool is not None:
-            stop_pool(pool, now=True)
-            pool = None
-        raise
     finally:
         gc.unfreeze()
-        if pool is not None:
-            stop_pool(pool, now=False)
+        if pool is not None:                    # (on Ctrl-C or a closed stdout too)
+            stop_pool(pool)
         source.close()
     if source.stopped is not None:
         raise InputError(f"--batch {_shown(src)}: record {source.stopped} runs on for more than "
@@ -360,7 +355,7 @@ class _Output:
 
     def __enter__(self):
         import signal
-        self._writing = self._pending = False
+        self._writing = self._pending = self._stopping = False
         self._old = self._fd = None
         try:
             sys.stdout.flush()
@@ -384,7 +379,17 @@ class _Output:
         if self._writing:
             self._pending = True
         else:
-            raise KeyboardInterrupt
+            self._stop()
+
+    def _stop(self):
+        """Raise KeyboardInterrupt, with Ctrl-C ignored from now on while the run stops (its
+        workers, its generators, the interpreter): a second Ctrl-C there broke the
+        shutdown, or came out as a traceback. (:func:`kincalc.cli.main.main` restores the
+        handler for a caller in the same process.)"""
+        import signal
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        self._stopping = True
+        raise KeyboardInterrupt
 
     def write(self, text) -> None:
         """Write ``text``: str, or bytes of ASCII text."""
@@ -403,15 +408,15 @@ class _Output:
                     view = view[os.write(self._fd, view):]
         except BrokenPipeError:
             if self._pending:                   # the reader went with the same Ctrl-C
-                raise KeyboardInterrupt from None
+                self._stop()
             raise
         finally:
             self._writing = False
         if self._pending:
-            raise KeyboardInterrupt
+            self._stop()
 
     def __exit__(self, *exc):
-        if self._old is not None:
+        if self._old is not None and not self._stopping:
             import signal
             signal.signal(signal.SIGINT, self._old)
         return False
