@@ -146,6 +146,12 @@ def printable(text) -> str:
     return _CONTROLS.sub("\ufffd", _BREAKS.sub(" ", str(text)))
 
 
+def one_line(text) -> str:
+    """A message on one line: :func:`printable`, its runs of white space as one space, and
+    none at its ends (a file name in it may hold an escape sequence)."""
+    return " ".join(printable(text).split())
+
+
 def quote(text, limit: int = MAX_QUOTE) -> str:
     """``repr(text)`` cut to about ``limit`` characters, for echoing a user's value in a
     one-line message.

@@ -167,14 +167,14 @@ def _grade(path: str, dirs, debug: bool):
     from ..errors import KincalcError
     from ..homework import grade, load_sheet
     from ..homework.export import Outcome
-    from ..limits import printable
+    from ..limits import one_line
     start = time.monotonic()
     try:
         report = grade(load_sheet(path, dirs))
     except KincalcError as exc:
         if debug:
             raise
-        message = " ".join(printable(exc).split())     # (a file name may hold an escape)
+        message = one_line(exc)
         sys.stderr.write(f"kincalc: error: {message}\n")
         return Outcome(path, error=message, seconds=time.monotonic() - start)
     return Outcome(path, report=report, seconds=time.monotonic() - start)

@@ -17,6 +17,7 @@ import click
 import typer
 from typer.core import TyperGroup
 
+from ..limits import one_line
 from ..version import __version__
 
 from .common import NUMERIC_ARGS
@@ -277,16 +278,16 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
         if type(exc).__name__ == "NoArgsIsHelpError":  # bare `kincalc` or `kincalc robots`
             sys.stderr.write(f"{cmd}: error: missing command (see '{cmd} --help')\n")
             return 2
-        sys.stderr.write(f"{cmd}: error: {_one_line(exc.format_message())} "
+        sys.stderr.write(f"{cmd}: error: {one_line(exc.format_message())} "
                          f"(see '{cmd} --help')\n")
         return 2
     except click.exceptions.ClickException as exc:
         _traceback(debug)
-        sys.stderr.write(f"kincalc: error: {_one_line(exc.format_message())}\n")
+        sys.stderr.write(f"kincalc: error: {one_line(exc.format_message())}\n")
         return 2
     except KincalcError as exc:
         _traceback(debug)
-        sys.stderr.write(f"kincalc: error: {_one_line(_words(exc))}\n")
+        sys.stderr.write(f"kincalc: error: {one_line(_words(exc))}\n")
         return exc.exit_status
     except BrokenPipeError:
         return _stdout_closed()
@@ -297,7 +298,7 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
         if _unwritable(exc):        # (not a bug: the system refused the output)
             sys.stderr.write(f"kincalc: error: cannot write the output: {_write_error(exc)}\n")
             return 2
-        sys.stderr.write(f"kincalc: internal error: {type(exc).__name__}: {_one_line(str(exc))}. "
+        sys.stderr.write(f"kincalc: internal error: {type(exc).__name__}: {one_line(str(exc))}. "
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
@@ -416,13 +417,6 @@ def _write_error(exc: BaseException) -> str:
         return (f"the output's encoding ({exc.encoding}) cannot hold its text; "
                 "set PYTHONIOENCODING=utf-8")
     return exc.strerror or str(exc)
-
-
-def _one_line(text: str) -> str:
-    """A message on one line, with no control character (a file name may hold an escape
-    sequence: :func:`kincalc.limits.printable`)."""
-    from ..limits import printable
-    return " ".join(printable(text).split())
 
 
 def run() -> None:  # pragma: no cover - console-script shim

@@ -267,12 +267,12 @@ def validate(
         from .render import emit_json
         emit_json({"kincalc": SCHEMA_VERSION, "command": "robots validate", "files": report})
     else:
-        from ..limits import printable                # (a file name may hold an escape)
+        from ..limits import one_line, printable      # (a file name may hold an escape)
         for e in report:
             if e["valid"]:
                 sys.stdout.write(f"ok: {printable(e['file'])}: {printable(e['name'])}, "
                                  f"{joints_text(e['dof'])}, {e['convention']}\n")
             else:
-                sys.stderr.write(f"kincalc: error: {' '.join(printable(e['error']).split())}\n")
+                sys.stderr.write(f"kincalc: error: {one_line(e['error'])}\n")
     if bad:
         raise typer.Exit(2)

@@ -95,9 +95,8 @@ def note_turn(S, br: Branches, joint: int, f, g) -> Branches:
     """
     if not br.explain:
         return br
-    e = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
     o = S.point[joint]
-    return br.note("turn", np.concatenate([(g - o) @ e.T, (f - o) @ e.T], -1), f"turn:{joint}")
+    return _turn_in_plane(S, br, "turn", joint, f - o, g - o)
 
 
 def note_quadratic(br: Branches, joint: int, what: str, pivot: int, A, B, C, t) -> Branches:
@@ -116,8 +115,14 @@ def note_direction(S, br: Branches, joint: int, f, g) -> Branches:
     unit vectors) noted (``explain`` only): as :func:`note_turn`, of directions."""
     if not br.explain:
         return br
+    return _turn_in_plane(S, br, "dir", joint, f, g)
+
+
+def _turn_in_plane(S, br: Branches, kind: str, joint: int, f, g) -> Branches:
+    """``br`` with the turn of ``f`` onto ``g`` (``(N, K, 3)``, vectors from joint ``joint``'s
+    axis) noted as ``kind``, both in the plane normal to the axis: ``(g1, g2, f1, f2)``."""
     e = S.constant(("plane of", joint), lambda: plane_basis(S.axis[joint]))
-    return br.note("direction", np.concatenate([g @ e.T, f @ e.T], -1), f"dir:{joint}")
+    return br.note(kind, np.concatenate([g @ e.T, f @ e.T], -1), f"{kind}:{joint}")
 
 
 def note_slide(S, br: Branches, joint: int, f, g) -> Branches:
