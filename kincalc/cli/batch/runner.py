@@ -275,7 +275,9 @@ def _blocks(source):
             held, held_bytes = [], 0
         parts = data.split(b"\n")
         last = parts.pop()
-        if len(data) <= MAX_RECORD_BYTES:       # no line too long: the common case
+        # no line too long, the common case (a file's block is longer than a record, its
+        # lines are not: their longest is found by C-level calls, not a test a line)
+        if len(data) <= MAX_RECORD_BYTES or max(map(len, parts)) <= MAX_RECORD_BYTES:
             lines = [p for p in parts if p.strip(BLANK)]
         else:                                   # an over-long line is a record, blank or not
             lines = [None if _too_long(p) else p for p in parts
