@@ -35,6 +35,10 @@ MAX_SYMBOLIC_JOINTS = 12
 #: the most items one homework sheet may hold
 MAX_SHEET_ITEMS = 200
 
+#: the most ik and reach items one sheet may hold for a robot kincalc solves numerically (a
+#: seven-joint arm: up to a second or two an item, where a closed form takes milliseconds)
+MAX_NUMERIC_ITEMS = 20
+
 #: the most students one ``kincalc quiz --roster`` file may list (each gets a sheet and a
 #: key drawn for them, up to a second each)
 MAX_ROSTER_STUDENTS = 2000

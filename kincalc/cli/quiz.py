@@ -91,6 +91,7 @@ def quiz(
         target = output_target(output, "--output", force, robot)
         check_target(target)
     rob = load_robot(robot, base_link, tip_link)
+    _numeric_limit(rob, kinds)
     drawn = seed is None
     if drawn:
         import secrets
@@ -132,6 +133,15 @@ def _kinds(items: str | None) -> list[str]:
         raise InputError(f"--items: {len(kinds)} kinds; a sheet holds at most "
                          f"{MAX_SHEET_ITEMS} items (kincalc's limit)")
     return kinds
+
+
+def _numeric_limit(robot, kinds) -> None:
+    """Refuse --items whose sheet check would refuse: too many ik and reach items for a
+    robot solved numerically."""
+    from ..homework.sheet.format import numeric_items_limit
+    too_many = numeric_items_limit(robot, kinds)
+    if too_many:
+        raise InputError(f"--items: {too_many}")
 
 
 def _comments(robot: str, seed: int, kinds, deg, answers: bool, ref: str, notes,
@@ -177,6 +187,7 @@ def _roster_quiz(robot: str, roster: str, salt, kinds, output, force: bool, deg,
     keys = os.path.join(output, "keys")
     targets = _roster_targets(output, keys, [s.id for s in students], force, robot, roster)
     rob = load_robot(robot, base_link, tip_link)
+    _numeric_limit(rob, kinds)
     angle = None if deg is None else ("deg" if deg else "rad")
     refs = (_robot_ref(robot, os.path.join(output, "x.yaml")),
             _robot_ref(robot, os.path.join(keys, "x.yaml")))

@@ -1309,7 +1309,8 @@ def test_redundant_arm_ik_sets_are_checked_by_fk_and_none_called_missed():
 
 from kincalc.homework import sheet_robot_path  # noqa: E402
 from kincalc.errors import InputError  # noqa: E402
-from kincalc.limits import MAX_FILE_BYTES, MAX_IK_SETS, MAX_QUOTE, MAX_SHEET_ITEMS  # noqa: E402
+from kincalc.limits import (MAX_FILE_BYTES, MAX_IK_SETS, MAX_NUMERIC_ITEMS, MAX_QUOTE,  # noqa: E402
+                            MAX_SHEET_ITEMS)
 
 SECRET = "KINCALC-SECRET-7d1e0b"
 SINGULAR = "items:\n  - {id: a, kind: singular, q: [30, 0], answer: yes}\n"
@@ -1496,6 +1497,44 @@ def test_sheet_item_limit():
             parse_sheet(items_text(n), "hw.yaml")
         assert info.value.line == 3                 # where the list starts
         assert f"'items' has {n} items; a sheet holds at most {MAX_SHEET_ITEMS}" in str(info.value)
+
+
+def reach_items(robot: str, n: int, extra: str = "") -> str:
+    return f"robot: {robot}\nitems:\n" + "".join(
+        f"  - {{id: r{k}, kind: reach, pose: {{xyz: [0.3, 0.1, 0.4], rpy: [0, 90, 0]}}}}\n"
+        for k in range(n)) + extra
+
+
+def test_numeric_item_limit():
+    """A sheet of 200 reach items for a seven-joint arm (solved numerically, a second or so
+    an item) kept a grader busy for minutes: at most MAX_NUMERIC_ITEMS such items."""
+    assert len(parse_sheet(reach_items("panda", MAX_NUMERIC_ITEMS), "hw.yaml").items) \
+        == MAX_NUMERIC_ITEMS
+    ik = "  - {id: i, kind: ik, pose: {xyz: [0.3, 0.1, 0.4], rpy: [0, 90, 0]}}\n"
+    for text in (reach_items("panda", MAX_NUMERIC_ITEMS + 1), reach_items("panda", 199),
+                 reach_items("panda", MAX_NUMERIC_ITEMS, ik)):
+        with pytest.raises(SheetError) as info:
+            parse_sheet(text, "hw.yaml")
+        assert info.value.line == 3                 # where the list starts
+        assert f"ik and reach items; for 'panda', which kincalc solves numerically" \
+            in str(info.value)
+        assert f"a sheet holds at most {MAX_NUMERIC_ITEMS}" in str(info.value)
+    # an ik item holding a joint is solved in closed form, and a robot with one is not limited
+    locked = ik.replace("rpy: [0, 90, 0]}", "rpy: [0, 90, 0]}, lock: {joint3: 0}")
+    assert len(parse_sheet(reach_items("panda", MAX_NUMERIC_ITEMS, locked), "hw.yaml").items) \
+        == MAX_NUMERIC_ITEMS + 1
+    assert len(parse_sheet(reach_items("puma560", 199), "hw.yaml").items) == 199
+
+
+def test_quiz_refuses_what_check_would(capsys):
+    from kincalc.cli.main import main
+    many = ",".join(["reach"] * (MAX_NUMERIC_ITEMS + 1))
+    assert main(["quiz", "panda", "--seed", "1", "--items", many]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert f"--items: {MAX_NUMERIC_ITEMS + 1} ik and reach items; for 'panda'" in err
+    assert main(["quiz", "puma560", "--seed", "1", "--items", many]) == 0
+    assert capsys.readouterr().out.count("kind: reach") == MAX_NUMERIC_ITEMS + 1
 
 
 def test_ik_answer_set_limit():

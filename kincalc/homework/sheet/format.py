@@ -44,6 +44,23 @@ MIX_FACTOR = 20.0
 DH_SAMPLES = 200
 
 
+def numeric_items_limit(robot, kinds) -> str | None:
+    """What is wrong with a sheet of items ``kinds`` (their kinds, those of ik items that
+    hold no joint) for ``robot``: more than MAX_NUMERIC_ITEMS ik and reach items for a robot
+    kincalc solves numerically (they bound the time a sheet takes to grade, as the item
+    count does), or None."""
+    from ...limits import MAX_NUMERIC_ITEMS, quote
+    count = sum(kind in ("ik", "reach") for kind in kinds)
+    if count <= MAX_NUMERIC_ITEMS:
+        return None
+    from ...ik.families import plan
+    if plan(robot)[1] is not None:
+        return None
+    return (f"{count} ik and reach items; for {quote(robot.name)}, which kincalc solves "
+            f"numerically (a second or so an item), a sheet holds at most {MAX_NUMERIC_ITEMS} "
+            "(kincalc's limit)")
+
+
 class SheetError(RobotFileError):
     """An invalid sheet: ``file:line: message`` (exit status 2)."""
 

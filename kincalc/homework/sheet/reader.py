@@ -16,7 +16,7 @@ from ...spatial import TCV_MAX_ROLL
 from .answers import AnswerReader
 from .format import (DEFAULT_ANGLE_DEG, DEFAULT_MATRIX, DEFAULT_POSITION, ITEM_KEYS, Item,
                      KINDS, KIND_KEYS, POSE_FIELDS, SHEET_KEYS, Sheet, SheetError,
-                     TOLERANCE_KEYS, Tolerance, round1)
+                     TOLERANCE_KEYS, Tolerance, numeric_items_limit, round1)
 
 
 # --- reading a sheet -----------------------------------------------------------------
@@ -229,6 +229,9 @@ class _SheetReader(AnswerReader, Reader):
             seen[item.id] = item.line
             items.append(item)
             self.item = None
+        too_many = numeric_items_limit(robot, [item.kind for item in items if not item.lock])
+        if too_many:
+            self.fail(top["items"], f"'items' has {too_many}")
         return Sheet(path=self.file, robot=robot, units=self.units, tolerance=tol, items=items,
                      title=self.opt_text(top, "title"), student=self.opt_text(top, "student"))
 
