@@ -108,7 +108,12 @@ FULL_TRANSPOSE = "fits the right matrix transposed (rows written as columns)"
 
 
 def first_slip(sheet, item, check_variant, joints=None, forms=()):
-    """The first slip whose result fits the answer (``check_variant(robot, q, form)``)."""
+    """The first slip whose result fits the answer (``check_variant(robot, q, form)``), or
+    None, as where the right result fits it as well: a slip that leaves the result as it is
+    (the sign of a joint the quantity does not depend on, a row both conventions write
+    alike) or nearly explains nothing of an answer that is only a little off."""
+    if check_variant(sheet.robot, item.q, None):
+        return None
     for hint, robot, q in q_slips(sheet, item.q, joints):
         if check_variant(robot, q, None):
             return hint

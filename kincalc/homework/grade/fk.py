@@ -84,7 +84,9 @@ def grade_fk(sheet: Sheet, item: Item) -> ItemResult:
             M = form(M)
         return _fk_ok(_fk_errors(answer, M, units, q[-1]), tol, units, HINT_FACTOR)
     forms = MATRIX_SLIPS + ((FULL_TRANSPOSE, FULL_TRANSPOSE),)
-    hint = first_slip(sheet, item, fits, forms=forms) or _angle_set_slip(item.answer, T, tol, units)
+    hint = first_slip(sheet, item, fits, forms=forms)
+    if hint is None and not fits(robot, item.q, None):      # (as first_slip: nearly right)
+        hint = _angle_set_slip(item.answer, T, tol, units)
     wrong = [k for k, v in err.items() if not _fk_ok({k: v}, tol, units)]
     return ItemResult(item.id, "fk", False, item.points, error,
                       f"T_0^{robot.dof} is wrong: {' and '.join(wrong)} off "

@@ -187,7 +187,9 @@ def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
             borrowed = []
             for j in bad:
                 near = min(cands, key=lambda c: diff(q, c.q)[j])
-                if near is not s and diff(q, near.q)[j] <= MIX_FACTOR * jtol[j]:
+                gap = diff(q, near.q)[j]
+                # (a value the closest solution shares, as its wrist twin does, is its own)
+                if gap < d[best][j] and gap <= MIX_FACTOR * jtol[j]:
                     borrowed.append(f"{robot.joints[j].name} is near the "
                                     f"{fmt(display_q(robot, near.q, units)[j])} of the {near.branch} "
                                     "solution")
@@ -196,7 +198,8 @@ def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
     for hint, rob, alt in q_slips(sheet, np.asarray(q, float)):
         if rob is not robot:
             continue
-        if any(np.all(diff(alt, c.q) <= jtol * HINT_FACTOR) for c in cands):
+        if any(np.all(diff(alt, c.q) <= jtol * HINT_FACTOR)
+               and not np.all(diff(q, c.q) <= jtol * HINT_FACTOR) for c in cands):
             return f"{note}; your set {hint}"
     return note
 

@@ -75,7 +75,8 @@ def grade_jacobian(sheet: Sheet, item: Item) -> ItemResult:
     hint = first_slip(sheet, item, fits,
                        forms=[(f"fits J in the {other} frame; the item asks for the "
                                f"{item.frame} frame", other)])
-    if hint is None and units.angle == "deg" and score(J * math.pi / 180, HINT_FACTOR)[0]:
+    if hint is None and units.angle == "deg" and score(J * math.pi / 180, HINT_FACTOR)[0] \
+            and not fits(sheet.robot, item.q, None):
         hint = "fits J per degree: the Jacobian maps joint rates in rad/s"
     return ItemResult(item.id, "jacobian", False, item.points, error,
                       f"J ({item.frame} frame) is wrong: largest difference {fmt(error)}",
