@@ -262,7 +262,15 @@ def classify(robot, S: Screws) -> tuple[Family | None, str]:
                             STRUCTURE_ANGLE_TOL if tol is None else tol)
     if family is not None and family.name != "general-6r":
         strict, _ = _classify(robot, S, EXACT_POINT_TOL, EXACT_ANGLE_TOL)
-        if strict is None or strict.name != family.name:
+        if strict is not None and strict.name != "general-6r" \
+                and strict.controls == family.controls:
+            # a structure the robot has exactly wins over one it has only nearly, where both
+            # take the same targets: its closed form is of the true robot, where the other's,
+            # refined by Newton, can lose the roots the nearest robot of that family does not
+            # have (an iiwa held at A6 = 0.005 deg is a spherical wrist to 2e-5 m, and a
+            # reversed one exactly)
+            family = strict
+        else:
             family = family._replace(exact=False)
     return family, why
 

@@ -114,6 +114,29 @@ def test_no_solution_of_an_independent_search_is_missing():
         assert any(_close(s.q[1:], q, red.is_revolute, 1e-5) for s in ours)
 
 
+@pytest.mark.parametrize("a2,a6", [(-0.5, 0.005), (-0.005, 0.005), (-0.05, -0.005)])
+def test_a_structure_held_exactly_wins_over_one_held_nearly(a2, a6):
+    """iiwa14 held at A6 = 0.005 deg is a spherical wrist (axes A4, A5, A7) to 2e-5 m and a
+    reversed one (A1, A2, A3 meet) exactly: the near family's solutions, refined by Newton,
+    lost the four roots with the other elbow, the generating configuration among them
+    (redundant-arm oracle, whose own search polished eight exact roots in 40 digits: four
+    with each sign of A4)."""
+    r = kincalc.load_robot("iiwa14")
+    q0 = np.radians([83, a2, 4, -41, -121, a6, -26])
+    locks = {5: q0[5]}
+    red = locked_robot(r, locks)
+    family = plan(red)[1]
+    assert family.name == "reversed-spherical-wrist" and family.exact
+    T = r.fk(q0)
+    ours = solve_locked(r, Target(T), locks).solutions
+    assert any(_close(s.q, q0, r.is_revolute) for s in ours)
+    assert len(ours) == 8
+    assert sorted(np.sign(s.q[3]) for s in ours) == [-1] * 4 + [1] * 4
+    for k, s in enumerate(ours):
+        assert s.q[5] == q0[5] and np.allclose(r.fk(s.q), T, atol=1e-9)
+        assert not any(_close(s.q, o.q, r.is_revolute, 1e-6) for o in ours[:k])
+
+
 def test_a_held_value_outside_its_limits_flags_every_solution():
     r = kincalc.load_robot("iiwa14")
     q0 = np.zeros(7) + 0.3
