@@ -316,7 +316,10 @@ def _check(robot, family, method, targets, joints, candidate, br, polish=True,
     c, s, x = joints
     N, K = candidate.shape
     n = robot.dof
-    q = normalise(robot, np.where(candidate[..., None], x.T.reshape(N, K, n), 0.0))
+    raw = np.where(candidate[..., None], x.T.reshape(N, K, n), 0.0)
+    q = normalise(robot, raw)
+    if targets.kind == "tcv":       # the vector holds e^(q_n / pi): q_n itself, no turn from it
+        q[..., -1] = raw[..., -1]
     memo = {}
     if N * K <= FEW:
         A, f = entry_frames(robot.chain, q.reshape(-1, n), coefficients=True)

@@ -279,6 +279,34 @@ def test_zagreb_tool_configuration_vector_target():
                for s in res.solutions)
 
 
+@pytest.mark.parametrize("q4", [600.0, -300.0, 200.0, 405.0])
+def test_a_tcv_last_joint_beyond_a_half_turn_is_not_moved_by_a_turn(q4):
+    """The vector holds e^(q4 / pi): q4 = 600 deg and q4 = -120 deg are different vectors.
+    The limits' normaliser moved the solver's q4 by whole turns (600 came out -120, "ok")."""
+    from dataclasses import replace
+    from kincalc.spatial import tcv_from_transform
+    r = load_robot("fer_rrpr")
+    q = np.array([D(30), D(60), 0.3, D(q4)])
+    w = tcv_from_transform(r.fk(q), q[3])
+    T = np.eye(4)
+    T[:3, 3] = w[:3]
+    n = np.linalg.norm(w[3:])
+    target = Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n)))
+    res = solve(r, target)
+    assert len(res.solutions) == 2 and any(close(s.q, q, r) for s in res.solutions)
+    for s in res.solutions:             # homework eq. (2-4), and the vector back from FK
+        assert abs(s.q[3] - np.pi / 2 * np.log(np.sum(w[3:] ** 2))) < 1e-12
+        assert np.allclose(tcv_from_transform(r.fk(s.q), s.q[3]), w, atol=1e-9)
+    # limits that hold q4 only a turn away: the solutions are outside them, not turned in
+    joints = list(r.joints)
+    joints[3] = replace(joints[3], limits=(D(q4) + D(300), D(q4) + D(420)))
+    lim = replace(r, joints=tuple(joints))
+    res = solve(lim, target)
+    assert len(res.solutions) == 2 and not res.reachable
+    for s in res.solutions:
+        assert abs(s.q[3] - D(q4)) < 1e-12 and s.violations[0][0] == 3
+
+
 def test_tcv_typed_to_six_decimals_is_still_reachable():
     # bug: the approach check allowed 1e-7 rad, so a TCV printed by 'kincalc fk' and
     # typed back with 6 decimals (approach off by 2.3e-7 rad) was called unreachable

@@ -13,13 +13,12 @@ from .common import ItemResult, fmt_q, gaps, unit_suffix
 
 def _target_residual(robot, target, q) -> tuple[float, float | None]:
     """(position error (m), orientation error (rad) or None) of joints ``q`` for ``target``."""
-    from ...spatial import wrap
     from ...spatial import rotation_error
     T = robot.fk(q)
     pe = float(np.linalg.norm(T[:3, 3] - target.T[:3, 3]))
-    if target.tcv is not None:
+    if target.tcv is not None:          # (its last joint is e^(q_n / pi): not modulo a turn)
         a, qn = target.tcv
-        oe = max(float(np.arccos(np.clip(T[:3, 2] @ a, -1, 1))), abs(float(wrap(q[-1] - qn))))
+        oe = max(float(np.arccos(np.clip(T[:3, 2] @ a, -1, 1))), abs(float(q[-1] - qn)))
     elif target.approach is not None:
         oe = float(np.arccos(np.clip(T[:3, 2] @ target.approach, -1, 1)))
     elif target.orientation:
@@ -27,6 +26,15 @@ def _target_residual(robot, target, q) -> tuple[float, float | None]:
     else:
         oe = None
     return pe, oe
+
+
+def _gaps(robot, target, qa, qb) -> np.ndarray:
+    """:func:`~.common.gaps` of two joint vectors for ``target``: a tool configuration
+    vector's last joint is its own value, not one modulo a turn (``e^(q_n / pi)``)."""
+    out = gaps(robot, qa, qb)
+    if target.tcv is not None:
+        out[-1] = abs(float(qa[-1]) - float(qb[-1]))
+    return out
 
 
 def grade_ik(sheet: Sheet, item: Item) -> ItemResult:
@@ -87,7 +95,8 @@ def _judge_sets(sheet, item, res, required, exhaustive):
             sets.append(entry)
             continue
         hit = next((k for k in range(len(sols))
-                    if np.all(gaps(robot, q, sols[k].q) <= jtol)), None) if exhaustive else None
+                    if np.all(_gaps(robot, item.target, q, sols[k].q) <= jtol)), None) \
+            if exhaustive else None
         reaches = pe <= tol.position and (oe is None or oe <= tol.angle)
         if hit is not None and hit in matched:
             entry.update(status="duplicate", note=f"the same solution as set {matched[hit]}",
@@ -165,7 +174,7 @@ def _ik_wrong_note(sheet, item, q, pe, oe, res, required) -> str:
         miss += f" and {fmt(oe * units.a)}{unit_suffix(units, 'angle')} in orientation"
 
     def diff(qa, qb):
-        return gaps(robot, qa, qb)
+        return _gaps(robot, item.target, qa, qb)
 
     for rej in res.rejected or []:
         if np.all(diff(q, rej["q"]) <= jtol):
