@@ -1702,3 +1702,49 @@ def test_nothing_outside_the_folder_is_asked_about(folders, name, monkeypatch):
         assert p == root or p.startswith(root + os.sep) or root.startswith(p.rstrip(os.sep)
                                                                            + os.sep) \
             or p == os.sep, (name, p)
+
+
+def test_a_tcv_ik_set_a_turn_off_in_the_last_joint_is_wrong():
+    """The vector holds e^(q4 / pi): q4 + 360 deg does not reach it (an fk item says so),
+    while q1 + 360 deg does. IK sets were compared modulo a turn in every joint."""
+    from kincalc import load_robot
+    from kincalc.spatial import tcv_from_transform
+    r = load_robot("fer_rrpr")
+    q = np.radians([30, 60, 0, 45])
+    q[2] = 0.3
+    w = [round(float(x), 9) for x in tcv_from_transform(r.fk(q), q[3])]
+    pose = f"{{tcv: {w}}}"
+    rep = report(f"""\
+        - {{id: right, kind: ik, pose: {pose}, answer: [[30, 60, 0.3, 45], [-150, -60, 0.3, 45]]}}
+        - {{id: q1, kind: ik, pose: {pose}, answer: [[390, 60, 0.3, 45], [-150, -60, 0.3, 45]]}}
+        - {{id: q4, kind: ik, pose: {pose}, answer: [[30, 60, 0.3, 405], [-150, -60, 0.3, 45]]}}
+        - {{id: fk, kind: fk, q: [30, 60, 0.3, 405], answer: {{tcv: {w}}}}}
+        """, robot="fer_rrpr")
+    passed = {r.id: r.passed for r in rep.items}
+    assert passed == {"right": True, "q1": True, "q4": False, "fk": False}, passed
+
+
+ARM_WITH_BASE = ("{name: arm, convention: dh, units: {length: m, angle: deg}, joints: ["
+                 "{name: q1, type: revolute, theta: 0, d: 0.3, a: 0, alpha: 90}, "
+                 "{name: q2, type: revolute, theta: 0, d: 0, a: 0.4, alpha: 0}], "
+                 "base: {xyz: [0.1, -0.05, 0.2], rpy: [0, 0, 30]}, tool: {xyz: [0, 0, 0.08]}}")
+ROWS = "[[q1, 0.3, 0, 90], [q2, 0, 0.4, 0]]"
+
+
+def test_dh_rows_without_the_base_get_the_base_hint():
+    """A missing tool had its hint, a missing base none: the rows were only said to put
+    joint 1's axis 0.1118 m away (the base's offset, sqrt(0.1^2 + 0.05^2))."""
+    r = one(f"- {{id: t, kind: dh, answer: {{convention: dh, table: {ROWS}}}}}",
+            robot=ARM_WITH_BASE)
+    assert not r.passed and "0.1118" in r.message, r.message
+    assert r.hint and "base and tool frames are left out" in r.hint, r.hint
+    r = one(f"- {{id: t, kind: dh, tool: ignore, answer: {{convention: dh, table: {ROWS}}}}}",
+            robot=ARM_WITH_BASE)
+    assert not r.passed and r.hint and "base frame is left out" in r.hint, r.hint
+    # the base given: right; rows wrong too: no such hint
+    r = one(f"- {{id: t, kind: dh, tool: ignore, answer: {{convention: dh, table: {ROWS}, "
+            "base: {xyz: [0.1, -0.05, 0.2], rpy: [0, 0, 30]}}}", robot=ARM_WITH_BASE)
+    assert r.passed, r.message
+    r = one("- {id: t, kind: dh, tool: ignore, answer: {convention: dh, table: "
+            "[[q1, 0.3, 0, 60], [q2, 0, 0.4, 0]]}}", robot=ARM_WITH_BASE)
+    assert not r.passed and not (r.hint and "left out" in r.hint), r.hint

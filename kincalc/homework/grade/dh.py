@@ -86,6 +86,8 @@ def grade_dh(sheet: Sheet, item: Item) -> ItemResult:
             hint = hint or ("the robot's tool frame is not the last joint's frame: add it as "
                             "'tool: {xyz: [...], rpy: [...]}' to the answer, or grade the axes "
                             "only with 'tool: ignore' on the item")
+    if hint is None and k == 1:
+        hint = _missing_base(robot, cand, kw)
     if hint is None and k is not None:
         hint = _row_hint(robot, cand, min(row, n) if row else None, units, tol)
     return ItemResult(item.id, "dh", False, item.points, m.position_error * units.l, msg,
@@ -93,6 +95,25 @@ def grade_dh(sheet: Sheet, item: Item) -> ItemResult:
 
 
 _CONV_SHORT = {"dh": "standard DH", "mdh": "modified DH"}
+
+
+def _missing_base(robot, cand, kw) -> str | None:
+    """The hint for a table whose rows are right but that leaves out the robot's base
+    frame (and its tool), where the item compares them; else None."""
+    def left_out(frame):
+        return not kw[f"free_{frame}"] and np.allclose(getattr(cand, frame), np.eye(4)) \
+            and not np.allclose(getattr(robot, frame), np.eye(4))
+    if not left_out("base"):
+        return None
+    frames = ["base"] + (["tool"] if left_out("tool") else [])
+    from ...analysis.compare import match
+    if not match(robot, cand, **dict(kw, **{f"free_{f}": True for f in frames})).same:
+        return None
+    what = " and ".join(f"'{f}: {{xyz: [...], rpy: [...]}}'" for f in frames)
+    return (f"every row is right, but the robot's {' and '.join(frames)} frame"
+            f"{'s are' if len(frames) > 1 else ' is'} left out: add {what} to the answer, or "
+            f"grade the rows only with {', '.join(f'{f}: ignore' for f in frames)} on the "
+            "item")
 
 
 def _reference_table(robot, conv: str, fold_tool: bool):
