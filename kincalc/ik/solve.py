@@ -195,7 +195,7 @@ def solve(robot, target: Target, *, all_branches: bool = False, explain: bool = 
                                             [s.within_limits for s in sols]).tolist()]
     if near is not None:
         sols = [replace(s, q=q, change=q - near) for s in sols
-                for q in [_toward(robot, s.q, near)]]
+                for q in [_toward(robot, s.q, near, targets.kind)]]
         sols.sort(key=lambda s: (not s.within_limits, _scaled_norm(robot, s.change)))
     reachable = any(s.within_limits for s in sols)
     reason = answer_reason(robot, family, T, target, sols, rejected) if reasons else None
@@ -364,10 +364,12 @@ def _dead_ends(robot, sv: Solved) -> list:
     return out
 
 
-def _toward(robot, q, near):
-    """``q``'s revolute joints moved by whole turns towards ``near`` (``turn_toward``)."""
+def _toward(robot, q, near, kind: str):
+    """``q``'s revolute joints moved by whole turns towards ``near`` (``turn_toward``), but
+    the last joint of a ``kind`` ``"tcv"`` target (the vector holds ``e^(q_n / pi)``)."""
     lo, hi = robot.limits.T
-    return np.where(robot.is_revolute, turn_toward(q, near, lo, hi), q)
+    turns = robot.is_revolute & (np.arange(robot.dof) < robot.dof - (kind == "tcv"))
+    return np.where(turns, turn_toward(q, near, lo, hi), q)
 
 
 def _scaled_norm(robot, d) -> float:

@@ -297,6 +297,11 @@ def test_a_tcv_last_joint_beyond_a_half_turn_is_not_moved_by_a_turn(q4):
     for s in res.solutions:             # homework eq. (2-4), and the vector back from FK
         assert abs(s.q[3] - np.pi / 2 * np.log(np.sum(w[3:] ** 2))) < 1e-12
         assert np.allclose(tcv_from_transform(r.fk(s.q), s.q[3]), w, atol=1e-9)
+    # nor by --near, which moves the other joints by whole turns towards it
+    near = np.array([q[0] + 4 * np.pi, q[1], q[2], 0.0])
+    res = solve(r, target, near=near)
+    assert any(close(s.q, q, r) and abs(s.q[0] - near[0]) < 1e-9 for s in res.solutions)
+    assert all(abs(s.q[3] - D(q4)) < 1e-12 for s in res.solutions)
     # limits that hold q4 only a turn away: the solutions are outside them, not turned in
     joints = list(r.joints)
     joints[3] = replace(joints[3], limits=(D(q4) + D(300), D(q4) + D(420)))
