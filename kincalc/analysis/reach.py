@@ -18,8 +18,10 @@ verdict                     meaning
 ``inside-inner-void``       the position is in the hole the arm cannot reach
 ``outside-workspace``       the position is out of reach otherwise (off the
                             plane of a planar arm, in a notch of the workspace)
-``not-found``               the numerical solver found no solution although
-                            the position is within reach (redundant arms)
+``not-found``               no solution was found although the position is
+                            within reach: the numerical solver's (redundant
+                            arms), or a closed form's candidates missed the
+                            pose by a hair next to a singularity
 ==========================  ==================================================
 
 ``distance`` (m) is the distance from the target position to the nearest
@@ -38,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..ik.nearest import POSITION_TOL, nearest_position, unlimited, where_outside
-from ..ik.reasons import OrientationOut
+from ..ik.reasons import NoSolution, OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 
 
@@ -122,9 +124,13 @@ def reach(robot, target, *, units=None) -> ReachResult:
                            reason=text, **near, **common)
 
     if dist <= POSITION_TOL * L:
-        if res.family == "numerical":
-            return ReachResult(verdict="not-found", distance=0.0, reason=reason_text(res.reason, robot, units) + (
-                "; the position itself is within reach"), **near, **common)
+        # the numerical solver found nothing, or a closed form's candidates, next to a
+        # singularity, missed the pose by a hair (NoSolution with the best miss)
+        if res.family == "numerical" or (isinstance(res.reason, NoSolution)
+                                          and res.reason.best is not None):
+            return ReachResult(verdict="not-found", distance=0.0, reason=reason_text(
+                res.reason, robot, units) + "; the position itself is within reach",
+                **near, **common)
         if isinstance(res.reason, OrientationOut):
             reason = reason_text(res.reason, robot, units)
         else:

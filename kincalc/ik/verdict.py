@@ -60,6 +60,11 @@ def reason(robot, family, T, target, sols, rejected):
             # with this orientation, which moved the point the family places
             why = out_of_reach(robot, T)
             return why if isinstance(why, OutOfReach) else OrientationOut(what, family.controls)
+        if placed[0]["orientation_error"] is not None \
+                and placed[0]["orientation_error"] <= ACCEPT_ORIENTATION:
+            # the closest has the orientation: it missed the position, by a hair (next to a
+            # singularity, where a closed form's joints are good to sqrt(rounding) only)
+            return NoSolution(min(placed, key=lambda r: r["position_error"])["reason"])
         if family is TCV:
             return OrientationOut(what, closest=(placed[0]["branch"],
                                                  placed[0]["orientation_error"]))

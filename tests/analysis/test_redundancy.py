@@ -258,3 +258,26 @@ def test_the_families_the_readme_states_for_each_lock():
                 assert plan(chain)[1].name == words[cell], (name, j)
             checked += 1
     assert checked == 4
+
+
+def test_a_position_missed_by_a_hair_is_not_called_an_orientation_out_of_reach():
+    """iiwa14 held at A1 with the elbow 1.7e-7 rad from straight (redundant-arm oracle):
+    the closed form's candidates reach the orientation (3e-14 deg) and miss the position by
+    4e-8 m, and the answer said "the position is reachable but this orientation is not",
+    reach "orientation-unreachable". A miss by a hair is said as one."""
+    from kincalc.analysis.reach import reach
+    from kincalc.analysis.words import reason_text
+    from kincalc.ik.reasons import NoSolution, OrientationOut
+    r = kincalc.load_robot("iiwa14")
+    q0 = np.radians([10, -30, -35, 0.00001, 130, 25, 50])
+    locks = {0: q0[0]}
+    T = r.fk(q0)
+    res = solve_locked(r, Target(T), locks)
+    if res.solutions:                   # (the closed form may one day reach it: then fine)
+        assert any(np.allclose(r.fk(s.q), T, atol=1e-9) for s in res.solutions)
+        return
+    assert isinstance(res.reason, NoSolution) and not isinstance(res.reason, OrientationOut)
+    assert res.reason.best.position_error > 1e-9 and res.reason.best.orientation_error < 1e-9
+    from kincalc.analysis.results import Units
+    assert "position off by" in reason_text(res.reason, r, Units(length="m"))
+    assert reach(locked_robot(r, locks), Target(T)).verdict == "not-found"
