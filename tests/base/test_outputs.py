@@ -363,7 +363,7 @@ def test_make_folder_names_the_option(tmp_path):
         outputs.make_folder(str(tmp_path / "f" / "sub"), "--feedback-dir")
 
 
-def test_a_ctrl_c_while_a_file_is_written_leaves_no_temporary_file(tmp_path):
+def test_a_ctrl_c_while_a_file_is_written_leaves_no_temporary_file(tmp_path, python_ctrl_c):
     """Ctrl-C as ``quiz --roster -o DIR`` wrote its sheets left an empty ``.kincalc-XXXX.tmp``
     in 4 runs of 12 (fuzz campaign): the interrupt came between the temporary file's making
     and its naming or removal. It is taken once the file is written and named now: the file

@@ -978,7 +978,8 @@ def test_ctrl_c_twice_with_two_workers_ends_the_run(tmp_path, gap):
     assert group == []
 
 
-def test_a_ctrl_c_leaves_the_next_ones_ignored_until_the_program_ends(tmp_path, monkeypatch):
+def test_a_ctrl_c_leaves_the_next_ones_ignored_until_the_program_ends(tmp_path, monkeypatch,
+                                                                   python_ctrl_c):
     """Under load, a second Ctrl-C that came after the run had stopped, while kincalc
     returned (3 runs of 60), came out as a KeyboardInterrupt traceback. The first one now
     leaves Ctrl-C ignored while the run stops; main() gives an in-process caller its
