@@ -293,15 +293,12 @@ def _count(n: int, what: str) -> str:
 
 
 def _tables(doc, precision: int, quiet: bool):
-    from rich.markup import escape
     from rich.table import Table
+    from rich.text import Text
 
     from ..homework.export import score_line
-    from ..limits import printable
+    from ..limits import printable as text      # a sheet's words: no control character
     from .render import console, matrix_table
-
-    def text(s) -> str:                  # a sheet's words: no markup, no control character
-        return escape(printable(s))
     c = console()
     who = f" — {doc['student']}" if doc["student"] else ""
     if quiet:
@@ -310,17 +307,17 @@ def _tables(doc, precision: int, quiet: bool):
         return
     r = doc["robot"]
     title = f" — {doc['title']}" if doc["title"] else ""
-    c.print(f"[bold]{text(doc['sheet'])}[/bold]{text(title)}{text(who)}")
+    c.print(Text.assemble((text(doc["sheet"]), "bold"), text(title), text(who)))
     u, t = doc["units"], doc["tolerance"]
     lu = "" if u["length"] == "unitless" else f" {u['length']}"
     c.print(f"robot {text(r['name'])} ({joints_text(r['dof'])}, {r['convention']}); "
             f"tolerances: position {t['position']:g}{lu}, angle {t['angle']:g} {u['angle']}, "
             f"matrix entries {t['matrix']:g}", highlight=False)
     for item in doc["items"]:
-        mark = "[green]right[/green]" if item["passed"] else "[red]wrong[/red]"
+        mark = ("right", "green") if item["passed"] else ("wrong", "red")
         c.print()
-        c.print(f"[bold]item {text(item['id'])}[/bold] ({item['kind']}): {mark}",
-                highlight=False)
+        c.print(Text.assemble((f"item {text(item['id'])}", "bold"), f" ({item['kind']}): ",
+                              mark), highlight=False)
         rows = Table(box=None, show_header=False, pad_edge=False, padding=(0, 2, 0, 2))
         rows.add_column(style="dim", no_wrap=True)
         rows.add_column(overflow="fold")
@@ -339,13 +336,13 @@ def _tables(doc, precision: int, quiet: bool):
                 c.print(matrix_table([d["expected_tcv"]], precision, title="expected tcv"))
             c.print(matrix_table(d["expected"], precision, title="expected"))
     c.print()
-    c.print(f"[bold]{score_line(doc['score'])}[/bold]", highlight=False)
+    c.print(Text(score_line(doc["score"]), style="bold"), highlight=False)
 
 
 def _ik_table(d, precision):
     from rich import box
-    from rich.markup import escape
     from rich.table import Table
+    from rich.text import Text
 
     from .render import num
     t = Table(box=box.SIMPLE_HEAD, pad_edge=False)
@@ -360,8 +357,8 @@ def _ik_table(d, precision):
         if s.get("note"):
             note = (note + "; " if note else "") + s["note"]
         t.add_row(str(s["set"]), " ".join(num(v, precision) for v in s["q"]),
-                  f"[{colour}]{s['status']}[/{colour}]", resid, escape(note))
+                  Text(s["status"], style=colour), resid, note)
     for m in d["missed"]:
         t.add_row("-", " ".join(num(v, precision) for v in m["solution_q"]),
-                  "[red]missed[/red]", "", escape(m["branch"]))
+                  Text("missed", style="red"), "", m["branch"])
     return t

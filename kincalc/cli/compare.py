@@ -75,6 +75,8 @@ def compare(
 
 
 def _tables(doc, robot, precision):
+    from rich.text import Text
+
     from .render import console, file_words, kv_table, matrix_table, num, vec
     c = console()
     u = doc["units"]
@@ -82,8 +84,9 @@ def _tables(doc, robot, precision):
     for tag, r in zip(("A (reference)", "B (candidate)"), doc["robots"]):
         title = f" - {r['title']}" if r["title"] else ""
         given = "" if r["argument"] in ("", r["name"]) else f"{r['argument']}: "
-        c.print(f"{tag}: {file_words(given)}[bold]{file_words(r['name'])}[/bold]"
-                f"{file_words(title)}  ({joints_text(r['dof'])}, {r['convention']})")
+        c.print(Text.assemble(f"{tag}: {file_words(given)}", (file_words(r["name"]), "bold"),
+                              f"{file_words(title)}  ({joints_text(r['dof'])}, "
+                              f"{r['convention']})"))
     rows = [("same robot", "yes" if doc["same"] else "no"),
             ("why", doc["reason"])]
     if doc["first_bad_joint"] is not None:

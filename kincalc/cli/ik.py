@@ -171,7 +171,6 @@ def _target_position(t: dict, u: dict, precision: int) -> str:
 
 def _tables(doc, robot, precision, explain):
     from rich import box
-    from rich.markup import escape
     from rich.table import Table
 
     from .render import console, heading, joint_amount, kv_table, matrix_table, num
@@ -221,7 +220,7 @@ def _tables(doc, robot, precision, explain):
             rows.append((str(k), text))
         c.print(kv_table(rows, title="branches"))
     if doc.get("rejected_note"):
-        c.print(escape(f"rejected combinations: {doc['rejected_note']}"))
+        c.print(f"rejected combinations: {doc['rejected_note']}")
     if "rejected" in doc and doc["rejected"]:
         rt = Table(box=box.SIMPLE_HEAD, title=f"{len(doc['rejected'])} rejected branch "
                    "combinations", title_justify="left")
@@ -230,15 +229,15 @@ def _tables(doc, robot, precision, explain):
             rt.add_column(j.name, justify="right")
         rt.add_column("why")
         for k, r in enumerate(doc["rejected"], start=1):
-            rt.add_row(str(k), *(num(v, precision) for v in r["q"]), escape(r["reason"]))
+            rt.add_row(str(k), *(num(v, precision) for v in r["q"]), r["reason"])
         c.print(rt)
     if doc.get("dead_ends"):
-        c.print(kv_table([(str(k), escape(t)) for k, t in enumerate(doc["dead_ends"], start=1)],
+        c.print(kv_table([(str(k), t) for k, t in enumerate(doc["dead_ends"], start=1)],
                          title="branches with no real solution"))
     if doc.get("plot"):
-        c.print(f"drawing: {escape(doc['plot'])}")
+        c.print(f"drawing: {doc['plot']}")
     if explain:
         for k, s in enumerate(doc["solutions"], start=1):
             if s.get("trace"):
-                c.print(kv_table([(escape(e["step"]), escape(e["text"])) for e in s["trace"]],
+                c.print(kv_table([(e["step"], e["text"]) for e in s["trace"]],
                                  title=f"solution {k}: {s['branch']}"))

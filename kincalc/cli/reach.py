@@ -69,7 +69,6 @@ def reach(
 
 
 def _tables(doc, robot, precision):
-    from rich.markup import escape
 
     from .render import console, heading, joint_amount, kv_table, matrix_table, num, vec
     c = console()
@@ -84,7 +83,7 @@ def _tables(doc, robot, precision):
                      + length + "  (no orientation given)"))
     rows += [("reachable", "yes" if doc["reachable"] else "no"),
             ("verdict", doc["verdict"]),
-            ("why", escape(doc["reason"])),
+            ("why", doc["reason"]),
             ("solutions", "-" if doc["solutions"] is None else
              f"{doc['solutions']} ({doc['solutions_within_limits']} within the joint limits)"),
             ("distance", "-" if doc["distance"] is None else num(doc["distance"], precision)
@@ -100,8 +99,8 @@ def _tables(doc, robot, precision):
     if doc["blocked"]:
         rows = []
         for b in doc["blocked"]:
-            rows.append((escape(b["branch"]), escape(", ".join(
+            rows.append((b["branch"], ", ".join(
                 f"{v['joint']} {joint_amount(robot, v['joint'], v['by'], doc['units'])} beyond "
                 f"its {v['side']} limit {joint_amount(robot, v['joint'], v['limit'], doc['units'])}"
-                for v in b["violations"]))))
+                for v in b["violations"])))
         c.print(kv_table(rows, title="solutions and the limits they violate"))

@@ -185,7 +185,6 @@ def _end_text(e, num) -> str:
 
 def _tables(doc, robot, precision):
     from rich import box
-    from rich.markup import escape
     from rich.table import Table
 
     from .render import console, heading, kv_table, num, vec
@@ -218,7 +217,7 @@ def _tables(doc, robot, precision):
                           ("ends", "left")):
         t.add_column(name, justify=justify, overflow="fold")
     for b in doc["branches"]:
-        t.add_row(str(b["branch"]), escape("; ".join(b["labels"])), n(b["from"]), n(b["to"]),
+        t.add_row(str(b["branch"]), "; ".join(b["labels"]), n(b["from"]), n(b["to"]),
                   ", ".join(n(a) if a == z else f"{n(a)}..{n(z)}"
                             for a, z in b["within_limits"]) or "nowhere",
                   _end_text(b["starts"], n), _end_text(b["ends"], n))
@@ -226,14 +225,14 @@ def _tables(doc, robot, precision):
     best = doc.get("nearest")
     if best is not None:
         c.print(kv_table([("branch", f"{best['branch']} at {sw['joint']} = {n(best['value'])} "
-                                     f"({escape(best['label'])})"),
+                                     f"({best['label']})"),
                           ("q", " ".join(n(x) for x in best["q"])),
                           ("change", " ".join(n(x) for x in best["change"]))],
                          title="nearest --near (least change, within the limits)"))
     elif "nearest" in doc:
         c.print("nearest --near: no solution of the sweep is within the joint limits")
     if doc.get("plot"):
-        c.print(f"drawing: {escape(doc['plot'])}")
+        c.print(f"drawing: {doc['plot']}")
     c.print("every value and joint: --json, or --format csv")
 
 
@@ -257,7 +256,6 @@ def run_swivel_range(robot, target, units, *, near=None, plot_to=None, dpi=100, 
 
 
 def _swivel_tables(doc, robot, precision):
-    from rich.markup import escape
 
     from .render import console, heading, kv_table, num
     c = console()
@@ -279,12 +277,12 @@ def _swivel_tables(doc, robot, precision):
                              + (f" ({limit(i['from_limit'])} / {limit(i['to_limit'])})"
                                 if i["from_limit"] or i["to_limit"] else "")
                              for i in b["intervals"])
-        rows.append((escape(b["branch"]), text))
+        rows.append((b["branch"], text))
     c.print(kv_table(rows, title=f"swivel angles within the limits ({u}; the joint limits "
                                  "that end each interval)"))
     best = doc.get("nearest")
     if best is not None:
-        c.print(kv_table([("branch", f"{escape(best['branch'])} at {num(best['swivel'], precision)}"),
+        c.print(kv_table([("branch", f"{best['branch']} at {num(best['swivel'], precision)}"),
                           ("q", " ".join(num(x, precision) for x in best["q"])),
                           ("change", " ".join(num(x, precision) for x in best["change"]))],
                          title="nearest --near (least change, within the limits)"))

@@ -53,7 +53,7 @@ def console():
         import shutil
         # COLUMNS, else the terminal's size (rich reads COLUMNS=0 as a width of 0)
         width = max(shutil.get_terminal_size((120, 24)).columns, MIN_WIDTH)
-    return _console_class()(file=out, highlight=False,
+    return _console_class()(file=out, highlight=False, markup=False,
                             no_color=bool(os.environ.get("NO_COLOR")) or None,
                             width=width, soft_wrap=False)
 
@@ -275,7 +275,7 @@ def _panel_title(table, n: int, a: int, b: int, total: int, width: int):
         whole = Text.assemble(title, " " + note)
         return whole if whole.cell_len <= width else note
     whole = f"{title} {note}"
-    return whole if Text.from_markup(whole).cell_len <= width else note
+    return whole if Text(whole).cell_len <= width else note
 
 
 def joint_amount(robot, joint: str, x: float, units: dict) -> str:
@@ -321,8 +321,7 @@ def matrix_table(rows, precision: int, title: str | None = None, headers=None,
     column naming each row (repeated in every panel of a split table)."""
     from rich import box
     from rich.table import Table
-    from rich.markup import escape
-    t = Table(title=escape(title) if title else None, box=box.SIMPLE, show_header=headers is not None,
+    t = Table(title=title if title else None, box=box.SIMPLE, show_header=headers is not None,
               title_justify="left", pad_edge=False)
     key_columns(t, 0 if row_labels is None else 1)
     if row_labels is not None:
@@ -331,7 +330,7 @@ def matrix_table(rows, precision: int, title: str | None = None, headers=None,
     for k in range(ncols):
         t.add_column(headers[k] if headers else "", justify="right")
     for i, r in enumerate(rows):
-        t.add_row(*([] if row_labels is None else [escape(row_labels[i])]),
+        t.add_row(*([] if row_labels is None else [row_labels[i]]),
                   *(num(v, precision) for v in r))
     return t
 
@@ -340,34 +339,38 @@ def kv_table(pairs, title: str | None = None):
     """Two-column table of (label, text) pairs."""
     from rich import box
     from rich.table import Table
-    from rich.markup import escape
-    t = Table(title=escape(title) if title else None, box=box.SIMPLE, show_header=False, title_justify="left",
+    t = Table(title=title if title else None, box=box.SIMPLE, show_header=False, title_justify="left",
               pad_edge=False)
     t.add_column(style="bold")
     t.add_column()
     for k, v in pairs:
-        t.add_row(escape(k), escape(v))
+        t.add_row(k, v)
     return t
 
 
 def file_words(text) -> str:
-    """Words a robot file wrote (its title, source, notes) for rich markup: on one line with
-    no control character (:func:`~kincalc.limits.printable`: no escape sequence reaches the
-    terminal), the markup escaped."""
-    from rich.markup import escape
-
+    """Words a robot file wrote (its title, source, notes, names) as a table shows them: on
+    one line with no control character (:func:`~kincalc.limits.printable`: no escape sequence
+    reaches the terminal). Markup is off in :func:`console`: a name such as ``[/]`` or
+    ``[link=...]`` is text."""
     from ..limits import printable
-    return escape(printable(text))
+    return printable(text)
 
 
-def heading(doc: dict) -> str:
-    """The robot's line above a command's tables (rich markup; the name and title as
+def bold_line(bold: str, rest: str = ""):
+    """A line of text whose first part is bold (a rich ``Text``: no markup is read)."""
+    from rich.text import Text
+    return Text.assemble((bold, "bold"), rest)
+
+
+def heading(doc: dict):
+    """The robot's line above a command's tables (a rich ``Text``; the name and title as
     :func:`file_words`)."""
     from .common import joints_text
     r = doc["robot"]
     title = f" - {r['title']}" if r.get("title") else ""
-    return (f"[bold]{file_words(r['name'])}[/bold]{file_words(title)}  "
-            f"({joints_text(r['dof'])}, {doc['units']['angle']}, {doc['units']['length']})")
+    return bold_line(file_words(r["name"]), f"{file_words(title)}  ({joints_text(r['dof'])}, "
+                                            f"{doc['units']['angle']}, {doc['units']['length']})")
 
 
 def joint_pairs(doc: dict, robot, precision: int) -> str:

@@ -63,11 +63,13 @@ def list_(
         return
     from rich import box
     from rich.table import Table
+    from rich.text import Text
 
     from .render import console, file_words
     which = " ".join(w for w in (f"with {dof} joints" if dof else "",
                                  f"of IK family {family}" if family else "") if w)
-    t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robots" + (f" {which}" if which
+    t = Table(box=box.SIMPLE, title=f"{len(entries)} bundled robot"
+              + ("" if len(entries) == 1 else "s") + (f" {which}" if which
                                                                           else ""),
               title_justify="left")
     for col in ("name", "dof", "structure", "convention", "ik", "units"):
@@ -76,7 +78,8 @@ def list_(
     t.add_column("title", min_width=25)
     for e in entries:
         if "error" in e:
-            t.add_row(e["name"], "", "", "", "", "", f"[red]broken: {e['error']}[/red]")
+            t.add_row(file_words(e["name"]), "", "", "", "", "",
+                      Text(f"broken: {file_words(e['error'])}", style="red"))
         else:
             t.add_row(e["name"], str(e["dof"]), e["structure"], e["convention"], e["ik"],
                       e["units"], file_words(e["title"]))
@@ -162,10 +165,10 @@ def _show_tables(doc, rob, dh, u, precision):
     """The tables of ``robots show``; ``dh``: a poe robot's standard DH robot (None when
     there is none, or for a dh or mdh robot)."""
     from ..limits import printable
-    from .render import console, file_words, kv_table, num
+    from .render import bold_line, console, file_words, kv_table, num
     c = console()
     r = doc["robot"]
-    c.print(f"[bold]{file_words(rob.name)}[/bold] - {file_words(rob.title)}")
+    c.print(bold_line(file_words(rob.name), f" - {file_words(rob.title)}"))
     meta = [("convention", {"dh": "dh (standard, distal: A_i = Rz(θ) Tz(d) Tx(a) Rx(α))",
                             "mdh": "mdh (modified, Craig: A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ) Tz(d))",
                             "poe": "poe (product of exponentials, axes at q = 0)"}[rob.convention]),

@@ -40,13 +40,13 @@ _POSE_NAMES = (("r11", "r12", "r13", "px"), ("r21", "r22", "r23", "py"),
 def _symbolic_tables(result) -> None:
     from ..analysis.symbolic import ROWS, expr_text, unicode_name
     from .common import joints_text
-    from .render import console, file_words
+    from .render import bold_line, console, file_words
     c = console()
     robot, n = result.robot, result.notation
     unit = "" if result.length_unit == "unitless" else f", lengths in {result.length_unit}"
     title = f" - {robot.title}" if robot.title else ""
-    c.print(f"[bold]{file_words(robot.name)}[/bold]{file_words(title)}  "
-            f"({joints_text(robot.dof)}, {robot.convention}, symbolic{unit})")
+    c.print(bold_line(file_words(robot.name), f"{file_words(title)}  ({joints_text(robot.dof)}, "
+                                              f"{robot.convention}, symbolic{unit})"))
     symbols = [unicode_name(str(s)) for s in n.joints]
     c.print("joint variables: " + ", ".join(
         f"{s} ({'angle' if j.revolute else 'length'})" for s, j in zip(symbols, robot.joints)),
@@ -90,7 +90,6 @@ def _matrix(c, M, title, text, headers=None, row_labels=None, names=None,
     (``names[r][k] = ...``, row by row or, ``by_column``, column by column)."""
     from rich import box
     from rich.table import Table
-    from rich.markup import escape
     rows = M.shape[0] - (1 if names is not None and M.shape == (4, 4) else 0)
     cells = [[text(M[r, k]) for k in range(M.shape[1])] for r in range(M.shape[0])]
     widths = [max(len(cells[r][k]) for r in range(M.shape[0])) for k in range(M.shape[1])]
@@ -105,7 +104,7 @@ def _matrix(c, M, title, text, headers=None, row_labels=None, names=None,
         for k in range(M.shape[1]):
             t.add_column(headers[k] if headers else "", justify="right", no_wrap=True)
         for r in range(M.shape[0]):
-            t.add_row(*([row_labels[r]] if row_labels else []), *(escape(x) for x in cells[r]))
+            t.add_row(*([row_labels[r]] if row_labels else []), *(x for x in cells[r]))
         c.print(t)
         return
     c.print()

@@ -120,7 +120,6 @@ class _progress:
 
 
 def _tables(doc, robot, precision):
-    from rich.markup import escape
 
     from .render import console, heading, kv_table, num
     c = console()
@@ -151,10 +150,10 @@ def _tables(doc, robot, precision):
                      f"{vol(dhi)}; {share} test orientation reached at "
                      f"{d['dexterous_points']} of {d['reachable_test_points']} reachable "
                      "test points)"))
-        rows.append(("  test orientations", escape(d["orientations"])))
-        rows.append(("  tested by", escape(d["method"])))
+        rows.append(("  test orientations", d["orientations"]))
+        rows.append(("  tested by", d["method"]))
     else:
-        rows.append((f"dexterous {doc['measure']}", escape("none: " + d["reason"])))
+        rows.append((f"dexterous {doc['measure']}", "none: " + d["reason"]))
     m = doc["manipulability"]
     rows += [
         ("manipulability", f"median {num(m['median'], precision + 2)}, 5-95% "
@@ -165,5 +164,5 @@ def _tables(doc, robot, precision):
         ("near-singular samples", f"{100 * m['near_singular_fraction']:.3g}%"),
     ]
     if "plot" in doc:
-        rows.append(("plot", escape(doc["plot"])))
+        rows.append(("plot", doc["plot"]))
     c.print(kv_table(rows))
