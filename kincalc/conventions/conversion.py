@@ -105,22 +105,35 @@ def dh_of_axes(robot: Robot) -> tuple[Robot | None, str]:
         return None, str(exc)
 
 
+#: a robot written in another convention, or as a file, has the same FK to this (of its
+#: length scale, and rad)
+SAME_FK = 1e-9
+
+
+def fk_difference(robot: Robot, other: Robot) -> tuple[float, float, float]:
+    """How far ``other``'s tool is from ``robot``'s, on q = 0 and a few configurations
+    spread within the limits: ``(largest position difference (m), largest rotation-matrix
+    entry difference, largest distance of robot's tool from the world origin (m))``."""
+    from ..samples import spread
+    lo, hi = robot.limits.T
+    lo, hi = np.where(np.isfinite(lo), lo, -np.pi), np.where(np.isfinite(hi), hi, np.pi)
+    Q = np.vstack([np.zeros(robot.dof), spread(6, lo, np.maximum(hi, lo + 1e-9))])
+    A, B = robot.fk(Q), other.fk(Q)
+    return (float(np.abs(A[:, :3, 3] - B[:, :3, 3]).max()),
+            float(np.abs(A[:, :3, :3] - B[:, :3, :3]).max()),
+            float(np.linalg.norm(A[:, :3, 3], axis=1).max()))
+
+
 def _check_same_fk(robot: Robot, out: Robot) -> None:
-    """Refuse a conversion whose FK is not the robot's, to 1e-9 of its length scale (m) and 1e-9
-    rad, on q = 0 and a few configurations spread within the limits.
+    """Refuse a conversion whose FK is not the robot's, to SAME_FK (:func:`fk_difference`).
 
     Standard and modified DH put a frame on the common normal of consecutive axes; for axes a
     hair from parallel it lies far away (1e-6 rad apart, 0.5 m off: 500 km), and the offsets
     that cancel there lose the robot's own lengths to rounding (mm, for a rounded pi)."""
-    from ..samples import spread
-    lo, hi = robot.limits.T
+    moved, turned, _ = fk_difference(robot, out)
     L = robot.characteristic_length
-    lo, hi = np.where(np.isfinite(lo), lo, -np.pi), np.where(np.isfinite(hi), hi, np.pi)
-    Q = np.vstack([np.zeros(robot.dof), spread(6, lo, np.maximum(hi, lo + 1e-9))])
-    A, B = robot.fk(Q), out.fk(Q)
-    moved = float(np.abs(A[:, :3, 3] - B[:, :3, 3]).max()) / L
-    turned = float(np.abs(A[:, :3, :3] - B[:, :3, :3]).max())
-    if moved <= 1e-9 and turned <= 1e-9:
+    moved /= L
+    if moved <= SAME_FK and turned <= SAME_FK:
         return
     from ..units import LENGTH_UNITS
     u = LENGTH_UNITS[robot.length_unit]

@@ -69,19 +69,34 @@ def dump_robot(robot) -> str:
         A ``length_unit`` or ``angle_unit`` not in :data:`~kincalc.units.LENGTH_UNITS` /
         :data:`~kincalc.units.ANGLE_UNITS`.
     """
+    from .conversion import SAME_FK, fk_difference
+    text, back = _written(robot, num)
+    moved, turned, reach = fk_difference(robot, back)
+    if moved > SAME_FK * max(reach, 1e-12) or turned > SAME_FK:
+        # shortened numbers that cancel (two DH offsets of 5e5 m for axes 1e-6 rad from
+        # parallel, each within 1e-12 of its size) moved the tool: every number exactly
+        # (the tool's reach is the scale: such a robot's own size is the offsets')
+        text, back = _written(robot, _exact)
+    return text
+
+
+def _written(robot, number) -> tuple:
+    """``(text, robot read back)``: the file with numbers written by ``number`` (:func:`num`
+    or :func:`_exact`), and the expressions that do not give their field's value written as
+    numbers."""
     numeric: set[tuple[int, str]] = set()
     for _ in range(2):
-        text = _text(robot, numeric)
+        text = _text(robot, numeric, number)
         back = _read_back(text, robot)
         if robot.convention == "poe" or not robot.expressions:
-            return text
+            return text, back
         wrong = {(i, f) for i, (j, k) in enumerate(zip(robot.joints, back.joints))
                  for f in _DH_FIELDS
                  if not _close(getattr(j, f), getattr(k, f))}
         if not wrong:
-            return text
+            return text, back
         numeric |= wrong
-    return text
+    return text, back
 
 
 def _read_back(text: str, robot):
@@ -100,7 +115,7 @@ def _close(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-11 * max(1.0, abs(a))
 
 
-def _text(robot, numeric) -> str:
+def _text(robot, numeric, num) -> str:
     L = LENGTH_UNITS[robot.length_unit]
     A = ANGLE_UNITS[robot.angle_unit]
     out = [f"name: {yaml_string(robot.name, plain_ok=True)}"]
@@ -122,8 +137,8 @@ def _text(robot, numeric) -> str:
         scale = A if j.revolute else L
         fields = [f"name: {yaml_string(j.name, plain_ok=True)}", f"type: {j.type}"]
         if robot.convention == "poe":
-            fields.append(f"axis: {_unit_vector(j.axis)}")
-            fields.append(f"point: {_vector(np.asarray(j.point) / L)}")
+            fields.append(f"axis: {_unit_vector(j.axis, num)}")
+            fields.append(f"point: {_vector(np.asarray(j.point) / L, num)}")
         else:
             given = dict(exprs[i]) if robot.convention != "poe" else {}
             for f in _DH_FIELDS:
@@ -133,16 +148,16 @@ def _text(robot, numeric) -> str:
                 else:
                     fields.append(f"{f}: {num(getattr(j, f) / unit)}")
         if j.limits is not None:
-            fields.append(f"limits: {_vector(np.asarray(j.limits) / scale)}")
+            fields.append(f"limits: {_vector(np.asarray(j.limits) / scale, num)}")
         out.append("  - {" + ", ".join(fields) + "}")
-    base, tool = _pose(robot.base, L, A), _pose(robot.written_tool, L, A)
+    base, tool = _pose(robot.base, L, A, num), _pose(robot.written_tool, L, A, num)
     if base is not None:
         out.append(f"base: {base}")
     if tool is not None or robot.convention == "poe":
         out.append(f"tool: {tool or '{xyz: [0, 0, 0]}'}")
     if np.any(robot.home != 0):
         home = np.asarray(robot.home) / np.where(robot.is_revolute, A, L)
-        out.append(f"home: {_vector(home)}")
+        out.append(f"home: {_vector(home, num)}")
     if robot.notes:
         out.append(f"notes: {_text_block(robot.notes)}")
     return "\n".join(out) + "\n"
@@ -203,11 +218,11 @@ def _short(x: float) -> str:
     return repr(x)
 
 
-def _vector(values) -> str:
+def _vector(values, num=num) -> str:
     return "[" + ", ".join(num(v) for v in values) + "]"
 
 
-def _unit_vector(values) -> str:
+def _unit_vector(values, num=num) -> str:
     """A unit vector written so that normalising what is read (as the reader
     does) gives back the same text: a file read and written again is unchanged."""
     v = np.asarray(values, dtype=float)
@@ -221,7 +236,7 @@ def _unit_vector(values) -> str:
     return "[" + ", ".join(text) + "]"
 
 
-def _pose(T, L, A) -> str | None:
+def _pose(T, L, A, num=num) -> str | None:
     """``{xyz: [...], rpy: [...]}`` or ``{matrix: [...]}`` for the transform ``T``;
     None for the identity (as written: rounding noise below 1e-12 is no pose)."""
     T = np.asarray(T, dtype=float)
@@ -241,7 +256,7 @@ def _pose(T, L, A) -> str | None:
         return "{" + ", ".join(parts) + "}" if parts else None
     M = T.copy()
     M[:3, 3] /= L
-    return "{matrix: [" + ", ".join(_vector(row) for row in M) + "]}"
+    return "{matrix: [" + ", ".join(_vector(row, num) for row in M) + "]}"
 
 
 def _text_block(s: str) -> str:

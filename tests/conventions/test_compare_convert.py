@@ -400,6 +400,24 @@ def test_axes_1e6_from_parallel_convert_to_full_accuracy(to):
     assert np.abs(A[:, :3, :3] - B[:, :3, :3]).max() < 1e-9
 
 
+@pytest.mark.parametrize("to", ["dh", "mdh"])
+@pytest.mark.parametrize("hair", [1e-6, 1e-7])
+def test_axes_a_hair_from_parallel_are_written_to_full_accuracy(to, hair):
+    """The converted robot was right, the file written of it was not: its numbers were
+    shortened to 1e-12 of their size, and the two offsets of 5e5 m that cancel then moved the
+    tool by 1.7e-7 m (hostile-input campaign). The written text read back has the POE
+    robot's FK to 1e-9 m."""
+    robot = parse_robot_text(NEARLY_PARALLEL.format(hair=hair))
+    back = parse_robot_text(dump_robot(convert(robot, to)))
+    Q = np.random.default_rng(4).uniform(-np.pi, np.pi, (200, 3))
+    A, B = robot.fk(Q), back.fk(Q)
+    assert np.abs(A[:, :3, 3] - B[:, :3, 3]).max() < 1e-9
+    assert np.abs(A[:, :3, :3] - B[:, :3, :3]).max() < 1e-9
+    # an ordinary robot's file keeps its short numbers (no 13 digits after a point)
+    import re
+    assert re.search(r"\d\.\d{13}", dump_robot(convert(load("puma560"), "poe"))) is None
+
+
 def test_compare_tolerance_is_not_widened_by_offsets_that_cancel(tmp_path, capsys):
     """A planar 2R (a = 0.4, 0.3) against the same with d = 400000 and -399999.5 on its
     parallel axes: by hand the tool is 0.5 m higher. The tolerance was 1e-6 of the larger
