@@ -63,7 +63,7 @@ def fk(
         run_command("fk", rob, display_units(rob, deg, unit), batch, fmt, jobs, given=[q],
                     refused={"--frames": frames, "--symbolic": symbolic, "--latex": latex,
                              "--numeric-lengths": numeric_lengths},
-                    input_format=input_format)
+                    input_format=input_format, json=json)
     if symbolic or latex or numeric_lengths:
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output
         symbolic_check(symbolic, latex, numeric_lengths, q)

@@ -96,7 +96,7 @@ def ik(
                     refused={"--all-branches": all_branches, "--explain": explain,
                              "--near": near, "--numeric": numeric, "--plot": plot,
                              **redundancy.given()},
-                    input_format=input_format, locks=parse_locks(lock, rob, units))
+                    input_format=input_format, locks=parse_locks(lock, rob, units), json=json)
     target = redundancy.target(pose_options.target(rob, units), units)
     if target.swivel is not None:
         redundancy.check_swivel(rob, target, "--swivel")

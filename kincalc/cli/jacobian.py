@@ -76,7 +76,7 @@ def jacobian(
                     frame=frame.value,
                     refused={"--analytic": analytic, "--symbolic": symbolic, "--latex": latex,
                              "--numeric-lengths": numeric_lengths},
-                    input_format=input_format)
+                    input_format=input_format, json=json)
     if symbolic or latex or numeric_lengths:
         from ..errors import UsageError
         from .symbolic import require_sympy_for, symbolic_check, symbolic_output

@@ -52,7 +52,7 @@ def reach(
         from .batch import run_command
         run_command("reach", rob, units, batch, fmt, jobs,
                     given=pose_options.given(), refused={"--lock": lock},
-                    input_format=input_format)
+                    input_format=input_format, json=json)
     target = pose_options.target(rob, units)
     from ..analysis.results import locked_entries
     held = locked_entries(rob, sorted(locks.items()), units)

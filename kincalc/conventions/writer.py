@@ -62,13 +62,16 @@ def dump_robot(robot) -> str:
     InputError
         The text would not read back: a number of it is beyond what a robot file may
         hold (:data:`~kincalc.limits.MAX_MAGNITUDE`; a point of a poe joint, summed
-        from lengths at the limit, can be).
+        from lengths at the limit, can be), or the text is longer than a robot file may be
+        (:data:`~kincalc.limits.MAX_FILE_BYTES`).
     ValueError
         A number that is not finite (:func:`num`).
     KeyError
         A ``length_unit`` or ``angle_unit`` not in :data:`~kincalc.units.LENGTH_UNITS` /
         :data:`~kincalc.units.ANGLE_UNITS`.
     """
+    from ..errors import InputError
+    from ..limits import MAX_FILE_BYTES
     from .conversion import SAME_FK, fk_difference
     text, back = _written(robot, num)
     moved, turned, reach = fk_difference(robot, back)
@@ -77,6 +80,10 @@ def dump_robot(robot) -> str:
         # parallel, each within 1e-12 of its size) moved the tool: every number exactly
         # (the tool's reach is the scale: such a robot's own size is the offsets')
         text, back = _written(robot, _exact)
+    size = len(text.encode("utf-8"))
+    if size > MAX_FILE_BYTES:           # (its title's quotes, escaped, can double a file)
+        raise InputError(f"{robot.name} written as a robot file would be {size} bytes, more "
+                         f"than kincalc reads ({MAX_FILE_BYTES}, MAX_FILE_BYTES)")
     return text
 
 

@@ -1215,3 +1215,13 @@ def test_an_unknown_option_with_batch_is_named(tmp_path, capsys, kind, extra):
     assert err.count("\n") == 1 and f"no such option: {extra[0]}" in err, err
     status, out, err = run(capsys, kind, "puma560", "--batch", str(src), "0", "-45")
     assert status == 2 and "do not give joint values" in err, err
+
+
+@pytest.mark.parametrize("command", [["fk", "bk_rr"], ["jacobian", "bk_rr"], ["ik", "bk_rr"],
+                                     ["reach", "bk_rr"]])
+def test_batch_json_with_format_csv_is_refused(command):
+    """--json with --batch --format csv printed CSV, exit 0 (hostile-input campaign)."""
+    status, out, err = run_cli([*command, "--batch", "-", "--json", "--format", "csv"],
+                               stdin='{"q": [0, 0]}\n')
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "--json and --format csv" in err

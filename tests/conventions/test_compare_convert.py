@@ -432,3 +432,18 @@ def test_compare_tolerance_is_not_widened_by_offsets_that_cancel(tmp_path, capsy
     assert main(["compare", str(tmp_path / "a.yaml"), str(tmp_path / "b.yaml"), "--json"]) == 1
     doc = json.loads(capsys.readouterr().out)
     assert doc["same"] is False
+
+
+def test_a_converted_file_kincalc_would_not_read_is_not_written(tmp_path, capsys):
+    """A 700 KB title of quotes, each escaped when written, made a 1.4 MB file that kincalc
+    then refused to read (hostile-input campaign): the conversion is refused instead."""
+    src = tmp_path / "q.yaml"
+    src.write_text("name: h\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                   "  - {name: q1, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                   "title: '" + '"' * 700000 + "'\n")
+    out = tmp_path / "out.yaml"
+    assert main(["convert", str(src), "--to", "poe", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "would be 1400" in err and "MAX_FILE_BYTES" in err
+    assert not out.exists()
+

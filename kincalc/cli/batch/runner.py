@@ -51,10 +51,11 @@ def chunk_lines(kind: str, robot, locks: dict | None = None) -> int:
 
 def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given=(),
                 frame: str = "base", refused: dict | None = None,
-                input_format: str = "auto", locks: dict | None = None):
+                input_format: str = "auto", locks: dict | None = None, json: bool = False):
     """The --batch branch of a command: refuse the command's own inputs (``given``, the
-    values of its joint or pose arguments) and the options in ``refused``, run, and leave
-    with the batch's exit status. ``locks`` (ik): joints held for every record (SI)."""
+    values of its joint or pose arguments), the options in ``refused`` and ``--json`` with
+    ``--format csv`` (``json``: --json given), run, and leave with the batch's exit status.
+    ``locks`` (ik): joints held for every record (SI)."""
     import typer
 
     from ...errors import UsageError
@@ -68,6 +69,9 @@ def run_command(kind: str, robot, units, src: str, fmt: str, jobs: int, *, given
     for option, value in (refused or {}).items():
         if value:
             raise UsageError(f"{option} does not combine with --batch")
+    if json and fmt == "csv":
+        raise UsageError("--json and --format csv ask for two formats: --batch writes JSON "
+                         "lines, or CSV with --format csv")
     raise typer.Exit(run(kind, robot, units, src, fmt, jobs, frame, input_format, locks))
 
 
