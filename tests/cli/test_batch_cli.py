@@ -1225,3 +1225,21 @@ def test_batch_json_with_format_csv_is_refused(command):
                                stdin='{"q": [0, 0]}\n')
     assert status == 2 and out == "" and err.count("\n") == 1
     assert "--json and --format csv" in err
+
+
+def test_a_joint_named_as_a_csv_column_gets_its_own_column(tmp_path):
+    """Joints named index and error made a header with two columns index and two error, and
+    csv.DictReader took a joint's value for the record's index (hostile-input campaign)."""
+    import csv
+    robot = tmp_path / "idx.yaml"
+    robot.write_text("name: idx\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                     "  - {name: index, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                     "  - {name: error, type: revolute, alpha: 0, a: 0.2, d: 0, theta: 0}\n")
+    status, out, err = run_cli(["ik", str(robot), "--batch", "-", "--format", "csv"],
+                               stdin="x,y,z\n0.4,0.1,0\n")
+    assert status == 0 and err == ""
+    rows = list(csv.DictReader(io.StringIO(out)))
+    header = out.splitlines()[0].split(",")
+    assert len(header) == len(set(header)) and "joint index" in header and "joint error" in header
+    assert [r["index"] for r in rows] == ["0", "0"] and all(r["error"] == "" for r in rows)
+    assert sorted(round(float(r["joint error"]), 6) for r in rows) == [-70.528779, 70.528779]

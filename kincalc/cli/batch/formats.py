@@ -20,11 +20,22 @@ def csv_header(kind, robot) -> str:
     elif kind == "reach":
         cols = REACH_FIELDS
     else:
-        cols = ["index", "id", "solution", "branch"] + names + ["within_limits", "singular",
-                                                                 "error"]
+        head, tail = ["index", "id", "solution", "branch"], ["within_limits", "singular", "error"]
+        cols = head + joint_columns(names, head + tail) + tail
     # a joint's name is a cell like any other: quoted where it holds a comma or a quote, and
     # made safe for spreadsheets (a name "=cmd" is no formula)
     return _csv_line([csv_cell(c) for c in cols])
+
+
+def joint_columns(names, taken) -> list:
+    """The CSV columns of the joints ``names`` beside the columns ``taken``: each joint's
+    name, ``joint NAME`` for one named as a column of the record (a joint ``index`` made
+    two columns ``index``, and a reader took the joint's value for the record's index),
+    ``q1 .. qn`` if that still leaves two columns of one name."""
+    cols = [f"joint {n}" if n in taken else n for n in names]
+    if len(set(cols) | set(taken)) < len(cols) + len(set(taken)):
+        cols = [f"q{k + 1}" for k in range(len(names))]
+    return cols
 
 
 def _csv_line(cells) -> str:
