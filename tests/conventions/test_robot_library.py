@@ -159,3 +159,23 @@ def test_a_base_rotation_typed_to_six_decimals_is_read(tmp_path):
     B = r.base[:3, :3]
     assert np.abs(B @ B.T - np.eye(3)).max() < 1e-14
     assert np.abs(B - np.array(R)).max() < 1e-6
+
+
+def test_an_unknown_key_message_is_the_same_in_every_run(tmp_path):
+    """The keys a base or tool allows were a set: the message listed them in another order
+    from one run to the next (hostile-input campaign). Three hash seeds, one message."""
+    import os
+    import subprocess
+    import sys
+    f = tmp_path / "tool_extra.yaml"
+    f.write_text("name: h\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+                 "  - {name: q1, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                 "tool: {xyz: [0, 0, 0], foo: 1}\n")
+    errs = set()
+    for seed in ("1", "2", "3"):
+        p = subprocess.run([sys.executable, "-m", "kincalc", "robots", "validate", str(f)],
+                           capture_output=True, text=True, env={**os.environ,
+                                                                "PYTHONHASHSEED": seed})
+        assert p.returncode == 2
+        errs.add(p.stderr)
+    assert len(errs) == 1 and "(allowed: xyz, rpy, matrix)" in errs.pop()

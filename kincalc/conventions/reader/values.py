@@ -16,7 +16,7 @@ from ...limits import DECIMAL, MAX_EXPRESSION, MAX_MAGNITUDE, cut, parse_decimal
 from ...spatial import is_rotation, matrix_from_rpy, nearest_rotations, transform
 from .nodes import NodeReader
 
-POSE_KEYS = {"xyz", "rpy", "matrix"}
+POSE_KEYS = ("xyz", "rpy", "matrix")          # (in this order in messages)
 
 
 class Reader(NodeReader):
