@@ -266,6 +266,10 @@ BAD_FILES = [
     BadFile("joint-name-escape", sub(DH, "name: q2,", 'name: "q\\e[31m2",'),
             ("joint 2 (q\ufffd[31m2)", "'name' must not hold a control character"),
             at='name: "q', forbid=("\x1b",)),
+    # a no-break space was called a control character
+    BadFile("joint-name-no-break-space", sub(DH, "name: q2,", 'name: "q\\u00a02",'),
+            ("joint 2", "'name' must not hold a space other than ' ' (it holds U+00A0)"),
+            at='name: "q'),
     BadFile("joint-name-65", sub(DH, "name: q2,", "name: " + "j" * (MAX_NAME + 1) + ","),
             ("joint 2", f"'name' is {MAX_NAME + 1} characters long"), at="j" * 60),
     BadFile("robot-name-65", sub(DH, "name: arm3", "name: a" + "r" * MAX_NAME),

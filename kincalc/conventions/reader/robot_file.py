@@ -5,6 +5,7 @@ the field, and converted to SI (m, rad)."""
 from __future__ import annotations
 
 import re
+import unicodedata
 
 import numpy as np
 
@@ -36,7 +37,11 @@ def joint_name_problem(name: str) -> str | None:
     if len(name) > MAX_NAME:
         return f"is {len(name)} characters long; kincalc takes names of up to {MAX_NAME}"
     if not name.isprintable():
-        return "must not hold a control character (a newline, a tab, ...)"
+        bad = next(c for c in name if not c.isprintable())
+        what = "a control character" if unicodedata.category(bad) == "Cc" else \
+            "a space other than ' '" if unicodedata.category(bad).startswith("Z") else \
+            "a character that is not printed"
+        return f"must not hold {what} (it holds U+{ord(bad):04X})"
     return None
 
 
