@@ -50,7 +50,8 @@ def list_(
             entries.append({"name": name, "error": str(exc)})
             continue
         ik = _ik_method(r)
-        entries.append({"name": r.name, "dof": r.dof, "structure": structure_code(r),
+        # the name to type as ROBOT (the file's; its 'name:' may differ in a library of one's own)
+        entries.append({"name": name, "dof": r.dof, "structure": structure_code(r),
                         "convention": r.convention, "units": r.length_unit,
                         "ik": ik["family"] or "numerical", "title": r.title})
     entries = [e for e in entries if "error" in e or (

@@ -372,3 +372,16 @@ def test_precision_never_prints_more_digits_than_a_double_holds(capsys):
     shown = line.split()[-1]
     assert code == 0 and len(shown.replace(".", "").lstrip("-0")) <= 16, shown
     assert float(shown) == pytest.approx(value, rel=1e-15)
+
+
+def test_robots_list_names_what_to_type(tmp_path, monkeypatch, capsys):
+    """A library file file_name.yaml holding 'name: other_name' was listed as other_name,
+    which kincalc fk then did not know ("did you mean 'file_name'?"; hostile-input
+    campaign): the list names what ROBOT takes, the file's name."""
+    (tmp_path / "file_name.yaml").write_text(
+        "name: other_name\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n"
+        "  - {name: q1, type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n")
+    monkeypatch.setenv("KINCALC_ROBOTS", str(tmp_path))
+    doc = run_json(capsys, "robots", "list")
+    assert [r["name"] for r in doc["robots"]] == ["file_name"]
+    assert run_json(capsys, "fk", "file_name", "10")["q"] == [10.0]
