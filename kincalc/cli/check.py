@@ -10,7 +10,7 @@ from typing import Annotated, List, Optional
 
 import typer
 
-from .common import DebugOpt, FileName, JsonOpt, PrecisionOpt, joints_text
+from .common import DebugOpt, FileName, JsonOpt, PrecisionOpt, Words, joints_text
 
 #: the output formats, and those that describe one submission
 FORMATS = ("table", "json", "gradescope", "prairielearn")
@@ -18,6 +18,7 @@ ONE_SUBMISSION = ("gradescope", "prairielearn")
 
 FormatOpt = Annotated[Optional[str], typer.Option(
     "--format", metavar="table|json|gradescope|prairielearn", show_default=False,
+    click_type=Words(FORMATS),
     help="What to write: tables (the default), kincalc's JSON (as --json), or the "
          "results.json of a Gradescope or a PrairieLearn autograder (one sheet).")]
 OutputOpt = Annotated[Optional[str], typer.Option(
@@ -31,6 +32,7 @@ ForceOpt = Annotated[bool, typer.Option(
 VisibilityOpt = Annotated[Optional[str], typer.Option(
     "--visibility", metavar="visible|hidden|after_due_date|after_published",
     show_default=False,
+    click_type=Words(("visible", "hidden", "after_due_date", "after_published")),
     help="With --format gradescope: when students see the results (Gradescope's "
          "visibility; default: visible).")]
 GradebookOpt = Annotated[Optional[str], typer.Option(

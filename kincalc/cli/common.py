@@ -34,6 +34,25 @@ class FileName(click.ParamType):
         return [CompletionItem(incomplete, type="file")]
 
 
+class Words(click.ParamType):
+    """A word of a few, as typed (the command checks it, in its own words); the shell
+    completes the ``words`` (a tuple, or a function giving them: computed at TAB only) that
+    start with what is typed."""
+
+    name = "text"
+
+    def __init__(self, words):
+        self.words = words
+
+    def convert(self, value, param, ctx):
+        return value
+
+    def shell_complete(self, ctx, param, incomplete):
+        from click.shell_completion import CompletionItem
+        words = self.words() if callable(self.words) else self.words
+        return [CompletionItem(w) for w in words if w.startswith(incomplete)]
+
+
 class Decimal(click.ParamType):
     """A number on the command line, read strictly (:func:`~kincalc.limits.parse_decimal`):
     click's float type also takes ``1_0`` (as 10) and other scripts' digits. ``bounds``
@@ -120,7 +139,7 @@ JointsArg = Annotated[Optional[List[str]], typer.Argument(
 DegOpt = Annotated[bool, typer.Option(
     "--deg/--rad", help="Angles in and out in degrees (default) or radians.")]
 UnitOpt = Annotated[Optional[str], typer.Option(
-    "--unit", metavar="UNIT", show_default=False,
+    "--unit", metavar="UNIT", show_default=False, click_type=Words(("m", "cm", "mm", "in")),
     help="Length unit for input and output: m, cm, mm or in. Default: the robot file's unit.")]
 PrecisionOpt = Annotated[int, typer.Option(
     "--precision", metavar="N", click_type=Integer(0, 17), help="Decimals shown in tables.")]
@@ -159,9 +178,10 @@ ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let the output replace an existing regular file (never a link, a device "
                     "or one of the command's own input files).")]
 FormatOpt = Annotated[str, typer.Option(
-    "--format", metavar="jsonl|csv", help="Output format of --batch.")]
+    "--format", metavar="jsonl|csv", click_type=Words(("jsonl", "csv")),
+    help="Output format of --batch.")]
 InputFormatOpt = Annotated[str, typer.Option(
-    "--input-format", metavar="auto|jsonl|csv",
+    "--input-format", metavar="auto|jsonl|csv", click_type=Words(("auto", "jsonl", "csv")),
     help="Input format of --batch. auto: a name ending in .jsonl or .ndjson is JSON lines, "
          "one ending in .csv is CSV; otherwise (and for stdin) CSV when the first non-blank "
          "line is a header of column names, else JSON lines.")]

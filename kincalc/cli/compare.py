@@ -7,13 +7,14 @@ from typing import Annotated
 import typer
 
 from .common import (SEED, BaseLinkOpt, DebugOpt, DegOpt, Integer, JsonOpt, PrecisionOpt,
-                     TipLinkOpt, UnitOpt, display_units, joints_text, load_robot, output)
+                     RobotName, TipLinkOpt, UnitOpt, display_units, joints_text, load_robot,
+                     output)
 
 RobotAArg = Annotated[str, typer.Argument(
-    metavar="ROBOT_A", show_default=False,
+    metavar="ROBOT_A", show_default=False, click_type=RobotName(),
     help="The reference: a bundled robot's name or a path to a robot YAML file.")]
 RobotBArg = Annotated[str, typer.Argument(
-    metavar="ROBOT_B", show_default=False,
+    metavar="ROBOT_B", show_default=False, click_type=RobotName(),
     help="The robot compared with it (same forms).")]
 AllowOffsetsOpt = Annotated[bool, typer.Option(
     "--allow-offsets", help="Let each joint of ROBOT_B have a constant offset and the "

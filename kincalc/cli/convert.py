@@ -6,10 +6,11 @@ from typing import Annotated, Optional
 
 import typer
 
-from .common import BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, load_robot, output_target
+from .common import (BaseLinkOpt, DebugOpt, FileName, RobotArg, TipLinkOpt, Words, load_robot,
+                     output_target)
 
 ToOpt = Annotated[str, typer.Option(
-    "--to", metavar="dh|mdh|poe", show_default=False,
+    "--to", metavar="dh|mdh|poe", show_default=False, click_type=Words(("dh", "mdh", "poe")),
     help="The convention to write: dh (standard DH), mdh (modified DH, Craig) or poe "
          "(product of exponentials).")]
 OutputOpt = Annotated[Optional[str], typer.Option(

@@ -8,8 +8,8 @@ import typer
 
 from .common import (BaseLinkOpt, BatchOpt, DebugOpt, DegOpt, DpiOpt, FileName, InputFormatOpt,
                      JobsOpt, JsonOpt, LockOpt, PrecisionOpt, RobotArg, StructureTolOpt,
-                     TipLinkOpt, UnitOpt, display_units, load_robot, output, output_target,
-                     parse_locks)
+                     TipLinkOpt, UnitOpt, Words, display_units, load_robot, output,
+                     output_target, parse_locks)
 from .redundant import RedundancyOptions, with_redundancy_options
 from .targets import PoseOptions, with_pose_options
 
@@ -34,7 +34,7 @@ ForceOpt = Annotated[bool, typer.Option(
     "--force", help="Let --plot replace an existing regular file (never a link, a device or "
                     "the robot or --pose file).")]
 SweepFormatOpt = Annotated[str, typer.Option(
-    "--format", metavar="jsonl|csv",
+    "--format", metavar="jsonl|csv", click_type=Words(("jsonl", "csv")),
     help="Output format of --batch; with --sweep, csv prints one row per value and branch "
          "instead of the tables.")]
 ExplainOpt = Annotated[bool, typer.Option(

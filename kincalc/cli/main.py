@@ -118,8 +118,15 @@ class _LazyGroup(_Group):
     def _main_shell_completion(self, ctx_args, prog_name, complete_var=None):
         # click's protocol (_KINCALC_COMPLETE=bash_complete, zsh_complete, fish_complete),
         # which the scripts of 'kincalc completion SHELL' speak; typer's override expects
-        # its own scripts. Costs one environment lookup when not completing.
-        click.Command._main_shell_completion(self, ctx_args, prog_name, complete_var)
+        # its own scripts. Costs one environment lookup when not completing. A TAB never
+        # prints an error (the words typed so far are half a command line, the shell's
+        # variables may be anything, KINCALC_ROBOTS a folder not made yet): nothing offered.
+        try:
+            click.Command._main_shell_completion(self, ctx_args, prog_name, complete_var)
+        except SystemExit:
+            raise
+        except Exception:                           # (no completions, status 1)
+            sys.exit(1)
 
 
 #: the options that only a --batch run reads

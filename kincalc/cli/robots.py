@@ -8,7 +8,7 @@ from typing import Annotated, List, Optional
 import typer
 
 from .common import (BaseLinkOpt, DebugOpt, DegOpt, Integer, JsonOpt, PrecisionOpt, RobotArg,
-                     RobotName, StructureTolOpt, TipLinkOpt, UnitOpt, joints_text)
+                     RobotName, StructureTolOpt, TipLinkOpt, UnitOpt, Words, joints_text)
 
 app = typer.Typer(help="The robot library: list, show and validate robot files.",
                   rich_markup_mode=None,
@@ -20,10 +20,16 @@ def structure_code(robot) -> str:
     return "".join("R" if j.revolute else "P" for j in robot.joints)
 
 
+def _families() -> list:
+    """The IK family names ``--family`` takes (at TAB only: the solvers are imported)."""
+    from ..ik.solvers import SOLVERS
+    return sorted(SOLVERS) + ["general-6r", "numerical"]
+
+
 @app.command("list")
 def list_(
     family: Annotated[Optional[str], typer.Option(
-        "--family", metavar="NAME", show_default=False,
+        "--family", metavar="NAME", show_default=False, click_type=Words(_families),
         help="Only robots whose IK family is NAME (as the ik column shows it, e.g. "
              "spherical-wrist, three-parallel, general-6r, or numerical).")] = None,
     dof: Annotated[Optional[int], typer.Option(
@@ -34,9 +40,8 @@ def list_(
 ):
     """List every bundled robot: name, joints, convention, how ik answers, and title."""
     from ..errors import KincalcError, UsageError
-    from ..ik.solvers import SOLVERS
     from ..limits import quote
-    known = sorted(SOLVERS) + ["general-6r", "numerical"]
+    known = _families()
     if family is not None and family.removeprefix("reversed-") not in known:
         raise UsageError(f"--family: no IK family {quote(family)}; the families are "
                          f"{', '.join(known)} (and reversed-... of the six-joint ones)")

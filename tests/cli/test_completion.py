@@ -71,6 +71,32 @@ def test_sub_commands_options_and_choices():
     assert complete("bash", "kincalc completion ") == ["plain,bash", "plain,zsh", "plain,fish"]
 
 
+def test_the_words_an_option_takes(tmp_path):
+    """The man pages promise the choices of every option that takes a few words; convert
+    --to, --unit, --format, --input-format, check --format and robots list --family offered
+    none, nor did compare its two robots (hostile-input campaign)."""
+    assert complete("bash", "kincalc convert puma560 --to ") == ["plain,dh", "plain,mdh",
+                                                                 "plain,poe"]
+    assert complete("bash", "kincalc fk puma560 --unit m") == ["plain,m", "plain,mm"]
+    assert complete("bash", "kincalc ik puma560 --batch x --format ") == ["plain,jsonl",
+                                                                          "plain,csv"]
+    assert complete("bash", "kincalc fk puma560 --batch x --input-format a") == ["plain,auto"]
+    assert complete("bash", "kincalc check hw.yaml --format g") == ["plain,gradescope"]
+    assert complete("bash", "kincalc robots list --family three") == [
+        "plain,three-parallel", "plain,three-parallel-offset"]
+    assert complete("bash", "kincalc compare puma560 ur5_p") == ["plain,ur5_poe"]
+
+
+def test_a_tab_never_prints_an_error(tmp_path):
+    """A COMP_CWORD that is no number gave an internal error, exit 3, and a robot library
+    that does not exist an error line at each TAB: nothing is offered, nothing printed."""
+    for env in ({"COMP_CWORD": "abc"}, {"KINCALC_ROBOTS": str(tmp_path / "none")}):
+        r = subprocess.run(KINCALC, capture_output=True, text=True, timeout=120, env=dict(
+            os.environ, _KINCALC_COMPLETE="bash_complete", COMP_WORDS="kincalc fk p",
+            **{"COMP_CWORD": "2", **env}))
+        assert r.stderr == "" and r.returncode in (0, 1)
+
+
 def test_robot_names_then_files(tmp_path):
     assert complete("bash", "kincalc fk puma") == ["plain,puma560", "plain,puma560_mdh"]
     assert complete("bash", "kincalc robots validate ur5_p") == ["plain,ur5_poe"]
