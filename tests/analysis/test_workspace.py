@@ -281,6 +281,19 @@ def test_a_tool_point_no_joint_moves_has_no_volume(capsys, tmp_path, rows):
     code, out, err = run(capsys, "workspace", str(f), "--json")
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "single point" in err, err
+    assert "every axis passes through it" in err
+
+
+def test_joints_held_by_their_limits_are_named_as_the_reason(capsys, tmp_path):
+    """Limits of one value each were said to be "every axis passes through it" (hostile-input
+    campaign)."""
+    f = tmp_path / "held.yaml"
+    f.write_text(_yaml("held", ["{name: a, type: revolute, alpha: 0, a: 1, d: 0, theta: 0, "
+                                "limits: [10, 10]}",
+                                "{name: b, type: revolute, alpha: 0, a: 1, d: 0, theta: 0, "
+                                "limits: [20, 20]}"]))
+    code, out, err = run(capsys, "workspace", str(f), "--json")
+    assert code == 2 and err.count("\n") == 1 and "every joint's limits are one value" in err
 
 
 def test_analyse_refuses_too_few_samples(arms):

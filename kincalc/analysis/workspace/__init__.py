@@ -213,8 +213,12 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     times["sampling"] = time.perf_counter() - t0
     if np.ptp(P, axis=0).max() <= 1e-9 * max(robot.characteristic_length, 1e-12):
         # (a grid sized to the samples' spread would be sized to rounding: no volume)
-        raise UnsupportedRobot(f"{robot.name}: no joint moves the tool point (every axis "
-                               "passes through it): the workspace is a single point")
+        held = np.all(hi - lo <= 0.0)
+        raise UnsupportedRobot(f"{robot.name}: no joint moves the tool point ("
+                               + ("every joint's limits are one value" if held else
+                                  "every axis passes through it, or the joints that would "
+                                  "move it are held by their limits")
+                               + "): the workspace is a single point")
 
     t0 = time.perf_counter()
     env = envelope(robot, Q, P)
