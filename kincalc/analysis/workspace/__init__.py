@@ -169,6 +169,15 @@ def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     return w, stats
 
 
+
+def _single_point(robot, lo, hi) -> str:
+    """Why no joint moves the tool point (the joints' ranges ``lo``, ``hi``: rad / m)."""
+    why = ("every joint's limits are one value" if np.all(hi - lo <= 0.0) else
+           "every axis passes through it, or the joints that would move it are held by "
+           "their limits")
+    return f"{robot.name}: no joint moves the tool point ({why}): the workspace is a single point"
+
+
 def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
             dexterity: float = 1.0, orientations: int | None = None,
             sections: bool = False, progress=None) -> Workspace:
@@ -213,12 +222,7 @@ def analyse(robot, samples: int = 200_000, seed: int = 0, *, units=None,
     times["sampling"] = time.perf_counter() - t0
     if np.ptp(P, axis=0).max() <= 1e-9 * max(robot.characteristic_length, 1e-12):
         # (a grid sized to the samples' spread would be sized to rounding: no volume)
-        held = np.all(hi - lo <= 0.0)
-        raise UnsupportedRobot(f"{robot.name}: no joint moves the tool point ("
-                               + ("every joint's limits are one value" if held else
-                                  "every axis passes through it, or the joints that would "
-                                  "move it are held by their limits")
-                               + "): the workspace is a single point")
+        raise UnsupportedRobot(_single_point(robot, lo, hi))
 
     t0 = time.perf_counter()
     env = envelope(robot, Q, P)
