@@ -122,7 +122,9 @@ def _close(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-11 * max(1.0, abs(a))
 
 
-def _text(robot, numeric, num) -> str:
+def _text(robot, numeric, number) -> str:
+    """The file's text, its numbers written by ``number`` (:func:`num` or :func:`_exact`), the
+    DH fields ``numeric`` as numbers rather than their expressions."""
     L = LENGTH_UNITS[robot.length_unit]
     A = ANGLE_UNITS[robot.angle_unit]
     out = [f"name: {yaml_string(robot.name, plain_ok=True)}"]
@@ -144,8 +146,8 @@ def _text(robot, numeric, num) -> str:
         scale = A if j.revolute else L
         fields = [f"name: {yaml_string(j.name, plain_ok=True)}", f"type: {j.type}"]
         if robot.convention == "poe":
-            fields.append(f"axis: {_unit_vector(j.axis, num)}")
-            fields.append(f"point: {_vector(np.asarray(j.point) / L, num)}")
+            fields.append(f"axis: {_unit_vector(j.axis, number)}")
+            fields.append(f"point: {_vector(np.asarray(j.point) / L, number)}")
         else:
             given = dict(exprs[i]) if robot.convention != "poe" else {}
             for f in _DH_FIELDS:
@@ -153,18 +155,18 @@ def _text(robot, numeric, num) -> str:
                 if f in given and (i, f) not in numeric:
                     fields.append(f"{f}: {yaml_string(given[f], expression=True)}")
                 else:
-                    fields.append(f"{f}: {num(getattr(j, f) / unit)}")
+                    fields.append(f"{f}: {number(getattr(j, f) / unit)}")
         if j.limits is not None:
-            fields.append(f"limits: {_vector(np.asarray(j.limits) / scale, num)}")
+            fields.append(f"limits: {_vector(np.asarray(j.limits) / scale, number)}")
         out.append("  - {" + ", ".join(fields) + "}")
-    base, tool = _pose(robot.base, L, A, num), _pose(robot.written_tool, L, A, num)
+    base, tool = _pose(robot.base, L, A, number), _pose(robot.written_tool, L, A, number)
     if base is not None:
         out.append(f"base: {base}")
     if tool is not None or robot.convention == "poe":
         out.append(f"tool: {tool or '{xyz: [0, 0, 0]}'}")
     if np.any(robot.home != 0):
         home = np.asarray(robot.home) / np.where(robot.is_revolute, A, L)
-        out.append(f"home: {_vector(home, num)}")
+        out.append(f"home: {_vector(home, number)}")
     if robot.notes:
         out.append(f"notes: {_text_block(robot.notes)}")
     return "\n".join(out) + "\n"
@@ -225,34 +227,34 @@ def _short(x: float) -> str:
     return repr(x)
 
 
-def _vector(values, num=num) -> str:
-    return "[" + ", ".join(num(v) for v in values) + "]"
+def _vector(values, number=num) -> str:
+    return "[" + ", ".join(number(v) for v in values) + "]"
 
 
-def _unit_vector(values, num=num) -> str:
+def _unit_vector(values, number=num) -> str:
     """A unit vector written so that normalising what is read (as the reader
     does) gives back the same text: a file read and written again is unchanged."""
     v = np.asarray(values, dtype=float)
     for _ in range(5):
-        text = [num(x) for x in v]
+        text = [number(x) for x in v]
         back = np.array([float(x) for x in text])
         back = back / np.linalg.norm(back)
-        if [num(x) for x in back] == text:
+        if [number(x) for x in back] == text:
             break
         v = back
     return "[" + ", ".join(text) + "]"
 
 
-def _pose(T, L, A, num=num) -> str | None:
+def _pose(T, L, A, number=num) -> str | None:
     """``{xyz: [...], rpy: [...]}`` or ``{matrix: [...]}`` for the transform ``T``;
     None for the identity (as written: rounding noise below 1e-12 is no pose)."""
     T = np.asarray(T, dtype=float)
-    xyz = [num(v) for v in T[:3, 3] / L]
+    xyz = [number(v) for v in T[:3, 3] / L]
     R = T[:3, :3]
     rpy = rpy_from_matrix(R)
     # the extraction gives (-pi, pi]; an angle at -pi (to rounding) is written as +pi
     # (180 deg), so that a file read and written again keeps its text
-    rpy = [num(v) for v in np.where(rpy < -np.pi + 1e-9, rpy + 2 * np.pi, rpy) / A]
+    rpy = [number(v) for v in np.where(rpy < -np.pi + 1e-9, rpy + 2 * np.pi, rpy) / A]
     written = np.array([float(v) for v in rpy]) * A
     if np.max(np.abs(matrix_from_rpy(written) - R)) <= CLEAN_TOL:
         parts = []
@@ -263,7 +265,7 @@ def _pose(T, L, A, num=num) -> str | None:
         return "{" + ", ".join(parts) + "}" if parts else None
     M = T.copy()
     M[:3, 3] /= L
-    return "{matrix: [" + ", ".join(_vector(row, num) for row in M) + "]}"
+    return "{matrix: [" + ", ".join(_vector(row, number) for row in M) + "]}"
 
 
 def _text_block(s: str) -> str:
