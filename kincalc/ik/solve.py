@@ -368,7 +368,9 @@ def _toward(robot, q, near, kind: str):
     """``q``'s revolute joints moved by whole turns towards ``near`` (``turn_toward``), but
     the last joint of a ``kind`` ``"tcv"`` target (the vector holds ``e^(q_n / pi)``)."""
     lo, hi = robot.limits.T
-    turns = robot.is_revolute & (np.arange(robot.dof) < robot.dof - (kind == "tcv"))
+    turns = robot.is_revolute.copy()
+    if kind == "tcv":
+        turns[-1] = False
     return np.where(turns, turn_toward(q, near, lo, hi), q)
 
 
