@@ -48,12 +48,10 @@ from kincalc.ik.selftest import sample_configurations
 ROUND_TRIP_TOL = 1e-6
 
 # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536, to hand freed memory
-# back to the system; glibc then maps and unmaps every large temporary afresh and
-# ik_batch, which makes many of them per chunk, runs at about half speed (measured
-# on 20,000-pose chunks). This config, in force where the nanny starts, leaves the
-# variable unset. For a running cluster, start its workers with the same setting
-# (README, "Scaling out with Dask").
-FAST_ALLOCATION = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+# back to the system; glibc would then map every large temporary afresh and ik_batch,
+# which makes many of them per chunk, would run at a quarter to half speed. ik_batch sets
+# glibc's thresholds itself on its first call in a process (kincalc.memory), so workers
+# need no setting of their own.
 
 
 # --- the recipe ----------------------------------------------------------------
@@ -205,9 +203,8 @@ def main(argv=None) -> int:
         client = Client(args.scheduler)
     else:
         # a Client made without an address starts a local cluster and closes it with itself
-        with dask.config.set(FAST_ALLOCATION):
-            client = Client(n_workers=args.workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None)
+        client = Client(n_workers=args.workers, threads_per_worker=1, processes=True,
+                        dashboard_address=None)
     with client:
         versions = workers_with_kincalc(client)
         summary = run_job(robot, args.poses, args.chunk, args.seed)

@@ -25,10 +25,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "kincalc"
 #: the layers, bottom up: (name, what lives there, module prefixes)
 LAYERS = [
     ("base", "the version, exceptions, named tolerances, units, input limits, safe output "
-             "files, evenly spread samples", ["kincalc.version", "kincalc.errors",
-                                              "kincalc.tolerances", "kincalc.units",
-                                              "kincalc.limits", "kincalc.outputs",
-                                              "kincalc.samples"]),
+             "files, evenly spread samples, malloc's thresholds",
+     ["kincalc.version", "kincalc.errors", "kincalc.tolerances", "kincalc.units",
+      "kincalc.limits", "kincalc.outputs", "kincalc.samples", "kincalc.memory"]),
     ("geometry", "rotations and rigid transforms", ["kincalc.spatial"]),
     ("chain", "the uniform chain F_0 J_1 F_1 ... J_n F_n, as data", ["kincalc.chain"]),
     ("evaluation", "forward kinematics, Jacobians, the axes' structure",

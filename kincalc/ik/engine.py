@@ -7,27 +7,26 @@ and flags every candidate in one pass:
 
 1. FK of every candidate (the robot as given); a candidate is a solution when it reaches the target:
    its position to ``ACCEPT_POSITION`` of the arm's size, the components the family controls to
-   ``ACCEPT_ORIENTATION`` rad, other components a target gives to ``CHECK_ORIENTATION``;
-   a candidate that misses by a hair, or reaches with a joint a hair beyond its limits (a
-   double root next to a singularity), is polished by Newton and checked again
-   (:mod:`~kincalc.ik.near_miss`);
+   ``ACCEPT_ORIENTATION`` rad, other components a target gives to ``CHECK_ORIENTATION``; a
+   candidate that misses by a hair, or reaches with a joint a hair beyond its limits (a double
+   root next to a singularity), is polished by Newton and checked again (:mod:`~.near_miss`);
 2. revolute joints moved by whole turns to the representative nearest their limits
    (:func:`~kincalc.ik.joint_limits.normalise`);
 3. duplicates (every joint within ``DUPLICATE``, wrapped) dropped after their first
-   (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's
-   continuum (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double
-   root (:func:`~kincalc.ik.near_miss.double_roots`: within ``SAME_DOUBLE_ROOT``, polished, or the
-   joints halfway between the two reaching the target too, unless both reach it to rounding
-   and the halfway joints miss it, two roots; the two sides of a flat double root within
-   ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again, where those
-   reach the target better than both;
+   (:func:`~kincalc.ik.joint_limits.duplicates`), and so are a point of another slot's continuum
+   (:func:`~kincalc.ik.joint_limits.on_continua`) and a copy of another's double root
+   (:func:`~kincalc.ik.near_miss.double_roots`: within ``SAME_DOUBLE_ROOT``, polished, or the
+   joints halfway between the two reaching the target too, unless both reach it to rounding and
+   the halfway joints miss it, two roots; the two sides of a flat double root within
+   ``SPLIT_DOUBLE_ROOT``): answered once at the halfway joints, checked again, where those reach
+   the target better than both;
 4. limit violations, the singular test on the Jacobian, the branch labels
    (:mod:`kincalc.ik.labels`).
 
-A single pose is a batch of one: for every closed-form family ``robot.ik`` and
-``robot.ik_batch``, the CLI's ``ik``, ``ik --batch``, ``reach``, ``check`` and the rest answer
-through here, so a solution has the same label and flags wherever it is asked for (a robot
-with no closed form is solved numerically, pose by pose: :mod:`kincalc.ik.numeric`).
+A single pose is a batch of one: for every closed-form family ``robot.ik`` and ``robot.ik_batch``,
+the CLI's ``ik``, ``ik --batch``, ``reach``, ``check`` and the rest answer through here, so a
+solution has the same label and flags wherever it is asked for (a robot with no closed form is
+solved numerically, pose by pose: :mod:`kincalc.ik.numeric`).
 """
 
 from __future__ import annotations
@@ -43,6 +42,7 @@ from .cache import per_robot
 from ..fk import FEW, entry_frames, forward_kinematics, tool_from_cs
 from .families import APPROACH_FAMILIES, TARGET_FAMILIES, Family, plan
 from ..jacobian import rank_deficient
+from ..memory import keep_freed_memory
 from .joint_limits import (close_pairs, duplicates, normalise, on_continua, open_joints,
                            open_values, violations)
 from .labels import labels
@@ -190,20 +190,20 @@ def solve_batch(robot, T, *, chunk: int = CHUNK) -> Solved:
 
     Returns
     -------
-    Solved, all N targets (``branches`` None when there was more than one chunk)
+    Solved, all N targets (``branches`` None when there was more than one chunk); glibc's malloc
+    keeps freed memory from then on (:mod:`kincalc.memory`)
 
     Raises
     ------
-    ValueError
-        ``T`` is not of shape (N, 4, 4) or (4, 4).
-    UnsupportedRobot
-        No closed form covers the robot.
+    ValueError, UnsupportedRobot
+        ``T`` is not of shape (N, 4, 4) or (4, 4); no closed form covers the robot.
     """
     T = np.asarray(T, float)
     if T.ndim == 2:
         T = T[None]
     if T.shape[1:] != (4, 4):
         raise ValueError(f"expected poses of shape (N, 4, 4), got {T.shape}")
+    keep_freed_memory()                 # each chunk's temporaries: the last one's pages
     if len(T) <= chunk:
         return solve_targets(robot, Targets(T))
     first = solve_targets(robot, Targets(T[:chunk]))

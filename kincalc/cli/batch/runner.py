@@ -8,6 +8,7 @@ import sys
 
 from ...limits import (MAX_BATCH_SKIP_BYTES, MAX_JOBS, MAX_RECORD_BYTES, open_input, quote,
                        size_text)
+from ...memory import keep_freed_memory
 from .chunks import process_chunk
 from .formats import csv_header
 from .pool import ordered_map, start_pool, stop_pool
@@ -93,7 +94,7 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
         raise UsageError(f"--jobs must be 1 to {MAX_JOBS}, not {jobs}")
     import gc
     source = _Source(src)
-    _keep_freed_memory()
+    keep_freed_memory()             # (kincalc.memory: each chunk reuses the last one's pages)
     bad = no = False
     answered = 0                        # chunks answered
     pool = None
@@ -136,26 +137,6 @@ def run(kind: str, robot, units, src: str, fmt: str, jobs: int = 1, frame: str =
     if not answered and fmt == "csv":           # no record: the output's header alone
         sys.stdout.write(csv_header(kind, robot))
     return 2 if bad else 1 if no else 0
-
-
-def _keep_freed_memory() -> None:
-    """Let glibc's malloc keep the memory of freed arrays for the next chunk's (Linux).
-
-    A chunk's work arrays (up to a few MB) are freed and allocated again chunk after
-    chunk; by default malloc gives those above its threshold back to the system (mmap,
-    munmap, and a heap top past 128 kB trimmed), so every chunk faulted them in again:
-    37,500 page faults for 50,000 poses (0.1 s of system time), 11,000 with the
-    thresholds raised to 32 and 64 MB. The memory a run holds stays what its largest
-    chunk needs. Elsewhere (no glibc) nothing is done."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes                   # (numpy has imported it already)
-        mallopt = ctypes.CDLL(None).mallopt
-    except (ImportError, OSError, AttributeError):
-        return
-    mallopt(-3, 32 << 20)               # M_MMAP_THRESHOLD: arrays below 32 MB on the heap
-    mallopt(-1, 64 << 20)               # M_TRIM_THRESHOLD: keep up to 64 MB of free top
 
 
 def _shown(name: str) -> str:
