@@ -27,13 +27,14 @@ import itertools
 import numpy as np
 
 from ..spatial import rotation_error, wrap
+from ..tolerances import DUPLICATE
 from .words import placed_point
 from .reasons import ArmMissed, Missed
 
 #: --all-branches lists combinations only up to this many
 MAX_COMBINATIONS = 512
-#: joint values within this of each other (rad / m) are one value
-SAME = 1e-6
+#: joint values within this of each other (rad / m) are one value: two solutions' rule
+SAME = DUPLICATE
 
 
 def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:

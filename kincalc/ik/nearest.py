@@ -17,14 +17,15 @@ from .cache import per_robot
 from .joint_limits import joint_scale
 from .newton import levenberg_marquardt
 from ..spatial import into_turn
+from ..tolerances import ACCEPT_POSITION
 
 #: configurations sampled for the starts of the nearest-point search
 SEARCH_SAMPLES = 4096
 #: starts taken from the samples nearest the target
 SEARCH_STARTS = 8
 #: a position counts as reached when it is within this of the target (relative
-#: to the robot's characteristic length)
-POSITION_TOL = 1e-9
+#: to the robot's characteristic length): the IK acceptance
+POSITION_TOL = ACCEPT_POSITION
 
 
 def _pose_error(P, R, p_goal, R_goal, L):

@@ -70,7 +70,8 @@ class Plan(NamedTuple):
     still: bool = False     # pair of three joints: the third does not move p0 (free, 0)
 
 
-def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -> Branches:
+def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point",
+          constant: bool = True) -> Branches:
     """``br`` with ``joints`` solved so that they move ``p0`` to ``PT``, one target per slot.
 
     Parameters
@@ -81,12 +82,15 @@ def place(S: Screws, br: Branches, joints, p0, PT, *, what: str = "the point") -
     p0 : array_like (3,), the point at q = 0 (world frame, m)
     PT : array_like (N, K, 3), its targets (world frame, m); joints before ``joints[0]`` undone
     what : str, the point's name in the dead ends (``--all-branches``)
+    constant : bool, ``p0`` is a point of the robot: its plan is kept on ``S``; False for a
+        point that changes with the target (a tool configuration vector's), planned afresh
 
     Returns
     -------
     Branches, with ``joints`` set: a slot per root, dead where there is no real one
     """
-    P = plan(S, tuple(joints), tuple(np.asarray(p0, float).tolist()))
+    P = (plan(S, tuple(joints), tuple(np.asarray(p0, float).tolist())) if constant else
+         _make_plan(S, tuple(joints), np.asarray(p0, float)))
     br = _MODES[P.mode](S, P, br, np.asarray(PT, float), what)
     if P.still:
         zero = np.zeros(br.ok.shape)

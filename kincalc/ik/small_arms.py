@@ -307,6 +307,7 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     qn = float(targets.roll[0])
     br = note_tcv(br, n - 1, np.exp(qn / np.pi))
     p = S.move_point(n - 1, qn, S.M[:3, 3])
-    br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3], what="the tool")
+    br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3], what="the tool",
+               constant=False)                  # (the point turns with the target's roll)
     q = np.full((br.N, br.K), qn)
     return br.set(n - 1, q, np.cos(q), np.sin(q))

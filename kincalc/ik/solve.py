@@ -18,10 +18,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import TargetMismatch
-from .engine import Solved, solve_targets
+from .engine import Solved, singular, solve_targets
 from .continua import Continuum, Followers, ParallelContinuum, followers
 from .families import plan
-from .joint_limits import joint_scale, same_solution
+from .joint_limits import joint_scale, same_solution, violations
 from .labels import solution_order
 from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
 from ..spatial import turn_toward, wrap
@@ -270,7 +270,6 @@ def violation_list(robot, q) -> list:
         ``(joint, amount, side)`` per broken limit, sorted by joint: the amount (rad / m,
         positive) beyond it, ``side`` ``"lower"`` or ``"upper"``.
     """
-    from .joint_limits import violations
     return _violation_list(violations(robot, np.asarray(q, float)))
 
 
@@ -402,8 +401,6 @@ def _solve_numerical(robot, target, near, units, why, reasons=True) -> IKResult:
     (``reasons``: of :func:`solve`)."""
     if target.approach is not None:
         raise TargetMismatch(robot.name, "not approach", why=why)
-    from .engine import singular
-    from .joint_limits import violations
     from .nearest import beyond_reach
     from .numeric import RESTARTS, solve_numeric
     start = default_start(robot) if near is None else near

@@ -18,8 +18,9 @@ Conventions (see also the package docstring):
 Every function accepts any number of leading batch dimensions, returns new
 arrays and never writes into its arguments.
 
-The room is three modules: :mod:`~kincalc.spatial.rotations` (rotation matrices and their
-vector forms), :mod:`~kincalc.spatial.angles` (RPY and Euler angles) and
+The room is four modules: :mod:`~kincalc.spatial.rotations` (rotation matrices and their
+vector forms), :mod:`~kincalc.spatial.angles` (RPY and Euler angles),
+:mod:`~kincalc.spatial.orthonormal` (is it a rotation, the nearest one) and
 :mod:`~kincalc.spatial.transforms` (rigid transforms); every name is imported from here.
 """
 

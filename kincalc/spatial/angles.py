@@ -61,9 +61,9 @@ def rpy_from_matrix(R) -> np.ndarray:
     -------
     ndarray (..., 3)
         ``(roll, pitch, yaw)`` (rad) with ``R = Rz(yaw) Ry(pitch) Rx(roll)``. Pitch lies in
-        [-pi/2, pi/2]; roll and yaw in (-pi, pi]: a half turn whose sine entry is zero (of
-        either sign) gives +pi, but one whose sine entry is a rounding-level negative number
-        (as in ``rot_z(-pi)``) gives -pi.
+        [-pi/2, pi/2]; roll and yaw in (-pi, pi]: a half turn gives +pi, whether its sine
+        entry is zero (of either sign) or of rounding size (``rot_z(-pi)`` holds -1.2e-16;
+        see :func:`_turn_angle`).
 
     Notes
     -----

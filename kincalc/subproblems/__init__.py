@@ -8,7 +8,8 @@ their cosines and sines, and masks saying which slots hold a solution, which are
 (the others least-squares answers) and where the problem is ill-posed. Rotations are
 about unit axes through the origin (translate the inputs first); angles in rad.
 
-This room uses numpy and :mod:`kincalc.spatial` only; the IK families compose it.
+This room uses numpy, :mod:`kincalc.spatial` and :mod:`kincalc.tolerances` only; the IK
+families compose it.
 
 References: B. Paden, "Kinematics and control of robot manipulators", PhD thesis, UC
 Berkeley 1986; R. Murray, Z. Li, S. Sastry, *A Mathematical Introduction to Robotic

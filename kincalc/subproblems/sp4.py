@@ -29,6 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..tolerances import ACCEPT_POSITION
 from .solutions import (Solutions, as_vectors, cross, crossing, dot, norm, rows_times,
                         two_roots, two_slots)
 
@@ -40,7 +41,7 @@ ROUNDING = 64 * np.finfo(float).eps
 #: root: the IK acceptance (``kincalc.tolerances.ACCEPT_POSITION``), so that a target made from
 #: joints a hair from a singular configuration, whose tangent the rounding of a near-singular
 #: step before it pushed past, gets its candidate and the FK check decides (else none)
-REACH = 1e-9
+REACH = ACCEPT_POSITION
 
 
 class Sp4Constants(NamedTuple):

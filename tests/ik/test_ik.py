@@ -279,6 +279,32 @@ def test_zagreb_tool_configuration_vector_target():
                for s in res.solutions)
 
 
+@pytest.mark.parametrize("name", ["bk_rpr", "planar_3r", "fer_rrpr"])
+def test_tcv_targets_leave_no_constants_behind(name):
+    """The tool point a tcv's joints place turns with the target's roll (off the last axis):
+    its plan was kept on the robot's screws as a constant, one more for every target a
+    process solved."""
+    from kincalc.ik.families import plan
+    from kincalc.spatial import tcv_from_transform
+    r = load_robot(name)
+    S = plan(r)[0]
+    rng = np.random.default_rng(5)
+
+    def solve_some(k):
+        for q in sample_configurations(r, k, rng):
+            w = tcv_from_transform(r.fk(q), q[-1])
+            T = np.eye(4)
+            T[:3, 3] = w[:3]
+            n = np.linalg.norm(w[3:])
+            res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+            assert any(close(s.q, q, r) for s in res.solutions)
+
+    solve_some(3)
+    kept = len(S.cache)
+    solve_some(40)
+    assert len(S.cache) == kept
+
+
 @pytest.mark.parametrize("q4", [600.0, -300.0, 200.0, 405.0])
 def test_a_tcv_last_joint_beyond_a_half_turn_is_not_moved_by_a_turn(q4):
     """The vector holds e^(q4 / pi): q4 = 600 deg and q4 = -120 deg are different vectors.
