@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import matrix_from_axis_angle, wrap
+from ..tolerances import GEOMETRY_TOL
 from ..subproblems import sp2
 from ..subproblems.solutions import Solutions, dot
 from ..subproblems.sp2 import free_angles
@@ -151,13 +152,18 @@ def _meeting_pairs(S: Screws) -> tuple:
     """The pairs ``(a, b)``, ``a < b``, of revolute joints before the last whose axes meet
     (not parallel): both lines can hold the last axis's point, both joints then free.
     Cached."""
+    def meet(a, b) -> bool:
+        # the lines' distance |(p_b - p_a) . n| / |n|, n = k_a x k_b: exact however close to
+        # parallel the axes are (two wrist axes a hair apart still meet, and subproblem 2
+        # solves them)
+        n = np.cross(S.axis[a], S.axis[b])
+        sine = float(np.linalg.norm(n))
+        return sine > GEOMETRY_TOL and abs(float(np.dot(S.point[b] - S.point[a], n))) \
+            < GEOMETRY_TOL * max(S.scale, 1.0) * sine
+
     def make():
-        from ..structure import common_point
         rev = [j for j in range(S.n - 1) if S.revolute[j]]
-        tol = 1e-9 * max(S.scale, 1.0)
-        return tuple((a, b) for a in rev for b in rev if a < b
-                     and np.linalg.norm(np.cross(S.axis[a], S.axis[b])) > 1e-9
-                     and common_point(S.point[[a, b]], S.axis[[a, b]], tol) is not None)
+        return tuple((a, b) for a in rev for b in rev if a < b and meet(a, b))
     return S.constant("meeting pairs before the last joint", make)
 
 

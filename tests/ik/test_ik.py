@@ -773,3 +773,28 @@ def test_a_tcv_target_labels_a_solution_as_its_whole_pose_does():
     assert len(by_tcv.solutions) == 2 and labels(by_tcv) == labels(by_pose)
     assert all("shoulder" in s.branch for s in by_tcv.solutions)
     assert np.allclose(np.linalg.norm(w), np.exp(q[3] / np.pi))
+
+
+@pytest.mark.parametrize("tilt", [0.3, 1e-3, 3.4e-6, -2e-5])
+def test_a_wrist_of_three_joints_with_axes_1_and_2_nearly_one_line(tilt, tmp_path):
+    """Three revolute axes through one point (an orientation-only arm), axes 1 and 2 a hair
+    apart (a URDF's rpy rounded to 1.570796): the pair's meeting point was sought by a
+    least-squares intersection that calls lines within 1.4e-3 rad of parallel "no unique
+    point", so the pair was not solved (subproblem 2) and no pose by FK had a solution."""
+    path = tmp_path / "wrist3.urdf"
+    path.write_text(
+        '<robot name="w3"><link name="b"/><link name="l1"/><link name="l2"/><link name="l3"/>'
+        '<joint name="j1" type="revolute"><parent link="b"/><child link="l1"/>'
+        '<origin xyz="0.1 -0.2 0.5"/><axis xyz="0 0 1"/><limit lower="-3" upper="3"/></joint>'
+        '<joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>'
+        f'<axis xyz="0 {float(np.sin(tilt))!r} {float(np.cos(tilt))!r}"/>'
+        '<limit lower="-3" upper="3"/></joint>'
+        '<joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>'
+        '<axis xyz="1 0 0"/><limit lower="-3" upper="3"/></joint></robot>')
+    r = load_robot(str(path))
+    for q in sample_configurations(r, 40, np.random.default_rng(8)):
+        T = r.fk(q)
+        res = solve(r, Target(T))
+        assert any(close(s.q, q, r, tol=1e-5) for s in res.solutions), q
+        for s in res.solutions:                 # every one reaches the pose, by FK
+            assert np.allclose(r.fk(s.q), T, atol=1e-9)
