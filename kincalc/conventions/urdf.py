@@ -303,7 +303,7 @@ def _chain(reader, root, links, joints, by_child, base_link, tip_link) -> list:
             reader.fail(root, f"{what} {quote(name)} is not a link of this URDF "
                               f"({_names(list(links))})")
     if tip_link is None:
-        tip_link = _default_tip(reader, root, base, children)
+        tip_link = _default_tip(reader, root, base, children, by_child)
 
     def up_to_root(link):
         out = [link]
@@ -335,9 +335,11 @@ def _chain(reader, root, links, joints, by_child, base_link, tip_link) -> list:
     return path
 
 
-def _default_tip(reader, root, base: str, children) -> str:
+def _default_tip(reader, root, base: str, children, by_child) -> str:
     """The tip when none is given: the end of the one chain of moving joints below
-    ``base`` (module docstring). Each link is visited once."""
+    ``base`` (module docstring), or, for a base with none below it that hangs off the tree
+    by fixed joints (ROS's ``base`` under ``base_link``), below the first link above it
+    that has one. Each link is visited once."""
 
     def below(link, through_moving=False):
         """The moving joints first met below ``link`` through fixed joints, and the leaves
@@ -356,6 +358,8 @@ def _default_tip(reader, root, base: str, children) -> str:
         return moving, leaves
 
     link = base
+    while not below(link)[0] and link in by_child and by_child[link].type == "fixed":
+        link = by_child[link].parent
     while True:
         moving, leaves = below(link)
         if not moving:

@@ -496,3 +496,20 @@ def test_a_chain_of_fixed_joints_the_user_chose_names_its_ends():
     with pytest.raises(RobotFileError) as e:
         parse_urdf_text(text, "bad.urdf", base_link="d", tip_link="e")
     assert str(e.value).endswith("the chain from link 'd' to link 'e' has no moving joint")
+
+
+def test_a_base_frame_hanging_off_the_arm_finds_the_arms_tip():
+    """ROS's layout: ``base`` hangs off ``base_link`` by a fixed joint (UR's URDF). With
+    --base-link base and no --tip-link the tip was sought below ``base`` alone, where there
+    is nothing: "the chain from link 'base' to its tip has no moving joint"."""
+    from kincalc.conventions.urdf import load_urdf
+    alone = load_urdf(HERE / "ur5.urdf", base_link="base")
+    default = load_urdf(HERE / "ur5.urdf")                          # from base_link
+    q = np.random.default_rng(4).uniform(-3, 3, (20, 6))
+    assert alone.dof == 6
+    # the same tip; base is base_link turned half a turn about z
+    assert np.allclose(alone.fk(q), np.diag([-1.0, -1, 1, 1]) @ default.fk(q), atol=1e-12)
+    # a base with moving joints below it keeps its own chain; a tip with nothing above it
+    # that moves is still refused
+    with pytest.raises(RobotFileError, match="no moving joint"):
+        load_urdf(HERE / "ur5.urdf", base_link="tool0")
