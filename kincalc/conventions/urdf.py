@@ -83,6 +83,15 @@ class _Reader:
         first, last = node.lines_of(name)
         return f"a value over lines {first}-{last}" if last > first else quote(node.attrs[name])
 
+    def one(self, node: Element, tag: str, where: str):
+        """``node``'s child element ``tag``, or None; two of them are an error (URDF has
+        one, and which of two a reader takes is not defined)."""
+        found = [c for c in node.children if c.tag == tag]
+        if len(found) > 1:
+            self.fail(found[1], f"{where} has a second <{tag}> (the first on line "
+                                f"{found[0].line}): a joint has one")
+        return found[0] if found else None
+
     def attr(self, node: Element, name: str, default=None) -> str:
         if name in node.attrs:
             return node.attrs[name]
@@ -134,18 +143,18 @@ class _Reader:
                       "type")
         links = {}
         for tag in ("parent", "child"):
-            sub = node.first(tag)
+            sub = self.one(node, tag, where)
             if sub is None:
                 self.fail(node, f"{where} has no <{tag}>")
             links[tag] = self.name(sub, "link")
-        origin = node.first("origin")
+        origin = self.one(node, "origin", where)
         T = np.eye(4)
         if origin is not None:
             xyz = self.numbers(origin, "xyz", 3, "0 0 0")
             rpy = self.numbers(origin, "rpy", 3, "0 0 0")
             T = transform(matrix_from_rpy(rpy), xyz)
         axis = np.array([1.0, 0.0, 0.0])
-        sub = node.first("axis")
+        sub = self.one(node, "axis", where)
         if sub is not None and kind in MOVING:
             axis = self.numbers(sub, "xyz", 3, "1 0 0")
             norm = float(np.linalg.norm(axis))
@@ -153,7 +162,7 @@ class _Reader:
                 self.fail(sub, f"{where}: <axis xyz> is the zero vector")
             axis = axis / norm
         limits = None
-        sub = node.first("limit")
+        sub = self.one(node, "limit", where)
         if kind in ("revolute", "prismatic"):
             if sub is None:
                 self.fail(node, f"{where}: a {kind} joint needs <limit lower upper>"

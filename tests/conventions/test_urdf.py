@@ -513,3 +513,16 @@ def test_a_base_frame_hanging_off_the_arm_finds_the_arms_tip():
     # that moves is still refused
     with pytest.raises(RobotFileError, match="no moving joint"):
         load_urdf(HERE / "ur5.urdf", base_link="tool0")
+
+
+@pytest.mark.parametrize("second", ['<axis xyz="1 0 0"/>',
+                                    '<origin xyz="0 0 1"/><origin xyz="0 0 2"/>',
+                                    '<limit lower="-2" upper="2"/>', '<parent link="c"/>',
+                                    '<child link="c"/>'])
+def test_a_joint_with_two_of_an_element_is_refused(second):
+    """Two <axis> (or <parent>, ...) in one joint were read as the first, silently: which
+    one a URDF reader takes is not defined, and the file's author meant one of them."""
+    tag = second.split()[0][1:]
+    with pytest.raises(RobotFileError) as e:
+        parse_urdf_text(_chain_text(inner=second), "two.urdf")
+    assert str(e.value).startswith(f"two.urdf:1: joint 'ja' has a second <{tag}>")
