@@ -126,8 +126,8 @@ class _Reader:
             self.fail(node, f"<{node.tag} {name}> {self.shown(node, name)} is not "
                             f"{_count(count)}{hint}", name)
         if len(values) != count:
-            self.fail(node, f"<{node.tag} {name}> needs {_count(count)}, got {len(values)}",
-                      name)
+            got = "an empty value" if not values else f"{len(values)}"
+            self.fail(node, f"<{node.tag} {name}> needs {_count(count)}, got {got}", name)
         if not all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in values):
             self.fail(node, f"<{node.tag} {name}> holds a number that is not finite or is "
                             f"larger than {MAX_MAGNITUDE:g}", name)

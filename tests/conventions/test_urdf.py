@@ -258,6 +258,8 @@ def test_a_chain_that_cannot_be_chosen_is_one_line(kwargs, words):
     (_chain_text().replace('xyz="1 0 0"', 'xyz="${a2} 0 0"'),
      "<origin xyz> '${a2} 0 0' is not 3 numbers (an unexpanded xacro expression?"),
     (_chain_text().replace('xyz="1 0 0"', 'xyz="1 0"'), "<origin xyz> needs 3 numbers, got 2"),
+    (_chain_text().replace('upper="1"', 'upper=""', 1),     # (it said "got 0", a value)
+     "<limit upper> needs a number, got an empty value"),
     (_chain_text().replace('xyz="1 0 0"', 'xyz="1 nan 0"'), "not finite"),
     (_chain_text().replace('<child link="b"/>', '<child link="z"/>'),
      "joint 'ja' names link 'z', which is not defined"),
