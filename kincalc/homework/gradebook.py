@@ -45,9 +45,9 @@ def item_columns(outcomes) -> list[str]:
 
 def safe_cell(text: str) -> str:
     """A text cell that a spreadsheet program shows as text, on one line: control
-    characters and line breaks as :func:`~kincalc.limits.printable` shows them, and
-    one starting with ``=``, ``+``, ``-``, ``@``, a tab or a carriage return gets a leading
-    apostrophe.
+    characters and line breaks as :func:`~kincalc.limits.printable` shows them (spaces), and
+    one starting, after any spaces (which a spreadsheet may strip: a tab or a carriage
+    return before ``=`` is one), with ``=``, ``+``, ``-`` or ``@`` gets a leading apostrophe.
 
     Parameters
     ----------
@@ -58,7 +58,7 @@ def safe_cell(text: str) -> str:
     str
     """
     text = printable(text)
-    return "'" + text if text.startswith(_FORMULA_START) else text
+    return "'" + text if text.lstrip(" ").startswith(_FORMULA_START) else text
 
 
 def gradebook_rows(outcomes) -> list[list[str]]:

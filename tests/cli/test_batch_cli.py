@@ -70,6 +70,23 @@ def test_fk_batch_jsonl_matches_hand_fk(tmp_path, capsys):
         assert np.allclose(r["xyz"], dh_fk(np.radians(x))[:3, 3], atol=1e-11)
 
 
+def test_fk_batch_within_limits_judges_the_values_as_given(tmp_path, capsys):
+    """A script checking commanded joints was told q1 = 300 deg is within +-160 deg (a whole
+    turn from -60), and so was q1 = 1e9 deg: the flag is of the values the record gives."""
+    r = load_robot("puma560")
+    lo, hi = np.degrees(r.limits.T)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-400, 400, (200, 6))
+    q[:4] = 0.0
+    q[:4, 0] = [300.0, -60.0, hi[0], 1e9]
+    src = write(tmp_path, "q.jsonl", [{"q": list(x)} for x in q])
+    code, out, err = run(capsys, "fk", "puma560", "--batch", src)
+    assert code == 0, err
+    got = [rec["within_limits"] for rec in lines(out)]
+    assert got[:4] == [False, True, True, False]
+    assert got == [bool(((x >= lo) & (x <= hi)).all()) for x in q]
+
+
 @pytest.mark.parametrize("kind, pose", [("fk", '"q": [0, 0]'), ("ik", '"xyz": [0.1, 0.1, 0]'),
                                         ("jacobian", '"q": [0, 0]'),
                                         ("reach", '"xyz": [10, 5, 0]')])
@@ -77,14 +94,18 @@ def test_csv_ids_are_json_words_and_no_formula(tmp_path, capsys, kind, pose):
     """An id true was written True (Python's word) and an id =HYPERLINK(...) as a formula a
     spreadsheet runs: now true, and the text with an apostrophe, as the gradebook's cells;
     reach's CSV had no id column at all."""
-    ids = ["true", '"=HYPERLINK(\\"http://x\\")"', "-3", '"+1"', "null", '"plain"']
+    ids = ["true", '"=HYPERLINK(\\"http://x\\")"', "-3", '"+1"', "null", '"plain"',
+           '"\\r=x"', '"\\t@y"', '"  -z"', '"a\\nb"']
     src = write(tmp_path, "r.jsonl", ["{%s, \"id\": %s}\n" % (pose, i) for i in ids])
     code, out, err = run(capsys, kind, "bk_rr", "--batch", src, "--format", "csv")
     rows = list(csv.reader(io.StringIO(out)))[1:]
     first = {}
     for r in rows:
         first.setdefault(r[0], r[1])
-    assert list(first.values()) == ["true", "'=HYPERLINK(\"http://x\")", "-3", "'+1", "", "plain"]
+    # a CR or tab before '=' became a space, and then no apostrophe followed (README said one
+    # would): a spreadsheet that strips the space runs the formula
+    assert list(first.values()) == ["true", "'=HYPERLINK(\"http://x\")", "-3", "'+1", "", "plain",
+                                    "' =x", "' @y", "'  -z", "a b"]
 
 
 @pytest.mark.parametrize("kind, pose", [("ik", '"xyz": [0.5, 0.1, 0]'), ("jacobian", '"q": [10, 10]')])

@@ -98,8 +98,8 @@ def _fk_chunk(robot, units, parsed, frame):
     T[:, :3, 3] *= units.l
     rpy = rpy_from_matrix(T[:, :3, :3]) * units.a
     good, (q, T, rpy) = _finite_rows(good, (q, T, rpy), errors)
-    from ...ik.joint_limits import within_limits
-    within = within_limits(robot, q)
+    from ...ik.joint_limits import violations
+    within = ~(violations(robot, q) != 0).any(-1)   # the values as given: 300 deg is not -60
     Tl, xyz, rpyl = rounded(T), rounded(T[:, :3, 3]), rounded(rpy)
     recs = [{**head(i, kw), **dict(zip(FK_FIELDS, (Tl[k], xyz[k], rpyl[k], bool(within[k]))))}
             for k, (i, kw) in enumerate(good)]
