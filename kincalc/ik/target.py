@@ -265,10 +265,14 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
         return Targets(T, "tcv", approach=a, roll=np.pi * np.log(n)), defect
     if form in ("quat", "axis_angle"):
         v = values[:, :3] if form == "axis_angle" else values
-        zero = ~(np.linalg.norm(v, axis=-1) >= 1e-12)
+        # only the direction counts: scaled by the largest entry first, a quaternion of
+        # 1e-300 is the identity's, not a zero one (its norm's square underflows)
+        size = np.abs(v).max(-1)
+        zero = ~(size > 0)
         defect[zero] = "zero"
+        v = v / np.where(zero, 1.0, size)[:, None]
         if form == "quat":
-            R = sp.matrix_from_quaternion(np.where(zero[:, None], [1.0, 0, 0, 0], values))
+            R = sp.matrix_from_quaternion(np.where(zero[:, None], [1.0, 0, 0, 0], v))
         else:
             R = sp.matrix_from_axis_angle(np.where(zero[:, None], [0.0, 0, 1], v),
                                           values[:, 3])

@@ -55,6 +55,24 @@ def test_quaternion_and_axis_angle_of_the_same_rotation():
     assert np.allclose(np.einsum("nij,nj->ni", a.T[:, :3, :3], u), u, atol=1e-13)
 
 
+def test_only_a_quaternion_or_axis_of_zeros_is_zero():
+    """A quaternion of 1e-300 (or an axis of 1e-13) was "the zero quaternion": its norm's
+    square underflowed, or fell under 1e-12. Only the direction counts."""
+    axis = RNG.normal(size=(20, 3))
+    angle = RNG.uniform(-np.pi, np.pi, 20)
+    u = axis / np.linalg.norm(axis, axis=1, keepdims=True)
+    quat = np.column_stack([np.cos(angle / 2), u * np.sin(angle / 2)[:, None]])
+    xyz = np.zeros((20, 3))
+    ref, _ = targets_from("quat", quat, xyz)
+    for scale in (1e-300, 1e-13, 1e300):
+        q, dq = targets_from("quat", quat * scale, xyz)
+        a, da = targets_from("axis_angle", np.column_stack([axis * scale, angle]), xyz)
+        assert (dq == None).all() and (da == None).all()  # noqa: E711
+        assert np.allclose(q.T, ref.T, atol=1e-14) and np.allclose(a.T, ref.T, atol=1e-13)
+    _, d = targets_from("quat", np.array([[0.0, 0, 0, 0], [0, -0.0, 0, 5e-324]]), xyz[:2])
+    assert d.tolist() == ["zero", None]
+
+
 def test_defects_are_per_request_and_leave_the_others_alone():
     quat = np.array([[1.0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 2.0]])
     targets, defect = targets_from("quat", quat, np.zeros((3, 3)))
