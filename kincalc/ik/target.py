@@ -264,18 +264,7 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
         T[:, :3, 3] = values[:, :3]
         return Targets(T, "tcv", approach=a, roll=np.pi * np.log(n)), defect
     if form in ("quat", "axis_angle"):
-        v = values[:, :3] if form == "axis_angle" else values
-        # only the direction counts: scaled by the largest entry first, a quaternion of
-        # 1e-300 is the identity's, not a zero one (its norm's square underflows)
-        size = np.abs(v).max(-1)
-        zero = ~(size > 0)
-        defect[zero] = "zero"
-        v = v / np.where(zero, 1.0, size)[:, None]
-        if form == "quat":
-            R = sp.matrix_from_quaternion(np.where(zero[:, None], [1.0, 0, 0, 0], v))
-        else:
-            R = sp.matrix_from_axis_angle(np.where(zero[:, None], [0.0, 0, 1], v),
-                                          values[:, 3])
+        R = _quat_or_axis(form, values, defect)
     elif form == "matrix":
         R = values.reshape(N, 3, 3)
         _rotations(R, defect)
@@ -286,6 +275,21 @@ def targets_from(form: str | None, values=None, xyz=None) -> tuple[Targets, np.n
     good = defect == None  # noqa: E711
     T[good, :3, :3] = sp.nearest_rotations(R[good]) if form == "matrix" else R[good]
     return Targets(T), defect
+
+
+def _quat_or_axis(form: str, values, defect) -> np.ndarray:
+    """The rotations ``(N, 3, 3)`` of quaternions or axis-angles ``values (N, 4)``, their
+    ``defect`` set where the quaternion or axis is zero (the identity there). Only the
+    direction counts: scaled by its largest entry first, a quaternion of 1e-300 is the
+    identity's, not a zero one (its norm's square underflows)."""
+    v = values[:, :3] if form == "axis_angle" else values
+    size = np.abs(v).max(-1)
+    zero = ~(size > 0)
+    defect[zero] = "zero"
+    v = v / np.where(zero, 1.0, size)[:, None]
+    if form == "quat":
+        return sp.matrix_from_quaternion(np.where(zero[:, None], [1.0, 0, 0, 0], v))
+    return sp.matrix_from_axis_angle(np.where(zero[:, None], [0.0, 0, 1], v), values[:, 3])
 
 
 _LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])

@@ -654,7 +654,8 @@ def test_json_records_at_the_limits_are_read():
     ("0,0,0,0,,0", "column 'q5': empty cell"),
     ("0,0,0,0,0,1_0", "column 'q6': '1_0' is not a number"),
     ("0,0,0,0,0,\u0661", "column 'q6': '\u0661' is not a number"),
-    ('0,0,0,0,0,"1"', "column 'q6': '\"1\"' is not a number"),
+    ('0,0,0,0,0,"1', "not a CSV line: unexpected end of data"),     # ("1" is 1)
+    ('0,0,0,0,0,"1"x', "not a CSV line"),
     ("0,0,0,0,0", "5 values for 6 columns"),
 ])
 def test_csv_cells_that_are_their_records_error(cells, error):
@@ -1264,3 +1265,23 @@ def test_a_joint_named_as_a_csv_column_gets_its_own_column(tmp_path):
     assert len(header) == len(set(header)) and "joint index" in header and "joint error" in header
     assert [r["index"] for r in rows] == ["0", "0"] and all(r["error"] == "" for r in rows)
     assert sorted(round(float(r["joint error"]), 6) for r in rows) == [-70.528779, 70.528779]
+
+
+def test_csv_written_with_every_cell_quoted_is_read(tmp_path, capsys):
+    """A file from Python's csv.QUOTE_ALL ('"q1","q2",... then "1","2",...') gave every
+    record "unknown column '\"q1\"'": the header and the cells were split at commas only."""
+    q = np.random.default_rng(6).uniform(-100, 100, (5, 6))
+    names = [j.name for j in load_robot("puma560").joints]
+    buf = io.StringIO()
+    w = csv.writer(buf, quoting=csv.QUOTE_ALL, lineterminator="\n")
+    w.writerow(names)
+    w.writerows(x.tolist() for x in q)
+    quoted = tmp_path / "quoted.csv"
+    quoted.write_text(buf.getvalue() + '"1,2",3,4,5,6,7\n')
+    plain = write(tmp_path, "plain.jsonl", [{"q": x.tolist()} for x in q])
+    code, out, err = run(capsys, "fk", "puma560", "--batch", str(quoted))
+    assert code == 2, err
+    recs = lines(out)
+    _, ref, _ = run(capsys, "fk", "puma560", "--batch", plain)
+    assert recs[:5] == lines(ref)
+    assert recs[5] == {"index": 5, "error": "record 6: column 'q1': '1,2' is not a number"}

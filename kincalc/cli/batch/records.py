@@ -405,6 +405,9 @@ def _csv_record(header, layout, text: str) -> dict:
     if _PLAIN is None:
         _PLAIN, _NUMBER, _ = _csv_patterns()
     cells = text.split(",")
+    if '"' in text:                     # cells quoted as a CSV writer may quote them
+        cells = _unquoted(text)
+        text = ",".join(cells)
     if len(cells) != len(header):
         raise RecordError(f"{len(cells)} values for {len(header)} columns")
     values = None
@@ -438,12 +441,24 @@ def read_header(line, forced: bool, robot=None):
         text = _text(line)
     except RecordError as exc:
         return f"the CSV header (the first line) cannot be used: {exc}" if forced else None
+    if '"' in text and "," in text and text[0] not in "{[":     # names a CSV writer quoted
+        text = ",".join(_unquoted(text))
     if not forced and (text in _JSON_WORDS or not _HEADER.fullmatch(text)):
         return None
     names = tuple(c.strip() for c in text.split(","))
     if not forced and robot is not None and len(names) == 1 and names[0] not in _columns(robot):
         return None
     return names
+
+
+def _unquoted(text: str) -> list:
+    """The cells of a CSV line whose cells may be quoted (``"q1","0.5"``, ``""`` a quote
+    inside one), as the standard csv module reads them."""
+    import csv
+    try:
+        return next(csv.reader([text], strict=True))
+    except csv.Error as exc:
+        raise RecordError(f"not a CSV line: {exc}") from None
 
 
 def _columns(robot) -> set:
