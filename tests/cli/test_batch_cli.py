@@ -1168,14 +1168,52 @@ def test_fk_batch_output_is_ik_and_reach_batch_input():
                           ({"index": "x"}, "index: expected a whole number from 0"),
                           ({"rpy": "junk"}, "rpy: expected 3 numbers"),
                           ({"within_limits": {"a": 1}}, "within_limits: expected true or false"),
+                          ({"units": {"length": "furlong", "angle": "deg"}},
+                           "units: expected {\"length\": one of m, cm, mm, in, unitless"),
                           ({"foo": 1}, "unknown field 'foo' (an fk --batch record has index, "
-                                       "T, xyz, rpy, within_limits and perhaps id)")]:
+                                       "T, xyz, rpy, within_limits, units and perhaps id)")]:
         status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"],
                                     json.dumps({**rec, **change}).encode())
         assert error in json_documents(ik_out)[0]["error"], change
     del rec["rpy"]
     status, ik_out, _ = run_cli(["ik", "puma560", "--batch", "-"], json.dumps(rec).encode())
     assert json_documents(ik_out)[0]["error"] == "record 1: an fk --batch record without rpy"
+
+
+@pytest.mark.parametrize("kind", ["ik", "reach"])
+def test_fk_batch_records_say_their_units_and_ik_batch_reads_them(kind):
+    """`kincalc fk R --batch --unit m | kincalc ik R --batch -` on a robot in mm read the
+    metres as millimetres: 'reachable' with 8 solutions of a point 0.4 mm from the base.
+    Now an fk record says its units, and its T is read in them; a record without them (as
+    fk wrote them before) is read in the run's units."""
+    robot = load_robot("abb_irb120")                              # a robot file in mm
+    Q = np.degrees(sample_configurations(robot, 12, np.random.default_rng(9)))
+    lines = b"\n".join(json.dumps({"q": q.tolist()}).encode() for q in Q)
+    status, out, _ = run_cli(["fk", "abb_irb120", "--batch", "-", "--unit", "m"], lines)
+    assert status == 0
+    assert all(json.loads(x)["units"] == {"length": "m", "angle": "deg"}
+               for x in out.splitlines())
+    for unit in ([], ["--unit", "cm"], ["--unit", "m"]):
+        status, got, err = run_cli([kind, "abb_irb120", "--batch", "-"] + unit, out.encode())
+        docs = json_documents(got)
+        assert status == 0 and err == "" and len(docs) == 12, (unit, err)
+        if kind == "reach":
+            assert {d["verdict"] for d in docs} == {"reachable"}
+            continue
+        for q, doc in zip(Q, docs):
+            sols = np.array([s["q"] for s in doc["solutions"]])
+            assert np.abs((sols - q + 180) % 360 - 180).max(axis=1).min() < 1e-6
+    old = "\n".join(json.dumps({k: v for k, v in json.loads(x).items() if k != "units"})
+                    for x in out.splitlines())
+    status, got, _ = run_cli([kind, "abb_irb120", "--batch", "-", "--unit", "m"], old.encode())
+    assert status == 0 and len(json_documents(got)) == 12
+    # no unit converts to a unitless robot's lengths
+    status, out, _ = run_cli(["fk", "bk_rr", "--batch", "-"], b'{"q": [10, 20]}')
+    rec = {**json.loads(out), "units": {"length": "m", "angle": "deg"}}
+    status, got, _ = run_cli([kind, "bk_rr", "--batch", "-"], json.dumps(rec).encode())
+    assert status == 2 and json_documents(got)[0]["error"] == (
+        "record 1: its T is in m (an fk --batch record's units), this run's lengths are "
+        "unitless")
 
 
 def test_a_record_without_orientation_lists_tcv_only_for_a_robot_that_takes_one():

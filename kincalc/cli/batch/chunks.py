@@ -8,8 +8,8 @@ from typing import NamedTuple
 
 from .formats import (ANSWER, answer_line, csv_rows, ik_solutions, reachable, rounded,
                       strict_json)
-from .poses import head, record_poses, words
-from .records import FK_FIELDS, parse_chunk, parse_records
+from .poses import head, in_run_units, record_poses, words
+from .records import FK_FIELDS, FK_LENGTH, parse_chunk, parse_records
 
 def process_chunk(kind, robot, units, header, fmt, frame, item, locks=None,
                   guessed: bool = False) -> tuple:
@@ -101,7 +101,9 @@ def _fk_chunk(robot, units, parsed, frame):
     from ...ik.joint_limits import violations
     within = ~(violations(robot, q) != 0).any(-1)   # the values as given: 300 deg is not -60
     Tl, xyz, rpyl = rounded(T), rounded(T[:, :3, 3]), rounded(rpy)
-    recs = [{**head(i, kw), **dict(zip(FK_FIELDS, (Tl[k], xyz[k], rpyl[k], bool(within[k]))))}
+    said = {"length": units.length, "angle": units.angle}   # (ik --batch reads T in it)
+    recs = [{**head(i, kw), **dict(zip(FK_FIELDS, (Tl[k], xyz[k], rpyl[k], bool(within[k]),
+                                                   said)))}
             for k, (i, kw) in enumerate(good)]
     return _merge(recs, errors), False
 
@@ -333,6 +335,8 @@ def _reach_chunk(robot, units, parsed, frame):
     out, no = [], False
     for index, kw, error in parsed:
         first = head(index, kw)
+        if error is None and FK_LENGTH in kw:
+            kw, error = in_run_units(kw, units, index)
         if error is None:
             try:
                 pose = {k: v for k, v in kw.items() if k != "id"}

@@ -4,6 +4,8 @@ of the records' errors (:func:`head`, :func:`words`)."""
 
 from __future__ import annotations
 
+from .records import FK_LENGTH
+
 #: pose forms solved in one vectorised step (others go through build_target per record)
 FAST_FORMS = {frozenset({"xyz", "rpy"}), frozenset({"xyz", "euler_zyz"}),
               frozenset({"xyz", "euler_xyz"}), frozenset({"xyz", "quat"}),
@@ -21,6 +23,23 @@ def words(exc) -> str:
     from ...errors import TargetMismatch
     from ...analysis.requests import FIELD_WORDS
     return exc.words(FIELD_WORDS) if isinstance(exc, TargetMismatch) else str(exc)
+
+
+def in_run_units(kw: dict, units, i: int) -> tuple:
+    """``(kw, None)``: an fk --batch record's keywords with its T in this run's length unit
+    (from the unit the record says), or ``(kw, error)``: no unit converts to or from
+    ``unitless``."""
+    from ...units import length_factor
+    kw = dict(kw)
+    length = kw.pop(FK_LENGTH)
+    if length == units.length:
+        return kw, None
+    if "unitless" in (length, units.length):
+        return kw, (f"record {i + 1}: its T is in {length} (an fk --batch record's units), "
+                    f"this run's lengths are {units.length}")
+    scale = length_factor(length) / length_factor(units.length)
+    kw["T"] = tuple(v * scale if k % 4 == 3 and k < 12 else v for k, v in enumerate(kw["T"]))
+    return kw, None
 
 
 def record_poses(robot, units, parsed, together=None, start: int = 0):
@@ -41,6 +60,8 @@ def record_poses(robot, units, parsed, together=None, start: int = 0):
     groups, partial, errors = {}, [], []
     full, Ts = [], []
     for i, kw, err in parsed:
+        if err is None and FK_LENGTH in kw:
+            kw, err = in_run_units(kw, units, i)
         if err is None:
             form = frozenset(kw) - {"id"}
             if form in FAST_FORMS and (form != {"q"} or len(kw["q"]) == robot.dof):

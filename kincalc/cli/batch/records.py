@@ -235,8 +235,10 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
     """The keywords of the JSON record ``rec`` (field -> value; numbers as tuples of
     floats), or :class:`RecordError` saying what is wrong (an unknown field named with the
     fields of ``kind``'s records)."""
+    length = None                       # an fk --batch record's length unit, if it says
     if kind in ("ik", "reach") and _fk_record(rec):
         rec = _fk_pose(rec)
+        length = rec.pop(FK_LENGTH, None)
     if not _KNOWN.issuperset(rec):
         unknown = next(k for k in rec if k not in _KNOWN)
         raise RecordError(f"unknown field {quote(unknown)} ({TAKEN[kind]})")
@@ -256,12 +258,15 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
     if len(out) == ("id" in out) + ("lock" in out):
         raise RecordError("no joints (give q)" if kind in ("fk", "jacobian") else
                           "no pose (give xyz and an orientation, T or q)")
+    if length is not None:
+        out[FK_LENGTH] = length
     return out
 
 
 #: the fields of an answer of fk --batch after its head (``index``, ``id``), in the order
-#: written (kincalc.cli.batch.chunks), and of its error record
-FK_FIELDS = ("T", "xyz", "rpy", "within_limits")
+#: written (kincalc.cli.batch.chunks), and of its error record; ``units`` (the lengths' and
+#: angles' unit) may be missing from a record written before it was
+FK_FIELDS = ("T", "xyz", "rpy", "within_limits", "units")
 FK_ERROR = ("error",)
 
 
@@ -284,7 +289,7 @@ def _fk_pose(rec: dict) -> dict:
                           f"{', '.join(fields)} and perhaps id)")
     if "error" in rec:
         raise RecordError("an error record of fk --batch, not a pose")
-    missing = next((k for k in fields if k not in rec), None)
+    missing = next((k for k in fields if k not in rec and k != "units"), None)
     if missing is not None:
         raise RecordError(f"an fk --batch record without {missing}")
     if type(rec["index"]) is not int or rec["index"] < 0:
@@ -295,7 +300,23 @@ def _fk_pose(rec: dict) -> dict:
     T = _matrix_numbers(rec["T"], "T")
     if len(T) >= 12 and numbers(rec["xyz"], 3, "xyz") != (T[3], T[7], T[11]):
         raise RecordError("xyz is not T's position (an fk --batch record is read by its T)")
-    return {key: rec[key] for key in ("id", "T") if key in rec}
+    out = {key: rec[key] for key in ("id", "T") if key in rec}
+    return {**out, FK_LENGTH: _fk_units(rec["units"])} if "units" in rec else out
+
+
+#: the keyword of an fk --batch record's length unit, for its T (kincalc.cli.batch.poses)
+FK_LENGTH = "T's length unit"
+
+
+def _fk_units(units) -> str:
+    """The length unit of an fk --batch record's ``units`` ``{"length", "angle"}``, checked."""
+    from ...units import ANGLE_UNITS, LENGTH_UNITS
+    if not (isinstance(units, dict) and set(units) == {"length", "angle"}
+            and units["length"] in LENGTH_UNITS and units["angle"] in ANGLE_UNITS):
+        raise RecordError("units: expected {\"length\": one of "
+                          f"{', '.join(LENGTH_UNITS)}, \"angle\": deg or rad}} "
+                          "(an fk --batch record)")
+    return units["length"]
 
 
 def _fields_together(keys: tuple, recs: list):
@@ -452,8 +473,7 @@ def read_header(line, forced: bool, robot=None):
 
 
 def _unquoted(text: str) -> list:
-    """The cells of a CSV line whose cells may be quoted (``"q1","0.5"``, ``""`` a quote
-    inside one), as the standard csv module reads them."""
+    """The cells of a CSV line, quoted or not (``"q1","0.5"``), as the csv module reads them."""
     import csv
     try:
         return next(csv.reader([text], strict=True))
