@@ -300,7 +300,7 @@ def _tables(doc, precision: int, quiet: bool):
 
     from ..homework.export import score_line
     from ..limits import printable as text      # a sheet's words: no control character
-    from .render import console, matrix_table
+    from .render import bold_line, console, matrix_table
     c = console()
     who = f" — {doc['student']}" if doc["student"] else ""
     if quiet:
@@ -309,7 +309,7 @@ def _tables(doc, precision: int, quiet: bool):
         return
     r = doc["robot"]
     title = f" — {doc['title']}" if doc["title"] else ""
-    c.print(Text.assemble((text(doc["sheet"]), "bold"), text(title), text(who)))
+    c.print(bold_line(text(doc["sheet"]), text(title) + text(who)))
     u, t = doc["units"], doc["tolerance"]
     lu = "" if u["length"] == "unitless" else f" {u['length']}"
     c.print(f"robot {text(r['name'])} ({joints_text(r['dof'])}, {r['convention']}); "

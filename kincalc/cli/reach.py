@@ -69,7 +69,6 @@ def reach(
 
 
 def _tables(doc, robot, precision):
-
     from .render import console, heading, joint_amount, kv_table, matrix_table, num, vec
     c = console()
     c.print(heading(doc))

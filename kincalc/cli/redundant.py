@@ -256,7 +256,6 @@ def run_swivel_range(robot, target, units, *, near=None, plot_to=None, dpi=100, 
 
 
 def _swivel_tables(doc, robot, precision):
-
     from .render import console, heading, kv_table, num
     c = console()
     c.print(heading(doc))

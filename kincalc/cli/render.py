@@ -321,7 +321,7 @@ def matrix_table(rows, precision: int, title: str | None = None, headers=None,
     column naming each row (repeated in every panel of a split table)."""
     from rich import box
     from rich.table import Table
-    t = Table(title=title if title else None, box=box.SIMPLE, show_header=headers is not None,
+    t = Table(title=title or None, box=box.SIMPLE, show_header=headers is not None,
               title_justify="left", pad_edge=False)
     key_columns(t, 0 if row_labels is None else 1)
     if row_labels is not None:
@@ -339,7 +339,7 @@ def kv_table(pairs, title: str | None = None):
     """Two-column table of (label, text) pairs."""
     from rich import box
     from rich.table import Table
-    t = Table(title=title if title else None, box=box.SIMPLE, show_header=False, title_justify="left",
+    t = Table(title=title or None, box=box.SIMPLE, show_header=False, title_justify="left",
               pad_edge=False)
     t.add_column(style="bold")
     t.add_column()

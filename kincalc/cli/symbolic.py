@@ -104,7 +104,7 @@ def _matrix(c, M, title, text, headers=None, row_labels=None, names=None,
         for k in range(M.shape[1]):
             t.add_column(headers[k] if headers else "", justify="right", no_wrap=True)
         for r in range(M.shape[0]):
-            t.add_row(*([row_labels[r]] if row_labels else []), *(x for x in cells[r]))
+            t.add_row(*([row_labels[r]] if row_labels else []), *cells[r])
         c.print(t)
         return
     c.print()

@@ -120,7 +120,6 @@ class _progress:
 
 
 def _tables(doc, robot, precision):
-
     from .render import console, heading, kv_table, num
     c = console()
     c.print(heading(doc))

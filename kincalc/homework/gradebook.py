@@ -20,7 +20,7 @@ TAIL_COLUMNS = ("points", "total", "percent", "error")
 
 #: a text cell starting with one of these is read as a formula by spreadsheet programs
 #: (CSV injection): such a cell gets a leading apostrophe
-_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+_FORMULA_START = ("=", "+", "-", "@")
 
 
 def item_columns(outcomes) -> list[str]:

@@ -169,7 +169,6 @@ def _manipulability(robot, Q, units) -> tuple[np.ndarray, dict]:
     return w, stats
 
 
-
 def _single_point(robot, lo, hi) -> str:
     """Why no joint moves the tool point (the joints' ranges ``lo``, ``hi``: rad / m)."""
     why = ("every joint's limits are one value" if np.all(hi - lo <= 0.0) else

@@ -268,6 +268,8 @@ def _pose_keywords(rec: dict, kind: str = "ik") -> dict:
 #: angles' unit) may be missing from a record written before it was
 FK_FIELDS = ("T", "xyz", "rpy", "within_limits", "units")
 FK_ERROR = ("error",)
+#: the keyword of an fk --batch record's length unit, for its T (kincalc.cli.batch.poses)
+FK_LENGTH = "T's length unit"
 
 
 def _fk_record(rec: dict) -> bool:
@@ -302,10 +304,6 @@ def _fk_pose(rec: dict) -> dict:
         raise RecordError("xyz is not T's position (an fk --batch record is read by its T)")
     out = {key: rec[key] for key in ("id", "T") if key in rec}
     return {**out, FK_LENGTH: _fk_units(rec["units"])} if "units" in rec else out
-
-
-#: the keyword of an fk --batch record's length unit, for its T (kincalc.cli.batch.poses)
-FK_LENGTH = "T's length unit"
 
 
 def _fk_units(units) -> str:
@@ -425,10 +423,11 @@ def _csv_record(header, layout, text: str) -> dict:
     global _PLAIN, _NUMBER
     if _PLAIN is None:
         _PLAIN, _NUMBER, _ = _csv_patterns()
-    cells = text.split(",")
     if '"' in text:                     # cells quoted as a CSV writer may quote them
         cells = _unquoted(text)
         text = ",".join(cells)
+    else:
+        cells = text.split(",")
     if len(cells) != len(header):
         raise RecordError(f"{len(cells)} values for {len(header)} columns")
     values = None
