@@ -130,6 +130,36 @@ def test_csv_header_quotes_a_joint_name_with_a_comma(tmp_path, capsys, kind, pos
         assert header[2:4] == ["Jvx_a,b", "Jvx_=c"]
 
 
+@pytest.mark.parametrize("kind", ["fk", "jacobian", "ik", "reach"])
+def test_a_csv_id_column_is_echoed_as_a_json_records_id(tmp_path, capsys, kind):
+    """A CSV input with an id column was refused ('unknown column id') though a JSON record's
+    id is echoed back: a script writing CSV could not tell its records apart. The cell is the
+    id's text as written (quoted, with a comma; empty), in any column; the answers are the
+    JSON input's. A header of an id alone has no pose."""
+    head, pose = (("theta1,theta2", "30,-60") if kind in ("fk", "jacobian") else
+                  ("x,y,z", "12.99,2.5,0"))
+    ids = ["A7", '"b, c"', "", "=1+1"]
+    src = write(tmp_path, "r.csv", [f"{head},id\n"] + [f"{pose},{i}\n" for i in ids])
+    code, out, err = run(capsys, kind, "bk_rr", "--batch", src)
+    docs = lines(out)
+    assert code == 0 and [d.get("id") for d in docs] == ["A7", "b, c", "", "=1+1"], (err, docs)
+    key = "q" if kind in ("fk", "jacobian") else "xyz"
+    values = [float(v) for v in pose.split(",")]
+    code, out, err = run(capsys, kind, "bk_rr", "--batch",
+                         write(tmp_path, "r.jsonl", [{key: values, "id": i} for i in ids]))
+    assert [{k: v for k, v in d.items() if k != "id"} for d in docs] == \
+        [{k: v for k, v in d.items() if k != "id"} for d in lines(out)]
+    # the id column first, in CSV output too (a formula-like id gets its apostrophe)
+    src = write(tmp_path, "s.csv", [f"id,{head}\n", f"=1+1,{pose}\n"])
+    code, out, err = run(capsys, kind, "bk_rr", "--batch", src, "--format", "csv")
+    rows = list(csv.reader(io.StringIO(out)))
+    assert code == 0 and rows[0][:2] == ["index", "id"] and rows[1][:2] == ["0", "'=1+1"]
+    code, out, err = run(capsys, kind, "bk_rr", "--batch", write(tmp_path, "t.csv",
+                                                                  ["id\n", "A\n"]))
+    assert code == 2 and "no " in lines(out)[0]["error"] and "columns (give" in \
+        lines(out)[0]["error"]
+
+
 def test_fk_batch_csv_in_and_out_with_units(tmp_path, capsys):
     q = np.random.default_rng(2).uniform(-3, 3, (40, 6))
     rows = ["q1,q2,q3,q4,q5,q6\n"] + [",".join(repr(float(v)) for v in x) + "\n" for x in q]
@@ -682,11 +712,11 @@ def test_csv_headers_that_cannot_be_used():
     # fk and jacobian take joints only: their hint lists no pose column
     for kind in ("fk", "jacobian"):
         (_, _, err), = records.parse_records(("Q1",), robot, 0, [b"1"], kind)
-        assert err == "record 1: unknown column 'Q1' (columns: the joints q1,q2,q3,q4,q5,q6)"
+        assert err == "record 1: unknown column 'Q1' (columns: the joints q1,q2,q3,q4,q5,q6; and id)"
     # nor does it count pose columns as known ('x' without 'z', then x,y,z refused)
     for header in (("x", "y"), ("x", "y", "z")):
         (_, _, err), = records.parse_records(header, robot, 0, [b"1,2,3"], "fk")
-        assert err == "record 1: unknown column 'x' (columns: the joints q1,q2,q3,q4,q5,q6)"
+        assert err == "record 1: unknown column 'x' (columns: the joints q1,q2,q3,q4,q5,q6; and id)"
     (_, _, err), = records.parse_records(("Q1",), robot, 0, [b"1"], "reach")
     assert "roll,pitch,yaw" in err and "the joints q1" in err
 

@@ -3,7 +3,7 @@ together, their joint values by :mod:`~kincalc.cli.batch.numtext`) and CSV."""
 
 from __future__ import annotations
 
-from .records import csv_cell
+from .csv_input import csv_cell
 
 #: the per-pose fields of a reach record, in CSV column order
 REACH_FIELDS = ["index", "id", "reachable", "verdict", "distance", "solutions",

@@ -12,7 +12,8 @@ from ...memory import keep_freed_memory
 from .chunks import process_chunk
 from .formats import csv_header
 from .pool import ordered_map, start_pool, stop_pool
-from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS, header_problem, read_header
+from .csv_input import header_problem, read_header
+from .records import BLANK, BOM, FORMAT_OF_SUFFIX, INPUT_FORMATS
 
 #: the most bytes one read of the input takes
 READ_BYTES = 1 << 16

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from ...limits import MAX_MAGNITUDE
+from ...limits import MAX_MAGNITUDE, MAX_RECORD_BYTES, size_text
 
 
 class RecordError(ValueError):
@@ -61,3 +61,18 @@ def range_error(values, name):
             raise RecordError(f"{name(k)} is not a finite number")
         if abs(x) > MAX_MAGNITUDE:
             raise RecordError(f"{name(k)} ({x:.6g}) is beyond {LIMIT}, {WHY}")
+
+
+def line_text(line) -> str:
+    """A record's line as text, without the whitespace around it."""
+    if line is None:
+        raise RecordError(f"longer than {size_text(MAX_RECORD_BYTES)}, kincalc's limit for a "
+                          "--batch line")
+    if b"\0" in line:
+        raise RecordError("holds a NUL byte, so it is not a line of text")
+    line = line.strip()
+    try:
+        return line.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RecordError(f"not UTF-8 text (byte {line[exc.start]:#04x} at position "
+                          f"{exc.start + 1})") from None
