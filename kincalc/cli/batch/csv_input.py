@@ -119,8 +119,9 @@ def _csv_record(header, layout, text: str) -> dict:
         except ValueError:
             pass
     if values is None:                  # find the cell that is not a number, and say so
+        # (without the blanks around it: float() keeps some, a separator 0x1c-0x1f)
+        cells = [c.strip() for c in cells]
         for h, c in zip(header, cells):
-            c = c.strip()
             if not _NUMBER.fullmatch(c):
                 raise RecordError(f"column {quote(h)}: " + (
                     "empty cell" if not c else f"{quote(c)} is not a number"))
