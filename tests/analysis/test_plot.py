@@ -488,3 +488,43 @@ def test_a_title_the_font_lacks_glyphs_for_puts_nothing_on_stderr(tmp_path):
     assert p.returncode == 0, p.stderr
     assert out.exists() and "wrote" in p.stdout + p.stderr
     assert "Glyph" not in p.stderr and "warn" not in p.stderr.lower(), p.stderr
+
+
+@pytest.mark.parametrize("title", [r"Arm $\frac{$ v2", "$x^$", "cost $5 and $6"])
+def test_a_title_or_joint_name_with_dollars_is_text_not_mathtext(tmp_path, capsys, title):
+    """A title 'Arm $\\frac{$ v2', valid to `robots validate`, made plot and workspace
+    --plot fail with matplotlib's mathtext parse error (exit 3; an independent tester). The
+    title and joint names are drawn as written."""
+    robot = tmp_path / "dollar.yaml"
+    robot.write_text(f"name: arm\ntitle: '{title}'\nconvention: dh\n"
+                     "units: {length: m, angle: deg}\njoints:\n"
+                     "  - {name: '$q_1$', type: revolute, alpha: 0, a: 0.3, d: 0, theta: 0}\n"
+                     "  - {name: 'q$2', type: revolute, alpha: 0, a: 0.2, d: 0, theta: 0}\n")
+    out = tmp_path / "d.png"
+    assert main(["plot", str(robot), "10", "20", "-o", str(out)]) == 0
+    assert png_size(out) == (500, 500)
+    assert main(["workspace", str(robot), "--samples", "1000", "--plot",
+                 str(tmp_path / "w.png")]) == 0
+    capsys.readouterr()
+
+
+def test_a_matplotlibrc_in_the_working_directory_is_not_read(tmp_path):
+    """matplotlib reads ./matplotlibrc when it is imported: a file the user did not name. A
+    grader running kincalc in a student's folder had its lines echoed on stderr ('Bad key
+    API_KEY ... sk-live-...'), waited forever on a FIFO of that name, and read a link to
+    /dev/zero until memory ran out (an independent tester). The import runs elsewhere."""
+    folder = tmp_path / "student"
+    folder.mkdir()
+    (folder / "matplotlibrc").write_text("API_KEY: sk-live-SECRET123\nfigure.dpi: 7\n")
+    out = tmp_path / "arm.png"
+    env = {k: v for k, v in os.environ.items() if k != "MATPLOTLIBRC"}
+    run = [sys.executable, "-m", "kincalc", "plot", "bk_rr", "30", "-60", "-o", str(out)]
+    p = subprocess.run(run, capture_output=True, text=True, cwd=folder, env=env, timeout=120)
+    assert p.returncode == 0 and "SECRET" not in p.stdout + p.stderr, p.stderr
+    assert png_size(out) == (500, 500)                  # not the file's 7 dpi
+    if hasattr(os, "mkfifo"):
+        (folder / "matplotlibrc").unlink()
+        os.mkfifo(folder / "matplotlibrc")
+        p = subprocess.run(run + ["--force"], capture_output=True, text=True, cwd=folder,
+                           env=env, timeout=120)
+        assert p.returncode == 0, p.stderr

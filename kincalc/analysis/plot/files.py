@@ -61,16 +61,18 @@ def panel_grid(k: int) -> tuple[int, int]:
 
 
 def default_style(mpl):
-    """matplotlib's defaults (not the user's matplotlibrc) plus our fixed settings, and
-    matplotlib's word on a glyph its font lacks (a title in CJK or with an emoji) kept off
-    stderr: a warning with kincalc's source line in it, not the user's business."""
+    """matplotlib's defaults (not the user's matplotlibrc) plus our fixed settings (text is
+    never mathtext), and matplotlib's word on a glyph its font lacks (a title in CJK or with
+    an emoji) kept off stderr: a warning with kincalc's source line in it, not the user's
+    business."""
     import contextlib
     import warnings
 
     from matplotlib import style
     stack = contextlib.ExitStack()
     stack.enter_context(style.context("default"))
-    stack.enter_context(mpl.rc_context({"svg.hashsalt": HASH_SALT}))
+    # a robot's title or joint name is text, not mathtext ('Arm $\frac{$' was a parse error)
+    stack.enter_context(mpl.rc_context({"svg.hashsalt": HASH_SALT, "text.parse_math": False}))
     stack.enter_context(warnings.catch_warnings())
     warnings.filterwarnings("ignore", message=r"Glyph \d+ .* missing from", category=UserWarning)
     return stack

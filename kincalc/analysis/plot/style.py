@@ -4,6 +4,7 @@ matplotlib import, and what a drawing wrote (:class:`Drawing`) and draws
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -40,9 +41,35 @@ def require_matplotlib(command: str):
     """Import and return matplotlib, or raise :class:`MissingExtra` naming ``command``.
 
     ``command`` is what the user ran, as it should read in the message:
-    ``"kincalc plot"``, ``"kincalc ik --plot"``.
+    ``"kincalc plot"``, ``"kincalc ik --plot"``. The import runs in an empty temporary
+    working directory: matplotlib reads a ``matplotlibrc`` in the working directory as it is
+    imported, a file the user did not name (a student's folder the grader runs in may hold
+    one), echoing its lines on stderr, waiting on a FIFO, reading a link to /dev/zero.
     """
-    return require_extra(command, "matplotlib", "plot")
+    import sys
+    if "matplotlib" in sys.modules:
+        return sys.modules["matplotlib"]
+    with _away_from_the_working_directory():
+        return require_extra(command, "matplotlib", "plot")
+
+
+@contextlib.contextmanager
+def _away_from_the_working_directory():
+    """Run the block in a new empty directory, then return to the working directory (none to
+    leave when it is gone: nothing is read there either)."""
+    import os
+    import tempfile
+    try:
+        here = os.getcwd()
+    except OSError:
+        yield
+        return
+    with tempfile.TemporaryDirectory(prefix="kincalc-") as empty:
+        os.chdir(empty)
+        try:
+            yield
+        finally:
+            os.chdir(here)
 
 
 @dataclass(frozen=True)
