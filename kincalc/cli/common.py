@@ -233,7 +233,11 @@ def refuse_unknown_option(token) -> None:
         try:
             parse_decimal(token.strip())
         except ValueError:
-            raise UsageError(f"no such option: {token}{_suggest_option(token)}"
+            hint = _suggest_option(token)
+            if hint == f" (did you mean {token}?)":      # an option, given after '--'
+                raise UsageError(f"{token} comes after '--', where every word is a joint "
+                                 f"value: give options before '--'") from None
+            raise UsageError(f"no such option: {token}{hint}"
                              f" (see '{_command_path()} --help')") from None
 
 

@@ -165,13 +165,16 @@ def csv_text(doc, robot) -> str:
     singular (display units)."""
     import csv
     import io
+
+    from .batch.csv_input import csv_cell     # (names from the robot file: no formula)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow([doc["sweep"]["joint"] + "_swept", "branch", "label"]
-               + [j.name for j in robot.joints] + ["within_limits", "singular"])
+    w.writerow([csv_cell(doc["sweep"]["joint"] + "_swept"), "branch", "label"]
+               + [csv_cell(j.name) for j in robot.joints] + ["within_limits", "singular"])
     for p in doc["points"]:
         for s in p["solutions"]:
-            w.writerow([repr(p["value"]), s["branch"], s["label"]] + [repr(x) for x in s["q"]]
+            w.writerow([repr(p["value"]), csv_cell(s["branch"]), csv_cell(s["label"])]
+                       + [repr(x) for x in s["q"]]
                        + [str(s["within_limits"]).lower(), str(s["singular"]).lower()])
     return buf.getvalue()
 

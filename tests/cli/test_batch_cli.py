@@ -160,6 +160,25 @@ def test_a_csv_id_column_is_echoed_as_a_json_records_id(tmp_path, capsys, kind):
         lines(out)[0]["error"]
 
 
+def test_csv_branch_cells_from_joint_names_are_no_formula(tmp_path, capsys):
+    """A branch label names joints ('=1+2:root 1'): from an untrusted robot file's joint
+    names, the CSV header's cells were neutralised but the branch cells were not (a cell
+    starting with '=': an independent tester). They get the apostrophe too."""
+    robot = tmp_path / "f.yaml"
+    names = ["=1+2", "@x", "+y", "q4", "q5", "q6"]
+    robot.write_text("name: f\nconvention: dh\nunits: {length: m, angle: deg}\njoints:\n" +
+                     "".join(f"  - {{name: '{n}', type: revolute, alpha: {90 * (k % 2)}, "
+                             f"a: 0.3, d: 0.1, theta: 0}}\n" for k, n in enumerate(names)))
+    src = write(tmp_path, "q.jsonl", [{"q": [10, 20, 30, 40, 50, 60]}])
+    code, out, err = run(capsys, "fk", str(robot), "--batch", src)
+    poses = write(tmp_path, "p.jsonl", [out])
+    code, out, err = run(capsys, "ik", str(robot), "--batch", poses, "--format", "csv")
+    rows = list(csv.reader(io.StringIO(out)))
+    labels = [r[3] for r in rows[1:]]
+    assert code in (0, 1) and any(n in x for x in labels for n in names[:3]), out
+    assert not any(x[:1] and x[:1] in "=+-@" for r in rows for x in r[3:4]), labels
+
+
 def test_fk_batch_csv_in_and_out_with_units(tmp_path, capsys):
     q = np.random.default_rng(2).uniform(-3, 3, (40, 6))
     rows = ["q1,q2,q3,q4,q5,q6\n"] + [",".join(repr(float(v)) for v in x) + "\n" for x in q]

@@ -207,3 +207,15 @@ def test_bare_matrix_errors_name_the_file_line_and_field(text, expect, tmp_path)
     assert status == 2 and out == ""
     for fragment in expect:
         assert fragment in err, err
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["fk", "bk_rr", "--", "-5", "--frames"], "--frames comes after '--'"),
+    (["jacobian", "bk_rr", "--", "-5", "--json"], "--json comes after '--'"),
+    (["fk", "bk_rr", "--", "-5", "--framez"], "no such option: --framez (did you mean --frames?)"),
+])
+def test_an_option_after_double_dash_is_said_to_be_there(argv, words):
+    """After '--' every word is a joint value; an option given there was refused as 'no
+    such option: --frames (did you mean --frames?)' (an independent tester)."""
+    status, out, err = run(*argv)
+    assert status == 2 and out == "" and words in err, err

@@ -107,3 +107,22 @@ def test_a_ur_arm_held_at_its_first_joint_is_solved_in_closed_form():
     for s in sols:
         assert np.abs(r.fk(np.radians(s["q"])) - r.fk(q0)).max() < 1e-9
     assert any(np.allclose(s["q"], np.degrees(q0), atol=1e-9) for s in sols)
+
+
+def test_csv_names_and_labels_from_the_robot_file_are_no_formula(tmp_path):
+    """The sweep's CSV wrote the robot file's joint names (header, swept column) and the
+    branch labels that name them as they were: a joint '=A1' reached a spreadsheet as a
+    formula (the batch CSV's cells had their apostrophe already)."""
+    import yaml
+    from pathlib import Path
+    doc = yaml.safe_load((Path(__file__).parents[2] / "robots" / "iiwa14.yaml").read_text())
+    for j, name in zip(doc["joints"], ["=A1", "@A2", "+A3", "-A4", "A5", "A6", "A7"]):
+        j["name"] = name
+    robot = tmp_path / "iiwa.yaml"
+    robot.write_text(yaml.safe_dump(doc, allow_unicode=True))
+    status, out, err = run_cli(["ik", str(robot), "--from-q", Q0, "--sweep", "+A3",
+                                "--steps", "5", "--format", "csv"])
+    assert status == 0, err
+    rows = list(csv.reader(io.StringIO(out)))
+    assert rows[0][:1] == ["'+A3_swept"] and rows[0][3:7] == ["'=A1", "'@A2", "'+A3", "'-A4"]
+    assert all(not c[:1] or c[:1] not in "=+-@" for r in rows[1:] for c in r[2:3]), rows[:3]

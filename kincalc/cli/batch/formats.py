@@ -215,6 +215,6 @@ def csv_rows(kind, robot, records) -> str:
             w.writerow(head + ["", "no solution"] + [""] * n + ["", "", ""])
         else:
             for k, s in enumerate(r["solutions"]):
-                w.writerow(head + [k, s["branch"]] + s["q"] + [csv_cell(s["within_limits"]),
+                w.writerow(head + [k, csv_cell(s["branch"])] + s["q"] + [csv_cell(s["within_limits"]),
                                                                 csv_cell(s["singular"]), ""])
     return buf.getvalue()

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...limits import printable
+
 
 # --- YAML ------------------------------------------------------------------------------
 
@@ -67,8 +69,8 @@ def _block(v, indent: int) -> list[str]:
 
 def sheet_yaml(sheet: dict, comments=()) -> str:
     """``sheet`` (a :func:`make_sheet` dict) as YAML text, ``comments`` as ``#`` lines
-    on top. Lists of numbers are written in flow style (a matrix one row a line),
+    on top (each on one line: a line break in one, from a file's name, is a space). Lists of numbers are written in flow style (a matrix one row a line),
     floats so that they read back as the same float, yes/no for booleans."""
-    lines = [f"# {c}" if c else "#" for c in comments]
+    lines = [f"# {printable(c)}" if c else "#" for c in comments]    # (one line each)
     lines += _block(sheet, 0)
     return "\n".join(lines) + "\n"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...conventions.reader import node_line
-from ...limits import MAX_IK_SETS
+from ...limits import MAX_EXPRESSION, MAX_IK_SETS
 
 
 class AnswerReader:
@@ -104,7 +104,8 @@ class AnswerReader:
             if "columns" in f:
                 cnodes = self.sequence(f["columns"], "'answer.columns'", 4)
                 alias = {"θ": "theta", "α": "alpha", "th": "theta"}
-                columns = [alias.get(c.value.strip(), c.value.strip()) for c in cnodes]
+                columns = [self.text(c, "'answer.columns' entry").strip() for c in cnodes]
+                columns = [alias.get(c, c) for c in columns]
                 if sorted(columns) != ["a", "alpha", "d", "theta"]:
                     self.fail(f["columns"], "'answer.columns' must name theta, d, a and alpha "
                                             "once each")
@@ -156,7 +157,7 @@ class AnswerReader:
         from ...model import Joint
         found = {}
         for col, cnode in cells.items():
-            names = self._names(cnode)
+            names = self._names(cnode, f"row {k}, {col}")
             unknown = sorted(n for n in names if n not in self.params and n != "pi")
             if len(unknown) > 1:
                 self.fail(cnode, f"row {k}, {col}: {' and '.join(unknown)} are not parameters "
@@ -203,13 +204,18 @@ class AnswerReader:
         finally:
             self.params = saved
 
-    @staticmethod
-    def _names(cnode) -> set:
+    def _names(self, cnode, where: str) -> set:
+        """The names in a cell's expression (none for a number; a cell that is no
+        expression is said so when it is read as a number)."""
         import ast
         if not hasattr(cnode, "value") or not isinstance(cnode.value, str):
             return set()
+        if len(cnode.value) > MAX_EXPRESSION:       # (parsed first, it exhausted the stack)
+            self.fail(cnode, f"{where}: expression longer than {MAX_EXPRESSION} characters")
         try:
             tree = ast.parse(cnode.value.strip(), mode="eval")
         except (SyntaxError, ValueError):
             return set()
+        except (RecursionError, MemoryError):
+            self.fail(cnode, f"{where}: expression nested too deeply")
         return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
