@@ -294,6 +294,13 @@ BAD_FILES = [
             ("joint 1 (q1)", "'alpha'", "'pi' is only allowed", "angle: rad"), at="name: q1"),
     BadFile("expression-power-not-allowed", sub(DH, "a: l1,", "a: l1 ** 2,"),
             ("joint 2 (q2)", "'a'", "only numbers"), at="name: q2"),
+    # Python reads names in NFKC form: the ligature 'ﬁ' was the parameter fi... (l1 here),
+    # fullwidth letters a known name (an independent tester)
+    BadFile("expression-nfkc-name", sub(DH, "a: l1,", "a: \"2*\uff4c1\","),
+            ("joint 2 (q2)", "'a'", "unknown name '\uff4c1'"), at="name: q2"),
+    BadFile("expression-ligature-name", sub(sub(DH, "l2: 0.25", "l2: 0.25, fi: 1"),
+                                             "a: l1,", "a: \"\ufb01 + l1\","),
+            ("joint 2 (q2)", "'a'", "unknown name '\ufb01'"), at="name: q2"),
     # Python's literal syntax inside an expression was read (0x10 + 1 = 17)
     BadFile("expression-hex-literal", sub(DH, "a: l1,", "a: 0x10 + l1,"),
             ("joint 2 (q2)", "'a'", "'0x10' is not a decimal number"), at="name: q2"),

@@ -110,6 +110,12 @@ class Reader(NodeReader):
         except (RecursionError, MemoryError, ValueError):
             self.fail(node, f"{what}: expression too deeply nested")
         for part in ast.walk(tree):        # Python's literals (0x10, 1_0, 0o7) are no numbers
+            if isinstance(part, ast.Name) and not src.isascii():
+                # Python reads a name in NFKC form: the ligature 'ﬁ' as fi, fullwidth 'ｐｉ' as pi
+                text = ast.get_source_segment(src, part) or ""
+                if text != part.id:
+                    self.fail(node, f"{what}: unknown name {quote(text)} in "
+                                    f"{self.shown(node)}")
             if not isinstance(part, ast.Constant):
                 continue
             text = ast.get_source_segment(src, part) or ""
