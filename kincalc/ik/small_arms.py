@@ -67,13 +67,42 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     about its axis from the orientation (subproblem 1)."""
     n = S.n
     T = targets.T
-    br = place(S, br, first, S.point[n - 1], tool_point(S, T, S.point[n - 1]),
-               what=f"axis {n}")
+    p0 = _last_axis_point(S, first[-1])
+    br = place(S, br, first, p0, tool_point(S, T, p0), what=f"axis {n}")
     Rt = target_rotation(S, T)
     e = axis_normal(S, n - 1)
     u = undo(S, br, first, np.full(br.ok.shape + (3,), rotate(Rt, e)))
     br = note_roll(S, br, n - 1, e, u)
     return br.set(n - 1, *angle_about(S, n - 1, u))
+
+
+def _last_axis_point(S: Screws, c: int) -> np.ndarray:
+    """The point of the last axis that the joints before it place (world frame at q = 0, m):
+    the axis's own point, unless that lies a hair off the axis of the last placing joint ``c``
+    (revolute; more than rounding, less than ``NEAR_AXIS`` of the arm's size: a twist or
+    offset written to 9 digits). There joint c moves the point on a tiny circle and the
+    placement is ill-conditioned (an offset of 1e-9 m found no solution on any pose); a point
+    an arm's size along the last axis is placed well, and any point of it will do."""
+    n = S.n
+    p, k = S.point[n - 1], S.axis[n - 1]
+    if not S.revolute[c]:
+        return p
+    kc = S.axis[c]
+    off = p - S.point[c]
+    off = off - (off @ kc) * kc                                  # p across axis c
+    away = float(np.linalg.norm(off))
+    size = max(S.scale, 1e-12)
+    if not ROUNDING_AXIS * size < away < NEAR_AXIS * size or \
+            np.linalg.norm(np.cross(k, kc)) < NEAR_AXIS:         # (along axis c: no better)
+        return p
+    return p + size * k
+
+
+#: a point within this of an axis (of the arm's size) is on it to rounding
+ROUNDING_AXIS = 1e-12
+#: a point of the last axis within this of the last placing joint's axis (of the arm's size,
+#: and not on it) is moved along the last axis (:func:`_last_axis_point`)
+NEAR_AXIS = 1e-3
 
 
 def planar_3(S: Screws, targets, br: Branches) -> Branches:

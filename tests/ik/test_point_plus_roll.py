@@ -268,3 +268,29 @@ def test_a_right_angle_written_with_few_digits_places_the_point(tmp_path, twist)
             for r in newton_roots(robot, robot.fk(q), 40, np.random.default_rng(10)):
                 d = np.where(robot.is_revolute, wrap(S - r), S - r)
                 assert np.abs(d).max(-1).min() < 1e-6
+
+
+@pytest.mark.parametrize("offset", [1e-13, 1e-11, 1e-10, 1e-9, 3e-8, 1e-7, 1e-5, 1e-4])
+def test_the_last_axis_a_hair_off_the_placing_joints_axis(offset):
+    """An independent tester's 4R arm (modified DH) whose last axis passes ``offset`` m from
+    axis 3 (a3 written 1e-9 where it is 0): its point of axis 4 lay that far from axis 3,
+    which then moved it on a tiny circle, and the placement (subproblem 5, or the plan for a
+    point on the axis) found no solution on any pose for offsets of 1e-11 to 1e-5 m (0 %
+    in selftest; the same arm with 0 had every pose). Every FK pose is solved, with the
+    generating configuration and every root Gauss-Newton finds."""
+    D = np.radians
+    robot = Robot(name="hair", convention="mdh", base=np.eye(4), tool=np.eye(4), joints=(
+        Joint("j1", "revolute", alpha=D(90), a=0.0, d=0.0, theta=D(-114.66),
+              limits=(-D(170), D(170))),
+        Joint("j2", "revolute", alpha=D(90), a=0.5, d=0.0, theta=D(57.3), limits=(-P, P)),
+        Joint("j3", "revolute", alpha=D(90), a=0.0, d=0.0, theta=D(109.52), limits=(-P, P)),
+        Joint("j4", "revolute", alpha=D(90), a=offset, d=0.076, theta=0.0, limits=(-P, P))))
+    assert plan(robot)[1].name == "point-plus-roll"
+    rng = np.random.default_rng(21)
+    Q = rng.uniform(-2.9, 2.9, (25, 4))
+    Q[0] = D([90, 90, 90, 90])
+    for i, q in enumerate(Q):
+        S = _assert_solves(robot, q)
+        if i < 3:
+            for r in newton_roots(robot, robot.fk(q), 40, np.random.default_rng(22)):
+                assert np.abs(wrap(S - r)).max(-1).min() < 1e-6
