@@ -294,6 +294,11 @@ BAD_FILES = [
             ("joint 1 (q1)", "'alpha'", "'pi' is only allowed", "angle: rad"), at="name: q1"),
     BadFile("expression-power-not-allowed", sub(DH, "a: l1,", "a: l1 ** 2,"),
             ("joint 2 (q2)", "'a'", "only numbers"), at="name: q2"),
+    # a joint named by an alias: its text is written on another line (an anchor's, here
+    # line 1) than the one the message names, and is not shown (an independent tester)
+    BadFile("joint-name-alias", "notes: &s 'API_KEY=sk-live-12345'\n" + sub(
+        DH, "{name: q2, type: revolute, alpha: 0,", "{name: *s, type: revolute,"),
+            ("joint 2", "'alpha' is missing"), at="name: *s", forbid=("API_KEY", "sk-live")),
     # Python reads names in NFKC form: the ligature 'ﬁ' was the parameter fi... (l1 here),
     # fullwidth letters a known name (an independent tester)
     BadFile("expression-nfkc-name", sub(DH, "a: l1,", "a: \"2*\uff4c1\","),

@@ -358,11 +358,14 @@ class RobotReader(Reader):
         import yaml
         keys = POE_JOINT_KEYS if convention == "poe" else DH_JOINT_KEYS
         if isinstance(node, yaml.MappingNode):
+            first, last = self.lines(node)
             for knode, vnode in node.value:
                 # (for messages; a name over several lines is not quoted: the joint's
-                # number names it, and a message shows nothing of other lines)
+                # number names it, and a message shows nothing of other lines; nor is an
+                # alias's text, written on a line outside the joint: '*s' of '&s secret')
                 if knode.value == "name" and isinstance(vnode, yaml.ScalarNode) \
-                        and self.on_one_line(vnode):
+                        and self.on_one_line(vnode) \
+                        and first <= self.lines(vnode)[0] <= last:
                     self.joint_name = cut(printable(vnode.value))
         fields = self.mapping(node, "the joint", keys)
         name = self.text(fields["name"], "'name'")
