@@ -166,7 +166,7 @@ def csv_text(doc, robot) -> str:
     import csv
     import io
 
-    from .batch.csv_input import csv_cell     # (names from the robot file: no formula)
+    from .batch.formats import csv_cell       # (names from the robot file: no formula)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow([csv_cell(doc["sweep"]["joint"] + "_swept"), "branch", "label"]

@@ -1,5 +1,5 @@
 """CSV batch input: the header's columns, and one line of cells to pose keywords (see
-:mod:`kincalc.cli.batch` for what a record is); and a value as an output CSV cell."""
+:mod:`kincalc.cli.batch` for what a record is)."""
 
 from __future__ import annotations
 
@@ -169,17 +169,3 @@ def _unquoted(text: str) -> list:
 def _columns(robot) -> set:
     """The names a CSV header may hold for ``robot``: the pose groups' and the joints'."""
     return {c for group in CSV_GROUPS for c in group} | {j.name for j in robot.joints}
-
-
-def csv_cell(value):
-    """A value as a CSV cell: None empty, a bool ``true``/``false`` (as in JSON), a text made
-    safe for spreadsheets (:func:`~kincalc.homework.gradebook.safe_cell`: an id ``=HYPERLINK(...)``
-    is not a formula), a number as it is."""
-    if value is None:
-        return ""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str):
-        from ...homework.gradebook import safe_cell
-        return safe_cell(value)
-    return value

@@ -3,7 +3,6 @@ together, their joint values by :mod:`~kincalc.cli.batch.numtext`) and CSV."""
 
 from __future__ import annotations
 
-from .csv_input import csv_cell
 
 #: the per-pose fields of a reach record, in CSV column order
 REACH_FIELDS = ["index", "id", "reachable", "verdict", "distance", "solutions",
@@ -218,3 +217,17 @@ def csv_rows(kind, robot, records) -> str:
                 w.writerow(head + [k, csv_cell(s["branch"])] + s["q"] + [csv_cell(s["within_limits"]),
                                                                 csv_cell(s["singular"]), ""])
     return buf.getvalue()
+
+
+def csv_cell(value):
+    """A value as a CSV cell: None empty, a bool ``true``/``false`` (as in JSON), a text made
+    safe for spreadsheets (:func:`~kincalc.homework.gradebook.safe_cell`: an id ``=HYPERLINK(...)``
+    is not a formula), a number as it is."""
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        from ...homework.gradebook import safe_cell
+        return safe_cell(value)
+    return value
