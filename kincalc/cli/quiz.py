@@ -148,9 +148,10 @@ def _comments(robot: str, seed: int, kinds, deg, answers: bool, ref: str, notes,
               student: str | None = None) -> list[str]:
     """The comment lines on top of a sheet: the command that draws it again (``kinds``
     None: the default --items), how to grade it, and the kinds left out."""
+    import shlex
+
     from ..version import __version__
     items = [] if kinds is None else ["--items", ",".join(kinds)]
-    import shlex
     command = " ".join(["kincalc quiz", shlex.quote(robot), "--seed", str(seed)] + items
                        + ([] if deg is None else ["--deg" if deg else "--rad"])
                        + (["--answers"] if answers else []))

@@ -67,7 +67,7 @@ def _last_axis_roll(S: Screws, targets, br: Branches, first) -> Branches:
     about its axis from the orientation (subproblem 1)."""
     n = S.n
     T = targets.T
-    p0 = _last_axis_point(S, first[-1])
+    p0 = S.constant(("last axis point", first[-1]), lambda: _last_axis_point(S, first[-1]))
     br = place(S, br, first, p0, tool_point(S, T, p0), what=f"axis {n}")
     Rt = target_rotation(S, T)
     e = axis_normal(S, n - 1)

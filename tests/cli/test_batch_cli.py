@@ -742,7 +742,8 @@ def test_csv_headers_that_cannot_be_used():
     # fk and jacobian take joints only: their hint lists no pose column
     for kind in ("fk", "jacobian"):
         (_, _, err), = records.parse_records(("Q1",), robot, 0, [b"1"], kind)
-        assert err == "record 1: unknown column 'Q1' (columns: the joints q1,q2,q3,q4,q5,q6; and id)"
+        assert err == ("record 1: unknown column 'Q1' (columns: the joints "
+                       "q1,q2,q3,q4,q5,q6; and id)")
     # nor does it count pose columns as known ('x' without 'z', then x,y,z refused)
     for header in (("x", "y"), ("x", "y", "z")):
         (_, _, err), = records.parse_records(header, robot, 0, [b"1,2,3"], "fk")

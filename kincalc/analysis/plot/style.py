@@ -47,7 +47,7 @@ def require_matplotlib(command: str):
     one), echoing its lines on stderr, waiting on a FIFO, reading a link to /dev/zero.
     """
     import sys
-    if "matplotlib" in sys.modules:
+    if sys.modules.get("matplotlib") is not None:          # (imported already)
         return sys.modules["matplotlib"]
     with _away_from_the_working_directory():
         return require_extra(command, "matplotlib", "plot")

@@ -214,8 +214,8 @@ def csv_rows(kind, robot, records) -> str:
             w.writerow(head + ["", "no solution"] + [""] * n + ["", "", ""])
         else:
             for k, s in enumerate(r["solutions"]):
-                w.writerow(head + [k, csv_cell(s["branch"])] + s["q"] + [csv_cell(s["within_limits"]),
-                                                                csv_cell(s["singular"]), ""])
+                w.writerow(head + [k, csv_cell(s["branch"])] + s["q"]
+                           + [csv_cell(s["within_limits"]), csv_cell(s["singular"]), ""])
     return buf.getvalue()
 
 

@@ -69,8 +69,9 @@ def _block(v, indent: int) -> list[str]:
 
 def sheet_yaml(sheet: dict, comments=()) -> str:
     """``sheet`` (a :func:`make_sheet` dict) as YAML text, ``comments`` as ``#`` lines
-    on top (each on one line: a line break in one, from a file's name, is a space). Lists of numbers are written in flow style (a matrix one row a line),
-    floats so that they read back as the same float, yes/no for booleans."""
+    on top (each on one line: a line break in one, from a file's name, is a space). Lists
+    of numbers are written in flow style (a matrix one row a line), floats so that they read
+    back as the same float, yes/no for booleans."""
     lines = [f"# {printable(c)}" if c else "#" for c in comments]    # (one line each)
     lines += _block(sheet, 0)
     return "\n".join(lines) + "\n"
