@@ -116,17 +116,30 @@ def check_lock(robot: Robot, reduced: Robot, locks: dict[int, float]) -> None:
     rank = reduced.generic_ranks[0]
     if rank < min(reduced.dof, 6) and rank < robot.generic_ranks[0]:
         held = ", ".join(robot.joints[j].name for j in sorted(locks))
+        # the joints held at other values: is it the value (a wrist joint at 0 putting two
+        # axes on one line) or the joint (the elbow of a spherical shoulder and wrist)?
+        other = {j: generic_value(robot, j) for j in locks}
+        if other != locks and \
+                locked_robot(robot, other).generic_ranks[0] >= min(reduced.dof, 6):
+            advice = "hold it at another value (at this one two of its axes lie on one line)"
+        else:
+            advice = ("lock another joint (of an arm with a spherical shoulder and wrist, any "
+                      "but the elbow)")
         raise InputError(f"locking {held} of {robot.name} leaves a chain that still moves "
                          f"without moving the tool (its Jacobian has rank {rank} for "
                          f"{reduced.dof} joints): its solutions form a continuum, not a set "
-                         "of branches; lock another joint (of an arm with a spherical "
-                         "shoulder and wrist, any but the elbow)")
+                         f"of branches; {advice}")
 
 
 #: the value (rad, or arm sizes for a prismatic joint) at which a joint held at every
 #: value is checked for a self-motion of the chain it leaves (any but a few special
 #: values will do)
 GENERIC = 0.9
+
+
+def generic_value(robot: Robot, joint: int) -> float:
+    """:data:`GENERIC` for ``joint`` (0-based): rad, or arm sizes (m) for a prismatic one."""
+    return GENERIC * (1.0 if robot.joints[joint].revolute else robot.characteristic_length)
 
 
 def generic_chain(robot: Robot, joint: int, locks: dict | None = None) -> Robot:
@@ -138,8 +151,7 @@ def generic_chain(robot: Robot, joint: int, locks: dict | None = None) -> Robot:
     InputError
         From :func:`check_lock`.
     """
-    size = 1.0 if robot.joints[joint].revolute else robot.characteristic_length
-    held = {**(locks or {}), joint: GENERIC * size}
+    held = {**(locks or {}), joint: generic_value(robot, joint)}
     chain = locked_robot(robot, held)
     check_lock(robot, chain, held)
     return chain

@@ -281,3 +281,18 @@ def test_a_position_missed_by_a_hair_is_not_called_an_orientation_out_of_reach()
     from kincalc.analysis.results import Units
     assert "position off by" in reason_text(res.reason, r, Units(length="m"))
     assert reach(locked_robot(r, locks), Target(T)).verdict == "not-found"
+
+
+def test_a_lock_at_a_value_that_lines_up_two_axes_says_to_hold_it_elsewhere():
+    """iiwa7 with A6 held at 0 (axes 5 and 7 on one line) is refused, rightly, but the
+    message said to lock another joint, 'any but the elbow', which A6 is (an independent
+    tester): it now says the value is the trouble. The elbow keeps its own advice."""
+    from cli_contract import run_cli
+    q = ["--from-q", "49 4 91 14 138 0 15"]
+    status, out, err = run_cli(["ik", "iiwa7", *q, "--lock", "A6=0"])
+    assert status == 2 and "hold it at another value" in err and "elbow" not in err, err
+    status, out, err = run_cli(["ik", "iiwa7", *q, "--lock", "A4=14"])
+    assert status == 2 and "any but the elbow" in err, err
+    status, out, err = run_cli(["ik", "iiwa7", "--from-q", "49 4 91 14 138 30 15",
+                                "--lock", "A6=30", "--json"])
+    assert status == 0 and json.loads(out)["solutions"], err
