@@ -39,7 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..ik.nearest import POSITION_TOL, nearest_position, unlimited, where_outside
+from ..ik.nearest import nearest_position, unlimited, where_outside
+from ..tolerances import ACCEPT_POSITION
 from ..ik.reasons import NoSolution, OrientationOut
 from .words import count_text, length, length_suffix, reason_text, singularity_text
 
@@ -123,7 +124,7 @@ def reach(robot, target, *, units=None) -> ReachResult:
         return ReachResult(verdict="blocked-by-limits", distance=dist, blocked=blocked,
                            reason=text, **near, **common)
 
-    if dist <= POSITION_TOL * L:
+    if dist <= ACCEPT_POSITION * L:
         # the numerical solver found nothing, or a closed form's candidates, next to a
         # singularity, missed the pose by a hair (NoSolution with the best miss)
         if res.family == "numerical" or (isinstance(res.reason, NoSolution)
@@ -152,7 +153,7 @@ def _position_only(robot, target, units) -> ReachResult:
                           "description": "nearest tool position by damped least squares "
                                          "from sampled configurations, within the limits"},
                   units=units)
-    if dist <= POSITION_TOL * max(robot.characteristic_length, 1e-12):
+    if dist <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12):
         return ReachResult(verdict="reachable", distance=0.0, **near, **common,
                            reason="the position is reachable (with some orientation; give "
                                   "one to ask about the whole pose)")
@@ -164,7 +165,7 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
     limits: blocked by the limits, or out of reach of the geometry, and where."""
     L = max(robot.characteristic_length, 1e-12)
     q_free, p_free, dist_free = nearest_position(robot, p, limits=unlimited(robot))
-    if dist_free <= POSITION_TOL * L:
+    if dist_free <= ACCEPT_POSITION * L:
         from ..ik.joint_limits import normalise
         from ..ik.solve import violation_list
         viol = violation_list(robot, normalise(robot, q_free))
@@ -179,7 +180,7 @@ def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:
 
     outside = where_outside(robot, p, p_free, dist_free)
     verdict, reason = outside.where, reason_text(outside, robot, units)
-    if dist > dist_free * (1 + 1e-6) + POSITION_TOL * L:
+    if dist > dist_free * (1 + 1e-6) + ACCEPT_POSITION * L:
         reason += ("; within the joint limits the nearest reachable point is "
                    f"{length(dist, units)} away")
     return ReachResult(verdict=verdict, distance=dist, reason=reason, **near, **common)

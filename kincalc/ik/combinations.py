@@ -33,8 +33,6 @@ from .reasons import ArmMissed, Missed
 
 #: --all-branches lists combinations only up to this many
 MAX_COMBINATIONS = 512
-#: joint values within this of each other (rad / m) are one value: two solutions' rule
-SAME = DUPLICATE
 
 
 def cross_combinations(robot, family: str, T, orientation: bool, sols) -> tuple:
@@ -97,14 +95,14 @@ def _gap(a, b, rev):
 
 
 def _equal(a, b, rev) -> bool:
-    return bool(np.all(_gap(a, b, rev) < SAME))
+    return bool(np.all(_gap(a, b, rev) < DUPLICATE))
 
 
 def _distinct(values, rev) -> list:
-    """The values of one joint, each once (within :data:`SAME`)."""
+    """The values of one joint, each once (within :data:`DUPLICATE`)."""
     out = []
     for v in values.tolist():
-        if not any(_gap(v, u, rev) < SAME for u in out):
+        if not any(_gap(v, u, rev) < DUPLICATE for u in out):
             out.append(v)
     return out
 
@@ -143,11 +141,11 @@ def _combinations(Q, joints, rev) -> list:
 def _table(Q, joints, rev) -> tuple:
     """``(values, taken)``: the distinct values of each of ``joints`` in ``Q (m, n)``
     (:func:`_distinct`), and the index tuples of the combinations a row of ``Q`` has (within
-    :data:`SAME` of the row's value, joint by joint)."""
+    :data:`DUPLICATE` of the row's value, joint by joint)."""
     values = [_distinct(Q[:, j], rev[j]) for j in joints]
     taken = set()
     for q in Q:
-        near = [[k for k, u in enumerate(v) if _gap(q[j], u, rev[j]) < SAME]
+        near = [[k for k, u in enumerate(v) if _gap(q[j], u, rev[j]) < DUPLICATE]
                 for j, v in zip(joints, values)]
         taken.update(itertools.product(*near))
     return values, taken
@@ -156,7 +154,7 @@ def _table(Q, joints, rev) -> tuple:
 def _arm_combination(robot, placed, Q, arm, values) -> dict:
     """An arm combination, judged by the point it places: the other joints from the
     solution that shares most of its values."""
-    shared = [(_gap(q[arm], values, robot.is_revolute[arm]) < SAME).sum() for q in Q]
+    shared = [(_gap(q[arm], values, robot.is_revolute[arm]) < DUPLICATE).sum() for q in Q]
     q = Q[int(np.argmax(shared))].copy()
     q[arm] = values
     from ..fk import chain_frames

@@ -23,9 +23,6 @@ from ..tolerances import ACCEPT_POSITION
 SEARCH_SAMPLES = 4096
 #: starts taken from the samples nearest the target
 SEARCH_STARTS = 8
-#: a position counts as reached when it is within this of the target (relative
-#: to the robot's characteristic length): the IK acceptance
-POSITION_TOL = ACCEPT_POSITION
 
 
 def _pose_error(P, R, p_goal, R_goal, L):
@@ -305,5 +302,5 @@ def beyond_reach(robot, p) -> bool:
     then no configuration reaches it, with or without joint limits (a proof, not a search).
     """
     center, radius = reach_ball(robot)
-    margin = 1e-9 * radius + POSITION_TOL * max(robot.characteristic_length, 1e-12)
+    margin = 1e-9 * radius + ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)
     return bool(np.linalg.norm(np.asarray(p, float) - center) > radius + margin)

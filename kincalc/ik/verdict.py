@@ -107,9 +107,9 @@ def out_of_reach(robot, T):
     """Why nothing was found, from the nearest reachable position (see
     :mod:`kincalc.analysis.reach`): out of reach of the geometry and where, out of reach
     within the limits, or within reach (then the pose as a whole is not)."""
-    from .nearest import POSITION_TOL, nearest_position, unlimited, where_outside
+    from .nearest import nearest_position, unlimited, where_outside
     p = np.asarray(T, float)[:3, 3]
-    tol = POSITION_TOL * max(robot.characteristic_length, 1e-12)
+    tol = ACCEPT_POSITION * max(robot.characteristic_length, 1e-12)
     _, _, dist = nearest_position(robot, p)
     if dist <= tol:
         return NoSolution()
