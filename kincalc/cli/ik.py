@@ -18,7 +18,8 @@ AllBranchesOpt = Annotated[bool, typer.Option(
                            "and why.")]
 NearOpt = Annotated[Optional[str], typer.Option(
     "--near", metavar="'Q1 Q2 ...'", show_default=False,
-    help="The current joints (one quoted argument): solutions are ordered by their change "
+    help="The current joints (one quoted argument, or the numbers as words after it): "
+         "solutions are ordered by their change "
          "from them, and the numerical solver starts there; with --sweep, the value and "
          "branch nearest them.")]
 NumericOpt = Annotated[bool, typer.Option(

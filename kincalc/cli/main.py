@@ -264,7 +264,7 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
     try:
         # in non-standalone mode click returns the code of a typer.Exit instead of raising
         # (and typer turns a KeyboardInterrupt into Exit(130), quietly)
-        status = app(args=args, prog_name="kincalc", standalone_mode=False)
+        status = app(args=gathered(args), prog_name="kincalc", standalone_mode=False)
         sys.stdout.flush()          # (a write that fails fails here, not at the exit)
         return status if isinstance(status, int) else 0
     except SystemExit as exc:
@@ -309,6 +309,39 @@ def _run(args: list, debug: bool, click, KincalcError) -> int:
                          "This is a bug in kincalc; rerun with --debug for a traceback and "
                          "report it.\n")
         return 3
+
+
+#: options that take joint values in one argument (``--from-q '0 -45 180 0 45 0'``), and the
+#: commands with no joint values of their own, where the values may also follow as words
+ONE_ARGUMENT_VALUES = ("--from-q", "--near")
+VALUES_AS_WORDS = ("ik", "reach")
+
+
+def gathered(args: list) -> list:
+    """``args`` with the numbers that follow ``--from-q`` or ``--near`` as words of their
+    own (``kincalc ik puma560 --from-q 0 -45 180 0 45 0``) joined into the option's one
+    argument, for the commands of :data:`VALUES_AS_WORDS`: the parser would read ``-45`` as
+    an option. A word that is no decimal number ends the values; nothing after ``--`` is
+    touched (and another command's words never are: ``view`` takes joint values of its
+    own)."""
+    if not args or args[0] not in VALUES_AS_WORDS:
+        return args
+    from ..limits import DECIMAL
+    out, k = [], 0
+    while k < len(args):
+        word = args[k]
+        out.append(word)
+        k += 1
+        if word == "--":
+            return out + args[k:]
+        if word in ONE_ARGUMENT_VALUES and k < len(args):
+            values = [args[k]]
+            k += 1
+            while k < len(args) and DECIMAL.fullmatch(args[k]):
+                values.append(args[k])
+                k += 1
+            out.append(" ".join(values))
+    return out
 
 
 def _traceback(debug: bool) -> None:

@@ -60,7 +60,8 @@ PoseOpt = Annotated[Optional[str], typer.Option(
 FromQOpt = Annotated[Optional[str], typer.Option(
     "--from-q", metavar="'Q1 Q2 ...'", show_default=False,
     help="Target the pose FK gives for these joint values (one quoted argument, "
-         "space- or comma-separated).")]
+         "space- or comma-separated; for ik and reach also the numbers as words after "
+         "it).")]
 
 #: the pose options in --help order: (parameter name, its typer annotation)
 POSE_OPTIONS = (("xyz", XyzOpt), ("rpy", RpyOpt), ("euler_zyz", ZyzOpt),

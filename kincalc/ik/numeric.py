@@ -168,6 +168,22 @@ class _Problem:
         """
         return pushed_out(q, self.lo, self.hi, dx, 1e-12)
 
+    def into_range(self, q):
+        """``q (n,)``, each revolute joint beyond its limits turned by whole turns to the value
+        nearest them (within them where a turn of it is; others unchanged): the same pose,
+        where :meth:`project` would clip it onto a limit, another pose (a start of 180 deg
+        for a joint limited to [-225, 45] deg is -180 deg, not 45)."""
+        lo, hi = self.lo, self.hi
+        low, high = self.revolute & (q < lo), self.revolute & (q > hi)
+        if not (low.any() or high.any()):
+            return q
+        with np.errstate(invalid="ignore"):         # (infinite limits: in unused entries)
+            up = q + TURN * np.ceil((lo - q) / TURN)       # the first turn of q at or above lo
+            down = q - TURN * np.ceil((q - hi) / TURN)     # the last at or below hi
+        up = np.where((up <= hi) | (up - hi <= lo - (up - TURN)), up, up - TURN)
+        down = np.where((down >= lo) | (lo - down <= down + TURN - hi), down, down + TURN)
+        return np.where(low, up, np.where(high, down, q))
+
     def project(self, q):
         """``q`` clipped to the limits.
 
@@ -342,7 +358,7 @@ class _Problem:
         k : int
             Iterations used.
         """
-        start = self.project(start)
+        start = self.project(self.into_range(start))
         if not np.isfinite(self.error(start)).all():
             return start, np.inf, 0          # self.fk refuses the start: skip it
         q, E, k = self.descend(start, limited)
@@ -402,7 +418,7 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     best = None
     tried = 0
     for r in range(restarts + 1):
-        start = P.project(q0) if r == 0 else rng.uniform(box_lo, box_hi)
+        start = P.project(P.into_range(q0)) if r == 0 else rng.uniform(box_lo, box_hi)
         q, E, k = P.attempt(start, limited=r == 0)
         tried = r
         cand = (E > TOL, float(np.linalg.norm((q - q0) / s)) if E <= TOL else E, q, k, start, E)

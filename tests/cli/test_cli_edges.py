@@ -219,3 +219,39 @@ def test_an_option_after_double_dash_is_said_to_be_there(argv, words):
     such option: --frames (did you mean --frames?)' (an independent tester)."""
     status, out, err = run(*argv)
     assert status == 2 and out == "" and words in err, err
+
+
+# --- joint values after --from-q and --near as words of their own -------------------------
+
+@pytest.mark.parametrize("command", ["ik", "reach"])
+def test_from_q_values_as_words_are_the_quoted_values(command):
+    """``--from-q 0 -45 180 0 45 0`` (what a user types first) said "No such option '-4'":
+    the numbers after the option are its values, as if quoted, up to the first other word."""
+    words = ["--from-q", "0", "-45.5", "180", "0", "45", "0", "--json"]
+    _, quoted, _ = run(command, "puma560", "--from-q", "0 -45.5 180 0 45 0", "--json")
+    status, out, _ = run(command, "puma560", *words)
+    assert status == 0 and json.loads(out) == json.loads(quoted)
+    status, out, _ = run(command, *words[:-1], "puma560", "--json")       # robot after them
+    assert status == 0 and json.loads(out) == json.loads(quoted)
+
+
+def test_near_values_as_words_and_words_after_double_dash_untouched():
+    _, quoted, _ = run("ik", "puma560", "--from-q", "0 -45 180 0 45 0", "--near",
+                       "1 -44 179 0 44 0", "--numeric", "--json")
+    status, out, _ = run("ik", "puma560", "--from-q", "0", "-45", "180", "0", "45", "0",
+                         "--near", "1", "-44", "179", "0", "44", "0", "--numeric", "--json")
+    assert status == 0 and json.loads(out) == json.loads(quoted)
+    # too few words stay too few values, said by the option
+    status, _, err = run("ik", "puma560", "--from-q", "0", "-45", "180", "--json")
+    assert status == 2 and "--from-q" in err and "got 3 joint values" in err
+
+
+def test_gathering_touches_only_ik_and_reach_and_nothing_after_double_dash():
+    from kincalc.cli.main import gathered
+    view = ["view", "puma560", "--from-q", "1", "2", "3", "4", "5", "6"]
+    assert gathered(view) == view                          # view's joint values are its own
+    assert gathered(["ik", "r", "--", "--from-q", "1", "2"]) == \
+        ["ik", "r", "--", "--from-q", "1", "2"]
+    assert gathered(["ik", "--from-q", "1", "-2e-3", "x", "3"]) == \
+        ["ik", "--from-q", "1 -2e-3", "x", "3"]
+    assert gathered(["ik", "r", "--from-q"]) == ["ik", "r", "--from-q"]

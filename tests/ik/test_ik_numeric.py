@@ -63,6 +63,23 @@ def test_numeric_on_a_six_joint_arm_is_the_nearest_analytic_solution():
         assert np.max(np.abs(wrap(res.solutions[0].q - target))) < 1e-7
 
 
+def test_a_start_a_whole_turn_off_its_limits_starts_from_its_turn_within_them():
+    """A start joint beyond its limits is the same pose a whole turn within them, not the
+    limit it would be clipped to: PUMA's q3 = 180 deg (limits [-225, 45] deg) next to the
+    solution with q3 = -180 deg found that one, not one across the arm (it used to start
+    from q3 = 45 deg and end at (0, 222, 5.4, 0, -47.6, 0) deg)."""
+    r = load_robot("puma560")
+    rng = np.random.default_rng(11)
+    q = np.radians([0.0, -45.0, -180.0, 0.0, 45.0, 0.0])
+    T = r.fk(q)
+    for _ in range(10):
+        near = q + rng.normal(0, 0.01, 6)
+        near[2] += 2 * np.pi * rng.choice([1, 2, -1])        # a turn beyond either limit
+        res = solve(r, Target(T), near=near, numeric=True)
+        assert res.family == "numerical" and res.solutions[0].within_limits
+        assert np.max(np.abs(wrap(res.solutions[0].q - q))) < 1e-7
+
+
 def test_near_orders_analytic_solutions_by_change():
     r = load_robot("ur5")
     q = np.radians([30, -60, 90, -120, -90, 45])
