@@ -208,7 +208,9 @@ class JacobianResult:
         # the base-frame linear rows (the tool point's velocity) for the position measures
         Jv = self.display_J(self._base_J())[:3]
         sv = np.linalg.svd(Jv, compute_uv=False)[: self.generic_position_rank]
-        sn = self.sigma_normalised
+        # both measures over the motions the robot has at a generic configuration: a robot
+        # with two joints on one line has one fewer, its last singular value always 0
+        sn = self.sigma_normalised[: self.generic_rank]
         cond = float("inf") if self.singular or sn[-1] <= 0 else float(sn[0] / sn[-1])
         out = json_header("jacobian", self.robot, u)
         out.update({
@@ -219,7 +221,8 @@ class JacobianResult:
             "singular_values": json_numbers(s),
             "rank": self.rank,
             "manipulability": float(np.prod(s[: self.generic_rank])),
-            "position_manipulability": float(np.prod(sv)),
+            # (a tool point that no joint moves has none: 0, not the empty product)
+            "position_manipulability": float(np.prod(sv)) if len(sv) else 0.0,
             "condition": cond if np.isfinite(cond) else None,
             "length_scale": self.length_scale * u.l,
             "generic_rank": self.generic_rank,

@@ -136,13 +136,13 @@ def _check_same_fk(robot: Robot, out: Robot) -> None:
     if moved <= SAME_FK and turned <= SAME_FK:
         return
     from ..units import LENGTH_UNITS
-    u = LENGTH_UNITS[robot.length_unit]
+    u = LENGTH_UNITS[robot.length_unit]          # m per unit
     near = _nearly_parallel(robot)
     why = "" if near is None else (
         f" (the axes of joints {near[0] + 1} and {near[0] + 2} are {near[1]:.2g} rad from "
         "parallel, so their common normal lies far away)")
     raise InputError(f"{robot.name} cannot be written in {out.convention} to full accuracy: "
-                     f"its tool would move by up to {moved * L * u:.3g} {robot.length_unit} "
+                     f"its tool would move by up to {moved * L / u:.3g} {robot.length_unit} "
                      f"and turn by {turned:.2g} rad{why}; keep it in {robot.convention}")
 
 

@@ -510,3 +510,25 @@ def test_more_joints_than_symbolic_expands_is_one_line():
                                              f"joints; symbolic expressions are expanded for "
                                              f"up to {MAX_SYMBOLIC_JOINTS} joints"):
             build(robot)
+
+
+NEAR_90 = """
+name: near90
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 89.9999999, a: 0.5, d: 0.2, theta: 30.0000001}
+  - {name: q2, type: revolute, alpha: 0.0000001, a: 0.4, d: 0, theta: 0}
+"""
+
+
+def test_a_twist_without_a_closed_form_has_the_cosine_of_the_twist_held():
+    """cos(89.9999999 deg) = 1.745e-9: from the angle rounded to 12 digits first it had three
+    right digits (1.74489661923e-9); it is the cosine of the twist the robot holds."""
+    import math
+    robot = parse_robot_text(NEAR_90)
+    res = symbolic_fk(robot)
+    for i, A in enumerate(res.links):
+        alpha = robot.joints[i].alpha
+        assert abs(float(A[2, 2]) - math.cos(alpha)) <= 1e-11 * abs(math.cos(alpha))
+        assert abs(float(A[2, 1]) - math.sin(alpha)) <= 1e-11 * abs(math.sin(alpha))

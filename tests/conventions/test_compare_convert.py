@@ -383,6 +383,26 @@ def test_axes_a_hair_from_parallel_are_not_converted_to_dh(tmp_path, capsys):
     assert "no standard DH table of these axes" in capsys.readouterr().out
 
 
+def test_the_refusal_states_the_tool_motion_in_the_robot_file_unit():
+    """The same robot in metres, centimetres and millimetres moves its tool by the same
+    length: the message's figure times the unit is one length (it was divided by the unit's
+    square: 2.96e-12 mm for 2.96e-9 m)."""
+    import re
+    from kincalc.errors import InputError
+    moved = {}
+    for unit, k in (("m", 1.0), ("cm", 100.0), ("mm", 1000.0)):
+        text = NEARLY_PARALLEL.format(hair=3e-9).replace("length: m", f"length: {unit}")
+        text = re.sub(r"[0-9]+\.[0-9]+", lambda m: repr(float(m.group()) * k), text)
+        with pytest.raises(InputError) as err:
+            convert(parse_robot_text(text), "dh")
+        figure = re.search(r"move by up to (\S+) (\w+)", str(err.value))
+        assert figure.group(2) == unit
+        moved[unit] = float(figure.group(1)) / k
+    assert 1e-10 < moved["m"] < 1e-6
+    assert np.isclose(moved["cm"], moved["m"], rtol=0.02)
+    assert np.isclose(moved["mm"], moved["m"], rtol=0.02)
+
+
 @pytest.mark.parametrize("to", ["dh", "mdh"])
 def test_axes_1e6_from_parallel_convert_to_full_accuracy(to):
     """The same axes 1e-6 rad apart: their common normal is 500 km away, at z = -0.5 / 1e-6

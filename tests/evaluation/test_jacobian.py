@@ -299,3 +299,65 @@ def test_a_spherical_wrist_is_one_thing_for_ik_and_the_singularity_report(offset
     assert r.joints[4].a == offset
     assert (plan(r)[1].name == "spherical-wrist") is wrist
     assert (spherical_wrist(r) is not None) is wrist
+
+
+# --- measures of a robot with fewer motions than joints ------------------------------------
+
+ONE_JOINT = """
+name: one_joint
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 0, a: 0, d: 0.3, theta: 0}
+"""
+
+WRIST_ONLY = """
+name: wrist_only
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q4, type: revolute, alpha: -90, a: 0, d: 0, theta: 0}
+  - {name: q5, type: revolute, alpha: 90, a: 0, d: 0, theta: 0}
+  - {name: q6, type: revolute, alpha: 0, a: 0, d: 0, theta: 0}
+"""
+
+COAXIAL = """
+name: coaxial
+convention: dh
+units: {length: m, angle: deg}
+joints:
+  - {name: q1, type: revolute, alpha: 90, a: 1, d: 0, theta: 0}
+  - {name: q2, type: revolute, alpha: 0, a: 0, d: 0, theta: 0}
+  - {name: q3, type: revolute, alpha: 0, a: 1, d: 0, theta: 0}
+"""
+
+
+@pytest.mark.parametrize("text, q", [(ONE_JOINT, [0.5]), (WRIST_ONLY, [0.2, 0.9, 0.3])])
+def test_a_tool_point_no_joint_moves_has_position_manipulability_zero(text, q):
+    """The tool on the only axis, or at a wrist's centre: the linear rows are zero, and so is
+    the measure (it was 1.0, the product of no singular values)."""
+    from kincalc import parse_robot_text
+    res = jacobian_report(parse_robot_text(text), np.array(q))
+    assert np.abs(res.J[:3]).max() < 1e-15
+    assert res.to_dict()["position_manipulability"] == 0.0
+
+
+def test_the_condition_of_a_robot_with_two_joints_on_one_line_is_over_its_generic_rank():
+    """Joints 2 and 3 on one line: two motions at every configuration, the third singular
+    value a rounding zero. The condition number is the largest over the second of the
+    length-normalised Jacobian (it was that over the rounding zero, 1e15..1e17, changing
+    with q and the unit), and the same in metres and millimetres."""
+    from kincalc import parse_robot_text
+    from kincalc.analysis.results import Units
+    r = parse_robot_text(COAXIAL)
+    rng = np.random.default_rng(4)
+    for q in rng.uniform(-np.pi, np.pi, (20, 3)):
+        res = jacobian_report(r, q)
+        J = r.jacobian(q)
+        J[:3] /= r.characteristic_length
+        s = np.linalg.svd(J, compute_uv=False)
+        d = res.to_dict()
+        assert res.generic_rank == 2 and not res.singular
+        assert np.isclose(d["condition"], s[0] / s[1], rtol=1e-9)
+        res_mm = jacobian_report(r, q, units=Units(length="mm"))
+        assert np.isclose(res_mm.to_dict()["condition"], d["condition"], rtol=1e-9)

@@ -4,6 +4,7 @@ kinematics and Jacobian columns built from a robot, in sympy."""
 from __future__ import annotations
 
 import ast
+import math
 
 from ...errors import InputError
 from .results import Notation, SymbolicFK, SymbolicJacobian
@@ -196,11 +197,16 @@ class _Builder:
         return M
 
     # elementary transforms ---------------------------------------------------
-    def rot(self, axis: str, t):
+    def rot(self, axis: str, t, held: float | None = None):
+        """The rotation about ``axis`` by ``t``; ``held``: the angle (rad) the robot holds,
+        when ``t`` is a constant that stands for it."""
         sp = self.sp
         c, s = sp.cos(t), sp.sin(t)
         if not t.free_symbols and (c.has(sp.cos, sp.sin) or s.has(sp.cos, sp.sin)):
-            # a constant angle without a closed form (1°): its sine and cosine as decimals
+            # a constant angle without a closed form (1°): its sine and cosine as decimals,
+            # of the angle held (t may be its 12 digits: a cosine of 1.7e-9 then had 3)
+            if held is not None:
+                c, s = math.cos(held), math.sin(held)
             c, s = exact(float(c), sp), exact(float(s), sp)
         R = {"x": [[1, 0, 0], [0, c, -s], [0, s, c]],
              "z": [[c, -s, 0], [s, c, 0], [0, 0, 1]]}[axis]
@@ -223,7 +229,7 @@ class _Builder:
         else:
             d = d + self.q[i]
         motion = self.rot("z", theta) * self.trans(z=d)
-        fixed = self.trans(x=a) * self.rot("x", alpha)
+        fixed = self.trans(x=a) * self.rot("x", alpha, held=joint.alpha)
         if self.robot.convention == "dh":
             return self.sp.eye(4), motion, fixed
         return fixed, motion, self.sp.eye(4)
