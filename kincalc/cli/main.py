@@ -318,29 +318,32 @@ VALUES_AS_WORDS = ("ik", "reach")
 
 
 def gathered(args: list) -> list:
-    """``args`` with the numbers that follow ``--from-q`` or ``--near`` as words of their
-    own (``kincalc ik puma560 --from-q 0 -45 180 0 45 0``) joined into the option's one
-    argument, for the commands of :data:`VALUES_AS_WORDS`: the parser would read ``-45`` as
-    an option. A word that is no decimal number ends the values; nothing after ``--`` is
-    touched (and another command's words never are: ``view`` takes joint values of its
-    own)."""
+    """``args`` with the numbers that follow ``--from-q`` or ``--near`` (or their
+    ``--from-q=0`` form) as words of their own (``kincalc ik puma560 --from-q 0 -45 180 0
+    45 0``) joined into the option's one argument, for the commands of
+    :data:`VALUES_AS_WORDS`: the parser would read ``-45`` as an option. A word that is no
+    decimal number ends the values; nothing after ``--`` is touched (and another command's
+    words never are: ``view`` takes joint values of its own)."""
     if not args or args[0] not in VALUES_AS_WORDS:
         return args
     from ..limits import DECIMAL
     out, k = [], 0
     while k < len(args):
         word = args[k]
-        out.append(word)
         k += 1
         if word == "--":
-            return out + args[k:]
-        if word in ONE_ARGUMENT_VALUES and k < len(args):
-            values = [args[k]]
+            return out + [word] + args[k:]
+        name, equals, value = word.partition("=")
+        if name not in ONE_ARGUMENT_VALUES or not equals and k == len(args):
+            out.append(word)
+            continue
+        if not equals:                          # the value is the next word
+            value, k = args[k], k + 1
+        values = [value]
+        while k < len(args) and DECIMAL.fullmatch(args[k]):
+            values.append(args[k])
             k += 1
-            while k < len(args) and DECIMAL.fullmatch(args[k]):
-                values.append(args[k])
-                k += 1
-            out.append(" ".join(values))
+        out += [name, " ".join(values)]
     return out
 
 

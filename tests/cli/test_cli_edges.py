@@ -255,3 +255,6 @@ def test_gathering_touches_only_ik_and_reach_and_nothing_after_double_dash():
     assert gathered(["ik", "--from-q", "1", "-2e-3", "x", "3"]) == \
         ["ik", "--from-q", "1 -2e-3", "x", "3"]
     assert gathered(["ik", "r", "--from-q"]) == ["ik", "r", "--from-q"]
+    assert gathered(["reach", "r", "--from-q=1", "-2", "--near=3"]) == \
+        ["reach", "r", "--from-q", "1 -2", "--near", "3"]
+    assert gathered(["ik", "r", "--from-q", "1 2", "3"]) == ["ik", "r", "--from-q", "1 2 3"]
