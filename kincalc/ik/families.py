@@ -83,7 +83,8 @@ class Family(NamedTuple):
 #: vector (Schilling 1990; the last joint from the vector's length, the others placing the
 #: tool point) and a pose at a swivel angle (kincalc.ik.swivel)
 TCV = Family("tcv", "tool configuration vector: the last joint from |w4..w6|, the others "
-             "place the tool point, the approach vector r3 is checked",
+             "place the tool point (or solve the whole pose where the approach fixes the "
+             "orientation), the approach vector r3 is checked",
              "position, approach and roll", False)
 SWIVEL = Family("srs-swivel", "spherical shoulder and wrist at a swivel angle: joint 4 from "
                 "the shoulder-wrist distance, the shoulder turns the arm into the angle's "

@@ -301,13 +301,14 @@ def takes_tcv(revolute) -> bool:
     return len(revolute) in (3, 4) and bool(revolute[-1])
 
 
-def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
+def tcv(robot, S: Screws, targets, br: Branches, solve_pose=None) -> Branches:
     """A tool configuration vector ``w = [p; e^(qn/pi) r3]`` for one target.
 
-    Schilling 1990; the FER Zagreb homework. The last joint from ``|w4..w6|``, the other
-    joints place the tool point as the last joint turns it; the approach ``r3`` is checked by
-    the engine. (The point depends on the target's roll, so the engine gives this one target
-    at a time.)
+    Schilling 1990; the FER Zagreb homework. The last joint from ``|w4..w6|``. Where the
+    approach and that joint fix the whole orientation (:func:`tcv_pose`), the robot's own
+    closed form solves that pose (``solve_pose``); elsewhere the other joints place the tool
+    point as the last joint turns it. The approach ``r3`` is checked by the engine. (The
+    point depends on the target's roll, so the engine gives this one target at a time.)
 
     Parameters
     ----------
@@ -316,10 +317,13 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
     S : Screws
         The robot's screws (world frame at q = 0, SI); 3 or 4 joints, the last revolute.
     targets : Targets
-        One target of kind ``"tcv"``: the position ``T[0, :3, 3]`` (m) and ``roll (1,)``
-        (rad), the last joint's value.
+        One target of kind ``"tcv"``: the position ``T[0, :3, 3]`` (m), the unit
+        ``approach (1, 3)`` and ``roll (1,)`` (rad), the last joint's value.
     br : Branches
         One slot.
+    solve_pose : callable, optional
+        ``solve_pose(targets, br) -> Branches``, the robot's closed form for whole poses;
+        None: the tool point is placed.
 
     Returns
     -------
@@ -341,8 +345,44 @@ def tcv(robot, S: Screws, targets, br: Branches) -> Branches:
         raise ValueError("tcv: one target at a time")
     qn = float(targets.roll[0])
     br = note_tcv(br, n - 1, np.exp(qn / np.pi))
-    p = S.move_point(n - 1, qn, S.M[:3, 3])
-    br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3], what="the tool",
-               constant=False)                  # (the point turns with the target's roll)
+    pose = None if solve_pose is None else tcv_pose(S, targets)
+    if pose is not None:
+        br = solve_pose(pose, br)
+    else:
+        p = S.move_point(n - 1, qn, S.M[:3, 3])
+        br = place(S, br, tuple(range(n - 1)), p, targets.T[:, None, :3, 3],
+                   what="the tool", constant=False)     # (the point turns with the roll)
     q = np.full((br.N, br.K), qn)
     return br.set(n - 1, q, np.cos(q), np.sin(q))
+
+
+def tcv_pose(S: Screws, targets):
+    """The whole pose a tool configuration vector asks for, where the approach and the last
+    joint's value fix it, as :class:`~kincalc.ik.target.Targets` of kind ``"pose"``; None
+    elsewhere.
+
+    The joints before the last turn the arm about one direction ``h`` at most (their
+    revolute axes parallel; slides turn nothing): ``R_t = R_h(psi) R_n(q_n) R_M``, and
+    ``psi`` turns ``v = R_n(q_n) z_M`` (the approach the last joint leaves) onto the target's
+    approach (subproblem 1 about h; its least-squares angle where the approach is off the
+    cone, which the engine's check then refuses). Three parallel axes and a tilted fourth
+    (``planar-4``) place the tool point on a curve, not at points: there the approach must
+    choose. None where the joints turn about two directions, or ``v`` lies along ``h``
+    (every ``psi`` points it alike).
+    """
+    from .target import Targets
+    n = S.n
+    turning = [j for j in range(n - 1) if S.revolute[j]]
+    h = S.axis[turning[0]] if turning else None
+    if any(np.linalg.norm(np.cross(S.axis[j], h)) > GEOMETRY_TOL for j in turning[1:]):
+        return None
+    R = matrix_from_axis_angle(S.axis[n - 1], float(targets.roll[0])) @ S.M[:3, :3]
+    if h is not None:
+        v = R[:, 2]
+        if np.linalg.norm(np.cross(v, h)) <= GEOMETRY_TOL:
+            return None
+        psi = turn_onto(h, v, np.asarray(targets.approach[0], float))[0]
+        R = matrix_from_axis_angle(h, float(psi)) @ R
+    T = np.array(targets.T[:1], float)
+    T[0, :3, :3] = R
+    return Targets(T)

@@ -13,7 +13,7 @@ and flags. ``R_t = R_T R_M^T`` below is the rotation of the product of exponenti
 from __future__ import annotations
 
 from .branches import Branches
-from .families import TARGET_FAMILIES, Family
+from .families import TARGET_FAMILIES, Family, plan
 from .five_joints import (pitch_roll, planar_shoulder, position_approach, spherical_shoulder,
                           wrist_pair)
 from .parallel_axes import parallel_four_wrist, three_parallel, three_parallel_offset
@@ -53,13 +53,22 @@ def spherical_wrist(S: Screws, targets, br: Branches) -> Branches:
     return spherical_taking(S, br, (3, 4, 5), target_rotation(S, T), before=(0, 1, 2))
 
 
+def _tcv(robot, S, targets, br):
+    """A tool configuration vector (:func:`~kincalc.ik.small_arms.tcv`); where it fixes the
+    whole pose, the robot's own closed form (an exact family's) solves that."""
+    family = plan(robot)[1]
+    solve_pose = None if family is None or not family.exact else \
+        (lambda pose, br: run_solver(robot, S, family, pose, br))
+    return tcv(robot, S, targets, br, solve_pose)
+
+
 def _swivel(robot, S, targets, br):
     from .swivel import swivel
     return swivel(robot, S, targets, br)
 
 
 #: the solvers of target kinds that bring their own (``engine.TARGET_FAMILIES``)
-TARGET_SOLVERS = {"tcv": tcv, "swivel": _swivel}
+TARGET_SOLVERS = {"tcv": _tcv, "swivel": _swivel}
 
 SOLVERS = {
     "spherical-wrist": spherical_wrist,

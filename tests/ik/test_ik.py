@@ -338,6 +338,52 @@ def test_a_tcv_last_joint_beyond_a_half_turn_is_not_moved_by_a_turn(q4):
         assert abs(s.q[3] - D(q4)) < 1e-12 and s.violations[0][0] == 3
 
 
+def _planar_tilted_arm(rng):
+    """Three parallel revolute axes (a random direction) and a tilted fourth, random points
+    and tool: ``planar-4``, as POE."""
+    from kincalc import parse_robot_text
+    from kincalc.spatial import matrix_from_axis_angle, rpy_from_matrix
+
+    def unit(v):
+        return v / np.linalg.norm(v)
+    h, k4 = unit(rng.normal(size=3)), unit(rng.normal(size=3))
+    axes = [h, h, h, k4]
+    points = rng.uniform(-0.5, 0.5, (4, 3))
+    R = matrix_from_axis_angle(unit(rng.normal(size=3)), rng.uniform(0, np.pi))
+    joints = "".join(f"  - {{name: j{i + 1}, type: revolute, axis: {list(map(float, a))}, "
+                     f"point: {list(map(float, p))}}}\n"
+                     for i, (a, p) in enumerate(zip(axes, points)))
+    tool = (f"tool: {{xyz: {list(map(float, rng.uniform(-0.5, 0.5, 3)))}, "
+            f"rpy: {list(map(float, np.degrees(rpy_from_matrix(R))))}}}\n")
+    return parse_robot_text("name: tilted\nconvention: poe\nunits: {length: m, angle: deg}\n"
+                            "joints:\n" + joints + tool)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_tcv_of_a_planar_arm_with_a_tilted_last_joint(seed):
+    """Three parallel axes place the tool point on a curve, not at points: the approach
+    chooses where on it (every such TCV was "the approach vector is not reachable"). The
+    approach and the last joint fix the whole orientation, so the TCV's solutions are the
+    whole pose's with that last joint: checked by FK, the generating joints among them."""
+    from kincalc.ik.families import plan
+    from kincalc.spatial import tcv_from_transform
+    rng = np.random.default_rng(seed)
+    r = _planar_tilted_arm(rng)
+    assert plan(r)[1].name == "planar-4"
+    for q in rng.uniform(-np.pi, np.pi, (8, 4)):
+        w = tcv_from_transform(r.fk(q), q[3])
+        T = np.eye(4)
+        T[:3, 3] = w[:3]
+        n = np.linalg.norm(w[3:])
+        res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+        assert any(close(s.q, q, r) for s in res.solutions)
+        for s in res.solutions:
+            assert abs(s.q[3] - q[3]) < 1e-9
+            assert np.allclose(tcv_from_transform(r.fk(s.q), s.q[3]), w, atol=1e-9)
+        whole = [s for s in r.ik(r.fk(q)).solutions if abs(wrap(s.q[3] - q[3])) < 1e-9]
+        assert len(res.solutions) == len(whole)
+
+
 def test_tcv_typed_to_six_decimals_is_still_reachable():
     # bug: the approach check allowed 1e-7 rad, so a TCV printed by 'kincalc fk' and
     # typed back with 6 decimals (approach off by 2.3e-7 rad) was called unreachable
