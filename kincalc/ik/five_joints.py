@@ -17,7 +17,6 @@ import numpy as np
 
 from ..spatial import wrap
 from ..subproblems import sp1, sp2, sp4
-from ..subproblems.sp2 import free_angles
 from ..subproblems.cone import cone_constants
 from ..subproblems.solutions import Solutions, cross, dot, pair
 from ..tolerances import ALONG_PARALLEL
@@ -385,13 +384,8 @@ def spherical_shoulder(S: Screws, targets, br: Branches) -> Branches:
     Rt = target_rotation(S, T)
     u = rotate_back(Rt, (ct - O)[:, None, :])                                    # (N, 1, 3)
     p2 = np.full(u.shape, c0 - O)
-    sol = sp2(u, p2, S.axis[3], S.axis[4])
-    if np.count_nonzero(sol.free):      # (rare: axis 5 through O, joint 5 free, 4 not)
-        n1, n2 = np.linalg.norm(u, axis=-1), np.linalg.norm(p2, axis=-1)
-        which = free_angles(sol.free, u / n1[..., None], p2 / n2[..., None], S.axis[3],
-                            S.axis[4])
-        sol = Solutions(sol.theta, sol.c, sol.s, sol.ok, sol.exact, sol.free, which)
-    br = br.branch([3, 4], sol)
+    # (axis 5 through O: joint 5 free, 4 not, as the subproblem's undetermined masks say)
+    br = br.branch([3, 4], sp2(u, p2, S.axis[3], S.axis[4]))
     return spherical_taking(S, br, (0, 1, 2), Rt, after=(3, 4))
 
 

@@ -52,7 +52,8 @@ def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
         ``exact (..., 2)``: the pair solves the equation, else it is the least-squares
         pair (``|p1| != |p2|``, or the cone of ``k2`` does not reach the height of
         ``p2``). ``free (..., 2)``: ``theta2`` or ``theta1`` undetermined (the
-        undetermined angle shows 0).
+        undetermined angle shows 0); ``undetermined``: which (:func:`free_angles`), or
+        None where no slot is free.
 
     Raises
     ------
@@ -73,9 +74,12 @@ def sp2(p1, p2, k1, k2, *, tol: float = 1e-9) -> Solutions:
     q = c2 * v + s2 * kv + (1.0 - c2) * dot(k2, p1)[..., None, None] * k2[..., None, :]
     first = sp1(q, p2[..., None, :], k1[..., None, :], tol=tol)
     t1, c1, s1 = (x[0][..., 0] for x in (first.theta, first.c, first.s))
+    free = second.free | first.free[..., 0]
+    # which angle is undetermined (rare: the others are then the problem's own)
+    which = free_angles(free, *(x[..., None, :] for x in (p1, p2, k1, k2)), tol=tol) \
+        if np.count_nonzero(free) else None
     return Solutions((t1, second.theta[0]), (c1, second.c[0]), (s1, second.s[0]), second.ok,
-                     second.exact & first.exact[..., 0] & same[..., None],
-                     second.free | first.free[..., 0])
+                     second.exact & first.exact[..., 0] & same[..., None], free, which)
 
 
 def free_angles(free, p1, p2, k1, k2, *, tol: float = 1e-9) -> tuple:

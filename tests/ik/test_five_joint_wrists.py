@@ -397,3 +397,39 @@ def test_spherical_shoulder_with_axis_5_through_the_shoulder_point(tool):
                    _same(r, follow_joint(miss, s.q, 4, q[4], way, (0, 1, 2)), q)
                    for s in sols for way in (1, -1)), np.degrees(q)
         checked += 1
+
+
+PA_ON_AXIS_1 = """
+name: pa
+convention: dh
+units: {length: mm, angle: deg}
+joints:
+  - {name: j1, type: revolute, alpha: -90.0, a: 0.0, d: 351.7670583793126, theta: 0.0}
+  - {name: j2, type: revolute, alpha: 90.0, a: 0.0, d: 86.07847483531593, theta: 0.0}
+  - {name: j3, type: prismatic, alpha: 0.0, a: 0.0, d: 0.0, theta: -90.0}
+  - {name: j4, type: revolute, alpha: -90.0, a: 0.0, d: 386.0359064138038, theta: 0.0}
+  - {name: j5, type: revolute, alpha: 90.0, a: 0.0, d: 0.0, theta: 0.0}
+tool: {xyz: [0.0, 0.0, 117.98045448620455], rpy: [0.0, -0.0, 0.0]}
+"""
+
+
+def test_an_approach_along_axis_4_leaves_joint_4_free_not_joint_5():
+    """The approach and the point both on axis 1 (the independent IK oracle's case): joint
+    4 turns the tool about the approach, joint 5 tilts it. Both were labelled free (the
+    subproblem's free mask given to both its angles); a joint is free exactly when moving
+    it alone keeps the point and the approach (checked by FK)."""
+    from kincalc import parse_robot_text
+    r = parse_robot_text(PA_ON_AXIS_1)
+    T = np.eye(4)
+    T[:3, 3] = np.array([0.0, -86.07847483531599, -152.24930252069578]) * 1e-3
+    res = solve(r, Target(T, orientation=False, approach=np.array([0.0, 0.0, -1.0])))
+    assert res.solutions
+    for s in res.solutions:
+        for j in range(r.dof):
+            q = np.array(s.q, float)
+            q[j] += 0.3
+            F = r.fk(q)
+            keeps = np.allclose(F[:3, 3], T[:3, 3], atol=1e-9) and \
+                np.allclose(F[:3, 2], [0, 0, -1], atol=1e-9)
+            assert (j in s.free) == keeps, (s.branch, j)
+        assert "(j4 free)" in s.branch

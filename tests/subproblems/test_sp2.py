@@ -120,6 +120,7 @@ def test_parallel_axes_are_free_with_the_sum_determined():
     check_sane(S, (), 2, 2)
     assert S.ok.tolist() == [True, False] and S.free[0] and S.exact[0]
     assert S.rows() == [(pytest.approx(PI / 2, abs=1e-15), 0.0)]
+    assert [u[0] for u in S.undetermined] == [True, True]          # either angle
     S = sp2(X, Y + Z, Z, Z)                  # another height: no pair, still free
     assert S.free[0] and not S.exact[0]
 
@@ -130,6 +131,7 @@ def test_point_on_the_second_axis_is_free():
     check_sane(S, (), 2, 2)
     assert S.free[0] and S.exact[0]
     assert S.rows() == [(pytest.approx(PI / 2, abs=1e-15), 0.0)]
+    assert [u[0] for u in S.undetermined] == [False, True]          # theta2 only
 
 
 def test_rotated_point_on_the_first_axis_is_free():
@@ -138,6 +140,34 @@ def test_rotated_point_on_the_first_axis_is_free():
     check_sane(S, (), 2, 2)
     assert S.free[0] and S.exact[0]
     assert S.rows() == [(0.0, pytest.approx(PI / 2, abs=1e-15))]
+    assert [u[0] for u in S.undetermined] == [True, False]          # theta1 only
+
+
+@pytest.mark.parametrize("lead", [(), (1,), (2, 3, 4)])
+def test_which_angle_is_undetermined_is_each_angles_own_test_at_any_batch_shape(lead):
+    """An angle is undetermined when turning it changes nothing: theta1 where p2 lies on k1
+    (R1 turns p2's preimage about itself), theta2 where p1 lies on k2. Checked by turning
+    each angle of the returned pair and seeing whether the equation still holds. (Parallel
+    axes, where only the sum is fixed and either angle stands for the continuum, are the
+    test above.)"""
+    from kincalc.spatial import matrix_from_axis_angle
+    cases = [(Y, Z, Z, X), ([0, 0, 1], [1, 0, 0], Y, Z), (X, Y, Z, X), (X, Y, Z, Y)]
+    for p1, p2, k1, k2 in cases:
+        p1, p2, k1, k2 = (np.broadcast_to(np.asarray(v, float), lead + (3,)) for v in
+                          (p1, p2, k1, k2))
+        S = sp2(p1, p2, k1, k2)
+        if not S.free.any():
+            assert S.undetermined is None
+            continue
+        t1, t2 = (t[..., 0].reshape(-1) for t in S.theta)
+        for i, u in enumerate(S.undetermined):
+            for j in range(t1.size):
+                a = [t1[j], t2[j]]
+                a[i] += 0.7
+                R = matrix_from_axis_angle(k1.reshape(-1, 3)[j], a[0]) @ \
+                    matrix_from_axis_angle(k2.reshape(-1, 3)[j], a[1])
+                holds = np.allclose(R @ p1.reshape(-1, 3)[j], p2.reshape(-1, 3)[j])
+                assert bool(u[..., 0].reshape(-1)[j]) == holds
 
 
 def test_zero_points_are_free_and_finite():
