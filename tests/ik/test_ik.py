@@ -261,15 +261,20 @@ def test_joint_limits_flagged_and_blocked_reason():
             assert amount > 0 and (s.q[i] < lo[i] if side == "lower" else s.q[i] > hi[i])
 
 
+def tcv_target(w):
+    """The IK target of a tool configuration vector ``w (6,)`` (SI; as the CLI reads one)."""
+    T = np.eye(4)
+    T[:3, 3] = w[:3]
+    n = np.linalg.norm(w[3:])
+    return Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n)))
+
+
 def test_zagreb_tool_configuration_vector_target():
     from kincalc.spatial import tcv_from_transform
     r = load_robot("fer_rrpr")
     q = np.array([D(30), D(50), 0.25, D(40)])
     w = tcv_from_transform(r.fk(q), q[3])
-    T = np.eye(4)
-    T[:3, 3] = w[:3]
-    n = np.linalg.norm(w[3:])
-    res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+    res = solve(r, tcv_target(w))
     assert any(close(s.q, q, r) for s in res.solutions)
     # homework eq. (2-4): q4 = pi/2 ln(w4^2 + w5^2 + w6^2) for every solution
     for s in res.solutions:
@@ -293,10 +298,7 @@ def test_tcv_targets_leave_no_constants_behind(name):
     def solve_some(k):
         for q in sample_configurations(r, k, rng):
             w = tcv_from_transform(r.fk(q), q[-1])
-            T = np.eye(4)
-            T[:3, 3] = w[:3]
-            n = np.linalg.norm(w[3:])
-            res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+            res = solve(r, tcv_target(w))
             assert any(close(s.q, q, r) for s in res.solutions)
 
     solve_some(3)
@@ -314,10 +316,7 @@ def test_a_tcv_last_joint_beyond_a_half_turn_is_not_moved_by_a_turn(q4):
     r = load_robot("fer_rrpr")
     q = np.array([D(30), D(60), 0.3, D(q4)])
     w = tcv_from_transform(r.fk(q), q[3])
-    T = np.eye(4)
-    T[:3, 3] = w[:3]
-    n = np.linalg.norm(w[3:])
-    target = Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n)))
+    target = tcv_target(w)
     res = solve(r, target)
     assert len(res.solutions) == 2 and any(close(s.q, q, r) for s in res.solutions)
     for s in res.solutions:             # homework eq. (2-4), and the vector back from FK
@@ -372,10 +371,7 @@ def test_tcv_of_a_planar_arm_with_a_tilted_last_joint(seed):
     assert plan(r)[1].name == "planar-4"
     for q in rng.uniform(-np.pi, np.pi, (8, 4)):
         w = tcv_from_transform(r.fk(q), q[3])
-        T = np.eye(4)
-        T[:3, 3] = w[:3]
-        n = np.linalg.norm(w[3:])
-        res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+        res = solve(r, tcv_target(w))
         assert any(close(s.q, q, r) for s in res.solutions)
         for s in res.solutions:
             assert abs(s.q[3] - q[3]) < 1e-9
@@ -391,10 +387,7 @@ def test_tcv_typed_to_six_decimals_is_still_reachable():
     r = load_robot("fer_rrpr")
     q = np.array([D(30), D(60), 0.3, D(45)])
     w = np.round(tcv_from_transform(r.fk(q), q[3]), 6)
-    T = np.eye(4)
-    T[:3, 3] = w[:3]
-    n = np.linalg.norm(w[3:])
-    res = solve(r, Target(T, orientation=False, tcv=(w[3:] / n, np.pi * np.log(n))))
+    res = solve(r, tcv_target(w))
     assert res.reachable and any(np.allclose(s.q, q, atol=1e-5) for s in res.solutions)
 
 
