@@ -124,14 +124,16 @@ def _(r: Outside, robot, units) -> str:
     if r.motion is not None:
         return (f"outside the workspace: the tool moves in a {r.motion} and the target is "
                 f"{length(r.off, units)} off it; the nearest reachable point is {d} away")
+    # (in this direction: the nearest point on the line from the base through the target;
+    # elsewhere its own distance from the base, which is no reach in the target's direction)
+    reach = (f"the arm reaches {length(r.reach, units)} from it in this direction" if r.radial
+             else f"the nearest point the arm reaches is {length(r.reach, units)} from it")
     if r.where == "beyond-outer-reach":
         return (f"beyond the outer reach by {d}: the target is {length(r.target, units)} "
-                f"from the base, the arm reaches {length(r.reach, units)} from it in this "
-                "direction" + _unit_slip(r, units))
+                f"from the base, {reach}" + _unit_slip(r, units))
     if r.where == "inside-inner-void":
         return (f"inside the inner void by {d}: the target is {length(r.target, units)} "
-                f"from the base, the arm reaches no closer than {length(r.reach, units)}"
-                + (" in this direction" if r.along else ""))
+                f"from the base, {reach}")
     return f"outside the workspace: the nearest reachable point is {d} away"
 
 

@@ -244,11 +244,16 @@ def where_outside(robot, p, p_near, dist):
     d_near = float(np.linalg.norm(p_near - o))
     radial = p_near - o
     cos = float((p - p_near) @ radial / max(np.linalg.norm(radial) * dist, 1e-300))
+    # the nearest point on the line from the base through the target: the distances add up
+    # (a target at the base has no direction)
+    size = max(robot.characteristic_length, 1e-12)
+    on_line = d_target > 1e-12 * size and abs(dist - abs(d_target - d_near)) <= 1e-6 * size
     if d_target > d_near and cos > 0.5:
-        return Outside("beyond-outer-reach", dist, target=d_target, reach=d_near)
+        return Outside("beyond-outer-reach", dist, target=d_target, reach=d_near,
+                       radial=on_line)
     if d_target < d_near:
         return Outside("inside-inner-void", dist, target=d_target, reach=d_near,
-                       along=d_target > 1e-12 * max(robot.characteristic_length, 1e-12))
+                       radial=on_line)
     return Outside("outside-workspace", dist)
 
 

@@ -67,15 +67,16 @@ class Outside(NamedTuple):
     nearest reachable point ``distance`` (m) away: ``where`` is 'beyond-outer-reach',
     'inside-inner-void' or 'outside-workspace'. ``motion``: 'plane' or 'line' when the
     tool moves in one and the target is ``off`` (m) off it; ``target`` and ``reach``
-    (m): the target's distance from the base and the arm's reach from it in that
-    direction; ``along`` False when the target is at the base itself."""
+    (m): the target's and the nearest point's distances from the base; ``radial`` the
+    nearest point lies on the line from the base through the target (then ``reach`` is the
+    arm's reach in the target's direction, and ``distance`` ``|target - reach|``)."""
     where: str
     distance: float
     motion: str | None = None
     off: float = 0.0
     target: float = 0.0
     reach: float = 0.0
-    along: bool = True
+    radial: bool = False
 
 
 class OutOfReach(NamedTuple):

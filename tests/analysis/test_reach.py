@@ -127,6 +127,27 @@ def test_inside_the_inner_void(arms):
     assert np.allclose(res.nearest_position, R_IN * U, atol=1e-9)
 
 
+def test_the_reason_says_in_this_direction_only_of_a_nearest_point_on_the_line():
+    """The reason names the target's and the nearest point's distances from the base. On
+    a planar arm's annulus the nearest point lies on the line from the base through the
+    target (by hand: 1 from the base, the inner circle at 5, by 4), and the amount is their
+    difference. On spong_spherical_rrp, whose nearest point to this target lies off that
+    line, the amount is no such difference, and the text said the arm reached "no closer
+    than 0.516555 m in this direction" with an amount of 0.038685 m."""
+    res = reach(load("bk_rr"), Target(at((1.0, 0.0, 0.0)), orientation=False))
+    assert res.verdict == "inside-inner-void"
+    assert res.reason.startswith("inside the inner void by 4: the target is 1 from the base, "
+                                 "the arm reaches 5 from it in this direction")
+    p = np.array([-0.09360715079430261, -0.06734419363616509, -0.4930650993169097])
+    res = reach(load("spong_spherical_rrp"), Target(at(p), orientation=False))
+    assert res.verdict == "inside-inner-void" and "in this direction" not in res.reason
+    by, target, near = (float(x) for x in re.findall(
+        r"by ([0-9.e-]+) m: the target is ([0-9.e-]+) m from the base, the nearest point "
+        r"the arm reaches is ([0-9.e-]+) m from it", res.reason)[0])
+    assert abs(target - np.linalg.norm(p)) < 1e-5
+    assert abs(near - target) < by - 1e-3          # off the line: more than the difference
+
+
 def test_at_the_base_origin(arms):
     # every point of the inner circle is 0.3 m from the origin
     res = point(arms, "rr", np.zeros(3))
