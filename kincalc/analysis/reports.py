@@ -74,7 +74,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     singularity = None
     if rank < full or pos_rank < full_pos:
         # the direction (base frame) the tool point cannot move in, when it has lost one
-        stuck = Up[:, pos_rank] if pos_rank < full_pos else None
+        stuck = _stuck(robot, Up, pos_rank) if pos_rank < full_pos else None
         singularity = _classify(robot, q, U, s, Vt, rank, stuck)
 
     result_analytic = err = None
@@ -93,6 +93,21 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                           generic_rank=full, position_rank=pos_rank, generic_position_rank=full_pos,
                           singularity=singularity, analytic=result_analytic,
                           analytic_error=err)
+
+
+def _stuck(robot, Up, rank: int) -> np.ndarray:
+    """The direction (unit, base frame) the tool point cannot move in at this configuration
+    (``Up (3, 3)``: the left singular vectors of the linear rows, of ``rank``), among those
+    it moves in at a generic one: a planar arm never leaves its plane, so that normal is no
+    loss (the SVD's order among its zero singular values is arbitrary: a stretched planar
+    arm's loss came out as the normal)."""
+    if robot.generic_ranks[1] == 3:
+        return Up[:, rank]
+    from ..ik.nearest import samples
+    Jv = robot.jacobian(samples(robot, 8, 1))[:, :3]                  # (8, 3, n)
+    moves = np.linalg.svd(np.moveaxis(Jv, 1, 0).reshape(3, -1))[0][:, :robot.generic_ranks[1]]
+    here = Up[:, :rank]
+    return np.linalg.svd(moves - here @ (here.T @ moves))[0][:, 0]
 
 
 def _classify(robot, q, U, s, Vt, rank, stuck=None) -> Singularity:

@@ -361,3 +361,25 @@ def test_the_condition_of_a_robot_with_two_joints_on_one_line_is_over_its_generi
         assert np.isclose(d["condition"], s[0] / s[1], rtol=1e-9)
         res_mm = jacobian_report(r, q, units=Units(length="mm"))
         assert np.isclose(res_mm.to_dict()["condition"], d["condition"], rtol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["planar_3r", "craig_3r", "bk_rr"])
+def test_a_stretched_planar_arm_loses_the_motion_along_itself_not_off_its_plane(name):
+    """Stretched or folded, a planar arm's joints all move the tool point across its links:
+    the lost direction is in the plane and normal to every joint's motion of the tool point
+    (central differences of FK), never the plane's normal, which no configuration moves
+    along. At q1 = 0 it was said to be z."""
+    import re
+    r = load_robot(name)
+    for q1 in (0.0, 0.5, -2.0):
+        for bend in (0.0, np.pi):
+            q = np.zeros(r.dof)
+            q[0], q[1] = q1, bend
+            res = jacobian_report(r, q)
+            text = [t for t in res.singularity.descriptions if "cannot move along" in t][0]
+            d = np.array([float(x) for x in re.search(r"along \(([^)]*)\)", text)[1].split(",")])
+            h = 1e-6
+            moves = [(r.fk(q + h * e)[:3, 3] - r.fk(q - h * e)[:3, 3]) / (2 * h)
+                     for e in np.eye(r.dof)]
+            assert abs(d[2]) < 1e-3 and np.linalg.norm(d) > 0.99            # in the plane
+            assert all(abs(d @ m) < 2e-3 * r.characteristic_length for m in moves), (q, text)
