@@ -154,10 +154,37 @@ def _position_only(robot, target, units) -> ReachResult:
                                          "from sampled configurations, within the limits"},
                   units=units)
     if dist <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12):
-        return ReachResult(verdict="reachable", distance=0.0, **near, **common,
-                           reason="the position is reachable (with some orientation; give "
-                                  "one to ask about the whole pose)")
+        reason = ("the position is reachable (with some orientation; give one to ask about "
+                  "the whole pose)")
+        stuck = _on_the_boundary(robot, p, q_near)
+        if stuck is None:
+            return ReachResult(verdict="reachable", distance=0.0, reason=reason, **near,
+                               **common)
+        d = np.round(stuck * np.sign(stuck[np.argmax(np.abs(stuck))]), 3) + 0.0
+        return ReachResult(verdict="reachable-singular", distance=0.0, **near, **common,
+                           reason=reason + ", on the workspace's boundary: only where the "
+                           "tool point cannot move along ({:.3f}, {:.3f}, {:.3f}) (base "
+                           "frame); reachable, but not robustly".format(*d))
     return _out_of_reach(robot, p, dist, near, common, units)
+
+
+def _on_the_boundary(robot, p, q):
+    """The direction (unit, base frame) the tool point at ``p``, reached at ``q``, cannot
+    move along, where ``p`` lies on the boundary of the positions reached within the limits
+    (a stretched arm): the tool point's Jacobian at ``q`` has lost rank, and a point a hair
+    (1e-6 of the arm's size) beyond ``p`` that way, on one side or the other, is out of
+    reach. None elsewhere (a configuration singular at a point others reach as well)."""
+    from ..jacobian import numerical_rank, scale_free
+    from .reports import stuck_direction
+    L = max(robot.characteristic_length, 1e-12)
+    Jv = scale_free(robot.jacobian(q), robot.is_revolute, L)[:3]
+    Up, s, _ = np.linalg.svd(Jv)
+    rank = int(numerical_rank(s))
+    if rank >= robot.generic_ranks[1]:
+        return None
+    d = stuck_direction(robot, Up, rank)
+    beyond = [nearest_position(robot, p + side * 1e-6 * L * d)[2] for side in (1, -1)]
+    return d if max(beyond) > ACCEPT_POSITION * L else None
 
 
 def _out_of_reach(robot, p, dist, near, common, units) -> ReachResult:

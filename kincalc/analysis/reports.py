@@ -74,7 +74,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     singularity = None
     if rank < full or pos_rank < full_pos:
         # the direction (base frame) the tool point cannot move in, when it has lost one
-        stuck = _stuck(robot, Up, pos_rank) if pos_rank < full_pos else None
+        stuck = stuck_direction(robot, Up, pos_rank) if pos_rank < full_pos else None
         singularity = _classify(robot, q, U, s, Vt, rank, stuck)
 
     result_analytic = err = None
@@ -95,7 +95,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                           analytic_error=err)
 
 
-def _stuck(robot, Up, rank: int) -> np.ndarray:
+def stuck_direction(robot, Up, rank: int) -> np.ndarray:
     """The direction (unit, base frame) the tool point cannot move in at this configuration
     (``Up (3, 3)``: the left singular vectors of the linear rows, of ``rank``), among those
     it moves in at a generic one: a planar arm never leaves its plane, so that normal is no

@@ -148,6 +148,20 @@ def test_the_reason_says_in_this_direction_only_of_a_nearest_point_on_the_line()
     assert abs(near - target) < by - 1e-3          # off the line: more than the difference
 
 
+@pytest.mark.parametrize("name, reach_m", [("planar_3r", 3.0), ("craig_3r", 1.0)])
+def test_a_position_on_the_boundary_is_reached_singular_also_without_an_orientation(
+        name, reach_m):
+    """A planar arm's outer circle (by hand: the sum of its links) is reached stretched
+    only: reachable-singular with or without an orientation (without one it said
+    reachable), losing the motion along the arm; a hair inside it, reachable."""
+    robot = load(name)
+    res = reach(robot, Target(at((reach_m, 0.0, 0.0)), orientation=False))
+    assert res.verdict == "reachable-singular" and res.reachable
+    assert "cannot move along (1.000, 0.000, 0.000)" in res.reason
+    res = reach(robot, Target(at((reach_m * (1 - 1e-4), 0.0, 0.0)), orientation=False))
+    assert res.verdict == "reachable"
+
+
 def test_at_the_base_origin(arms):
     # every point of the inner circle is 0.3 m from the origin
     res = point(arms, "rr", np.zeros(3))
