@@ -51,6 +51,7 @@ import numpy as np
 from ..jacobian import finite_difference_jacobian
 from .newton import levenberg_marquardt, pushed_out
 from ..spatial import TURN, into_turn, rotation_error, rotvec_from_matrix
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
 #: 1e-9 relative); iterations go on down to STOP or until they make no progress
@@ -434,6 +435,9 @@ def solve_numeric(fk: Callable, T, q0, *, jacobian: Callable | None = None, limi
     except (ValueError, ArithmeticError):      # no start the mechanism accepts
         pe, oe = np.inf, (np.inf if orientation else None)
     at = [i for i in range(n) if q[i] <= lo[i] + 1e-12 or q[i] >= hi[i] - 1e-12]
-    return NumericIK(q=q, converged=bool(E <= TOL), position_error=pe,
+    # a descent that stalls short of TOL (a joint held at a limit) but reaches the pose to the
+    # analytic solvers' acceptance has found a solution, as theirs would be
+    accepted = pe <= ACCEPT_POSITION * scale and (oe is None or oe <= ACCEPT_ORIENTATION)
+    return NumericIK(q=q, converged=bool(E <= TOL or accepted), position_error=pe,
                      orientation_error=oe, iterations=k, at_limits=at,
                      distance=float(np.linalg.norm((q - q0) / s)), start=start, restarts=tried)

@@ -80,6 +80,26 @@ def test_a_start_a_whole_turn_off_its_limits_starts_from_its_turn_within_them():
         assert np.max(np.abs(wrap(res.solutions[0].q - q))) < 1e-7
 
 
+def test_a_descent_that_stalls_within_the_acceptance_has_found_a_solution():
+    """A Panda pose next to its limits (the independent reach oracle's): the search ends
+    1.2e-11 m and 1.1e-10 rad from the pose, short of its own 1e-10 but within the 1e-9
+    every closed form accepts; it was "not found". The solution is checked by FK."""
+    from kincalc.tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+    r = load_robot("panda")
+    q = np.radians([-6.4269529146, 98.9809801231, -162.683000744, -168.064207731,
+                    -131.773244226, 146.32693357, 162.683000744])
+    T = r.fk(q)
+    res = solve(r, Target(T))
+    assert res.reachable and len(res.solutions) == 1
+    s = res.solutions[0]
+    F = r.fk(s.q)
+    assert np.linalg.norm(F[:3, 3] - T[:3, 3]) <= ACCEPT_POSITION * r.characteristic_length
+    R = F[:3, :3].T @ T[:3, :3]
+    assert np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1)) <= ACCEPT_ORIENTATION + 1e-12
+    lo, hi = r.limits.T
+    assert np.all(s.q >= lo) and np.all(s.q <= hi)
+
+
 def test_near_orders_analytic_solutions_by_change():
     r = load_robot("ur5")
     q = np.radians([30, -60, 90, -120, -90, 45])
