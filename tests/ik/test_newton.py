@@ -4,7 +4,7 @@ import numpy as np
 
 import kincalc
 from kincalc.ik.newton import _damped, _step, levenberg_marquardt, polish
-from kincalc.ik.numeric import solve_numeric
+from kincalc.ik.numeric import TOL, solve_numeric
 from kincalc.ik.general6r import solve_general_6r
 from kincalc.ik.selftest import sample_configurations
 
@@ -125,7 +125,10 @@ def test_general_6r_keeps_every_solution_at_a_nearly_singular_pose():
     for _ in range(300):
         res = solve_numeric(r.fk, T, rng.uniform(-np.pi, np.pi, 6), jacobian=r.jacobian,
                             scale=r.characteristic_length, least_change=False, restarts=0)
-        if res.converged:
+        # roots to the solver's own tolerance (a descent that stalls short of it, within
+        # the acceptance, is a solution too, but here 1e-4 rad from its root)
+        if res.converged and np.hypot(res.position_error / r.characteristic_length,
+                                      res.orientation_error) <= TOL:
             reference.append(res.q)
     assert reference
 
