@@ -182,7 +182,7 @@ def _on_the_boundary(robot, p, q):
     rank = int(numerical_rank(s))
     if rank >= robot.generic_ranks[1]:
         return None
-    d = stuck_direction(robot, Up, rank)
+    d = stuck_direction(robot, q, Up, rank)
     beyond = [nearest_position(robot, p + side * 1e-6 * L * d)[2] for side in (1, -1)]
     return d if max(beyond) > ACCEPT_POSITION * L else None
 

@@ -74,7 +74,7 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
     singularity = None
     if rank < full or pos_rank < full_pos:
         # the direction (base frame) the tool point cannot move in, when it has lost one
-        stuck = stuck_direction(robot, Up, pos_rank) if pos_rank < full_pos else None
+        stuck = stuck_direction(robot, q, Up, pos_rank) if pos_rank < full_pos else None
         singularity = _classify(robot, q, U, s, Vt, rank, stuck)
 
     result_analytic = err = None
@@ -95,17 +95,22 @@ def jacobian_report(robot, q, units: Units = Units(), frame: str = "base",
                           analytic_error=err)
 
 
-def stuck_direction(robot, Up, rank: int) -> np.ndarray:
-    """The direction (unit, base frame) the tool point cannot move in at this configuration
-    (``Up (3, 3)``: the left singular vectors of the linear rows, of ``rank``), among those
-    it moves in at a generic one: a planar arm never leaves its plane, so that normal is no
-    loss (the SVD's order among its zero singular values is arbitrary: a stretched planar
-    arm's loss came out as the normal)."""
+def stuck_direction(robot, q, Up, rank: int) -> np.ndarray:
+    """The direction (unit, base frame) the tool point cannot move in at the configuration
+    ``q (n,)`` (``Up (3, 3)``: the left singular vectors of the scale-free linear rows there,
+    of ``rank``), among those it moves in next to it, at a configuration 1e-3 (rad, or of
+    the arm's size) away in a fixed random direction, off the singular set: a planar arm
+    never leaves its plane, nor an arm of two joints its sphere, so their normals are no
+    loss (the SVD's order among the zero singular values is arbitrary: a stretched planar
+    arm's loss came out as the plane's normal)."""
     if robot.generic_ranks[1] == 3:
         return Up[:, rank]
-    from ..ik.nearest import samples
-    Jv = robot.jacobian(samples(robot, 8, 1))[:, :3]                  # (8, 3, n)
-    moves = np.linalg.svd(np.moveaxis(Jv, 1, 0).reshape(3, -1))[0][:, :robot.generic_ranks[1]]
+    from ..jacobian import scale_free
+    L = max(robot.characteristic_length, 1e-12)
+    step = np.random.default_rng(0).standard_normal(robot.dof)
+    beside = q + 1e-3 * step / np.linalg.norm(step) * np.where(robot.is_revolute, 1.0, L)
+    Jv = scale_free(robot.jacobian(beside), robot.is_revolute, L)[:3]
+    moves = np.linalg.svd(Jv)[0][:, :robot.generic_ranks[1]]
     here = Up[:, :rank]
     return np.linalg.svd(moves - here @ (here.T @ moves))[0][:, 0]
 
