@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import matrix_from_axis_angle, wrap
+from ..structure import parallel
 from ..tolerances import GEOMETRY_TOL
 from ..subproblems import sp2
 from ..subproblems.solutions import Solutions, dot
@@ -374,12 +375,12 @@ def tcv_pose(S: Screws, targets):
     n = S.n
     turning = [j for j in range(n - 1) if S.revolute[j]]
     h = S.axis[turning[0]] if turning else None
-    if any(np.linalg.norm(np.cross(S.axis[j], h)) > GEOMETRY_TOL for j in turning[1:]):
+    if not all(parallel(S.axis[j], h) for j in turning[1:]):
         return None
     R = matrix_from_axis_angle(S.axis[n - 1], float(targets.roll[0])) @ S.M[:3, :3]
     if h is not None:
         v = R[:, 2]
-        if np.linalg.norm(np.cross(v, h)) <= GEOMETRY_TOL:
+        if parallel(v, h):
             return None
         psi = turn_onto(h, v, np.asarray(targets.approach[0], float))[0]
         R = matrix_from_axis_angle(h, float(psi)) @ R
