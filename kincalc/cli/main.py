@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import re
 import signal
 import sys
 
@@ -317,6 +318,10 @@ ONE_ARGUMENT_VALUES = ("--from-q", "--near")
 VALUES_AS_WORDS = ("ik", "reach")
 
 
+#: a word that is an option's name, not a value (``--near``, ``-j``; ``--`` itself)
+_OPTION = re.compile(r"--?([A-Za-z]|$)")
+
+
 def gathered(args: list) -> list:
     """``args`` with the numbers that follow ``--from-q`` or ``--near`` (or their
     ``--from-q=0`` form) as words of their own (``kincalc ik puma560 --from-q 0 -45 180 0
@@ -339,6 +344,9 @@ def gathered(args: list) -> list:
             continue
         if not equals:                          # the value is the next word
             value, k = args[k], k + 1
+            if value == "--" or _OPTION.match(value):
+                raise click.UsageError(f"Option '{name}' requires an argument: its joint "
+                                       "values, before the next option")
         values = [value]
         while k < len(args) and DECIMAL.fullmatch(args[k]):
             values.append(args[k])

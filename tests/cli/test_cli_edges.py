@@ -258,3 +258,16 @@ def test_gathering_touches_only_ik_and_reach_and_nothing_after_double_dash():
     assert gathered(["reach", "r", "--from-q=1", "-2", "--near=3"]) == \
         ["reach", "r", "--from-q", "1 -2", "--near", "3"]
     assert gathered(["ik", "r", "--from-q", "1 2", "3"]) == ["ik", "r", "--from-q", "1 2 3"]
+
+
+def test_an_option_or_double_dash_after_from_q_is_its_missing_values():
+    # was "no such option: -- (did you mean --to?)", and --near took "--from-q 1 2 ..." as
+    # its values
+    for words in (["--from-q", "--", "1", "2"], ["--near", "--from-q", "0", "0", "0", "0",
+                                                  "0", "0"]):
+        status, out, err = run("ik", "puma560", *words)
+        option = words[0]
+        assert status == 2 and out == "" and len(err.splitlines()) == 1
+        assert f"Option '{option}' requires an argument" in err and "did you mean" not in err
+    status, _, err = run("ik", "puma560", "--from-q", "-1 -2 -3 0 0 0", "--json")
+    assert status == 0, err                         # a value that starts with '-' is a value
