@@ -12,7 +12,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..spatial import wrap
+from ..spatial import into_limits, wrap
 from ..tolerances import DUPLICATE, INEXACT, LIMIT_TOL, SPLIT_DOUBLE_ROOT
 from .cache import per_robot
 
@@ -20,8 +20,9 @@ from .cache import per_robot
 def normalise(robot, Q) -> np.ndarray:
     """``Q`` with each revolute joint moved by whole turns to the value nearest its limits.
 
-    In (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn within them (the
-    lowest, for limits wider than a turn), else the one that misses them least; prismatic kept.
+    In (-pi, pi] when that is within them (to ``LIMIT_TOL``), else the turn within them
+    nearest it (:func:`~kincalc.spatial.into_limits`), else the one that misses them least;
+    prismatic kept.
 
     Parameters
     ----------
@@ -37,15 +38,8 @@ def normalise(robot, Q) -> np.ndarray:
     if Q.size == 0 or rev is None:
         return Q.copy()
     x = wrap(Q if every else Q[..., rev])
-    lo, hi, lo_t, hi_t, lo_in, hi_in, turn, finite = _limits(robot, x.shape, every)
-    inside = (x >= lo_in) & (x <= hi_in)       # lo_in, hi_in: -inf, inf where every angle is
-    if np.count_nonzero(inside) < inside.size:
-        up = x + turn * np.ceil((lo_t - x) / turn)             # the first turn above lo
-        if not finite:                                          # an infinite limit: x is inside
-            up = np.where(np.isfinite(up), up, x)
-        below = up - turn                       # below lo; up, if beyond hi, the nearer?
-        pick = np.where(up <= hi_t, up, np.where(lo - below <= up - hi, below, up))
-        x = np.where(inside, x, pick)
+    lo, hi = _limits(robot, x.shape, every)[2:4]
+    x = into_limits(x, lo, hi)
     if every:
         return x
     Q = Q.copy()
@@ -262,9 +256,8 @@ def _limits(robot, shape: tuple, every: bool) -> tuple:
     shape (for values of up to :data:`TILED` entries; ``(n,)`` arrays beyond).
 
     ``every``: of all joints (``shape (..., n)``), else of the revolute ones. Returns ``(lo, hi,
-    lo - tol, hi + tol, lo_in, hi_in, turn, lower limits finite)``: ``tol`` is ``LIMIT_TOL`` (rad,
-    or times the arm's size for prismatic joints), ``lo_in, hi_in`` the widened limits with
-    -inf, inf for a revolute joint whose limits hold every angle, ``turn`` 2 pi (rad)."""
+    lo - tol, hi + tol)``, read-only: ``tol`` is ``LIMIT_TOL`` (rad, or times the arm's size
+    for prismatic joints)."""
     n = len(robot.is_revolute)
     if len(shape) and int(np.prod(shape)) > TILED:
         return _limits(robot, (shape[-1],), every)
@@ -272,14 +265,10 @@ def _limits(robot, shape: tuple, every: bool) -> tuple:
     lo, hi = robot.limits[rev].T
     tol = np.where(robot.is_revolute[rev], LIMIT_TOL,
                    LIMIT_TOL * max(robot.characteristic_length, 1e-12))
-    lo_t, hi_t = lo - tol, hi + tol
-    whole = robot.is_revolute[rev] & (lo_t <= -np.pi) & (hi_t >= np.pi)
-    out = [np.ascontiguousarray(np.broadcast_to(a, shape)) for a in (
-        lo, hi, lo_t, hi_t, np.where(whole, -np.inf, lo_t), np.where(whole, np.inf, hi_t),
-        np.full(len(lo), 2 * np.pi))]
+    out = [np.ascontiguousarray(np.broadcast_to(a, shape)) for a in (lo, hi, lo - tol, hi + tol)]
     for a in out:
         a.setflags(write=False)
-    return (*out, bool(np.isfinite(lo).all()))
+    return tuple(out)
 
 
 def within_limits(robot, Q) -> np.ndarray:
@@ -310,7 +299,7 @@ def violations(robot, q) -> np.ndarray:
     ndarray (..., n), ``q - lower`` below the lower limit, ``q - upper`` above the upper, else 0
     """
     q = np.asarray(q, float)
-    lo, hi, lo_band, hi_band = _limits(robot, q.shape, True)[:4]
+    lo, hi, lo_band, hi_band = _limits(robot, q.shape, True)
     return np.where(q < lo_band, q - lo, np.where(q > hi_band, q - hi, 0.0))
 
 

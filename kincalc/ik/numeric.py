@@ -50,7 +50,7 @@ import numpy as np
 
 from ..jacobian import finite_difference_jacobian
 from .newton import levenberg_marquardt, pushed_out
-from ..spatial import TURN, into_turn, rotation_error, rotvec_from_matrix
+from ..spatial import TURN, into_limits, into_turn, rotation_error, rotvec_from_matrix
 from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 
 #: converged when the scaled pose error is at most this (the analytic solvers accept
@@ -171,19 +171,10 @@ class _Problem:
 
     def into_range(self, q):
         """``q (n,)``, each revolute joint beyond its limits turned by whole turns to the value
-        nearest them (within them where a turn of it is; others unchanged): the same pose,
-        where :meth:`project` would clip it onto a limit, another pose (a start of 180 deg
-        for a joint limited to [-225, 45] deg is -180 deg, not 45)."""
-        lo, hi = self.lo, self.hi
-        low, high = self.revolute & (q < lo), self.revolute & (q > hi)
-        if not (low.any() or high.any()):
-            return q
-        with np.errstate(invalid="ignore"):         # (infinite limits: in unused entries)
-            up = q + TURN * np.ceil((lo - q) / TURN)       # the first turn of q at or above lo
-            down = q - TURN * np.ceil((q - hi) / TURN)     # the last at or below hi
-        up = np.where((up <= hi) | (up - hi <= lo - (up - TURN)), up, up - TURN)
-        down = np.where((down >= lo) | (lo - down <= down + TURN - hi), down, down + TURN)
-        return np.where(low, up, np.where(high, down, q))
+        nearest it within them (:func:`~kincalc.spatial.into_limits`): the same pose, where
+        :meth:`project` would clip it onto a limit, another pose (a start of 180 deg for a
+        joint limited to [-225, 45] deg is -180 deg, not 45)."""
+        return np.where(self.revolute, into_limits(q, self.lo, self.hi), q)
 
     def project(self, q):
         """``q`` clipped to the limits.

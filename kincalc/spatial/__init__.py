@@ -32,12 +32,12 @@ from .rotations import (LEVI_CIVITA, TURN, axis_angle_from_matrix, cross,
                         matrix_from_quaternion, matrix_from_rotvec, 
                         quaternion_from_matrix, rot_x, rot_y, rot_z, rotation_angle,
                         rotation_error, rotvec_from_matrix, skew, turn_toward, wrap,
-                        into_turn)
+                        into_limits, into_turn)
 from .transforms import (TCV_MAX_ROLL, adjoint, invert_transform, log_transform,
                          tcv_from_transform, transform, transform_from_tcv)
 
 __all__ = [
-    "wrap", "turn_toward", "into_turn", "TURN", "TCV_MAX_ROLL", "LEVI_CIVITA",
+    "wrap", "turn_toward", "into_limits", "into_turn", "TURN", "TCV_MAX_ROLL", "LEVI_CIVITA",
     "rot_x", "rot_y", "rot_z", "transform", "invert_transform", "cross", "skew",
     "matrix_from_rpy", "rpy_from_matrix",
     "matrix_from_euler_zyz", "euler_zyz_from_matrix",

@@ -67,6 +67,35 @@ def into_turn(x, base) -> np.ndarray:
     return base + np.where(r < TURN, r, 0.0)        # (mod of a tiny negative rounds to TURN)
 
 
+def into_limits(x, lo, hi) -> np.ndarray:
+    """Angles beyond their limits moved by whole turns to the value within them nearest the
+    angle, or where no turn of it is within them, to the turn that misses them least.
+
+    Parameters
+    ----------
+    x : array_like (...)
+        Angles (rad).
+    lo, hi : array_like, broadcasting with ``x``
+        Limits (rad; infinite allowed), ``lo <= hi``.
+
+    Returns
+    -------
+    ndarray (...)
+        A new array: ``x`` where it is within ``[lo, hi]`` (or not finite), else ``x + 2 pi
+        k``. Of two turns missing the limits alike, the lower.
+    """
+    x = np.asarray(x, float)
+    low, high = x < lo, x > hi
+    if not (np.count_nonzero(low) or np.count_nonzero(high)):
+        return x.copy()
+    with np.errstate(invalid="ignore"):         # (infinite limits: in entries not taken)
+        up = x + TURN * np.ceil((lo - x) / TURN)        # the first turn at or above lo
+        down = x - TURN * np.ceil((x - hi) / TURN)      # the last at or below hi
+        up = np.where((up <= hi) | (up - hi < lo - (up - TURN)), up, up - TURN)
+        down = np.where((down >= lo) | (lo - down <= down + TURN - hi), down, down + TURN)
+    return np.where(low, up, np.where(high, down, x))
+
+
 def turn_toward(x, near, lo, hi) -> np.ndarray:
     """Angles moved by whole turns (up to 3) to the value nearest ``near`` within limits.
 

@@ -272,6 +272,35 @@ def test_turn_toward_is_the_nearest_whole_turn_within_the_limits():
     assert turn_toward(X, np.zeros(4), -np.full(4, np.pi), np.full(4, np.pi)).shape == X.shape
 
 
+def _into_limits_reference(x, lo, hi):
+    """Brute force over 41 turns: x within [lo, hi]; else the turn within them nearest x;
+    else the turn missing them least (the lower of two alike)."""
+    if not math.isfinite(x) or lo <= x <= hi:
+        return x
+    turns = [x + 2 * math.pi * k for k in range(-20, 21)]
+    inside = [t for t in turns if lo <= t <= hi]
+    if inside:
+        return min(inside, key=lambda t: abs(t - x))
+    return min(turns, key=lambda t: (max(lo - t, t - hi), t))
+
+
+def test_into_limits_is_the_turn_within_the_limits_nearest_the_angle():
+    rng = np.random.default_rng(11)
+    los = [-np.pi, 0.0, -0.5, 3 * np.pi, -4 * np.pi, 2.0, -5 * np.pi, -np.inf, 1.0]
+    his = [np.pi, 2 * np.pi, 0.7, 3.5 * np.pi, 4 * np.pi, 2.1, 0.5, 0.3, np.inf]
+    lo, hi = np.array(los), np.array(his)
+    X = rng.uniform(-40, 40, (300, len(lo)))
+    X[:10] = np.where(np.isfinite(lo), lo, 0.0) - rng.uniform(0, 1e-9, (10, len(lo)))
+    X[10, :] = np.nan
+    got = sp.into_limits(X, lo, hi)
+    for x, g in zip(X, got):
+        want = [_into_limits_reference(*args) for args in zip(x.tolist(), los, his)]
+        assert np.allclose(g, want, atol=1e-12, equal_nan=True), (x, g, want)
+    assert sp.into_limits(X[:, :1], lo[:1], hi[:1]).shape == (300, 1)
+    within = np.clip(X, -0.5, 0.7)
+    assert np.array_equal(sp.into_limits(within, -0.5, 0.7), within, equal_nan=True)   # kept
+
+
 def test_into_turn_is_the_one_whole_turn_from_base():
     rng = np.random.default_rng(4)
     x, base = rng.uniform(-50, 50, 1000), rng.uniform(-10, 10, 1000)

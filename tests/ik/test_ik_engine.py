@@ -38,29 +38,32 @@ def _robot(limits):
 
 def _nearest_turn_reference(x, lo, hi):
     """Brute force over 41 turns: the principal value if it is within [lo, hi] (to
-    LIMIT_TOL), else the lowest turn within them, else the turn missing them least."""
+    LIMIT_TOL), else the turn within them nearest it, else the turn missing them least."""
     p = float(wrap(x))
     if lo - LIMIT_TOL <= p <= hi + LIMIT_TOL:
         return p
     turns = [p + 2 * np.pi * k for k in range(-20, 21)]
     inside = [t for t in turns if lo - LIMIT_TOL <= t <= hi + LIMIT_TOL]
     if inside:
-        return min(inside)
+        return min(inside, key=lambda t: abs(t - p))
     return min(turns, key=lambda t: max(lo - t, t - hi))
 
 
 LIMITS = [(-np.pi, np.pi), (0.0, 2 * np.pi), (-0.5, 0.7), (3 * np.pi, 3.5 * np.pi),
           (-4 * np.pi, 4 * np.pi), (2.0, 2.1)]
+#: more than two turns below or above the principal values: the turn nearest it is taken
+WIDE = [(-5 * np.pi, 0.5), (-0.5, 5 * np.pi)]
 
 
 def test_normalise_is_the_turn_nearest_the_limits():
-    robot = _robot(LIMITS)
+    limits = LIMITS + WIDE
+    robot = _robot(limits)
     rng = np.random.default_rng(3)
-    Q = rng.uniform(-15, 15, (400, 6))
-    Q[:20] = np.array([lo for lo, _ in LIMITS]) + rng.choice([-1, 1], (20, 6)) * 5e-10
+    Q = rng.uniform(-15, 15, (400, len(limits)))
+    Q[:20] = np.array([lo for lo, _ in limits]) + rng.choice([-1, 1], (20, len(limits))) * 5e-10
     got = normalise(robot, Q)
     for q, g in zip(Q, got):
-        want = [_nearest_turn_reference(x, lo, hi) for x, (lo, hi) in zip(q, LIMITS)]
+        want = [_nearest_turn_reference(x, lo, hi) for x, (lo, hi) in zip(q, limits)]
         assert np.allclose(g, want, atol=1e-12), (q, g, want)
         assert np.allclose(np.cos(g), np.cos(q)) and np.allclose(np.sin(g), np.sin(q))
     assert np.array_equal(within_limits(robot, Q), ~(violations(robot, got) != 0).any(-1))
