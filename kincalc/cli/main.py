@@ -318,8 +318,8 @@ ONE_ARGUMENT_VALUES = ("--from-q", "--near")
 VALUES_AS_WORDS = ("ik", "reach")
 
 
-#: a word that is an option's name, not a value (``--near``, ``-j``; ``--`` itself)
-_OPTION = re.compile(r"--?([A-Za-z]|$)")
+#: a word that is a long option's name, not a value (``--near``; ``--`` itself)
+_OPTION = re.compile(r"--([A-Za-z]|$)")
 
 
 def gathered(args: list) -> list:
