@@ -42,7 +42,7 @@ def polish_points(S: Screws, joints, p0, br, PT, iters: int = POLISH_STEPS,
     x, res, _ = polish(evaluate, X[live], iterations=iters, tol=1e-15, damping=1e-14,
                        stall=1e-12, fixed=fixed)
     X = np.where(live[..., None], X, 0.0)
-    x, res = _split_double_roots(S, joints, live, PT, x, res, evaluate, fixed)
+    x, res = _split_double_roots(S, joints, live, PT, X[live], x, res, evaluate, fixed)
     X[live] = _down_the_valley(S, joints, live, PT, x, res, evaluate, fixed)
     for i, j in enumerate(joints):
         x = X[..., i]
@@ -76,7 +76,8 @@ def _down_the_valley(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> np
     takes the joints of the other, or of the better where both came down (the engine's
     rule for a polished solution, :func:`kincalc.ik.near_miss.double_roots`, here on the
     placement's scale). Two slots that three steps brought to rounding are distinct roots
-    and keep their joints."""
+    and keep their joints, and so do two that both reach it to rounding while the joints
+    halfway between them miss it (:func:`_two_roots`)."""
     from .newton import polish
     rows = (res > ROUGH).nonzero()[0]
     if not len(rows):
@@ -94,12 +95,48 @@ def _down_the_valley(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> np
     slow = np.zeros(len(x), bool)
     slow[rows] = True
     a, b = _close_slots(S, joints, live, PT, x)
-    for a, b in zip(a.tolist(), b.tolist()):                            # (rare: at a fold)
+    two = _two_roots(S, joints, x, res, a, b, evaluate)
+    for a, b in zip(a[~two].tolist(), b[~two].tolist()):               # (rare: at a fold)
         if slow[b] and (not slow[a] or res[a] <= res[b]):
             x[b] = x[a]
         elif slow[a]:
             x[a] = x[b]
     return x
+
+
+def _two_roots(S: Screws, joints, x, res, a, b, evaluate) -> np.ndarray:
+    """``(p,)`` bool: of the pairs of rows ``a, b (p,)`` of ``x (M, m)``, those that are two
+    roots: both place the point to :data:`~kincalc.tolerances.ROUGH` (``res (M,)``; next to a
+    fold rounding is reached at some 1e-14, the error moving a root along it 1e-6) and the
+    joints halfway between them, moved onto the floor of the valley between them
+    (:func:`_across_the_valley`), miss it by more than twice the worse of them and than
+    :data:`~kincalc.tolerances.INEXACT`: a double root's copies, either side of it, miss by
+    more than the floor between them, which passes through it (at a flat fold, whose copies
+    lie 6e-5 rad apart, all of them by rounding alone)."""
+    worse = np.maximum(res[a], res[b])
+    two = worse <= ROUGH
+    if not np.count_nonzero(two):
+        return two
+    revolute = np.asarray([S.revolute[j] for j in joints])
+    step = x[b[two]] - x[a[two]]
+    step = np.where(revolute, wrap(step), step)
+    miss = _across_the_valley(x[a[two]] + 0.5 * step, step, a[two], evaluate)
+    two[two] = miss > np.maximum(2.0 * worse[two], INEXACT)
+    return two
+
+
+def _across_the_valley(y, along, rows, evaluate) -> np.ndarray:
+    """``(p,)``: how far the point equations of ``rows`` are missed at the joints ``y (p,
+    m)`` moved normal to ``along (p, m)`` onto the floor of the valley that runs that way
+    (:data:`POLISH_STEPS` Gauss-Newton steps normal to it): a fold's valley is curved, and
+    the straight middle of two of its points lies off it."""
+    u = along / np.maximum(np.linalg.norm(along, axis=-1, keepdims=True), 1e-300)
+    normal = np.eye(y.shape[-1]) - u[:, :, None] * u[:, None, :]            # (p, m, m)
+    for _ in range(POLISH_STEPS):
+        e, jacobian = evaluate(y, rows)
+        J = jacobian(np.ones(len(y), bool)) @ normal
+        y = y + (normal @ (np.linalg.pinv(J, rcond=1e-12) @ e[..., None]))[..., 0]
+    return np.abs(evaluate(y, rows)[0]).max(-1)
 
 
 def _close_slots(S: Screws, joints, live, PT, x) -> tuple:
@@ -150,7 +187,7 @@ def _point_equations(S: Screws, joints, p0, targets):
     return evaluate
 
 
-def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) -> tuple:
+def _split_double_roots(S: Screws, joints, live, PT, start, x, res, evaluate, fixed) -> tuple:
     """``(x, res)``: ``x (M, m)``, the polished joints of the ``live (N, K)`` slots, with
     each two slots of a target that are one double root split by rounding both set to the
     joints halfway between them, and ``res (M,)`` their residuals.
@@ -164,13 +201,21 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     slots with the same target (``PT (N, K, 3)``) whose joints agree to
     :data:`~kincalc.tolerances.SPLIT_PLACEMENT` (rad, or of the arm's size) are one double
     root when neither places the point to :data:`~kincalc.tolerances.INEXACT` (``res
-    (M,)``, the polish's residuals over the arm's size: Gauss-Newton reaches a simple root
-    to rounding in its steps) and the joints halfway between them, polished
-    (:data:`POLISH_STEPS`; the valley of a fold is curved, and the straight middle lies
-    off it), place it better than half the better of the two, or to ``INEXACT``
+    (M,)``, the polish's residuals over the arm's size) and the joints halfway between
+    them, polished (:data:`POLISH_STEPS`; the valley of a fold is curved, and the straight
+    middle lies off it), place it better than half the better of the two, or to ``INEXACT``
     (:func:`~kincalc.ik.joint_limits.halfway_is_better`): the rule by which the engine takes
     two solutions of a pose as one (:func:`kincalc.ik.near_miss.double_roots`), here on the
     placement's own split, before the joints that follow multiply it.
+
+    Unless they are two roots next to the fold (the point 1e-6 .. 1e-4 of the arm's size
+    from it, two roots 1e-4 rad apart): both are polished on down the fold's valley
+    (:data:`VALLEY_STEPS`, where Gauss-Newton converges linearly), the second from across
+    the fold (:func:`_across_the_fold`) where they started from the same joints ``start
+    (M, m)`` (two real roots closer than the polynomial's fit resolves come out as one
+    complex pair, both slots at its real part, and Gauss-Newton takes both to one root),
+    and where both then reach the point to rounding while
+    the joints halfway between them miss it (:func:`_two_roots`), each keeps its root.
     ``fixed (M, m)`` bool or None: the joints the polish holds."""
     from .newton import polish
     if live.shape[1] < 2 or len(x) < 2:
@@ -187,7 +232,57 @@ def _split_double_roots(S: Screws, joints, live, PT, x, res, evaluate, fixed) ->
     least = np.minimum(res[a], res[b])
     one = (least > INEXACT) & halfway_is_better(least, miss)
     x, res = x.copy(), res.copy()
+    if np.count_nonzero(one):                                   # (rare: next to a fold)
+        two = _deeper(S, joints, start, x, res, a[one], b[one], evaluate, fixed)
+        one[one] = ~two
     for a, b, h, r in zip(a[one].tolist(), b[one].tolist(), half[one], miss[one]):  # (rare)
         x[a] = x[b] = h
         res[a] = res[b] = r
     return x, res
+
+
+def _deeper(S: Screws, joints, start, x, res, a, b, evaluate, fixed) -> np.ndarray:
+    """``(p,)`` bool: which of the pairs of rows ``a, b (p,)`` of ``x (M, m)`` are two roots
+    once polished on down the fold's valley, the second from across the fold
+    (:func:`_across_the_fold`) where both started at ``start`` (and no joint is held);
+    those pairs' joints and residuals are set in ``x`` and ``res (M,)`` (modified)."""
+    from .newton import polish
+
+    def deep(y, rows):
+        return polish(lambda z, k: evaluate(z, rows[k]), y, iterations=VALLEY_STEPS,
+                      tol=1e-15, damping=1e-14, stall=1e-12,
+                      fixed=None if fixed is None else fixed[rows])[:2]
+    first, r_first = deep(x[a], a)
+    other = x[b].copy()
+    same = (start[a] == start[b]).all(-1)
+    if np.count_nonzero(same) and fixed is None:
+        other[same] = _across_the_fold(first[same], a[same], evaluate)
+    second, r_second = deep(other, b)
+    rows, y, r = (np.concatenate(v) for v in ((a, b), (first, second), (r_first, r_second)))
+    X, R = x.copy(), res.copy()
+    X[rows], R[rows] = y, r
+    two = _two_roots(S, joints, X, R, a, b, evaluate)
+    keep = np.concatenate([a[two], b[two]])
+    x[keep], res[keep] = X[keep], R[keep]
+    return two
+
+
+#: the step along a fold's null direction by which :func:`_across_the_fold` measures the
+#: point equations' slope and curvature (joint units: rad, or over the arm's size)
+FOLD_PROBE = 1e-4
+
+
+def _across_the_fold(x, rows, evaluate) -> np.ndarray:
+    """``(p, m)``: for roots ``x (p, m)`` of the point equations of ``rows`` next to a fold,
+    where the other root lies: along the Jacobian's null direction ``n``, the equations'
+    component along the lost direction ``u`` is ``sigma t + c t^2 / 2`` to second order,
+    zero at ``t = 0`` and ``t = -2 sigma / c`` (central differences at ``+-``
+    :data:`FOLD_PROBE`); ``x`` itself where that is no small step."""
+    U, _, Vt = np.linalg.svd(evaluate(x, rows)[1](np.ones(len(x), bool)))
+    n, u = Vt[:, -1], U[:, :, -1]
+    ahead = np.add.reduce(evaluate(x + FOLD_PROBE * n, rows)[0] * u, -1)
+    behind = np.add.reduce(evaluate(x - FOLD_PROBE * n, rows)[0] * u, -1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -(ahead - behind) * FOLD_PROBE / (ahead + behind)
+    t = np.where(np.isfinite(t) & (np.abs(t) < 100 * FOLD_PROBE), t, 0.0)
+    return x + t[:, None] * n
