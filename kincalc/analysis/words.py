@@ -8,8 +8,8 @@ from functools import singledispatch
 
 from ..ik.continua import Continuum, Followers, ParallelContinuum
 from ..spatial import wrap
-from ..tolerances import ACCEPT_POSITION
-from ..ik.reasons import (ArmMissed, Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
+from ..ik.reasons import (Answered, ArmMissed, Blocked, Found, Missed, NoRoot, NoSolution, NumericFound,
                          NumericMissed, OrientationOut, Outside, OutOfReach)
 
 
@@ -76,14 +76,23 @@ def _(r: Blocked, robot, units) -> str:
 
 @reason_text.register
 def _(r: Missed, robot, units) -> str:
+    # (an error within what a solution is allowed is no miss, and is not said as one)
     parts = []
+    turned = r.orientation_error is not None and r.orientation_error > ACCEPT_ORIENTATION
     if r.position_error > ACCEPT_POSITION * max(robot.characteristic_length, 1e-12):
         parts.append(f"position off by {r.position_error * units.l:.4g}{length_suffix(units)}")
-    elif r.orientation_error:
+    elif turned:
         parts.append("position reached")
-    if r.orientation_error:
+    if turned:
         parts.append(f"orientation off by {r.orientation_error * units.a:.4g} {units.angle}")
-    return "does not reach the target: " + ", ".join(parts)
+    return "does not reach the target" + (": " + ", ".join(parts) if parts else " to rounding")
+
+
+@reason_text.register
+def _(r: Answered, robot, units) -> str:
+    return (f"reaches the target, but is one root with a listed solution "
+            f"({robot.joints[r.joint].name} differs by "
+            f"{joint_amount(robot, r.joint, r.amount, units)}): answered once")
 
 
 @reason_text.register

@@ -33,6 +33,15 @@ class Missed(NamedTuple):
     orientation_error: float | None
 
 
+class Answered(NamedTuple):
+    """A candidate that reaches the target but is answered by a listed solution: one double
+    root split by rounding, or a point of the listed solution's continuum. ``joint``: the
+    joint in which they differ most (scaled: rad, or over the arm's size), ``amount`` by how
+    much (rad / m)."""
+    joint: int
+    amount: float
+
+
 class ArmMissed(NamedTuple):
     """A combination of the values of the arm's ``joints`` (indices) that puts the point
     they place (``point``: its name, e.g. "wrist centre") ``distance`` (m) from where the

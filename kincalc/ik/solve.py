@@ -23,8 +23,9 @@ from .continua import Continuum, Followers, ParallelContinuum, followers
 from .families import plan
 from .joint_limits import joint_scale, same_solution, violations
 from .labels import solution_order
-from .reasons import Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
+from .reasons import Answered, Missed, NoRoot, NumericFound, NumericMissed, OutOfReach
 from ..spatial import turn_toward, wrap
+from ..tolerances import ACCEPT_ORIENTATION, ACCEPT_POSITION
 from .target import Targets
 from .verdict import out_of_reach, reason as answer_reason
 
@@ -235,7 +236,8 @@ def _solutions(robot, sv: Solved, explain: bool, kind: str):
         if not valid[k]:
             if not _is_copy(robot, sv, k):
                 rejected.append({"q": q[k], "branch": branch[k], "position_error": pe[k],
-                                 "orientation_error": oe[k], "reason": Missed(pe[k], oe[k])})
+                                 "orientation_error": oe[k],
+                                 "reason": _why_not(robot, sv, k, pe[k], oe[k])})
             continue
         viol = [] if within[k] else _violation_list(violation[k])
         joints = () if free is None else tuple(j for j, f in enumerate(free[k]) if f)
@@ -247,6 +249,22 @@ def _solutions(robot, sv: Solved, explain: bool, kind: str):
                             trace=_trace(sv, k) if explain else None, change=None)
         sols.append(sol)
     return sols, rejected
+
+
+def _why_not(robot, sv: Solved, k: int, pe: float, oe):
+    """Why slot ``k`` of the engine's single target is no solution: it misses the target
+    (``Missed``), or it reaches it but a valid slot answers it (``Answered``, the joint that
+    differs most from the nearest one; a double root's copy, a point of a continuum)."""
+    valid = sv.valid[0]
+    reaches = pe <= ACCEPT_POSITION * max(robot.characteristic_length, 1e-12) and \
+        (oe is None or oe <= ACCEPT_ORIENTATION)
+    if not reaches or not valid.any():
+        return Missed(pe, oe)
+    d = sv.q[0, valid] - sv.q[0, k]
+    d = np.abs(np.where(robot.is_revolute, wrap(d), d)) / joint_scale(robot)
+    nearest = int(np.argmin(d.max(-1)))
+    joint = int(np.argmax(d[nearest]))
+    return Answered(joint, float(d[nearest, joint] * joint_scale(robot)[joint]))
 
 
 def _is_copy(robot, sv, k) -> bool:
