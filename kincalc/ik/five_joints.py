@@ -226,7 +226,7 @@ def _wrist_from_the_pose(S: Screws, T, br: Branches, a0, taken=None) -> Branches
     W = undo(S, br, (0, 1, 2), np.full(br.ok.shape + (2, 3),                # W k5, W a0
                                         (Rt @ np.stack([k5, a0], -1)).swapaxes(-1, -2)))
     t4, c4, s4 = turn_onto(k4, k5, W[..., 0, :])
-    t5, c5, s5 = turn_onto(k5, a0, S.turn(3, c4, -s4, W[..., 1, :]))       # onto R4^T W a0
+    t5, c5, s5 = turn_onto(k5, a0, S.turn(3, c4, s4, W[..., 1, :], back=True))  # onto R4^T W a0
     take = br.free[3] | ((np.abs(wrap(t4 - br.value[3])) < 1e-6)
                          & (np.abs(wrap(t5 - br.value[4])) < 1e-6))
     if taken is not None:                 # a placing joint took the pose with joints 4, 5
@@ -263,7 +263,7 @@ def _three_joint_wrist(S: Screws, targets, br: Branches, a) -> Branches:
     ok = third.ok & pair(np.ones(two.shape, bool), two)
     br = br.branch([2], Solutions(third.theta, third.c, third.s, ok, third.exact, ok),
                    labels=(None, "other arc"), least_squares=True)
-    v = S.turn(2, br.cos[2], -br.sin[2], br.take(v))
+    v = S.turn(2, br.cos[2], br.sin[2], br.take(v), back=True)
     return br.branch([3, 4], sp2(np.full(v.shape, a0), v, k4, k5), least_squares=True)
 
 
@@ -317,7 +317,8 @@ def planar_shoulder(S: Screws, targets, br: Branches) -> Branches:
     u, at, ct = br.take(u), br.take(at), br.take(ct[:, None, :])
     k5t = S.turn(3, br.cos[3], br.sin[3], k5)
     psi, cp, sp = turn_onto(h, k5t, u)
-    z = S.turn(3, br.cos[3], -br.sin[3], S.turn(0, cp, -sp, at))      # R4^T R_h(-psi) R_t a0
+    # R4^T R_h(-psi) R_t a0
+    z = S.turn(3, br.cos[3], br.sin[3], S.turn(0, cp, sp, at, back=True), back=True)
     br, psi, sigma = _fifth(S, br, Rt, k5t, ct, c0, psi, turn_onto(k5, a0, z))
     br = br.with_extra("psi", psi, *(() if sigma is None else ("sigma", sigma)))
     cp, sp = np.cos(br.extra["psi"]), np.sin(br.extra["psi"])
@@ -418,8 +419,8 @@ def pitch_roll(S: Screws, targets, br: Branches) -> Branches:
     pt = T[:, None, :3, 3]
     a = (targets.approach if targets.kind == "approach" else T[:, :3, 2])[:, None, :]
     br = br.branch([0], base_angle(S, pt, a))
-    a1 = S.turn(0, br.cos[0], -br.sin[0], br.take(a))              # joint 1 undone
-    p1 = o1 + S.turn(0, br.cos[0], -br.sin[0], br.take(pt) - o1)
+    a1 = S.turn(0, br.cos[0], br.sin[0], br.take(a), back=True)              # joint 1 undone
+    p1 = o1 + S.turn(0, br.cos[0], br.sin[0], br.take(pt) - o1, back=True)
     psi, cps, sps = one_root(sp1(np.full(a1.shape, a0), a1, h))
     # where axis 4's point must go: p1 + R_h(psi) (p4 - p0)
     d = S.point[3] - p0

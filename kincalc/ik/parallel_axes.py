@@ -107,7 +107,7 @@ def _elbow_about_h(S: Screws, T, br: Branches, Rt, sigma) -> Branches:
     x = np.empty(r.shape[:-1] + (2, 3))                 # both with joint 1 undone: one turn
     x[..., 0, :] = rotate(Rt, r)
     np.subtract(_tool_point_of(S, T, p4), o1, out=x[..., 1, :])
-    x = S.turn(0, br.cos[0], -br.sin[0], x)
+    x = S.turn(0, br.cos[0], br.sin[0], x, back=True)
     psi = angle_about(S, 1, x[..., 0, :])[0]
     p4 = o1 + x[..., 1, :]
     br = br.with_extra("psi", psi, *_carried(sigma))
@@ -147,9 +147,9 @@ def _joints_1_5(S: Screws, T, Rt, br: Branches):
     target6 = br.take(p[:, :, 2])                                      # R_t k6
     along = _aligning_q5(S)
     if along is None:                   # axis 6 is never along h
-        return br, S.turn(0, br.cos[0], -br.sin[0], target6), np.zeros(br.ok.shape, bool)
+        return br, S.turn(0, br.cos[0], br.sin[0], target6, back=True), np.zeros(br.ok.shape, bool)
     br = _sharpen_1_5(S, br, br.take(p[:, :, 0]), o5 - o6, target6, d1)
-    v = S.turn(0, br.cos[0], -br.sin[0], target6)                      # R1^T R_t k6
+    v = S.turn(0, br.cos[0], br.sin[0], target6, back=True)                      # R1^T R_t k6
     axis6 = S.turn(4, br.cos[4], br.sin[4], k6)                      # R5 k6
     near = _across(axis6, h) <= SNAP_PARALLEL ** 2
     if not np.count_nonzero(near):
@@ -158,7 +158,7 @@ def _joints_1_5(S: Screws, T, Rt, br: Branches):
     q5 = np.where(up, along[0], along[1])            # NaN: no angle puts it on that side
     near &= ~np.isnan(q5)
     q1, c1, s1 = turn_onto(-k1, target6, np.where(up[..., None], h, -h))
-    snapped = S.turn(0, c1, -s1, target6)
+    snapped = S.turn(0, c1, s1, target6, back=True)
     aligned = near & (_across(snapped, h) <= ALIGNED_TOL ** 2)
     if np.count_nonzero(aligned):
         pick = lambda x, y: np.where(aligned, x, y)  # noqa: E731
@@ -188,7 +188,8 @@ def _sharpen_1_5(S: Screws, br: Branches, w, b, r, d1: float, steps: int = 3) ->
     L = max(S.scale, 1e-12)
 
     def residual(c1, s1, c5, s5):
-        a, u = S.turn(0, c1, -s1, w), S.turn(0, c1, -s1, r)           # R(-k1, q1) w, r
+        # R(-k1, q1) w, r
+        a, u = S.turn(0, c1, s1, w, back=True), S.turn(0, c1, s1, r, back=True)
         fifth, z = S.turn(4, c5, s5, b), S.turn(4, c5, s5, k6)          # R5 b, R5 k6
         ux, zx = cross(u, h), cross(z, h)
         su, sz = np.sqrt(dot(ux, ux)), np.sqrt(dot(zx, zx))
@@ -259,7 +260,7 @@ def _parallel_wrist(S: Screws, T, br: Branches, Rt, hj: int, elbow):
         br = free_for_the_wrist(S, br, hj, axis_cone(S, hj, 4, 5), rotate(Rt, k6), (0,), 0)
     v = np.full(br.ok.shape + (3,), rotate(Rt, k6))          # R_t k6 at every slot
     if elbow[0] == 1:
-        v = S.turn(0, br.cos[0], -br.sin[0], v)
+        v = S.turn(0, br.cos[0], br.sin[0], v, back=True)
     fifth = cone(h, k6, k5, v, fixed=axis_cone(S, hj, 4, 5))
     if br.explain:          # h . R(k5, x) k6 = cos x (h.k6 - (h.k5)(k5.k6)) + sin x h.(k5 x k6)
         hk, kk = h @ k5, k5 @ k6                                  # + (h.k5)(k5.k6)
@@ -289,7 +290,7 @@ def _sixth(S: Screws, T, br: Branches, Rt, hj: int, elbow, v, aligned):
     sigma = _sense(v, h) if np.count_nonzero(aligned) else None
     a = rotate_back(Rt, S.turn(0, br.cos[0], br.sin[0], h) if first else np.full(
         br.ok.shape + (3,), h))
-    b = S.turn(4, br.cos[4], -br.sin[4], h)
+    b = S.turn(4, br.cos[4], br.sin[4], h, back=True)
     t6 = _near_singular_q6(S, br, T, v, aligned, b, turn_onto(k6, a, b)[0], elbow)
     br = note_direction(S, br, 5, a, b)
     arcs, ok_arcs = _singular_q6(S, br, T, v, aligned, elbow)
@@ -334,13 +335,13 @@ def _undo_56(S: Screws, br: Branches, j: int):
     Joint 5 turns both fixed vectors in one call (:meth:`Screws.turn_fixed`), joint 6 both
     results in another."""
     o5, o6 = S.point[4], S.point[5]
-    five = S.turn_fixed(4, br.cos[4], -br.sin[4], ("normal of axis, o4 - o5", j),
-                        lambda: (axis_normal(S, j), S.point[3] - o5))
+    five = S.turn_fixed(4, br.cos[4], br.sin[4], ("normal of axis, o4 - o5", j),
+                        lambda: (axis_normal(S, j), S.point[3] - o5), back=True)
     x = np.empty(five.shape)
     x[..., 0, :] = five[..., 0, :]
     np.add(o5, five[..., 1, :], out=x[..., 1, :])
     x[..., 1, :] -= o6
-    x = S.turn(5, br.cos[5], -br.sin[5], x)
+    x = S.turn(5, br.cos[5], br.sin[5], x, back=True)
     return x[..., 0, :], o6 + x[..., 1, :]
 
 

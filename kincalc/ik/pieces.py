@@ -100,7 +100,7 @@ def back(S: Screws, br: Branches, j: int, x) -> np.ndarray:
     """``E_j^-1 x`` for points ``x (N, K, 3)`` (or one point ``(3,)``): joint j's motion
     undone, ``(N, K, 3)``."""
     if S.revolute[j]:
-        return S.point[j] + S.turn(j, br.cos[j], -br.sin[j], x - S.point[j])
+        return S.point[j] + S.turn(j, br.cos[j], br.sin[j], x - S.point[j], back=True)
     return x - br.value[j][..., None] * S.axis[j]
 
 

@@ -373,7 +373,7 @@ def _shoulder(S: Screws, P: Plan, br, PT, what) -> Branches:
     br = br.branch([a], first)
     # the target seen before joint a, in the plane normal to h
     pt, reach = br.take(p), _carry(br, reach)
-    q = S.turn(a, br.cos[a], -br.sin[a], pt) + fx.b_to_a
+    q = S.turn(a, br.cos[a], br.sin[a], pt, back=True) + fx.b_to_a
     q = q - dot(q, h)[..., None] * h
     u, v = fx.u, fx.v
     # joint c: |u + R(h, x_c) v| = |q| (law of cosines: subproblem 3, whose vectors are the

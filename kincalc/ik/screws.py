@@ -50,7 +50,7 @@ class Screws:
             value = self.cache[key] = make()
             return value
 
-    def turn(self, i: int, c, s, v) -> np.ndarray:
+    def turn(self, i: int, c, s, v, back: bool = False) -> np.ndarray:
         """Vectors turned by joint ``i``'s rotation, given as its cosine and sine.
 
         ``R v = (I + K^2) v - c K^2 v + s K v`` (Rodrigues, ``K`` the cross-product matrix of
@@ -69,6 +69,9 @@ class Screws:
         v : array_like (..., 3)
             Vectors (world frame at q = 0), free vectors: the axis passes through the origin
             here (use :meth:`move` for points).
+        back : bool
+            Turn by minus the angle (``R^T v``, the joint's motion undone): the sine term
+            subtracted, the same bits as ``turn(i, c, -s, v)`` without negating ``s``.
 
         Returns
         -------
@@ -77,13 +80,15 @@ class Screws:
             broadcast from ``v`` and ``c, s``.
         """
         v, c, s = np.asarray(v, float), np.asarray(c, float), np.asarray(s, float)
-        R = self.cache.get("rodrigues")                 # (no method call: as dear as the rest)
-        R = self.rodrigues(i) if R is None else R[i]
         if v.ndim == 1 and c.shape == s.shape:          # one vector, turned by every angle
-            B = R @ v                                                       # (9,)
+            R = self.cache.get("rodrigues")             # (no method call: as dear as the rest)
+            B = (self.rodrigues(i) if R is None else R[i]) @ v              # (9,)
             out = B[3:6, None] * c.reshape(-1)
             out += B[0:3, None]
-            out += B[6:9, None] * s.reshape(-1)
+            if back:
+                out -= B[6:9, None] * s.reshape(-1)
+            else:
+                out += B[6:9, None] * s.reshape(-1)
             return out.T.reshape(c.shape + (3,))
         shape = v.shape[:-1]
         if c.shape != s.shape or shape[:c.ndim] != c.shape:    # the angles broadcast
@@ -91,25 +96,40 @@ class Screws:
             v = np.broadcast_to(v, shape + (3,))
             c, s = np.broadcast_to(c, shape), np.broadcast_to(s, shape)
         # (else several vectors per angle: the angles' shape is v's leading part)
-        grow = (...,) + (None,) * (len(shape) - c.ndim)       # one angle for the vectors behind
+        if c.ndim < len(shape):                         # one angle for the vectors behind
+            grow = (...,) + (None,) * (len(shape) - c.ndim)
+            c, s = c[grow], s[grow]
         # R v per vector as products and sums along the batch, not BLAS: each vector's bits
         # depend neither on how many are turned nor on v's layout (numpy's sum of products,
         # which this replaced, took a transposed view's vectors by another kernel, two or
         # more otherwise than one). x, z, then y is the order it summed the terms in.
+        R = self.cache.get("rodrigues columns")         # per joint: three (9, 1) columns
+        x, y, z = self._columns()[i] if R is None else R[i]
         v = v.transpose(_FIRST[len(shape)]).reshape(3, -1)
-        B = R[:, 0, None] * v[0]
-        B += R[:, 2, None] * v[2]
-        B += R[:, 1, None] * v[1]
+        B = x * v[0]
+        B += z * v[2]
+        B += y * v[1]
         B = B.reshape((9,) + shape)
         out = B[3:6]
-        out *= c[grow]
+        out *= c
         out += B[0:3]
         sk = B[6:9]
-        sk *= s[grow]
-        out += sk
+        sk *= s
+        if back:
+            out -= sk
+        else:
+            out += sk
         return out.transpose(_LAST[len(shape)])
 
-    def turn_fixed(self, i: int, c, s, name, V) -> np.ndarray:
+    def _columns(self) -> list:
+        """Per joint, the three columns of its :meth:`rodrigues`, each ``(9, 1)`` (contiguous;
+        :meth:`turn` multiplies the components of its vectors by them): computed once
+        (:meth:`constant`), read without indexing an array."""
+        return self.constant("rodrigues columns", lambda: [
+            tuple(np.ascontiguousarray(col[:, None]) for col in self.rodrigues(i).T)
+            for i in range(self.n)])
+
+    def turn_fixed(self, i: int, c, s, name, V, back: bool = False) -> np.ndarray:
         """Fixed vectors turned by joint ``i``'s rotation: :meth:`turn` of ``V`` at every angle.
 
         The three Rodrigues terms of the vectors, ``rodrigues(i) @ V.T`` ``(9, m)``, are
@@ -128,6 +148,8 @@ class Screws:
         V : array_like (m, 3) or callable
             The vectors (world frame at q = 0; free vectors, as for :meth:`turn`), or
             ``V() -> (m, 3)``; read on the first call for ``(name, i)`` only.
+        back : bool
+            Turn by minus the angle (:meth:`turn`'s ``back``).
 
         Returns
         -------
@@ -141,7 +163,10 @@ class Screws:
                 V() if callable(V) else V, float).T).reshape(3, 3, -1, 1))  # (term, xyz, m, 1)
         out = B[1] * c.reshape(-1)                                          # (3, m, M)
         out += B[0]
-        out += B[2] * s.reshape(-1)
+        if back:
+            out -= B[2] * s.reshape(-1)
+        else:
+            out += B[2] * s.reshape(-1)
         return out.transpose(2, 1, 0).reshape(c.shape + out.shape[1::-1])
 
     def rodrigues(self, i: int) -> np.ndarray:

@@ -150,7 +150,7 @@ def planar_4(S: Screws, targets, br: Branches) -> Branches:
     Rt = target_rotation(S, T)                                               # (N, 1, 3, 3)
     u = rotate(Rt, k4)                                                       # R_h(psi) k4
     psi, cp, sp = turn_onto(h, np.broadcast_to(k4, u.shape), u)
-    t4, c4, s4 = angle_about(S, 3, S.turn(0, cp, -sp, rotate(Rt, axis_normal(S, 3))))
+    t4, c4, s4 = angle_about(S, 3, S.turn(0, cp, sp, rotate(Rt, axis_normal(S, 3)), back=True))
     br = br.set(3, t4, c4, s4).with_extra("psi", psi)
     pt = tool_point(S, T, o4) - S.turn(0, cp, sp, o4 - o3)                   # (N, 1, 3)
     br = place(S, br, (0, 1), o3, pt, what="axis 3")

@@ -59,7 +59,7 @@ def undo(S: Screws, br: Branches, joints, x) -> np.ndarray:
     cos, sin = br.cos, br.sin
     for j in joints:
         if S.revolute[j]:
-            x = S.turn(j, cos[j], -sin[j], x)
+            x = S.turn(j, cos[j], sin[j], x, back=True)
     return x
 
 
@@ -107,7 +107,7 @@ def spherical(S: Screws, br: Branches, joints, v, w) -> Branches:
     if singular:
         c1, s1 = np.where(aligned, 1.0, c1), np.where(aligned, 0.0, s1)
         t1 = np.arctan2(s1, c1)
-    z = S.turn(j2, c2, -s2, S.turn(j1, c1, -s1, vw[1]))
+    z = S.turn(j2, c2, s2, S.turn(j1, c1, s1, vw[1], back=True), back=True)
     t3, c3, s3 = one_root(sp1(axis_normal(S, j3), z, k3, tol=0.0, fixed=normal_sp1(S, j3)))
     br = br.branch([j2, j1, j3], Solutions((middle.theta[0], t1, t3), (c2, c1, c3),
                                            (s2, s1, s3), middle.ok, middle.exact, aligned),
