@@ -141,8 +141,10 @@ class Branches:
             ``K = 1``: ``ok (N, 1)``, no joint set, empty signs.
         """
         alive = np.ones((N, 1), bool) if ok is None else np.asarray(ok, bool).reshape(N, 1)
-        return Branches(n=n, X=_unset(n, N, 1), F=np.zeros((n, N, 1), bool), ok=alive,
-                        signs=((),), parent=_ZERO, explain=explain, lineage=(_ZERO,))
+        # (made from a blank one, every field at its default, as fast as _with)
+        return _BLANK._with(n=n, X=_unset(n, N, 1), F=np.zeros((n, N, 1), bool), ok=alive,
+                            signs=((),), parent=_ZERO, explain=explain, lineage=(_ZERO,),
+                            extra={}, pending={})
 
     def with_slots(self, ok, signs, q=None, c=None, s=None) -> "Branches":
         """A slot per sign of ``signs`` (K tuples of (joint, label)), live where ``ok (N, K)``
@@ -233,9 +235,9 @@ class Branches:
         which = sols.undetermined or (sols.free,) * len(joints)
         for j, t, c, s, f in zip(joints, sols.theta, sols.c, sols.s, which):
             if j is not None:
-                Xj = X[:, j]
-                Xj[0], Xj[1], Xj[2] = t.reshape(N, M), c.reshape(N, M), s.reshape(N, M)
-                if free is True or free and j in free:
+                Xj = X[:, j].reshape(3, N, K, k)           # (a view: the roots' own layout)
+                Xj[0], Xj[1], Xj[2] = t, c, s
+                if (free is True or free and j in free) and np.count_nonzero(f):
                     F[j] |= f.reshape(N, M)
         ok = (self.ok[..., None] & sols.ok if least_squares else
               self.ok[..., None] & sols.ok & sols.exact).reshape(N, M)
@@ -439,6 +441,9 @@ class Branches:
 
 
 _SMALL = 64     # slots of a whole step (N K) up to which dead ones are kept (module docstring)
+
+#: every field at its default (:meth:`Branches.start` gives the rest, and new dicts)
+_BLANK = Branches(n=0, X=None, F=None, ok=None, signs=(), parent=None)
 _ZERO = np.zeros(1, np.intp)
 _ZERO.flags.writeable = False
 
