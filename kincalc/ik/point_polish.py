@@ -214,8 +214,8 @@ def _split_double_roots(S: Screws, joints, live, PT, start, x, res, evaluate, fi
     the fold (:func:`_across_the_fold`) where they started from the same joints ``start
     (M, m)`` (two real roots closer than the polynomial's fit resolves come out as one
     complex pair, both slots at its real part, and Gauss-Newton takes both to one root),
-    and where both then reach the point to rounding while
-    the joints halfway between them miss it (:func:`_two_roots`), each keeps its root.
+    and where both then reach the point to rounding while the joints halfway between them
+    miss it (:func:`_two_roots`), each keeps its root.
     ``fixed (M, m)`` bool or None: the joints the polish holds."""
     from .newton import polish
     if live.shape[1] < 2 or len(x) < 2:
