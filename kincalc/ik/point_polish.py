@@ -128,15 +128,20 @@ def _two_roots(S: Screws, joints, x, res, a, b, evaluate) -> np.ndarray:
 def _across_the_valley(y, along, rows, evaluate) -> np.ndarray:
     """``(p,)``: how far the point equations of ``rows`` are missed at the joints ``y (p,
     m)`` moved normal to ``along (p, m)`` onto the floor of the valley that runs that way
-    (:data:`POLISH_STEPS` Gauss-Newton steps normal to it): a fold's valley is curved, and
-    the straight middle of two of its points lies off it."""
+    (:data:`POLISH_STEPS` Gauss-Newton steps, :func:`kincalc.ik.newton.polish`, in
+    coordinates ``z`` of the plane normal to it: ``y + B z``): a fold's valley is curved,
+    and the straight middle of two of its points lies off it."""
+    from .newton import polish
     u = along / np.maximum(np.linalg.norm(along, axis=-1, keepdims=True), 1e-300)
     normal = np.eye(y.shape[-1]) - u[:, :, None] * u[:, None, :]            # (p, m, m)
-    for _ in range(POLISH_STEPS):
-        e, jacobian = evaluate(y, rows)
-        J = jacobian(np.ones(len(y), bool)) @ normal
-        y = y + (normal @ (np.linalg.pinv(J, rcond=1e-12) @ e[..., None]))[..., 0]
-    return np.abs(evaluate(y, rows)[0]).max(-1)
+    B = np.linalg.eigh(normal)[1][..., 1:]              # (p, m, m - 1): eigenvalues 0, 1, 1
+
+    def on_the_plane(z, k):
+        e, jacobian = evaluate(y[k] + (B[k] @ z[..., None])[..., 0], rows[k])
+        return e, lambda keep: jacobian(keep) @ B[k][keep]
+    _, miss, _ = polish(on_the_plane, np.zeros((len(y), y.shape[-1] - 1)),
+                        iterations=POLISH_STEPS, tol=1e-15, damping=1e-14, stall=1e-12)
+    return miss
 
 
 def _close_slots(S: Screws, joints, live, PT, x) -> tuple:
